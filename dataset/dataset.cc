@@ -1,0 +1,144 @@
+#include "dataset/dataset.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <set>
+#include <stdexcept>
+
+#include <unistd.h>
+
+#include "geometry/json_io.h"
+
+namespace rigsim {
+namespace fs = std::filesystem;
+using json_io::Get;
+using json_io::Json;
+
+FramesFile FramesFromJsonText(const std::string& text, const std::string& source) {
+  const Json root = json_io::Parse(text, source);
+  if (!root.is_object() || !root.contains("frames") || !root["frames"].is_array()) {
+    throw std::runtime_error(source + ": expected an object with a 'frames' array");
+  }
+  FramesFile out;
+  if (root.contains("scene")) out.scene = Get<std::string>(root, "scene", source, "root");
+  if (root.contains("seed")) out.seed = Get<uint64_t>(root, "seed", source, "root");
+  if (root.contains("tool_version")) out.tool_version = Get<std::string>(root, "tool_version", source, "root");
+  std::set<std::string> names;
+  const Json& frames = root["frames"];
+  for (size_t i = 0; i < frames.size(); ++i) {
+    const std::string where = "frames[" + std::to_string(i) + "]";
+    Frame f;
+    f.name = Get<std::string>(frames[i], "name", source, where);
+    if (f.name.empty() || f.name.find('/') != std::string::npos || f.name == "." || f.name == "..") {
+      throw std::runtime_error(source + ": " + where + ": frame name '" + f.name + "' is not a valid file stem");
+    }
+    if (!names.insert(f.name).second) {
+      throw std::runtime_error(source + ": " + where + ": duplicate frame name '" + f.name + "'");
+    }
+    if (frames[i].contains("rig_from_world") && !frames[i]["rig_from_world"].is_null()) {
+      f.rig_from_world = json_io::PoseFromJson(frames[i]["rig_from_world"], source, where + ".rig_from_world");
+    }
+    if (frames[i].contains("timestamp_s")) f.timestamp_s = Get<double>(frames[i], "timestamp_s", source, where);
+    out.frames.push_back(std::move(f));
+  }
+  if (out.frames.empty()) throw std::runtime_error(source + ": 'frames' is empty");
+  return out;
+}
+
+std::string FramesToJsonText(const FramesFile& frames) {
+  Json list = Json::array();
+  for (const Frame& f : frames.frames) {
+    Json j{{"name", f.name}, {"timestamp_s", f.timestamp_s}};
+    if (f.rig_from_world) j["rig_from_world"] = json_io::PoseToJson(*f.rig_from_world);
+    list.push_back(std::move(j));
+  }
+  return Json{{"scene", frames.scene}, {"seed", frames.seed}, {"tool_version", frames.tool_version}, {"frames", list}}
+             .dump(2) +
+         "\n";
+}
+
+FramesFile ReadFrames(const fs::path& path) { return FramesFromJsonText(json_io::ReadText(path), path.string()); }
+
+void WriteFrames(const FramesFile& frames, const fs::path& path) {
+  json_io::WriteTextAtomic(path, FramesToJsonText(frames));
+}
+
+fs::path DatasetLayout::Image(const std::string& cam, const std::string& frame) const {
+  return root_ / "images" / cam / (frame + ".png");
+}
+fs::path DatasetLayout::Label(const std::string& cam, const std::string& frame) const {
+  return root_ / "labels" / cam / (frame + ".png");
+}
+fs::path DatasetLayout::LabelColor(const std::string& cam, const std::string& frame) const {
+  return root_ / "labels_color" / cam / (frame + ".png");
+}
+fs::path DatasetLayout::Instance(const std::string& cam, const std::string& frame) const {
+  return root_ / "instances" / cam / (frame + ".png");
+}
+fs::path DatasetLayout::Depth(const std::string& cam, const std::string& frame) const {
+  return root_ / "depth" / cam / (frame + ".exr");
+}
+
+std::optional<fs::path> DatasetLayout::FindImage(const std::string& cam, const std::string& frame) const {
+  for (const char* ext : {".png", ".jpg", ".jpeg", ".JPG", ".JPEG", ".PNG", ".tif", ".tiff", ".exr"}) {
+    const fs::path p = root_ / "images" / cam / (frame + ext);
+    if (fs::exists(p)) return p;
+  }
+  return std::nullopt;
+}
+
+FramesFile DatasetLayout::ReadFramesOrScan(const std::string& first_camera) const {
+  if (fs::exists(FramesJson())) return ReadFrames(FramesJson());
+  const fs::path dir = root_ / "images" / first_camera;
+  if (!fs::is_directory(dir)) {
+    throw std::runtime_error(dir.string() + ": no such folder (and no frames.json in " + root_.string() + ")");
+  }
+  std::vector<std::string> stems;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (entry.is_regular_file()) stems.push_back(entry.path().stem().string());
+  }
+  std::sort(stems.begin(), stems.end());
+  stems.erase(std::unique(stems.begin(), stems.end()), stems.end());
+  if (stems.empty()) throw std::runtime_error(dir.string() + ": no images");
+  FramesFile out;
+  for (const std::string& s : stems) out.frames.push_back(Frame{s, std::nullopt, 0.0});
+  return out;
+}
+
+StagedOutput::StagedOutput(fs::path final_dir, bool force) : final_(std::move(final_dir)) {
+  if (final_.filename().empty()) final_ = final_.parent_path();  // "out/" -> "out"
+  if (fs::exists(final_) && !force) {
+    throw std::runtime_error(final_.string() + ": already exists (use --force to replace it)");
+  }
+  static std::atomic<int> counter{0};
+  const auto stamp = std::chrono::steady_clock::now().time_since_epoch().count();
+  staging_ = final_.parent_path() /
+             ("." + final_.filename().string() + ".partial-" + std::to_string(::getpid()) + "-" +
+              std::to_string(stamp) + "-" + std::to_string(counter++));
+  if (!final_.parent_path().empty()) fs::create_directories(final_.parent_path());
+  fs::create_directories(staging_);
+}
+
+StagedOutput::~StagedOutput() {
+  if (!committed_) {
+    std::error_code ec;
+    fs::remove_all(staging_, ec);
+  }
+}
+
+void StagedOutput::Commit() {
+  if (committed_) return;
+  // Move the old output aside first so that at every instant either the old or the new
+  // output is complete at `final_`, then drop the old one.
+  fs::path old;
+  if (fs::exists(final_)) {
+    old = staging_.string() + ".old";
+    fs::rename(final_, old);
+  }
+  fs::rename(staging_, final_);
+  committed_ = true;
+  if (!old.empty()) fs::remove_all(old);
+}
+
+}  // namespace rigsim

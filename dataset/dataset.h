@@ -1,0 +1,89 @@
+// The on-disk dataset layout that render writes and calibrate reads:
+//
+//   DATASET/rig.json                        geometry/rig.h
+//   DATASET/frames.json                     per frame: name, rig_from_world, timestamp; scene, seed
+//   DATASET/images/<cam>/<frame>.png        RGB, 8 bit (COLMAP's per-camera image prefix)
+//   DATASET/labels/<cam>/<frame>.png        uint8 Cityscapes label ids
+//   DATASET/labels_color/<cam>/<frame>.png  colour preview of the labels
+//   DATASET/instances/<cam>/<frame>.png     uint16 instance ids, 0 = none
+//   DATASET/depth/<cam>/<frame>.exr         float32 range along the pixel's ray (m), 0 = no surface
+//   DATASET/overlap.json                    ground-truth co-visibility per camera pair
+//
+// A real-photo dataset has rig.json (intrinsics, no poses), frames.json may be absent (frames
+// are then the image file stems found for the first camera), and labels/ is optional.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "geometry/rigid3.h"
+
+namespace rigsim {
+
+struct Frame {
+  std::string name;                       // file stem, e.g. "000000"
+  std::optional<Rigid3d> rig_from_world;  // known for rendered data
+  double timestamp_s = 0.0;
+};
+
+struct FramesFile {
+  std::vector<Frame> frames;
+  std::string scene;          // scene file the frames were rendered from
+  uint64_t seed = 0;
+  std::string tool_version;
+};
+
+FramesFile FramesFromJsonText(const std::string& text, const std::string& source);
+std::string FramesToJsonText(const FramesFile& frames);
+FramesFile ReadFrames(const std::filesystem::path& path);
+void WriteFrames(const FramesFile& frames, const std::filesystem::path& path);
+
+// Paths inside a dataset folder.
+class DatasetLayout {
+ public:
+  explicit DatasetLayout(std::filesystem::path root) : root_(std::move(root)) {}
+  const std::filesystem::path& root() const { return root_; }
+  std::filesystem::path RigJson() const { return root_ / "rig.json"; }
+  std::filesystem::path FramesJson() const { return root_ / "frames.json"; }
+  std::filesystem::path OverlapJson() const { return root_ / "overlap.json"; }
+  std::filesystem::path EvaluationJson() const { return root_ / "evaluation.json"; }
+  std::filesystem::path Image(const std::string& cam, const std::string& frame) const;
+  std::filesystem::path Label(const std::string& cam, const std::string& frame) const;
+  std::filesystem::path LabelColor(const std::string& cam, const std::string& frame) const;
+  std::filesystem::path Instance(const std::string& cam, const std::string& frame) const;
+  std::filesystem::path Depth(const std::string& cam, const std::string& frame) const;
+
+  // Finds the image of a frame whatever its extension (.png, .jpg, ...); nullopt if absent.
+  std::optional<std::filesystem::path> FindImage(const std::string& cam, const std::string& frame) const;
+  // Frames of a dataset: from frames.json when present, else the sorted image stems of `cam`.
+  FramesFile ReadFramesOrScan(const std::string& first_camera) const;
+
+ private:
+  std::filesystem::path root_;
+};
+
+// Builds an output folder next to its final place and moves it there only when complete, so an
+// interrupted run leaves either the previous output or nothing. The destructor removes an
+// uncommitted staging folder.
+class StagedOutput {
+ public:
+  // Throws when `final_dir` exists and `force` is false.
+  StagedOutput(std::filesystem::path final_dir, bool force);
+  ~StagedOutput();
+  StagedOutput(const StagedOutput&) = delete;
+  StagedOutput& operator=(const StagedOutput&) = delete;
+
+  const std::filesystem::path& staging_dir() const { return staging_; }
+  // Replaces `final_dir` with the staging folder.
+  void Commit();
+
+ private:
+  std::filesystem::path final_;
+  std::filesystem::path staging_;
+  bool committed_ = false;
+};
+
+}  // namespace rigsim

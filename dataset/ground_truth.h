@@ -1,0 +1,36 @@
+// Ground-truth correspondence between two rendered views from their range images: where does
+// the surface seen at a pixel of camera A appear in camera B, and is it visible there?
+// Used for the ground-truth overlap (renderer) and for match precision (calibrator).
+#pragma once
+
+#include <optional>
+
+#include <Eigen/Core>
+
+#include "dataset/image.h"
+#include "geometry/camera.h"
+#include "geometry/rigid3.h"
+
+namespace rigsim {
+
+struct DepthTransferOptions {
+  // Surface at B's pixel must agree with the transferred point's range within
+  // max(abs_tolerance_m, rel_tolerance * range) to count as visible (not occluded).
+  double abs_tolerance_m = 0.05;
+  double rel_tolerance = 0.02;
+};
+
+// Range of a range image at a sub-pixel position (nearest pixel; 0 when outside or no surface).
+float RangeAt(const ImageF& range, const Eigen::Vector2d& px);
+
+// Transfers pixel `px_a` of camera A (with its range image) to camera B. Returns B's pixel when
+// the surface point projects inside B's image and is not occluded in B's range image.
+std::optional<Eigen::Vector2d> TransferPixel(const Eigen::Vector2d& px_a, const Camera& cam_a, const ImageF& range_a,
+                                             const Camera& cam_b, const ImageF& range_b, const Rigid3d& b_from_a,
+                                             const DepthTransferOptions& options = {});
+
+// Fraction of A's pixels with a surface that are visible in B (depth-tested).
+double CoVisibleFraction(const Camera& cam_a, const ImageF& range_a, const Camera& cam_b, const ImageF& range_b,
+                         const Rigid3d& b_from_a, const DepthTransferOptions& options = {});
+
+}  // namespace rigsim

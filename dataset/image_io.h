@@ -1,0 +1,25 @@
+// Reading and writing images through OpenImageIO. Every error throws std::runtime_error whose
+// message starts with the file name.
+#pragma once
+
+#include <filesystem>
+
+#include "dataset/image.h"
+
+namespace rigsim {
+
+// PNG/JPEG/... with 1..4 channels of 8 bits. Writes atomically (temporary file, rename).
+void WriteImage(const std::filesystem::path& path, const ImageU8& image);
+// 16-bit single-channel PNG (instance ids).
+void WriteImage(const std::filesystem::path& path, const ImageU16& image);
+// float EXR (depth).
+void WriteImage(const std::filesystem::path& path, const ImageF& image);
+
+// Reads any format OpenImageIO knows, converted to the requested type. `channels` > 0 demands
+// that channel count (RGB wanted from an RGBA file drops alpha; grey to RGB replicates);
+// 0 keeps the file's.
+ImageU8 ReadImageU8(const std::filesystem::path& path, int channels = 0);
+ImageU16 ReadImageU16(const std::filesystem::path& path);
+ImageF ReadImageF(const std::filesystem::path& path);
+
+}  // namespace rigsim

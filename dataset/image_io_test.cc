@@ -1,0 +1,67 @@
+#include "dataset/image_io.h"
+
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+namespace rigsim {
+namespace {
+namespace fs = std::filesystem;
+
+class ImageIo : public testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / "rigsim_image_io_test";
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST_F(ImageIo, Rgb8RoundTripIsLosslessAndOriented) {
+  ImageU8 img(5, 3, 3);
+  for (size_t i = 0; i < img.data.size(); ++i) img.data[i] = static_cast<uint8_t>(i * 7);
+  img.at(0, 0, 0) = 255;  // top-left stays top-left
+  WriteImage(dir_ / "a.png", img);
+  const ImageU8 back = ReadImageU8(dir_ / "a.png");
+  EXPECT_EQ(back.width, 5);
+  EXPECT_EQ(back.height, 3);
+  EXPECT_EQ(back.channels, 3);
+  EXPECT_EQ(back.data, img.data);
+}
+
+TEST_F(ImageIo, SixteenBitAndFloatRoundTrip) {
+  ImageU16 inst(4, 2, 1);
+  inst.at(3, 1) = 60000;
+  WriteImage(dir_ / "i.png", inst);
+  EXPECT_EQ(ReadImageU16(dir_ / "i.png").data, inst.data);
+  ImageF depth(4, 2, 1);
+  depth.at(1, 0) = 12.345678f;
+  WriteImage(dir_ / "d.exr", depth);
+  EXPECT_EQ(ReadImageF(dir_ / "d.exr").data, depth.data);
+}
+
+TEST_F(ImageIo, ChannelConversion) {
+  ImageU8 grey(2, 2, 1, 9);
+  WriteImage(dir_ / "g.png", grey);
+  const ImageU8 rgb = ReadImageU8(dir_ / "g.png", 3);
+  EXPECT_EQ(rgb.channels, 3);
+  EXPECT_EQ(rgb.at(1, 1, 2), 9);
+}
+
+TEST_F(ImageIo, ErrorsNameTheFile) {
+  try {
+    ReadImageU8(dir_ / "none.png");
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("none.png"), std::string::npos);
+  }
+  std::ofstream(dir_ / "bad.png") << "not a png at all";
+  EXPECT_THROW(ReadImageU8(dir_ / "bad.png"), std::runtime_error);
+  EXPECT_THROW(WriteImage(dir_ / "nodir" / "x.png", ImageU8(2, 2, 1)), std::runtime_error);
+  EXPECT_FALSE(fs::exists(dir_ / "nodir"));
+}
+
+}  // namespace
+}  // namespace rigsim

@@ -1,0 +1,49 @@
+#include "dataset/label_image.h"
+
+#include <stdexcept>
+
+#include "labels/cityscapes.h"
+
+namespace rigsim {
+
+ImageU8 ColorizeLabels(const ImageU8& labels) {
+  ImageU8 out(labels.width, labels.height, 3);
+  for (int y = 0; y < labels.height; ++y) {
+    for (int x = 0; x < labels.width; ++x) {
+      const LabelClass* c = FindClassById(labels.at(x, y));
+      for (int k = 0; k < 3; ++k) out.at(x, y, k) = c ? c->color[k] : 0;
+    }
+  }
+  return out;
+}
+
+ImageU8 LabelsFromColors(const ImageU8& colors, const std::string& source) {
+  if (colors.channels < 3) throw std::runtime_error(source + ": a colour label image needs 3 channels");
+  ImageU8 out(colors.width, colors.height, 1);
+  for (int y = 0; y < colors.height; ++y) {
+    for (int x = 0; x < colors.width; ++x) {
+      const std::array<uint8_t, 3> rgb = {colors.at(x, y, 0), colors.at(x, y, 1), colors.at(x, y, 2)};
+      const auto id = ClassIdFromColor(rgb);
+      if (!id) {
+        throw std::runtime_error(source + ": pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") has colour (" +
+                                 std::to_string(rgb[0]) + ", " + std::to_string(rgb[1]) + ", " +
+                                 std::to_string(rgb[2]) + "), which is no Cityscapes class colour");
+      }
+      out.at(x, y) = *id;
+    }
+  }
+  return out;
+}
+
+void CheckLabelIds(const ImageU8& labels, const std::string& source) {
+  for (int y = 0; y < labels.height; ++y) {
+    for (int x = 0; x < labels.width; ++x) {
+      if (!FindClassById(labels.at(x, y))) {
+        throw std::runtime_error(source + ": pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") has label id " +
+                                 std::to_string(labels.at(x, y)) + ", which is no Cityscapes label id (0..33)");
+      }
+    }
+  }
+}
+
+}  // namespace rigsim

@@ -1,0 +1,85 @@
+#include "geometry/rig.h"
+
+#include <stdexcept>
+
+#include "geometry/json_io.h"
+
+namespace rigsim {
+
+using json_io::Get;
+using json_io::Json;
+
+int Rig::FindCamera(const std::string& name) const {
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    if (cameras[i].name == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+bool Rig::HasAllPoses() const {
+  for (const RigCamera& c : cameras) {
+    if (!c.cam_from_rig) return false;
+  }
+  return !cameras.empty();
+}
+
+Rig RigFromJsonText(const std::string& text, const std::string& source) {
+  const Json root = json_io::Parse(text, source);
+  if (!root.is_object() || !root.contains("cameras") || !root["cameras"].is_array()) {
+    throw std::runtime_error(source + ": expected an object with a 'cameras' array");
+  }
+  Rig rig;
+  const Json& cams = root["cameras"];
+  if (cams.empty()) throw std::runtime_error(source + ": 'cameras' is empty");
+  for (size_t i = 0; i < cams.size(); ++i) {
+    const Json& c = cams[i];
+    const std::string where = "cameras[" + std::to_string(i) + "]";
+    RigCamera rc;
+    rc.name = Get<std::string>(c, "name", source, where);
+    if (rc.name.empty() || rc.name.find('/') != std::string::npos || rc.name == "." || rc.name == "..") {
+      throw std::runtime_error(source + ": " + where + ": camera name '" + rc.name +
+                               "' must be non-empty and usable as a folder name");
+    }
+    if (rig.FindCamera(rc.name) >= 0) {
+      throw std::runtime_error(source + ": " + where + ": duplicate camera name '" + rc.name + "'");
+    }
+    try {
+      const CameraModelId model = CameraModelFromName(Get<std::string>(c, "model", source, where));
+      rc.camera = Camera(model, Get<int>(c, "width", source, where), Get<int>(c, "height", source, where),
+                         Get<std::vector<double>>(c, "params", source, where));
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(source + ": " + where + " ('" + rc.name + "'): " + e.what());
+    }
+    if (c.contains("cam_from_rig") && !c["cam_from_rig"].is_null()) {
+      rc.cam_from_rig = json_io::PoseFromJson(c["cam_from_rig"], source, where + ".cam_from_rig");
+    }
+    if (c.contains("time_offset_s")) rc.time_offset_s = Get<double>(c, "time_offset_s", source, where);
+    rig.cameras.push_back(std::move(rc));
+  }
+  return rig;
+}
+
+std::string RigToJsonText(const Rig& rig) {
+  Json cams = Json::array();
+  for (const RigCamera& rc : rig.cameras) {
+    Json c{{"name", rc.name},
+           {"model", std::string(CameraModelName(rc.camera.model()))},
+           {"width", rc.camera.width()},
+           {"height", rc.camera.height()},
+           {"params", rc.camera.params()},
+           {"time_offset_s", rc.time_offset_s}};
+    if (rc.cam_from_rig) c["cam_from_rig"] = json_io::PoseToJson(*rc.cam_from_rig);
+    cams.push_back(std::move(c));
+  }
+  return Json{{"cameras", cams}}.dump(2) + "\n";
+}
+
+Rig ReadRig(const std::filesystem::path& path) {
+  return RigFromJsonText(json_io::ReadText(path), path.string());
+}
+
+void WriteRig(const Rig& rig, const std::filesystem::path& path) {
+  json_io::WriteTextAtomic(path, RigToJsonText(rig));
+}
+
+}  // namespace rigsim

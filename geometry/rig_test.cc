@@ -1,0 +1,82 @@
+#include "geometry/rig.h"
+
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+namespace rigsim {
+namespace {
+
+Rig TwoCameraRig() {
+  Rig rig;
+  rig.cameras.push_back({"front", Camera(CameraModelId::kPinhole, 64, 48, {50, 50, 31.5, 23.5}), Rigid3d(), 0.0});
+  rig.cameras.push_back({"left",
+                         Camera(CameraModelId::kOpenCV, 64, 48, {40, 41, 32, 24, -0.1, 0.01, 0.001, 0.002}),
+                         Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitY())),
+                                 Eigen::Vector3d(0.2, 0, -0.1)),
+                         0.004});
+  return rig;
+}
+
+TEST(Rig, JsonRoundTripKeepsEverything) {
+  const Rig rig = TwoCameraRig();
+  const Rig back = RigFromJsonText(RigToJsonText(rig), "test");
+  ASSERT_EQ(back.cameras.size(), 2u);
+  EXPECT_EQ(back.cameras[1].name, "left");
+  EXPECT_EQ(back.cameras[1].camera.model(), CameraModelId::kOpenCV);
+  EXPECT_EQ(back.cameras[1].camera.params(), rig.cameras[1].camera.params());
+  EXPECT_DOUBLE_EQ(back.cameras[1].time_offset_s, 0.004);
+  ASSERT_TRUE(back.cameras[1].cam_from_rig.has_value());
+  EXPECT_LT(RotationDifferenceDeg(back.cameras[1].cam_from_rig->rotation, rig.cameras[1].cam_from_rig->rotation), 1e-9);
+  EXPECT_LT((back.cameras[1].cam_from_rig->translation - rig.cameras[1].cam_from_rig->translation).norm(), 1e-12);
+  EXPECT_EQ(back.FindCamera("left"), 1);
+  EXPECT_EQ(back.FindCamera("right"), -1);
+}
+
+TEST(Rig, PosesAreOptionalForRealPhotos) {
+  const Rig rig = RigFromJsonText(
+      R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5]}]})", "rig.json");
+  EXPECT_FALSE(rig.cameras[0].cam_from_rig.has_value());
+  EXPECT_FALSE(rig.HasAllPoses());
+}
+
+void ExpectErrorMentions(const std::string& text, const std::string& what) {
+  try {
+    RigFromJsonText(text, "my/rig.json");
+    FAIL() << "no error for " << text;
+  } catch (const std::runtime_error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("my/rig.json"), std::string::npos) << msg;
+    EXPECT_NE(msg.find(what), std::string::npos) << msg;
+  }
+}
+
+TEST(Rig, BadJsonNamesTheFileAndTheProblem) {
+  ExpectErrorMentions("{\"cameras\": [", "invalid JSON");
+  ExpectErrorMentions("{\"cameras\": []}", "empty");
+  ExpectErrorMentions(R"({"cameras":[{"name":"a","width":10,"height":10,"params":[5,5,4.5,4.5]}]})", "model");
+  ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"PINHOLE","width":"ten","height":10,"params":[5,5,4.5,4.5]}]})",
+                      "width");
+  ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[-5,5,4.5,4.5]}]})",
+                      "focal");
+  ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"OPENCV","width":10,"height":10,"params":[5,5,4.5,4.5]}]})",
+                      "8 parameters");
+  ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5]},
+                                     {"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5]}]})",
+                      "duplicate");
+  ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5],
+                          "cam_from_rig":{"rotation_wxyz":[2,0,0,0],"translation":[0,0,0]}}]})",
+                      "unit quaternion");
+}
+
+TEST(Rig, WriteAndReadAFile) {
+  const auto dir = std::filesystem::temp_directory_path() / "rigsim_rig_test";
+  std::filesystem::create_directories(dir);
+  WriteRig(TwoCameraRig(), dir / "rig.json");
+  EXPECT_EQ(ReadRig(dir / "rig.json").cameras.size(), 2u);
+  EXPECT_THROW(ReadRig(dir / "missing.json"), std::runtime_error);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace rigsim

@@ -1,0 +1,49 @@
+#include "labels/cityscapes.h"
+
+#include <gtest/gtest.h>
+
+namespace rigsim {
+namespace {
+
+TEST(Cityscapes, IdsIndexTheTable) {
+  const auto classes = CityscapesClasses();
+  ASSERT_EQ(classes.size(), 34u);
+  for (size_t i = 0; i < classes.size(); ++i) EXPECT_EQ(classes[i].id, i);
+  EXPECT_EQ(FindClassByName("sky")->id, kSkyId);
+  EXPECT_EQ(FindClassByName("building")->id, 11);
+  EXPECT_EQ(FindClassByName("car")->train_id, 13);
+  EXPECT_EQ(FindClassById(200), nullptr);
+  EXPECT_EQ(FindClassByName("spaceship"), nullptr);
+}
+
+TEST(Cityscapes, ColoursMapBackToIds) {
+  for (const LabelClass& c : CityscapesClasses()) {
+    const auto id = ClassIdFromColor(c.color);
+    ASSERT_TRUE(id.has_value());
+    // Classes that share a colour with an earlier one map to the earlier one.
+    EXPECT_EQ(CityscapesClasses()[*id].color, c.color);
+  }
+  EXPECT_EQ(*ClassIdFromColor({128, 64, 128}), 7);  // road
+  EXPECT_FALSE(ClassIdFromColor({1, 2, 3}).has_value());
+}
+
+TEST(Cityscapes, StaticStructureIsReliableAndMovablesAreNot) {
+  const ReliableClasses r;
+  for (const char* name : {"road", "sidewalk", "building", "wall", "pole", "traffic sign"}) {
+    EXPECT_TRUE(r.IsReliable(FindClassByName(name)->id)) << name;
+  }
+  for (const char* name : {"sky", "vegetation", "person", "car", "bus", "unlabeled"}) {
+    EXPECT_FALSE(r.IsReliable(FindClassByName(name)->id)) << name;
+  }
+}
+
+TEST(Cityscapes, UserCanOverrideReliableClasses) {
+  const ReliableClasses r = ReliableClasses::FromNames({"car", "road"});
+  EXPECT_TRUE(r.IsReliable(26));
+  EXPECT_TRUE(r.IsReliable(7));
+  EXPECT_FALSE(r.IsReliable(11));
+  EXPECT_THROW(ReliableClasses::FromNames({"spaceship"}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rigsim

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Installs rigsim's build dependencies from Debian's packages, skipping what is already there.
+# Safe to run repeatedly; needs root (or sudo) only when something is missing.
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config
+  libembree-dev
+  libopenimageio-dev openimageio-tools   # OIIO's CMake config needs the tools (see DESIGN.md)
+  libtinygltf-dev
+  libglm-dev
+  libopencv-dev
+  libeigen3-dev
+  libceres-dev
+  nlohmann-json3-dev
+  libcli11-dev
+  libtbb-dev
+  libgtest-dev libgmock-dev
+  libbenchmark-dev
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}"
+sudo_cmd=()
+if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
+export DEBIAN_FRONTEND=noninteractive
+"${sudo_cmd[@]}" apt-get update -q
+"${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
