@@ -1,0 +1,70 @@
+// Evaluation of calibration results against ground truth: pose errors and match precision.
+//
+// Match precision (DESIGN.md "Evaluation"): a match (keypoint in A, keypoint in B) is correct
+// when A's keypoint, lifted with A's true range image and projected into B with the true pose
+// and camera model, lands within max_error_px of B's keypoint and is not occluded in B
+// (dataset/ground_truth.h TransferPixel). Every match is decided, none is dropped:
+//   - lifted point outside B's image or occluded in B: incorrect (B cannot see that point, so
+//     whatever B's keypoint shows, it is another point);
+//   - no surface at A's pixel (sky, background; range 0): the point is at infinity; it is correct
+//     when the rotation alone carries its bearing within max_error_px of B's keypoint and B has
+//     no surface there either. Such matches are also counted apart (at_infinity).
+// Precision = correct / evaluated. Counts rather than a bare ratio, so frames and pairs can be
+// pooled exactly.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "dataset/ground_truth.h"
+#include "dataset/image.h"
+#include "geometry/camera.h"
+#include "geometry/rigid3.h"
+
+namespace rigsim {
+
+// Angle of R_est * R_gt^T, degrees.
+double RotationErrorDeg(const Rigid3d& est, const Rigid3d& gt);
+
+// Angle between the translation directions, degrees; nullopt when either translation is (near)
+// zero (true rig with co-located cameras, or an estimate flagged rotation-only).
+std::optional<double> TranslationDirectionErrorDeg(const Rigid3d& est, const Rigid3d& gt, double min_norm = 1e-9);
+
+// Area under the recall curve of errors up to `threshold_deg` (0..1), as in SuperGlue/LoFTR;
+// failures enter as +inf (or NaN) and only lower the curve.
+double PoseAuc(const std::vector<double>& errors_deg, double threshold_deg);
+
+struct MatchPrecisionOptions {
+  // A transferred keypoint within this distance (px) of its partner is correct.
+  double max_error_px = 2.0;
+  // Occlusion tolerance of the transfer.
+  DepthTransferOptions transfer;
+
+  // Throws std::invalid_argument naming the first bad field.
+  void Check() const;
+};
+
+struct MatchPrecisionCounts {
+  int evaluated = 0;    // matches checked
+  int correct = 0;      // of those, correct
+  int at_infinity = 0;  // of the evaluated, A's pixel had no surface (checked as a point at infinity)
+
+  double Precision() const;  // NaN when nothing was evaluated
+  MatchPrecisionCounts& operator+=(const MatchPrecisionCounts& o);
+};
+
+// One flag per match (1 = correct). `range_a`, `range_b`: the true range images of A and B;
+// `cam_b_from_cam_a`: the true relative pose (metric).
+std::vector<char> CheckMatches(const std::vector<Eigen::Vector2d>& px_a, const std::vector<Eigen::Vector2d>& px_b,
+                               const Camera& cam_a, const ImageF& range_a, const Camera& cam_b,
+                               const ImageF& range_b, const Rigid3d& cam_b_from_cam_a,
+                               const MatchPrecisionOptions& options, int* num_at_infinity = nullptr);
+
+MatchPrecisionCounts MatchPrecision(const std::vector<Eigen::Vector2d>& px_a, const std::vector<Eigen::Vector2d>& px_b,
+                                    const Camera& cam_a, const ImageF& range_a, const Camera& cam_b,
+                                    const ImageF& range_b, const Rigid3d& cam_b_from_cam_a,
+                                    const MatchPrecisionOptions& options = {});
+
+}  // namespace rigsim

@@ -1,0 +1,90 @@
+#include "calibrator/evaluation.h"
+
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+namespace rigsim {
+namespace {
+
+TEST(PoseErrors, KnownOffsets) {
+  const Rigid3d gt(Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized())),
+                   Eigen::Vector3d(0.5, -0.1, 0.2));
+  const Rigid3d off(Eigen::AngleAxisd(DegToRad(1.0), Eigen::Vector3d(0, 1, 1).normalized()) * gt.rotation,
+                    gt.translation);
+  EXPECT_NEAR(RotationErrorDeg(off, gt), 1.0, 1e-9);
+  EXPECT_NEAR(RotationErrorDeg(gt, gt), 0.0, 1e-6);
+  const Rigid3d flipped(gt.rotation, -3.0 * gt.translation);
+  EXPECT_NEAR(TranslationDirectionErrorDeg(flipped, gt).value(), 180.0, 1e-9);
+  EXPECT_NEAR(TranslationDirectionErrorDeg(Rigid3d(gt.rotation, 7.0 * gt.translation), gt).value(), 0.0, 1e-9);
+  EXPECT_FALSE(TranslationDirectionErrorDeg(gt, Rigid3d(gt.rotation, Eigen::Vector3d::Zero())).has_value());
+}
+
+TEST(PoseAuc, RecallCurveArea) {
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_NEAR(PoseAuc({0.0, 0.0}, 5.0), 1.0, 1e-12);
+  EXPECT_NEAR(PoseAuc({inf, std::nan("")}, 5.0), 0.0, 1e-12);
+  // (0,0) -> (0.5, 0.5) -> flat to 1: 0.125 + 0.25.
+  EXPECT_NEAR(PoseAuc({0.5, inf}, 1.0), 0.375, 1e-12);
+}
+
+// Two pinhole cameras 0.5 m apart looking at a wall 4 m away; the top rows of both see no
+// surface (sky).
+struct PlaneScene {
+  Camera cam = Camera(CameraModelId::kPinhole, 160, 120, {100, 100, 79.5, 59.5});
+  Rigid3d b_from_a = Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(-0.5, 0, 0));
+  ImageF range_a, range_b;
+
+  static ImageF Range(const Camera& cam) {
+    ImageF r(cam.width(), cam.height(), 1, 0.f);
+    for (int y = 20; y < cam.height(); ++y) {
+      for (int x = 0; x < cam.width(); ++x) {
+        const Eigen::Vector3d f = *cam.CamFromImg(Eigen::Vector2d(x, y));
+        r.at(x, y) = static_cast<float>(4.0 / f.z());
+      }
+    }
+    return r;
+  }
+  PlaneScene() : range_a(Range(cam)), range_b(Range(cam)) {}
+};
+
+TEST(MatchPrecision, PlaneCorrectAndShiftedMatches) {
+  const PlaneScene s;
+  std::vector<Eigen::Vector2d> pa, pb, pb_shifted;
+  for (int y = 30; y < 110; y += 10) {
+    for (int x = 30; x < 150; x += 10) {
+      const Eigen::Vector2d a(x + 0.3, y - 0.2);
+      const Eigen::Vector3d x_a = *s.cam.CamFromImg(a) * (4.0 / s.cam.CamFromImg(a)->z());
+      const Eigen::Vector2d b = *s.cam.ImgFromCam(s.b_from_a * x_a);
+      if (!s.cam.IsInImage(b)) continue;
+      pa.push_back(a);
+      pb.push_back(b + Eigen::Vector2d(0.4, -0.3));  // keypoint noise well below 2 px
+      pb_shifted.push_back(b + Eigen::Vector2d(3.0, 4.0));  // 5 px away
+    }
+  }
+  ASSERT_GT(pa.size(), 50u);
+  const MatchPrecisionCounts good = MatchPrecision(pa, pb, s.cam, s.range_a, s.cam, s.range_b, s.b_from_a);
+  EXPECT_EQ(good.evaluated, static_cast<int>(pa.size()));
+  EXPECT_EQ(good.correct, good.evaluated);
+  EXPECT_DOUBLE_EQ(good.Precision(), 1.0);
+  const MatchPrecisionCounts bad = MatchPrecision(pa, pb_shifted, s.cam, s.range_a, s.cam, s.range_b, s.b_from_a);
+  EXPECT_EQ(bad.evaluated, good.evaluated);
+  EXPECT_EQ(bad.correct, 0);
+}
+
+TEST(MatchPrecision, SkyIsAPointAtInfinityAndEmptyIsNaN) {
+  const PlaneScene s;
+  // Sky pixel (row 5): under a pure translation a point at infinity stays at the same pixel.
+  const std::vector<Eigen::Vector2d> pa = {{40, 5}, {40, 5}, {40, 50}};
+  const std::vector<Eigen::Vector2d> pb = {{40.5, 5}, {60, 5}, {40, 5}};  // right, wrong, wall->sky
+  int at_infinity = 0;
+  const std::vector<char> ok =
+      CheckMatches(pa, pb, s.cam, s.range_a, s.cam, s.range_b, s.b_from_a, MatchPrecisionOptions(), &at_infinity);
+  EXPECT_EQ(ok, (std::vector<char>{1, 0, 0}));
+  EXPECT_EQ(at_infinity, 2);
+  EXPECT_TRUE(std::isnan(MatchPrecisionCounts().Precision()));
+}
+
+}  // namespace
+}  // namespace rigsim

@@ -1,0 +1,115 @@
+// Pairwise calibration of a dataset: features per image, matches per camera pair and frame,
+// matches of all frames pooled per pair (the rig is rigid, so the relative pose is the same in
+// every frame), one two-view estimate per pair; compared with the truth when the dataset has it.
+//
+// Several semantic modes can run on the same images in one call: features are detected once
+// per image and kind (unmasked for none/gated, masked for mask/mask+gated) and shared.
+//
+// Reads (dataset/dataset.h): rig.json (intrinsics; cam_from_rig optional), frames.json or the
+// image stems of the first camera, images/<cam>/<frame>.*, labels/<cam>/<frame>.png when a mode
+// needs them, depth/<cam>/<frame>.exr when present (match precision).
+// Assumes synchronised capture: camera time offsets are not modelled here.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "calibrator/evaluation.h"
+#include "calibrator/features.h"
+#include "calibrator/matching.h"
+#include "calibrator/semantics.h"
+#include "calibrator/two_view.h"
+#include "geometry/rigid3.h"
+#include "labels/cityscapes.h"
+
+namespace rigsim {
+
+struct CalibrationOptions {
+  // Mode of the single-mode CalibrateDatasetPairs; the multi-mode one takes its list instead.
+  SemanticMode semantic_mode = SemanticMode::kNone;
+  // Keypoint detection (SIFT) and the erosion of the reliable-class mask.
+  FeatureOptions features;
+  // Matching; gate_by_class is overridden by each semantic mode.
+  MatchOptions matching;
+  // Relative pose of each pair.
+  TwoViewOptions two_view;
+  // Classes the mask modes detect on.
+  ReliableClasses reliable;
+  // Match precision against ground-truth range images.
+  MatchPrecisionOptions precision;
+  // Compare with the truth when rig.json has every cam_from_rig and depth images exist.
+  bool evaluate = true;
+  // Worker threads (TBB); 0 = all cores. OpenCV's own threading is switched off meanwhile so the
+  // two do not oversubscribe the machine.
+  int num_threads = 0;
+
+  // Throws std::invalid_argument naming the first bad field.
+  void Check() const;
+};
+
+struct PairResult {
+  std::string cam_a, cam_b;
+  int frames = 0;   // frames pooled
+  int matches = 0;  // pooled over frames
+  int inliers = 0;
+  bool success = false;
+  bool rotation_only = false;  // translation unobservable; its direction is not reported
+  std::string failure_reason;
+  Rigid3d cam_b_from_cam_a;  // unit translation (zero when rotation_only)
+  double median_residual_deg = 0.0;
+
+  // Ground truth, when rig.json has the poses.
+  std::optional<Rigid3d> cam_b_from_cam_a_gt;  // metric
+  std::optional<double> rotation_error_deg;
+  std::optional<double> translation_direction_error_deg;
+  // Match precision (evaluation.h), when depth images exist; counts pooled over frames.
+  std::optional<double> match_precision;
+  int matches_evaluated = 0;
+  int matches_correct = 0;
+  int matches_at_infinity = 0;
+  std::optional<double> inlier_precision;  // precision of the two-view inliers only
+  int inliers_evaluated = 0;
+  int inliers_correct = 0;
+
+  // Cost.
+  int64_t distance_evaluations = 0;  // descriptor comparisons (what gating saves)
+  double match_time_s = 0.0;         // summed over frames
+  double pose_time_s = 0.0;
+};
+
+struct CalibrationReport {
+  std::string semantic_mode;
+  int num_cameras = 0;
+  int num_frames = 0;
+  double mean_keypoints_per_image = 0.0;
+  std::vector<PairResult> pairs;  // every camera pair (a < b in rig order)
+  // Time per stage, summed over the work items (images, pairs x frames, pairs), so that modes
+  // compare fairly whatever the thread count and whatever features they share.
+  double detect_time_s = 0.0;
+  double match_time_s = 0.0;
+  double pose_time_s = 0.0;
+};
+
+// Runs one semantic mode (options.semantic_mode). Throws std::runtime_error naming the file when
+// an input is missing or inconsistent (image absent or of the wrong size for its camera; labels
+// absent when the mode needs them).
+CalibrationReport CalibrateDatasetPairs(const std::filesystem::path& dataset_dir, const CalibrationOptions& options);
+
+// Runs several modes on the same images, sharing the detected features. Reports in `modes` order.
+std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path& dataset_dir,
+                                                     const CalibrationOptions& options,
+                                                     const std::vector<SemanticMode>& modes);
+
+// evaluation.json: {"methods": {"<mode>": {"summary": {...}, "timing": {...}, "pairs": [{...}]}}}.
+// Per pair: cam_a, cam_b, success, rotation_only, failure_reason, matches, inliers,
+// rotation_error_deg, translation_direction_error_deg, match_precision, ... (null when unknown).
+// The summary has pose AUC at 1, 2, 5, 10 deg (pose error = max of rotation and translation
+// direction errors; failures and rotation-only pairs count as infinite) and rotation AUC.
+nlohmann::json ReportToJson(const std::vector<CalibrationReport>& reports);
+
+}  // namespace rigsim

@@ -1,0 +1,337 @@
+#include "calibrator/two_view.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+#include <Eigen/SVD>
+#include <ceres/ceres.h>
+#include <ceres/manifold.h>
+#include <ceres/sphere_manifold.h>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core.hpp>
+
+namespace rigsim {
+namespace {
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  const size_t mid = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + mid, v.end());
+  double m = v[mid];
+  if (v.size() % 2 == 0) m = 0.5 * (m + *std::max_element(v.begin(), v.begin() + mid));
+  return m;
+}
+
+// Angular distance (radians) of a correspondence from the epipolar geometry: the larger of the
+// two one-sided angles.
+double EpipolarAngle(const Rigid3d& b_from_a, const Eigen::Vector3d& fa, const Eigen::Vector3d& fb) {
+  const Eigen::Vector2d r = EpipolarAngularResidual(b_from_a, fa, fb);
+  return std::asin(std::min(1.0, r.cwiseAbs().maxCoeff()));
+}
+
+double RotationAngle(const Eigen::Matrix3d& r, const Eigen::Vector3d& fa, const Eigen::Vector3d& fb) {
+  const Eigen::Vector3d rfa = r * fa;
+  return std::atan2(rfa.cross(fb).norm(), rfa.dot(fb));
+}
+
+// Least-squares rotation with fb ~ R fa (Kabsch / Wahba).
+Eigen::Matrix3d KabschRotation(const std::vector<Eigen::Vector3d>& fa, const std::vector<Eigen::Vector3d>& fb,
+                               const std::vector<int>& idx) {
+  Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+  for (int i : idx) m += fb[i] * fa[i].transpose();
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(m, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
+  d(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
+  return svd.matrixU() * d * svd.matrixV().transpose();
+}
+
+struct RotationFit {
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  std::vector<int> inliers;
+};
+
+// Pure-rotation model by 2-point RANSAC, then least squares on the inliers (twice, as the inlier
+// set settles). Seeded: the same input gives the same answer.
+RotationFit FitRotation(const std::vector<Eigen::Vector3d>& fa, const std::vector<Eigen::Vector3d>& fb,
+                        const std::vector<int>& valid, double thr, const TwoViewOptions& options) {
+  RotationFit best;
+  const int n = static_cast<int>(valid.size());
+  if (n < 2) return best;
+  std::mt19937 rng(options.rotation_ransac_seed);
+  std::uniform_int_distribution<int> pick(0, n - 1);
+  auto inliers_of = [&](const Eigen::Matrix3d& r) {
+    std::vector<int> in;
+    for (int i : valid) {
+      if (RotationAngle(r, fa[i], fb[i]) < thr) in.push_back(i);
+    }
+    return in;
+  };
+  for (int it = 0; it < options.rotation_ransac_iterations; ++it) {
+    const int i = pick(rng);
+    int j = pick(rng);
+    if (i == j) j = (j + 1) % n;
+    const int a = valid[i], b = valid[j];
+    if (fa[a].cross(fa[b]).norm() < 1e-3) continue;  // nearly parallel: rotation undetermined
+    const Eigen::Matrix3d r = KabschRotation(fa, fb, {a, b});
+    std::vector<int> in = inliers_of(r);
+    if (in.size() > best.inliers.size()) {
+      best.rotation = r;
+      best.inliers = std::move(in);
+    }
+  }
+  for (int round = 0; round < 2 && best.inliers.size() >= 2; ++round) {
+    const Eigen::Matrix3d r = KabschRotation(fa, fb, best.inliers);
+    std::vector<int> in = inliers_of(r);
+    if (in.size() < best.inliers.size()) break;
+    best.rotation = r;
+    best.inliers = std::move(in);
+  }
+  return best;
+}
+
+struct EpipolarCost {
+  EpipolarCost(const Eigen::Vector3d& fa, const Eigen::Vector3d& fb) : fa_(fa), fb_(fb) {}
+
+  template <typename T>
+  bool operator()(const T* q, const T* t, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> rot(q);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> tr(t);
+    const Eigen::Matrix<T, 3, 1> fa = fa_.cast<T>();
+    const Eigen::Matrix<T, 3, 1> fb = fb_.cast<T>();
+    // Normal of the epipolar plane through bearing a, in B; and through bearing b, in A.
+    const Eigen::Matrix<T, 3, 1> nb = tr.cross(rot * fa);
+    const Eigen::Matrix<T, 3, 1> na = rot.conjugate() * tr.cross(fb);
+    // The tiny constant keeps the derivative finite when a bearing points at the epipole.
+    residual[0] = nb.dot(fb) / sqrt(nb.squaredNorm() + T(1e-20));
+    residual[1] = na.dot(fa) / sqrt(na.squaredNorm() + T(1e-20));
+    return true;
+  }
+
+  Eigen::Vector3d fa_, fb_;
+};
+
+TwoViewResult Fail(TwoViewResult r, const std::string& why) {
+  r.success = false;
+  r.failure_reason = why;
+  return r;
+}
+
+}  // namespace
+
+void TwoViewOptions::Check() const {
+  auto fail = [](const std::string& why) { throw std::invalid_argument("TwoViewOptions: " + why); };
+  if (min_matches < 5) fail("min_matches must be >= 5 (the essential matrix needs 5)");
+  if (min_inliers < 5) fail("min_inliers must be >= 5");
+  if (!(max_error_px > 0)) fail("max_error_px must be > 0");
+  if (!(ransac_confidence > 0 && ransac_confidence < 1)) fail("ransac_confidence must be in (0, 1)");
+  if (ransac_max_iterations < 1) fail("ransac_max_iterations must be >= 1");
+  if (!(min_bearing_z > 0 && min_bearing_z < 1)) fail("min_bearing_z must be in (0, 1)");
+  if (refine_max_iterations < 1) fail("refine_max_iterations must be >= 1");
+  if (!(rotation_only_ratio > 0)) fail("rotation_only_ratio must be > 0");
+  if (rotation_ransac_iterations < 1) fail("rotation_ransac_iterations must be >= 1");
+}
+
+Eigen::Vector2d EpipolarAngularResidual(const Rigid3d& cam_b_from_cam_a, const Eigen::Vector3d& bearing_a,
+                                        const Eigen::Vector3d& bearing_b) {
+  const EpipolarCost cost(bearing_a, bearing_b);
+  const Eigen::Vector3d t = cam_b_from_cam_a.translation.normalized();
+  Eigen::Vector2d r;
+  cost(cam_b_from_cam_a.rotation.coeffs().data(), t.data(), r.data());
+  return r;
+}
+
+Rigid3d RefineRelativePose(const std::vector<Eigen::Vector3d>& bearings_a,
+                           const std::vector<Eigen::Vector3d>& bearings_b, const Rigid3d& initial,
+                           double loss_scale_rad, int max_iterations, RefinementSummary* summary) {
+  if (bearings_a.size() != bearings_b.size()) throw std::invalid_argument("RefineRelativePose: size mismatch");
+  if (initial.translation.norm() == 0.0) throw std::invalid_argument("RefineRelativePose: zero translation");
+  Eigen::Quaterniond q = initial.rotation.normalized();
+  Eigen::Vector3d t = initial.translation.normalized();
+
+  if (bearings_a.empty()) return Rigid3d(q, t);
+
+  ceres::Problem::Options problem_options;
+  problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
+  problem_options.loss_function_ownership = ceres::TAKE_OWNERSHIP;  // shared; Ceres counts references
+  ceres::Problem problem(problem_options);
+  ceres::LossFunction* loss = new ceres::CauchyLoss(loss_scale_rad);
+  for (size_t i = 0; i < bearings_a.size(); ++i) {
+    auto* cost = new ceres::AutoDiffCostFunction<EpipolarCost, 2, 4, 3>(new EpipolarCost(bearings_a[i], bearings_b[i]));
+    problem.AddResidualBlock(cost, loss, q.coeffs().data(), t.data());
+  }
+  problem.SetManifold(q.coeffs().data(), new ceres::EigenQuaternionManifold);
+  problem.SetManifold(t.data(), new ceres::SphereManifold<3>);
+
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::DENSE_QR;
+  solver_options.max_num_iterations = max_iterations;
+  solver_options.num_threads = 1;  // callers parallelise over pairs; also keeps it deterministic
+  solver_options.function_tolerance = 1e-12;
+  solver_options.gradient_tolerance = 1e-14;
+  solver_options.parameter_tolerance = 1e-12;
+  solver_options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary ceres_summary;
+  ceres::Solve(solver_options, &problem, &ceres_summary);
+  if (summary != nullptr) {
+    summary->initial_cost = ceres_summary.initial_cost;
+    summary->final_cost = ceres_summary.final_cost;
+    summary->iterations = static_cast<int>(ceres_summary.iterations.size());
+  }
+  return Rigid3d(q.normalized(), t.normalized());
+}
+
+TwoViewResult EstimateRelativePoseFromBearings(const std::vector<Eigen::Vector3d>& fa,
+                                               const std::vector<Eigen::Vector3d>& fb, double thr,
+                                               const TwoViewOptions& options) {
+  options.Check();
+  if (fa.size() != fb.size()) throw std::invalid_argument("EstimateRelativePoseFromBearings: size mismatch");
+  if (!(thr > 0)) throw std::invalid_argument("EstimateRelativePoseFromBearings: threshold must be > 0");
+  const int n = static_cast<int>(fa.size());
+  TwoViewResult result;
+  result.inlier_mask.assign(n, 0);
+
+  std::vector<int> valid;
+  for (int i = 0; i < n; ++i) {
+    if (fa[i].allFinite() && fb[i].allFinite() && fa[i].norm() > 0.5 && fb[i].norm() > 0.5) valid.push_back(i);
+  }
+  result.num_valid = static_cast<int>(valid.size());
+  if (result.num_valid < options.min_matches) {
+    std::ostringstream why;
+    why << "too few matches: " << result.num_valid << " valid of " << n << " (need " << options.min_matches << ")";
+    return Fail(result, why.str());
+  }
+
+  // Pure-rotation model, fitted alongside the essential matrix to detect unobservable translation.
+  const RotationFit rot = FitRotation(fa, fb, valid, thr, options);
+  result.num_rotation_inliers = static_cast<int>(rot.inliers.size());
+
+  // Essential matrix on the bearings in front of both cameras, as normalised coordinates.
+  std::vector<int> front;
+  std::vector<cv::Point2d> pa, pb;
+  for (int i : valid) {
+    if (fa[i].z() > options.min_bearing_z * fa[i].norm() && fb[i].z() > options.min_bearing_z * fb[i].norm()) {
+      front.push_back(i);
+      pa.emplace_back(fa[i].x() / fa[i].z(), fa[i].y() / fa[i].z());
+      pb.emplace_back(fb[i].x() / fb[i].z(), fb[i].y() / fb[i].z());
+    }
+  }
+  std::string essential_failure;
+  bool have_pose = false;
+  Rigid3d pose;
+  if (static_cast<int>(front.size()) < std::max(5, options.min_matches)) {
+    essential_failure = "too few correspondences in front of both cameras for the essential matrix (" +
+                        std::to_string(front.size()) + ")";
+  } else {
+    try {
+      const cv::Mat k = cv::Mat::eye(3, 3, CV_64F);
+      cv::Mat mask;
+      // With K = I, USAC's threshold (pixels divided by the mean focal length) is our angle.
+      cv::Mat e = cv::findEssentialMat(pa, pb, k, cv::USAC_MAGSAC, options.ransac_confidence, thr,
+                                       options.ransac_max_iterations, mask);
+      if (e.rows < 3 || e.cols != 3) {
+        essential_failure = "essential matrix estimation found no model";
+      } else {
+        cv::Mat r_cv, t_cv;
+        const int good = cv::recoverPose(e.rowRange(0, 3), pa, pb, k, r_cv, t_cv, mask);
+        if (good < 5) {
+          essential_failure = "pose recovery left " + std::to_string(good) + " points in front of both cameras";
+        } else {
+          Eigen::Matrix3d r;
+          Eigen::Vector3d t;
+          for (int y = 0; y < 3; ++y) {
+            for (int x = 0; x < 3; ++x) r(y, x) = r_cv.at<double>(y, x);
+            t(y) = t_cv.at<double>(y);
+          }
+          pose = Rigid3d(r, t.normalized());
+          have_pose = true;
+        }
+      }
+    } catch (const cv::Exception& ex) {
+      essential_failure = std::string("essential matrix estimation failed: ") + ex.what();
+    }
+  }
+
+  std::vector<int> inliers;
+  auto collect_inliers = [&](const Rigid3d& p, double limit) {
+    std::vector<int> in;
+    for (int i : valid) {
+      if (EpipolarAngle(p, fa[i], fb[i]) < limit) in.push_back(i);
+    }
+    return in;
+  };
+  if (have_pose) {
+    inliers = collect_inliers(pose, thr);
+    if (options.refine) {
+      // Two rounds: refine on a generous neighbourhood (the Cauchy loss tempers it), re-select.
+      for (int round = 0; round < 2; ++round) {
+        const std::vector<int> near = collect_inliers(pose, 3.0 * thr);
+        std::vector<Eigen::Vector3d> ra, rb;
+        for (int i : near) {
+          ra.push_back(fa[i]);
+          rb.push_back(fb[i]);
+        }
+        if (static_cast<int>(near.size()) < 5) break;
+        pose = RefineRelativePose(ra, rb, pose, thr, options.refine_max_iterations);
+        inliers = collect_inliers(pose, thr);
+      }
+    }
+    result.num_essential_inliers = static_cast<int>(inliers.size());
+  }
+
+  const bool rotation_explains = result.num_rotation_inliers >= options.min_inliers &&
+                                 result.num_rotation_inliers >= options.rotation_only_ratio * result.num_essential_inliers;
+  if (rotation_explains) {
+    result.rotation_only = true;
+    result.cam_b_from_cam_a = Rigid3d(rot.rotation, Eigen::Vector3d::Zero());
+    std::vector<double> res;
+    for (int i : rot.inliers) {
+      result.inlier_mask[i] = 1;
+      res.push_back(RotationAngle(rot.rotation, fa[i], fb[i]));
+    }
+    result.num_inliers = result.num_rotation_inliers;
+    result.median_residual_deg = RadToDeg(Median(res));
+    result.success = true;
+    return result;
+  }
+  if (!have_pose) return Fail(result, essential_failure);
+  if (result.num_essential_inliers < options.min_inliers) {
+    std::ostringstream why;
+    why << "too few inliers: " << result.num_essential_inliers << " of " << result.num_valid << " (need "
+        << options.min_inliers << ")";
+    return Fail(result, why.str());
+  }
+  result.cam_b_from_cam_a = pose;
+  std::vector<double> res;
+  for (int i : inliers) {
+    result.inlier_mask[i] = 1;
+    res.push_back(EpipolarAngle(pose, fa[i], fb[i]));
+  }
+  result.num_inliers = result.num_essential_inliers;
+  result.median_residual_deg = RadToDeg(Median(res));
+  result.success = true;
+  return result;
+}
+
+TwoViewResult EstimateRelativePose(const Camera& cam_a, const std::vector<Eigen::Vector2d>& px_a,
+                                   const Camera& cam_b, const std::vector<Eigen::Vector2d>& px_b,
+                                   const TwoViewOptions& options) {
+  options.Check();
+  if (px_a.size() != px_b.size()) throw std::invalid_argument("EstimateRelativePose: size mismatch");
+  // Pixels outside a lens's valid region get a zero bearing: they count as invalid.
+  std::vector<Eigen::Vector3d> fa(px_a.size(), Eigen::Vector3d::Zero()), fb(px_b.size(), Eigen::Vector3d::Zero());
+  for (size_t i = 0; i < px_a.size(); ++i) {
+    const auto ba = cam_a.CamFromImg(px_a[i]);
+    const auto bb = cam_b.CamFromImg(px_b[i]);
+    if (ba && bb) {
+      fa[i] = *ba;
+      fb[i] = *bb;
+    }
+  }
+  const double mean_focal = 0.25 * (cam_a.fx() + cam_a.fy() + cam_b.fx() + cam_b.fy());
+  return EstimateRelativePoseFromBearings(fa, fb, options.max_error_px / mean_focal, options);
+}
+
+}  // namespace rigsim
