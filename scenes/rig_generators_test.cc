@@ -21,7 +21,9 @@ TEST(RingRig, CamerasFaceOutwardsFromLeftToRight) {
     EXPECT_LT((axis - centre.normalized()).norm(), 1e-12);        // facing outwards
     const double yaw = RadToDeg(std::atan2(axis.x(), axis.z()));  // + = right
     EXPECT_GT(yaw, previous_yaw);
-    if (previous_yaw > -1e9) EXPECT_NEAR(yaw - previous_yaw, 60.0, 1e-9);
+    if (previous_yaw > -1e9) {
+      EXPECT_NEAR(yaw - previous_yaw, 60.0, 1e-9);
+    }
     previous_yaw = yaw;
     // Image y stays down.
     EXPECT_LT((rig_from_cam.rotation * Eigen::Vector3d::UnitY() - Eigen::Vector3d::UnitY()).norm(), 1e-12);

@@ -1,0 +1,130 @@
+#include "renderer/render_dataset.h"
+
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "dataset/ground_truth.h"
+#include "dataset/image_io.h"
+#include "dataset/label_image.h"
+#include "geometry/json_io.h"
+
+namespace rigsim {
+namespace fs = std::filesystem;
+namespace {
+
+// Names become folder and file names: refuse anything that would escape or collide.
+void CheckName(const std::string& name, const std::string& what) {
+  if (name.empty() || name == "." || name == ".." || name.find_first_of("/\\") != std::string::npos) {
+    throw std::invalid_argument("render: " + what + " name '" + name + "' cannot be used as a file name");
+  }
+}
+
+void CheckJob(const RenderJob& job) {
+  if (job.scene == nullptr) throw std::invalid_argument("render: no scene");
+  if (job.rig.cameras.empty()) throw std::invalid_argument("render: the rig has no cameras");
+  if (job.frames.frames.empty()) throw std::invalid_argument("render: no frames to render");
+  job.options.Check();
+  std::set<std::string> names;
+  for (const RigCamera& cam : job.rig.cameras) {
+    CheckName(cam.name, "camera");
+    if (!names.insert(cam.name).second) throw std::invalid_argument("render: camera name '" + cam.name + "' repeats");
+    if (!cam.cam_from_rig) {
+      throw std::invalid_argument("render: camera '" + cam.name + "' has no cam_from_rig; a rig to render needs every pose");
+    }
+  }
+  names.clear();
+  for (const Frame& frame : job.frames.frames) {
+    CheckName(frame.name, "frame");
+    if (!names.insert(frame.name).second) throw std::invalid_argument("render: frame name '" + frame.name + "' repeats");
+    if (!frame.rig_from_world) throw std::invalid_argument("render: frame '" + frame.name + "' has no rig_from_world");
+  }
+}
+
+void WriteView(const DatasetLayout& layout, const std::string& cam, const std::string& frame, const RenderedView& view) {
+  const fs::path paths[] = {layout.Image(cam, frame), layout.Label(cam, frame), layout.LabelColor(cam, frame),
+                            layout.Instance(cam, frame), layout.Depth(cam, frame)};
+  for (const fs::path& p : paths) fs::create_directories(p.parent_path());
+  WriteImage(layout.Image(cam, frame), view.rgb);
+  WriteImage(layout.Label(cam, frame), view.label);
+  WriteImage(layout.LabelColor(cam, frame), ColorizeLabels(view.label));
+  WriteImage(layout.Instance(cam, frame), view.instance);
+  WriteImage(layout.Depth(cam, frame), view.range);
+}
+
+}  // namespace
+
+void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
+                   const std::function<void(int done, int total)>& progress) {
+  CheckJob(job);
+  const std::vector<RigCamera>& cams = job.rig.cameras;
+  const int num_cams = int(cams.size());
+  const int num_frames = int(job.frames.frames.size());
+  const int total = num_cams * num_frames;
+
+  // Built before the staging folder exists so that a bad scene leaves nothing behind.
+  const Renderer renderer(*job.scene);
+
+  StagedOutput staged(out_dir, force);
+  const DatasetLayout layout(staged.staging_dir());
+
+  // overlap[a * num_cams + b] sums, over frames, the fraction of a's surface seen by b.
+  std::vector<double> overlap(size_t(num_cams) * num_cams, 0.0);
+  int done = 0;
+  for (const Frame& frame : job.frames.frames) {
+    std::vector<Rigid3d> cam_from_world(num_cams);
+    std::vector<ImageF> ranges(num_cams);
+    for (int c = 0; c < num_cams; ++c) {
+      cam_from_world[c] = *cams[c].cam_from_rig * *frame.rig_from_world;
+      RenderedView view = renderer.Render(cams[c].camera, cam_from_world[c], job.options);
+      WriteView(layout, cams[c].name, frame.name, view);
+      ranges[c] = std::move(view.range);
+      ++done;
+      if (progress) progress(done, total);
+    }
+    // Ordered pairs are independent: evaluate them in parallel, each into its own slot.
+    std::vector<std::pair<int, int>> pairs;
+    for (int a = 0; a < num_cams; ++a) {
+      for (int b = 0; b < num_cams; ++b) {
+        if (a != b) pairs.emplace_back(a, b);
+      }
+    }
+    std::vector<double> fractions(pairs.size(), 0.0);
+    tbb::task_arena arena(job.options.num_threads > 0 ? job.options.num_threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+      tbb::parallel_for(size_t(0), pairs.size(), [&](size_t i) {
+        const auto [a, b] = pairs[i];
+        const Rigid3d b_from_a = cam_from_world[b] * cam_from_world[a].Inverse();
+        fractions[i] = CoVisibleFraction(cams[a].camera, ranges[a], cams[b].camera, ranges[b], b_from_a);
+      });
+    });
+    for (size_t i = 0; i < pairs.size(); ++i) overlap[size_t(pairs[i].first) * num_cams + pairs[i].second] += fractions[i];
+  }
+
+  nlohmann::json pairs = nlohmann::json::array();
+  for (int a = 0; a < num_cams; ++a) {
+    for (int b = a + 1; b < num_cams; ++b) {
+      pairs.push_back({{"a", cams[a].name},
+                       {"b", cams[b].name},
+                       {"overlap_a_in_b", overlap[size_t(a) * num_cams + b] / num_frames},
+                       {"overlap_b_in_a", overlap[size_t(b) * num_cams + a] / num_frames}});
+    }
+  }
+  const nlohmann::json overlap_json{{"frames", num_frames}, {"pairs", pairs}};
+  json_io::WriteTextAtomic(layout.OverlapJson(), overlap_json.dump(2) + "\n");
+
+  WriteRig(job.rig, layout.RigJson());
+  FramesFile frames = job.frames;
+  frames.seed = job.options.seed;
+  if (frames.scene.empty()) frames.scene = job.scene_name;
+  WriteFrames(frames, layout.FramesJson());
+
+  staged.Commit();
+}
+
+}  // namespace rigsim

@@ -1,0 +1,41 @@
+// Renders a whole dataset: every camera of a rig at every frame, written in the layout of
+// dataset/dataset.h together with the ground-truth overlap between cameras.
+//
+// cam_from_world = cam_from_rig * rig_from_world (geometry/rigid3.h). The output folder appears
+// only when everything has been written (StagedOutput): an error or an interruption leaves the
+// previous folder, or nothing. Scenes are static, so a camera's time_offset_s changes nothing here.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include "dataset/dataset.h"
+#include "geometry/rig.h"
+#include "renderer/renderer.h"
+#include "scenes/scene.h"
+
+namespace rigsim {
+
+struct RenderJob {
+  const Scene* scene = nullptr;  // must outlive the call
+  std::string scene_name;        // recorded in frames.json ("scene") when frames.scene is empty
+  Rig rig;                       // every camera needs cam_from_rig
+  FramesFile frames;             // every frame needs rig_from_world
+  RenderOptions options;         // the seed is recorded in frames.json
+};
+
+// Writes into out_dir:
+//   rig.json, frames.json, images/ labels/ labels_color/ instances/ depth/ per camera and frame,
+//   overlap.json: {"frames": F, "pairs": [{"a": "cam0", "b": "cam1", "overlap_a_in_b": 0.31,
+//                  "overlap_b_in_a": 0.29}, ...]} for every unordered camera pair a < b (rig order);
+//                  overlap_a_in_b is the fraction of a's surface pixels (range > 0) that are visible
+//                  in b (dataset/ground_truth.h CoVisibleFraction), averaged over the frames.
+// Throws std::invalid_argument (before writing anything) when the job is incomplete, and
+// std::runtime_error when out_dir exists and `force` is false or when writing fails; any
+// exception, including one thrown by `progress`, leaves out_dir untouched.
+// `progress(done, total)` is called after each rendered view (total = cameras x frames).
+void RenderDataset(const RenderJob& job, const std::filesystem::path& out_dir, bool force,
+                   const std::function<void(int done, int total)>& progress = {});
+
+}  // namespace rigsim

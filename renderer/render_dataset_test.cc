@@ -1,0 +1,222 @@
+#include "renderer/render_dataset.h"
+
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include "dataset/image_io.h"
+#include "dataset/label_image.h"
+
+namespace rigsim {
+namespace {
+namespace fs = std::filesystem;
+
+// A per-test scratch folder, removed at the end.
+class ScratchDir {
+ public:
+  ScratchDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    path_ = fs::temp_directory_path() /
+            ("rigsim_render_dataset_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~ScratchDir() { fs::remove_all(path_); }
+  const fs::path& path() const { return path_; }
+  // Entries of the folder (to check that nothing, not even a staging folder, was left).
+  int NumEntries() const { return int(std::distance(fs::directory_iterator(path_), fs::directory_iterator())); }
+
+ private:
+  fs::path path_;
+};
+
+void AddQuad(Scene& scene, const Eigen::Vector3f& p0, const Eigen::Vector3f& p1, const Eigen::Vector3f& p2,
+             const Eigen::Vector3f& p3, uint8_t class_id, uint16_t instance_id) {
+  SceneMesh mesh;
+  mesh.name = "quad" + std::to_string(scene.meshes.size());
+  mesh.class_id = class_id;
+  mesh.instance_id = instance_id;
+  mesh.positions = {p0, p1, p2, p3};
+  mesh.indices = {0, 1, 2, 0, 2, 3};
+  scene.meshes.push_back(mesh);
+}
+
+// A wall 5 m ahead (rig frame = world frame at frame 0) and a box-like quad in front of it.
+Scene WallScene() {
+  Scene scene;
+  scene.source = "wall";
+  AddQuad(scene, {-20, -20, 5}, {20, -20, 5}, {20, 20, 5}, {-20, 20, 5}, 11 /*building*/, 1);
+  AddQuad(scene, {-0.5f, -0.5f, 3}, {0.5f, -0.5f, 3}, {0.5f, 0.5f, 3}, {-0.5f, 0.5f, 3}, 26 /*car*/, 2);
+  return scene;
+}
+
+// cam0 at the rig origin looking along +z, cam1 0.3 m to the right turned 20 degrees,
+// cam2 looking backwards (sees only sky).
+RenderJob WallJob(const Scene& scene) {
+  RenderJob job;
+  job.scene = &scene;
+  job.scene_name = "wall.glb";
+  const Camera camera(CameraModelId::kOpenCV, 40, 30, {30, 30, 19.5, 14.5, -0.05, 0, 0, 0});
+  const Rigid3d cam1_from_rig =
+      Rigid3d(Eigen::AngleAxisd(DegToRad(20), Eigen::Vector3d::UnitY()).toRotationMatrix(), Eigen::Vector3d::Zero()) *
+      Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(-0.3, 0, 0));
+  const Rigid3d cam2_from_rig(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix(), Eigen::Vector3d::Zero());
+  job.rig.cameras = {RigCamera{"cam0", camera, Rigid3d(), 0.0}, RigCamera{"cam1", camera, cam1_from_rig, 0.0},
+                     RigCamera{"cam2", camera, cam2_from_rig, 0.0}};
+  for (int f = 0; f < 2; ++f) {
+    Frame frame;
+    frame.name = "00000" + std::to_string(f);
+    frame.rig_from_world = Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.2 * f, 0, 0));
+    frame.timestamp_s = 0.1 * f;
+    job.frames.frames.push_back(frame);
+  }
+  job.options.samples_per_pixel = 1;
+  job.options.seed = 42;
+  return job;
+}
+
+TEST(RenderDatasetTest, WritesTheWholeLayout) {
+  ScratchDir scratch;
+  const Scene scene = WallScene();
+  const RenderJob job = WallJob(scene);
+  const fs::path out = scratch.path() / "dataset";
+  std::vector<std::pair<int, int>> calls;
+  RenderDataset(job, out, false, [&](int done, int total) { calls.emplace_back(done, total); });
+
+  ASSERT_EQ(calls.size(), 6u);
+  EXPECT_EQ(calls.back(), std::make_pair(6, 6));
+  EXPECT_EQ(scratch.NumEntries(), 1);  // the dataset, no staging leftovers
+
+  const DatasetLayout layout(out);
+  EXPECT_TRUE(fs::exists(layout.RigJson()));
+  EXPECT_TRUE(fs::exists(layout.FramesJson()));
+  EXPECT_TRUE(fs::exists(layout.OverlapJson()));
+  const Renderer renderer(scene);
+  for (const RigCamera& cam : job.rig.cameras) {
+    for (const Frame& frame : job.frames.frames) {
+      for (const fs::path& p : {layout.Image(cam.name, frame.name), layout.Label(cam.name, frame.name),
+                                layout.LabelColor(cam.name, frame.name), layout.Instance(cam.name, frame.name),
+                                layout.Depth(cam.name, frame.name)}) {
+        EXPECT_TRUE(fs::is_regular_file(p)) << p;
+      }
+      // What is on disk is what the renderer produces for that pose.
+      const RenderedView view =
+          renderer.Render(cam.camera, *cam.cam_from_rig * *frame.rig_from_world, job.options);
+      EXPECT_EQ(ReadImageU8(layout.Image(cam.name, frame.name), 3).data, view.rgb.data);
+      EXPECT_EQ(ReadImageU8(layout.Label(cam.name, frame.name), 1).data, view.label.data);
+      EXPECT_EQ(ReadImageU8(layout.LabelColor(cam.name, frame.name), 3).data, ColorizeLabels(view.label).data);
+      EXPECT_EQ(ReadImageU16(layout.Instance(cam.name, frame.name)).data, view.instance.data);
+      EXPECT_EQ(ReadImageF(layout.Depth(cam.name, frame.name)).data, view.range.data);
+    }
+  }
+
+  const Rig rig = ReadRig(layout.RigJson());
+  ASSERT_EQ(rig.cameras.size(), 3u);
+  EXPECT_EQ(rig.cameras[1].name, "cam1");
+  ASSERT_TRUE(rig.cameras[1].cam_from_rig.has_value());
+  EXPECT_LT((rig.cameras[1].cam_from_rig->translation - job.rig.cameras[1].cam_from_rig->translation).norm(), 1e-9);
+
+  const FramesFile frames = ReadFrames(layout.FramesJson());
+  ASSERT_EQ(frames.frames.size(), 2u);
+  EXPECT_EQ(frames.scene, "wall.glb");
+  EXPECT_EQ(frames.seed, 42u);
+  EXPECT_EQ(frames.frames[1].name, "000001");
+
+  std::ifstream overlap_file(layout.OverlapJson());
+  const nlohmann::json overlap = nlohmann::json::parse(overlap_file);
+  EXPECT_EQ(overlap.at("frames").get<int>(), 2);
+  const auto& pairs = overlap.at("pairs");
+  ASSERT_EQ(pairs.size(), 3u);  // (cam0, cam1), (cam0, cam2), (cam1, cam2)
+  EXPECT_EQ(pairs[0].at("a"), "cam0");
+  EXPECT_EQ(pairs[0].at("b"), "cam1");
+  const double a_in_b = pairs[0].at("overlap_a_in_b").get<double>();
+  const double b_in_a = pairs[0].at("overlap_b_in_a").get<double>();
+  EXPECT_GT(a_in_b, 0.2);
+  EXPECT_LT(a_in_b, 0.95);
+  EXPECT_GT(b_in_a, 0.2);
+  EXPECT_LT(b_in_a, 0.95);
+  // cam2 looks away from everything: no surface, no overlap either way.
+  EXPECT_EQ(pairs[1].at("b"), "cam2");
+  EXPECT_EQ(pairs[1].at("overlap_a_in_b").get<double>(), 0.0);
+  EXPECT_EQ(pairs[1].at("overlap_b_in_a").get<double>(), 0.0);
+}
+
+TEST(RenderDatasetTest, IncompleteJobWritesNothing) {
+  ScratchDir scratch;
+  const Scene scene = WallScene();
+  const fs::path out = scratch.path() / "dataset";
+
+  RenderJob job = WallJob(scene);
+  job.rig.cameras[1].cam_from_rig.reset();
+  EXPECT_THROW(RenderDataset(job, out, false), std::invalid_argument);
+  EXPECT_EQ(scratch.NumEntries(), 0);
+
+  job = WallJob(scene);
+  job.frames.frames[0].rig_from_world.reset();
+  EXPECT_THROW(RenderDataset(job, out, false), std::invalid_argument);
+  job = WallJob(scene);
+  job.rig.cameras[2].name = "cam0";
+  EXPECT_THROW(RenderDataset(job, out, false), std::invalid_argument);
+  job = WallJob(scene);
+  job.rig.cameras[0].name = "../escape";
+  EXPECT_THROW(RenderDataset(job, out, false), std::invalid_argument);
+  EXPECT_EQ(scratch.NumEntries(), 0);
+}
+
+TEST(RenderDatasetTest, FailureMidwayLeavesNothing) {
+  ScratchDir scratch;
+  const Scene scene = WallScene();
+  const RenderJob job = WallJob(scene);
+  const fs::path out = scratch.path() / "dataset";
+  // The callback runs after views have been written to the staging folder.
+  auto interrupt = [](int done, int) {
+    if (done == 3) throw std::runtime_error("interrupted");
+  };
+  EXPECT_THROW(RenderDataset(job, out, false, interrupt), std::runtime_error);
+  EXPECT_EQ(scratch.NumEntries(), 0);
+}
+
+TEST(RenderDatasetTest, UnwritablePlaceThrowsAndWritesNothing) {
+  // A regular file where a parent folder should be: no folder can be made there (even as root,
+  // where permission bits would not stop us).
+  ScratchDir scratch;
+  const Scene scene = WallScene();
+  const fs::path blocker = scratch.path() / "not_a_folder";
+  std::ofstream(blocker) << "x";
+  EXPECT_ANY_THROW(RenderDataset(WallJob(scene), blocker / "dataset", false));
+  EXPECT_EQ(scratch.NumEntries(), 1);
+  EXPECT_TRUE(fs::is_regular_file(blocker));
+}
+
+TEST(RenderDatasetTest, ExistingOutputNeedsForceAndSurvivesAFailure) {
+  ScratchDir scratch;
+  const Scene scene = WallScene();
+  RenderJob job = WallJob(scene);
+  job.frames.frames.resize(1);
+  const fs::path out = scratch.path() / "dataset";
+  fs::create_directories(out);
+  std::ofstream(out / "keep.txt") << "previous";
+
+  EXPECT_THROW(RenderDataset(job, out, false), std::runtime_error);
+  EXPECT_TRUE(fs::exists(out / "keep.txt"));
+
+  auto interrupt = [](int done, int) {
+    if (done == 2) throw std::runtime_error("interrupted");
+  };
+  EXPECT_THROW(RenderDataset(job, out, true, interrupt), std::runtime_error);
+  EXPECT_TRUE(fs::exists(out / "keep.txt"));  // the previous output is intact
+  EXPECT_EQ(scratch.NumEntries(), 1);
+
+  RenderDataset(job, out, true);
+  EXPECT_FALSE(fs::exists(out / "keep.txt"));
+  EXPECT_TRUE(fs::exists(DatasetLayout(out).Depth("cam2", "000000")));
+  EXPECT_EQ(scratch.NumEntries(), 1);
+}
+
+}  // namespace
+}  // namespace rigsim

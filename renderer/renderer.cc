@@ -1,0 +1,686 @@
+#include "renderer/renderer.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <embree3/rtcore.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "labels/cityscapes.h"
+
+namespace rigsim {
+namespace {
+
+constexpr int kTileSize = 32;
+
+// ---------------------------------------------------------------------------------------------
+// Colour encoding.
+
+float SrgbToLinear(float c) {
+  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+float LinearToSrgb(float c) {
+  c = std::clamp(c, 0.0f, 1.0f);
+  return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+}
+
+uint8_t EncodeSrgb8(float linear) {
+  if (!(linear > 0.0f)) return 0;  // also maps NaN to black instead of an undefined cast
+  return static_cast<uint8_t>(LinearToSrgb(linear) * 255.0f + 0.5f);
+}
+
+// Texels are stored sRGB-encoded; decoding through a table keeps the per-sample cost low.
+const std::array<float, 256>& SrgbDecodeTable() {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) t[i] = SrgbToLinear(i / 255.0f);
+    return t;
+  }();
+  return table;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Counter-based random numbers: a pure function of (seed, pixel, sample), so the image does not
+// depend on which thread renders which tile.
+
+uint64_t Mix64(uint64_t z) {
+  z += 0x9e3779b97f4a7c15ull;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+
+uint64_t HashSample(uint64_t seed, int x, int y, int sample, int stream) {
+  uint64_t h = Mix64(seed);
+  h = Mix64(h ^ (uint64_t(uint32_t(x)) << 32 | uint32_t(y)));
+  h = Mix64(h ^ (uint64_t(uint32_t(sample)) << 8 | uint32_t(stream)));
+  return h;
+}
+
+float UnitFloat(uint64_t h) { return float(h >> 40) * 0x1p-24f; }  // [0, 1)
+
+// ---------------------------------------------------------------------------------------------
+// Textures: a box-filtered mip pyramid per texture, stored sRGB-encoded 8 bit like the source.
+
+struct MipLevel {
+  int width = 0;
+  int height = 0;
+  std::vector<uint8_t> rgba;
+};
+
+struct MipTexture {
+  std::vector<MipLevel> levels;
+  WrapMode wrap_s = WrapMode::kRepeat;
+  WrapMode wrap_t = WrapMode::kRepeat;
+  bool nearest = false;
+  float texel_scale = 1.0f;  // sqrt(width * height) of level 0: texels per uv unit
+};
+
+MipLevel Downsample(const MipLevel& src) {
+  const auto& lut = SrgbDecodeTable();
+  MipLevel dst;
+  dst.width = std::max(1, src.width / 2);
+  dst.height = std::max(1, src.height / 2);
+  dst.rgba.resize(size_t(dst.width) * dst.height * 4);
+  for (int y = 0; y < dst.height; ++y) {
+    const int y0 = std::min(2 * y, src.height - 1), y1 = std::min(2 * y + 1, src.height - 1);
+    for (int x = 0; x < dst.width; ++x) {
+      const int x0 = std::min(2 * x, src.width - 1), x1 = std::min(2 * x + 1, src.width - 1);
+      const uint8_t* p[4] = {&src.rgba[(size_t(y0) * src.width + x0) * 4], &src.rgba[(size_t(y0) * src.width + x1) * 4],
+                             &src.rgba[(size_t(y1) * src.width + x0) * 4], &src.rgba[(size_t(y1) * src.width + x1) * 4]};
+      uint8_t* out = &dst.rgba[(size_t(y) * dst.width + x) * 4];
+      // Average colour in linear light, otherwise distant textures darken.
+      for (int c = 0; c < 3; ++c) {
+        const float mean = 0.25f * (lut[p[0][c]] + lut[p[1][c]] + lut[p[2][c]] + lut[p[3][c]]);
+        out[c] = EncodeSrgb8(mean);
+      }
+      out[3] = uint8_t((int(p[0][3]) + p[1][3] + p[2][3] + p[3][3] + 2) / 4);
+    }
+  }
+  return dst;
+}
+
+MipTexture BuildMipTexture(const Texture& texture, const std::string& where) {
+  if (texture.width <= 0 || texture.height <= 0 ||
+      texture.rgba.size() != size_t(texture.width) * texture.height * 4) {
+    throw std::invalid_argument(where + ": texture '" + texture.name + "' has size " + std::to_string(texture.width) +
+                                "x" + std::to_string(texture.height) + " but " +
+                                std::to_string(texture.rgba.size()) + " bytes (RGBA8 expected)");
+  }
+  MipTexture mip;
+  mip.wrap_s = texture.wrap_s;
+  mip.wrap_t = texture.wrap_t;
+  mip.nearest = texture.nearest;
+  mip.texel_scale = std::sqrt(float(texture.width) * float(texture.height));
+  mip.levels.push_back(MipLevel{texture.width, texture.height, texture.rgba});
+  while (mip.levels.back().width > 1 || mip.levels.back().height > 1) {
+    mip.levels.push_back(Downsample(mip.levels.back()));
+  }
+  return mip;
+}
+
+int WrapIndex(int i, int n, WrapMode mode) {
+  switch (mode) {
+    case WrapMode::kClampToEdge:
+      return std::clamp(i, 0, n - 1);
+    case WrapMode::kMirroredRepeat: {
+      int r = i % (2 * n);
+      if (r < 0) r += 2 * n;
+      return r < n ? r : 2 * n - 1 - r;
+    }
+    case WrapMode::kRepeat:
+    default: {
+      int r = i % n;
+      return r < 0 ? r + n : r;
+    }
+  }
+}
+
+// Brings a texture coordinate near [0, 1] before it is turned into integers (huge coordinates
+// would overflow int); exact for the periodic modes, harmless for clamp.
+float ReduceCoordinate(float s, WrapMode mode) {
+  switch (mode) {
+    case WrapMode::kRepeat:
+      return s - std::floor(s);
+    case WrapMode::kMirroredRepeat:
+      return s - 2.0f * std::floor(0.5f * s);
+    case WrapMode::kClampToEdge:
+    default:
+      return std::clamp(s, -1.0f, 2.0f);
+  }
+}
+
+Eigen::Vector4f FetchTexel(const MipLevel& level, int x, int y) {
+  const auto& lut = SrgbDecodeTable();
+  const uint8_t* p = &level.rgba[(size_t(y) * level.width + x) * 4];
+  return Eigen::Vector4f(lut[p[0]], lut[p[1]], lut[p[2]], p[3] / 255.0f);
+}
+
+// Texel centres are at (i + 0.5) / width (glTF: uv (0, 0) is the image's top-left corner).
+Eigen::Vector4f SampleBilinear(const MipTexture& tex, int level_index, float s, float t) {
+  const MipLevel& level = tex.levels[level_index];
+  const float fx = ReduceCoordinate(s, tex.wrap_s) * level.width - 0.5f;
+  const float fy = ReduceCoordinate(t, tex.wrap_t) * level.height - 0.5f;
+  const float x0f = std::floor(fx), y0f = std::floor(fy);
+  const float ax = fx - x0f, ay = fy - y0f;
+  const int x0 = int(x0f), y0 = int(y0f);
+  const int xa = WrapIndex(x0, level.width, tex.wrap_s), xb = WrapIndex(x0 + 1, level.width, tex.wrap_s);
+  const int ya = WrapIndex(y0, level.height, tex.wrap_t), yb = WrapIndex(y0 + 1, level.height, tex.wrap_t);
+  return (1 - ay) * ((1 - ax) * FetchTexel(level, xa, ya) + ax * FetchTexel(level, xb, ya)) +
+         ay * ((1 - ax) * FetchTexel(level, xa, yb) + ax * FetchTexel(level, xb, yb));
+}
+
+Eigen::Vector4f SampleNearest(const MipTexture& tex, float s, float t) {
+  const MipLevel& level = tex.levels[0];
+  const int x = int(std::floor(ReduceCoordinate(s, tex.wrap_s) * level.width));
+  const int y = int(std::floor(ReduceCoordinate(t, tex.wrap_t) * level.height));
+  return FetchTexel(level, WrapIndex(x, level.width, tex.wrap_s), WrapIndex(y, level.height, tex.wrap_t));
+}
+
+// Trilinear filtering; `lod` = log2 of the footprint in level-0 texels.
+Eigen::Vector4f SampleTexture(const MipTexture& tex, float s, float t, float lod) {
+  if (!std::isfinite(s) || !std::isfinite(t)) return Eigen::Vector4f::Ones();
+  if (!(lod > 0.0f)) return tex.nearest ? SampleNearest(tex, s, t) : SampleBilinear(tex, 0, s, t);
+  const int last = int(tex.levels.size()) - 1;
+  const int l0 = int(std::floor(lod));
+  if (l0 >= last) return SampleBilinear(tex, last, s, t);
+  const float f = lod - float(l0);
+  return (1 - f) * SampleBilinear(tex, l0, s, t) + f * SampleBilinear(tex, l0 + 1, s, t);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scene data prepared once so that shading a hit is table look-ups only.
+
+struct MeshData {
+  const SceneMesh* mesh = nullptr;
+  uint8_t class_id = 0;
+  uint16_t instance_id = 0;
+  Eigen::Vector4f base_color = Eigen::Vector4f(0.5f, 0.5f, 0.5f, 1.0f);  // linear RGBA factor
+  const MipTexture* texture = nullptr;  // nullptr: no texture or no texcoords
+  bool alpha_tested = false;
+  float alpha_cutoff = 0.5f;
+  std::vector<Eigen::Vector3f> face_normals;  // unit per triangle (zero for degenerate ones)
+  std::vector<float> uv_per_metre;            // sqrt(uv area / world area) per triangle, for mip selection
+};
+
+Eigen::Vector2f InterpolateTexcoord(const MeshData& m, unsigned prim, float u, float v) {
+  const uint32_t* tri = &m.mesh->indices[size_t(prim) * 3];
+  const auto& tc = m.mesh->texcoords;
+  return (1 - u - v) * tc[tri[0]] + u * tc[tri[1]] + v * tc[tri[2]];
+}
+
+// Alpha of the material at a hit, tested at full resolution so that the cut-out does not depend
+// on distance.
+float AlphaAt(const MeshData& m, unsigned prim, float u, float v) {
+  float alpha = m.base_color[3];
+  if (m.texture != nullptr) {
+    const Eigen::Vector2f uv = InterpolateTexcoord(m, prim, u, v);
+    alpha *= SampleTexture(*m.texture, uv.x(), uv.y(), 0.0f)[3];
+  }
+  return alpha;
+}
+
+// Embree filter for MASK materials: rejecting a hit makes Embree continue the traversal beyond
+// it, so the cut-out holds for camera rays and shadow rays alike.
+void AlphaMaskFilter(const RTCFilterFunctionNArguments* args) {
+  const MeshData& m = *static_cast<const MeshData*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+    const float u = RTCHitN_u(args->hit, args->N, i);
+    const float v = RTCHitN_v(args->hit, args->N, i);
+    if (AlphaAt(m, prim, u, v) < m.alpha_cutoff) args->valid[i] = 0;
+  }
+}
+
+// Collects Embree errors; Embree calls back from C code, so we record and throw later.
+class EmbreeErrors {
+ public:
+  static void Callback(void* user, RTCError code, const char* message) {
+    static_cast<EmbreeErrors*>(user)->Record(code, message);
+  }
+  void Record(RTCError code, const char* message) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (first_.empty()) first_ = "Embree error " + std::to_string(int(code)) + ": " + (message ? message : "");
+  }
+  void ThrowIfAny(const std::string& during) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!first_.empty()) throw std::runtime_error(during + ": " + first_);
+  }
+
+ private:
+  std::mutex mutex_;
+  std::string first_;
+};
+
+// Everything shading needs for one Render call, in float.
+struct ShadeParams {
+  Eigen::Vector3f sun_dir;
+  float sun_intensity;
+  float sky_intensity;
+  bool shadows;
+};
+
+// Visible sky radiance is brighter than the ambient it casts on a surface, which sees only part
+// of an unoccluded sky in practice.
+constexpr float kSkyViewGain = 2.2f;
+// Ambient on a downward-facing surface relative to an upward-facing one (ground bounce).
+constexpr float kGroundBounce = 0.3f;
+
+Eigen::Vector3f SkyRadiance(const Eigen::Vector3f& dir, const ShadeParams& p) {
+  const Eigen::Vector3f horizon(0.75f, 0.82f, 0.90f), zenith(0.22f, 0.40f, 0.80f), ground(0.35f, 0.33f, 0.30f);
+  const float up = dir.y();
+  const Eigen::Vector3f c = up >= 0 ? Eigen::Vector3f(horizon + std::sqrt(up) * (zenith - horizon))
+                                    : Eigen::Vector3f(horizon + std::min(1.0f, -4.0f * up) * (ground - horizon));
+  return c * (p.sky_intensity * kSkyViewGain);
+}
+
+struct Hit {
+  bool hit = false;
+  unsigned geom = 0;
+  unsigned prim = 0;
+  float u = 0, v = 0, t = 0;
+};
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+struct Renderer::Impl {
+  mutable EmbreeErrors errors;  // written from Embree callbacks during const renders
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  std::vector<MipTexture> textures;
+  std::vector<MeshData> meshes;  // index == Embree geomID
+
+  ~Impl() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+
+  Hit Trace(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh;
+    rh.ray.org_x = origin.x();
+    rh.ray.org_y = origin.y();
+    rh.ray.org_z = origin.z();
+    rh.ray.tnear = 0.0f;
+    rh.ray.dir_x = dir.x();
+    rh.ray.dir_y = dir.y();
+    rh.ray.dir_z = dir.z();
+    rh.ray.time = 0.0f;
+    rh.ray.tfar = std::numeric_limits<float>::infinity();
+    rh.ray.mask = ~0u;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene, &context, &rh);
+    Hit hit;
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hit;
+    hit.hit = true;
+    hit.geom = rh.hit.geomID;
+    hit.prim = rh.hit.primID;
+    hit.u = rh.hit.u;
+    hit.v = rh.hit.v;
+    hit.t = rh.ray.tfar;
+    return hit;
+  }
+
+  bool Occluded(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay ray;
+    ray.org_x = origin.x();
+    ray.org_y = origin.y();
+    ray.org_z = origin.z();
+    ray.tnear = 0.0f;
+    ray.dir_x = dir.x();
+    ray.dir_y = dir.y();
+    ray.dir_z = dir.z();
+    ray.time = 0.0f;
+    ray.tfar = std::numeric_limits<float>::infinity();
+    ray.mask = ~0u;
+    ray.id = 0;
+    ray.flags = 0;
+    rtcOccluded1(scene, &context, &ray);
+    return ray.tfar == -std::numeric_limits<float>::infinity();  // Embree's "occluded" marker
+  }
+
+  // Radiance leaving the hit towards the camera.
+  Eigen::Vector3f Shade(const Hit& hit, const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float sample_angle,
+                        const ShadeParams& p) const {
+    const MeshData& m = meshes[hit.geom];
+    const SceneMesh& mesh = *m.mesh;
+    const uint32_t* tri = &mesh.indices[size_t(hit.prim) * 3];
+    const float b0 = 1.0f - hit.u - hit.v;
+
+    // Normals face the incoming ray: surfaces are lit from the side they are seen from.
+    Eigen::Vector3f ng = m.face_normals[hit.prim];
+    if (ng.squaredNorm() == 0.0f) ng = -dir;
+    if (ng.dot(dir) > 0) ng = -ng;
+    Eigen::Vector3f n = ng;
+    if (!mesh.normals.empty()) {
+      const Eigen::Vector3f ni = b0 * mesh.normals[tri[0]] + hit.u * mesh.normals[tri[1]] + hit.v * mesh.normals[tri[2]];
+      const float len = ni.norm();
+      if (len > 1e-12f) {
+        n = ni / len;
+        if (n.dot(dir) > 0) n = -n;
+      }
+    }
+
+    Eigen::Vector4f base = m.base_color;
+    if (m.texture != nullptr) {
+      const Eigen::Vector2f uv = InterpolateTexcoord(m, hit.prim, hit.u, hit.v);
+      // Pixel footprint on the surface (major axis) against the triangle's texel density.
+      const float cos_incidence = std::max(std::abs(ng.dot(dir)), 0.1f);
+      const float footprint_m = hit.t * sample_angle / cos_incidence;
+      const float texels = footprint_m * m.uv_per_metre[hit.prim] * m.texture->texel_scale;
+      const float lod = texels > 0 ? std::log2(texels) : 0.0f;
+      base = base.cwiseProduct(SampleTexture(*m.texture, uv.x(), uv.y(), lod));
+    }
+    const Eigen::Vector3f albedo = base.head<3>();
+
+    const float up = std::clamp(n.y(), -1.0f, 1.0f);
+    float light = p.sky_intensity * (0.5f * (1 + up) + kGroundBounce * 0.5f * (1 - up));
+    const float ndl = n.dot(p.sun_dir);
+    if (ndl > 0 && ng.dot(p.sun_dir) > 0) {
+      bool lit = true;
+      if (p.shadows) {
+        const Eigen::Vector3f point = origin + hit.t * dir;
+        // Offset along the geometric normal, scaled with float precision at this distance.
+        const float eps = 1e-4f * (1.0f + std::max(point.cwiseAbs().maxCoeff(), hit.t));
+        lit = !Occluded(point + eps * ng, p.sun_dir);
+      }
+      if (lit) light += p.sun_intensity * ndl;
+    }
+    return albedo * light;
+  }
+};
+
+namespace {
+
+// Unit bearings of all pixel centres (invalid outside the lens), computed once per render: they
+// give the exact AOVs and, by differences with the neighbours, each pixel's angular size for
+// texture filtering.
+struct PixelCentreRays {
+  int width = 0;
+  std::vector<Eigen::Vector3d> bearings;
+  std::vector<uint8_t> valid;
+};
+
+PixelCentreRays ComputePixelCentreRays(const Camera& camera) {
+  PixelCentreRays rays;
+  rays.width = camera.width();
+  rays.bearings.assign(size_t(camera.width()) * camera.height(), Eigen::Vector3d::Zero());
+  rays.valid.assign(rays.bearings.size(), 0);
+  tbb::parallel_for(0, camera.height(), [&](int y) {
+    for (int x = 0; x < camera.width(); ++x) {
+      if (const auto b = camera.CamFromImg(Eigen::Vector2d(x, y))) {
+        rays.bearings[size_t(y) * camera.width() + x] = *b;
+        rays.valid[size_t(y) * camera.width() + x] = 1;
+      }
+    }
+  });
+  return rays;
+}
+
+// Sub-pixel offset in [-0.5, 0.5)^2 of sample `s` of pixel (x, y).
+Eigen::Vector2d SampleOffset(uint64_t seed, int x, int y, int s, int spp, int grid, const std::vector<int>& rooks) {
+  const float jx = UnitFloat(HashSample(seed, x, y, s, 0));
+  const float jy = UnitFloat(HashSample(seed, x, y, s, 1));
+  if (grid > 0) {
+    return Eigen::Vector2d((s % grid + jx) / grid - 0.5, (s / grid + jy) / grid - 0.5);
+  }
+  return Eigen::Vector2d((s + jx) / spp - 0.5, (rooks[s] + jy) / spp - 0.5);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+void RenderOptions::Check() const {
+  auto fail = [](const std::string& why) { throw std::invalid_argument("invalid render options: " + why); };
+  if (samples_per_pixel < 1 || samples_per_pixel > 65536) {
+    fail("samples_per_pixel must be in 1..65536, got " + std::to_string(samples_per_pixel));
+  }
+  if (!sun_direction_world.allFinite() || sun_direction_world.norm() < 1e-12) {
+    fail("sun_direction_world must be a finite non-zero vector");
+  }
+  if (!std::isfinite(sun_intensity) || sun_intensity < 0) fail("sun_intensity must be finite and >= 0");
+  if (!std::isfinite(sky_intensity) || sky_intensity < 0) fail("sky_intensity must be finite and >= 0");
+  if (!std::isfinite(exposure) || exposure <= 0) fail("exposure must be finite and > 0");
+  if (num_threads < 0) fail("num_threads must be >= 0 (0 = all cores), got " + std::to_string(num_threads));
+}
+
+Renderer::Renderer(const Scene& scene) : impl_(std::make_unique<Impl>()) {
+  const std::string source = scene.source.empty() ? std::string("scene") : scene.source;
+  Impl& impl = *impl_;
+
+  impl.textures.reserve(scene.textures.size());  // MeshData points into it: no reallocation
+  for (const Texture& texture : scene.textures) impl.textures.push_back(BuildMipTexture(texture, source));
+
+  impl.meshes.resize(scene.meshes.size());
+  for (size_t i = 0; i < scene.meshes.size(); ++i) {
+    const SceneMesh& mesh = scene.meshes[i];
+    const std::string where = source + ": mesh " + std::to_string(i) + " '" + mesh.name + "'";
+    if (mesh.indices.size() % 3 != 0) throw std::invalid_argument(where + ": index count is not a multiple of 3");
+    for (uint32_t index : mesh.indices) {
+      if (index >= mesh.positions.size()) {
+        throw std::invalid_argument(where + ": index " + std::to_string(index) + " >= " +
+                                    std::to_string(mesh.positions.size()) + " positions");
+      }
+    }
+    if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size()) {
+      throw std::invalid_argument(where + ": " + std::to_string(mesh.normals.size()) + " normals for " +
+                                  std::to_string(mesh.positions.size()) + " positions");
+    }
+    if (!mesh.texcoords.empty() && mesh.texcoords.size() != mesh.positions.size()) {
+      throw std::invalid_argument(where + ": " + std::to_string(mesh.texcoords.size()) + " texcoords for " +
+                                  std::to_string(mesh.positions.size()) + " positions");
+    }
+    if (mesh.material < -1 || mesh.material >= int(scene.materials.size())) {
+      throw std::invalid_argument(where + ": material index " + std::to_string(mesh.material) + " out of range");
+    }
+
+    MeshData& m = impl.meshes[i];
+    m.mesh = &mesh;
+    m.class_id = mesh.class_id;
+    m.instance_id = mesh.instance_id;
+    if (mesh.material >= 0) {
+      const Material& material = scene.materials[mesh.material];
+      m.base_color = material.base_color_factor;
+      if (material.base_color_texture >= int(scene.textures.size()) || material.base_color_texture < -1) {
+        throw std::invalid_argument(where + ": material '" + material.name + "' texture index " +
+                                    std::to_string(material.base_color_texture) + " out of range");
+      }
+      if (material.base_color_texture >= 0 && !mesh.texcoords.empty()) {
+        m.texture = &impl.textures[material.base_color_texture];
+      }
+      // A single-hit tracer cannot composite BLEND; cutting it out at the cutoff at least keeps
+      // fully transparent texels (foliage cards, fences) from occluding.
+      m.alpha_tested = material.alpha_mode != AlphaMode::kOpaque;
+      m.alpha_cutoff = material.alpha_cutoff;
+    }
+
+    const size_t num_tris = mesh.indices.size() / 3;
+    m.face_normals.resize(num_tris);
+    m.uv_per_metre.assign(num_tris, 0.0f);
+    for (size_t t = 0; t < num_tris; ++t) {
+      const Eigen::Vector3f& p0 = mesh.positions[mesh.indices[3 * t]];
+      const Eigen::Vector3f& p1 = mesh.positions[mesh.indices[3 * t + 1]];
+      const Eigen::Vector3f& p2 = mesh.positions[mesh.indices[3 * t + 2]];
+      const Eigen::Vector3f cross = (p1 - p0).cross(p2 - p0);
+      const float area2 = cross.norm();
+      m.face_normals[t] = area2 > 0 ? Eigen::Vector3f(cross / area2) : Eigen::Vector3f::Zero();
+      if (!mesh.texcoords.empty() && area2 > 0) {
+        const Eigen::Vector2f& t0 = mesh.texcoords[mesh.indices[3 * t]];
+        const Eigen::Vector2f e1 = mesh.texcoords[mesh.indices[3 * t + 1]] - t0;
+        const Eigen::Vector2f e2 = mesh.texcoords[mesh.indices[3 * t + 2]] - t0;
+        const float uv_area2 = std::abs(e1.x() * e2.y() - e1.y() * e2.x());
+        m.uv_per_metre[t] = std::sqrt(uv_area2 / area2);
+      }
+    }
+  }
+
+  impl.device = rtcNewDevice(nullptr);
+  if (impl.device == nullptr) {
+    throw std::runtime_error(source + ": cannot create an Embree device (error " +
+                             std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
+  }
+  rtcSetDeviceErrorFunction(impl.device, &EmbreeErrors::Callback, &impl.errors);
+  impl.scene = rtcNewScene(impl.device);
+  impl.errors.ThrowIfAny(source + ": creating the Embree scene");
+
+  for (size_t i = 0; i < scene.meshes.size(); ++i) {
+    const SceneMesh& mesh = scene.meshes[i];
+    if (mesh.indices.empty()) continue;  // nothing to hit; geomIDs stay equal to mesh indices
+    RTCGeometry geom = rtcNewGeometry(impl.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                                 3 * sizeof(float), mesh.positions.size()));
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                   3 * sizeof(unsigned), mesh.indices.size() / 3));
+    if (vertices == nullptr || indices == nullptr) {
+      rtcReleaseGeometry(geom);
+      impl.errors.ThrowIfAny(source + ": mesh '" + mesh.name + "'");
+      throw std::runtime_error(source + ": mesh '" + mesh.name + "': Embree could not allocate buffers");
+    }
+    for (size_t v = 0; v < mesh.positions.size(); ++v) {
+      vertices[3 * v] = mesh.positions[v].x();
+      vertices[3 * v + 1] = mesh.positions[v].y();
+      vertices[3 * v + 2] = mesh.positions[v].z();
+    }
+    std::copy(mesh.indices.begin(), mesh.indices.end(), indices);
+    if (impl.meshes[i].alpha_tested) {
+      rtcSetGeometryUserData(geom, &impl.meshes[i]);
+      rtcSetGeometryIntersectFilterFunction(geom, &AlphaMaskFilter);
+      rtcSetGeometryOccludedFilterFunction(geom, &AlphaMaskFilter);
+    }
+    rtcCommitGeometry(geom);
+    rtcAttachGeometryByID(impl.scene, geom, unsigned(i));
+    rtcReleaseGeometry(geom);  // the scene holds its own reference
+  }
+  rtcCommitScene(impl.scene);
+  impl.errors.ThrowIfAny(source + ": building the Embree scene");
+}
+
+Renderer::~Renderer() = default;
+
+RenderedView Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, const RenderOptions& options) const {
+  options.Check();
+  const Impl& impl = *impl_;
+  const int width = camera.width(), height = camera.height();
+  const int spp = options.samples_per_pixel;
+
+  RenderedView view;
+  view.rgb = ImageU8(width, height, 3, 0);
+  view.label = ImageU8(width, height, 1, 0);
+  view.instance = ImageU16(width, height, 1, 0);
+  view.range = ImageF(width, height, 1, 0.0f);
+
+  const Eigen::Quaterniond world_from_cam = cam_from_world.rotation.conjugate();
+  const Eigen::Vector3f origin = cam_from_world.SourceOriginInTarget().cast<float>();
+  auto to_world = [&](const Eigen::Vector3d& bearing) -> Eigen::Vector3f {
+    return (world_from_cam * bearing).cast<float>().normalized();
+  };
+
+  ShadeParams shade;
+  shade.sun_dir = options.sun_direction_world.normalized().cast<float>();
+  shade.sun_intensity = float(options.sun_intensity);
+  shade.sky_intensity = float(options.sky_intensity);
+  shade.shadows = options.shadows;
+  const float exposure = float(options.exposure);
+
+  int grid = int(std::lround(std::sqrt(double(spp))));
+  if (grid * grid != spp) grid = 0;  // n-rooks
+
+  tbb::task_arena arena(options.num_threads > 0 ? options.num_threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    const PixelCentreRays centres = ComputePixelCentreRays(camera);
+
+    const int tiles_x = (width + kTileSize - 1) / kTileSize;
+    const int tiles_y = (height + kTileSize - 1) / kTileSize;
+    tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const tbb::blocked_range<int>& tiles) {
+      std::vector<int> rooks(grid > 0 ? 0 : spp);
+      for (int tile = tiles.begin(); tile < tiles.end(); ++tile) {
+        const int x_begin = (tile % tiles_x) * kTileSize, y_begin = (tile / tiles_x) * kTileSize;
+        const int x_end = std::min(width, x_begin + kTileSize), y_end = std::min(height, y_begin + kTileSize);
+        for (int y = y_begin; y < y_end; ++y) {
+          for (int x = x_begin; x < x_end; ++x) {
+            const size_t idx = size_t(y) * width + x;
+            if (!centres.valid[idx]) continue;  // outside the lens: black / 0 / 0 / 0
+            const Eigen::Vector3d& bearing = centres.bearings[idx];
+            const Eigen::Vector3f dir = to_world(bearing);
+
+            // Angular size of the pixel from its valid neighbours (max over the two axes).
+            float pixel_angle = 0.0f;
+            auto neighbour = [&](int nx, int ny) {
+              if (nx < 0 || ny < 0 || nx >= width || ny >= height) return;
+              const size_t n = size_t(ny) * width + nx;
+              if (centres.valid[n]) pixel_angle = std::max(pixel_angle, float((centres.bearings[n] - bearing).norm()));
+            };
+            neighbour(x + 1, y);
+            neighbour(x - 1, y);
+            neighbour(x, y + 1);
+            neighbour(x, y - 1);
+            if (pixel_angle == 0.0f) pixel_angle = float(1.0 / std::max(camera.fx(), camera.fy()));
+
+            const Hit centre = impl.Trace(origin, dir);
+            if (centre.hit) {
+              const MeshData& m = impl.meshes[centre.geom];
+              view.label.at(x, y) = m.class_id;
+              view.instance.at(x, y) = m.instance_id;
+              view.range.at(x, y) = centre.t;
+            } else {
+              view.label.at(x, y) = kSkyId;
+            }
+
+            Eigen::Vector3f radiance = Eigen::Vector3f::Zero();
+            int num_samples = 0;
+            if (spp > 1) {
+              if (grid == 0) {  // n-rooks: a per-pixel random permutation of the y strata
+                for (int i = 0; i < spp; ++i) rooks[i] = i;
+                for (int i = spp - 1; i > 0; --i) {
+                  const int j = int(HashSample(options.seed, x, y, i, 2) % uint64_t(i + 1));
+                  std::swap(rooks[i], rooks[j]);
+                }
+              }
+              const float sample_angle = pixel_angle / std::sqrt(float(spp));
+              for (int s = 0; s < spp; ++s) {
+                const Eigen::Vector2d offset = SampleOffset(options.seed, x, y, s, spp, grid, rooks);
+                const auto sample_bearing = camera.CamFromImg(Eigen::Vector2d(x, y) + offset);
+                if (!sample_bearing) continue;  // part of the pixel lies outside the lens
+                const Eigen::Vector3f sdir = to_world(*sample_bearing);
+                const Hit h = impl.Trace(origin, sdir);
+                radiance += h.hit ? impl.Shade(h, origin, sdir, sample_angle, shade) : SkyRadiance(sdir, shade);
+                ++num_samples;
+              }
+            }
+            if (num_samples == 0) {
+              radiance = centre.hit ? impl.Shade(centre, origin, dir, pixel_angle, shade) : SkyRadiance(dir, shade);
+              num_samples = 1;
+            }
+            radiance *= exposure / float(num_samples);
+            for (int c = 0; c < 3; ++c) view.rgb.at(x, y, c) = EncodeSrgb8(radiance[c]);
+          }
+        }
+      }
+    });
+  });
+  impl.errors.ThrowIfAny("rendering");
+  return view;
+}
+
+}  // namespace rigsim

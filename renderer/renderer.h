@@ -1,0 +1,84 @@
+// A CPU ray tracer (Embree) that renders a Scene as seen by a calibrated camera, producing the
+// RGB image together with per-pixel ground truth: semantic label, instance and range.
+//
+// Conventions it relies on:
+//   - Pixels are OpenCV's: the centre of pixel (x, y) has image coordinates (x, y), so the ray
+//     of pixel (x, y) is camera.CamFromImg({x, y}). Lens distortion is applied exactly per ray
+//     through geometry/camera.h (the calibrator's own model), never by warping an image.
+//   - Label, instance and range come from the single ray through the pixel centre, so they are
+//     exact; RGB averages samples_per_pixel jittered rays (anti-aliased).
+//   - Range: distance in metres from the camera centre to the surface along the pixel's ray;
+//     0 where no surface is hit (sky) or the pixel is outside the lens's valid region.
+//   - Sky (no hit): label kSkyId (23), instance 0, range 0. Invalid pixels (outside the lens's
+//     valid region): RGB black, label 0, instance 0, range 0.
+//   - Every surface is seen from both sides (glTF double_sided is not needed for ground truth:
+//     a culled back face would let rays see through walls). Alpha MASK cuts geometry out of every
+//     output; BLEND is treated as MASK at its cutoff (a single-hit tracer cannot composite).
+//   - Results are byte-identical for a given seed whatever the thread count: every random
+//     number is a hash of (seed, x, y, sample).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include <Eigen/Core>
+
+#include "dataset/image.h"
+#include "geometry/camera.h"
+#include "geometry/rigid3.h"
+#include "scenes/scene.h"
+
+namespace rigsim {
+
+struct RenderOptions {
+  // Rays averaged per pixel for the RGB image (>= 1). Square counts use a jittered
+  // sqrt(n) x sqrt(n) grid, others n-rooks. With 1 the single ray goes through the pixel centre,
+  // so RGB is noise-free and lines up exactly with the labels.
+  int samples_per_pixel = 1;
+  // Seed of the sample jitter; the same seed gives the same bytes.
+  uint64_t seed = 0;
+  // Direction from the scene TO the sun, world frame (+Y up); normalised internally.
+  Eigen::Vector3d sun_direction_world = Eigen::Vector3d(0.4, 0.8, 0.3).normalized();
+  // Irradiance of the sun on a surface facing it (linear units; albedo 1 -> radiance 1).
+  double sun_intensity = 0.9;
+  // Strength of the sky's ambient light on an upward-facing surface (downward-facing surfaces
+  // get a darker ground bounce). Also scales the sky's own colour seen on a miss.
+  double sky_intensity = 0.35;
+  // Linear scale applied to radiance before sRGB encoding (values above 1 clip).
+  double exposure = 1.0;
+  // Cast hard sun shadows (one occlusion ray per shaded sample).
+  bool shadows = true;
+  // Worker threads; 0 = all cores. Does not change the output.
+  int num_threads = 0;
+
+  // Throws std::invalid_argument naming the offending field.
+  void Check() const;
+};
+
+struct RenderedView {
+  ImageU8 rgb;       // 3 channels, sRGB-encoded
+  ImageU8 label;     // 1 channel, Cityscapes label ids (labels/cityscapes.h)
+  ImageU16 instance; // 1 channel, SceneMesh::instance_id; 0 = none
+  ImageF range;      // 1 channel, metres along the ray from the camera centre; 0 = no surface
+};
+
+class Renderer {
+ public:
+  // Builds the acceleration structure and texture mip pyramids once. Throws
+  // std::invalid_argument naming scene.source and the mesh when the scene is inconsistent
+  // (index out of range, attribute counts, bad material/texture index) and std::runtime_error
+  // on an Embree failure. `scene` must outlive the Renderer (meshes are referenced, not copied).
+  explicit Renderer(const Scene& scene);
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  // Renders one view. Thread-safe (const): several views may render concurrently.
+  RenderedView Render(const Camera& camera, const Rigid3d& cam_from_world, const RenderOptions& options) const;
+
+ private:
+  struct Impl;  // Embree handles and per-mesh data stay out of this header
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace rigsim

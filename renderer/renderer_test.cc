@@ -1,0 +1,560 @@
+#include "renderer/renderer.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "labels/cityscapes.h"
+
+namespace rigsim {
+namespace {
+
+constexpr uint8_t kRoad = 7;
+constexpr uint8_t kCar = 26;
+
+// Adds a quad p0..p3 (p0 -> p1 is the texture's u direction, p0 -> p3 its v direction) as two
+// triangles with uv (0,0), (u_max,0), (u_max,v_max), (0,v_max).
+int AddQuad(Scene& scene, const Eigen::Vector3f& p0, const Eigen::Vector3f& p1, const Eigen::Vector3f& p2,
+            const Eigen::Vector3f& p3, uint8_t class_id, uint16_t instance_id, int material = -1, float u_max = 1,
+            float v_max = 1) {
+  SceneMesh mesh;
+  mesh.name = "quad" + std::to_string(scene.meshes.size());
+  mesh.class_id = class_id;
+  mesh.instance_id = instance_id;
+  mesh.material = material;
+  mesh.positions = {p0, p1, p2, p3};
+  mesh.texcoords = {{0, 0}, {u_max, 0}, {u_max, v_max}, {0, v_max}};
+  mesh.indices = {0, 1, 2, 0, 2, 3};
+  scene.meshes.push_back(mesh);
+  return int(scene.meshes.size()) - 1;
+}
+
+// Fronto-parallel quad at depth z for the identity pose, spanning [x0, x1] x [y0, y1] (camera frame).
+int AddFrontQuad(Scene& scene, float x0, float x1, float y0, float y1, float z, uint8_t class_id,
+                 uint16_t instance_id, int material = -1, float u_max = 1, float v_max = 1) {
+  return AddQuad(scene, {x0, y0, z}, {x1, y0, z}, {x1, y1, z}, {x0, y1, z}, class_id, instance_id, material, u_max,
+                 v_max);
+}
+
+int AddMaterial(Scene& scene, const Eigen::Vector4f& color, int texture = -1) {
+  Material m;
+  m.name = "m" + std::to_string(scene.materials.size());
+  m.base_color_factor = color;
+  m.base_color_texture = texture;
+  scene.materials.push_back(m);
+  return int(scene.materials.size()) - 1;
+}
+
+// Texture from rows of RGBA texels (row 0 = top).
+int AddTexture(Scene& scene, int width, int height, const std::vector<std::array<uint8_t, 4>>& texels,
+               WrapMode wrap = WrapMode::kRepeat, bool nearest = true) {
+  Texture t;
+  t.name = "t" + std::to_string(scene.textures.size());
+  t.width = width;
+  t.height = height;
+  for (const auto& texel : texels) t.rgba.insert(t.rgba.end(), texel.begin(), texel.end());
+  t.wrap_s = t.wrap_t = wrap;
+  t.nearest = nearest;
+  scene.textures.push_back(t);
+  return int(scene.textures.size()) - 1;
+}
+
+Camera SmallPinhole() { return Camera(CameraModelId::kPinhole, 64, 48, {50, 50, 31.5, 23.5}); }
+
+RenderOptions Opts(int threads = 0) {
+  RenderOptions o;
+  o.num_threads = threads;
+  return o;
+}
+
+TEST(RendererTest, RangeOfFrontoParallelPlane) {
+  Scene scene;
+  const float d = 5.0f;
+  AddFrontQuad(scene, -100, 100, -100, 100, d, kRoad, 1);
+  const Renderer renderer(scene);
+  // cx, cy on a pixel centre so that one ray is the optical axis; also a distorting lens.
+  for (const Camera& camera : {Camera(CameraModelId::kPinhole, 64, 48, {40, 40, 32, 24}),
+                               Camera(CameraModelId::kOpenCV, 64, 48, {40, 42, 32, 24, -0.2, 0.03, 0.001, -0.002}),
+                               Camera(CameraModelId::kOpenCVFisheye, 64, 48, {35, 35, 32, 24, 0.05, -0.01, 0.002, 0})}) {
+    const RenderedView view = renderer.Render(camera, Rigid3d(), Opts());
+    EXPECT_NEAR(view.range.at(32, 24), d, 1e-5 * d);
+    for (int y = 0; y < 48; ++y) {
+      for (int x = 0; x < 64; ++x) {
+        const auto bearing = camera.CamFromImg(Eigen::Vector2d(x, y));
+        ASSERT_TRUE(bearing.has_value());
+        // d / cos(angle to the optical axis)
+        ASSERT_NEAR(view.range.at(x, y), d / bearing->normalized().z(), 2e-5 * d) << x << "," << y;
+        ASSERT_EQ(view.label.at(x, y), kRoad);
+        ASSERT_EQ(view.instance.at(x, y), 1);
+      }
+    }
+  }
+}
+
+TEST(RendererTest, LabelBoundaryFallsOnTheRightPixelsPinhole) {
+  const Camera camera = SmallPinhole();
+  const double d = 4.0;
+  // Edges at fractional pixel positions, off-centre in x and y, so that a half-pixel shift or a
+  // flipped axis moves whole rows or columns across the boundary.
+  auto world_x = [&](double u) { return float((u - camera.cx()) / camera.fx() * d); };
+  auto world_y = [&](double v) { return float((v - camera.cy()) / camera.fy() * d); };
+  Scene scene;
+  AddFrontQuad(scene, world_x(20.3), world_x(45.8), world_y(10.7), world_y(30.2), float(d), kCar, 3);
+  const RenderedView view = Renderer(scene).Render(camera, Rigid3d(), Opts());
+
+  const auto top_left = camera.ImgFromCam(Eigen::Vector3d(world_x(20.3), world_y(10.7), d));
+  const auto bottom_right = camera.ImgFromCam(Eigen::Vector3d(world_x(45.8), world_y(30.2), d));
+  ASSERT_TRUE(top_left && bottom_right);
+  int inside_count = 0;
+  for (int y = 0; y < 48; ++y) {
+    for (int x = 0; x < 64; ++x) {
+      const bool inside = x > top_left->x() && x < bottom_right->x() && y > top_left->y() && y < bottom_right->y();
+      inside_count += inside;
+      ASSERT_EQ(view.label.at(x, y), inside ? kCar : kSkyId) << x << "," << y;
+      ASSERT_EQ(view.instance.at(x, y), inside ? 3 : 0);
+    }
+  }
+  EXPECT_EQ(inside_count, (45 - 21 + 1) * (30 - 11 + 1));
+}
+
+// For points along the quad's edges projected with ImgFromCam, the pixel just inside the
+// projected edge has the quad's label and the pixel just outside has not.
+void ExpectEdgesProjectWhereTheyShould(const Camera& camera, const std::array<Eigen::Vector3d, 4>& corners,
+                                       const RenderedView& view) {
+  const Eigen::Vector3d centre = 0.25 * (corners[0] + corners[1] + corners[2] + corners[3]);
+  int checked = 0;
+  for (int e = 0; e < 4; ++e) {
+    const Eigen::Vector3d a = corners[e], b = corners[(e + 1) % 4];
+    for (int i = 1; i < 40; ++i) {
+      const Eigen::Vector3d p = a + (b - a) * (i / 40.0);
+      const auto px = camera.ImgFromCam(p);
+      const auto along = camera.ImgFromCam(p + (b - a) * 1e-4);
+      const auto towards_centre = camera.ImgFromCam(p + (centre - p) * 1e-4);
+      ASSERT_TRUE(px && along && towards_centre);
+      const Eigen::Vector2d tangent = (*along - *px).normalized();
+      Eigen::Vector2d inward(-tangent.y(), tangent.x());
+      if (inward.dot(*towards_centre - *px) < 0) inward = -inward;
+      // 0.9 px off the edge: the nearest pixel centre is then >= 0.19 px on the correct side.
+      const Eigen::Vector2d in = (*px + 0.9 * inward).array().round();
+      const Eigen::Vector2d out = (*px - 0.9 * inward).array().round();
+      if (!camera.IsInImage(in) || !camera.IsInImage(out)) continue;
+      EXPECT_EQ(view.label.at(int(in.x()), int(in.y())), kCar) << "edge " << e << " sample " << i << " at " << px->transpose();
+      EXPECT_EQ(view.label.at(int(out.x()), int(out.y())), kSkyId) << "edge " << e << " sample " << i << " at " << px->transpose();
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 100);
+}
+
+TEST(RendererTest, LabelBoundaryFollowsTheLensDistortion) {
+  // Strong barrel distortion: edges move by several pixels against a pinhole, so a wrong sign
+  // or an image-space approximation fails.
+  const Camera camera(CameraModelId::kOpenCV, 64, 48, {60, 60, 31.5, 23.5, -0.3, 0, 0, 0});
+  const double d = 4.0;
+  const std::array<Eigen::Vector3d, 4> corners = {Eigen::Vector3d(-0.42 * d, -0.33 * d, d), Eigen::Vector3d(0.45 * d, -0.33 * d, d),
+                                                  Eigen::Vector3d(0.45 * d, 0.3 * d, d), Eigen::Vector3d(-0.42 * d, 0.3 * d, d)};
+  Scene scene;
+  AddQuad(scene, corners[0].cast<float>(), corners[1].cast<float>(), corners[2].cast<float>(),
+          corners[3].cast<float>(), kCar, 1);
+  const Renderer renderer(scene);
+  ExpectEdgesProjectWhereTheyShould(camera, corners, renderer.Render(camera, Rigid3d(), Opts()));
+
+  // The pinhole check above also passes for an undistorted camera; make sure the distortion
+  // actually moved the edges (the test would not catch a missing distortion otherwise).
+  const Camera pinhole(CameraModelId::kPinhole, 64, 48, {60, 60, 31.5, 23.5});
+  const Eigen::Vector2d corner_distorted = *camera.ImgFromCam(corners[1]);
+  const Eigen::Vector2d corner_pinhole = *pinhole.ImgFromCam(corners[1]);
+  EXPECT_GT((corner_distorted - corner_pinhole).norm(), 2.0);
+  const RenderedView undistorted = renderer.Render(pinhole, Rigid3d(), Opts());
+  const RenderedView distorted = renderer.Render(camera, Rigid3d(), Opts());
+  EXPECT_NE(undistorted.label.data, distorted.label.data);
+}
+
+TEST(RendererTest, LabelBoundaryWithARotatedPose) {
+  // Camera 2 m to the right and turned: exercises cam_from_world (rotation conjugate, centre).
+  const Camera camera(CameraModelId::kOpenCV, 64, 48, {55, 55, 31.5, 23.5, -0.1, 0.01, 0, 0});
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()).toRotationMatrix() *
+                            Eigen::AngleAxisd(-0.1, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Rigid3d world_from_cam(r, Eigen::Vector3d(2.0, 0.5, -1.0));
+  const Rigid3d cam_from_world = world_from_cam.Inverse();
+  std::array<Eigen::Vector3d, 4> corners_in_cam = {Eigen::Vector3d(-1.2, -0.9, 5), Eigen::Vector3d(1.4, -1.0, 5.5),
+                                                   Eigen::Vector3d(1.3, 1.1, 6), Eigen::Vector3d(-1.0, 0.8, 5.5)};
+  // Make it planar: project the 4th corner onto the plane of the first three.
+  const Eigen::Vector3d n = (corners_in_cam[1] - corners_in_cam[0]).cross(corners_in_cam[2] - corners_in_cam[0]).normalized();
+  corners_in_cam[3] -= n * n.dot(corners_in_cam[3] - corners_in_cam[0]);
+  std::array<Eigen::Vector3d, 4> corners_in_world;
+  for (int i = 0; i < 4; ++i) corners_in_world[i] = world_from_cam * corners_in_cam[i];
+  Scene scene;
+  AddQuad(scene, corners_in_world[0].cast<float>(), corners_in_world[1].cast<float>(),
+          corners_in_world[2].cast<float>(), corners_in_world[3].cast<float>(), kCar, 1);
+  const RenderedView view = Renderer(scene).Render(camera, cam_from_world, Opts());
+  ExpectEdgesProjectWhereTheyShould(camera, corners_in_cam, view);
+}
+
+TEST(RendererTest, PixelsOutsideTheLensValidRegionAreEmpty) {
+  // k1 = -0.3 at this focal length folds back before the image corners: those pixels have no ray.
+  const Camera camera(CameraModelId::kOpenCV, 64, 48, {40, 40, 31.5, 23.5, -0.3, 0, 0, 0});
+  Scene scene;
+  AddFrontQuad(scene, -100, 100, -100, 100, 3, kRoad, 2);
+  const RenderedView view = Renderer(scene).Render(camera, Rigid3d(), Opts());
+  int invalid = 0;
+  for (int y = 0; y < 48; ++y) {
+    for (int x = 0; x < 64; ++x) {
+      const bool valid = camera.CamFromImg(Eigen::Vector2d(x, y)).has_value();
+      if (valid) {
+        ASSERT_EQ(view.label.at(x, y), kRoad);
+        ASSERT_GT(view.range.at(x, y), 0);
+        continue;
+      }
+      ++invalid;
+      ASSERT_EQ(view.label.at(x, y), 0);
+      ASSERT_EQ(view.instance.at(x, y), 0);
+      ASSERT_EQ(view.range.at(x, y), 0.0f);
+      for (int c = 0; c < 3; ++c) ASSERT_EQ(view.rgb.at(x, y, c), 0);
+    }
+  }
+  EXPECT_GT(invalid, 0);
+  EXPECT_LT(invalid, 64 * 48 / 2);
+}
+
+TEST(RendererTest, SkyAndInstancesPerMesh) {
+  Scene scene;
+  AddFrontQuad(scene, -2, -0.2f, -1, 1, 4, kCar, 5);
+  AddFrontQuad(scene, 0.2f, 2, -1, 1, 6, kRoad, 9);
+  const Camera camera = SmallPinhole();
+  const RenderedView view = Renderer(scene).Render(camera, Rigid3d(), Opts());
+  auto px = [&](double x, double y, double z) {
+    const Eigen::Vector2d p = *camera.ImgFromCam(Eigen::Vector3d(x, y, z));
+    return std::pair<int, int>(int(std::lround(p.x())), int(std::lround(p.y())));
+  };
+  const auto [ax, ay] = px(-1.1, 0, 4);
+  const auto [bx, by] = px(1.1, 0, 6);
+  EXPECT_EQ(view.instance.at(ax, ay), 5);
+  EXPECT_EQ(view.label.at(ax, ay), kCar);
+  EXPECT_NEAR(view.range.at(ax, ay), Eigen::Vector3d(-1.1, 0, 4).norm(), 0.05);
+  EXPECT_EQ(view.instance.at(bx, by), 9);
+  EXPECT_EQ(view.label.at(bx, by), kRoad);
+  // Nothing behind: sky with no instance and no range, and a sky colour (blue-ish, not black).
+  for (const auto& [x, y] : {std::pair{32, 2}, std::pair{31, 24}, std::pair{1, 45}}) {
+    EXPECT_EQ(view.label.at(x, y), kSkyId);
+    EXPECT_EQ(view.instance.at(x, y), 0);
+    EXPECT_EQ(view.range.at(x, y), 0.0f);
+    EXPECT_GT(view.rgb.at(x, y, 2), 100);
+  }
+}
+
+TEST(RendererTest, LabelsLineUpWithColours) {
+  Scene scene;
+  const int red = AddMaterial(scene, {1, 0, 0, 1});
+  const int green = AddMaterial(scene, {0, 1, 0, 1});
+  // Textured: a 2x2 texture of red and blue texels, smoothly (bilinearly) filtered.
+  const int tex = AddTexture(scene, 2, 2, {{255, 0, 0, 255}, {0, 0, 255, 255}, {0, 0, 255, 255}, {255, 0, 0, 255}},
+                             WrapMode::kClampToEdge, false);
+  const int textured = AddMaterial(scene, {1, 1, 1, 1}, tex);
+  AddFrontQuad(scene, -0.3f, 0.9f, -0.5f, 0.4f, 3, kCar, 1, red);
+  AddFrontQuad(scene, -1.5f, -0.6f, -0.5f, 0.6f, 3.5f, 24 /*person*/, 2, textured);
+  AddFrontQuad(scene, -50, 50, -50, 50, 8, kRoad, 3, green);
+  for (int spp : {1, 4}) {
+    RenderOptions options = Opts();
+    options.samples_per_pixel = spp;
+    const RenderedView view = Renderer(scene).Render(SmallPinhole(), Rigid3d(), options);
+    int counts[3] = {0, 0, 0};
+    for (int y = 0; y < 48; ++y) {
+      for (int x = 0; x < 64; ++x) {
+        const uint8_t r = view.rgb.at(x, y, 0), g = view.rgb.at(x, y, 1), b = view.rgb.at(x, y, 2);
+        const uint8_t label = view.label.at(x, y);
+        // With 1 spp the colour comes from the very ray of the label; with 4 spp only pixels on a
+        // boundary may mix colours, so check pixels whose neighbours share the label.
+        bool interior = true;
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int nx = std::clamp(x + dx, 0, 63), ny = std::clamp(y + dy, 0, 47);
+            interior &= view.label.at(nx, ny) == label;
+          }
+        }
+        if (spp > 1 && !interior) continue;
+        if (label == kCar) {
+          ++counts[0];
+          ASSERT_GT(r, 20) << x << "," << y;
+          ASSERT_EQ(g, 0);
+          ASSERT_EQ(b, 0);
+        } else if (label == kRoad) {
+          ++counts[1];
+          ASSERT_EQ(r, 0) << x << "," << y;
+          ASSERT_GT(g, 20);
+          ASSERT_EQ(b, 0);
+        } else {
+          ASSERT_EQ(label, 24) << x << "," << y;
+          ++counts[2];
+          ASSERT_EQ(g, 0) << x << "," << y;
+          ASSERT_GT(r + b, 20);
+        }
+      }
+    }
+    EXPECT_GT(counts[0], 100);
+    EXPECT_GT(counts[1], 100);
+    EXPECT_GT(counts[2], 50);
+  }
+}
+
+// Colour at the image point of (x, y, z) in the camera frame.
+std::array<int, 3> ColourAt(const RenderedView& view, const Camera& camera, const Eigen::Vector3d& p) {
+  const Eigen::Vector2d px = *camera.ImgFromCam(p);
+  const int x = int(std::lround(px.x())), y = int(std::lround(px.y()));
+  return {view.rgb.at(x, y, 0), view.rgb.at(x, y, 1), view.rgb.at(x, y, 2)};
+}
+
+bool IsRed(const std::array<int, 3>& c) { return c[0] > 30 && c[1] == 0 && c[2] == 0; }
+bool IsBlue(const std::array<int, 3>& c) { return c[2] > 30 && c[0] == 0 && c[1] == 0; }
+
+TEST(RendererTest, TexcoordOriginIsTheImageTopLeft) {
+  Scene scene;
+  // 2 x 2: top row red, bottom row blue; the quad's uv (0, 0) corner is its top-left corner.
+  const int tex = AddTexture(scene, 2, 2, {{255, 0, 0, 255}, {255, 0, 0, 255}, {0, 0, 255, 255}, {0, 0, 255, 255}});
+  AddFrontQuad(scene, -1, 1, -1, 1, 3, kCar, 1, AddMaterial(scene, {1, 1, 1, 1}, tex));
+  const Camera camera = SmallPinhole();
+  const RenderedView view = Renderer(scene).Render(camera, Rigid3d(), Opts());
+  EXPECT_TRUE(IsRed(ColourAt(view, camera, {0, -0.5, 3})));
+  EXPECT_TRUE(IsBlue(ColourAt(view, camera, {0, 0.5, 3})));
+}
+
+TEST(RendererTest, WrapModes) {
+  // A 2 x 1 texture (red | blue) over u in [0, 2]: four bands of half a texture-width each.
+  struct Case {
+    WrapMode mode;
+    std::array<bool, 4> red;
+  };
+  for (const Case& c : {Case{WrapMode::kRepeat, {true, false, true, false}},
+                        Case{WrapMode::kClampToEdge, {true, false, false, false}},
+                        Case{WrapMode::kMirroredRepeat, {true, false, false, true}}}) {
+    Scene scene;
+    const int tex = AddTexture(scene, 2, 1, {{255, 0, 0, 255}, {0, 0, 255, 255}}, c.mode, true);
+    AddFrontQuad(scene, -2, 2, -1, 1, 3, kCar, 1, AddMaterial(scene, {1, 1, 1, 1}, tex), 2, 1);
+    const Camera camera = SmallPinhole();
+    const RenderedView view = Renderer(scene).Render(camera, Rigid3d(), Opts());
+    for (int band = 0; band < 4; ++band) {
+      const auto colour = ColourAt(view, camera, {-1.5 + band, 0, 3});
+      EXPECT_TRUE(c.red[band] ? IsRed(colour) : IsBlue(colour))
+          << "mode " << int(c.mode) << " band " << band << ": " << colour[0] << " " << colour[1] << " " << colour[2];
+    }
+  }
+}
+
+TEST(RendererTest, MipMappingAveragesAMinifiedChecker) {
+  // A 128 x 128 checker of 4-texel squares seen at about 8.3 texels per pixel: point sampling
+  // (or a mip level chosen too fine) gives a black-and-white moire; the right level (3, where a
+  // texel covers 2 x 2 squares) gives the checker's mean, as a uniform texture of that mean does.
+  std::vector<std::array<uint8_t, 4>> checker;
+  for (int y = 0; y < 128; ++y) {
+    for (int x = 0; x < 128; ++x) {
+      const uint8_t v = ((x / 4 + y / 4) % 2) ? 255 : 0;
+      checker.push_back({v, v, v, 255});
+    }
+  }
+  const uint8_t mean_srgb = 188;  // sRGB encoding of linear 0.5
+  Scene scene, uniform;
+  // 0.77 m: a non-integer number of texels per pixel, so point samples do not fall on a pattern
+  // that happens to average out.
+  AddFrontQuad(scene, -0.4f, 0.37f, -0.4f, 0.37f, 2.5f, kRoad, 1,
+               AddMaterial(scene, {1, 1, 1, 1}, AddTexture(scene, 128, 128, checker, WrapMode::kRepeat, false)));
+  AddFrontQuad(uniform, -0.4f, 0.37f, -0.4f, 0.37f, 2.5f, kRoad, 1,
+               AddMaterial(uniform, {1, 1, 1, 1}, AddTexture(uniform, 1, 1, {{mean_srgb, mean_srgb, mean_srgb, 255}})));
+  const Camera camera = SmallPinhole();  // the quad covers 15.4 x 15.4 pixels
+  const RenderedView view = Renderer(scene).Render(camera, Rigid3d(), Opts());
+  const RenderedView reference = Renderer(uniform).Render(camera, Rigid3d(), Opts());
+  int checked = 0;
+  for (int y = 18; y <= 29; ++y) {
+    for (int x = 26; x <= 37; ++x) {
+      ASSERT_EQ(view.label.at(x, y), kRoad);
+      EXPECT_NEAR(view.rgb.at(x, y, 0), reference.rgb.at(x, y, 0), 6) << x << "," << y;
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 144);
+}
+
+TEST(RendererTest, AlphaMaskCutsOutGeometryInEveryOutput) {
+  Scene scene;
+  // Left texel transparent, right texel opaque.
+  const int tex = AddTexture(scene, 2, 1, {{255, 0, 0, 0}, {255, 0, 0, 255}}, WrapMode::kClampToEdge, true);
+  const int mat = AddMaterial(scene, {1, 1, 1, 1}, tex);
+  scene.materials[mat].alpha_mode = AlphaMode::kMask;
+  scene.materials[mat].alpha_cutoff = 0.5f;
+  AddFrontQuad(scene, -1, 1, -1, 1, 3, kCar, 4, mat);
+  AddFrontQuad(scene, -50, 50, -50, 50, 6, kRoad, 7, AddMaterial(scene, {0, 1, 0, 1}));
+  const Camera camera = SmallPinhole();
+  const RenderedView view = Renderer(scene).Render(camera, Rigid3d(), Opts());
+  const Eigen::Vector2d left = *camera.ImgFromCam(Eigen::Vector3d(-0.5, 0, 3));
+  const Eigen::Vector2d right = *camera.ImgFromCam(Eigen::Vector3d(0.5, 0, 3));
+  const int lx = int(std::lround(left.x())), rx = int(std::lround(right.x())), y = int(std::lround(left.y()));
+  EXPECT_EQ(view.label.at(lx, y), kRoad);
+  EXPECT_EQ(view.instance.at(lx, y), 7);
+  EXPECT_NEAR(view.range.at(lx, y), 6 / camera.CamFromImg(Eigen::Vector2d(lx, y))->normalized().z(), 1e-4);
+  EXPECT_EQ(view.rgb.at(lx, y, 0), 0);
+  EXPECT_GT(view.rgb.at(lx, y, 1), 20);
+  EXPECT_EQ(view.label.at(rx, y), kCar);
+  EXPECT_EQ(view.instance.at(rx, y), 4);
+  EXPECT_NEAR(view.range.at(rx, y), 3 / camera.CamFromImg(Eigen::Vector2d(rx, y))->normalized().z(), 1e-4);
+  EXPECT_GT(view.rgb.at(rx, y, 0), 20);
+}
+
+// A camera 10 m above the origin looking straight down (+Z of the world at the image bottom).
+Rigid3d LookingDown(double height) {
+  Eigen::Matrix3d world_from_cam;
+  world_from_cam.col(0) = Eigen::Vector3d(1, 0, 0);
+  world_from_cam.col(1) = Eigen::Vector3d(0, 0, 1);
+  world_from_cam.col(2) = Eigen::Vector3d(0, -1, 0);
+  return Rigid3d(world_from_cam, Eigen::Vector3d(0, height, 0)).Inverse();
+}
+
+TEST(RendererTest, SunLightAndHardShadows) {
+  Scene scene;
+  const int grey = AddMaterial(scene, {0.5f, 0.5f, 0.5f, 1});
+  // Ground (y = 0, facing up) and a 1 m square 4 m above it.
+  AddQuad(scene, {-50, 0, -50}, {50, 0, -50}, {50, 0, 50}, {-50, 0, 50}, kRoad, 1, grey);
+  AddQuad(scene, {-0.5f, 4, -0.5f}, {0.5f, 4, -0.5f}, {0.5f, 4, 0.5f}, {-0.5f, 4, 0.5f}, kCar, 2, grey);
+  RenderOptions options = Opts();
+  options.sun_direction_world = Eigen::Vector3d(0.4, 0.8, 0.3);
+  const Eigen::Vector3d sun = options.sun_direction_world.normalized();
+  const Camera camera(CameraModelId::kPinhole, 64, 48, {80, 80, 31.5, 23.5});
+  const Rigid3d cam_from_world = LookingDown(10);
+  const Renderer renderer(scene);
+  const RenderedView view = renderer.Render(camera, cam_from_world, options);
+
+  const Eigen::Vector3d shadow_centre = Eigen::Vector3d(0, 4, 0) - sun * (4 / sun.y());
+  const Eigen::Vector3d lit_ground = -shadow_centre;
+  const Eigen::Vector2d ps = *camera.ImgFromCam(cam_from_world * shadow_centre);
+  const Eigen::Vector2d pl = *camera.ImgFromCam(cam_from_world * lit_ground);
+  const int sx = int(std::lround(ps.x())), sy = int(std::lround(ps.y()));
+  const int lx = int(std::lround(pl.x())), ly = int(std::lround(pl.y()));
+  ASSERT_EQ(view.label.at(sx, sy), kRoad);
+  ASSERT_EQ(view.label.at(lx, ly), kRoad);
+  EXPECT_NEAR(view.range.at(sx, sy), 10 / camera.CamFromImg(Eigen::Vector2d(sx, sy))->normalized().z(), 1e-4);
+  // Shadowed: ambient only (0.5 * sky), lit: + 0.5 * sun * cos.
+  auto linear = [](int v) { const double c = v / 255.0; return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); };
+  EXPECT_NEAR(linear(view.rgb.at(sx, sy, 0)), 0.5 * options.sky_intensity, 0.01);
+  EXPECT_NEAR(linear(view.rgb.at(lx, ly, 0)), 0.5 * (options.sky_intensity + options.sun_intensity * sun.y()), 0.01);
+
+  options.shadows = false;
+  const RenderedView unshadowed = renderer.Render(camera, cam_from_world, options);
+  EXPECT_EQ(unshadowed.rgb.at(sx, sy, 0), view.rgb.at(lx, ly, 0));
+}
+
+// cam_from_world of a camera at `centre` looking at `target`, image-up towards world +Y.
+Rigid3d LookAt(const Eigen::Vector3d& centre, const Eigen::Vector3d& target) {
+  const Eigen::Vector3d z = (target - centre).normalized();
+  const Eigen::Vector3d x = Eigen::Vector3d(0, -1, 0).cross(z).normalized();
+  Eigen::Matrix3d world_from_cam;
+  world_from_cam << x, z.cross(x), z;
+  return Rigid3d(world_from_cam, centre).Inverse();
+}
+
+RenderedView RenderBusyScene(int threads, int spp, uint64_t seed) {
+  Scene scene;
+  std::vector<std::array<uint8_t, 4>> checker;
+  for (int y = 0; y < 16; ++y) {
+    for (int x = 0; x < 16; ++x) checker.push_back({uint8_t(16 * x), uint8_t(255 - 16 * y), 90, 255});
+  }
+  const int tex = AddMaterial(scene, {1, 1, 1, 1}, AddTexture(scene, 16, 16, checker, WrapMode::kRepeat, false));
+  AddQuad(scene, {-20, 0, -20}, {20, 0, -20}, {20, 0, 20}, {-20, 0, 20}, kRoad, 1, tex, 8, 8);
+  AddQuad(scene, {-1, 2, -1}, {1, 2.5f, -1}, {1, 2.5f, 1}, {-1, 2, 1}, kCar, 2, AddMaterial(scene, {0.8f, 0.1f, 0.1f, 1}));
+  AddQuad(scene, {2, 0, 2}, {3, 0, 2}, {3, 3, 2}, {2, 3, 2}, 20, 3, -1);
+  RenderOptions options;
+  options.num_threads = threads;
+  options.samples_per_pixel = spp;
+  options.seed = seed;
+  const Rigid3d posed = LookAt(Eigen::Vector3d(1, 5, -6), Eigen::Vector3d(0.5, 0, 0.5));
+  // 70 x 50: tiles of 32 do not divide the image.
+  const Camera camera(CameraModelId::kOpenCV, 70, 50, {45, 45, 34.5, 24.5, -0.1, 0.01, 0, 0});
+  return Renderer(scene).Render(camera, posed, options);
+}
+
+void ExpectSameBytes(const RenderedView& a, const RenderedView& b) {
+  EXPECT_EQ(a.rgb.data, b.rgb.data);
+  EXPECT_EQ(a.label.data, b.label.data);
+  EXPECT_EQ(a.instance.data, b.instance.data);
+  EXPECT_EQ(a.range.data, b.range.data);
+}
+
+TEST(RendererTest, SameBytesWhateverTheThreadCount) {
+  for (int spp : {4, 3}) {  // stratified grid and n-rooks
+    const RenderedView one = RenderBusyScene(1, spp, 7);
+    ExpectSameBytes(one, RenderBusyScene(2, spp, 7));
+    ExpectSameBytes(one, RenderBusyScene(0, spp, 7));
+    // The scene is not trivially empty.
+    EXPECT_NE(std::count(one.label.data.begin(), one.label.data.end(), kCar), 0);
+    EXPECT_NE(std::count(one.label.data.begin(), one.label.data.end(), kRoad), 0);
+  }
+}
+
+TEST(RendererTest, SeedChangesOnlyTheSampleNoise) {
+  const RenderedView a = RenderBusyScene(0, 4, 1);
+  const RenderedView b = RenderBusyScene(0, 4, 2);
+  // Label, instance and range come from the pixel centre: never from the jitter.
+  EXPECT_EQ(a.label.data, b.label.data);
+  EXPECT_EQ(a.instance.data, b.instance.data);
+  EXPECT_EQ(a.range.data, b.range.data);
+  // Differences only where the samples can see different things (edges, texture variation).
+  int differing = 0;
+  for (size_t i = 0; i < a.rgb.data.size(); ++i) {
+    differing += a.rgb.data[i] != b.rgb.data[i];
+  }
+  EXPECT_GT(differing, 0);
+  // Where all four samples see one flat colour (the untextured, evenly lit car roof away from
+  // its border), the seed makes no difference.
+  for (int y = 0; y < 50; ++y) {
+    for (int x = 0; x < 70; ++x) {
+      bool flat = true;
+      const uint8_t label = a.label.at(x, y);
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int nx = std::clamp(x + dx, 0, 69), ny = std::clamp(y + dy, 0, 49);
+          flat &= a.label.at(nx, ny) == label;
+        }
+      }
+      if (flat && label == kCar) {
+        for (int c = 0; c < 3; ++c) EXPECT_EQ(a.rgb.at(x, y, c), b.rgb.at(x, y, c)) << x << "," << y;
+      }
+    }
+  }
+}
+
+TEST(RendererTest, OptionsAndSceneAreChecked) {
+  RenderOptions options;
+  EXPECT_NO_THROW(options.Check());
+  options.samples_per_pixel = 0;
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+  options = RenderOptions();
+  options.sun_direction_world = Eigen::Vector3d::Zero();
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+  options = RenderOptions();
+  options.num_threads = -1;
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+
+  Scene scene;
+  scene.source = "broken.glb";
+  AddFrontQuad(scene, -1, 1, -1, 1, 3, kCar, 1);
+  scene.meshes[0].indices.push_back(0);
+  EXPECT_THROW(Renderer{scene}, std::invalid_argument);
+  scene.meshes[0].indices = {0, 1, 7};
+  try {
+    Renderer renderer(scene);
+    FAIL() << "expected an exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("broken.glb"), std::string::npos) << e.what();
+  }
+}
+
+TEST(RendererTest, EmptySceneIsAllSky) {
+  const RenderedView view = Renderer(Scene()).Render(SmallPinhole(), Rigid3d(), Opts());
+  for (uint8_t label : view.label.data) ASSERT_EQ(label, kSkyId);
+  for (float r : view.range.data) ASSERT_EQ(r, 0.0f);
+}
+
+}  // namespace
+}  // namespace rigsim

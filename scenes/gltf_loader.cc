@@ -1,0 +1,625 @@
+#include "scenes/gltf_loader.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <tiny_gltf.h>
+
+#include "labels/cityscapes.h"
+
+namespace rigsim {
+namespace {
+
+// A class given explicitly somewhere (node, mesh or material); nullopt = not specified there.
+using ClassTag = std::optional<uint8_t>;
+
+std::string Quote(const std::string& s) { return "'" + s + "'"; }
+
+std::string MeshLabel(const tinygltf::Model& model, int mesh, int prim) {
+  std::string label = "mesh " + std::to_string(mesh);
+  if (!model.meshes[mesh].name.empty()) label += " " + Quote(model.meshes[mesh].name);
+  return label + " primitive " + std::to_string(prim);
+}
+
+int ComponentSize(int component_type) {
+  switch (component_type) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
+    default: return -1;
+  }
+}
+
+int NumComponents(int type) {
+  switch (type) {
+    case TINYGLTF_TYPE_SCALAR: return 1;
+    case TINYGLTF_TYPE_VEC2: return 2;
+    case TINYGLTF_TYPE_VEC3: return 3;
+    case TINYGLTF_TYPE_VEC4: return 4;
+    case TINYGLTF_TYPE_MAT2: return 4;
+    case TINYGLTF_TYPE_MAT3: return 9;
+    case TINYGLTF_TYPE_MAT4: return 16;
+    default: return -1;
+  }
+}
+
+// One component at `p` (possibly unaligned), with glTF's normalized-integer mapping when asked.
+double ReadComponent(const unsigned char* p, int component_type, bool normalized) {
+  switch (component_type) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE: {
+      int8_t v;
+      std::memcpy(&v, p, 1);
+      return normalized ? std::max(v / 127.0, -1.0) : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
+      uint8_t v;
+      std::memcpy(&v, p, 1);
+      return normalized ? v / 255.0 : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      int16_t v;
+      std::memcpy(&v, p, 2);
+      return normalized ? std::max(v / 32767.0, -1.0) : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+      uint16_t v;
+      std::memcpy(&v, p, 2);
+      return normalized ? v / 65535.0 : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+      uint32_t v;
+      std::memcpy(&v, p, 4);
+      return normalized ? v / 4294967295.0 : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+      float v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    default: return 0.0;
+  }
+}
+
+Eigen::Matrix4d LocalTransform(const tinygltf::Node& node) {
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  if (node.matrix.size() == 16) {
+    for (int i = 0; i < 16; ++i) m(i % 4, i / 4) = node.matrix[i];  // column-major in glTF
+    return m;
+  }
+  Eigen::Affine3d t = Eigen::Affine3d::Identity();
+  if (node.translation.size() == 3) t.translate(Eigen::Vector3d(node.translation[0], node.translation[1], node.translation[2]));
+  if (node.rotation.size() == 4) {
+    // glTF stores quaternions as (x, y, z, w); Eigen's constructor takes (w, x, y, z).
+    t.rotate(Eigen::Quaterniond(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]).normalized());
+  }
+  if (node.scale.size() == 3) t.scale(Eigen::Vector3d(node.scale[0], node.scale[1], node.scale[2]));
+  return t.matrix();
+}
+
+WrapMode ToWrap(int gl) {
+  switch (gl) {
+    case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return WrapMode::kClampToEdge;
+    case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return WrapMode::kMirroredRepeat;
+    default: return WrapMode::kRepeat;
+  }
+}
+
+// Extensions whose content we fully honour; everything else in extensionsRequired is fatal.
+bool SupportedExtension(const std::string& name) { return name == "KHR_mesh_quantization"; }
+
+class Loader {
+ public:
+  Loader(const std::filesystem::path& path, const GltfLoadOptions& options) : path_(path), options_(options) {}
+
+  Scene Load() {
+    ReadModel();
+    scene_.source = path_.string();
+    ReportFileLevelUnsupported();
+    ParseClasses();
+    ConvertMaterials();
+    Traverse();
+    Summarise();
+    return std::move(scene_);
+  }
+
+ private:
+  [[noreturn]] void Fail(const std::string& what) const { throw std::runtime_error(path_.string() + ": " + what); }
+
+  void Warn(const std::string& what) {
+    if (options_.warnings_are_errors) Fail(what);
+    scene_.warnings.push_back(what);
+  }
+
+  // Unsupported features that may occur many times are counted and reported once each.
+  void Ignore(const std::string& what) { ++ignored_[what]; }
+
+  void ReadModel() {
+    std::ifstream in(path_, std::ios::binary);
+    if (!in) Fail("cannot open file");
+    char magic[4] = {0, 0, 0, 0};
+    in.read(magic, 4);
+    const bool binary = in.gcount() == 4 && std::memcmp(magic, "glTF", 4) == 0;
+    in.close();
+
+    tinygltf::TinyGLTF gltf;
+    std::string err, warn;
+    const bool ok = binary ? gltf.LoadBinaryFromFile(&model_, &err, &warn, path_.string())
+                           : gltf.LoadASCIIFromFile(&model_, &err, &warn, path_.string());
+    // tinygltf reports a missing image as a warning; we turn it into an error naming the file.
+    std::istringstream warn_lines(warn);
+    for (std::string line; std::getline(warn_lines, line);) {
+      if (line.empty()) continue;
+      if (line.find("Failed to load external") != std::string::npos || line.find("File not found") != std::string::npos) {
+        Fail(line);
+      }
+      Warn("tinygltf: " + line);
+    }
+    if (!ok || !err.empty()) {
+      while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
+      Fail(std::string(binary ? "invalid .glb: " : "invalid .gltf: ") + (err.empty() ? "tinygltf failed" : err));
+    }
+  }
+
+  void ReportFileLevelUnsupported() {
+    for (const std::string& ext : model_.extensionsRequired) {
+      if (!SupportedExtension(ext)) Fail("requires extension " + ext + ", which rigsim does not support");
+    }
+    for (const std::string& ext : model_.extensionsUsed) {
+      if (!SupportedExtension(ext)) Warn("extension " + ext + " is not supported; its data is ignored");
+    }
+    if (!model_.animations.empty()) Warn(std::to_string(model_.animations.size()) + " animation(s) ignored (static scene at rest pose)");
+    if (!model_.skins.empty()) Warn(std::to_string(model_.skins.size()) + " skin(s) ignored (skinned meshes loaded in bind pose)");
+    if (!model_.cameras.empty()) Warn(std::to_string(model_.cameras.size()) + " camera(s) ignored (cameras come from the rig)");
+  }
+
+  ClassTag ParseClass(const tinygltf::Value& extras, const std::string& owner) {
+    if (!extras.IsObject() || !extras.Has("class")) return std::nullopt;
+    const tinygltf::Value& v = extras.Get("class");
+    if (!v.IsString()) {
+      Warn(owner + ": extras.class is not a string; treated as unlabeled");
+      return kUnlabeledId;
+    }
+    const std::string& name = v.Get<std::string>();
+    if (const LabelClass* c = FindClassByName(name)) return c->id;
+    Warn(owner + ": unknown class " + Quote(name) + "; treated as unlabeled");
+    return kUnlabeledId;
+  }
+
+  void ParseClasses() {
+    for (size_t i = 0; i < model_.nodes.size(); ++i) {
+      node_class_.push_back(ParseClass(model_.nodes[i].extras, "node " + std::to_string(i) + " " + Quote(model_.nodes[i].name)));
+    }
+    for (size_t i = 0; i < model_.meshes.size(); ++i) {
+      mesh_class_.push_back(ParseClass(model_.meshes[i].extras, "mesh " + std::to_string(i) + " " + Quote(model_.meshes[i].name)));
+    }
+    for (size_t i = 0; i < model_.materials.size(); ++i) {
+      material_class_.push_back(
+          ParseClass(model_.materials[i].extras, "material " + std::to_string(i) + " " + Quote(model_.materials[i].name)));
+    }
+  }
+
+  void ConvertMaterials() {
+    for (size_t i = 0; i < model_.materials.size(); ++i) {
+      const tinygltf::Material& m = model_.materials[i];
+      Material out;
+      out.name = m.name;
+      const auto& pbr = m.pbrMetallicRoughness;
+      if (pbr.baseColorFactor.size() == 4) {
+        out.base_color_factor = Eigen::Vector4d(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2],
+                                                pbr.baseColorFactor[3]).cast<float>();
+      }
+      if (pbr.baseColorTexture.index >= 0) {
+        if (pbr.baseColorTexture.texCoord != 0) {
+          Warn("material " + std::to_string(i) + " " + Quote(m.name) + ": baseColorTexture uses TEXCOORD_" +
+               std::to_string(pbr.baseColorTexture.texCoord) + ", only TEXCOORD_0 is supported; texture ignored");
+        } else {
+          out.base_color_texture = ConvertTexture(pbr.baseColorTexture.index);
+        }
+        for (const auto& [name, value] : pbr.baseColorTexture.extensions) Ignore("texture-info extension " + name);
+      }
+      if (m.alphaMode == "MASK") {
+        out.alpha_mode = AlphaMode::kMask;
+      } else if (m.alphaMode == "BLEND") {
+        out.alpha_mode = AlphaMode::kBlend;
+      }
+      out.alpha_cutoff = float(m.alphaCutoff);
+      out.double_sided = m.doubleSided;
+      if (pbr.metallicRoughnessTexture.index >= 0) Ignore("metallicRoughnessTexture (materials)");
+      if (m.normalTexture.index >= 0) Ignore("normalTexture (materials)");
+      if (m.occlusionTexture.index >= 0) Ignore("occlusionTexture (materials)");
+      if (m.emissiveTexture.index >= 0) Ignore("emissiveTexture (materials)");
+      for (const auto& [name, value] : m.extensions) Ignore("material extension " + name);
+      scene_.materials.push_back(std::move(out));
+    }
+  }
+
+  int ConvertTexture(int index) {
+    if (index < 0 || size_t(index) >= model_.textures.size()) Fail("texture " + std::to_string(index) + " out of range");
+    if (auto it = texture_map_.find(index); it != texture_map_.end()) return it->second;
+    const tinygltf::Texture& t = model_.textures[index];
+    for (const auto& [name, value] : t.extensions) Ignore("texture extension " + name);
+    if (t.source < 0 || size_t(t.source) >= model_.images.size()) {
+      Warn("texture " + std::to_string(index) + " has no usable image source; texture ignored");
+      return texture_map_[index] = -1;
+    }
+    const tinygltf::Image& img = model_.images[t.source];
+    const std::string image_label = "image " + std::to_string(t.source) + (img.uri.empty() ? "" : " " + Quote(img.uri));
+    if (img.image.empty() || img.width <= 0 || img.height <= 0) {
+      if (!img.uri.empty()) Fail(image_label + ": cannot read " + (path_.parent_path() / img.uri).string());
+      Fail(image_label + ": no decoded pixels");
+    }
+    const int comp = img.component;
+    const int bytes = img.bits == 16 ? 2 : 1;
+    if ((img.bits != 8 && img.bits != 16) || comp < 1 || comp > 4) {
+      Fail(image_label + ": unsupported pixel format (" + std::to_string(img.bits) + " bits, " + std::to_string(comp) + " channels)");
+    }
+    const size_t n = size_t(img.width) * img.height;
+    if (img.image.size() < n * comp * bytes) Fail(image_label + ": decoded data shorter than its size");
+    Texture out;
+    out.name = img.name.empty() ? img.uri : img.name;
+    out.width = img.width;
+    out.height = img.height;
+    out.rgba.resize(n * 4);
+    auto channel = [&](size_t pixel, int c) -> uint8_t {
+      const unsigned char* p = img.image.data() + (pixel * comp + c) * bytes;
+      if (bytes == 1) return p[0];
+      uint16_t v;
+      std::memcpy(&v, p, 2);
+      return uint8_t((uint32_t(v) * 255 + 32767) / 65535);
+    };
+    for (size_t i = 0; i < n; ++i) {
+      uint8_t* o = &out.rgba[i * 4];
+      if (comp <= 2) {
+        o[0] = o[1] = o[2] = channel(i, 0);
+        o[3] = comp == 2 ? channel(i, 1) : 255;
+      } else {
+        o[0] = channel(i, 0);
+        o[1] = channel(i, 1);
+        o[2] = channel(i, 2);
+        o[3] = comp == 4 ? channel(i, 3) : 255;
+      }
+    }
+    if (t.sampler >= 0) {
+      if (size_t(t.sampler) >= model_.samplers.size()) Fail("texture " + std::to_string(index) + ": sampler out of range");
+      const tinygltf::Sampler& s = model_.samplers[t.sampler];
+      out.wrap_s = ToWrap(s.wrapS);
+      out.wrap_t = ToWrap(s.wrapT);
+      out.nearest = s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+    }
+    scene_.textures.push_back(std::move(out));
+    return texture_map_[index] = int(scene_.textures.size()) - 1;
+  }
+
+  // Reads accessor `index` into doubles (count * components), checking every byte it touches.
+  std::vector<double> ReadAccessor(int index, int expected_type, const std::string& use, size_t* count_out) {
+    const std::string label = "accessor " + std::to_string(index) + " (" + use + ")";
+    if (index < 0 || size_t(index) >= model_.accessors.size()) Fail(label + ": index out of range");
+    const tinygltf::Accessor& a = model_.accessors[index];
+    const int ncomp = NumComponents(a.type);
+    const int csize = ComponentSize(a.componentType);
+    if (csize < 0) Fail(label + ": invalid componentType " + std::to_string(a.componentType));
+    if (a.type != expected_type) Fail(label + ": unexpected type (expected " + std::to_string(NumComponents(expected_type)) + " components)");
+    if (a.count > options_.max_accessor_count) {
+      Fail(label + ": count " + std::to_string(a.count) + " exceeds the limit " + std::to_string(options_.max_accessor_count));
+    }
+    const size_t elem = size_t(ncomp) * csize;
+    std::vector<double> out;
+    if (a.bufferView >= 0) {
+      const unsigned char* base = CheckedView(a.bufferView, label);
+      const tinygltf::BufferView& bv = model_.bufferViews[a.bufferView];
+      const int stride = a.ByteStride(bv);
+      if (stride <= 0 || size_t(stride) < elem) Fail(label + ": invalid byteStride " + std::to_string(bv.byteStride));
+      if (a.count > 0 && (a.byteOffset > bv.byteLength || (a.count - 1) * size_t(stride) + elem > bv.byteLength - a.byteOffset)) {
+        Fail(label + ": byteOffset " + std::to_string(a.byteOffset) + " + " + std::to_string(a.count) + " elements of stride " +
+             std::to_string(stride) + " out of range of bufferView " + std::to_string(a.bufferView) + " (byteLength " +
+             std::to_string(bv.byteLength) + ")");
+      }
+      out.resize(a.count * ncomp);
+      for (size_t i = 0; i < a.count; ++i) {
+        const unsigned char* p = base + a.byteOffset + i * size_t(stride);
+        for (int c = 0; c < ncomp; ++c) out[i * ncomp + c] = ReadComponent(p + c * csize, a.componentType, a.normalized);
+      }
+    } else {
+      out.assign(a.count * ncomp, 0.0);  // glTF: no bufferView means zeros (usually with sparse data)
+    }
+    if (a.sparse.isSparse) ApplySparse(a, ncomp, csize, label, &out);
+    *count_out = a.count;
+    return out;
+  }
+
+  void ApplySparse(const tinygltf::Accessor& a, int ncomp, int csize, const std::string& label, std::vector<double>* out) {
+    const auto& sp = a.sparse;
+    if (sp.count < 0 || size_t(sp.count) > a.count) Fail(label + ": sparse count " + std::to_string(sp.count) + " out of range");
+    const int isize = ComponentSize(sp.indices.componentType);
+    if (sp.indices.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+        sp.indices.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+        sp.indices.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT) {
+      Fail(label + ": invalid sparse index componentType");
+    }
+    const size_t n = size_t(sp.count);
+    const unsigned char* ibase = CheckedView(sp.indices.bufferView, label + " sparse indices");
+    const unsigned char* vbase = CheckedView(sp.values.bufferView, label + " sparse values");
+    const size_t ilen = model_.bufferViews[sp.indices.bufferView].byteLength;
+    const size_t vlen = model_.bufferViews[sp.values.bufferView].byteLength;
+    const size_t ioff = size_t(std::max(0, sp.indices.byteOffset));
+    const size_t voff = size_t(std::max(0, sp.values.byteOffset));
+    const size_t elem = size_t(ncomp) * csize;
+    if (ioff > ilen || n * isize > ilen - ioff) Fail(label + ": sparse indices out of range of their bufferView");
+    if (voff > vlen || n * elem > vlen - voff) Fail(label + ": sparse values out of range of their bufferView");
+    for (size_t k = 0; k < n; ++k) {
+      const size_t target = size_t(ReadComponent(ibase + ioff + k * isize, sp.indices.componentType, false));
+      if (target >= a.count) Fail(label + ": sparse index " + std::to_string(target) + " out of range");
+      for (int c = 0; c < ncomp; ++c) {
+        (*out)[target * ncomp + c] = ReadComponent(vbase + voff + k * elem + c * csize, a.componentType, a.normalized);
+      }
+    }
+  }
+
+  // Start of bufferView `index`'s bytes, after checking it lies inside its buffer.
+  const unsigned char* CheckedView(int index, const std::string& label) const {
+    if (index < 0 || size_t(index) >= model_.bufferViews.size()) Fail(label + ": bufferView " + std::to_string(index) + " out of range");
+    const tinygltf::BufferView& bv = model_.bufferViews[index];
+    if (bv.buffer < 0 || size_t(bv.buffer) >= model_.buffers.size()) Fail(label + ": buffer " + std::to_string(bv.buffer) + " out of range");
+    const std::vector<unsigned char>& data = model_.buffers[bv.buffer].data;
+    if (bv.byteOffset > data.size() || bv.byteLength > data.size() - bv.byteOffset) {
+      Fail(label + ": bufferView " + std::to_string(index) + " (byteOffset " + std::to_string(bv.byteOffset) + ", byteLength " +
+           std::to_string(bv.byteLength) + ") out of range of buffer " + std::to_string(bv.buffer) + " (" +
+           std::to_string(data.size()) + " bytes)");
+    }
+    return data.data() + bv.byteOffset;
+  }
+
+  std::vector<int> RootNodes() {
+    int scene = options_.scene >= 0 ? options_.scene : std::max(model_.defaultScene, 0);
+    if (model_.scenes.empty()) {
+      // No scene at all: treat every node that is nobody's child as a root.
+      std::vector<bool> is_child(model_.nodes.size(), false);
+      for (const tinygltf::Node& n : model_.nodes) {
+        for (int c : n.children) {
+          if (c >= 0 && size_t(c) < is_child.size()) is_child[c] = true;
+        }
+      }
+      std::vector<int> roots;
+      for (size_t i = 0; i < model_.nodes.size(); ++i) {
+        if (!is_child[i]) roots.push_back(int(i));
+      }
+      if (!model_.nodes.empty()) Warn("file defines no scene; loading all " + std::to_string(roots.size()) + " root node(s)");
+      return roots;
+    }
+    if (size_t(scene) >= model_.scenes.size()) Fail("scene " + std::to_string(scene) + " out of range");
+    if (model_.scenes.size() > 1) {
+      Warn("file has " + std::to_string(model_.scenes.size()) + " scenes; only scene " + std::to_string(scene) + " is loaded");
+    }
+    return model_.scenes[scene].nodes;
+  }
+
+  void Traverse() {
+    struct Item {
+      int node;
+      Eigen::Matrix4d parent_from_world;  // the parent's world transform (world_from_parent)
+      ClassTag inherited;
+    };
+    std::vector<bool> visited(model_.nodes.size(), false);
+    std::vector<Item> stack;
+    const std::vector<int> roots = RootNodes();
+    for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.push_back({*it, Eigen::Matrix4d::Identity(), std::nullopt});
+    while (!stack.empty()) {
+      const Item item = stack.back();
+      stack.pop_back();
+      if (item.node < 0 || size_t(item.node) >= model_.nodes.size()) Fail("node " + std::to_string(item.node) + " out of range");
+      if (visited[item.node]) {
+        Fail("node " + std::to_string(item.node) + " is reached twice: the node graph is recursive or shares a node (glTF requires a tree)");
+      }
+      visited[item.node] = true;
+      const tinygltf::Node& node = model_.nodes[item.node];
+      const Eigen::Matrix4d world = item.parent_from_world * LocalTransform(node);
+      if (!world.allFinite()) Fail("node " + std::to_string(item.node) + ": transform is not finite");
+      const ClassTag cls = node_class_[item.node] ? node_class_[item.node] : item.inherited;
+      if (node.skin >= 0) Ignore("node skin bindings");
+      if (node.camera >= 0) Ignore("camera nodes");
+      for (const auto& [name, value] : node.extensions) Ignore("node extension " + name);
+      if (node.mesh >= 0) AddMeshInstance(item.node, world, cls);
+      for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) stack.push_back({*c, world, cls});
+    }
+    size_t unreached_meshes = 0;
+    for (size_t i = 0; i < model_.nodes.size(); ++i) {
+      if (!visited[i] && model_.nodes[i].mesh >= 0) ++unreached_meshes;
+    }
+    if (unreached_meshes > 0) {
+      Warn(std::to_string(unreached_meshes) + " node(s) with a mesh are not part of the loaded scene and are ignored");
+    }
+  }
+
+  void AddMeshInstance(int node_index, const Eigen::Matrix4d& world, ClassTag node_cls) {
+    const tinygltf::Node& node = model_.nodes[node_index];
+    if (size_t(node.mesh) >= model_.meshes.size()) Fail("node " + std::to_string(node_index) + ": mesh " + std::to_string(node.mesh) + " out of range");
+    uint16_t instance = 0;
+    if (next_instance_ <= 65535) {
+      instance = uint16_t(next_instance_++);
+    } else if (!instance_overflow_warned_) {
+      instance_overflow_warned_ = true;
+      Warn("more than 65535 mesh nodes: further nodes get instance id 0");
+    }
+    const tinygltf::Mesh& mesh = model_.meshes[node.mesh];
+    const ClassTag mesh_cls = mesh_class_[node.mesh] ? mesh_class_[node.mesh] : node_cls;
+    for (size_t p = 0; p < mesh.primitives.size(); ++p) {
+      AddPrimitive(node_index, node.mesh, int(p), world, mesh_cls, instance);
+    }
+  }
+
+  void AddPrimitive(int node_index, int mesh_index, int prim_index, const Eigen::Matrix4d& world, ClassTag cls, uint16_t instance) {
+    const tinygltf::Node& node = model_.nodes[node_index];
+    const tinygltf::Mesh& mesh = model_.meshes[mesh_index];
+    const tinygltf::Primitive& prim = mesh.primitives[prim_index];
+    const std::string where = MeshLabel(model_, mesh_index, prim_index);
+    if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP && prim.mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+      const char* kind = prim.mode == TINYGLTF_MODE_POINTS ? "points" : "lines";
+      Warn(where + ": " + kind + " primitive (mode " + std::to_string(prim.mode) + ") skipped; only triangles are rendered");
+      return;
+    }
+    if (!prim.targets.empty()) Ignore("morph targets");
+    for (const auto& [name, value] : prim.extensions) Ignore("primitive extension " + name);
+    for (const auto& [name, acc] : prim.attributes) {
+      if (name != "POSITION" && name != "NORMAL" && name != "TEXCOORD_0") Ignore("vertex attribute " + name);
+    }
+    const auto pos_it = prim.attributes.find("POSITION");
+    if (pos_it == prim.attributes.end()) {
+      Warn(where + ": no POSITION attribute; skipped");
+      return;
+    }
+    SceneMesh out;
+    out.name = !node.name.empty() ? node.name : mesh.name;
+    out.instance_id = instance;
+    if (prim.material >= 0) {
+      if (size_t(prim.material) >= model_.materials.size()) Fail(where + ": material " + std::to_string(prim.material) + " out of range");
+      out.material = prim.material;
+      if (material_class_[prim.material]) cls = material_class_[prim.material];
+    }
+    if (cls) {
+      out.class_id = *cls;
+    } else {
+      out.class_id = kUnlabeledId;
+    }
+
+    size_t nverts = 0;
+    const std::vector<double> pos = ReadAccessor(pos_it->second, TINYGLTF_TYPE_VEC3, where + " POSITION", &nverts);
+    const Eigen::Matrix3d linear = world.topLeftCorner<3, 3>();
+    const Eigen::Vector3d offset = world.topRightCorner<3, 1>();
+    out.positions.resize(nverts);
+    for (size_t i = 0; i < nverts; ++i) {
+      const Eigen::Vector3d x(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
+      const Eigen::Vector3d w = linear * x + offset;
+      if (!x.allFinite() || !w.allFinite()) {
+        Fail("accessor " + std::to_string(pos_it->second) + " (" + where + " POSITION): vertex " + std::to_string(i) + " is not finite");
+      }
+      out.positions[i] = w.cast<float>();
+    }
+
+    if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
+      size_t n = 0;
+      const std::vector<double> nrm = ReadAccessor(it->second, TINYGLTF_TYPE_VEC3, where + " NORMAL", &n);
+      if (n != nverts) Fail("accessor " + std::to_string(it->second) + " (" + where + " NORMAL): count differs from POSITION");
+      const double det = linear.determinant();
+      if (std::abs(det) < 1e-300) {
+        Warn(where + ": singular node transform; normals dropped (face normals used)");
+      } else {
+        const Eigen::Matrix3d normal_matrix = linear.inverse().transpose();
+        out.normals.resize(n);
+        bool bad = false;
+        for (size_t i = 0; i < n && !bad; ++i) {
+          const Eigen::Vector3d v = normal_matrix * Eigen::Vector3d(nrm[3 * i], nrm[3 * i + 1], nrm[3 * i + 2]);
+          const double len = v.norm();
+          if (!std::isfinite(len) || len < 1e-12) bad = true;
+          else out.normals[i] = (v / len).cast<float>();
+        }
+        if (bad) {
+          Warn(where + ": zero or non-finite normals; normals dropped (face normals used)");
+          out.normals.clear();
+        }
+      }
+    }
+    if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) {
+      size_t n = 0;
+      const std::vector<double> uv = ReadAccessor(it->second, TINYGLTF_TYPE_VEC2, where + " TEXCOORD_0", &n);
+      if (n != nverts) Fail("accessor " + std::to_string(it->second) + " (" + where + " TEXCOORD_0): count differs from POSITION");
+      out.texcoords.resize(n);
+      for (size_t i = 0; i < n; ++i) out.texcoords[i] = Eigen::Vector2f(float(uv[2 * i]), float(uv[2 * i + 1]));
+    }
+
+    // The vertex sequence the mode is applied to: the indices, or 0..n-1 when non-indexed.
+    std::vector<uint32_t> seq;
+    if (prim.indices >= 0) {
+      if (size_t(prim.indices) >= model_.accessors.size()) Fail(where + ": indices accessor " + std::to_string(prim.indices) + " out of range");
+      const tinygltf::Accessor& ia = model_.accessors[prim.indices];
+      if (ia.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && ia.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+          ia.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT) {
+        Fail("accessor " + std::to_string(prim.indices) + " (" + where + " indices): componentType must be an unsigned integer");
+      }
+      size_t n = 0;
+      const std::vector<double> idx = ReadAccessor(prim.indices, TINYGLTF_TYPE_SCALAR, where + " indices", &n);
+      seq.resize(n);
+      for (size_t i = 0; i < n; ++i) {
+        if (idx[i] >= double(nverts)) {
+          Fail("accessor " + std::to_string(prim.indices) + " (" + where + " indices): index " + std::to_string(uint64_t(idx[i])) +
+               " at position " + std::to_string(i) + " is >= vertex count " + std::to_string(nverts));
+        }
+        seq[i] = uint32_t(idx[i]);
+      }
+    } else {
+      seq.resize(nverts);
+      for (size_t i = 0; i < nverts; ++i) seq[i] = uint32_t(i);
+    }
+
+    // A mirroring transform turns counter-clockwise faces clockwise: swap two corners to undo it.
+    const bool flip = linear.determinant() < 0;
+    auto emit = [&](uint32_t a, uint32_t b, uint32_t c) {
+      out.indices.push_back(a);
+      out.indices.push_back(flip ? c : b);
+      out.indices.push_back(flip ? b : c);
+    };
+    if (prim.mode == TINYGLTF_MODE_TRIANGLES) {
+      if (seq.size() % 3 != 0) Warn(where + ": vertex/index count " + std::to_string(seq.size()) + " is not a multiple of 3; the remainder is ignored");
+      out.indices.reserve(seq.size());
+      for (size_t i = 0; i + 2 < seq.size(); i += 3) emit(seq[i], seq[i + 1], seq[i + 2]);
+    } else if (prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+      // glTF spec: triangle i = (v_i, v_{i+1+i%2}, v_{i+2-i%2}); degenerate joiners are dropped.
+      for (size_t i = 0; i + 2 < seq.size(); ++i) {
+        const uint32_t a = seq[i], b = seq[i + 1 + i % 2], c = seq[i + 2 - i % 2];
+        if (a != b && b != c && a != c) emit(a, b, c);
+      }
+    } else {  // fan: triangle i = (v_{i+1}, v_{i+2}, v_0)
+      for (size_t i = 0; i + 2 < seq.size(); ++i) {
+        const uint32_t a = seq[i + 1], b = seq[i + 2], c = seq[0];
+        if (a != b && b != c && a != c) emit(a, b, c);
+      }
+    }
+    if (out.indices.empty()) {
+      Warn(where + ": no triangles; skipped");
+      return;
+    }
+    if (!cls) {
+      unlabeled_triangles_ += out.indices.size() / 3;
+      ++unlabeled_meshes_;
+    }
+    scene_.meshes.push_back(std::move(out));
+  }
+
+  void Summarise() {
+    for (const auto& [what, count] : ignored_) Warn("not supported, ignored: " + what + " (" + std::to_string(count) + "x)");
+    if (unlabeled_triangles_ > 0) {
+      Warn(std::to_string(unlabeled_triangles_) + " triangles in " + std::to_string(unlabeled_meshes_) +
+           " primitive(s) have no class (extras.class on node, mesh or material) and are unlabeled");
+    }
+  }
+
+  std::filesystem::path path_;
+  GltfLoadOptions options_;
+  tinygltf::Model model_;
+  Scene scene_;
+  std::vector<ClassTag> node_class_, mesh_class_, material_class_;
+  std::map<int, int> texture_map_;  // glTF texture -> Scene::textures index
+  std::map<std::string, size_t> ignored_;
+  uint32_t next_instance_ = 1;
+  bool instance_overflow_warned_ = false;
+  size_t unlabeled_triangles_ = 0;
+  size_t unlabeled_meshes_ = 0;
+};
+
+}  // namespace
+
+Scene LoadGltf(const std::filesystem::path& path, const GltfLoadOptions& options) { return Loader(path, options).Load(); }
+
+}  // namespace rigsim

@@ -1,0 +1,39 @@
+// glTF 2.0 loader: reads a .gltf (JSON + external or data-URI buffers/images) or .glb file and
+// flattens the node tree of one scene into a rigsim Scene (world-space triangles with semantic
+// class, instance id, material and decoded RGBA8 textures).
+//
+// Conventions relied on:
+//  - World frame = glTF's (right-handed, +Y up, metres); node transforms are accumulated in double
+//    precision and applied to the vertices, so Scene meshes need no further transform.
+//  - Semantics come from `extras: {"class": "<cityscapes name>"}` on a node (inherited by its
+//    subtree), a mesh (overrides the node) or a material (overrides both). Names are Cityscapes
+//    class names (labels/cityscapes.h); geometry without a class is unlabeled (id 0).
+//  - Each node carrying a mesh is one instance; ids 1, 2, ... in depth-first traversal order.
+//  - Everything the loader cannot represent (skins, morph targets, cameras, animations,
+//    extensions, extra attributes and textures, points/lines) is named in Scene::warnings.
+//  - Malformed input (truncated file, out-of-range accessor, non-finite position, cyclic node graph)
+//    throws std::runtime_error whose message starts with the file name.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+
+#include "scenes/scene.h"
+
+namespace rigsim {
+
+struct GltfLoadOptions {
+  // Index of the glTF scene to flatten; -1 = the file's `scene` (scene 0 when the file sets none).
+  int scene = -1;
+  // Upper bound on any accessor's element count. Checked before allocating, so that a corrupt or
+  // hostile count fails with a message instead of exhausting memory.
+  size_t max_accessor_count = size_t(1) << 26;
+  // Throw on the first warning instead of collecting it (for pipelines that must not lose data).
+  bool warnings_are_errors = false;
+};
+
+// Loads `path` (.gltf or .glb, chosen by the file's magic bytes). Throws std::runtime_error
+// ("<path>: <what is wrong>") on I/O errors and malformed files.
+Scene LoadGltf(const std::filesystem::path& path, const GltfLoadOptions& options = {});
+
+}  // namespace rigsim

@@ -1,0 +1,467 @@
+#include "scenes/gltf_loader.h"
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "labels/cityscapes.h"
+#include "scenes/scene_builder.h"
+
+namespace rigsim {
+namespace {
+
+using nlohmann::json;
+
+constexpr int kUByte = 5121, kUShort = 5123, kUInt = 5125, kFloat = 5126;
+
+std::filesystem::path TempDir() {
+  const auto* info = testing::UnitTest::GetInstance()->current_test_info();
+  const auto dir = std::filesystem::temp_directory_path() / "rigsim_gltf_loader_test" / info->name();
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+std::string Base64(const std::vector<uint8_t>& data) {
+  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (size_t i = 0; i < data.size(); i += 3) {
+    const uint32_t n = (uint32_t(data[i]) << 16) | (i + 1 < data.size() ? uint32_t(data[i + 1]) << 8 : 0) |
+                       (i + 2 < data.size() ? uint32_t(data[i + 2]) : 0);
+    out += k[(n >> 18) & 63];
+    out += k[(n >> 12) & 63];
+    out += i + 1 < data.size() ? k[(n >> 6) & 63] : '=';
+    out += i + 2 < data.size() ? k[n & 63] : '=';
+  }
+  return out;
+}
+
+// Builds small glTF documents by hand, so that tests control every byte.
+struct TestGltf {
+  json doc = {{"asset", {{"version", "2.0"}}}, {"bufferViews", json::array()}, {"accessors", json::array()},
+              {"nodes", json::array()}, {"meshes", json::array()}};
+  std::vector<uint8_t> bin;
+
+  template <typename T>
+  int Accessor(const std::vector<T>& values, int component_type, const std::string& type, size_t count, bool normalized = false) {
+    while (bin.size() % 4) bin.push_back(0);
+    const size_t offset = bin.size();
+    bin.resize(offset + values.size() * sizeof(T));
+    std::memcpy(bin.data() + offset, values.data(), values.size() * sizeof(T));
+    doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", values.size() * sizeof(T)}});
+    json a = {{"bufferView", doc["bufferViews"].size() - 1}, {"componentType", component_type}, {"count", count}, {"type", type}};
+    if (normalized) a["normalized"] = true;
+    doc["accessors"].push_back(a);
+    return int(doc["accessors"].size()) - 1;
+  }
+  int Positions(const std::vector<float>& xyz) { return Accessor(xyz, kFloat, "VEC3", xyz.size() / 3); }
+  // A mesh with one primitive; returns the mesh index.
+  int Mesh(json attributes, int indices = -1, int mode = 4, int material = -1, json extras = nullptr) {
+    json prim = {{"attributes", attributes}, {"mode", mode}};
+    if (indices >= 0) prim["indices"] = indices;
+    if (material >= 0) prim["material"] = material;
+    json mesh = {{"primitives", json::array({prim})}};
+    if (!extras.is_null()) mesh["extras"] = extras;
+    doc["meshes"].push_back(mesh);
+    return int(doc["meshes"].size()) - 1;
+  }
+  int Node(json node) {
+    doc["nodes"].push_back(node);
+    return int(doc["nodes"].size()) - 1;
+  }
+  void Scene(std::vector<int> roots) {
+    doc["scene"] = 0;
+    doc["scenes"] = json::array({{{"nodes", roots}}});
+  }
+  // Writes `name`.gltf with an external `name`.bin (or a data URI).
+  std::filesystem::path Write(const std::filesystem::path& dir, const std::string& name, bool data_uri = false) {
+    json d = doc;
+    if (data_uri) {
+      d["buffers"] = json::array({{{"byteLength", bin.size()}, {"uri", "data:application/octet-stream;base64," + Base64(bin)}}});
+    } else {
+      std::ofstream(dir / (name + ".bin"), std::ios::binary).write(reinterpret_cast<const char*>(bin.data()), std::streamsize(bin.size()));
+      d["buffers"] = json::array({{{"byteLength", bin.size()}, {"uri", name + ".bin"}}});
+    }
+    const auto path = dir / (name + ".gltf");
+    std::ofstream(path) << d.dump(1);
+    return path;
+  }
+};
+
+const std::vector<float> kQuad = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};  // 4 corners in the z = 0 plane
+
+std::vector<Eigen::Vector3f> TriangleCorners(const SceneMesh& m) {
+  std::vector<Eigen::Vector3f> out;
+  for (uint32_t i : m.indices) out.push_back(m.positions[i]);
+  return out;
+}
+
+Eigen::Vector3f FaceNormal(const SceneMesh& m, size_t tri) {
+  const Eigen::Vector3f a = m.positions[m.indices[3 * tri]], b = m.positions[m.indices[3 * tri + 1]], c = m.positions[m.indices[3 * tri + 2]];
+  return (b - a).cross(c - a).normalized();
+}
+
+bool HasWarning(const Scene& s, const std::string& part) {
+  for (const std::string& w : s.warnings) {
+    if (w.find(part) != std::string::npos) return true;
+  }
+  return false;
+}
+
+// Expects LoadGltf(path) to throw a message starting with the file name and containing `part`.
+void ExpectThrowsWith(const std::filesystem::path& path, const std::string& part) {
+  try {
+    LoadGltf(path);
+    ADD_FAILURE() << "no exception for " << path;
+  } catch (const std::runtime_error& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.rfind(path.string(), 0), 0u) << msg;
+    EXPECT_NE(msg.find(part), std::string::npos) << msg;
+  }
+}
+
+TEST(GltfLoader, TrsEqualsMatrix) {
+  const auto dir = TempDir();
+  const Eigen::Quaterniond q(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()));
+  const Eigen::Vector3d t(1, -2, 3), s(2, 0.5, 1.5);
+  Eigen::Affine3d a = Eigen::Translation3d(t) * q * Eigen::Scaling(s);
+  std::vector<double> matrix(a.matrix().data(), a.matrix().data() + 16);  // column-major like glTF
+
+  TestGltf trs, mat;
+  for (TestGltf* g : {&trs, &mat}) g->Mesh({{"POSITION", g->Positions(kQuad)}}, g->Accessor<uint8_t>({0, 1, 2, 0, 2, 3}, kUByte, "SCALAR", 6));
+  trs.Node({{"mesh", 0}, {"translation", {t.x(), t.y(), t.z()}}, {"rotation", {q.x(), q.y(), q.z(), q.w()}}, {"scale", {s.x(), s.y(), s.z()}}});
+  mat.Node({{"mesh", 0}, {"matrix", matrix}});
+  trs.Scene({0});
+  mat.Scene({0});
+  const Scene a_scene = LoadGltf(trs.Write(dir, "trs"));
+  const Scene b_scene = LoadGltf(mat.Write(dir, "matrix"));
+  ASSERT_EQ(a_scene.meshes.size(), 1u);
+  ASSERT_EQ(b_scene.meshes.size(), 1u);
+  for (size_t i = 0; i < 4; ++i) {
+    const Eigen::Vector3d expected = a * Eigen::Vector3d(kQuad[3 * i], kQuad[3 * i + 1], kQuad[3 * i + 2]);
+    EXPECT_TRUE(a_scene.meshes[0].positions[i].isApprox(expected.cast<float>(), 1e-5f));
+    EXPECT_TRUE(b_scene.meshes[0].positions[i].isApprox(expected.cast<float>(), 1e-5f));
+  }
+}
+
+TEST(GltfLoader, NestedTransformsAccumulate) {
+  const auto dir = TempDir();
+  TestGltf g;
+  g.Mesh({{"POSITION", g.Positions({1, 0, 0, 0, 1, 0, 0, 0, 1})}});
+  // root translates by (10, 0, 0); child rotates 90 deg about +y; grandchild scales by 2 and has the mesh.
+  const double h = std::sqrt(0.5);
+  g.Node({{"translation", {10, 0, 0}}, {"children", {1}}});
+  g.Node({{"rotation", {0, h, 0, h}}, {"children", {2}}});
+  g.Node({{"scale", {2, 2, 2}}, {"mesh", 0}});
+  g.Scene({0});
+  const Scene s = LoadGltf(g.Write(dir, "nested", /*data_uri=*/true));
+  ASSERT_EQ(s.meshes.size(), 1u);
+  // R_y(90) maps x -> -z, z -> x.
+  EXPECT_TRUE(s.meshes[0].positions[0].isApprox(Eigen::Vector3f(10, 0, -2), 1e-5f));
+  EXPECT_TRUE(s.meshes[0].positions[1].isApprox(Eigen::Vector3f(10, 2, 0), 1e-5f));
+  EXPECT_TRUE(s.meshes[0].positions[2].isApprox(Eigen::Vector3f(12, 0, 0), 1e-5f));
+  EXPECT_EQ(s.meshes[0].indices, (std::vector<uint32_t>{0, 1, 2}));  // non-indexed
+}
+
+TEST(GltfLoader, EveryIndexTypeAndNonIndexedGiveTheSameTriangles) {
+  const auto dir = TempDir();
+  TestGltf g;
+  const int pos = g.Positions(kQuad);
+  g.Mesh({{"POSITION", pos}}, g.Accessor<uint8_t>({0, 1, 2, 0, 2, 3}, kUByte, "SCALAR", 6));
+  g.Mesh({{"POSITION", pos}}, g.Accessor<uint16_t>({0, 1, 2, 0, 2, 3}, kUShort, "SCALAR", 6));
+  g.Mesh({{"POSITION", pos}}, g.Accessor<uint32_t>({0, 1, 2, 0, 2, 3}, kUInt, "SCALAR", 6));
+  g.Mesh({{"POSITION", g.Positions({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 0, 0, 1, 1, 0, 0, 1, 0})}});
+  for (int i = 0; i < 4; ++i) g.Node({{"mesh", i}});
+  g.Scene({0, 1, 2, 3});
+  const Scene s = LoadGltf(g.Write(dir, "indices"));
+  ASSERT_EQ(s.meshes.size(), 4u);
+  const auto expected = TriangleCorners(s.meshes[0]);
+  ASSERT_EQ(expected.size(), 6u);
+  EXPECT_TRUE(expected[4].isApprox(Eigen::Vector3f(1, 1, 0)));
+  for (int i = 1; i < 4; ++i) {
+    const auto corners = TriangleCorners(s.meshes[i]);
+    ASSERT_EQ(corners.size(), 6u) << i;
+    for (size_t k = 0; k < 6; ++k) EXPECT_TRUE(corners[k].isApprox(expected[k])) << i << " " << k;
+  }
+  EXPECT_EQ(s.NumTriangles(), 8u);
+}
+
+TEST(GltfLoader, StripsAndFansBecomeTriangles) {
+  const auto dir = TempDir();
+  TestGltf g;
+  // A strip over 5 vertices zig-zagging along x in the z = 0 plane: 3 triangles, all facing +z.
+  const int strip_pos = g.Positions({0, 1, 0, 1, 1, 0, 0, 0, 0, 1, 0, 0, 2, 1, 0});
+  g.Mesh({{"POSITION", strip_pos}}, g.Accessor<uint16_t>({0, 2, 1, 3, 4}, kUShort, "SCALAR", 5), /*mode=*/5);
+  // A fan around the origin over 5 vertices: 3 triangles facing +z.
+  const int fan_pos = g.Positions({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, -1, 1, 0});
+  g.Mesh({{"POSITION", fan_pos}}, -1, /*mode=*/6);
+  g.Node({{"mesh", 0}});
+  g.Node({{"mesh", 1}});
+  g.Scene({0, 1});
+  const Scene s = LoadGltf(g.Write(dir, "strips"));
+  ASSERT_EQ(s.meshes.size(), 2u);
+  ASSERT_EQ(s.meshes[0].indices.size(), 9u);
+  ASSERT_EQ(s.meshes[1].indices.size(), 9u);
+  for (const SceneMesh& m : s.meshes) {
+    for (size_t t = 0; t < 3; ++t) EXPECT_TRUE(FaceNormal(m, t).isApprox(Eigen::Vector3f(0, 0, 1), 1e-5f)) << m.name << t;
+  }
+  EXPECT_EQ(s.meshes[0].indices, (std::vector<uint32_t>{0, 2, 1, 2, 3, 1, 1, 3, 4}));
+  EXPECT_EQ(s.meshes[1].indices, (std::vector<uint32_t>{1, 2, 0, 2, 3, 0, 3, 4, 0}));
+}
+
+TEST(GltfLoader, MirroringTransformFlipsWindingAndNormalsUseInverseTranspose) {
+  const auto dir = TempDir();
+  TestGltf g;
+  const int pos = g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+  const float n = std::sqrt(0.5f);
+  const int nrm = g.Accessor<float>({n, 0, n, n, 0, n, n, 0, n}, kFloat, "VEC3", 3);
+  g.Mesh({{"POSITION", pos}, {"NORMAL", nrm}});
+  g.Node({{"mesh", 0}, {"scale", {-1, 1, 1}}});  // mirror
+  g.Node({{"mesh", 0}, {"scale", {4, 1, 1}}});   // non-uniform
+  g.Scene({0, 1});
+  const Scene s = LoadGltf(g.Write(dir, "mirror"));
+  ASSERT_EQ(s.meshes.size(), 2u);
+  // The unmirrored triangle faces +z; mirrored in x it must still face +z (winding flipped).
+  EXPECT_TRUE(FaceNormal(s.meshes[0], 0).isApprox(Eigen::Vector3f(0, 0, 1), 1e-5f));
+  EXPECT_TRUE(s.meshes[0].normals[0].isApprox(Eigen::Vector3f(-n, 0, n), 1e-5f));
+  // Scaling x by 4 tilts the normal towards z: inverse transpose = diag(1/4, 1, 1), renormalised.
+  EXPECT_TRUE(s.meshes[1].normals[0].isApprox(Eigen::Vector3f(0.25f, 0, 1).normalized(), 1e-5f));
+  EXPECT_TRUE(FaceNormal(s.meshes[1], 0).isApprox(Eigen::Vector3f(0, 0, 1), 1e-5f));
+}
+
+TEST(GltfLoader, ClassesInheritAndOverride) {
+  const auto dir = TempDir();
+  TestGltf g;
+  const int pos = g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+  g.doc["materials"] = json::array({{{"name", "plain"}}, {{"name", "labelled"}, {"extras", {{"class", "vegetation"}}}}});
+  const int plain = g.Mesh({{"POSITION", pos}}, -1, 4, 0);
+  const int mesh_car = g.Mesh({{"POSITION", pos}}, -1, 4, 0, {{"class", "car"}});
+  const int mesh_car_mat_veg = g.Mesh({{"POSITION", pos}}, -1, 4, 1, {{"class", "car"}});
+  const int unknown = g.Mesh({{"POSITION", pos}}, -1, 4, 0, {{"class", "spaceship"}});
+  g.Node({{"name", "root"}, {"extras", {{"class", "building"}}}, {"mesh", plain}, {"children", {1, 2, 3}}});  // 0
+  g.Node({{"name", "inherits"}, {"children", {4}}});                                                       // 1
+  g.Node({{"name", "mesh_wins"}, {"mesh", mesh_car}});                                                     // 2
+  g.Node({{"name", "material_wins"}, {"extras", {{"class", "road"}}}, {"mesh", mesh_car_mat_veg}});        // 3
+  g.Node({{"name", "grandchild"}, {"mesh", plain}});                                                       // 4
+  g.Node({{"name", "unlabeled"}, {"mesh", plain}});                                                        // 5
+  g.Node({{"name", "unknown"}, {"mesh", unknown}});                                                        // 6
+  g.Scene({0, 5, 6});
+  const Scene s = LoadGltf(g.Write(dir, "classes"));
+  ASSERT_EQ(s.meshes.size(), 6u);
+  // Depth-first order: root, mesh_wins, material_wins... children of root come in order 1 (no mesh) -> 4.
+  std::map<std::string, const SceneMesh*> by_name;
+  for (const SceneMesh& m : s.meshes) by_name[m.name] = &m;
+  EXPECT_EQ(by_name.at("root")->class_id, FindClassByName("building")->id);
+  EXPECT_EQ(by_name.at("grandchild")->class_id, FindClassByName("building")->id);
+  EXPECT_EQ(by_name.at("mesh_wins")->class_id, FindClassByName("car")->id);
+  EXPECT_EQ(by_name.at("material_wins")->class_id, FindClassByName("vegetation")->id);
+  EXPECT_EQ(by_name.at("unlabeled")->class_id, kUnlabeledId);
+  EXPECT_EQ(by_name.at("unknown")->class_id, kUnlabeledId);
+  EXPECT_TRUE(HasWarning(s, "unknown class 'spaceship'"));
+  // One summary warning for geometry without any class: only the node "unlabeled" (1 triangle).
+  int summaries = 0;
+  for (const std::string& w : s.warnings) summaries += w.find("have no class") != std::string::npos;
+  EXPECT_EQ(summaries, 1);
+  EXPECT_TRUE(HasWarning(s, "1 triangles in 1 primitive(s) have no class"));
+}
+
+TEST(GltfLoader, InstanceIdsFollowDepthFirstTraversal) {
+  const auto dir = TempDir();
+  TestGltf g;
+  const int mesh = g.Mesh({{"POSITION", g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0})}});
+  g.Node({{"name", "a"}, {"mesh", mesh}, {"children", {2}}});  // 0
+  g.Node({{"name", "c"}, {"mesh", mesh}});                     // 1
+  g.Node({{"name", "b"}, {"children", {3}}});                  // 2: no mesh, no id
+  g.Node({{"name", "b1"}, {"mesh", mesh}});                    // 3
+  g.Scene({0, 1});
+  const Scene s = LoadGltf(g.Write(dir, "instances"));
+  ASSERT_EQ(s.meshes.size(), 3u);
+  EXPECT_EQ(s.meshes[0].name, "a");
+  EXPECT_EQ(s.meshes[0].instance_id, 1);
+  EXPECT_EQ(s.meshes[1].name, "b1");
+  EXPECT_EQ(s.meshes[1].instance_id, 2);
+  EXPECT_EQ(s.meshes[2].name, "c");
+  EXPECT_EQ(s.meshes[2].instance_id, 3);
+}
+
+TEST(GltfLoader, DecodesBaseColorTextureAndSampler) {
+  const auto dir = TempDir();
+  // 3x2 image with known pixels, written as PNG (lossless) next to the file and as a data URI.
+  cv::Mat bgr(2, 3, CV_8UC3);
+  for (int y = 0; y < 2; ++y) {
+    for (int x = 0; x < 3; ++x) bgr.at<cv::Vec3b>(y, x) = cv::Vec3b(uchar(10 * x), uchar(100 + y), uchar(200 + x + y));  // B G R
+  }
+  ASSERT_TRUE(cv::imwrite((dir / "tex.png").string(), bgr));
+  std::vector<uint8_t> png;
+  ASSERT_TRUE(cv::imencode(".png", bgr, png));
+  TestGltf g;
+  const int pos = g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+  const int uv = g.Accessor<uint8_t>({0, 255, 255, 255, 0, 0, 0, 0}, kUByte, "VEC2", 3, /*normalized=*/true);
+  g.doc["images"] = json::array({{{"uri", "tex.png"}}, {{"uri", "data:image/png;base64," + Base64(png)}}});
+  g.doc["samplers"] = json::array({{{"magFilter", 9728}, {"wrapS", 33071}, {"wrapT", 33648}}});
+  g.doc["textures"] = json::array({{{"source", 0}, {"sampler", 0}}, {{"source", 1}}});
+  g.doc["materials"] = json::array({
+      {{"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.25, 1, 1}}, {"baseColorTexture", {{"index", 0}}}}},
+       {"alphaMode", "MASK"}, {"alphaCutoff", 0.3}, {"doubleSided", true}},
+      {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 1}}}}}, {"alphaMode", "BLEND"}}});
+  g.Mesh({{"POSITION", pos}, {"TEXCOORD_0", uv}}, -1, 4, 0);
+  g.Mesh({{"POSITION", pos}}, -1, 4, 1);
+  g.Node({{"mesh", 0}});
+  g.Node({{"mesh", 1}});
+  g.Scene({0, 1});
+  const auto path = g.Write(dir, "textured");
+  const Scene s = LoadGltf(path);
+  ASSERT_EQ(s.textures.size(), 2u);
+  ASSERT_EQ(s.materials.size(), 2u);
+  for (const Texture& t : s.textures) {
+    ASSERT_EQ(t.width, 3);
+    ASSERT_EQ(t.height, 2);
+    for (int y = 0; y < 2; ++y) {
+      for (int x = 0; x < 3; ++x) {
+        const uint8_t* p = &t.rgba[(y * 3 + x) * 4];
+        EXPECT_EQ(p[0], 200 + x + y);
+        EXPECT_EQ(p[1], 100 + y);
+        EXPECT_EQ(p[2], 10 * x);
+        EXPECT_EQ(p[3], 255);
+      }
+    }
+  }
+  EXPECT_TRUE(s.textures[0].nearest);
+  EXPECT_EQ(s.textures[0].wrap_s, WrapMode::kClampToEdge);
+  EXPECT_EQ(s.textures[0].wrap_t, WrapMode::kMirroredRepeat);
+  EXPECT_FALSE(s.textures[1].nearest);
+  EXPECT_EQ(s.textures[1].wrap_s, WrapMode::kRepeat);
+  const Material& m = s.materials[0];
+  EXPECT_EQ(m.base_color_texture, 0);
+  EXPECT_TRUE(m.base_color_factor.isApprox(Eigen::Vector4f(0.5f, 0.25f, 1, 1)));
+  EXPECT_EQ(m.alpha_mode, AlphaMode::kMask);
+  EXPECT_FLOAT_EQ(m.alpha_cutoff, 0.3f);
+  EXPECT_TRUE(m.double_sided);
+  EXPECT_EQ(s.materials[1].base_color_texture, 1);
+  EXPECT_EQ(s.materials[1].alpha_mode, AlphaMode::kBlend);
+  // Normalized unsigned-byte texcoords.
+  ASSERT_EQ(s.meshes[0].texcoords.size(), 3u);
+  EXPECT_TRUE(s.meshes[0].texcoords[0].isApprox(Eigen::Vector2f(0, 1)));
+  EXPECT_TRUE(s.meshes[0].texcoords[1].isApprox(Eigen::Vector2f(1, 1)));
+
+  // A missing image file is an error that names it.
+  std::filesystem::remove(dir / "tex.png");
+  ExpectThrowsWith(path, "tex.png");
+}
+
+TEST(GltfLoader, SparseAccessorOverridesValues) {
+  const auto dir = TempDir();
+  TestGltf g;
+  const int pos = g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+  const int before = int(g.doc["bufferViews"].size());
+  g.Accessor<uint8_t>({2, 0, 0, 0}, kUByte, "SCALAR", 1);  // just to get bufferViews for sparse data
+  g.Accessor<float>({5, 6, 7}, kFloat, "VEC3", 1);
+  g.doc["accessors"][pos]["sparse"] = {{"count", 1},
+                                       {"indices", {{"bufferView", before}, {"componentType", kUByte}}},
+                                       {"values", {{"bufferView", before + 1}}}};
+  g.Mesh({{"POSITION", pos}});
+  g.Node({{"mesh", 0}});
+  g.Scene({0});
+  const Scene s = LoadGltf(g.Write(dir, "sparse"));
+  ASSERT_EQ(s.meshes.size(), 1u);
+  EXPECT_TRUE(s.meshes[0].positions[2].isApprox(Eigen::Vector3f(5, 6, 7)));
+  EXPECT_TRUE(s.meshes[0].positions[1].isApprox(Eigen::Vector3f(1, 0, 0)));
+}
+
+TEST(GltfLoader, LinesAndUnsupportedFeaturesAreWarnings) {
+  const auto dir = TempDir();
+  TestGltf g;
+  const int pos = g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+  g.Mesh({{"POSITION", pos}}, -1, /*LINES=*/1);
+  g.doc["meshes"][0]["name"] = "wires";
+  g.Mesh({{"POSITION", pos}, {"COLOR_0", pos}}, -1, 4);
+  g.doc["extensionsUsed"] = {"KHR_materials_unlit"};
+  g.doc["cameras"] = json::array({{{"type", "perspective"}, {"perspective", {{"yfov", 1.0}, {"znear", 0.1}}}}});
+  g.Node({{"mesh", 0}});
+  g.Node({{"mesh", 1}, {"camera", 0}});
+  g.Scene({0, 1});
+  const Scene s = LoadGltf(g.Write(dir, "lines"));
+  EXPECT_EQ(s.meshes.size(), 1u);
+  EXPECT_TRUE(HasWarning(s, "mesh 0 'wires' primitive 0: lines primitive"));
+  EXPECT_TRUE(HasWarning(s, "KHR_materials_unlit"));
+  EXPECT_TRUE(HasWarning(s, "camera"));
+  EXPECT_TRUE(HasWarning(s, "vertex attribute COLOR_0"));
+  GltfLoadOptions strict;
+  strict.warnings_are_errors = true;
+  EXPECT_THROW(LoadGltf(dir / "lines.gltf", strict), std::runtime_error);
+}
+
+TEST(GltfLoader, TruncatedGlbThrowsWithFileName) {
+  const auto dir = TempDir();
+  SceneBuilder b;
+  MeshData m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  m.indices = {0, 1, 2};
+  b.AddNode("tri", "road", m, -1);
+  std::vector<uint8_t> glb = b.ToGlb();
+  const auto good = dir / "good.glb", bad = dir / "truncated.glb";
+  std::ofstream(good, std::ios::binary).write(reinterpret_cast<const char*>(glb.data()), std::streamsize(glb.size()));
+  std::ofstream(bad, std::ios::binary).write(reinterpret_cast<const char*>(glb.data()), std::streamsize(glb.size() - 20));
+  EXPECT_EQ(LoadGltf(good).NumTriangles(), 1u);
+  ExpectThrowsWith(bad, "glb");
+  ExpectThrowsWith(dir / "does_not_exist.glb", "cannot open");
+}
+
+TEST(GltfLoader, AccessorOutOfRangeThrows) {
+  const auto dir = TempDir();
+  TestGltf g;
+  const int pos = g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+  g.doc["accessors"][pos]["count"] = 4;  // one vertex more than the bufferView holds
+  g.Mesh({{"POSITION", pos}});
+  g.Node({{"mesh", 0}});
+  g.Scene({0});
+  ExpectThrowsWith(g.Write(dir, "range"), "accessor 0 (mesh 0 primitive 0 POSITION): byteOffset 0 + 4 elements");
+
+  TestGltf h;  // an index that points past the vertices
+  h.Mesh({{"POSITION", h.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0})}}, h.Accessor<uint8_t>({0, 1, 3, 0}, kUByte, "SCALAR", 3));
+  h.Node({{"mesh", 0}});
+  h.Scene({0});
+  ExpectThrowsWith(h.Write(dir, "index"), "index 3 at position 2 is >= vertex count 3");
+
+  TestGltf k;  // an absurd count is rejected before anything is allocated
+  const int big = k.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+  k.doc["accessors"][big]["count"] = 4000000000ull;
+  k.Mesh({{"POSITION", big}});
+  k.Node({{"mesh", 0}});
+  k.Scene({0});
+  ExpectThrowsWith(k.Write(dir, "absurd"), "exceeds the limit");
+}
+
+TEST(GltfLoader, RecursiveNodesThrow) {
+  const auto dir = TempDir();
+  TestGltf g;
+  g.Mesh({{"POSITION", g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0})}});
+  g.Node({{"mesh", 0}, {"children", {1}}});
+  g.Node({{"children", {0}}});  // cycle back to the root
+  g.Scene({0});
+  ExpectThrowsWith(g.Write(dir, "cycle"), "reached twice");
+}
+
+TEST(GltfLoader, NonFiniteVertexThrows) {
+  const auto dir = TempDir();
+  TestGltf g;
+  g.Mesh({{"POSITION", g.Positions({0, 0, 0, std::numeric_limits<float>::quiet_NaN(), 0, 0, 0, 1, 0})}});
+  g.Node({{"mesh", 0}});
+  g.Scene({0});
+  ExpectThrowsWith(g.Write(dir, "nan"), "vertex 1 is not finite");
+}
+
+}  // namespace
+}  // namespace rigsim
