@@ -1,0 +1,32 @@
+// A one-line progress display on stderr: "label  12/40" rewritten in place on a terminal,
+// printed at 25% steps otherwise (logs stay short).
+#pragma once
+
+#include <cstdio>
+#include <string>
+
+#include <unistd.h>
+
+namespace rigsim::cli {
+
+class Progress {
+ public:
+  explicit Progress(std::string label) : label_(std::move(label)), tty_(::isatty(2)) {}
+  void operator()(int done, int total) {
+    if (tty_) {
+      std::fprintf(stderr, "\r%s %d/%d", label_.c_str(), done, total);
+      if (done == total) std::fprintf(stderr, "\n");
+    } else if (total > 0 && (done * 4 / total != last_quarter_ || done == total)) {
+      last_quarter_ = done * 4 / total;
+      std::fprintf(stderr, "%s %d/%d\n", label_.c_str(), done, total);
+    }
+    std::fflush(stderr);
+  }
+
+ private:
+  std::string label_;
+  bool tty_;
+  int last_quarter_ = -1;
+};
+
+}  // namespace rigsim::cli

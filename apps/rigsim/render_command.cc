@@ -1,0 +1,48 @@
+#include <chrono>
+#include <cstdio>
+
+#include "apps/rigsim/commands.h"
+#include "apps/rigsim/progress.h"
+#include "apps/rigsim/render_support.h"
+#include "apps/rigsim/version.h"
+#include "geometry/rig.h"
+#include "renderer/render_dataset.h"
+#include "scenes/gltf_loader.h"
+
+namespace rigsim::cli {
+
+void AddRenderCommand(CLI::App& app) {
+  struct Args {
+    std::string scene, rig, frames, out;
+    RenderSettings settings;
+    bool force = false;
+  };
+  auto args = std::make_shared<Args>();
+  CLI::App* cmd = app.add_subcommand(
+      "render",
+      "Render a dataset: every camera of RIG at every frame of FRAMES, with labels, instances, depth,\n"
+      "the rig and frames files and the ground-truth overlap (see README, 'Dataset layout').");
+  cmd->add_option("--scene", args->scene, "glTF 2.0 scene (.gltf or .glb)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--rig", args->rig, "rig.json with every camera's cam_from_rig (rigsim make-rig writes one)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--frames", args->frames, "frames.json with every frame's rig_from_world")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--out", args->out, "output dataset folder (created; see --force)")->required();
+  cmd->add_flag("--force", args->force, "replace an existing output folder");
+  AddRenderSettingsOptions(*cmd, args->settings);
+  cmd->callback([args] {
+    const Scene scene = LoadSceneVerbose(args->scene);
+    RenderJob job;
+    job.scene = &scene;
+    job.scene_name = std::filesystem::path(args->scene).filename().string();
+    job.rig = ReadRig(args->rig);
+    job.frames = ReadFrames(args->frames);
+    job.frames.tool_version = RIGSIM_VERSION_STRING;
+    job.options = args->settings.ToRenderOptions();
+    RenderAndReport(job, args->out, args->force);
+  });
+}
+
+}  // namespace rigsim::cli

@@ -1,0 +1,31 @@
+// What the render and demo commands share: render options on the command line, loading a
+// scene with its warnings shown, and rendering with progress and a summary.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "renderer/render_dataset.h"
+#include "renderer/renderer.h"
+#include "scenes/scene.h"
+
+namespace rigsim::cli {
+
+struct RenderSettings {
+  int samples_per_pixel = 4;
+  uint64_t seed = 1;
+  int threads = 0;
+  RenderOptions ToRenderOptions() const;
+};
+
+void AddRenderSettingsOptions(CLI::App& cmd, RenderSettings& settings);
+
+// Loads a glTF file and prints its size and every loader warning to stderr.
+Scene LoadSceneVerbose(const std::filesystem::path& path);
+
+// Renders with a progress line, then prints time and the ground-truth overlap per pair.
+void RenderAndReport(const RenderJob& job, const std::filesystem::path& out, bool force);
+
+}  // namespace rigsim::cli

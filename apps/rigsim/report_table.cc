@@ -1,0 +1,114 @@
+#include "apps/rigsim/report_table.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "geometry/json_io.h"
+
+namespace rigsim::cli {
+namespace {
+
+std::string Fmt(const char* fmt, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), fmt, v);
+  return buf;
+}
+
+std::string Opt(const std::optional<double>& v, const char* fmt) { return v ? Fmt(fmt, *v) : "-"; }
+
+std::optional<double> Percent(const std::optional<double>& fraction) {
+  if (!fraction) return std::nullopt;
+  return 100.0 * *fraction;
+}
+
+std::optional<double> OverlapOf(const OverlapTable& overlap, const PairResult& p) {
+  const auto it = overlap.find({p.cam_a, p.cam_b});
+  if (it == overlap.end()) return std::nullopt;
+  return it->second;
+}
+
+bool IsNeighbour(const OverlapTable& overlap, const PairResult& p) {
+  const auto o = OverlapOf(overlap, p);
+  return overlap.empty() || (o && *o >= kNeighbourOverlap);
+}
+
+std::optional<double> Median(std::vector<double> v) {
+  if (v.empty()) return std::nullopt;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+}  // namespace
+
+OverlapTable ReadOverlap(const std::filesystem::path& overlap_json) {
+  OverlapTable table;
+  if (!std::filesystem::exists(overlap_json)) return table;
+  const json_io::Json j = json_io::ReadFile(overlap_json);
+  if (!j.contains("pairs") || !j["pairs"].is_array()) {
+    throw std::runtime_error(overlap_json.string() + ": expected a 'pairs' array");
+  }
+  for (const auto& p : j["pairs"]) {
+    const std::string src = overlap_json.string();
+    const auto a = json_io::Get<std::string>(p, "a", src, "pairs[]");
+    const auto b = json_io::Get<std::string>(p, "b", src, "pairs[]");
+    const double ab = json_io::Get<double>(p, "overlap_a_in_b", src, "pairs[]");
+    const double ba = json_io::Get<double>(p, "overlap_b_in_a", src, "pairs[]");
+    table[{a, b}] = table[{b, a}] = std::min(ab, ba);
+  }
+  return table;
+}
+
+std::string FormatPairTable(const std::vector<CalibrationReport>& reports, const OverlapTable& overlap) {
+  std::ostringstream out;
+  char line[256];
+  std::snprintf(line, sizeof(line), "%-14s %7s  %-10s %8s %8s %9s %10s %10s  %s\n", "pair", "overlap", "method",
+                "matches", "inliers", "precision", "rot_err", "t_dir_err", "status");
+  out << line;
+  if (reports.empty()) return out.str();
+  for (size_t i = 0; i < reports[0].pairs.size(); ++i) {
+    for (size_t m = 0; m < reports.size(); ++m) {
+      const PairResult& p = reports[m].pairs[i];
+      const std::string pair = m == 0 ? p.cam_a + "-" + p.cam_b : "";
+      const std::string ov = m == 0 ? Opt(Percent(OverlapOf(overlap, p)), "%.0f%%") : "";
+      std::string status = p.success ? (p.rotation_only ? "rotation only" : "ok") : p.failure_reason;
+      if (status.size() > 48) status = status.substr(0, 45) + "...";
+      std::snprintf(line, sizeof(line), "%-14s %7s  %-10s %8d %8d %9s %10s %10s  %s\n", pair.c_str(), ov.c_str(),
+                    reports[m].semantic_mode.c_str(), p.matches, p.inliers,
+                    Opt(Percent(p.match_precision), "%.1f%%").c_str(),
+                    p.success ? Opt(p.rotation_error_deg, "%.3f deg").c_str() : "-",
+                    p.success ? Opt(p.translation_direction_error_deg, "%.2f deg").c_str() : "-", status.c_str());
+      out << line;
+    }
+  }
+  return out.str();
+}
+
+std::string FormatSummary(const std::vector<CalibrationReport>& reports, const OverlapTable& overlap) {
+  std::ostringstream out;
+  for (const CalibrationReport& r : reports) {
+    std::vector<double> rot, tdir, prec;
+    int neighbours = 0, solved = 0;
+    for (const PairResult& p : r.pairs) {
+      if (!IsNeighbour(overlap, p)) continue;
+      ++neighbours;
+      if (p.match_precision) prec.push_back(*p.match_precision);
+      if (!p.success) continue;
+      ++solved;
+      if (p.rotation_error_deg) rot.push_back(*p.rotation_error_deg);
+      if (p.translation_direction_error_deg) tdir.push_back(*p.translation_direction_error_deg);
+    }
+    out << r.semantic_mode << ": " << solved << "/" << neighbours
+        << " overlapping pairs solved, median rotation error " << Opt(Median(rot), "%.4f deg")
+        << ", median translation direction error " << Opt(Median(tdir), "%.2f deg") << ", median match precision "
+        << Opt(Percent(Median(prec)), "%.1f%%") << "; "
+        << Fmt("%.0f", r.mean_keypoints_per_image) << " keypoints/image; time detect "
+        << Fmt("%.2f s", r.detect_time_s) << ", match " << Fmt("%.2f s", r.match_time_s) << ", pose "
+        << Fmt("%.2f s", r.pose_time_s) << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace rigsim::cli
