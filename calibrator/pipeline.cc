@@ -63,7 +63,8 @@ CalibrationReport CalibrateDatasetPairs(const std::filesystem::path& dataset_dir
 
 std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path& dataset_dir,
                                                      const CalibrationOptions& options,
-                                                     const std::vector<SemanticMode>& modes) {
+                                                     const std::vector<SemanticMode>& modes,
+                                                     std::vector<PairwiseMatchData>* match_data) {
   options.Check();
   if (modes.empty()) throw std::invalid_argument("CalibrateDatasetPairs: no semantic mode given");
   const DatasetLayout layout(dataset_dir);
@@ -220,6 +221,31 @@ std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path
       rep.match_time_s += pr.match_time_s;
       rep.pose_time_s += pr.pose_time_s;
       rep.pairs.push_back(std::move(pr));
+    }
+  }
+
+  if (match_data) {
+    match_data->assign(num_modes, {});
+    for (int m = 0; m < num_modes; ++m) {
+      PairwiseMatchData& md = (*match_data)[m];
+      const auto& feats = features[FeatureKind(modes[m])];
+      md.keypoints.assign(num_frames, std::vector<std::vector<Eigen::Vector2d>>(num_cams));
+      for (int f = 0; f < num_frames; ++f) {
+        for (int c = 0; c < num_cams; ++c) {
+          for (const Keypoint& kp : feats[image_index(c, f)].keypoints) md.keypoints[f][c].push_back(kp.px);
+        }
+      }
+      md.inliers.assign(num_pairs, std::vector<std::vector<std::pair<int, int>>>(num_frames));
+      for (int p = 0; p < num_pairs; ++p) {
+        const int mp = m * num_pairs + p;
+        if (!two_view[mp].success) continue;
+        for (int f = 0; f < num_frames; ++f) {
+          const std::vector<Match>& mt = matches[job_index(m, p, f)];
+          for (size_t i = 0; i < mt.size(); ++i) {
+            if (two_view[mp].inlier_mask[pooled[mp].frame_begin[f] + i]) md.inliers[p][f].push_back({mt[i].a, mt[i].b});
+          }
+        }
+      }
     }
   }
 

@@ -15,7 +15,10 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include <nlohmann/json.hpp>
 
@@ -100,10 +103,22 @@ struct CalibrationReport {
 // absent when the mode needs them).
 CalibrationReport CalibrateDatasetPairs(const std::filesystem::path& dataset_dir, const CalibrationOptions& options);
 
+// What the rig stage needs from a pairwise run of one mode: the keypoints and, per pair and
+// frame, which of them the two-view estimate kept as inliers.
+struct PairwiseMatchData {
+  // Keypoint positions [frame][camera][keypoint] of the features the mode used.
+  std::vector<std::vector<std::vector<Eigen::Vector2d>>> keypoints;
+  // [pair (CalibrationReport::pairs order)][frame]: (keypoint index in cam_a, in cam_b) of the
+  // two-view inliers; empty for a failed pair.
+  std::vector<std::vector<std::vector<std::pair<int, int>>>> inliers;
+};
+
 // Runs several modes on the same images, sharing the detected features. Reports in `modes` order.
+// With `match_data`, also returns each mode's keypoints and per-frame inliers (in `modes` order).
 std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path& dataset_dir,
                                                      const CalibrationOptions& options,
-                                                     const std::vector<SemanticMode>& modes);
+                                                     const std::vector<SemanticMode>& modes,
+                                                     std::vector<PairwiseMatchData>* match_data = nullptr);
 
 // evaluation.json: {"methods": {"<mode>": {"summary": {...}, "timing": {...}, "pairs": [{...}]}}}.
 // Per pair: cam_a, cam_b, success, rotation_only, failure_reason, matches, inliers,

@@ -1,11 +1,13 @@
 #include "calibrator/pipeline.h"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <random>
 
 #include <gtest/gtest.h>
 
+#include "calibrator/rig_calibration.h"
 #include "dataset/dataset.h"
 #include "dataset/image_io.h"
 #include "geometry/rig.h"
@@ -190,6 +192,56 @@ TEST_F(PipelineTest, ThreadCountDoesNotChangeResults) {
   EXPECT_EQ(a.pairs[0].matches, b.pairs[0].matches);
   EXPECT_EQ(a.pairs[0].inliers, b.pairs[0].inliers);
   EXPECT_EQ(a.pairs[0].cam_b_from_cam_a.rotation.coeffs(), b.pairs[0].cam_b_from_cam_a.rotation.coeffs());
+}
+
+TEST_F(PipelineTest, MatchDataHoldsTheInliersPerFrame) {
+  CalibrationOptions options;
+  std::vector<PairwiseMatchData> data;
+  const std::vector<CalibrationReport> reports =
+      CalibrateDatasetPairs(dir_, options, {SemanticMode::kNone, SemanticMode::kMask}, &data);
+  ASSERT_EQ(data.size(), 2u);
+  for (size_t m = 0; m < 2; ++m) {
+    ASSERT_EQ(data[m].keypoints.size(), 2u);     // frames
+    ASSERT_EQ(data[m].keypoints[0].size(), 2u);  // cameras
+    ASSERT_EQ(data[m].inliers.size(), 1u);       // pairs
+    size_t inliers = 0;
+    for (int f = 0; f < 2; ++f) {
+      for (const auto& [a, b] : data[m].inliers[0][f]) {
+        ASSERT_LT(a, static_cast<int>(data[m].keypoints[f][0].size()));
+        ASSERT_LT(b, static_cast<int>(data[m].keypoints[f][1].size()));
+      }
+      inliers += data[m].inliers[0][f].size();
+    }
+    EXPECT_EQ(static_cast<int>(inliers), reports[m].pairs[0].inliers);
+  }
+  // The masked mode has its own (fewer) keypoints.
+  EXPECT_LT(data[1].keypoints[0][0].size(), data[0].keypoints[0][0].size());
+}
+
+// The whole rig calibration on rendered images (two cameras: one pair, unit scale or metric).
+TEST_F(PipelineTest, CalibrateRigOnRenderedImages) {
+  RigCalibrationOptions options;
+  options.known_distance = KnownDistance{"cam0", "cam1", Eigen::Vector3d(0.6, 0.05, 0.1).norm()};  // WriteDataset's baseline
+  const std::vector<RigCalibrationResult> results = CalibrateRig(dir_, options, {SemanticMode::kNone, SemanticMode::kGated});
+  ASSERT_EQ(results.size(), 2u);
+  for (const RigCalibrationResult& r : results) {
+    SCOPED_TRACE(r.semantic_mode);
+    ASSERT_EQ(r.camera_status.size(), 2u);
+    EXPECT_EQ(r.camera_status[1], "calibrated");
+    ASSERT_TRUE(r.evaluated);
+    EXPECT_LT(r.camera_stats[1].rotation_error_deg.value(), 0.3);
+    EXPECT_LT(r.camera_stats[1].translation_direction_error_deg.value(), 5.0);
+    EXPECT_TRUE(r.metric_scale);
+    EXPECT_LT(r.camera_stats[1].position_error_m.value(), 0.06);
+    EXPECT_GT(r.num_points, 30);
+    EXPECT_LT(r.reprojection_rms_px, 1.0);
+    EXPECT_EQ(r.pairwise.pairs.size(), 1u);
+    std::printf("%s: rot %.3f deg, dir %.3f deg, position %.4f m, RMS %.3f px, %d points\n", r.semantic_mode.c_str(),
+                *r.camera_stats[1].rotation_error_deg, *r.camera_stats[1].translation_direction_error_deg,
+                *r.camera_stats[1].position_error_m, r.reprojection_rms_px, r.num_points);
+  }
+  const nlohmann::json j = RigCalibrationToJson(results);
+  EXPECT_TRUE(j["methods"]["gated"]["pairwise"]["pairs"].is_array());
 }
 
 TEST_F(PipelineTest, MissingInputsAreNamed) {

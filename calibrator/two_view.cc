@@ -125,6 +125,7 @@ void TwoViewOptions::Check() const {
   auto fail = [](const std::string& why) { throw std::invalid_argument("TwoViewOptions: " + why); };
   if (min_matches < 5) fail("min_matches must be >= 5 (the essential matrix needs 5)");
   if (min_inliers < 5) fail("min_inliers must be >= 5");
+  if (!(min_inlier_ratio >= 0 && min_inlier_ratio < 1)) fail("min_inlier_ratio must be in [0, 1)");
   if (!(max_error_px > 0)) fail("max_error_px must be > 0");
   if (!(ransac_confidence > 0 && ransac_confidence < 1)) fail("ransac_confidence must be in (0, 1)");
   if (ransac_max_iterations < 1) fail("ransac_max_iterations must be >= 1");
@@ -281,7 +282,9 @@ TwoViewResult EstimateRelativePoseFromBearings(const std::vector<Eigen::Vector3d
     result.num_essential_inliers = static_cast<int>(inliers.size());
   }
 
-  const bool rotation_explains = result.num_rotation_inliers >= options.min_inliers &&
+  const int required_inliers =
+      std::max(options.min_inliers, static_cast<int>(std::ceil(options.min_inlier_ratio * result.num_valid)));
+  const bool rotation_explains = result.num_rotation_inliers >= required_inliers &&
                                  result.num_rotation_inliers >= options.rotation_only_ratio * result.num_essential_inliers;
   if (rotation_explains) {
     result.rotation_only = true;
@@ -297,10 +300,10 @@ TwoViewResult EstimateRelativePoseFromBearings(const std::vector<Eigen::Vector3d
     return result;
   }
   if (!have_pose) return Fail(result, essential_failure);
-  if (result.num_essential_inliers < options.min_inliers) {
+  if (result.num_essential_inliers < required_inliers) {
     std::ostringstream why;
-    why << "too few inliers: " << result.num_essential_inliers << " of " << result.num_valid << " (need "
-        << options.min_inliers << ")";
+    why << "no consistent geometry: " << result.num_essential_inliers << " inliers of " << result.num_valid
+        << " matches (need " << required_inliers << ")";
     return Fail(result, why.str());
   }
   result.cam_b_from_cam_a = pose;

@@ -26,7 +26,11 @@ struct TwoViewOptions {
   // Fewer correspondences than this fail at once ("too few matches").
   int min_matches = 15;
   // Fewer inliers than this after the fit fail ("too few inliers").
-  int min_inliers = 15;
+  int min_inliers = 30;
+  // ... and so does a fit that explains less than this fraction of the correspondences: between
+  // views that share nothing, RANSAC still finds a few dozen random matches that agree with
+  // some pose (seen: 20-45 of 500-1000 on the street), a confident wrong answer.
+  double min_inlier_ratio = 0.1;
   // Inlier threshold in pixels; converted to an angle with the mean focal length of the two
   // cameras (the scale at which a pixel of noise is an angle).
   double max_error_px = 1.0;

@@ -167,3 +167,18 @@ TEST(TwoView, Deterministic) {
 
 }  // namespace
 }  // namespace rigsim
+
+namespace rigsim {
+namespace {
+
+// Views that share nothing: every match is an outlier. RANSAC still finds a few random matches
+// that agree with some pose; that must be a failure, not a confident wrong answer.
+TEST(TwoView, UnrelatedViewsAreNoGeometry) {
+  const Scenario s = MakeScenario(Pinhole(), Pinhole(), TestPose(), 800, 0.3, 1.0, 7);
+  const TwoViewResult r = EstimateRelativePose(Pinhole(), s.px_a, Pinhole(), s.px_b, TwoViewOptions());
+  EXPECT_FALSE(r.success);
+  EXPECT_NE(r.failure_reason.find("no consistent geometry"), std::string::npos) << r.failure_reason;
+}
+
+}  // namespace
+}  // namespace rigsim

@@ -1,0 +1,377 @@
+#include "calibrator/rig_calibration.h"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "calibrator/evaluation.h"
+#include "dataset/dataset.h"
+
+namespace rigsim {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double Seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
+
+std::string Fixed(double v, int digits) {
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(digits);
+  s << v;
+  return s.str();
+}
+
+nlohmann::json OptionalToJson(const std::optional<double>& v) {
+  return v && std::isfinite(*v) ? nlohmann::json(*v) : nlohmann::json(nullptr);
+}
+
+nlohmann::json PoseToJson(const Rigid3d& p) {
+  return {{"rotation_wxyz", {p.rotation.w(), p.rotation.x(), p.rotation.y(), p.rotation.z()}},
+          {"translation", {p.translation.x(), p.translation.y(), p.translation.z()}}};
+}
+
+// Observations of one dataset mode, from the pipeline's report and match data.
+RigObservations ObservationsFromPipeline(const Rig& rig, const CalibrationReport& report,
+                                         const PairwiseMatchData& data) {
+  RigObservations obs;
+  for (const RigCamera& rc : rig.cameras) {
+    obs.camera_names.push_back(rc.name);
+    obs.cameras.push_back(rc.camera);
+  }
+  obs.keypoints = data.keypoints;
+  for (size_t p = 0; p < report.pairs.size(); ++p) {
+    const PairResult& pr = report.pairs[p];
+    PairEstimate e;
+    e.cam_a = rig.FindCamera(pr.cam_a);
+    e.cam_b = rig.FindCamera(pr.cam_b);
+    e.success = pr.success;
+    e.rotation_only = pr.rotation_only;
+    e.cam_b_from_cam_a = pr.cam_b_from_cam_a;
+    e.num_inliers = pr.inliers;
+    e.failure_reason = pr.failure_reason;
+    obs.pairs.push_back(e);
+    obs.inliers.push_back({e.cam_a, e.cam_b, data.inliers[p]});
+  }
+  return obs;
+}
+
+}  // namespace
+
+void RigCalibrationOptions::Check() const {
+  pairwise.Check();
+  view_graph.Check();
+  rotation_averaging.Check();
+  bundle_adjustment.Check();
+  if (known_distance) {
+    if (known_distance->cam_a == known_distance->cam_b) {
+      throw std::invalid_argument("RigCalibrationOptions: known_distance needs two different cameras");
+    }
+    if (!(known_distance->metres > 0) || !std::isfinite(known_distance->metres)) {
+      throw std::invalid_argument("RigCalibrationOptions: known_distance.metres must be > 0");
+    }
+  }
+}
+
+std::pair<PairEstimate, PairMatches> EstimatePairFromMatches(
+    const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, int cam_a, int cam_b,
+    const std::vector<std::vector<std::pair<int, int>>>& matches_per_frame, const TwoViewOptions& options) {
+  std::vector<Eigen::Vector2d> px_a, px_b;
+  for (size_t f = 0; f < matches_per_frame.size(); ++f) {
+    for (const auto& [a, b] : matches_per_frame[f]) {
+      px_a.push_back(keypoints.at(f).at(cam_a).at(a));
+      px_b.push_back(keypoints.at(f).at(cam_b).at(b));
+    }
+  }
+  const TwoViewResult tv = EstimateRelativePose(cameras.at(cam_a), px_a, cameras.at(cam_b), px_b, options);
+  PairEstimate e;
+  e.cam_a = cam_a;
+  e.cam_b = cam_b;
+  e.success = tv.success;
+  e.rotation_only = tv.rotation_only;
+  e.cam_b_from_cam_a = tv.cam_b_from_cam_a;
+  e.num_inliers = tv.num_inliers;
+  e.failure_reason = tv.failure_reason;
+  PairMatches inl{cam_a, cam_b, std::vector<std::vector<std::pair<int, int>>>(matches_per_frame.size())};
+  if (tv.success) {
+    size_t i = 0;
+    for (size_t f = 0; f < matches_per_frame.size(); ++f) {
+      for (const auto& m : matches_per_frame[f]) {
+        if (tv.inlier_mask[i++]) inl.per_frame[f].push_back(m);
+      }
+    }
+  }
+  return {e, inl};
+}
+
+RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibrationOptions& options) {
+  options.Check();
+  const int n = static_cast<int>(obs.cameras.size());
+  if (n < 1 || static_cast<int>(obs.camera_names.size()) != n) {
+    throw std::invalid_argument("EstimateRig: one name per camera, at least one camera");
+  }
+  if (obs.pairs.size() != obs.inliers.size()) throw std::invalid_argument("EstimateRig: pairs and inliers differ in size");
+  const int num_frames = static_cast<int>(obs.keypoints.size());
+  for (const auto& frame : obs.keypoints) {
+    if (static_cast<int>(frame.size()) != n) throw std::invalid_argument("EstimateRig: keypoints need every camera per frame");
+  }
+  int known_a = -1, known_b = -1;
+  if (options.known_distance) {
+    for (int c = 0; c < n; ++c) {
+      if (obs.camera_names[c] == options.known_distance->cam_a) known_a = c;
+      if (obs.camera_names[c] == options.known_distance->cam_b) known_b = c;
+    }
+    if (known_a < 0 || known_b < 0) {
+      throw std::invalid_argument("EstimateRig: known_distance names a camera not in the rig ('" +
+                                  options.known_distance->cam_a + "', '" + options.known_distance->cam_b + "')");
+    }
+  }
+
+  RigCalibrationResult result;
+  for (int c = 0; c < n; ++c) result.rig.cameras.push_back({obs.camera_names[c], obs.cameras[c], std::nullopt, 0.0});
+  result.camera_stats.assign(n, {});
+  result.camera_status.assign(n, "");
+
+  // 1. View graph and rotations.
+  auto start = Clock::now();
+  ViewGraph graph = BuildViewGraph(n, obs.pairs, options.view_graph);
+  const RotationAveragingResult rot = AverageRotations(graph, 0, options.rotation_averaging);
+  for (int e = 0; e < static_cast<int>(graph.edges.size()); ++e) {
+    if (rot.outlier[e]) {
+      graph.Deactivate(e, "rotation outlier (residual " + Fixed(rot.residual_deg[e], 1) + " deg > " +
+                              Fixed(options.rotation_averaging.outlier_threshold_deg, 1) + ")");
+    }
+  }
+  result.num_rotation_outliers = rot.num_outliers;
+  result.rotation_averaging_time_s = Seconds(start);
+
+  // 2. Centres from the translation directions.
+  start = Clock::now();
+  const CameraCentres centres = EstimateCameraCentres(graph, rot.cam_from_rig, 0);
+  if (!centres.unique) {
+    result.warnings.push_back(
+        "the pairwise translation directions do not fix the camera positions (view graph not parallel rigid); "
+        "positions rest on tracks seen by three or more cameras");
+  }
+  std::vector<std::optional<Rigid3d>> initial(n);
+  int scale_camera = -1;
+  for (int c = 1; c < n && scale_camera < 0; ++c) {
+    if (centres.centre_in_rig[c] && centres.centre_in_rig[c]->norm() > 1e-9) scale_camera = c;
+  }
+  const double unit = scale_camera >= 0 ? 1.0 / centres.centre_in_rig[scale_camera]->norm() : 1.0;
+  for (int c = 0; c < n; ++c) {
+    if (!centres.centre_in_rig[c]) continue;
+    const Eigen::Quaterniond r = *rot.cam_from_rig[c];
+    initial[c] = Rigid3d(r, -(r * (unit * *centres.centre_in_rig[c])));
+  }
+  result.positions_time_s = Seconds(start);
+
+  // 3. Tracks from the inliers of the edges still in use between posed cameras.
+  start = Clock::now();
+  std::vector<PairMatches> used;
+  for (size_t p = 0; p < obs.pairs.size(); ++p) {
+    const ViewGraphEdge& g = graph.edges[p];
+    if (!g.active || !initial[g.cam_a] || !initial[g.cam_b]) continue;
+    if (static_cast<int>(obs.inliers[p].per_frame.size()) != num_frames) {
+      throw std::invalid_argument("EstimateRig: inliers of a pair do not have one entry per frame");
+    }
+    used.push_back(obs.inliers[p]);
+  }
+  const std::vector<Track> tracks = BuildTracks(n, num_frames, used, &result.num_conflicting_tracks);
+  result.num_tracks = static_cast<int>(tracks.size());
+  result.tracks_time_s = Seconds(start);
+
+  // 4. Bundle adjustment.
+  start = Clock::now();
+  const RigBundleAdjustmentResult ba =
+      RigBundleAdjust(obs.cameras, obs.keypoints, tracks, initial, 0, scale_camera, options.bundle_adjustment);
+  result.bundle_adjustment_time_s = Seconds(start);
+  result.initial_reprojection_rms_px = ba.initial_rms_px;
+  result.reprojection_rms_px = ba.reprojection_rms_px;
+  result.num_points = ba.num_points;
+  result.num_observations = ba.num_observations;
+  result.num_filtered_observations = ba.num_filtered_observations;
+
+  // 5. Scale.
+  std::vector<std::optional<Rigid3d>> pose = ba.cam_from_rig;
+  result.scale = scale_camera >= 0 ? "unit scale: |centre of " + obs.camera_names[scale_camera] + "| = 1"
+                                   : "no scale (no camera with a position besides " + obs.camera_names[0] + ")";
+  if (options.known_distance) {
+    if (pose[known_a] && pose[known_b]) {
+      const double d = (pose[known_a]->SourceOriginInTarget() - pose[known_b]->SourceOriginInTarget()).norm();
+      if (d > 1e-12) {
+        const double s = options.known_distance->metres / d;
+        for (auto& p : pose) {
+          if (p) p->translation *= s;
+        }
+        result.metric_scale = true;
+        result.scale = "metric: |" + obs.camera_names[known_a] + " - " + obs.camera_names[known_b] +
+                       "| = " + Fixed(options.known_distance->metres, 4) + " m";
+      } else {
+        result.warnings.push_back("known distance ignored: the two cameras' estimated centres coincide");
+      }
+    } else {
+      result.warnings.push_back("known distance ignored: " + obs.camera_names[pose[known_a] ? known_b : known_a] +
+                                " is not calibrated; the result has unit scale");
+    }
+  }
+
+  // 6. Status per camera and per edge.
+  std::vector<char> reached(n, 0), rotated(n, 0);
+  for (int c = 0; c < n; ++c) {
+    reached[c] = pose[c].has_value();
+    rotated[c] = rot.cam_from_rig[c].has_value();
+  }
+  for (int c = 0; c < n; ++c) {
+    result.camera_stats[c].observations = ba.observations_per_camera[c];
+    if (pose[c]) {
+      result.rig.cameras[c].cam_from_rig = pose[c];
+      result.camera_status[c] = c == 0 ? "calibrated (reference: rig frame)" : "calibrated";
+      if (c != 0 && ba.observations_per_camera[c] == 0) {
+        result.warnings.push_back(obs.camera_names[c] + " has no bundle-adjustment observation: its pose comes "
+                                  "from the view graph alone");
+      }
+    } else if (rotated[c]) {
+      result.camera_status[c] = "not connected: only rotation-only pairs link it to the calibrated cameras "
+                                "(translation unobservable)";
+    } else {
+      result.camera_status[c] = NotConnectedReason(graph, c, rotated, obs.camera_names);
+    }
+  }
+  for (int e = 0; e < static_cast<int>(graph.edges.size()); ++e) {
+    const ViewGraphEdge& g = graph.edges[e];
+    RigEdgeStats s;
+    s.cam_a = obs.camera_names[g.cam_a];
+    s.cam_b = obs.camera_names[g.cam_b];
+    s.inliers = g.weight;
+    s.used = g.active && reached[g.cam_a] && reached[g.cam_b];
+    s.rotation_only = g.rotation_only;
+    s.rotation_outlier = rot.outlier[e];
+    if (std::isfinite(rot.residual_deg[e])) s.rotation_residual_deg = rot.residual_deg[e];
+    s.status = s.used ? "used" : g.active ? "not used: camera not calibrated" : g.inactive_reason;
+    result.edges.push_back(s);
+  }
+  return result;
+}
+
+void EvaluateRigAgainstTruth(const Rig& truth, RigCalibrationResult* result) {
+  if (!truth.HasAllPoses() || truth.cameras.size() != result->rig.cameras.size()) return;
+  const Rigid3d rig_from_cam0 = truth.cameras[0].cam_from_rig->Inverse();
+  for (size_t c = 0; c < truth.cameras.size(); ++c) {
+    const auto& est = result->rig.cameras[c].cam_from_rig;
+    if (!est) continue;
+    // The truth with camera 0 as the rig frame (the estimate's gauge).
+    const Rigid3d gt = *truth.cameras[c].cam_from_rig * rig_from_cam0;
+    RigCameraStats& s = result->camera_stats[c];
+    s.rotation_error_deg = RotationErrorDeg(*est, gt);
+    const Eigen::Vector3d c_est = est->SourceOriginInTarget(), c_gt = gt.SourceOriginInTarget();
+    if (c_est.norm() > 1e-9 && c_gt.norm() > 1e-9) s.translation_direction_error_deg = AngleBetweenDeg(c_est, c_gt);
+    if (result->metric_scale) s.position_error_m = (c_est - c_gt).norm();
+  }
+  result->evaluated = true;
+}
+
+RigCalibrationResult CalibrateRig(const std::filesystem::path& dataset_dir, const RigCalibrationOptions& options,
+                                  SemanticMode mode) {
+  return CalibrateRig(dataset_dir, options, std::vector<SemanticMode>{mode}).front();
+}
+
+std::vector<RigCalibrationResult> CalibrateRig(const std::filesystem::path& dataset_dir,
+                                               const RigCalibrationOptions& options,
+                                               const std::vector<SemanticMode>& modes) {
+  options.Check();
+  std::vector<PairwiseMatchData> data;
+  const std::vector<CalibrationReport> reports = CalibrateDatasetPairs(dataset_dir, options.pairwise, modes, &data);
+  const Rig truth = ReadRig(DatasetLayout(dataset_dir).RigJson());
+  std::vector<RigCalibrationResult> results;
+  for (size_t m = 0; m < modes.size(); ++m) {
+    RigCalibrationResult r = EstimateRig(ObservationsFromPipeline(truth, reports[m], data[m]), options);
+    r.semantic_mode = reports[m].semantic_mode;
+    for (size_t c = 0; c < truth.cameras.size(); ++c) r.rig.cameras[c].time_offset_s = truth.cameras[c].time_offset_s;
+    r.pairwise = reports[m];
+    if (options.pairwise.evaluate) EvaluateRigAgainstTruth(truth, &r);
+    results.push_back(std::move(r));
+  }
+  return results;
+}
+
+nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& results) {
+  std::vector<CalibrationReport> reports;
+  for (const RigCalibrationResult& r : results) reports.push_back(r.pairwise);
+  const nlohmann::json pairwise = ReportToJson(reports);
+  nlohmann::json methods = nlohmann::json::object();
+  for (const RigCalibrationResult& r : results) {
+    nlohmann::json cams = nlohmann::json::array();
+    int calibrated = 0;
+    double max_rot = 0.0, max_dir = 0.0;
+    for (size_t c = 0; c < r.rig.cameras.size(); ++c) {
+      const auto& pose = r.rig.cameras[c].cam_from_rig;
+      const RigCameraStats& s = r.camera_stats[c];
+      calibrated += pose.has_value();
+      if (s.rotation_error_deg) max_rot = std::max(max_rot, *s.rotation_error_deg);
+      if (s.translation_direction_error_deg) max_dir = std::max(max_dir, *s.translation_direction_error_deg);
+      nlohmann::json j;
+      j["name"] = r.rig.cameras[c].name;
+      j["status"] = r.camera_status[c];
+      j["calibrated"] = pose.has_value();
+      j["cam_from_rig"] = pose ? PoseToJson(*pose) : nlohmann::json(nullptr);
+      if (pose) {
+        const Eigen::Vector3d centre = pose->SourceOriginInTarget();
+        j["centre_in_rig"] = {centre.x(), centre.y(), centre.z()};
+      } else {
+        j["centre_in_rig"] = nullptr;
+      }
+      j["observations"] = s.observations;
+      j["rotation_error_deg"] = OptionalToJson(s.rotation_error_deg);
+      j["translation_direction_error_deg"] = OptionalToJson(s.translation_direction_error_deg);
+      j["position_error_m"] = OptionalToJson(s.position_error_m);
+      cams.push_back(j);
+    }
+    nlohmann::json edges = nlohmann::json::array();
+    for (const RigEdgeStats& e : r.edges) {
+      edges.push_back({{"cam_a", e.cam_a},
+                       {"cam_b", e.cam_b},
+                       {"inliers", e.inliers},
+                       {"used", e.used},
+                       {"rotation_only", e.rotation_only},
+                       {"rotation_outlier", e.rotation_outlier},
+                       {"rotation_residual_deg", OptionalToJson(e.rotation_residual_deg)},
+                       {"status", e.status}});
+    }
+    nlohmann::json summary = {{"cameras", r.rig.cameras.size()},
+                              {"cameras_calibrated", calibrated},
+                              {"metric_scale", r.metric_scale},
+                              {"scale", r.scale},
+                              {"reprojection_rms_px", r.reprojection_rms_px},
+                              {"initial_reprojection_rms_px", r.initial_reprojection_rms_px},
+                              {"tracks", r.num_tracks},
+                              {"conflicting_tracks", r.num_conflicting_tracks},
+                              {"points", r.num_points},
+                              {"observations", r.num_observations},
+                              {"filtered_observations", r.num_filtered_observations},
+                              {"rotation_outliers", r.num_rotation_outliers}};
+    summary["max_rotation_error_deg"] = r.evaluated ? nlohmann::json(max_rot) : nlohmann::json(nullptr);
+    summary["max_translation_direction_error_deg"] = r.evaluated ? nlohmann::json(max_dir) : nlohmann::json(nullptr);
+    nlohmann::json m;
+    m["summary"] = summary;
+    m["timing"] = {{"detect_time_s", r.pairwise.detect_time_s},
+                   {"match_time_s", r.pairwise.match_time_s},
+                   {"pose_time_s", r.pairwise.pose_time_s},
+                   {"rotation_averaging_time_s", r.rotation_averaging_time_s},
+                   {"positions_time_s", r.positions_time_s},
+                   {"tracks_time_s", r.tracks_time_s},
+                   {"bundle_adjustment_time_s", r.bundle_adjustment_time_s}};
+    m["cameras"] = cams;
+    m["edges"] = edges;
+    m["warnings"] = r.warnings;
+    const std::string key = r.semantic_mode.empty() ? "rig" : r.semantic_mode;
+    // Results of EstimateRig alone have no pairwise report.
+    m["pairwise"] = !r.pairwise.pairs.empty() && pairwise["methods"].contains(r.pairwise.semantic_mode)
+                        ? pairwise["methods"][r.pairwise.semantic_mode]
+                        : nlohmann::json(nullptr);
+    methods[key] = m;
+  }
+  return {{"methods", methods}};
+}
+
+}  // namespace rigsim

@@ -1,0 +1,142 @@
+// Targetless rig calibration: from a dataset's images to every camera's cam_from_rig.
+//
+// Stages: the pairwise pipeline (pipeline.h: features, matches per frame, one two-view estimate
+// per pair over pooled frames) -> view graph (view_graph.h) -> robust rotation averaging
+// (rotation_averaging.h) -> camera centres from the translation directions, tracks per frame
+// from the two-view inliers, triangulation and bundle adjustment (rig_bundle_adjustment.h).
+//
+// Gauge: camera 0 is the rig frame (its cam_from_rig is the identity). Only camera 0's component
+// of the view graph is calibrated; every other camera is reported "not connected: <reason>" and
+// gets no pose, never a guessed one. Scale: images fix none. Without a known distance the
+// centre of the first calibrated camera after camera 0 is at distance 1 ("unit scale"); with
+// one, the two named cameras' centres are that many metres apart ("metric").
+// Truth, when rig.json has it, is re-expressed with camera 0 as the rig frame before comparing.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "calibrator/pipeline.h"
+#include "calibrator/rig_bundle_adjustment.h"
+#include "calibrator/rotation_averaging.h"
+#include "calibrator/view_graph.h"
+#include "geometry/rig.h"
+
+namespace rigsim {
+
+// The distance between two cameras' centres, the only source of metric scale.
+struct KnownDistance {
+  std::string cam_a;
+  std::string cam_b;
+  double metres = 0.0;
+};
+
+struct RigCalibrationOptions {
+  // Features, matching and two-view estimation of every pair.
+  CalibrationOptions pairwise;
+  // Which pairs become edges.
+  ViewGraphOptions view_graph;
+  // Robust rotation averaging and its outlier threshold.
+  RotationAveragingOptions rotation_averaging;
+  // Triangulation, bundle adjustment and its outlier filter.
+  RigBundleAdjustmentOptions bundle_adjustment;
+  // Metric scale; without it the result has unit scale.
+  std::optional<KnownDistance> known_distance;
+
+  // Throws std::invalid_argument naming the first bad field.
+  void Check() const;
+};
+
+// What the rig stages consume, independent of images: the pairwise outcome and its inliers.
+struct RigObservations {
+  std::vector<std::string> camera_names;
+  std::vector<Camera> cameras;
+  FrameKeypoints keypoints;          // [frame][camera][keypoint]
+  std::vector<PairEstimate> pairs;   // one per camera pair
+  std::vector<PairMatches> inliers;  // the same pairs' two-view inliers per frame (empty when failed)
+};
+
+// Pools one pair's matches over the frames, estimates the relative pose (two_view.h) and keeps
+// its inliers per frame: the pairwise pipeline's step for one pair, for callers that bring
+// their own correspondences.
+std::pair<PairEstimate, PairMatches> EstimatePairFromMatches(
+    const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, int cam_a, int cam_b,
+    const std::vector<std::vector<std::pair<int, int>>>& matches_per_frame, const TwoViewOptions& options);
+
+struct RigCameraStats {
+  int observations = 0;  // bundle-adjustment observations kept
+  // Against the truth (with camera 0 as the rig frame), for calibrated cameras.
+  std::optional<double> rotation_error_deg;
+  // Angle between the estimated and true directions of the camera centre from camera 0's.
+  std::optional<double> translation_direction_error_deg;
+  std::optional<double> position_error_m;  // metric results only
+};
+
+struct RigEdgeStats {
+  std::string cam_a, cam_b;
+  int inliers = 0;
+  bool used = false;           // active after rotation averaging
+  bool rotation_only = false;  // no translation direction
+  bool rotation_outlier = false;
+  std::optional<double> rotation_residual_deg;  // R_b R_a^T vs the pair's rotation at the solution
+  std::string status;                           // "used" or why not
+};
+
+struct RigCalibrationResult {
+  std::string semantic_mode;
+  // Intrinsics as read; cam_from_rig estimated for calibrated cameras, nullopt otherwise.
+  Rig rig;
+  // Per camera: "calibrated", "calibrated (reference: rig frame)" or "not connected: <reason>".
+  std::vector<std::string> camera_status;
+  std::vector<RigCameraStats> camera_stats;
+  std::vector<RigEdgeStats> edges;  // per camera pair
+  bool metric_scale = false;
+  std::string scale;  // how the scale was fixed, e.g. "unit scale: |centre of cam1| = 1"
+  std::vector<std::string> warnings;
+  double initial_reprojection_rms_px = 0.0;
+  double reprojection_rms_px = 0.0;
+  int num_tracks = 0;
+  int num_conflicting_tracks = 0;  // dropped: two keypoints of one camera
+  int num_points = 0;
+  int num_observations = 0;
+  int num_filtered_observations = 0;
+  int num_rotation_outliers = 0;
+  // Ground truth available and compared.
+  bool evaluated = false;
+  CalibrationReport pairwise;
+  // Wall time of the rig stages (the pairwise ones are in `pairwise`).
+  double rotation_averaging_time_s = 0.0;
+  double positions_time_s = 0.0;
+  double tracks_time_s = 0.0;
+  double bundle_adjustment_time_s = 0.0;
+};
+
+// The rig stages on given observations (no truth, no pairwise report). Throws
+// std::invalid_argument on inconsistent observations or a known distance naming an unknown camera.
+RigCalibrationResult EstimateRig(const RigObservations& observations, const RigCalibrationOptions& options);
+
+// Fills the per-camera errors from `truth` (every cam_from_rig known); sets result->evaluated.
+void EvaluateRigAgainstTruth(const Rig& truth, RigCalibrationResult* result);
+
+// Whole calibration of a dataset in one semantic mode (overrides options.pairwise.semantic_mode).
+// Throws like CalibrateDatasetPairs.
+RigCalibrationResult CalibrateRig(const std::filesystem::path& dataset_dir, const RigCalibrationOptions& options,
+                                  SemanticMode mode);
+
+// Several modes on the same images: features are detected once and shared. Results in `modes` order.
+std::vector<RigCalibrationResult> CalibrateRig(const std::filesystem::path& dataset_dir,
+                                               const RigCalibrationOptions& options,
+                                               const std::vector<SemanticMode>& modes);
+
+// rig_calibration.json: {"methods": {"<mode>": {"summary": {...}, "timing": {...},
+// "cameras": [{name, status, calibrated, cam_from_rig, centre_in_rig, observations,
+// rotation_error_deg, translation_direction_error_deg, position_error_m}], "edges": [...],
+// "warnings": [...], "pairwise": <ReportToJson's entry for the mode>}}}. Unknowns are null.
+nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& results);
+
+}  // namespace rigsim

@@ -1,0 +1,74 @@
+// The view graph of a rig: one node per camera, one edge per camera pair, carrying the pair's
+// two-view estimate (relative rotation, unit translation direction unless rotation-only) and its
+// inlier count as the weight.
+//
+// Every pair stays in the graph, also the failed ones: an edge is either active (used by the rig
+// stages) or inactive with the reason, so that a camera left out of the calibration can always be
+// reported with why ("not connected: ...") instead of being guessed.
+//
+// Conventions: an edge's pose is cam_b_from_cam_a (two_view.h), with cam_a < cam_b; for cameras
+// with rotations R_a = cam_a_from_rig, R_b: R_ab = R_b R_a^T.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "geometry/rigid3.h"
+
+namespace rigsim {
+
+// One pair's two-view outcome, as the pairwise pipeline reports it.
+struct PairEstimate {
+  int cam_a = -1;
+  int cam_b = -1;
+  bool success = false;
+  bool rotation_only = false;
+  Rigid3d cam_b_from_cam_a;  // unit translation (zero when rotation_only)
+  int num_inliers = 0;
+  std::string failure_reason;  // of a failed pair
+};
+
+struct ViewGraphOptions {
+  // Successful pairs with fewer inliers are left inactive: a handful of inliers that happen to
+  // agree is how a wrong pair (repeated texture, one plane) looks.
+  int min_inliers = 30;
+
+  // Throws std::invalid_argument naming the first bad field.
+  void Check() const;
+};
+
+struct ViewGraphEdge {
+  int cam_a = -1;
+  int cam_b = -1;
+  Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();  // of cam_b_from_cam_a
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // unit translation of cam_b_from_cam_a; zero when rotation-only
+  bool rotation_only = false;
+  int weight = 0;  // inliers
+  bool active = false;
+  std::string inactive_reason;  // why the edge is not used; empty when active
+};
+
+struct ViewGraph {
+  int num_cameras = 0;
+  std::vector<ViewGraphEdge> edges;  // one per input pair, in input order
+
+  // Marks an edge inactive, keeping the first reason given.
+  void Deactivate(int edge, const std::string& reason);
+};
+
+// Throws std::invalid_argument when a pair names a camera out of range or itself.
+ViewGraph BuildViewGraph(int num_cameras, const std::vector<PairEstimate>& pairs, const ViewGraphOptions& options);
+
+// Connected components over the active edges (and, with translation_only, only the edges that
+// have a translation direction): one label per camera, the smallest camera index of its component.
+std::vector<int> ConnectedComponents(const ViewGraph& graph, bool translation_only = false);
+
+// "not connected: ..." for a camera outside `reached` (one flag per camera): each of its pairs
+// with a reached camera and why that pair is not used; or that it has no pair with them at all.
+std::string NotConnectedReason(const ViewGraph& graph, int camera, const std::vector<char>& reached,
+                               const std::vector<std::string>& camera_names);
+
+}  // namespace rigsim
