@@ -13,6 +13,7 @@
 
 #include "dataset/dataset.h"
 #include "dataset/image_io.h"
+#include "dataset/label_image.h"
 #include "geometry/rig.h"
 
 namespace rigsim {
@@ -122,12 +123,7 @@ std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path
       if (!std::filesystem::exists(label_path)) {
         throw std::runtime_error(label_path.string() + ": label image missing (the semantic mode needs labels)");
       }
-      labels = ReadImageU8(label_path, 1);
-      if (!labels.SameSize(w, h)) {
-        throw std::runtime_error(label_path.string() + ": label image is " + std::to_string(labels.width) + "x" +
-                                 std::to_string(labels.height) + ", camera '" + rc.name + "' is " +
-                                 std::to_string(w) + "x" + std::to_string(h));
-      }
+      labels = ReadLabelImage(label_path, w, h);  // checks channels, size and Cityscapes ids
     }
     for (int k = 0; k < 2; ++k) {
       if (!need_kind[k]) continue;
@@ -245,6 +241,58 @@ std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path
             if (two_view[mp].inlier_mask[pooled[mp].frame_begin[f] + i]) md.inliers[p][f].push_back({mt[i].a, mt[i].b});
           }
         }
+      }
+    }
+  }
+
+  // 4b. Temporal pairs: each camera with itself between consecutive frames, per mode.
+  if (match_data && options.temporal_matches && num_frames >= 2) {
+    const int steps = num_frames - 1;
+    const int num_temporal = num_modes * num_cams * steps;
+    std::vector<TemporalPairEstimate> temporal(num_temporal);
+    std::vector<double> t_match(num_temporal, 0.0), t_pose(num_temporal, 0.0);
+    tbb::parallel_for(0, num_temporal, [&](int job) {
+      const int k = job % steps;
+      const int c = (job / steps) % num_cams;
+      const int m = job / (steps * num_cams);
+      MatchOptions mo = options.matching;
+      mo.gate_by_class = UsesGating(modes[m]);
+      const auto& feats = features[FeatureKind(modes[m])];
+      const FeatureSet& fa = feats[image_index(c, k)];
+      const FeatureSet& fb = feats[image_index(c, k + 1)];
+      MatchStats stats;
+      const std::vector<Match> mt = MatchFeatures(fa, fb, mo, &stats);
+      t_match[job] = stats.time_s;
+      std::vector<Eigen::Vector2d> pa, pb;
+      for (const Match& x : mt) {
+        pa.push_back(fa.keypoints[x.a].px);
+        pb.push_back(fb.keypoints[x.b].px);
+      }
+      const auto start = Clock::now();
+      const TwoViewResult tv = EstimateRelativePose(rig.cameras[c].camera, pa, rig.cameras[c].camera, pb, options.two_view);
+      t_pose[job] = Seconds(start);
+      TemporalPairEstimate& te = temporal[job];
+      te.camera = c;
+      te.frame = k;
+      te.estimate.cam_a = c;
+      te.estimate.cam_b = c;
+      te.estimate.success = tv.success;
+      te.estimate.rotation_only = tv.rotation_only;
+      te.estimate.cam_b_from_cam_a = tv.cam_b_from_cam_a;
+      te.estimate.num_inliers = tv.num_inliers;
+      te.estimate.failure_reason = tv.failure_reason;
+      if (tv.success) {
+        for (size_t i = 0; i < mt.size(); ++i) {
+          if (tv.inlier_mask[i]) te.inliers.push_back({mt[i].a, mt[i].b});
+        }
+      }
+    });
+    for (int m = 0; m < num_modes; ++m) {
+      for (int i = 0; i < num_cams * steps; ++i) {
+        const int job = m * num_cams * steps + i;
+        reports[m].temporal_match_time_s += t_match[job];
+        reports[m].temporal_pose_time_s += t_pose[job];
+        (*match_data)[m].temporal.push_back(std::move(temporal[job]));
       }
     }
   }

@@ -27,6 +27,7 @@
 #include "calibrator/matching.h"
 #include "calibrator/semantics.h"
 #include "calibrator/two_view.h"
+#include "calibrator/view_graph.h"
 #include "geometry/rigid3.h"
 #include "labels/cityscapes.h"
 
@@ -47,6 +48,11 @@ struct CalibrationOptions {
   MatchPrecisionOptions precision;
   // Compare with the truth when rig.json has every cam_from_rig and depth images exist.
   bool evaluate = true;
+  // With match data requested and two or more frames: also match each camera with itself between
+  // consecutive frames (same features, matching and two-view estimate as the pairs). The rig's
+  // motion links the scales of the camera pairs (rig_calibration.h); costs one matching per
+  // camera and frame step.
+  bool temporal_matches = true;
   // Worker threads (TBB); 0 = all cores. OpenCV's own threading is switched off meanwhile so the
   // two do not oversubscribe the machine.
   int num_threads = 0;
@@ -96,6 +102,10 @@ struct CalibrationReport {
   double detect_time_s = 0.0;
   double match_time_s = 0.0;
   double pose_time_s = 0.0;
+  // Temporal matching (CalibrationOptions::temporal_matches), summed over cameras and frame steps;
+  // zero when not run.
+  double temporal_match_time_s = 0.0;
+  double temporal_pose_time_s = 0.0;
 };
 
 // Runs one semantic mode (options.semantic_mode). Throws std::runtime_error naming the file when
@@ -111,6 +121,9 @@ struct PairwiseMatchData {
   // [pair (CalibrationReport::pairs order)][frame]: (keypoint index in cam_a, in cam_b) of the
   // two-view inliers; empty for a failed pair.
   std::vector<std::vector<std::vector<std::pair<int, int>>>> inliers;
+  // Per camera and frame step (camera-major: camera * (frames - 1) + k), the camera between frames
+  // k and k+1: its two-view estimate and inliers. Empty with one frame or temporal_matches off.
+  std::vector<TemporalPairEstimate> temporal;
 };
 
 // Runs several modes on the same images, sharing the detected features. Reports in `modes` order.

@@ -53,6 +53,7 @@ RigObservations ObservationsFromPipeline(const Rig& rig, const CalibrationReport
     obs.pairs.push_back(e);
     obs.inliers.push_back({e.cam_a, e.cam_b, data.inliers[p]});
   }
+  obs.temporal = data.temporal;
   return obs;
 }
 
@@ -145,46 +146,102 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
   result.num_rotation_outliers = rot.num_outliers;
   result.rotation_averaging_time_s = Seconds(start);
 
-  // 2. Centres from the translation directions.
+  // 2. Rig rotation per frame: from the temporal pairs, or a static rig without them.
   start = Clock::now();
-  const CameraCentres centres = EstimateCameraCentres(graph, rot.cam_from_rig, 0);
-  if (!centres.unique) {
-    result.warnings.push_back(
-        "the pairwise translation directions do not fix the camera positions (view graph not parallel rigid); "
-        "positions rest on tracks seen by three or more cameras");
+  const bool moving = num_frames >= 2 && !obs.temporal.empty();
+  result.num_frames = num_frames;
+  result.rig_motion_estimated = moving;
+  std::vector<std::optional<Eigen::Quaterniond>> rig_rotation(num_frames, Eigen::Quaterniond::Identity());
+  if (moving) {
+    rig_rotation = EstimateRigRotations(num_frames, rot.cam_from_rig, obs.temporal);
+    for (const TemporalPairEstimate& t : obs.temporal) {
+      if (t.camera < 0 || t.camera >= n || t.frame < 0 || t.frame + 1 >= num_frames) {
+        throw std::invalid_argument("EstimateRig: temporal pair out of range");
+      }
+      if (t.estimate.success && rot.cam_from_rig[t.camera]) ++result.num_temporal_pairs_used;
+    }
   }
-  std::vector<std::optional<Rigid3d>> initial(n);
-  int scale_camera = -1;
-  for (int c = 1; c < n && scale_camera < 0; ++c) {
-    if (centres.centre_in_rig[c] && centres.centre_in_rig[c]->norm() > 1e-9) scale_camera = c;
-  }
-  const double unit = scale_camera >= 0 ? 1.0 / centres.centre_in_rig[scale_camera]->norm() : 1.0;
-  for (int c = 0; c < n; ++c) {
-    if (!centres.centre_in_rig[c]) continue;
-    const Eigen::Quaterniond r = *rot.cam_from_rig[c];
-    initial[c] = Rigid3d(r, -(r * (unit * *centres.centre_in_rig[c])));
-  }
-  result.positions_time_s = Seconds(start);
 
-  // 3. Tracks from the inliers of the edges still in use between posed cameras.
-  start = Clock::now();
+  // 3. Tracks over all views from the inliers of the edges still in use and the temporal pairs.
   std::vector<PairMatches> used;
   for (size_t p = 0; p < obs.pairs.size(); ++p) {
     const ViewGraphEdge& g = graph.edges[p];
-    if (!g.active || !initial[g.cam_a] || !initial[g.cam_b]) continue;
+    if (!g.active || !rot.cam_from_rig[g.cam_a] || !rot.cam_from_rig[g.cam_b]) continue;
     if (static_cast<int>(obs.inliers[p].per_frame.size()) != num_frames) {
       throw std::invalid_argument("EstimateRig: inliers of a pair do not have one entry per frame");
     }
     used.push_back(obs.inliers[p]);
   }
-  const std::vector<Track> tracks = BuildTracks(n, num_frames, used, &result.num_conflicting_tracks);
+  std::vector<TemporalPairEstimate> temporal_used;
+  if (moving) {
+    for (const TemporalPairEstimate& t : obs.temporal) {
+      if (t.estimate.success && rot.cam_from_rig[t.camera]) temporal_used.push_back(t);
+    }
+  }
+  const std::vector<ViewTrack> tracks =
+      BuildViewTracks(n, num_frames, used, temporal_used, &result.num_conflicting_tracks);
   result.num_tracks = static_cast<int>(tracks.size());
   result.tracks_time_s = Seconds(start);
 
-  // 4. Bundle adjustment.
+  // 4. Positions (linear, up to scale) of the cameras in the rig and of the rig per frame.
   start = Clock::now();
-  const RigBundleAdjustmentResult ba =
-      RigBundleAdjust(obs.cameras, obs.keypoints, tracks, initial, 0, scale_camera, options.bundle_adjustment);
+  const RigPositions positions_raw =
+      EstimateRigPositions(obs.cameras, obs.keypoints, tracks, rot.cam_from_rig, rig_rotation, options.positions, !moving);
+  RigPositions positions_checked = positions_raw;
+  if (!moving && positions_raw.unique) {
+    // Static rig: the pairs' scales are linked only by a parallel-rigid graph or by points seen by
+    // three or more cameras; the eigenvalue test alone is too weak against noise here.
+    int multi_view_tracks = 0;
+    for (const ViewTrack& t : tracks) multi_view_tracks += t.observations.size() >= 3;
+    if (!EstimateCameraCentres(graph, rot.cam_from_rig, 0).unique && multi_view_tracks < 10) {
+      positions_checked = RigPositions{};
+      positions_checked.centre_in_rig.assign(n, std::nullopt);
+      positions_checked.rig_centre_in_world.assign(num_frames, std::nullopt);
+      positions_checked.reason = "only " + std::to_string(multi_view_tracks) + " points seen by three or more cameras";
+    }
+  }
+  result.position_eigenvalue_ratio = positions_raw.eigenvalue_ratio;
+  const RigPositions& positions = positions_checked;
+  std::string position_reason;
+  if (!positions.unique) {
+    position_reason = moving ? "not observable: " + positions.reason
+                             : "not observable: the view graph is not parallel rigid and there is no rig motion "
+                               "(one frame or no temporal matches) to link the pairs' scales (" + positions.reason + ")";
+  }
+  std::vector<std::optional<Rigid3d>> initial(n), initial_rig(num_frames);
+  int scale_camera = -1;
+  if (positions.unique) {
+    for (int c = 1; c < n && scale_camera < 0; ++c) {
+      if (positions.centre_in_rig[c] && positions.centre_in_rig[c]->norm() > 1e-9) scale_camera = c;
+    }
+    const double unit = scale_camera >= 0 ? 1.0 / positions.centre_in_rig[scale_camera]->norm() : 1.0;
+    for (int c = 0; c < n; ++c) {
+      if (!positions.centre_in_rig[c] || !rot.cam_from_rig[c]) continue;
+      const Eigen::Quaterniond r = *rot.cam_from_rig[c];
+      initial[c] = Rigid3d(r, -(r * (unit * *positions.centre_in_rig[c])));
+    }
+    for (int k = 0; k < num_frames; ++k) {
+      if (!positions.rig_centre_in_world[k] || !rig_rotation[k]) continue;
+      const Eigen::Quaterniond r = *rig_rotation[k];
+      initial_rig[k] = Rigid3d(r, -(r * (unit * *positions.rig_centre_in_world[k])));
+    }
+  } else {
+    initial[0] = Rigid3d();
+    initial_rig[0] = Rigid3d();
+  }
+  for (int k = 0; k < num_frames; ++k) result.num_frames_posed += rig_rotation[k].has_value();
+  result.positions_time_s = Seconds(start);
+
+  // 5. Bundle adjustment over all posed views.
+  start = Clock::now();
+  MultiFrameBundleAdjustmentResult ba;
+  if (positions.unique) {
+    ba = MultiFrameRigBundleAdjust(obs.cameras, obs.keypoints, tracks, initial, initial_rig, scale_camera,
+                                   options.bundle_adjustment, !moving);
+  } else {
+    ba.cam_from_rig = initial;
+    ba.observations_per_camera.assign(n, 0);
+  }
   result.bundle_adjustment_time_s = Seconds(start);
   result.initial_reprojection_rms_px = ba.initial_rms_px;
   result.reprojection_rms_px = ba.reprojection_rms_px;
@@ -192,10 +249,16 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
   result.num_observations = ba.num_observations;
   result.num_filtered_observations = ba.num_filtered_observations;
 
-  // 5. Scale.
+  // 6. Scale.
   std::vector<std::optional<Rigid3d>> pose = ba.cam_from_rig;
   result.scale = scale_camera >= 0 ? "unit scale: |centre of " + obs.camera_names[scale_camera] + "| = 1"
                                    : "no scale (no camera with a position besides " + obs.camera_names[0] + ")";
+  if (moving && result.num_frames_posed < num_frames) {
+    result.warnings.push_back(std::to_string(num_frames - result.num_frames_posed) + " of " +
+                              std::to_string(num_frames) +
+                              " frames have no rig pose (no temporal pair chains them to frame 0); their views "
+                              "are not used");
+  }
   if (options.known_distance) {
     if (pose[known_a] && pose[known_b]) {
       const double d = (pose[known_a]->SourceOriginInTarget() - pose[known_b]->SourceOriginInTarget()).norm();
@@ -216,11 +279,15 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
     }
   }
 
-  // 6. Status per camera and per edge.
+  // 7. Status per camera and per edge.
   std::vector<char> reached(n, 0), rotated(n, 0);
   for (int c = 0; c < n; ++c) {
     reached[c] = pose[c].has_value();
     rotated[c] = rot.cam_from_rig[c].has_value();
+  }
+  result.cam_from_rig_rotation = rot.cam_from_rig;
+  for (int c = 0; c < n; ++c) {
+    if (pose[c]) result.cam_from_rig_rotation[c] = pose[c]->rotation;
   }
   for (int c = 0; c < n; ++c) {
     result.camera_stats[c].observations = ba.observations_per_camera[c];
@@ -232,8 +299,11 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
                                   "from the view graph alone");
       }
     } else if (rotated[c]) {
-      result.camera_status[c] = "not connected: only rotation-only pairs link it to the calibrated cameras "
-                                "(translation unobservable)";
+      result.camera_status[c] =
+          "rotation only: position " +
+          (!position_reason.empty() ? position_reason
+                                    : std::string("not observable: no track links its views to the calibrated "
+                                                  "cameras' (only rotation-only pairs or too little parallax)"));
     } else {
       result.camera_status[c] = NotConnectedReason(graph, c, rotated, obs.camera_names);
     }
@@ -244,11 +314,12 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
     s.cam_a = obs.camera_names[g.cam_a];
     s.cam_b = obs.camera_names[g.cam_b];
     s.inliers = g.weight;
-    s.used = g.active && reached[g.cam_a] && reached[g.cam_b];
+    s.used = g.active && rotated[g.cam_a] && rotated[g.cam_b];
     s.rotation_only = g.rotation_only;
     s.rotation_outlier = rot.outlier[e];
     if (std::isfinite(rot.residual_deg[e])) s.rotation_residual_deg = rot.residual_deg[e];
-    s.status = s.used ? "used" : g.active ? "not used: camera not calibrated" : g.inactive_reason;
+    s.status = s.used ? (reached[g.cam_a] && reached[g.cam_b] ? "used" : "used (rotation only)")
+                      : g.active ? "not used: camera not calibrated" : g.inactive_reason;
     result.edges.push_back(s);
   }
   return result;
@@ -259,10 +330,15 @@ void EvaluateRigAgainstTruth(const Rig& truth, RigCalibrationResult* result) {
   const Rigid3d rig_from_cam0 = truth.cameras[0].cam_from_rig->Inverse();
   for (size_t c = 0; c < truth.cameras.size(); ++c) {
     const auto& est = result->rig.cameras[c].cam_from_rig;
-    if (!est) continue;
     // The truth with camera 0 as the rig frame (the estimate's gauge).
     const Rigid3d gt = *truth.cameras[c].cam_from_rig * rig_from_cam0;
     RigCameraStats& s = result->camera_stats[c];
+    if (!est) {
+      if (c < result->cam_from_rig_rotation.size() && result->cam_from_rig_rotation[c]) {
+        s.rotation_error_deg = RotationDifferenceDeg(*result->cam_from_rig_rotation[c], gt.rotation);
+      }
+      continue;
+    }
     s.rotation_error_deg = RotationErrorDeg(*est, gt);
     const Eigen::Vector3d c_est = est->SourceOriginInTarget(), c_gt = gt.SourceOriginInTarget();
     if (c_est.norm() > 1e-9 && c_gt.norm() > 1e-9) s.translation_direction_error_deg = AngleBetweenDeg(c_est, c_gt);
@@ -314,6 +390,9 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
       j["name"] = r.rig.cameras[c].name;
       j["status"] = r.camera_status[c];
       j["calibrated"] = pose.has_value();
+      j["position_known"] = pose.has_value();
+      const auto& rq = c < r.cam_from_rig_rotation.size() ? r.cam_from_rig_rotation[c] : std::nullopt;
+      j["rotation_wxyz"] = rq ? nlohmann::json({rq->w(), rq->x(), rq->y(), rq->z()}) : nlohmann::json(nullptr);
       j["cam_from_rig"] = pose ? PoseToJson(*pose) : nlohmann::json(nullptr);
       if (pose) {
         const Eigen::Vector3d centre = pose->SourceOriginInTarget();
@@ -349,7 +428,14 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
                               {"points", r.num_points},
                               {"observations", r.num_observations},
                               {"filtered_observations", r.num_filtered_observations},
-                              {"rotation_outliers", r.num_rotation_outliers}};
+                              {"rotation_outliers", r.num_rotation_outliers},
+                              {"frames", r.num_frames},
+                              {"frames_posed", r.num_frames_posed},
+                              {"rig_motion_estimated", r.rig_motion_estimated},
+                              {"temporal_pairs_used", r.num_temporal_pairs_used},
+                              {"position_eigenvalue_ratio", std::isfinite(r.position_eigenvalue_ratio)
+                                                                ? nlohmann::json(r.position_eigenvalue_ratio)
+                                                                : nlohmann::json(nullptr)}};
     summary["max_rotation_error_deg"] = r.evaluated ? nlohmann::json(max_rot) : nlohmann::json(nullptr);
     summary["max_translation_direction_error_deg"] = r.evaluated ? nlohmann::json(max_dir) : nlohmann::json(nullptr);
     nlohmann::json m;
@@ -357,6 +443,8 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
     m["timing"] = {{"detect_time_s", r.pairwise.detect_time_s},
                    {"match_time_s", r.pairwise.match_time_s},
                    {"pose_time_s", r.pairwise.pose_time_s},
+                   {"temporal_match_time_s", r.pairwise.temporal_match_time_s},
+                   {"temporal_pose_time_s", r.pairwise.temporal_pose_time_s},
                    {"rotation_averaging_time_s", r.rotation_averaging_time_s},
                    {"positions_time_s", r.positions_time_s},
                    {"tracks_time_s", r.tracks_time_s},

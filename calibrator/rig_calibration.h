@@ -1,15 +1,24 @@
 // Targetless rig calibration: from a dataset's images to every camera's cam_from_rig.
 //
 // Stages: the pairwise pipeline (pipeline.h: features, matches per frame, one two-view estimate
-// per pair over pooled frames) -> view graph (view_graph.h) -> robust rotation averaging
-// (rotation_averaging.h) -> camera centres from the translation directions, tracks per frame
-// from the two-view inliers, triangulation and bundle adjustment (rig_bundle_adjustment.h).
+// per pair over pooled frames, and each camera matched with itself between consecutive frames)
+// -> view graph (view_graph.h) -> robust rotation averaging (rotation_averaging.h) -> rig
+// rotation per frame from the temporal pairs -> tracks over all views (camera, frame) -> camera
+// and rig positions by linear translation averaging over the tracks -> multi-frame bundle
+// adjustment (multi_frame_rig.h). The rig's motion links the scales of the camera pairs, so a
+// ring where only neighbours overlap (a chain, not parallel rigid) is determined once it moves.
+// Without temporal pairs (one frame, or none given) every frame is an independent capture of a
+// static rig and only same-frame tracks constrain the positions.
 //
-// Gauge: camera 0 is the rig frame (its cam_from_rig is the identity). Only camera 0's component
-// of the view graph is calibrated; every other camera is reported "not connected: <reason>" and
-// gets no pose, never a guessed one. Scale: images fix none. Without a known distance the
-// centre of the first calibrated camera after camera 0 is at distance 1 ("unit scale"); with
-// one, the two named cameras' centres are that many metres apart ("metric").
+// Gauge: camera 0 is the rig frame (its cam_from_rig is the identity); frame 0's rig frame is the
+// world. Only camera 0's component of the view graph gets rotations; every other camera is
+// reported "not connected: <reason>" and gets no pose, never a guessed one. A camera with a
+// rotation whose position the data do not determine (e.g. a chain of cameras and one frame) is
+// reported "rotation only: <reason>": result.cam_from_rig_rotation has its rotation, the rig
+// (and rig.json) has no cam_from_rig for it: there is no made-up translation.
+// Scale: images fix none. Without a known distance the centre of the first calibrated camera
+// after camera 0 is at distance 1 ("unit scale"); with one, the two named cameras' centres are
+// that many metres apart ("metric").
 // Truth, when rig.json has it, is re-expressed with camera 0 as the rig frame before comparing.
 #pragma once
 
@@ -21,6 +30,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "calibrator/multi_frame_rig.h"
 #include "calibrator/pipeline.h"
 #include "calibrator/rig_bundle_adjustment.h"
 #include "calibrator/rotation_averaging.h"
@@ -43,6 +53,8 @@ struct RigCalibrationOptions {
   ViewGraphOptions view_graph;
   // Robust rotation averaging and its outlier threshold.
   RotationAveragingOptions rotation_averaging;
+  // Linear positions from the tracks (initialisation of the bundle adjustment).
+  RigPositionOptions positions;
   // Triangulation, bundle adjustment and its outlier filter.
   RigBundleAdjustmentOptions bundle_adjustment;
   // Metric scale; without it the result has unit scale.
@@ -59,6 +71,9 @@ struct RigObservations {
   FrameKeypoints keypoints;          // [frame][camera][keypoint]
   std::vector<PairEstimate> pairs;   // one per camera pair
   std::vector<PairMatches> inliers;  // the same pairs' two-view inliers per frame (empty when failed)
+  // Each camera between consecutive frames (pipeline.h PairwiseMatchData::temporal). Empty: the
+  // frames are independent captures of a static rig (no rig motion is estimated).
+  std::vector<TemporalPairEstimate> temporal;
 };
 
 // Pools one pair's matches over the frames, estimates the relative pose (two_view.h) and keeps
@@ -70,7 +85,8 @@ std::pair<PairEstimate, PairMatches> EstimatePairFromMatches(
 
 struct RigCameraStats {
   int observations = 0;  // bundle-adjustment observations kept
-  // Against the truth (with camera 0 as the rig frame), for calibrated cameras.
+  // Against the truth (with camera 0 as the rig frame), for calibrated cameras; the rotation
+  // error also for "rotation only" cameras.
   std::optional<double> rotation_error_deg;
   // Angle between the estimated and true directions of the camera centre from camera 0's.
   std::optional<double> translation_direction_error_deg;
@@ -91,7 +107,11 @@ struct RigCalibrationResult {
   std::string semantic_mode;
   // Intrinsics as read; cam_from_rig estimated for calibrated cameras, nullopt otherwise.
   Rig rig;
-  // Per camera: "calibrated", "calibrated (reference: rig frame)" or "not connected: <reason>".
+  // Per camera: the estimated cam_from_rig rotation of calibrated and "rotation only" cameras;
+  // nullopt for cameras not connected.
+  std::vector<std::optional<Eigen::Quaterniond>> cam_from_rig_rotation;
+  // Per camera: "calibrated", "calibrated (reference: rig frame)", "rotation only: <why the
+  // position is not observable>" or "not connected: <reason>".
   std::vector<std::string> camera_status;
   std::vector<RigCameraStats> camera_stats;
   std::vector<RigEdgeStats> edges;  // per camera pair
@@ -106,6 +126,14 @@ struct RigCalibrationResult {
   int num_observations = 0;
   int num_filtered_observations = 0;
   int num_rotation_outliers = 0;
+  // Rig motion: frames with a rig pose (all frames when static), and whether the rig was tracked
+  // between frames (temporal pairs used) or taken as static.
+  int num_frames = 0;
+  int num_frames_posed = 0;
+  bool rig_motion_estimated = false;
+  int num_temporal_pairs_used = 0;  // successful temporal pairs between cameras with a rotation
+  // Observability of the linear positions (RigPositions::eigenvalue_ratio): large when determined.
+  double position_eigenvalue_ratio = 0.0;
   // Ground truth available and compared.
   bool evaluated = false;
   CalibrationReport pairwise;
@@ -134,8 +162,11 @@ std::vector<RigCalibrationResult> CalibrateRig(const std::filesystem::path& data
                                                const std::vector<SemanticMode>& modes);
 
 // rig_calibration.json: {"methods": {"<mode>": {"summary": {...}, "timing": {...},
-// "cameras": [{name, status, calibrated, cam_from_rig, centre_in_rig, observations,
+// "cameras": [{name, status, calibrated, position_known, rotation_wxyz, cam_from_rig, centre_in_rig,
+// observations,
 // rotation_error_deg, translation_direction_error_deg, position_error_m}], "edges": [...],
+// (a "rotation only" camera: rotation_wxyz set, position_known false, cam_from_rig and
+// centre_in_rig null),
 // "warnings": [...], "pairwise": <ReportToJson's entry for the mode>}}}. Unknowns are null.
 nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& results);
 

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -29,6 +30,17 @@ struct PairEstimate {
   Rigid3d cam_b_from_cam_a;  // unit translation (zero when rotation_only)
   int num_inliers = 0;
   std::string failure_reason;  // of a failed pair
+};
+
+// One camera's two-view outcome between consecutive frames k and k+1: the rig's motion seen by
+// that camera. `estimate` has cam_a = cam_b = camera and cam_b_from_cam_a = the camera at frame
+// k+1 from the camera at frame k (unit translation, zero when rotation-only).
+struct TemporalPairEstimate {
+  int camera = -1;
+  int frame = -1;  // k; the pair is (k, k+1)
+  PairEstimate estimate;
+  // Two-view inliers: (keypoint index in frame k, in frame k+1); empty when the estimate failed.
+  std::vector<std::pair<int, int>> inliers;
 };
 
 struct ViewGraphOptions {

@@ -1,0 +1,555 @@
+#include "calibrator/multi_frame_rig.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <stdexcept>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+#include <ceres/ceres.h>
+#include <ceres/manifold.h>
+#include <ceres/sphere_manifold.h>
+
+namespace rigsim {
+namespace {
+
+using MultiFrameCost = ceres::AutoDiffCostFunction<MultiFrameReprojectionResidual, 2, 4, 3, 4, 3, 3>;
+
+// Union-find over dense ids.
+struct UnionFind {
+  std::vector<int> parent;
+  int Add() {
+    parent.push_back(static_cast<int>(parent.size()));
+    return parent.back();
+  }
+  int Find(int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void Join(int a, int b) {
+    a = Find(a);
+    b = Find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+};
+
+// Projection onto SO(3) of a 3x3 matrix (the chordal mean of rotations summed into it).
+Eigen::Matrix3d ProjectToRotation(const Eigen::Matrix3d& m) {
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(m, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
+  d(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
+  return svd.matrixU() * d * svd.matrixV().transpose();
+}
+
+// Least-squares point closest to the rays; nullopt when the rays span less than min_angle_rad or
+// the point lies behind one of them.
+std::optional<Eigen::Vector3d> TriangulateRays(const std::vector<Eigen::Vector3d>& origins,
+                                               const std::vector<Eigen::Vector3d>& dirs, double min_angle_rad) {
+  if (dirs.size() < 2) return std::nullopt;
+  double max_angle = 0.0;
+  for (size_t i = 0; i < dirs.size(); ++i) {
+    for (size_t j = i + 1; j < dirs.size(); ++j) {
+      max_angle = std::max(max_angle, std::atan2(dirs[i].cross(dirs[j]).norm(), dirs[i].dot(dirs[j])));
+    }
+  }
+  if (max_angle < min_angle_rad) return std::nullopt;
+  Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < dirs.size(); ++i) {
+    const Eigen::Matrix3d p = Eigen::Matrix3d::Identity() - dirs[i] * dirs[i].transpose();
+    a += p;
+    b += p * origins[i];
+  }
+  const Eigen::Vector3d x = a.ldlt().solve(b);
+  if (!x.allFinite()) return std::nullopt;
+  for (size_t i = 0; i < dirs.size(); ++i) {
+    if (dirs[i].dot(x - origins[i]) <= 0) return std::nullopt;
+  }
+  return x;
+}
+
+std::optional<double> ReprojectionError(const Camera& camera, const Rigid3d& cam_from_world, const Eigen::Vector3d& x,
+                                        const Eigen::Vector2d& observed) {
+  const auto px = camera.ImgFromCam(cam_from_world * x);
+  if (!px) return std::nullopt;
+  return (*px - observed).norm();
+}
+
+struct WorldPoint {
+  int track = -1;
+  Eigen::Vector3d x = Eigen::Vector3d::Zero();
+  std::vector<ViewObservation> observations;
+};
+
+}  // namespace
+
+std::vector<ViewTrack> BuildViewTracks(int num_cameras, int num_frames, const std::vector<PairMatches>& pairs,
+                                       const std::vector<TemporalPairEstimate>& temporal, int* num_conflicting) {
+  for (const PairMatches& p : pairs) {
+    if (p.cam_a < 0 || p.cam_b < 0 || p.cam_a >= num_cameras || p.cam_b >= num_cameras || p.cam_a == p.cam_b ||
+        static_cast<int>(p.per_frame.size()) != num_frames) {
+      throw std::invalid_argument("BuildViewTracks: bad camera pair (" + std::to_string(p.cam_a) + ", " +
+                                  std::to_string(p.cam_b) + ") or number of frames");
+    }
+  }
+  for (const TemporalPairEstimate& t : temporal) {
+    if (t.camera < 0 || t.camera >= num_cameras || t.frame < 0 || t.frame + 1 >= num_frames) {
+      throw std::invalid_argument("BuildViewTracks: temporal pair (camera " + std::to_string(t.camera) + ", frame " +
+                                  std::to_string(t.frame) + ") out of range");
+    }
+  }
+  std::map<std::tuple<int, int, int>, int> node_of;  // (frame, camera, keypoint) -> id
+  std::vector<ViewObservation> nodes;
+  UnionFind uf;
+  auto node = [&](int cam, int frame, int kp) {
+    const auto [it, inserted] = node_of.try_emplace({frame, cam, kp}, static_cast<int>(nodes.size()));
+    if (inserted) {
+      nodes.push_back({cam, frame, kp});
+      uf.Add();
+    }
+    return it->second;
+  };
+  for (const PairMatches& p : pairs) {
+    for (int f = 0; f < num_frames; ++f) {
+      for (const auto& [ka, kb] : p.per_frame[f]) uf.Join(node(p.cam_a, f, ka), node(p.cam_b, f, kb));
+    }
+  }
+  for (const TemporalPairEstimate& t : temporal) {
+    if (!t.estimate.success) continue;
+    for (const auto& [ka, kb] : t.inliers) uf.Join(node(t.camera, t.frame, ka), node(t.camera, t.frame + 1, kb));
+  }
+  // Nodes are ids in creation order; group by root, observations sorted by (frame, camera, kp).
+  std::map<int, std::vector<ViewObservation>> groups;
+  for (const auto& [key, id] : node_of) groups[uf.Find(id)].push_back(nodes[id]);
+  std::vector<ViewTrack> tracks;
+  int conflicting = 0;
+  for (auto& [root, obs] : groups) {
+    bool conflict = false;
+    for (size_t i = 1; i < obs.size(); ++i) {
+      conflict = conflict || (obs[i].frame == obs[i - 1].frame && obs[i].camera == obs[i - 1].camera);
+    }
+    if (conflict) {
+      ++conflicting;
+      continue;
+    }
+    if (obs.size() >= 2) tracks.push_back({std::move(obs)});
+  }
+  if (num_conflicting) *num_conflicting = conflicting;
+  return tracks;
+}
+
+std::vector<std::optional<Eigen::Quaterniond>> EstimateRigRotations(
+    int num_frames, const std::vector<std::optional<Eigen::Quaterniond>>& cam_from_rig,
+    const std::vector<TemporalPairEstimate>& temporal) {
+  std::vector<std::optional<Eigen::Quaterniond>> out(std::max(num_frames, 0));
+  if (num_frames < 1) return out;
+  out[0] = Eigen::Quaterniond::Identity();
+  for (int k = 0; k + 1 < num_frames; ++k) {
+    std::vector<Eigen::Matrix3d> motions;  // R_{k+1} R_k^T seen by each camera
+    for (const TemporalPairEstimate& t : temporal) {
+      if (t.frame != k || !t.estimate.success || t.camera < 0 || t.camera >= static_cast<int>(cam_from_rig.size()) ||
+          !cam_from_rig[t.camera]) {
+        continue;
+      }
+      const Eigen::Matrix3d q = cam_from_rig[t.camera]->toRotationMatrix();
+      motions.push_back(q.transpose() * t.estimate.cam_b_from_cam_a.RotationMatrix() * q);
+    }
+    if (motions.empty()) break;  // frame k+1 and after: not chained
+    // Robust: the motion closest to all others (sum of angles), then the chordal mean of those
+    // within 2 deg of it.
+    auto angle = [](const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
+      return Eigen::AngleAxisd(a * b.transpose()).angle();
+    };
+    size_t best = 0;
+    double best_sum = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < motions.size(); ++i) {
+      double sum = 0.0;
+      for (const Eigen::Matrix3d& m : motions) sum += angle(motions[i], m);
+      if (sum < best_sum) {
+        best_sum = sum;
+        best = i;
+      }
+    }
+    Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+    for (const Eigen::Matrix3d& m : motions) {
+      if (angle(motions[best], m) < DegToRad(2.0)) sum += m;
+    }
+    out[k + 1] = Eigen::Quaterniond(ProjectToRotation(sum) * out[k]->toRotationMatrix()).normalized();
+  }
+  return out;
+}
+
+void RigPositionOptions::Check() const {
+  auto fail = [](const std::string& why) { throw std::invalid_argument("RigPositionOptions: " + why); };
+  if (!(min_ray_angle_deg >= 0)) fail("min_ray_angle_deg must be >= 0");
+  if (!(loss_scale_rad > 0)) fail("loss_scale_rad must be > 0");
+  if (reweighting_iterations < 0) fail("reweighting_iterations must be >= 0");
+  if (!(min_eigenvalue_ratio >= 1)) fail("min_eigenvalue_ratio must be >= 1");
+}
+
+RigPositions EstimateRigPositions(const std::vector<Camera>& cameras, const FrameKeypoints& keypoints,
+                                  const std::vector<ViewTrack>& tracks,
+                                  const std::vector<std::optional<Eigen::Quaterniond>>& cam_from_rig,
+                                  const std::vector<std::optional<Eigen::Quaterniond>>& rig_from_world,
+                                  const RigPositionOptions& options, bool static_rig) {
+  options.Check();
+  const int n = static_cast<int>(cameras.size());
+  const int num_frames = static_cast<int>(keypoints.size());
+  if (static_cast<int>(cam_from_rig.size()) != n || static_cast<int>(rig_from_world.size()) != num_frames) {
+    throw std::invalid_argument("EstimateRigPositions: one rotation per camera and per frame");
+  }
+  RigPositions out;
+  out.centre_in_rig.assign(n, std::nullopt);
+  out.rig_centre_in_world.assign(num_frames, std::nullopt);
+  if (n == 0 || num_frames == 0 || !cam_from_rig[0] || !rig_from_world[0]) {
+    out.reason = "camera 0 or frame 0 has no rotation";
+    return out;
+  }
+  auto posed = [&](const ViewObservation& o) { return cam_from_rig[o.camera] && rig_from_world[o.frame]; };
+
+  // Bearings in the world per observation; tracks usable: >= 2 posed views spanning the angle.
+  struct Ray {
+    int camera, frame;
+    Eigen::Vector3d dir;
+  };
+  std::vector<std::vector<Ray>> rays;
+  const double min_angle = DegToRad(options.min_ray_angle_deg);
+  for (const ViewTrack& t : tracks) {
+    std::vector<Ray> r;
+    for (const ViewObservation& o : t.observations) {
+      if (!posed(o)) continue;
+      const auto f = cameras[o.camera].CamFromImg(keypoints[o.frame][o.camera][o.keypoint]);
+      if (!f) continue;
+      const Eigen::Quaterniond world_from_cam = (*cam_from_rig[o.camera] * *rig_from_world[o.frame]).conjugate();
+      r.push_back({o.camera, o.frame, (world_from_cam * *f).normalized()});
+    }
+    if (r.size() < 2) continue;
+    double max_angle = 0.0;
+    for (size_t i = 0; i < r.size() && max_angle < min_angle; ++i) {
+      for (size_t j = i + 1; j < r.size(); ++j) {
+        max_angle = std::max(max_angle, std::atan2(r[i].dir.cross(r[j].dir).norm(), r[i].dir.dot(r[j].dir)));
+      }
+    }
+    if (max_angle >= min_angle) rays.push_back(std::move(r));
+  }
+
+  // Views linked to view (0, 0) through the usable tracks; cameras and frames solved for.
+  UnionFind uf;
+  for (int i = 0; i < n * num_frames; ++i) uf.Add();
+  for (const auto& r : rays) {
+    for (size_t i = 1; i < r.size(); ++i) uf.Join(r[0].frame * n + r[0].camera, r[i].frame * n + r[i].camera);
+  }
+  if (static_rig) {  // every frame's rig is at the origin: a camera's views are one
+    for (int k = 1; k < num_frames; ++k) {
+      for (int c = 0; c < n; ++c) uf.Join(c, k * n + c);
+    }
+  }
+  std::vector<char> cam_in(n, 0), frame_in(num_frames, 0);
+  for (int k = 0; k < num_frames; ++k) {
+    for (int c = 0; c < n; ++c) {
+      if (uf.Find(k * n + c) == uf.Find(0) && cam_from_rig[c] && rig_from_world[k]) cam_in[c] = frame_in[k] = 1;
+    }
+  }
+  // Column blocks: frames k > 0, then cameras c > 0; -1 for the references and the left-out ones.
+  std::vector<int> frame_block(num_frames, -1), cam_block(n, -1);
+  int blocks = 0;
+  for (int k = 1; k < num_frames; ++k) {
+    if (frame_in[k] && !static_rig) frame_block[k] = blocks++;
+  }
+  for (int c = 1; c < n; ++c) {
+    if (cam_in[c]) cam_block[c] = blocks++;
+  }
+  out.centre_in_rig[0] = Eigen::Vector3d::Zero();
+  out.rig_centre_in_world[0] = Eigen::Vector3d::Zero();
+  int cams_solved = 0;
+  for (int c = 1; c < n; ++c) cams_solved += cam_in[c];
+  if (cams_solved == 0) {
+    out.reason = "no track links another camera to camera 0";
+    return out;
+  }
+  std::erase_if(rays, [&](const std::vector<Ray>& r) { return !cam_in[r[0].camera] || !frame_in[r[0].frame]; });
+  for (auto& r : rays) {
+    std::erase_if(r, [&](const Ray& x) { return !cam_in[x.camera] || !frame_in[x.frame]; });
+  }
+  std::erase_if(rays, [](const std::vector<Ray>& r) { return r.size() < 2; });
+  out.tracks_used = static_cast<int>(rays.size());
+  const int dim = 3 * blocks;
+  std::vector<Eigen::Matrix3d> rig_t(num_frames, Eigen::Matrix3d::Identity());  // R_k^T
+  for (int k = 0; k < num_frames; ++k) {
+    if (rig_from_world[k]) rig_t[k] = rig_from_world[k]->toRotationMatrix().transpose();
+  }
+  // centre(c, k) = C_k + R_k^T o_c = sum over its (at most two) blocks of M * x_block.
+  struct Term {
+    int block;
+    Eigen::Matrix3d m;
+  };
+  auto centre_terms = [&](int c, int k) {
+    std::vector<Term> terms;
+    if (frame_block[k] >= 0) terms.push_back({frame_block[k], Eigen::Matrix3d::Identity()});
+    if (cam_block[c] >= 0) terms.push_back({cam_block[c], rig_t[k]});
+    return terms;
+  };
+  auto centre_of = [&](const Eigen::VectorXd& x, int c, int k) {
+    Eigen::Vector3d v = Eigen::Vector3d::Zero();
+    for (const Term& t : centre_terms(c, k)) v += t.m * x.segment<3>(3 * t.block);
+    return v;
+  };
+
+  std::vector<std::vector<double>> weight(rays.size());
+  for (size_t i = 0; i < rays.size(); ++i) weight[i].assign(rays[i].size(), 1.0);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(dim);
+  Eigen::VectorXd eigenvalues;
+  for (int iter = 0; iter <= options.reweighting_iterations; ++iter) {
+    Eigen::MatrixXd q = Eigen::MatrixXd::Zero(dim, dim);
+    for (size_t i = 0; i < rays.size(); ++i) {
+      const auto& r = rays[i];
+      // A = sum w P, B = sum w P J (per block), q += sum w J^T P J - B^T A^-1 B.
+      Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+      std::map<int, Eigen::Matrix3d> b;
+      for (size_t j = 0; j < r.size(); ++j) {
+        const Eigen::Matrix3d p = weight[i][j] * (Eigen::Matrix3d::Identity() - r[j].dir * r[j].dir.transpose());
+        a += p;
+        const std::vector<Term> terms = centre_terms(r[j].camera, r[j].frame);
+        for (const Term& t1 : terms) {
+          auto [it, inserted] = b.try_emplace(t1.block, Eigen::Matrix3d::Zero());
+          it->second += p * t1.m;
+          for (const Term& t2 : terms) {
+            q.block<3, 3>(3 * t1.block, 3 * t2.block) += t1.m.transpose() * p * t2.m;
+          }
+        }
+      }
+      const Eigen::Matrix3d a_inv = a.inverse();
+      if (!a_inv.allFinite()) continue;
+      for (const auto& [b1, m1] : b) {
+        for (const auto& [b2, m2] : b) q.block<3, 3>(3 * b1, 3 * b2) -= m1.transpose() * a_inv * m2;
+      }
+    }
+    q = 0.5 * (q + q.transpose());
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(q);
+    eigenvalues = eig.eigenvalues();
+    x = eig.eigenvectors().col(0);
+
+    // Points, sign (in front of the rays) and the next weights.
+    double front = 0.0;
+    std::vector<std::vector<double>> depth(rays.size()), residual(rays.size());
+    for (size_t i = 0; i < rays.size(); ++i) {
+      const auto& r = rays[i];
+      Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+      Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+      std::vector<Eigen::Vector3d> centres;
+      for (size_t j = 0; j < r.size(); ++j) {
+        const Eigen::Matrix3d p = weight[i][j] * (Eigen::Matrix3d::Identity() - r[j].dir * r[j].dir.transpose());
+        centres.push_back(centre_of(x, r[j].camera, r[j].frame));
+        a += p;
+        rhs += p * centres.back();
+      }
+      const Eigen::Vector3d pt = a.ldlt().solve(rhs);
+      for (size_t j = 0; j < r.size(); ++j) {
+        const Eigen::Vector3d d = pt - centres[j];
+        front += r[j].dir.dot(d) > 0 ? 1.0 : -1.0;
+        depth[i].push_back(d.norm());
+        residual[i].push_back(d.norm() > 1e-12 ? r[j].dir.cross(d / d.norm()).norm() : 1.0);
+      }
+    }
+    if (front < 0) x = -x;
+    for (size_t i = 0; i < rays.size(); ++i) {
+      double sq = 0.0;
+      for (double e : residual[i]) sq += e * e;
+      const double rms = std::sqrt(sq / residual[i].size());
+      const double robust = 1.0 / (1.0 + (rms / options.loss_scale_rad) * (rms / options.loss_scale_rad));
+      for (size_t j = 0; j < rays[i].size(); ++j) {
+        // Angular residuals: the ray constraint's size is depth x angle.
+        weight[i][j] = robust / std::max(depth[i][j] * depth[i][j], 1e-12);
+      }
+    }
+  }
+  const double l0 = eigenvalues.size() > 0 ? std::max(eigenvalues(0), 0.0) : 0.0;
+  const double l1 = eigenvalues.size() > 1 ? eigenvalues(1) : std::numeric_limits<double>::infinity();
+  const double lmax = eigenvalues.size() > 0 ? eigenvalues(eigenvalues.size() - 1) : 0.0;
+  out.eigenvalue_ratio = l0 > 0 ? l1 / l0 : std::numeric_limits<double>::infinity();
+  out.unique = dim > 0 && l1 >= options.min_eigenvalue_ratio * l0 && l1 > 1e-12 * lmax;
+  if (!out.unique) {
+    out.reason = "the tracks leave the positions ambiguous (second smallest eigenvalue " +
+                 std::to_string(l1 / std::max(l0, 1e-300)) + " x the smallest)";
+    return out;
+  }
+  double mean = 0.0;
+  for (int c = 1; c < n; ++c) {
+    if (cam_block[c] >= 0) mean += x.segment<3>(3 * cam_block[c]).norm() / cams_solved;
+  }
+  if (!(mean > 1e-12)) {
+    out.unique = false;
+    out.reason = "every camera centre coincides with camera 0's";
+    return out;
+  }
+  for (int c = 1; c < n; ++c) {
+    if (cam_block[c] >= 0) out.centre_in_rig[c] = x.segment<3>(3 * cam_block[c]) / mean;
+  }
+  for (int k = 1; k < num_frames; ++k) {
+    if (frame_block[k] >= 0) out.rig_centre_in_world[k] = x.segment<3>(3 * frame_block[k]) / mean;
+    if (static_rig && frame_in[k]) out.rig_centre_in_world[k] = Eigen::Vector3d::Zero();
+  }
+  return out;
+}
+
+MultiFrameReprojectionResidual::MultiFrameReprojectionResidual(const Camera& camera, const Eigen::Vector2d& observed_px)
+    : model(camera.model()), num_params(static_cast<int>(camera.params().size())), params_{}, observed(observed_px) {
+  std::copy(camera.params().begin(), camera.params().end(), params_);
+}
+
+MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
+    const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, const std::vector<ViewTrack>& tracks,
+    const std::vector<std::optional<Rigid3d>>& initial_cam_from_rig,
+    const std::vector<std::optional<Rigid3d>>& initial_rig_from_world, int scale_camera,
+    const RigBundleAdjustmentOptions& options, bool hold_frames) {
+  options.Check();
+  const int n = static_cast<int>(cameras.size());
+  const int num_frames = static_cast<int>(keypoints.size());
+  if (static_cast<int>(initial_cam_from_rig.size()) != n ||
+      static_cast<int>(initial_rig_from_world.size()) != num_frames || n == 0 || num_frames == 0 ||
+      !initial_cam_from_rig[0] || !initial_rig_from_world[0]) {
+    throw std::invalid_argument(
+        "MultiFrameRigBundleAdjust: one initial pose per camera and per frame, camera 0's and frame 0's given");
+  }
+  MultiFrameBundleAdjustmentResult result;
+  result.num_tracks = static_cast<int>(tracks.size());
+  result.cam_from_rig = initial_cam_from_rig;
+  result.rig_from_world = initial_rig_from_world;
+  result.observations_per_camera.assign(n, 0);
+
+  std::vector<Eigen::Vector4d> cq(n, Eigen::Vector4d(0, 0, 0, 1)), rq(num_frames, Eigen::Vector4d(0, 0, 0, 1));
+  std::vector<Eigen::Vector3d> ct(n, Eigen::Vector3d::Zero()), rt(num_frames, Eigen::Vector3d::Zero());
+  for (int c = 0; c < n; ++c) {
+    if (!initial_cam_from_rig[c]) continue;
+    cq[c] = initial_cam_from_rig[c]->rotation.coeffs();
+    ct[c] = initial_cam_from_rig[c]->translation;
+  }
+  for (int k = 0; k < num_frames; ++k) {
+    if (!initial_rig_from_world[k]) continue;
+    rq[k] = initial_rig_from_world[k]->rotation.coeffs();
+    rt[k] = initial_rig_from_world[k]->translation;
+  }
+  auto posed = [&](const ViewObservation& o) { return initial_cam_from_rig[o.camera] && initial_rig_from_world[o.frame]; };
+  auto view_pose = [&](const ViewObservation& o) {
+    return Rigid3d(Eigen::Quaterniond(cq[o.camera].data()), ct[o.camera]) *
+           Rigid3d(Eigen::Quaterniond(rq[o.frame].data()), rt[o.frame]);
+  };
+  auto observed = [&](const ViewObservation& o) -> const Eigen::Vector2d& {
+    return keypoints[o.frame][o.camera][o.keypoint];
+  };
+
+  std::vector<WorldPoint> points;
+  const double min_angle = DegToRad(options.min_triangulation_angle_deg);
+  for (int i = 0; i < static_cast<int>(tracks.size()); ++i) {
+    std::vector<Eigen::Vector3d> origins, dirs;
+    for (const ViewObservation& o : tracks[i].observations) {
+      if (!posed(o)) continue;
+      const auto f = cameras[o.camera].CamFromImg(observed(o));
+      if (!f) continue;
+      const Rigid3d world_from_cam = view_pose(o).Inverse();
+      origins.push_back(world_from_cam.translation);
+      dirs.push_back((world_from_cam.rotation * *f).normalized());
+    }
+    const auto x = TriangulateRays(origins, dirs, min_angle);
+    if (!x) continue;
+    WorldPoint p;
+    p.track = i;
+    p.x = *x;
+    for (const ViewObservation& o : tracks[i].observations) {
+      if (posed(o) && ReprojectionError(cameras[o.camera], view_pose(o), *x, observed(o))) p.observations.push_back(o);
+    }
+    if (p.observations.size() >= 2) points.push_back(std::move(p));
+  }
+
+  auto rms = [&]() {
+    double sum = 0.0;
+    int count = 0;
+    for (const WorldPoint& p : points) {
+      for (const ViewObservation& o : p.observations) {
+        const auto e = ReprojectionError(cameras[o.camera], view_pose(o), p.x, observed(o));
+        sum += e ? *e * *e : 0.0;
+        ++count;
+      }
+    }
+    return count > 0 ? std::sqrt(sum / count) : 0.0;
+  };
+  result.initial_rms_px = rms();
+
+  for (int round = 0; round <= options.filter_rounds; ++round) {
+    if (round > 0) {
+      int removed = 0;
+      for (WorldPoint& p : points) {
+        const size_t before = p.observations.size();
+        std::erase_if(p.observations, [&](const ViewObservation& o) {
+          const auto e = ReprojectionError(cameras[o.camera], view_pose(o), p.x, observed(o));
+          return !e || *e > options.max_reprojection_error_px;
+        });
+        removed += static_cast<int>(before - p.observations.size());
+      }
+      std::erase_if(points, [](const WorldPoint& p) { return p.observations.size() < 2; });
+      result.num_filtered_observations += removed;
+      if (removed == 0) break;
+    }
+    if (points.empty()) break;
+
+    ceres::Problem::Options problem_options;
+    problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
+    problem_options.loss_function_ownership = ceres::TAKE_OWNERSHIP;
+    ceres::Problem problem(problem_options);
+    ceres::LossFunction* loss = new ceres::HuberLoss(options.loss_scale_px);
+    for (WorldPoint& p : points) {
+      for (const ViewObservation& o : p.observations) {
+        problem.AddResidualBlock(new MultiFrameCost(new MultiFrameReprojectionResidual(cameras[o.camera], observed(o))),
+                                 loss, cq[o.camera].data(), ct[o.camera].data(), rq[o.frame].data(),
+                                 rt[o.frame].data(), p.x.data());
+      }
+    }
+    for (int c = 0; c < n; ++c) {
+      if (!problem.HasParameterBlock(cq[c].data())) continue;
+      if (c == 0) {  // camera 0 is the rig frame
+        problem.SetParameterBlockConstant(cq[c].data());
+        problem.SetParameterBlockConstant(ct[c].data());
+        continue;
+      }
+      problem.SetManifold(cq[c].data(), new ceres::EigenQuaternionManifold);
+      if (c == scale_camera && ct[c].norm() > 0) problem.SetManifold(ct[c].data(), new ceres::SphereManifold<3>);
+    }
+    for (int k = 0; k < num_frames; ++k) {
+      if (!problem.HasParameterBlock(rq[k].data())) continue;
+      if (k == 0 || hold_frames) {  // frame 0's rig frame is the world
+        problem.SetParameterBlockConstant(rq[k].data());
+        problem.SetParameterBlockConstant(rt[k].data());
+        continue;
+      }
+      problem.SetManifold(rq[k].data(), new ceres::EigenQuaternionManifold);
+    }
+    ceres::Solver::Options solver_options;
+    solver_options.linear_solver_type = ceres::SPARSE_SCHUR;
+    solver_options.max_num_iterations = options.max_iterations;
+    solver_options.function_tolerance = 1e-10;
+    solver_options.parameter_tolerance = 1e-10;
+    solver_options.num_threads = options.num_threads;
+    solver_options.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(solver_options, &problem, &summary);
+    result.iterations += static_cast<int>(summary.iterations.size());
+  }
+
+  for (int c = 0; c < n; ++c) {
+    if (initial_cam_from_rig[c]) result.cam_from_rig[c] = Rigid3d(Eigen::Quaterniond(cq[c].data()), ct[c]);
+  }
+  for (int k = 0; k < num_frames; ++k) {
+    if (initial_rig_from_world[k]) result.rig_from_world[k] = Rigid3d(Eigen::Quaterniond(rq[k].data()), rt[k]);
+  }
+  result.num_points = static_cast<int>(points.size());
+  for (const WorldPoint& p : points) {
+    for (const ViewObservation& o : p.observations) ++result.observations_per_camera[o.camera];
+    result.num_observations += static_cast<int>(p.observations.size());
+  }
+  result.reprojection_rms_px = rms();
+  return result;
+}
+
+}  // namespace rigsim

@@ -1,0 +1,239 @@
+#include "calibrator/multi_frame_rig.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "calibrator/rig_calibration.h"
+
+namespace rigsim {
+namespace {
+
+// A ring of four pinhole cameras looking outwards every 90 deg (radius 0.3 m, a few degrees of
+// tilt), 120 deg of horizontal field of view: neighbours overlap by about 30 deg (25 %), opposite
+// cameras not at all, no point is seen by three cameras at once: the view graph is a chain-like
+// ring that the pairwise directions alone do not make rigid. The rig moves 2 m forward per frame
+// and turns by a degree.
+struct ChainRing {
+  Rig truth;
+  std::vector<Rigid3d> rig_from_world;
+  FrameKeypoints keypoints;
+  RigObservations observations;
+};
+
+ChainRing MakeChainRing(int frames, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::normal_distribution<double> noise(0, 1);
+  const Camera pinhole(CameraModelId::kPinhole, 640, 480, {185, 185, 319.5, 239.5});
+  const int n = 4;
+  ChainRing s;
+  for (int i = 0; i < n; ++i) {
+    const double yaw = DegToRad(90.0 * i);
+    const Eigen::Matrix3d rig_from_cam =
+        (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()) *
+         Eigen::AngleAxisd(DegToRad(3.0 * (u(rng) - 0.5)), Eigen::Vector3d::UnitX()))
+            .toRotationMatrix();
+    const Eigen::Vector3d centre = 0.3 * Eigen::Vector3d(std::sin(yaw), 0, std::cos(yaw)) +
+                                   Eigen::Vector3d(0.02 * u(rng), 0.02 * u(rng), 0.02 * u(rng));
+    const Eigen::Matrix3d r = rig_from_cam.transpose();
+    s.truth.cameras.push_back({"cam" + std::to_string(i), pinhole, Rigid3d(r, -r * centre), 0.0});
+  }
+  // Camera 0 is the rig frame (the estimate's gauge): re-express the truth so.
+  const Rigid3d rig_from_cam0 = s.truth.cameras[0].cam_from_rig->Inverse();
+  for (RigCamera& rc : s.truth.cameras) rc.cam_from_rig = *rc.cam_from_rig * rig_from_cam0;
+  for (int k = 0; k < frames; ++k) {
+    const Eigen::Matrix3d r = Eigen::AngleAxisd(DegToRad(1.0 * k), Eigen::Vector3d::UnitY()).toRotationMatrix();
+    const Eigen::Vector3d centre(0.1 * k, 0.0, 2.0 * k);  // forward along camera 0's axis
+    s.rig_from_world.push_back(Rigid3d(r.transpose(), -(r.transpose() * centre)));
+  }
+  // World points around the path.
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 2500; ++i) {
+    const double azimuth = 2 * M_PI * u(rng), elevation = DegToRad(-30 + 60 * u(rng)), dist = 3 + 15 * u(rng);
+    const double along = -5 + (2.0 * frames + 10) * u(rng);
+    points.push_back(Eigen::Vector3d(dist * std::cos(elevation) * std::sin(azimuth), dist * std::sin(elevation),
+                                     along + dist * std::cos(elevation) * std::cos(azimuth)));
+  }
+  const int num_points = static_cast<int>(points.size());
+  s.keypoints.assign(frames, std::vector<std::vector<Eigen::Vector2d>>(n));
+  std::vector<std::vector<std::vector<int>>> kp_of(frames, std::vector<std::vector<int>>(n));  // [k][c][point]
+  for (int k = 0; k < frames; ++k) {
+    for (int c = 0; c < n; ++c) {
+      const Rigid3d cam_from_world = *s.truth.cameras[c].cam_from_rig * s.rig_from_world[k];
+      std::vector<Eigen::Vector2d> kps;
+      std::vector<int> owner;
+      for (int i = 0; i < num_points; ++i) {
+        const Eigen::Vector3d xc = cam_from_world * points[i];
+        if (xc.z() < 0.5) continue;
+        const auto px = pinhole.ImgFromCam(xc);
+        if (!px || !pinhole.IsInImage(*px)) continue;
+        kps.push_back(*px + 0.3 * Eigen::Vector2d(noise(rng), noise(rng)));
+        owner.push_back(i);
+      }
+      const int distractors = static_cast<int>(0.1 * kps.size());
+      for (int i = 0; i < distractors; ++i) {
+        kps.push_back(Eigen::Vector2d(640 * u(rng) - 0.5, 480 * u(rng) - 0.5));
+        owner.push_back(-1);
+      }
+      std::vector<int> order(kps.size());
+      for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+      std::shuffle(order.begin(), order.end(), rng);
+      kp_of[k][c].assign(num_points, -1);
+      for (size_t i = 0; i < order.size(); ++i) {
+        s.keypoints[k][c].push_back(kps[order[i]]);
+        if (owner[order[i]] >= 0) kp_of[k][c][owner[order[i]]] = static_cast<int>(i);
+      }
+    }
+  }
+  // Candidate matches: the true ones plus 5 % (at least 6) wrong ones.
+  auto candidates = [&](int ka, int ca, int kb, int cb) {
+    std::vector<std::pair<int, int>> m;
+    for (int i = 0; i < num_points; ++i) {
+      if (kp_of[ka][ca][i] >= 0 && kp_of[kb][cb][i] >= 0) m.push_back({kp_of[ka][ca][i], kp_of[kb][cb][i]});
+    }
+    const int na = static_cast<int>(s.keypoints[ka][ca].size()), nb = static_cast<int>(s.keypoints[kb][cb].size());
+    const int outliers = std::max(6, static_cast<int>(0.05 * m.size()));
+    for (int i = 0; i < outliers && na > 0 && nb > 0; ++i) {
+      m.push_back({static_cast<int>(u(rng) * na) % na, static_cast<int>(u(rng) * nb) % nb});
+    }
+    std::shuffle(m.begin(), m.end(), rng);
+    return m;
+  };
+  RigObservations& obs = s.observations;
+  for (const RigCamera& rc : s.truth.cameras) {
+    obs.camera_names.push_back(rc.name);
+    obs.cameras.push_back(rc.camera);
+  }
+  obs.keypoints = s.keypoints;
+  for (int a = 0; a < n; ++a) {
+    for (int b = a + 1; b < n; ++b) {
+      std::vector<std::vector<std::pair<int, int>>> per_frame;
+      for (int k = 0; k < frames; ++k) per_frame.push_back(candidates(k, a, k, b));
+      auto [estimate, inliers] = EstimatePairFromMatches(obs.cameras, obs.keypoints, a, b, per_frame, TwoViewOptions{});
+      obs.pairs.push_back(estimate);
+      obs.inliers.push_back(std::move(inliers));
+    }
+  }
+  for (int c = 0; c < n; ++c) {
+    for (int k = 0; k + 1 < frames; ++k) {
+      const auto m = candidates(k, c, k + 1, c);
+      std::vector<Eigen::Vector2d> pa, pb;
+      for (const auto& [i, j] : m) {
+        pa.push_back(s.keypoints[k][c][i]);
+        pb.push_back(s.keypoints[k + 1][c][j]);
+      }
+      const TwoViewResult tv = EstimateRelativePose(pinhole, pa, pinhole, pb, TwoViewOptions{});
+      TemporalPairEstimate t;
+      t.camera = c;
+      t.frame = k;
+      t.estimate = {c, c, tv.success, tv.rotation_only, tv.cam_b_from_cam_a, tv.num_inliers, tv.failure_reason};
+      for (size_t i = 0; i < m.size() && tv.success; ++i) {
+        if (tv.inlier_mask[i]) t.inliers.push_back(m[i]);
+      }
+      obs.temporal.push_back(std::move(t));
+    }
+  }
+  return s;
+}
+
+TEST(MultiFrameRig, ChainRingIsDeterminedByTheRigMotion) {
+  const ChainRing s = MakeChainRing(4, 20240605u);
+  // The ring really is a chain: no pair of opposite cameras has a pose.
+  for (const PairEstimate& p : s.observations.pairs) {
+    if (p.cam_b - p.cam_a == 2) {
+      EXPECT_TRUE(!p.success || p.num_inliers < 30) << p.cam_a << "-" << p.cam_b;
+    }
+  }
+  RigCalibrationResult r = EstimateRig(s.observations, {});
+  EvaluateRigAgainstTruth(s.truth, &r);
+  ASSERT_TRUE(r.evaluated);
+  EXPECT_TRUE(r.rig_motion_estimated);
+  EXPECT_EQ(r.num_frames_posed, 4);
+  for (int c = 0; c < 4; ++c) {
+    ASSERT_TRUE(r.rig.cameras[c].cam_from_rig.has_value()) << r.camera_status[c];
+    EXPECT_EQ(r.camera_status[c].rfind("calibrated", 0), 0u) << r.camera_status[c];
+    EXPECT_LT(r.camera_stats[c].rotation_error_deg.value(), 0.05) << c;
+    if (c > 0) {
+      EXPECT_LT(r.camera_stats[c].translation_direction_error_deg.value(), 0.5) << c;
+    }
+    std::printf("cam%d rot %.4f deg  dir %.4f deg  obs %d  %s\n", c, *r.camera_stats[c].rotation_error_deg,
+                r.camera_stats[c].translation_direction_error_deg.value_or(0.0), r.camera_stats[c].observations,
+                r.camera_status[c].c_str());
+  }
+  // Unit scale on camera 1; the shape (centre ratios) matches the truth.
+  EXPECT_NE(r.scale.find("unit scale"), std::string::npos) << r.scale;
+  EXPECT_NEAR(r.rig.cameras[1].cam_from_rig->SourceOriginInTarget().norm(), 1.0, 1e-9);
+  const double s_est = r.rig.cameras[2].cam_from_rig->SourceOriginInTarget().norm() /
+                       r.rig.cameras[1].cam_from_rig->SourceOriginInTarget().norm();
+  const double s_gt = s.truth.cameras[2].cam_from_rig->SourceOriginInTarget().norm() /
+                      s.truth.cameras[1].cam_from_rig->SourceOriginInTarget().norm();
+  EXPECT_NEAR(s_est, s_gt, 0.01 * s_gt);
+  EXPECT_LT(r.reprojection_rms_px, 0.5);
+  std::printf("eigenvalue ratio %.1f\n", r.position_eigenvalue_ratio);
+  std::printf("RMS %.3f px (initial %.3f), %d points, %d tracks, %d conflicting\n", r.reprojection_rms_px,
+              r.initial_reprojection_rms_px, r.num_points, r.num_tracks, r.num_conflicting_tracks);
+}
+
+TEST(MultiFrameRig, KnownDistanceGivesMetricPositions) {
+  const ChainRing s = MakeChainRing(3, 77u);
+  RigCalibrationOptions options;
+  const double d = (s.truth.cameras[1].cam_from_rig->SourceOriginInTarget() -
+                    s.truth.cameras[3].cam_from_rig->SourceOriginInTarget())
+                       .norm();
+  options.known_distance = KnownDistance{"cam1", "cam3", d};
+  RigCalibrationResult r = EstimateRig(s.observations, options);
+  EvaluateRigAgainstTruth(s.truth, &r);
+  EXPECT_TRUE(r.metric_scale);
+  for (int c = 1; c < 4; ++c) EXPECT_LT(r.camera_stats[c].position_error_m.value(), 0.01) << c;
+}
+
+TEST(MultiFrameRig, OneFrameChainReportsPositionsNotObservable) {
+  const ChainRing s = MakeChainRing(1, 99u);
+  RigCalibrationResult r = EstimateRig(s.observations, {});
+  EvaluateRigAgainstTruth(s.truth, &r);
+  EXPECT_FALSE(r.rig_motion_estimated);
+  std::printf("one frame: eigenvalue ratio %.2f\n", r.position_eigenvalue_ratio);
+  EXPECT_EQ(r.camera_status[0], "calibrated (reference: rig frame)");
+  for (int c = 1; c < 4; ++c) {
+    EXPECT_FALSE(r.rig.cameras[c].cam_from_rig.has_value()) << c;  // no made-up translation
+    EXPECT_EQ(r.camera_status[c].rfind("rotation only: position not observable", 0), 0u) << r.camera_status[c];
+    ASSERT_TRUE(r.cam_from_rig_rotation[c].has_value());
+    // One frame: a quarter of the matches and no bundle adjustment to refine them.
+    EXPECT_LT(r.camera_stats[c].rotation_error_deg.value(), 0.25) << c;
+    EXPECT_FALSE(r.camera_stats[c].translation_direction_error_deg.has_value());
+  }
+  const nlohmann::json j = RigCalibrationToJson({r});
+  const auto& cam = j["methods"]["rig"]["cameras"][2];
+  EXPECT_TRUE(cam["cam_from_rig"].is_null());
+  EXPECT_FALSE(cam["position_known"].get<bool>());
+  EXPECT_TRUE(cam["rotation_wxyz"].is_array());
+}
+
+TEST(MultiFrameRig, ViewTracksJoinFramesAndDropConflicts) {
+  // Views (camera, frame): (0,0)-(1,0) same frame, (0,0)-(0,1) temporal -> one track of three.
+  PairMatches pair{0, 1, {{{0, 5}}, {}}};
+  TemporalPairEstimate t;
+  t.camera = 0;
+  t.frame = 0;
+  t.estimate.success = true;
+  t.inliers = {{0, 7}, {1, 8}};
+  int conflicting = -1;
+  std::vector<ViewTrack> tracks = BuildViewTracks(2, 2, {pair}, {t}, &conflicting);
+  EXPECT_EQ(conflicting, 0);
+  ASSERT_EQ(tracks.size(), 2u);
+  EXPECT_EQ(tracks[0].observations.size(), 3u);
+  // Keypoints 0 and 1 of view (0, 0) both matched to keypoint 5 of view (1, 0): contradictory.
+  pair.per_frame[0] = {{0, 5}, {1, 5}};
+  tracks = BuildViewTracks(2, 2, {pair}, {t}, &conflicting);
+  EXPECT_EQ(conflicting, 1);
+  EXPECT_TRUE(tracks.empty());
+  t.frame = 1;
+  EXPECT_THROW(BuildViewTracks(2, 2, {pair}, {t}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rigsim
