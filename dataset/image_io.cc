@@ -7,6 +7,8 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include "geometry/camera_validation.h"
+
 namespace rigsim {
 namespace fs = std::filesystem;
 namespace {
@@ -40,6 +42,13 @@ Image<T> ReadTyped(const fs::path& path, OIIO::TypeDesc type, int channels) {
   const int file_channels = spec.nchannels;
   if (spec.width <= 0 || spec.height <= 0 || file_channels <= 0 || spec.depth != 1) {
     throw std::runtime_error(path.string() + ": not a 2D image");
+  }
+  // The header's size is checked before allocating: a corrupt or hostile header must not make us
+  // try to allocate gigabytes.
+  if (int64_t(spec.width) * spec.height > kMaxCameraPixels || file_channels > 64) {
+    throw std::runtime_error(path.string() + ": image size " + std::to_string(spec.width) + "x" +
+                             std::to_string(spec.height) + "x" + std::to_string(file_channels) +
+                             " exceeds the limit of " + std::to_string(kMaxCameraPixels / 1'000'000) + " megapixels");
   }
   Image<T> file_image(spec.width, spec.height, file_channels);
   if (!in->read_image(0, 0, 0, file_channels, type, file_image.data.data())) {

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "dataset/image_io.h"
 #include "labels/cityscapes.h"
 
 namespace rigsim {
@@ -44,6 +45,23 @@ void CheckLabelIds(const ImageU8& labels, const std::string& source) {
       }
     }
   }
+}
+
+ImageU8 ReadLabelImage(const std::filesystem::path& path, int width, int height) {
+  // Read with the file's own channel count: a colour preview passed as labels must not be
+  // silently reduced to its red channel.
+  const ImageU8 labels = ReadImageU8(path, 0);
+  if (labels.channels != 1) {
+    throw std::runtime_error(path.string() + ": a label image must have 1 channel of label ids, this one has " +
+                             std::to_string(labels.channels));
+  }
+  if (width > 0 && height > 0 && !labels.SameSize(width, height)) {
+    throw std::runtime_error(path.string() + ": label image is " + std::to_string(labels.width) + "x" +
+                             std::to_string(labels.height) + ", expected " + std::to_string(width) + "x" +
+                             std::to_string(height));
+  }
+  CheckLabelIds(labels, path.string());
+  return labels;
 }
 
 }  // namespace rigsim

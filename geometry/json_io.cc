@@ -12,7 +12,8 @@ namespace rigsim::json_io {
 Json Parse(const std::string& text, const std::string& source) {
   try {
     return Json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {
+    // parse_error, and out_of_range for numbers beyond double ("1e999"; found by fuzz_rig_json).
     throw std::runtime_error(source + ": invalid JSON: " + e.what());
   }
 }

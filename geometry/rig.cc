@@ -1,5 +1,6 @@
 #include "geometry/rig.h"
 
+#include <cstdint>
 #include <stdexcept>
 
 #include "geometry/json_io.h"
@@ -8,6 +9,11 @@ namespace rigsim {
 
 using json_io::Get;
 using json_io::Json;
+
+namespace {
+// Image sides beyond this are certainly a corrupt file (no sensor has 1 million pixels per row).
+constexpr int64_t kMaxImageSide = 1 << 20;
+}  // namespace
 
 int Rig::FindCamera(const std::string& name) const {
   for (size_t i = 0; i < cameras.size(); ++i) {
@@ -45,8 +51,14 @@ Rig RigFromJsonText(const std::string& text, const std::string& source) {
     }
     try {
       const CameraModelId model = CameraModelFromName(Get<std::string>(c, "model", source, where));
-      rc.camera = Camera(model, Get<int>(c, "width", source, where), Get<int>(c, "height", source, where),
-                         Get<std::vector<double>>(c, "params", source, where));
+      // Read as 64-bit so that a huge size is reported instead of being truncated to an int.
+      const int64_t width = Get<int64_t>(c, "width", source, where);
+      const int64_t height = Get<int64_t>(c, "height", source, where);
+      if (width <= 0 || height <= 0 || width > kMaxImageSide || height > kMaxImageSide) {
+        throw std::invalid_argument("image size " + std::to_string(width) + "x" + std::to_string(height) +
+                                    " is outside 1.." + std::to_string(kMaxImageSide));
+      }
+      rc.camera = Camera(model, int(width), int(height), Get<std::vector<double>>(c, "params", source, where));
     } catch (const std::invalid_argument& e) {
       throw std::runtime_error(source + ": " + where + " ('" + rc.name + "'): " + e.what());
     }

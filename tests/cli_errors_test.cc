@@ -1,0 +1,460 @@
+// The built `rigsim` binary on bad input and when interrupted (issue 6). Every failure exits
+// non-zero with a message naming the file and the problem, and leaves no output behind: neither
+// --out / evaluation.json nor a hidden staging folder. A render killed by SIGKILL or SIGINT leaves
+// the previous dataset intact (or none); a staging folder left by SIGKILL is removed by the next run.
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "dataset/dataset.h"
+#include "dataset/image_io.h"
+#include "geometry/rig.h"
+#include "scenes/rig_generators.h"
+#include "scenes/scene_builder.h"
+
+#ifndef RIGSIM_BINARY
+#error "RIGSIM_BINARY must name the rigsim executable"
+#endif
+
+namespace rigsim {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string ReadAll(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+void WriteText(const fs::path& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
+
+// rigsim started with `args`; stdout and stderr go to files beside `log_prefix`.
+class Process {
+ public:
+  Process(const std::vector<std::string>& args, const fs::path& log_prefix)
+      : out_(log_prefix.string() + ".stdout"), err_(log_prefix.string() + ".stderr") {
+    pid_ = fork();
+    if (pid_ == 0) {
+      const int out = ::open(out_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      const int err = ::open(err_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      dup2(out, 1);
+      dup2(err, 2);
+      std::vector<char*> argv;
+      static std::string binary = RIGSIM_BINARY;
+      argv.push_back(binary.data());
+      std::vector<std::string> copy = args;
+      for (std::string& a : copy) argv.push_back(a.data());
+      argv.push_back(nullptr);
+      execv(binary.c_str(), argv.data());
+      _exit(127);
+    }
+  }
+  pid_t pid() const { return pid_; }
+  // Waits (at most 120 s, then kills) and returns the exit code, or 128 + signal.
+  int Wait() {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    int status = 0;
+    while (waitpid(pid_, &status, WNOHANG) == 0) {
+      if (std::chrono::steady_clock::now() > deadline) {
+        kill(pid_, SIGKILL);
+        waitpid(pid_, &status, 0);
+        ADD_FAILURE() << "rigsim did not finish in 120 s";
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  }
+  std::string out() const { return ReadAll(out_); }
+  std::string err() const { return ReadAll(err_); }
+
+ private:
+  pid_t pid_ = -1;
+  fs::path out_, err_;
+};
+
+struct Result {
+  int code;
+  std::string out, err;
+};
+
+// Hidden staging folders ".NAME.partial-*" beside `out`.
+std::vector<fs::path> StagingFolders(const fs::path& out) {
+  std::vector<fs::path> found;
+  std::string prefix = ".";  // (built with += : GCC 12 warns falsely on "." + s + "...")
+  prefix += out.filename().string();
+  prefix += ".partial-";
+  if (!fs::exists(out.parent_path())) return found;
+  for (const auto& e : fs::directory_iterator(out.parent_path())) {
+    if (e.path().filename().string().rfind(prefix, 0) == 0) found.push_back(e.path());
+  }
+  return found;
+}
+
+std::string Base64(const std::vector<uint8_t>& data) {
+  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (size_t i = 0; i < data.size(); i += 3) {
+    const uint32_t n = (uint32_t(data[i]) << 16) | (i + 1 < data.size() ? uint32_t(data[i + 1]) << 8 : 0) |
+                       (i + 2 < data.size() ? uint32_t(data[i + 2]) : 0);
+    out += k[(n >> 18) & 63];
+    out += k[(n >> 12) & 63];
+    out += i + 1 < data.size() ? k[(n >> 6) & 63] : '=';
+    out += i + 2 < data.size() ? k[n & 63] : '=';
+  }
+  return out;
+}
+
+// A one-triangle glTF document with its buffer as a data URI (the tests corrupt it).
+json TriangleGltf(const std::vector<float>& xyz = {-5, 0, -5, 5, 0, -5, 0, 5, -5}) {
+  std::vector<uint8_t> bin(xyz.size() * 4);
+  std::memcpy(bin.data(), xyz.data(), bin.size());
+  return {{"asset", {{"version", "2.0"}}},
+          {"scene", 0},
+          {"scenes", {{{"nodes", {0}}}}},
+          {"nodes", {{{"mesh", 0}, {"extras", {{"class", "building"}}}}}},
+          {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"mode", 4}}}}}}},
+          {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", xyz.size() / 3}, {"type", "VEC3"}}}},
+          {"bufferViews", {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", bin.size()}}}},
+          {"buffers", {{{"byteLength", bin.size()}, {"uri", "data:application/octet-stream;base64," + Base64(bin)}}}}};
+}
+
+class RigsimCli : public testing::Test {
+ protected:
+  // Shared inputs: a small scene, a 2-camera rig, frames, and one rendered dataset.
+  static void SetUpTestSuite() {
+    base_ = new fs::path(fs::temp_directory_path() / ("rigsim_cli_errors_" + std::to_string(::getpid())));
+    fs::remove_all(*base_);
+    fs::create_directories(*base_);
+    SceneBuilder b;
+    MeshData wall;
+    wall.positions = {{-20, -5, -8}, {20, -5, -8}, {20, 15, -8}, {-20, 15, -8}};
+    wall.indices = {0, 1, 2, 0, 2, 3};
+    b.AddNode("wall", "building", wall, b.AddMaterial("brick", Eigen::Vector4f(0.7f, 0.3f, 0.2f, 1)));
+    MeshData ground;
+    ground.positions = {{-20, 0, 5}, {20, 0, 5}, {20, 0, -8}, {-20, 0, -8}};
+    ground.indices = {0, 1, 2, 0, 2, 3};
+    b.AddNode("road", "road", ground, b.AddMaterial("asphalt", Eigen::Vector4f(0.3f, 0.3f, 0.3f, 1)));
+    b.WriteGlb(*base_ / "scene.glb");
+    RingRigOptions ring;
+    ring.num_cameras = 2;
+    ring.width = 96;
+    ring.height = 64;
+    ring.yaw_spacing_deg = 30;
+    ring.hfov_deg = 90;
+    ring.distorted_camera = -1;
+    WriteRig(MakeRingRig(ring), *base_ / "rig.json");
+    WriteFrames(MakeStraightTrajectory(Eigen::Vector3d(0, 1.6, 0), 0.0, 1, 0.5), *base_ / "frames.json");
+    ring.width = 320;
+    ring.height = 240;
+    WriteRig(MakeRingRig(ring), *base_ / "rig_big.json");
+    WriteFrames(MakeStraightTrajectory(Eigen::Vector3d(0, 1.6, 0), 0.0, 400, 0.01), *base_ / "frames_long.json");
+    Process p({"render", "--scene", (*base_ / "scene.glb").string(), "--rig", (*base_ / "rig.json").string(), "--frames",
+               (*base_ / "frames.json").string(), "--out", (*base_ / "dataset").string(), "--spp", "1"},
+              *base_ / "setup");
+    ASSERT_EQ(p.Wait(), 0) << p.err();
+  }
+  static void TearDownTestSuite() {
+    fs::remove_all(*base_);
+    delete base_;
+  }
+
+  void SetUp() override {
+    dir_ = *base_ / testing::UnitTest::GetInstance()->current_test_info()->name();
+    fs::create_directories(dir_);
+  }
+
+  static fs::path base() { return *base_; }
+
+  Result Run(const std::vector<std::string>& args) {
+    Process p(args, dir_ / ("run" + std::to_string(runs_++)));
+    const int code = p.Wait();
+    return {code, p.out(), p.err()};
+  }
+  std::vector<std::string> RenderArgs(const fs::path& scene, const fs::path& rig, const fs::path& frames, const fs::path& out) {
+    return {"render", "--scene", scene.string(), "--rig", rig.string(), "--frames", frames.string(), "--out", out.string(),
+            "--spp", "1"};
+  }
+  // `rigsim render` of `scene` with the shared rig and frames fails naming `file` and `part`, and
+  // leaves nothing.
+  void ExpectRenderFails(const fs::path& scene, const fs::path& rig, const fs::path& frames, const std::string& file,
+                         const std::string& part) {
+    const fs::path out = dir_ / "out";
+    const Result r = Run(RenderArgs(scene, rig, frames, out));
+    EXPECT_NE(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("error: " + file + ": "), std::string::npos) << "message does not start with the file: " << r.err;
+    EXPECT_NE(r.err.find(part), std::string::npos) << "message does not say '" << part << "': " << r.err;
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_TRUE(StagingFolders(out).empty());
+  }
+  void ExpectSceneFails(const fs::path& scene, const std::string& part) {
+    ExpectRenderFails(scene, base() / "rig.json", base() / "frames.json", scene.string(), part);
+  }
+  fs::path WriteGltf(const std::string& name, const json& doc) {
+    const fs::path p = dir_ / name;
+    WriteText(p, doc.dump(1));
+    return p;
+  }
+  // A copy of the rendered dataset to corrupt.
+  fs::path CopyDataset() {
+    const fs::path copy = dir_ / "dataset";
+    fs::copy(base() / "dataset", copy, fs::copy_options::recursive);
+    return copy;
+  }
+  // `rigsim calibrate` fails naming `file` and `part` and writes no evaluation.json.
+  void ExpectCalibrateFails(const fs::path& dataset, const std::string& semantics, const fs::path& file,
+                            const std::string& part) {
+    const Result r = Run({"calibrate", dataset.string(), "--semantics", semantics, "--threads", "1"});
+    EXPECT_NE(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("error: " + file.string() + ": "), std::string::npos) << "message does not start with the file: " << r.err;
+    EXPECT_NE(r.err.find(part), std::string::npos) << "message does not say '" << part << "': " << r.err;
+    EXPECT_FALSE(fs::exists(dataset / "evaluation.json"));
+  }
+
+  static fs::path* base_;
+  fs::path dir_;
+  int runs_ = 0;
+};
+fs::path* RigsimCli::base_ = nullptr;
+
+TEST_F(RigsimCli, RendersTheValidInputs) {
+  // The reference the failures are measured against: the shared dataset is complete.
+  const DatasetLayout layout(base() / "dataset");
+  EXPECT_TRUE(fs::exists(layout.Depth("cam1", "000000")));
+  EXPECT_TRUE(fs::exists(layout.OverlapJson()));
+  EXPECT_TRUE(StagingFolders(base() / "dataset").empty());
+}
+
+TEST_F(RigsimCli, TruncatedGlb) {
+  const std::string glb = ReadAll(base() / "scene.glb");
+  const fs::path cut = dir_ / "cut.glb";
+  WriteText(cut, glb.substr(0, glb.size() - 40));
+  ExpectSceneFails(cut, "invalid .glb");
+}
+
+TEST_F(RigsimCli, AccessorOutOfRange) {
+  json doc = TriangleGltf();
+  doc["accessors"][0]["count"] = 4;  // the bufferView holds 3 vertices
+  ExpectSceneFails(WriteGltf("range.gltf", doc), "out of range of bufferView 0");
+}
+
+TEST_F(RigsimCli, MissingBufferFile) {
+  json doc = TriangleGltf();
+  doc["buffers"][0]["uri"] = "missing.bin";
+  ExpectSceneFails(WriteGltf("buffer.gltf", doc), "missing.bin");
+}
+
+TEST_F(RigsimCli, MissingImageFile) {
+  json doc = TriangleGltf();
+  doc["images"] = {{{"uri", "missing_texture.png"}}};
+  doc["textures"] = {{{"source", 0}}};
+  doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
+  doc["meshes"][0]["primitives"][0]["material"] = 0;
+  ExpectSceneFails(WriteGltf("image.gltf", doc), "missing_texture.png");
+}
+
+TEST_F(RigsimCli, RecursiveNodeGraph) {
+  json doc = TriangleGltf();
+  doc["nodes"][0]["children"] = {1};
+  doc["nodes"].push_back({{"children", {0}}});
+  ExpectSceneFails(WriteGltf("cycle.gltf", doc), "reached twice");
+}
+
+TEST_F(RigsimCli, NanAndInfiniteVertices) {
+  ExpectSceneFails(WriteGltf("nan.gltf", TriangleGltf({0, 0, 0, std::numeric_limits<float>::quiet_NaN(), 0, 0, 0, 1, 0})),
+                   "vertex 1 is not finite");
+  ExpectSceneFails(WriteGltf("inf.gltf", TriangleGltf({0, 0, 0, 1, 0, 0, 0, -std::numeric_limits<float>::infinity(), 0})),
+                   "vertex 2 is not finite");
+}
+
+TEST_F(RigsimCli, NonTrianglePrimitivesAreSkippedWithAWarning) {
+  json doc = TriangleGltf();
+  doc["meshes"][0]["primitives"].push_back({{"attributes", {{"POSITION", 0}}}, {"mode", 1}});  // lines
+  const fs::path out = dir_ / "out";
+  const Result r = Run(RenderArgs(WriteGltf("lines.gltf", doc), base() / "rig.json", base() / "frames.json", out));
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: mesh 0 primitive 1: lines primitive (mode 1) skipped"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(DatasetLayout(out).Image("cam0", "000000")));
+}
+
+TEST_F(RigsimCli, AbsurdDeclaredCount) {
+  json doc = TriangleGltf();
+  doc["accessors"][0]["count"] = 3000000000ull;
+  ExpectSceneFails(WriteGltf("count.gltf", doc), "exceeds the limit");
+}
+
+TEST_F(RigsimCli, RigWithNegativeFocalLength) {
+  json rig = json::parse(ReadAll(base() / "rig.json"));
+  rig["cameras"][1]["params"][0] = -80.0;
+  const fs::path path = dir_ / "rig.json";
+  WriteText(path, rig.dump());
+  ExpectRenderFails(base() / "scene.glb", path, base() / "frames.json", path.string(), "focal lengths must be positive");
+}
+
+TEST_F(RigsimCli, RigWhoseDistortionCannotBeInvertedOverTheImage) {
+  json rig = json::parse(ReadAll(base() / "rig.json"));
+  const double f = rig["cameras"][0]["params"][0];
+  rig["cameras"][0]["model"] = "OPENCV";
+  rig["cameras"][0]["params"] = {f, f, 47.5, 31.5, -0.6, 0.0, 0.0, 0.0};  // folds back inside the image
+  const fs::path path = dir_ / "rig.json";
+  WriteText(path, rig.dump());
+  ExpectRenderFails(base() / "scene.glb", path, base() / "frames.json", path.string(),
+                    "camera 'cam0': OPENCV distortion cannot be inverted over the 96x64 image");
+  // calibrate applies the same rule to the dataset's rig.json
+  const fs::path dataset = CopyDataset();
+  WriteText(dataset / "rig.json", rig.dump());
+  ExpectCalibrateFails(dataset, "none", dataset / "rig.json", "distortion cannot be inverted");
+}
+
+TEST_F(RigsimCli, FisheyeWithImageCircleInsideTheSensorOnlyWarns) {
+  json rig = json::parse(ReadAll(base() / "rig.json"));
+  rig["cameras"][0]["model"] = "OPENCV_FISHEYE";
+  rig["cameras"][0]["params"] = {25.0, 25.0, 47.5, 31.5, -0.2, 0.0, 0.0, 0.0};  // circle of radius 21 px
+  const fs::path path = dir_ / "rig.json";
+  WriteText(path, rig.dump());
+  const Result r = Run(RenderArgs(base() / "scene.glb", path, base() / "frames.json", dir_ / "out"));
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("camera 'cam0': "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("outside the fisheye's valid image circle"), std::string::npos) << r.err;
+}
+
+TEST_F(RigsimCli, MalformedRigAndFramesJson) {
+  const fs::path rig = dir_ / "rig.json", frames = dir_ / "frames.json";
+  WriteText(rig, "{\"cameras\": [");
+  ExpectRenderFails(base() / "scene.glb", rig, base() / "frames.json", rig.string(), "invalid JSON");
+  WriteText(frames, R"({"frames": [{"name": "a/b"}]})");
+  ExpectRenderFails(base() / "scene.glb", base() / "rig.json", frames, frames.string(), "not a valid file stem");
+  WriteText(frames, "[]");
+  ExpectRenderFails(base() / "scene.glb", base() / "rig.json", frames, frames.string(), "expected an object with a 'frames' array");
+}
+
+TEST_F(RigsimCli, CalibrateMalformedJsonInTheDataset) {
+  const fs::path dataset = CopyDataset();
+  WriteText(dataset / "overlap.json", "{\"pairs\": [{\"a\": \"cam0\"");
+  ExpectCalibrateFails(dataset, "none", dataset / "overlap.json", "invalid JSON");
+  fs::copy_file(base() / "dataset" / "overlap.json", dataset / "overlap.json", fs::copy_options::overwrite_existing);
+  WriteText(dataset / "frames.json", "{\"frames\": 7}");
+  ExpectCalibrateFails(dataset, "none", dataset / "frames.json", "'frames' array");
+  fs::copy_file(base() / "dataset" / "frames.json", dataset / "frames.json", fs::copy_options::overwrite_existing);
+  WriteText(dataset / "rig.json", "");
+  ExpectCalibrateFails(dataset, "none", dataset / "rig.json", "invalid JSON");
+}
+
+TEST_F(RigsimCli, CalibrateMissingImage) {
+  const fs::path dataset = CopyDataset();
+  const fs::path image = DatasetLayout(dataset).Image("cam1", "000000");
+  fs::remove(image);
+  ExpectCalibrateFails(dataset, "none", image, "missing");
+}
+
+TEST_F(RigsimCli, CalibrateImageOfTheWrongSize) {
+  const fs::path dataset = CopyDataset();
+  const fs::path image = DatasetLayout(dataset).Image("cam1", "000000");
+  WriteImage(image, ImageU8(50, 40, 3, 100));
+  ExpectCalibrateFails(dataset, "none", image, "50x40");
+}
+
+TEST_F(RigsimCli, CalibrateLabelImageWithUnknownIds) {
+  const fs::path dataset = CopyDataset();
+  const fs::path labels = DatasetLayout(dataset).Label("cam0", "000000");
+  ImageU8 ids = ReadImageU8(labels, 1);
+  ids.at(10, 20) = 250;
+  WriteImage(labels, ids);
+  ExpectCalibrateFails(dataset, "mask", labels, "pixel (10, 20) has label id 250");
+}
+
+TEST_F(RigsimCli, ExistingDatasetIsNotOverwrittenWithoutForce) {
+  const fs::path out = CopyDataset();
+  const std::string frames_before = ReadAll(out / "frames.json");
+  const Result r = Run(RenderArgs(base() / "scene.glb", base() / "rig.json", base() / "frames_long.json", out));
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find(out.string() + ": already exists (use --force to replace it)"), std::string::npos) << r.err;
+  EXPECT_EQ(ReadAll(out / "frames.json"), frames_before);
+  EXPECT_TRUE(StagingFolders(out).empty());
+}
+
+// Starts a long render into `out` and returns once its staging folder holds the first complete view.
+std::optional<Process> StartLongRenderAndWaitForFirstView(const std::vector<std::string>& args, const fs::path& out,
+                                                          const fs::path& log) {
+  std::optional<Process> p(std::in_place, args, log);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < deadline) {
+    for (const fs::path& staging : StagingFolders(out)) {
+      if (fs::exists(DatasetLayout(staging).Depth("cam0", "000000"))) return p;
+    }
+    int status = 0;
+    if (waitpid(p->pid(), &status, WNOHANG) != 0) {
+      ADD_FAILURE() << "rigsim ended before writing its first view: " << p->err();
+      return std::nullopt;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  ADD_FAILURE() << "no view written in 60 s";
+  kill(p->pid(), SIGKILL);
+  p->Wait();
+  return std::nullopt;
+}
+
+TEST_F(RigsimCli, SigkillLeavesThePreviousDatasetOrNoneAndTheNextRunCleansUp) {
+  const std::vector<std::string> long_render = RenderArgs(base() / "scene.glb", base() / "rig_big.json",
+                                                          base() / "frames_long.json", dir_ / "fresh");
+  {  // no previous output: none afterwards
+    auto p = StartLongRenderAndWaitForFirstView(long_render, dir_ / "fresh", dir_ / "kill_fresh");
+    ASSERT_TRUE(p);
+    kill(p->pid(), SIGKILL);
+    EXPECT_EQ(p->Wait(), 128 + SIGKILL);
+    EXPECT_FALSE(fs::exists(dir_ / "fresh"));
+    EXPECT_EQ(StagingFolders(dir_ / "fresh").size(), 1u);  // the killed run's: removed by the next one
+  }
+  {  // a previous dataset replaced with --force: intact afterwards
+    const fs::path out = CopyDataset();
+    const std::string frames_before = ReadAll(out / "frames.json");
+    std::vector<std::string> args = RenderArgs(base() / "scene.glb", base() / "rig_big.json", base() / "frames_long.json", out);
+    args.push_back("--force");
+    auto p = StartLongRenderAndWaitForFirstView(args, out, dir_ / "kill_force");
+    ASSERT_TRUE(p);
+    kill(p->pid(), SIGKILL);
+    EXPECT_EQ(p->Wait(), 128 + SIGKILL);
+    EXPECT_EQ(ReadAll(out / "frames.json"), frames_before);
+    EXPECT_TRUE(fs::exists(DatasetLayout(out).Depth("cam1", "000000")));
+  }
+  // The next run into the same place removes the dead run's staging folder and completes.
+  const Result r = Run(RenderArgs(base() / "scene.glb", base() / "rig.json", base() / "frames.json", dir_ / "fresh"));
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(StagingFolders(dir_ / "fresh").empty());
+  EXPECT_TRUE(fs::exists(DatasetLayout(dir_ / "fresh").OverlapJson()));
+}
+
+TEST_F(RigsimCli, SigintStopsCleanlyAndKeepsThePreviousDataset) {
+  const fs::path out = CopyDataset();
+  const std::string frames_before = ReadAll(out / "frames.json");
+  std::vector<std::string> args = RenderArgs(base() / "scene.glb", base() / "rig_big.json", base() / "frames_long.json", out);
+  args.push_back("--force");
+  auto p = StartLongRenderAndWaitForFirstView(args, out, dir_ / "interrupt");
+  ASSERT_TRUE(p);
+  kill(p->pid(), SIGINT);
+  EXPECT_EQ(p->Wait(), 128 + SIGINT);
+  EXPECT_NE(p->err().find("interrupted by SIGINT; the output was not written"), std::string::npos) << p->err();
+  EXPECT_TRUE(StagingFolders(out).empty());  // removed on the way out
+  EXPECT_EQ(ReadAll(out / "frames.json"), frames_before);
+  EXPECT_TRUE(fs::exists(DatasetLayout(out).Depth("cam1", "000000")));
+}
+
+}  // namespace
+}  // namespace rigsim
