@@ -1,5 +1,6 @@
 #include "renderer/render_dataset.h"
 
+#include <map>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -13,6 +14,7 @@
 #include "dataset/image_io.h"
 #include "dataset/label_image.h"
 #include "geometry/json_io.h"
+#include "renderer/scene_pose.h"
 
 namespace rigsim {
 namespace fs = std::filesystem;
@@ -68,7 +70,8 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
   const int total = num_cams * num_frames;
 
   // Built before the staging folder exists so that a bad scene leaves nothing behind.
-  const Renderer renderer(*job.scene);
+  Renderer renderer(*job.scene);
+  const bool animated = job.scene->IsAnimated();
 
   StagedOutput staged(out_dir, force);
   const DatasetLayout layout(staged.staging_dir());
@@ -76,16 +79,30 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
   // overlap[a * num_cams + b] sums, over frames, the fraction of a's surface seen by b.
   std::vector<double> overlap(size_t(num_cams) * num_cams, 0.0);
   int done = 0;
+  std::vector<SceneMesh> posed;  // the renderer's meshes while an animated scene is posed
   for (const Frame& frame : job.frames.frames) {
     std::vector<Rigid3d> cam_from_world(num_cams);
     std::vector<ImageF> ranges(num_cams);
+    // Cameras grouped by capture time (timestamp + time_offset_s): an animated scene is posed once
+    // per distinct time; a static one is never re-posed.
+    std::map<double, std::vector<int>> cams_by_time;
     for (int c = 0; c < num_cams; ++c) {
-      cam_from_world[c] = *cams[c].cam_from_rig * *frame.rig_from_world;
-      RenderedView view = renderer.Render(cams[c].camera, cam_from_world[c], job.options);
-      WriteView(layout, cams[c].name, frame.name, view);
-      ranges[c] = std::move(view.range);
-      ++done;
-      if (progress) progress(done, total);
+      const double time = animated ? frame.timestamp_s + cams[c].time_offset_s : 0.0;
+      cams_by_time[time].push_back(c);
+    }
+    for (const auto& [time, group] : cams_by_time) {
+      if (animated) {
+        posed = PoseMeshesAt(*job.scene, time);
+        renderer.SetMeshes(posed);
+      }
+      for (int c : group) {
+        cam_from_world[c] = *cams[c].cam_from_rig * *frame.rig_from_world;
+        RenderedView view = renderer.Render(cams[c].camera, cam_from_world[c], job.options);
+        WriteView(layout, cams[c].name, frame.name, view);
+        ranges[c] = std::move(view.range);
+        ++done;
+        if (progress) progress(done, total);
+      }
     }
     // Ordered pairs are independent: evaluate them in parallel, each into its own slot.
     std::vector<std::pair<int, int>> pairs;

@@ -3,7 +3,13 @@
 //
 // cam_from_world = cam_from_rig * rig_from_world (geometry/rigid3.h). The output folder appears
 // only when everything has been written (StagedOutput): an error or an interruption leaves the
-// previous folder, or nothing. Scenes are static, so a camera's time_offset_s changes nothing here.
+// previous folder, or nothing.
+//
+// Time: each camera sees the scene at its own capture time, frame.timestamp_s + time_offset_s
+// (rig.json). An animated scene (Scene::IsAnimated) is posed at every distinct capture time
+// (renderer/scene_pose.h), so unsynchronised cameras see moving objects in different places; a
+// static scene builds its acceleration structure once. overlap.json compares the ranges each
+// camera saw at its own time (moving objects count where each camera saw them).
 #pragma once
 
 #include <filesystem>

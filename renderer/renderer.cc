@@ -2,8 +2,12 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <sstream>
@@ -38,6 +42,32 @@ float LinearToSrgb(float c) {
 uint8_t EncodeSrgb8(float linear) {
   if (!(linear > 0.0f)) return 0;  // also maps NaN to black instead of an undefined cast
   return static_cast<uint8_t>(LinearToSrgb(linear) * 255.0f + 0.5f);
+}
+
+// The same encoding without a pow: a table over [0, 1] in 4096 buckets gives the code at the
+// bucket's start, and the 255 linear values where the 8-bit code changes finish it (at most two
+// steps: the steepest part of the curve, near black, moves 0.8 codes per bucket).
+uint8_t EncodeSrgb8Fast(float linear) {
+  constexpr int kBuckets = 4096;
+  struct Tables {
+    std::array<float, 256> thresholds{};  // code i+1 starts at thresholds[i]; [255] = +inf
+    std::array<uint8_t, kBuckets + 1> start{};
+  };
+  static const Tables tables = [] {
+    Tables t;
+    for (int i = 0; i < 255; ++i) t.thresholds[i] = SrgbToLinear((i + 0.5f) / 255.0f);
+    t.thresholds[255] = std::numeric_limits<float>::infinity();
+    for (int b = 0; b <= kBuckets; ++b) {
+      const float v = float(b) / kBuckets;
+      t.start[b] = uint8_t(std::upper_bound(t.thresholds.begin(), t.thresholds.begin() + 255, v) - t.thresholds.begin());
+    }
+    return t;
+  }();
+  if (!(linear > 0.0f)) return 0;
+  if (linear >= 1.0f) return 255;
+  int code = tables.start[int(linear * kBuckets)];
+  while (linear >= tables.thresholds[code]) ++code;
+  return uint8_t(code);
 }
 
 // Texels are stored sRGB-encoded; decoding through a table keeps the per-sample cost low.
@@ -131,6 +161,7 @@ MipTexture BuildMipTexture(const Texture& texture, const std::string& where) {
 }
 
 int WrapIndex(int i, int n, WrapMode mode) {
+  if (i >= 0 && i < n) return i;  // the common case, without an integer division
   switch (mode) {
     case WrapMode::kClampToEdge:
       return std::clamp(i, 0, n - 1);
@@ -293,20 +324,92 @@ struct Hit {
   float u = 0, v = 0, t = 0;
 };
 
+// Unit bearings of all pixel centres (invalid outside the lens) with each pixel's angular size
+// (for texture filtering), computed once per camera: they depend on the intrinsics only, so a
+// dataset's frames reuse them (Renderer::Impl caches them).
+struct PixelCentreRays {
+  int width = 0;
+  std::vector<Eigen::Vector3d> bearings;
+  std::vector<float> angle;     // max angle to a valid neighbour's bearing (radians)
+  std::vector<uint8_t> valid;
+};
+
+PixelCentreRays ComputePixelCentreRays(const Camera& camera) {
+  const int width = camera.width(), height = camera.height();
+  PixelCentreRays rays;
+  rays.width = width;
+  rays.bearings.assign(size_t(width) * height, Eigen::Vector3d::Zero());
+  rays.valid.assign(rays.bearings.size(), 0);
+  rays.angle.assign(rays.bearings.size(), 0.0f);
+  tbb::parallel_for(0, height, [&](int y) {
+    for (int x = 0; x < width; ++x) {
+      if (const auto b = camera.CamFromImg(Eigen::Vector2d(x, y))) {
+        rays.bearings[size_t(y) * width + x] = *b;
+        rays.valid[size_t(y) * width + x] = 1;
+      }
+    }
+  });
+  const float fallback = float(1.0 / std::max(camera.fx(), camera.fy()));
+  tbb::parallel_for(0, height, [&](int y) {
+    for (int x = 0; x < width; ++x) {
+      const size_t idx = size_t(y) * width + x;
+      if (!rays.valid[idx]) continue;
+      float a = 0.0f;
+      auto neighbour = [&](int nx, int ny) {
+        if (nx < 0 || ny < 0 || nx >= width || ny >= height) return;
+        const size_t n = size_t(ny) * width + nx;
+        if (rays.valid[n]) a = std::max(a, float((rays.bearings[n] - rays.bearings[idx]).norm()));
+      };
+      neighbour(x + 1, y);
+      neighbour(x - 1, y);
+      neighbour(x, y + 1);
+      neighbour(x, y - 1);
+      rays.angle[idx] = a > 0.0f ? a : fallback;
+    }
+  });
+  return rays;
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
 
 struct Renderer::Impl {
   mutable EmbreeErrors errors;  // written from Embree callbacks during const renders
+  const Scene* scene_ptr = nullptr;  // materials and textures; meshes may come from SetMeshes
+  std::string source;                // for messages
+  // Pixel-centre rays of the cameras rendered so far, keyed by model, size and parameters.
+  mutable std::mutex centre_rays_mutex;
+  mutable std::map<std::vector<double>, std::shared_ptr<const PixelCentreRays>> centre_rays;
+  static constexpr size_t kMaxCachedCameras = 8;  // ~27 MB each at 1280x720
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
   std::vector<MipTexture> textures;
   std::vector<MeshData> meshes;  // index == Embree geomID
 
+  // (Re)builds the per-mesh data and the Embree scene from `meshes` (materials and textures of
+  // *scene_ptr). Throws std::invalid_argument naming the mesh when it is inconsistent.
+  void BuildGeometry(const std::vector<SceneMesh>& meshes);
+
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
     if (device) rtcReleaseDevice(device);
+  }
+
+  // The camera's pixel-centre rays, computed on first use (outside the lock: another thread may
+  // compute the same rays meanwhile; both results are identical).
+  std::shared_ptr<const PixelCentreRays> CentreRays(const Camera& camera) const {
+    std::vector<double> key = {double(int(camera.model())), double(camera.width()), double(camera.height())};
+    key.insert(key.end(), camera.params().begin(), camera.params().end());
+    {
+      std::lock_guard<std::mutex> lock(centre_rays_mutex);
+      if (auto it = centre_rays.find(key); it != centre_rays.end()) return it->second;
+    }
+    auto rays = std::make_shared<const PixelCentreRays>(ComputePixelCentreRays(camera));
+    std::lock_guard<std::mutex> lock(centre_rays_mutex);
+    if (centre_rays.size() >= kMaxCachedCameras) centre_rays.clear();
+    centre_rays.emplace(std::move(key), rays);
+    return rays;
   }
 
   Hit Trace(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir) const {
@@ -363,23 +466,8 @@ struct Renderer::Impl {
   Eigen::Vector3f Shade(const Hit& hit, const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float sample_angle,
                         const ShadeParams& p) const {
     const MeshData& m = meshes[hit.geom];
-    const SceneMesh& mesh = *m.mesh;
-    const uint32_t* tri = &mesh.indices[size_t(hit.prim) * 3];
-    const float b0 = 1.0f - hit.u - hit.v;
-
-    // Normals face the incoming ray: surfaces are lit from the side they are seen from.
-    Eigen::Vector3f ng = m.face_normals[hit.prim];
-    if (ng.squaredNorm() == 0.0f) ng = -dir;
-    if (ng.dot(dir) > 0) ng = -ng;
-    Eigen::Vector3f n = ng;
-    if (!mesh.normals.empty()) {
-      const Eigen::Vector3f ni = b0 * mesh.normals[tri[0]] + hit.u * mesh.normals[tri[1]] + hit.v * mesh.normals[tri[2]];
-      const float len = ni.norm();
-      if (len > 1e-12f) {
-        n = ni / len;
-        if (n.dot(dir) > 0) n = -n;
-      }
-    }
+    Eigen::Vector3f ng, n;
+    SurfaceNormals(hit, dir, &ng, &n);
 
     Eigen::Vector4f base = m.base_color;
     if (m.texture != nullptr) {
@@ -396,46 +484,52 @@ struct Renderer::Impl {
     const float up = std::clamp(n.y(), -1.0f, 1.0f);
     float light = p.sky_intensity * (0.5f * (1 + up) + kGroundBounce * 0.5f * (1 - up));
     const float ndl = n.dot(p.sun_dir);
-    if (ndl > 0 && ng.dot(p.sun_dir) > 0) {
-      bool lit = true;
-      if (p.shadows) {
-        const Eigen::Vector3f point = origin + hit.t * dir;
-        // Offset along the geometric normal, scaled with float precision at this distance.
-        const float eps = 1e-4f * (1.0f + std::max(point.cwiseAbs().maxCoeff(), hit.t));
-        lit = !Occluded(point + eps * ng, p.sun_dir);
-      }
+    if (NeedsSunRay(ng, n, p)) {
+      const bool lit = !p.shadows || !Occluded(ShadowRayOrigin(hit, origin, dir, ng), p.sun_dir);
       if (lit) light += p.sun_intensity * ndl;
     }
     return albedo * light;
   }
+
+  // Geometric (ng) and shading (n) normals at a hit, both facing the incoming ray: surfaces are
+  // lit from the side they are seen from.
+  void SurfaceNormals(const Hit& hit, const Eigen::Vector3f& dir, Eigen::Vector3f* ng_out, Eigen::Vector3f* n_out) const {
+    const MeshData& m = meshes[hit.geom];
+    const SceneMesh& mesh = *m.mesh;
+    Eigen::Vector3f ng = m.face_normals[hit.prim];
+    if (ng.squaredNorm() == 0.0f) ng = -dir;
+    if (ng.dot(dir) > 0) ng = -ng;
+    Eigen::Vector3f n = ng;
+    if (!mesh.normals.empty()) {
+      const uint32_t* tri = &mesh.indices[size_t(hit.prim) * 3];
+      const float b0 = 1.0f - hit.u - hit.v;
+      const Eigen::Vector3f ni = b0 * mesh.normals[tri[0]] + hit.u * mesh.normals[tri[1]] + hit.v * mesh.normals[tri[2]];
+      const float len = ni.norm();
+      if (len > 1e-12f) {
+        n = ni / len;
+        if (n.dot(dir) > 0) n = -n;
+      }
+    }
+    *ng_out = ng;
+    *n_out = n;
+  }
+
+  // The sun contributes (and, with shadows on, a shadow ray is cast) only on the lit side.
+  static bool NeedsSunRay(const Eigen::Vector3f& ng, const Eigen::Vector3f& n, const ShadeParams& p) {
+    return n.dot(p.sun_dir) > 0 && ng.dot(p.sun_dir) > 0;
+  }
+
+  // Start of the shadow ray: the hit point offset along the geometric normal, scaled with float
+  // precision at this distance.
+  static Eigen::Vector3f ShadowRayOrigin(const Hit& hit, const Eigen::Vector3f& origin, const Eigen::Vector3f& dir,
+                                         const Eigen::Vector3f& ng) {
+    const Eigen::Vector3f point = origin + hit.t * dir;
+    const float eps = 1e-4f * (1.0f + std::max(point.cwiseAbs().maxCoeff(), hit.t));
+    return point + eps * ng;
+  }
 };
 
 namespace {
-
-// Unit bearings of all pixel centres (invalid outside the lens), computed once per render: they
-// give the exact AOVs and, by differences with the neighbours, each pixel's angular size for
-// texture filtering.
-struct PixelCentreRays {
-  int width = 0;
-  std::vector<Eigen::Vector3d> bearings;
-  std::vector<uint8_t> valid;
-};
-
-PixelCentreRays ComputePixelCentreRays(const Camera& camera) {
-  PixelCentreRays rays;
-  rays.width = camera.width();
-  rays.bearings.assign(size_t(camera.width()) * camera.height(), Eigen::Vector3d::Zero());
-  rays.valid.assign(rays.bearings.size(), 0);
-  tbb::parallel_for(0, camera.height(), [&](int y) {
-    for (int x = 0; x < camera.width(); ++x) {
-      if (const auto b = camera.CamFromImg(Eigen::Vector2d(x, y))) {
-        rays.bearings[size_t(y) * camera.width() + x] = *b;
-        rays.valid[size_t(y) * camera.width() + x] = 1;
-      }
-    }
-  });
-  return rays;
-}
 
 // Sub-pixel offset in [-0.5, 0.5)^2 of sample `s` of pixel (x, y).
 Eigen::Vector2d SampleOffset(uint64_t seed, int x, int y, int s, int spp, int grid, const std::vector<int>& rooks) {
@@ -468,13 +562,36 @@ void RenderOptions::Check() const {
 Renderer::Renderer(const Scene& scene) : impl_(std::make_unique<Impl>()) {
   const std::string source = scene.source.empty() ? std::string("scene") : scene.source;
   Impl& impl = *impl_;
+  impl.scene_ptr = &scene;
+  impl.source = source;
 
   impl.textures.reserve(scene.textures.size());  // MeshData points into it: no reallocation
   for (const Texture& texture : scene.textures) impl.textures.push_back(BuildMipTexture(texture, source));
 
-  impl.meshes.resize(scene.meshes.size());
-  for (size_t i = 0; i < scene.meshes.size(); ++i) {
-    const SceneMesh& mesh = scene.meshes[i];
+  impl.device = rtcNewDevice(nullptr);
+  if (impl.device == nullptr) {
+    throw std::runtime_error(source + ": cannot create an Embree device (error " +
+                             std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
+  }
+  rtcSetDeviceErrorFunction(impl.device, &EmbreeErrors::Callback, &impl.errors);
+  impl.BuildGeometry(scene.meshes);
+}
+
+void Renderer::SetMeshes(const std::vector<SceneMesh>& meshes) { impl_->BuildGeometry(meshes); }
+
+void Renderer::Impl::BuildGeometry(const std::vector<SceneMesh>& scene_meshes) {
+  const Scene& scene = *scene_ptr;
+  Impl& impl = *this;
+  if (impl.scene) {
+    rtcReleaseScene(impl.scene);
+    impl.scene = nullptr;
+  }
+  impl.meshes.clear();
+  impl.meshes.shrink_to_fit();
+  const std::string& source = impl.source;
+  impl.meshes.resize(scene_meshes.size());
+  for (size_t i = 0; i < scene_meshes.size(); ++i) {
+    const SceneMesh& mesh = scene_meshes[i];
     const std::string where = source + ": mesh " + std::to_string(i) + " '" + mesh.name + "'";
     if (mesh.indices.size() % 3 != 0) throw std::invalid_argument(where + ": index count is not a multiple of 3");
     for (uint32_t index : mesh.indices) {
@@ -535,17 +652,11 @@ Renderer::Renderer(const Scene& scene) : impl_(std::make_unique<Impl>()) {
     }
   }
 
-  impl.device = rtcNewDevice(nullptr);
-  if (impl.device == nullptr) {
-    throw std::runtime_error(source + ": cannot create an Embree device (error " +
-                             std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
-  }
-  rtcSetDeviceErrorFunction(impl.device, &EmbreeErrors::Callback, &impl.errors);
   impl.scene = rtcNewScene(impl.device);
   impl.errors.ThrowIfAny(source + ": creating the Embree scene");
 
-  for (size_t i = 0; i < scene.meshes.size(); ++i) {
-    const SceneMesh& mesh = scene.meshes[i];
+  for (size_t i = 0; i < scene_meshes.size(); ++i) {
+    const SceneMesh& mesh = scene_meshes[i];
     if (mesh.indices.empty()) continue;  // nothing to hit; geomIDs stay equal to mesh indices
     RTCGeometry geom = rtcNewGeometry(impl.device, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
@@ -608,7 +719,8 @@ RenderedView Renderer::Render(const Camera& camera, const Rigid3d& cam_from_worl
 
   tbb::task_arena arena(options.num_threads > 0 ? options.num_threads : tbb::task_arena::automatic);
   arena.execute([&] {
-    const PixelCentreRays centres = ComputePixelCentreRays(camera);
+    const std::shared_ptr<const PixelCentreRays> centres_ptr = impl.CentreRays(camera);
+    const PixelCentreRays& centres = *centres_ptr;
 
     const int tiles_x = (width + kTileSize - 1) / kTileSize;
     const int tiles_y = (height + kTileSize - 1) / kTileSize;
@@ -621,21 +733,8 @@ RenderedView Renderer::Render(const Camera& camera, const Rigid3d& cam_from_worl
           for (int x = x_begin; x < x_end; ++x) {
             const size_t idx = size_t(y) * width + x;
             if (!centres.valid[idx]) continue;  // outside the lens: black / 0 / 0 / 0
-            const Eigen::Vector3d& bearing = centres.bearings[idx];
-            const Eigen::Vector3f dir = to_world(bearing);
-
-            // Angular size of the pixel from its valid neighbours (max over the two axes).
-            float pixel_angle = 0.0f;
-            auto neighbour = [&](int nx, int ny) {
-              if (nx < 0 || ny < 0 || nx >= width || ny >= height) return;
-              const size_t n = size_t(ny) * width + nx;
-              if (centres.valid[n]) pixel_angle = std::max(pixel_angle, float((centres.bearings[n] - bearing).norm()));
-            };
-            neighbour(x + 1, y);
-            neighbour(x - 1, y);
-            neighbour(x, y + 1);
-            neighbour(x, y - 1);
-            if (pixel_angle == 0.0f) pixel_angle = float(1.0 / std::max(camera.fx(), camera.fy()));
+            const Eigen::Vector3f dir = to_world(centres.bearings[idx]);
+            const float pixel_angle = centres.angle[idx];
 
             const Hit centre = impl.Trace(origin, dir);
             if (centre.hit) {
@@ -673,7 +772,7 @@ RenderedView Renderer::Render(const Camera& camera, const Rigid3d& cam_from_worl
               num_samples = 1;
             }
             radiance *= exposure / float(num_samples);
-            for (int c = 0; c < 3; ++c) view.rgb.at(x, y, c) = EncodeSrgb8(radiance[c]);
+            for (int c = 0; c < 3; ++c) view.rgb.at(x, y, c) = EncodeSrgb8Fast(radiance[c]);
           }
         }
       }
@@ -681,6 +780,95 @@ RenderedView Renderer::Render(const Camera& camera, const Rigid3d& cam_from_worl
   });
   impl.errors.ThrowIfAny("rendering");
   return view;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+TraceOnlyStats Renderer::TraceOnlyForBenchmark(const Camera& camera, const Rigid3d& cam_from_world,
+                                               const RenderOptions& options) const {
+  options.Check();
+  const Impl& impl = *impl_;
+  const int width = camera.width(), height = camera.height();
+  const int spp = options.samples_per_pixel;
+  const Eigen::Quaterniond world_from_cam = cam_from_world.rotation.conjugate();
+  const Eigen::Vector3f origin = cam_from_world.SourceOriginInTarget().cast<float>();
+  auto to_world = [&](const Eigen::Vector3d& bearing) -> Eigen::Vector3f {
+    return (world_from_cam * bearing).cast<float>().normalized();
+  };
+  ShadeParams shade;
+  shade.sun_dir = options.sun_direction_world.normalized().cast<float>();
+  shade.sun_intensity = float(options.sun_intensity);
+  shade.sky_intensity = float(options.sky_intensity);
+  shade.shadows = options.shadows;
+  int grid = int(std::lround(std::sqrt(double(spp))));
+  if (grid * grid != spp) grid = 0;
+
+  // Rays per tile, in Render's order: the pixel centre, then its samples.
+  const int tiles_x = (width + kTileSize - 1) / kTileSize;
+  const int tiles_y = (height + kTileSize - 1) / kTileSize;
+  const int num_tiles = tiles_x * tiles_y;
+  std::vector<std::vector<Eigen::Vector3f>> primary(num_tiles), shadow(num_tiles);
+  tbb::task_arena arena(options.num_threads > 0 ? options.num_threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(0, num_tiles, [&](int tile) {
+      std::vector<int> rooks(grid > 0 ? 0 : spp);
+      const int x_begin = (tile % tiles_x) * kTileSize, y_begin = (tile / tiles_x) * kTileSize;
+      const int x_end = std::min(width, x_begin + kTileSize), y_end = std::min(height, y_begin + kTileSize);
+      auto shaded = [&](const Eigen::Vector3f& dir) {
+        const Hit h = impl.Trace(origin, dir);
+        if (!h.hit || !shade.shadows) return;
+        Eigen::Vector3f ng, n;
+        impl.SurfaceNormals(h, dir, &ng, &n);
+        if (Impl::NeedsSunRay(ng, n, shade)) shadow[tile].push_back(Impl::ShadowRayOrigin(h, origin, dir, ng));
+      };
+      for (int y = y_begin; y < y_end; ++y) {
+        for (int x = x_begin; x < x_end; ++x) {
+          const auto bearing = camera.CamFromImg(Eigen::Vector2d(x, y));
+          if (!bearing) continue;
+          const Eigen::Vector3f dir = to_world(*bearing);
+          primary[tile].push_back(dir);
+          int num_samples = 0;
+          if (spp > 1) {
+            if (grid == 0) {
+              for (int i = 0; i < spp; ++i) rooks[i] = i;
+              for (int i = spp - 1; i > 0; --i) {
+                std::swap(rooks[i], rooks[int(HashSample(options.seed, x, y, i, 2) % uint64_t(i + 1))]);
+              }
+            }
+            for (int s = 0; s < spp; ++s) {
+              const Eigen::Vector2d offset = SampleOffset(options.seed, x, y, s, spp, grid, rooks);
+              const auto sample_bearing = camera.CamFromImg(Eigen::Vector2d(x, y) + offset);
+              if (!sample_bearing) continue;
+              const Eigen::Vector3f sdir = to_world(*sample_bearing);
+              primary[tile].push_back(sdir);
+              shaded(sdir);
+              ++num_samples;
+            }
+          }
+          if (num_samples == 0) shaded(dir);
+        }
+      }
+    });
+  });
+
+  TraceOnlyStats stats;
+  for (int t = 0; t < num_tiles; ++t) {
+    stats.primary_rays += primary[t].size();
+    stats.shadow_rays += shadow[t].size();
+  }
+  std::atomic<size_t> sink{0};  // keeps the results observable so nothing is optimised away
+  const auto start = std::chrono::steady_clock::now();
+  arena.execute([&] {
+    tbb::parallel_for(0, num_tiles, [&](int tile) {
+      size_t hits = 0;
+      for (const Eigen::Vector3f& dir : primary[tile]) hits += impl.Trace(origin, dir).hit;
+      for (const Eigen::Vector3f& o : shadow[tile]) hits += impl.Occluded(o, shade.sun_dir);
+      sink += hits;
+    });
+  });
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  impl.errors.ThrowIfAny("tracing");
+  return stats;
 }
 
 }  // namespace rigsim

@@ -20,6 +20,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -62,6 +63,13 @@ struct RenderedView {
   ImageF range;      // 1 channel, metres along the ray from the camera centre; 0 = no surface
 };
 
+// What TraceOnlyForBenchmark traced and how long Embree alone took.
+struct TraceOnlyStats {
+  double seconds = 0.0;       // wall time of the Embree calls only (rays prepared beforehand)
+  size_t primary_rays = 0;    // rtcIntersect1 calls: what Render traces for the same view
+  size_t shadow_rays = 0;     // rtcOccluded1 calls: what Render casts for the same view
+};
+
 class Renderer {
  public:
   // Builds the acceleration structure and texture mip pyramids once. Throws
@@ -73,8 +81,22 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
+  // Replaces the geometry by `meshes` (same materials and textures as the scene; e.g.
+  // PoseMeshesAt of an animated scene at another time, renderer/scene_pose.h) and rebuilds the
+  // Embree scene; textures are kept. Not to be called while a Render runs. `meshes` must outlive
+  // the renderer or the next SetMeshes. Throws like the constructor.
+  void SetMeshes(const std::vector<SceneMesh>& meshes);
+
   // Renders one view. Thread-safe (const): several views may render concurrently.
   RenderedView Render(const Camera& camera, const Rigid3d& cam_from_world, const RenderOptions& options) const;
+
+  // For benchmarks only (bench/render_bench.cc): the lower bound Render is measured against.
+  // Generates exactly the rays Render would trace for this view (pixel centres, the jittered
+  // samples when samples_per_pixel > 1, and the shadow rays of the shaded samples), untimed, then
+  // times Embree alone tracing them (rtcIntersect1 / rtcOccluded1 over tiles on
+  // options.num_threads threads): no ray generation, shading, texturing or output.
+  TraceOnlyStats TraceOnlyForBenchmark(const Camera& camera, const Rigid3d& cam_from_world,
+                                       const RenderOptions& options) const;
 
  private:
   struct Impl;  // Embree handles and per-mesh data stay out of this header

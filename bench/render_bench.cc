@@ -1,0 +1,178 @@
+// Renderer speed against its lower bound: a labelled frame (RGB + label + instance + range) of
+// the built-in street at 1280x720 through the demo rig's first camera, and Embree alone tracing
+// exactly the same primary and shadow rays (Renderer::TraceOnlyForBenchmark).
+//
+// Counters: ms_per_frame, Mrays_per_s (primary + shadow rays of the frame / wall time),
+// peak_rss_MB (getrusage ru_maxrss of the whole process so far: benchmarks run in the order they
+// are registered, so the street's figure is not inflated by the 1M-triangle scene).
+// Reproduce: see BENCHMARKS.md.
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include <benchmark/benchmark.h>
+
+#include "renderer/renderer.h"
+#include "scenes/gltf_loader.h"
+#include "scenes/rig_generators.h"
+
+namespace rigsim {
+namespace {
+
+double PeakRssMb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss / 1024.0;  // kilobytes on Linux
+}
+
+struct StreetView {
+  Scene scene;
+  std::unique_ptr<Renderer> renderer;
+  Camera camera;
+  Rigid3d cam_from_world;
+};
+
+// The demo's scene and camera: MakeRingRig's cam0 at the first pose of the demo trajectory.
+StreetView& Street() {
+  static StreetView* view = [] {
+    auto* v = new StreetView;
+    v->scene = LoadGltf(std::string(RIGSIM_SOURCE_DIR) + "/assets/scenes/street.glb");
+    v->renderer = std::make_unique<Renderer>(v->scene);
+    const Rig rig = MakeRingRig(RingRigOptions{});
+    const FramesFile frames = MakeStraightTrajectory(Eigen::Vector3d(0, 1.6, 4), 0, 1, 2);
+    v->camera = rig.cameras[0].camera;
+    v->cam_from_world = *rig.cameras[0].cam_from_rig * *frames.frames[0].rig_from_world;
+    return v;
+  }();
+  return *view;
+}
+
+// A 1M-triangle heightfield (708 x 708 quads, gently rolling), seen from 2 m above at an angle.
+struct GridView {
+  Scene scene;
+  std::unique_ptr<Renderer> renderer;
+  Camera camera;
+  Rigid3d cam_from_world;
+};
+
+GridView& Grid() {
+  static GridView* view = [] {
+    auto* v = new GridView;
+    const int n = 708;  // 2 * 708^2 = 1,002,528 triangles
+    const float size = 40.0f;
+    SceneMesh mesh;
+    mesh.name = "grid";
+    mesh.class_id = 7;  // road
+    mesh.instance_id = 1;
+    mesh.positions.reserve(size_t(n + 1) * (n + 1));
+    for (int j = 0; j <= n; ++j) {
+      for (int i = 0; i <= n; ++i) {
+        const float x = size * (float(i) / n - 0.5f), z = -size * float(j) / n;
+        mesh.positions.emplace_back(x, 0.3f * std::sin(0.7f * x) * std::cos(0.5f * z), z);
+      }
+    }
+    mesh.indices.reserve(size_t(n) * n * 6);
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < n; ++i) {
+        const uint32_t a = uint32_t(j * (n + 1) + i), b = a + 1, c = a + uint32_t(n + 1), d = c + 1;
+        for (uint32_t k : {a, c, b, b, c, d}) mesh.indices.push_back(k);
+      }
+    }
+    v->scene.source = "1M-triangle grid";
+    v->scene.meshes.push_back(std::move(mesh));
+    v->renderer = std::make_unique<Renderer>(v->scene);
+    v->camera = MakeRingRig(RingRigOptions{}).cameras[0].camera;
+    v->cam_from_world = RigFromWorldAt(Eigen::Vector3d(0, 2, 1), 0);
+    return v;
+  }();
+  return *view;
+}
+
+RenderOptions Options(int spp, int threads) {
+  RenderOptions options;
+  options.samples_per_pixel = spp;
+  options.num_threads = threads;  // 0 = all cores
+  options.seed = 1;
+  return options;
+}
+
+void RenderFrames(benchmark::State& state, const Renderer& renderer, const Camera& camera, const Rigid3d& pose,
+                  const std::string& key) {
+  const RenderOptions options = Options(int(state.range(0)), int(state.range(1)));
+  const TraceOnlyStats rays = renderer.TraceOnlyForBenchmark(camera, pose, options);  // ray counts only
+  double seconds = 0;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    RenderedView view = renderer.Render(camera, pose, options);
+    benchmark::DoNotOptimize(view.rgb.data.data());
+    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  const double per_frame = seconds / double(std::max<benchmark::IterationCount>(1, state.iterations()));
+  state.counters["ms_per_frame"] = 1e3 * per_frame;
+  state.counters["Mrays_per_s"] = double(rays.primary_rays + rays.shadow_rays) * 1e-6 / per_frame;
+  state.counters["peak_rss_MB"] = PeakRssMb();
+  state.counters["primary_rays"] = double(rays.primary_rays);
+  state.counters["shadow_rays"] = double(rays.shadow_rays);
+  state.SetLabel(key);
+}
+
+void TraceOnly(benchmark::State& state, const Renderer& renderer, const Camera& camera, const Rigid3d& pose,
+               const std::string& key) {
+  const RenderOptions options = Options(int(state.range(0)), int(state.range(1)));
+  TraceOnlyStats rays;
+  double seconds = 0;
+  for (auto _ : state) {
+    rays = renderer.TraceOnlyForBenchmark(camera, pose, options);
+    state.SetIterationTime(rays.seconds);
+    seconds += rays.seconds;
+  }
+  const double per_frame = seconds / double(std::max<benchmark::IterationCount>(1, state.iterations()));
+  state.counters["ms_per_frame"] = 1e3 * per_frame;
+  state.counters["Mrays_per_s"] = double(rays.primary_rays + rays.shadow_rays) * 1e-6 / per_frame;
+  state.counters["peak_rss_MB"] = PeakRssMb();
+  state.SetLabel(key);
+}
+
+std::string Key(const char* what, const benchmark::State& state) {
+  return std::string(what) + " spp=" + std::to_string(state.range(0)) + " threads=" +
+         (state.range(1) == 0 ? std::string("all") : std::to_string(state.range(1)));
+}
+
+void BM_StreetLabelledFrame(benchmark::State& state) {
+  StreetView& v = Street();
+  RenderFrames(state, *v.renderer, v.camera, v.cam_from_world, Key("street frame", state));
+}
+
+void BM_StreetEmbreeAlone(benchmark::State& state) {
+  StreetView& v = Street();
+  TraceOnly(state, *v.renderer, v.camera, v.cam_from_world, Key("street embree", state));
+}
+
+void BM_Grid1MLabelledFrame(benchmark::State& state) {
+  GridView& v = Grid();
+  RenderFrames(state, *v.renderer, v.camera, v.cam_from_world, Key("grid1M frame", state));
+  state.counters["triangles"] = double(v.scene.NumTriangles());
+}
+
+void BM_Grid1MEmbreeAlone(benchmark::State& state) {
+  GridView& v = Grid();
+  TraceOnly(state, *v.renderer, v.camera, v.cam_from_world, Key("grid1M embree", state));
+}
+
+// Args: {samples per pixel, threads (0 = all cores)}.
+BENCHMARK(BM_StreetLabelledFrame)->Args({1, 0})->Args({4, 0})->Args({1, 1})->Args({1, 2})
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK(BM_StreetEmbreeAlone)->Args({1, 0})->Args({4, 0})->Args({1, 1})->Args({1, 2})
+    ->Unit(benchmark::kMillisecond)->UseManualTime()->MinTime(2.0);
+BENCHMARK(BM_Grid1MLabelledFrame)->Args({1, 0})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK(BM_Grid1MEmbreeAlone)->Args({1, 0})->Unit(benchmark::kMillisecond)->UseManualTime()->MinTime(2.0);
+
+}  // namespace
+}  // namespace rigsim
+
+BENCHMARK_MAIN();

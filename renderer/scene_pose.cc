@@ -1,0 +1,130 @@
+#include "renderer/scene_pose.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+
+namespace rigsim {
+namespace {
+
+struct Trs {
+  Eigen::Vector3d translation;
+  Eigen::Quaterniond rotation;
+  Eigen::Vector3d scale;
+};
+
+Eigen::Quaterniond FromXyzw(const Eigen::Vector4d& q) { return Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized(); }
+
+// The channel's value at `t` (clamped to its key range).
+Eigen::Vector4d Sample(const AnimationChannel& ch, double t) {
+  const auto& times = ch.times_s;
+  if (t <= times.front()) return ch.values.front();
+  if (t >= times.back()) return ch.values.back();
+  const size_t k = size_t(std::upper_bound(times.begin(), times.end(), t) - times.begin()) - 1;  // times[k] <= t < times[k+1]
+  if (ch.interpolation == AnimationInterpolation::kStep) return ch.values[k];
+  const double a = (t - times[k]) / (times[k + 1] - times[k]);
+  if (ch.path == AnimationPath::kRotation) {
+    const Eigen::Quaterniond q = FromXyzw(ch.values[k]).slerp(a, FromXyzw(ch.values[k + 1]));
+    return Eigen::Vector4d(q.x(), q.y(), q.z(), q.w());
+  }
+  return (1 - a) * ch.values[k] + a * ch.values[k + 1];
+}
+
+}  // namespace
+
+std::vector<Eigen::Matrix4d> NodeWorldTransformsAt(const Scene& scene, double time_s) {
+  const size_t n = scene.nodes.size();
+  std::vector<Trs> trs(n);
+  std::vector<bool> animated(n, false);
+  for (size_t i = 0; i < n; ++i) {
+    trs[i] = {scene.nodes[i].translation, FromXyzw(scene.nodes[i].rotation_xyzw), scene.nodes[i].scale};
+  }
+  for (const AnimationChannel& ch : scene.animation_channels) {
+    if (ch.node < 0 || size_t(ch.node) >= n || ch.times_s.empty() || ch.values.size() != ch.times_s.size()) {
+      throw std::invalid_argument(scene.source + ": animation channel of node " + std::to_string(ch.node) +
+                                  " is inconsistent (node out of range or keys without values)");
+    }
+    const Eigen::Vector4d v = Sample(ch, time_s);
+    animated[ch.node] = true;
+    switch (ch.path) {
+      case AnimationPath::kTranslation: trs[ch.node].translation = v.head<3>(); break;
+      case AnimationPath::kRotation: trs[ch.node].rotation = FromXyzw(v); break;
+      case AnimationPath::kScale: trs[ch.node].scale = v.head<3>(); break;
+    }
+  }
+  std::vector<Eigen::Matrix4d> world(n);
+  std::vector<int> state(n, 0);  // 0 = todo, 1 = in progress, 2 = done
+  std::function<const Eigen::Matrix4d&(size_t)> resolve = [&](size_t i) -> const Eigen::Matrix4d& {
+    if (state[i] == 2) return world[i];
+    if (state[i] == 1) throw std::invalid_argument(scene.source + ": node " + std::to_string(i) + " is its own ancestor");
+    state[i] = 1;
+    Eigen::Matrix4d local;
+    if (scene.nodes[i].has_matrix && !animated[i]) {
+      local = scene.nodes[i].matrix;
+    } else {
+      Eigen::Affine3d t = Eigen::Affine3d::Identity();
+      t.translate(trs[i].translation);
+      t.rotate(trs[i].rotation);
+      t.scale(trs[i].scale);
+      local = t.matrix();
+    }
+    const int parent = scene.nodes[i].parent;
+    world[i] = parent >= 0 && size_t(parent) < n ? Eigen::Matrix4d(resolve(size_t(parent)) * local) : local;
+    state[i] = 2;
+    return world[i];
+  };
+  for (size_t i = 0; i < n; ++i) resolve(i);
+  return world;
+}
+
+std::vector<SceneMesh> PoseMeshesAt(const Scene& scene, double time_s) {
+  std::vector<SceneMesh> meshes = scene.meshes;
+  if (!scene.IsAnimated()) return meshes;
+  const std::vector<Eigen::Matrix4d> world = NodeWorldTransformsAt(scene, time_s);
+  for (size_t m = 0; m < meshes.size(); ++m) {
+    SceneMesh& mesh = meshes[m];
+    if (mesh.node < 0) continue;
+    if (size_t(mesh.node) >= world.size() || mesh.local_positions.size() != mesh.positions.size() ||
+        (!mesh.local_normals.empty() && mesh.local_normals.size() != mesh.positions.size())) {
+      throw std::invalid_argument(scene.source + ": animated mesh " + std::to_string(m) + " '" + mesh.name +
+                                  "' has an invalid node or local vertex count");
+    }
+    const Eigen::Matrix3d linear = world[mesh.node].topLeftCorner<3, 3>();
+    const Eigen::Vector3d offset = world[mesh.node].topRightCorner<3, 1>();
+    for (size_t i = 0; i < mesh.positions.size(); ++i) {
+      mesh.positions[i] = (linear * mesh.local_positions[i].cast<double>() + offset).cast<float>();
+    }
+    if (!mesh.local_normals.empty()) {
+      const double det = linear.determinant();
+      if (std::abs(det) < 1e-300) {
+        mesh.normals.clear();  // a collapsed node: face normals (zero area) are used
+      } else {
+        const Eigen::Matrix3d normal_matrix = linear.inverse().transpose();
+        mesh.normals.resize(mesh.local_normals.size());
+        for (size_t i = 0; i < mesh.local_normals.size(); ++i) {
+          mesh.normals[i] = (normal_matrix * mesh.local_normals[i].cast<double>()).normalized().cast<float>();
+        }
+      }
+    }
+  }
+  return meshes;
+}
+
+Scene PoseSceneAt(const Scene& scene, double time_s) {
+  Scene posed;
+  posed.source = scene.source;
+  posed.meshes = PoseMeshesAt(scene, time_s);
+  posed.materials = scene.materials;
+  posed.textures = scene.textures;
+  posed.warnings = scene.warnings;
+  posed.nodes = scene.nodes;
+  posed.animation_channels = scene.animation_channels;
+  return posed;
+}
+
+}  // namespace rigsim

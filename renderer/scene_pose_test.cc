@@ -1,0 +1,206 @@
+#include "renderer/scene_pose.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include "dataset/dataset.h"
+#include "dataset/image_io.h"
+#include "renderer/render_dataset.h"
+#include "renderer/renderer.h"
+
+namespace rigsim {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A unit cube (node frame, centred on the origin) carried by node 0, which moves along x from
+// (-1, 0, 6) at t = 0 to (1, 0, 6) at t = 1 (LINEAR). World = the camera frame of an identity pose.
+Scene AnimatedBoxScene(AnimationInterpolation interpolation = AnimationInterpolation::kLinear) {
+  Scene scene;
+  scene.source = "animated box";
+  SceneNode node;
+  node.name = "carrier";
+  node.translation = Eigen::Vector3d(-1, 0, 6);
+  scene.nodes.push_back(node);
+  AnimationChannel ch;
+  ch.node = 0;
+  ch.path = AnimationPath::kTranslation;
+  ch.interpolation = interpolation;
+  ch.times_s = {0.0, 1.0};
+  ch.values = {Eigen::Vector4d(-1, 0, 6, 0), Eigen::Vector4d(1, 0, 6, 0)};
+  scene.animation_channels.push_back(ch);
+  SceneMesh box;
+  box.name = "box";
+  box.class_id = 26;  // car
+  box.instance_id = 5;
+  box.node = 0;
+  for (int c = 0; c < 8; ++c) box.local_positions.emplace_back(c & 1 ? 0.5f : -0.5f, c & 2 ? 0.5f : -0.5f, c & 4 ? 0.5f : -0.5f);
+  box.indices = {0, 1, 3, 0, 3, 2, 4, 6, 7, 4, 7, 5, 0, 4, 5, 0, 5, 1, 2, 3, 7, 2, 7, 6, 0, 2, 6, 0, 6, 4, 1, 5, 7, 1, 7, 3};
+  for (const Eigen::Vector3f& p : box.local_positions) box.positions.push_back(p + Eigen::Vector3f(-1, 0, 6));  // rest pose
+  scene.meshes.push_back(box);
+  return scene;
+}
+
+Eigen::Vector3d MeshCentre(const SceneMesh& mesh) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3f& p : mesh.positions) sum += p.cast<double>();
+  return sum / double(mesh.positions.size());
+}
+
+// Mean x of the pixels showing `instance`; -1 when none.
+double InstanceCentroidX(const ImageU16& instance, uint16_t id) {
+  double sum = 0;
+  int n = 0;
+  for (int y = 0; y < instance.height; ++y) {
+    for (int x = 0; x < instance.width; ++x) {
+      if (instance.at(x, y) == id) {
+        sum += x;
+        ++n;
+      }
+    }
+  }
+  return n > 0 ? sum / n : -1.0;
+}
+
+const Camera& TestCamera() {
+  static const Camera camera(CameraModelId::kPinhole, 160, 120, {100, 100, 79.5, 59.5});
+  return camera;
+}
+
+TEST(ScenePoseTest, LinearAndStepTranslation) {
+  const Scene linear = AnimatedBoxScene();
+  EXPECT_TRUE(MeshCentre(PoseMeshesAt(linear, 0.0)[0]).isApprox(Eigen::Vector3d(-1, 0, 6), 1e-6));
+  EXPECT_TRUE(MeshCentre(PoseMeshesAt(linear, 0.25)[0]).isApprox(Eigen::Vector3d(-0.5, 0, 6), 1e-6));
+  EXPECT_TRUE(MeshCentre(PoseMeshesAt(linear, 7.0)[0]).isApprox(Eigen::Vector3d(1, 0, 6), 1e-6));   // clamped
+  EXPECT_TRUE(MeshCentre(PoseMeshesAt(linear, -3.0)[0]).isApprox(Eigen::Vector3d(-1, 0, 6), 1e-6));  // clamped
+  const Scene step = AnimatedBoxScene(AnimationInterpolation::kStep);
+  EXPECT_TRUE(MeshCentre(PoseMeshesAt(step, 0.99)[0]).isApprox(Eigen::Vector3d(-1, 0, 6), 1e-6));
+  EXPECT_TRUE(MeshCentre(PoseMeshesAt(step, 1.0)[0]).isApprox(Eigen::Vector3d(1, 0, 6), 1e-6));
+  // PoseSceneAt is the same meshes in a whole scene.
+  const Scene posed = PoseSceneAt(linear, 0.5);
+  EXPECT_TRUE(MeshCentre(posed.meshes[0]).isApprox(Eigen::Vector3d(0, 0, 6), 1e-6));
+}
+
+TEST(ScenePoseTest, RotationSlerpsAndChildrenFollowTheirParent) {
+  Scene scene = AnimatedBoxScene();
+  scene.animation_channels.clear();
+  SceneNode child;
+  child.parent = 0;
+  child.translation = Eigen::Vector3d(0, 0, 2);
+  scene.nodes.push_back(child);
+  scene.meshes[0].node = 1;
+  AnimationChannel turn;
+  turn.node = 0;
+  turn.path = AnimationPath::kRotation;
+  turn.times_s = {0.0, 2.0};
+  const Eigen::Quaterniond q90(Eigen::AngleAxisd(kPi / 2, Eigen::Vector3d::UnitY()));
+  turn.values = {Eigen::Vector4d(0, 0, 0, 1), Eigen::Vector4d(q90.x(), q90.y(), q90.z(), q90.w())};
+  scene.animation_channels.push_back(turn);
+  // At t = 1 the parent has turned 45 degrees about y: the child's offset (0, 0, 2) turns with it.
+  const std::vector<Eigen::Matrix4d> world = NodeWorldTransformsAt(scene, 1.0);
+  const Eigen::Vector3d expected = Eigen::Vector3d(-1, 0, 6) + Eigen::AngleAxisd(kPi / 4, Eigen::Vector3d::UnitY()) * Eigen::Vector3d(0, 0, 2);
+  const Eigen::Vector3d world_child = world[1].topRightCorner<3, 1>();
+  EXPECT_TRUE(world_child.isApprox(expected, 1e-9));
+  EXPECT_TRUE(MeshCentre(PoseMeshesAt(scene, 1.0)[0]).isApprox(expected, 1e-6));
+}
+
+TEST(ScenePoseTest, StaticScenesAreCopiedUnchanged) {
+  Scene scene = AnimatedBoxScene();
+  scene.animation_channels.clear();
+  scene.meshes[0].node = -1;
+  EXPECT_FALSE(scene.IsAnimated());
+  EXPECT_EQ(PoseMeshesAt(scene, 3.0)[0].positions, scene.meshes[0].positions);
+}
+
+TEST(ScenePoseTest, MovingBoxRendersWhereItIsAtEachTime) {
+  const Scene scene = AnimatedBoxScene();
+  Renderer renderer(scene);
+  const Camera& camera = TestCamera();
+  for (double t : {0.0, 1.0}) {
+    const std::vector<SceneMesh> posed = PoseMeshesAt(scene, t);
+    renderer.SetMeshes(posed);
+    const RenderedView view = renderer.Render(camera, Rigid3d(), RenderOptions());
+    const double x_centre = t == 0.0 ? -1.0 : 1.0;
+    // The box's image is nearly symmetric about the projection of its centre (front face nearer).
+    const double expected = camera.ImgFromCam(Eigen::Vector3d(x_centre, 0, 6))->x();
+    EXPECT_NEAR(InstanceCentroidX(view.instance, 5), expected, 1.5) << "t = " << t;
+  }
+}
+
+std::filesystem::path TempDir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / "rigsim_scene_pose_test" / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir.parent_path());
+  return dir;
+}
+
+RenderJob TwoCameraJob(const Scene& scene, double offset_b) {
+  RenderJob job;
+  job.scene = &scene;
+  job.scene_name = "animated box";
+  job.rig.cameras.push_back({"early", TestCamera(), Rigid3d(), 0.0});
+  job.rig.cameras.push_back({"late", TestCamera(), Rigid3d(), offset_b});
+  Frame f0{"000000", Rigid3d(), 0.25};
+  Frame f1{"000001", Rigid3d(), 0.5};
+  job.frames.frames = {f0, f1};
+  job.options.samples_per_pixel = 4;
+  job.options.seed = 3;
+  return job;
+}
+
+std::string FileBytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+TEST(ScenePoseTest, UnsynchronisedCamerasSeeTheBoxInDifferentPlaces) {
+  const Scene scene = AnimatedBoxScene();
+  const auto dir = TempDir("unsynchronised");
+  RenderDataset(TwoCameraJob(scene, 0.5), dir, true);
+  const DatasetLayout layout(dir);
+  // Frame 0 at 0.25 s: "early" sees the box at x = -0.5, "late" (0.75 s) at x = +0.5.
+  const double early = InstanceCentroidX(ReadImageU16(layout.Instance("early", "000000")), 5);
+  const double late = InstanceCentroidX(ReadImageU16(layout.Instance("late", "000000")), 5);
+  EXPECT_NEAR(early, TestCamera().ImgFromCam(Eigen::Vector3d(-0.5, 0, 6))->x(), 1.5);
+  EXPECT_NEAR(late, TestCamera().ImgFromCam(Eigen::Vector3d(0.5, 0, 6))->x(), 1.5);
+  // Frame 1 at 0.5 s: "early" sees it at x = 0, "late" (1.0 s) at x = 1.
+  EXPECT_NEAR(InstanceCentroidX(ReadImageU16(layout.Instance("early", "000001")), 5),
+              TestCamera().ImgFromCam(Eigen::Vector3d(0, 0, 6))->x(), 1.5);
+  EXPECT_NEAR(InstanceCentroidX(ReadImageU16(layout.Instance("late", "000001")), 5),
+              TestCamera().ImgFromCam(Eigen::Vector3d(1, 0, 6))->x(), 1.5);
+  // Synchronised cameras with the same pose see the same image.
+  const auto sync_dir = TempDir("synchronised");
+  RenderDataset(TwoCameraJob(scene, 0.0), sync_dir, true);
+  const DatasetLayout sync(sync_dir);
+  EXPECT_EQ(FileBytes(sync.Image("early", "000000")), FileBytes(sync.Image("late", "000000")));
+}
+
+TEST(ScenePoseTest, AnimatedDatasetIsByteIdenticalWithOneAndTwoThreads) {
+  const Scene scene = AnimatedBoxScene();
+  RenderJob job = TwoCameraJob(scene, 0.3);
+  job.options.num_threads = 1;
+  const auto one = TempDir("threads1");
+  RenderDataset(job, one, true);
+  job.options.num_threads = 2;
+  const auto two = TempDir("threads2");
+  RenderDataset(job, two, true);
+  const DatasetLayout a(one), b(two);
+  for (const std::string cam : {"early", "late"}) {
+    for (const std::string frame : {"000000", "000001"}) {
+      EXPECT_EQ(FileBytes(a.Image(cam, frame)), FileBytes(b.Image(cam, frame))) << cam << " " << frame;
+      EXPECT_EQ(FileBytes(a.Label(cam, frame)), FileBytes(b.Label(cam, frame))) << cam << " " << frame;
+      EXPECT_EQ(FileBytes(a.Instance(cam, frame)), FileBytes(b.Instance(cam, frame))) << cam << " " << frame;
+      EXPECT_EQ(FileBytes(a.Depth(cam, frame)), FileBytes(b.Depth(cam, frame))) << cam << " " << frame;
+    }
+  }
+  EXPECT_EQ(FileBytes(a.OverlapJson()), FileBytes(b.OverlapJson()));
+}
+
+}  // namespace
+}  // namespace rigsim
