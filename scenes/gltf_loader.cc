@@ -5,6 +5,7 @@
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <set>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -16,6 +17,7 @@
 #include <tiny_gltf.h>
 
 #include "labels/cityscapes.h"
+#include "scenes/label_rules.h"
 
 namespace rigsim {
 namespace {
@@ -130,6 +132,7 @@ class Loader {
     ReportFileLevelUnsupported();
     ParseClasses();
     ConvertMaterials();
+    ParseAnimations();
     Traverse();
     Summarise();
     return std::move(scene_);
@@ -180,7 +183,6 @@ class Loader {
     for (const std::string& ext : model_.extensionsUsed) {
       if (!SupportedExtension(ext)) Warn("extension " + ext + " is not supported; its data is ignored");
     }
-    if (!model_.animations.empty()) Warn(std::to_string(model_.animations.size()) + " animation(s) ignored (static scene at rest pose)");
     if (!model_.skins.empty()) Warn(std::to_string(model_.skins.size()) + " skin(s) ignored (skinned meshes loaded in bind pose)");
     if (!model_.cameras.empty()) Warn(std::to_string(model_.cameras.size()) + " camera(s) ignored (cameras come from the rig)");
   }
@@ -315,6 +317,23 @@ class Loader {
     if (a.count > options_.max_accessor_count) {
       Fail(label + ": count " + std::to_string(a.count) + " exceeds the limit " + std::to_string(options_.max_accessor_count));
     }
+    // Bounds on what a small file can make us allocate. (1) An accessor without a bufferView is
+    // zeros (plus sparse values) and costs no file bytes: its count may not exceed the bytes of all
+    // buffers, which any genuine accessor of that count needs elsewhere. (2) Meshes instanced by
+    // many nodes are decoded once per node: the sum over the whole load has the per-accessor limit.
+    if (a.bufferView < 0) {
+      size_t buffer_bytes = 0;
+      for (const tinygltf::Buffer& b : model_.buffers) buffer_bytes += b.data.size();
+      if (a.count > buffer_bytes + 4096) {
+        Fail(label + ": has no bufferView and declares " + std::to_string(a.count) +
+             " elements, more than the file's buffers hold (" + std::to_string(buffer_bytes) + " bytes)");
+      }
+    }
+    decoded_elements_ += a.count;
+    if (decoded_elements_ > options_.max_accessor_count) {
+      Fail(label + ": the scene decodes more than " + std::to_string(options_.max_accessor_count) +
+           " accessor elements in total (meshes instanced by many nodes?)");
+    }
     const size_t elem = size_t(ncomp) * csize;
     std::vector<double> out;
     if (a.bufferView >= 0) {
@@ -406,11 +425,90 @@ class Loader {
     return model_.scenes[scene].nodes;
   }
 
+  // Node animations: the node tree (rest transforms, parents) and every translation, rotation and
+  // scale channel. Morph-target weights are not supported (warned); CUBICSPLINE keys are sampled
+  // at their values and interpolated linearly (warned).
+  void ParseAnimations() {
+    if (model_.animations.empty()) return;
+    for (size_t a = 0; a < model_.animations.size(); ++a) {
+      const tinygltf::Animation& anim = model_.animations[a];
+      const std::string aname = "animation " + std::to_string(a) + (anim.name.empty() ? "" : " " + Quote(anim.name));
+      for (size_t c = 0; c < anim.channels.size(); ++c) {
+        const tinygltf::AnimationChannel& ch = anim.channels[c];
+        const std::string where = aname + " channel " + std::to_string(c);
+        if (ch.target_node < 0) continue;  // glTF: no target node means the channel is ignored
+        if (size_t(ch.target_node) >= model_.nodes.size()) Fail(where + ": target node " + std::to_string(ch.target_node) + " out of range");
+        AnimationChannel out;
+        out.node = ch.target_node;
+        int ncomp = 3;
+        if (ch.target_path == "translation") {
+          out.path = AnimationPath::kTranslation;
+        } else if (ch.target_path == "rotation") {
+          out.path = AnimationPath::kRotation;
+          ncomp = 4;
+        } else if (ch.target_path == "scale") {
+          out.path = AnimationPath::kScale;
+        } else {
+          Ignore("animation path " + ch.target_path);
+          continue;
+        }
+        if (ch.sampler < 0 || size_t(ch.sampler) >= anim.samplers.size()) Fail(where + ": sampler " + std::to_string(ch.sampler) + " out of range");
+        const tinygltf::AnimationSampler& sampler = anim.samplers[ch.sampler];
+        bool cubic = false;
+        if (sampler.interpolation == "STEP") {
+          out.interpolation = AnimationInterpolation::kStep;
+        } else if (sampler.interpolation == "CUBICSPLINE") {
+          cubic = true;
+          Warn(where + ": CUBICSPLINE interpolation is rendered as LINEAR between the keys");
+        }
+        size_t nkeys = 0, nvalues = 0;
+        const std::vector<double> times = ReadAccessor(sampler.input, TINYGLTF_TYPE_SCALAR, where + " input", &nkeys);
+        const std::vector<double> values =
+            ReadAccessor(sampler.output, ncomp == 4 ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3, where + " output", &nvalues);
+        if (nkeys == 0) Fail(where + ": no keyframes");
+        if (nvalues != (cubic ? 3 * nkeys : nkeys)) {
+          Fail(where + ": " + std::to_string(nvalues) + " output values for " + std::to_string(nkeys) + " keyframes");
+        }
+        for (size_t k = 0; k < nkeys; ++k) {
+          if (!std::isfinite(times[k]) || (k > 0 && !(times[k] > times[k - 1]))) {
+            Fail(where + ": keyframe times must be finite and strictly increasing (key " + std::to_string(k) + ")");
+          }
+          const size_t v = cubic ? 3 * k + 1 : k;  // cubic: (in-tangent, value, out-tangent)
+          Eigen::Vector4d value(values[ncomp * v], values[ncomp * v + 1], values[ncomp * v + 2], ncomp == 4 ? values[ncomp * v + 3] : 0.0);
+          if (!value.allFinite()) Fail(where + ": keyframe value " + std::to_string(k) + " is not finite");
+          out.times_s.push_back(times[k]);
+          out.values.push_back(value);
+        }
+        animated_nodes_.insert(out.node);
+        scene_.animation_channels.push_back(std::move(out));
+      }
+    }
+    if (scene_.animation_channels.empty()) return;
+    scene_.nodes.resize(model_.nodes.size());
+    for (size_t i = 0; i < model_.nodes.size(); ++i) {
+      const tinygltf::Node& n = model_.nodes[i];
+      SceneNode& out = scene_.nodes[i];
+      out.name = n.name;
+      if (n.matrix.size() == 16) {
+        out.has_matrix = true;
+        out.matrix = LocalTransform(n);
+        if (animated_nodes_.count(int(i))) Warn("node " + std::to_string(i) + " has a matrix and an animation; glTF forbids this, the animation wins");
+      }
+      if (n.translation.size() == 3) out.translation = Eigen::Vector3d(n.translation[0], n.translation[1], n.translation[2]);
+      if (n.rotation.size() == 4) out.rotation_xyzw = Eigen::Vector4d(n.rotation[0], n.rotation[1], n.rotation[2], n.rotation[3]);
+      if (n.scale.size() == 3) out.scale = Eigen::Vector3d(n.scale[0], n.scale[1], n.scale[2]);
+      for (int c : n.children) {
+        if (c >= 0 && size_t(c) < model_.nodes.size()) scene_.nodes[c].parent = int(i);
+      }
+    }
+  }
+
   void Traverse() {
     struct Item {
       int node;
       Eigen::Matrix4d parent_from_world;  // the parent's world transform (world_from_parent)
       ClassTag inherited;
+      bool animated = false;  // an ancestor is animated
     };
     std::vector<bool> visited(model_.nodes.size(), false);
     std::vector<Item> stack;
@@ -431,8 +529,10 @@ class Loader {
       if (node.skin >= 0) Ignore("node skin bindings");
       if (node.camera >= 0) Ignore("camera nodes");
       for (const auto& [name, value] : node.extensions) Ignore("node extension " + name);
+      const bool animated = item.animated || animated_nodes_.count(item.node) > 0;
+      current_mesh_animated_ = animated;
       if (node.mesh >= 0) AddMeshInstance(item.node, world, cls);
-      for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) stack.push_back({*c, world, cls});
+      for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) stack.push_back({*c, world, cls, animated});
     }
     size_t unreached_meshes = 0;
     for (size_t i = 0; i < model_.nodes.size(); ++i) {
@@ -458,6 +558,25 @@ class Loader {
     for (size_t p = 0; p < mesh.primitives.size(); ++p) {
       AddPrimitive(node_index, node.mesh, int(p), world, mesh_cls, instance);
     }
+  }
+
+  // The class the label rules give a primitive (node names: the node, then its ancestors).
+  ClassTag ClassFromLabelRules(int node_index, int mesh_index, int material_index) {
+    if (rule_parent_.empty()) {
+      rule_parent_.assign(model_.nodes.size(), -1);
+      for (size_t i = 0; i < model_.nodes.size(); ++i) {
+        for (int c : model_.nodes[i].children) {
+          if (c >= 0 && size_t(c) < rule_parent_.size()) rule_parent_[c] = int(i);
+        }
+      }
+    }
+    LabelRules::Names names;
+    for (int n = node_index, depth = 0; n >= 0 && depth <= int(model_.nodes.size()); n = rule_parent_[n], ++depth) {
+      names.node_path.push_back(model_.nodes[n].name);
+    }
+    names.mesh = model_.meshes[mesh_index].name;
+    if (material_index >= 0) names.material = model_.materials[material_index].name;
+    return options_.label_rules->Classify(names);
   }
 
   void AddPrimitive(int node_index, int mesh_index, int prim_index, const Eigen::Matrix4d& world, ClassTag cls, uint16_t instance) {
@@ -488,6 +607,7 @@ class Loader {
       out.material = prim.material;
       if (material_class_[prim.material]) cls = material_class_[prim.material];
     }
+    if (!cls && options_.label_rules) cls = ClassFromLabelRules(node_index, mesh_index, prim.material);
     if (cls) {
       out.class_id = *cls;
     } else {
@@ -529,6 +649,18 @@ class Loader {
           Warn(where + ": zero or non-finite normals; normals dropped (face normals used)");
           out.normals.clear();
         }
+      }
+    }
+    if (current_mesh_animated_) {
+      // PoseSceneAt re-poses this mesh from its node-frame vertices.
+      out.node = node_index;
+      out.local_positions.resize(nverts);
+      for (size_t i = 0; i < nverts; ++i) out.local_positions[i] = Eigen::Vector3d(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]).cast<float>();
+      if (!out.normals.empty()) {
+        size_t n = 0;
+        const std::vector<double> nrm = ReadAccessor(prim.attributes.at("NORMAL"), TINYGLTF_TYPE_VEC3, where + " NORMAL", &n);
+        out.local_normals.resize(n);
+        for (size_t i = 0; i < n; ++i) out.local_normals[i] = Eigen::Vector3d(nrm[3 * i], nrm[3 * i + 1], nrm[3 * i + 2]).normalized().cast<float>();
       }
     }
     if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) {
@@ -601,7 +733,8 @@ class Loader {
     for (const auto& [what, count] : ignored_) Warn("not supported, ignored: " + what + " (" + std::to_string(count) + "x)");
     if (unlabeled_triangles_ > 0) {
       Warn(std::to_string(unlabeled_triangles_) + " triangles in " + std::to_string(unlabeled_meshes_) +
-           " primitive(s) have no class (extras.class on node, mesh or material) and are unlabeled");
+           " primitive(s) have no class (extras.class on node, mesh or material" +
+           std::string(options_.label_rules ? ", or a label rule" : "") + ") and are unlabeled");
     }
   }
 
@@ -611,11 +744,15 @@ class Loader {
   Scene scene_;
   std::vector<ClassTag> node_class_, mesh_class_, material_class_;
   std::map<int, int> texture_map_;  // glTF texture -> Scene::textures index
+  std::set<int> animated_nodes_;    // nodes targeted by an animation channel
+  bool current_mesh_animated_ = false;  // the node being traversed moves with an animation
   std::map<std::string, size_t> ignored_;
   uint32_t next_instance_ = 1;
   bool instance_overflow_warned_ = false;
   size_t unlabeled_triangles_ = 0;
   size_t unlabeled_meshes_ = 0;
+  size_t decoded_elements_ = 0;  // accessor elements read so far (ReadAccessor's total bound)
+  std::vector<int> rule_parent_;  // parent node of each node, for label rules (built on first use)
 };
 
 }  // namespace

@@ -7,10 +7,17 @@
 //    precision and applied to the vertices, so Scene meshes need no further transform.
 //  - Semantics come from `extras: {"class": "<cityscapes name>"}` on a node (inherited by its
 //    subtree), a mesh (overrides the node) or a material (overrides both). Names are Cityscapes
-//    class names (labels/cityscapes.h); geometry without a class is unlabeled (id 0).
+//    class names (labels/cityscapes.h). Primitives without one are classified by the optional
+//    label rules (scenes/label_rules.h); geometry still without a class is unlabeled (id 0) and one
+//    warning counts it.
 //  - Each node carrying a mesh is one instance; ids 1, 2, ... in depth-first traversal order.
-//  - Everything the loader cannot represent (skins, morph targets, cameras, animations,
-//    extensions, extra attributes and textures, points/lines) is named in Scene::warnings.
+//  - Node animations (translation, rotation, scale; LINEAR and STEP, CUBICSPLINE as LINEAR with a
+//    warning) are kept in Scene::nodes / Scene::animation_channels, and meshes under an animated
+//    node keep their node-frame vertices, so renderer/scene_pose.h can re-pose them at any time.
+//    Meshes are flattened at the rest pose (the nodes' own transforms).
+//  - Everything the loader cannot represent (skins, morph targets, cameras, morph-weight
+//    animations, extensions, extra attributes and textures, points/lines) is named in
+//    Scene::warnings.
 //  - Malformed input (truncated file, out-of-range accessor, non-finite position, cyclic node graph)
 //    throws std::runtime_error whose message starts with the file name.
 #pragma once
@@ -22,14 +29,20 @@
 
 namespace rigsim {
 
+class LabelRules;  // scenes/label_rules.h
+
 struct GltfLoadOptions {
   // Index of the glTF scene to flatten; -1 = the file's `scene` (scene 0 when the file sets none).
   int scene = -1;
-  // Upper bound on any accessor's element count. Checked before allocating, so that a corrupt or
-  // hostile count fails with a message instead of exhausting memory.
+  // Upper bound on any accessor's element count, and on the sum over every accessor read (a mesh
+  // instanced by N nodes counts N times). Checked before allocating, so that a corrupt or hostile
+  // count fails with a message instead of exhausting memory.
   size_t max_accessor_count = size_t(1) << 26;
   // Throw on the first warning instead of collecting it (for pipelines that must not lose data).
   bool warnings_are_errors = false;
+  // Classes by node, mesh and material names (scenes/label_rules.h) for primitives that get no
+  // class from extras; nullptr = none. Must outlive the call.
+  const LabelRules* label_rules = nullptr;
 };
 
 // Loads `path` (.gltf or .glb, chosen by the file's magic bytes). Throws std::runtime_error

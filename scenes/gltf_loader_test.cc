@@ -463,5 +463,76 @@ TEST(GltfLoader, NonFiniteVertexThrows) {
   ExpectThrowsWith(g.Write(dir, "nan"), "vertex 1 is not finite");
 }
 
+TEST(GltfLoader, NodeAnimationsAreKeptForPosing) {
+  const auto dir = TempDir();
+  TestGltf g;
+  const int pos = g.Positions(kQuad);
+  const int idx = g.Accessor(std::vector<uint16_t>{0, 1, 2, 0, 2, 3}, kUShort, "SCALAR", 6);
+  g.Mesh({{"POSITION", pos}}, idx);
+  // Parent (animated, translation) -> child with the mesh; a static mesh node beside them.
+  g.Node({{"name", "parent"}, {"children", {1}}, {"translation", {0, 0, -5}}});
+  g.Node({{"name", "child"}, {"mesh", 0}, {"translation", {1, 0, 0}}});
+  g.Node({{"name", "static"}, {"mesh", 0}});
+  g.Scene({0, 2});
+  const int times = g.Accessor(std::vector<float>{0, 1, 2}, kFloat, "SCALAR", 3);
+  const int moves = g.Accessor(std::vector<float>{0, 0, -5, 2, 0, -5, 2, 1, -5}, kFloat, "VEC3", 3);
+  const int turns = g.Accessor(std::vector<float>{0, 0, 0, 1, 0, 0.7071068f, 0, 0.7071068f}, kFloat, "VEC4", 2);
+  const int two = g.Accessor(std::vector<float>{0, 1}, kFloat, "SCALAR", 2);
+  g.doc["animations"] = json::array({{{"name", "drive"},
+                                      {"samplers", {{{"input", times}, {"output", moves}, {"interpolation", "LINEAR"}},
+                                                    {{"input", two}, {"output", turns}, {"interpolation", "STEP"}}}},
+                                      {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}},
+                                                    {{"sampler", 1}, {"target", {{"node", 1}, {"path", "rotation"}}}}}}}});
+  const Scene s = LoadGltf(g.Write(dir, "animated"));
+  ASSERT_TRUE(s.IsAnimated());
+  ASSERT_EQ(s.animation_channels.size(), 2u);
+  ASSERT_EQ(s.nodes.size(), 3u);
+  EXPECT_EQ(s.nodes[1].parent, 0);
+  EXPECT_EQ(s.nodes[0].parent, -1);
+  EXPECT_TRUE(s.nodes[0].translation.isApprox(Eigen::Vector3d(0, 0, -5)));
+  const AnimationChannel& move = s.animation_channels[0];
+  EXPECT_EQ(move.node, 0);
+  EXPECT_EQ(move.path, AnimationPath::kTranslation);
+  EXPECT_EQ(move.interpolation, AnimationInterpolation::kLinear);
+  ASSERT_EQ(move.times_s.size(), 3u);
+  EXPECT_DOUBLE_EQ(move.times_s[2], 2.0);
+  EXPECT_TRUE(move.values[1].head<3>().isApprox(Eigen::Vector3d(2, 0, -5)));
+  EXPECT_EQ(s.animation_channels[1].path, AnimationPath::kRotation);
+  EXPECT_EQ(s.animation_channels[1].interpolation, AnimationInterpolation::kStep);
+  EXPECT_NEAR(s.animation_channels[1].values[1][3], 0.7071068, 1e-6);  // (x, y, z, w)
+  // The animated mesh keeps its node and node-frame vertices; positions are at the rest pose.
+  ASSERT_EQ(s.meshes.size(), 2u);
+  EXPECT_EQ(s.meshes[0].node, 1);
+  ASSERT_EQ(s.meshes[0].local_positions.size(), 4u);
+  EXPECT_TRUE(s.meshes[0].local_positions[1].isApprox(Eigen::Vector3f(1, 0, 0)));
+  EXPECT_TRUE(s.meshes[0].positions[1].isApprox(Eigen::Vector3f(2, 0, -5)));
+  EXPECT_EQ(s.meshes[1].node, -1);
+  EXPECT_TRUE(s.meshes[1].local_positions.empty());
+  EXPECT_FALSE(HasWarning(s, "animation"));
+}
+
+TEST(GltfLoader, BadAnimationsThrowOrWarn) {
+  const auto dir = TempDir();
+  TestGltf g;
+  g.Mesh({{"POSITION", g.Positions(kQuad)}});
+  g.Node({{"mesh", 0}});
+  g.Scene({0});
+  const int times = g.Accessor(std::vector<float>{0, 1}, kFloat, "SCALAR", 2);
+  const int moves = g.Accessor(std::vector<float>{0, 0, 0, 1, 0, 0}, kFloat, "VEC3", 2);
+  const int cubic = g.Accessor(std::vector<float>(18, 0.0f), kFloat, "VEC3", 6);
+  g.doc["animations"] = json::array({{{"samplers", {{{"input", times}, {"output", cubic}, {"interpolation", "CUBICSPLINE"}}}},
+                                      {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}}}}}});
+  const Scene s = LoadGltf(g.Write(dir, "cubic"));
+  EXPECT_EQ(s.animation_channels.size(), 1u);
+  EXPECT_TRUE(HasWarning(s, "CUBICSPLINE"));
+  // Keys out of order.
+  const int backwards = g.Accessor(std::vector<float>{1, 0}, kFloat, "SCALAR", 2);
+  g.doc["animations"][0]["samplers"][0] = {{"input", backwards}, {"output", moves}};
+  ExpectThrowsWith(g.Write(dir, "backwards"), "strictly increasing");
+  // Output count mismatch.
+  g.doc["animations"][0]["samplers"][0] = {{"input", times}, {"output", cubic}};
+  ExpectThrowsWith(g.Write(dir, "count"), "output values for 2 keyframes");
+}
+
 }  // namespace
 }  // namespace rigsim

@@ -46,6 +46,36 @@ struct SceneMesh {
   std::vector<Eigen::Vector3f> normals;    // world, unit; empty = use the face normal
   std::vector<Eigen::Vector2f> texcoords;  // TEXCOORD_0; empty = none
   std::vector<uint32_t> indices;           // 3 per triangle, into positions
+  // Animated meshes only (a node on the path from the root to this mesh is animated): the glTF
+  // node carrying the mesh (index into Scene::nodes) and the vertices in that node's frame, from
+  // which PoseSceneAt (renderer/scene_pose.h) recomputes `positions` and `normals` at any time.
+  int node = -1;
+  std::vector<Eigen::Vector3f> local_positions;
+  std::vector<Eigen::Vector3f> local_normals;
+};
+
+// A glTF node's rest transform and parent; filled by the loader only for animated scenes.
+struct SceneNode {
+  std::string name;
+  int parent = -1;                      // index into Scene::nodes; -1 = root
+  bool has_matrix = false;              // node.matrix given (glTF: such nodes are not animated)
+  Eigen::Matrix4d matrix = Eigen::Matrix4d::Identity();
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  Eigen::Vector4d rotation_xyzw = Eigen::Vector4d(0, 0, 0, 1);  // glTF order (x, y, z, w)
+  Eigen::Vector3d scale = Eigen::Vector3d::Ones();
+};
+
+enum class AnimationPath { kTranslation, kRotation, kScale };
+enum class AnimationInterpolation { kLinear, kStep };  // CUBICSPLINE is loaded as LINEAR (warned)
+
+// One glTF animation channel with its sampler: keyframes of one property of one node. Before the
+// first key the first value holds, after the last the last (glTF clamps).
+struct AnimationChannel {
+  int node = -1;                       // index into Scene::nodes
+  AnimationPath path = AnimationPath::kTranslation;
+  AnimationInterpolation interpolation = AnimationInterpolation::kLinear;
+  std::vector<double> times_s;         // increasing
+  std::vector<Eigen::Vector4d> values; // translation / scale in xyz; rotation quaternion (x, y, z, w)
 };
 
 struct Scene {
@@ -54,6 +84,11 @@ struct Scene {
   std::vector<Material> materials;
   std::vector<Texture> textures;
   std::vector<std::string> warnings;  // everything the loader skipped or guessed, human readable
+  // Node animation (empty for a static scene): the node tree and the channels that move it.
+  std::vector<SceneNode> nodes;
+  std::vector<AnimationChannel> animation_channels;
+
+  bool IsAnimated() const { return !animation_channels.empty(); }
 
   size_t NumTriangles() const {
     size_t n = 0;

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -79,6 +80,25 @@ int SceneBuilder::AddMaterial(const std::string& name, const Eigen::Vector4f& ba
   return int(materials_.size()) - 1;
 }
 
+void SceneBuilder::SetAlphaMask(int material, float cutoff) {
+  if (material < 0 || material >= int(materials_.size())) throw std::invalid_argument("SceneBuilder::SetAlphaMask: material index out of range");
+  if (!(cutoff >= 0.f && cutoff <= 1.f)) throw std::invalid_argument("SceneBuilder::SetAlphaMask: cutoff must be in [0, 1]");
+  materials_[material].alpha_cutoff = cutoff;
+}
+
+void SceneBuilder::AddTranslationAnimation(int node, std::vector<float> times_s, std::vector<Eigen::Vector3f> translations) {
+  const std::string who = "SceneBuilder::AddTranslationAnimation: ";
+  if (node < 0 || node >= int(nodes_.size())) throw std::invalid_argument(who + "node index out of range");
+  if (times_s.empty() || times_s.size() != translations.size()) throw std::invalid_argument(who + "needs as many times as translations");
+  for (size_t k = 1; k < times_s.size(); ++k) {
+    if (!(times_s[k] > times_s[k - 1])) throw std::invalid_argument(who + "times must increase strictly");
+  }
+  for (const AnimationData& a : animations_) {
+    if (a.node == node) throw std::invalid_argument(who + "node already animated");
+  }
+  animations_.push_back({node, std::move(times_s), std::move(translations)});
+}
+
 int SceneBuilder::AddNode(const std::string& name, const std::string& class_name, MeshData mesh, int material,
                           const Eigen::Matrix4d& world_from_node) {
   std::vector<MeshPart> parts;
@@ -128,6 +148,10 @@ std::vector<uint8_t> SceneBuilder::ToGlb() const {
     if (m.texture >= 0) pbr["baseColorTexture"] = {{"index", m.texture}};
     json jm = {{"name", m.name}, {"pbrMetallicRoughness", pbr}};
     if (m.double_sided) jm["doubleSided"] = true;
+    if (m.alpha_cutoff >= 0.f) {
+      jm["alphaMode"] = "MASK";
+      jm["alphaCutoff"] = m.alpha_cutoff;
+    }
     materials.push_back(jm);
   }
   json scene_nodes = json::array();
@@ -172,7 +196,14 @@ std::vector<uint8_t> SceneBuilder::ToGlb() const {
     meshes.push_back({{"name", nd.name}, {"primitives", prims}});
     json node = {{"name", nd.name}, {"mesh", i}};
     if (!nd.class_name.empty()) node["extras"] = {{"class", nd.class_name}};
-    if (!nd.world_from_node.isIdentity(0.0)) {
+    bool animated = false;
+    for (const AnimationData& a : animations_) animated = animated || a.node == int(i);
+    if (animated) {  // glTF: animated nodes carry TRS, never a matrix (rigid placements only)
+      const Eigen::Matrix3d r = nd.world_from_node.topLeftCorner<3, 3>();
+      const Eigen::Quaterniond q(r);
+      node["rotation"] = {q.x(), q.y(), q.z(), q.w()};
+      node["translation"] = {nd.world_from_node(0, 3), nd.world_from_node(1, 3), nd.world_from_node(2, 3)};
+    } else if (!nd.world_from_node.isIdentity(0.0)) {
       json matrix = json::array();
       for (int c = 0; c < 4; ++c) {
         for (int r = 0; r < 4; ++r) matrix.push_back(nd.world_from_node(r, c));  // glTF: column-major
@@ -181,6 +212,18 @@ std::vector<uint8_t> SceneBuilder::ToGlb() const {
     }
     nodes.push_back(node);
     scene_nodes.push_back(i);
+  }
+  json animation_channels = json::array(), animation_samplers = json::array();
+  for (const AnimationData& a : animations_) {
+    const float t0 = a.times.front(), t1 = a.times.back();
+    int view = AddView(&bin, &views, a.times.data(), a.times.size() * sizeof(float), 0);
+    accessors.push_back({{"bufferView", view}, {"componentType", kFloat}, {"count", a.times.size()}, {"type", "SCALAR"},
+                         {"min", {t0}}, {"max", {t1}}});
+    const size_t input = accessors.size() - 1;
+    view = AddView(&bin, &views, a.translations.data(), a.translations.size() * sizeof(Eigen::Vector3f), 0);
+    accessors.push_back({{"bufferView", view}, {"componentType", kFloat}, {"count", a.translations.size()}, {"type", "VEC3"}});
+    animation_samplers.push_back({{"input", input}, {"output", accessors.size() - 1}, {"interpolation", "LINEAR"}});
+    animation_channels.push_back({{"sampler", animation_samplers.size() - 1}, {"target", {{"node", a.node}, {"path", "translation"}}}});
   }
   while (bin.size() % 4 != 0) bin.push_back(0);
 
@@ -193,6 +236,9 @@ std::vector<uint8_t> SceneBuilder::ToGlb() const {
               {"bufferViews", views}};
   if (!bin.empty()) doc["buffers"] = json::array({{{"byteLength", bin.size()}}});
   if (!materials.empty()) doc["materials"] = materials;
+  if (!animations_.empty()) {
+    doc["animations"] = json::array({{{"name", "motion"}, {"channels", animation_channels}, {"samplers", animation_samplers}}});
+  }
   if (!textures.empty()) {
     doc["images"] = images;
     doc["samplers"] = samplers;

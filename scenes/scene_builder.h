@@ -39,6 +39,8 @@ class SceneBuilder {
   // Adds a material; `texture` = -1 for none. Colour factor is linear RGBA. Returns its index.
   int AddMaterial(const std::string& name, const Eigen::Vector4f& base_color_factor, int texture = -1,
                   bool double_sided = false);
+  // Makes `material` alpha-masked (glTF alphaMode MASK): texels with alpha < cutoff are cut out.
+  void SetAlphaMask(int material, float cutoff = 0.5f);
   // Adds a root node carrying `mesh` with `material` (-1 = default) and class `class_name`
   // (a Cityscapes name; "" = no class). Throws std::invalid_argument on unknown classes, bad
   // indices or mismatched attribute sizes. Returns the node index.
@@ -47,6 +49,11 @@ class SceneBuilder {
   // The same with several primitives (e.g. materials) in one node, hence one instance.
   int AddNode(const std::string& name, const std::string& class_name, std::vector<MeshPart> parts,
               const Eigen::Matrix4d& world_from_node = Eigen::Matrix4d::Identity());
+
+  // Animates `node`'s translation (glTF animation channel, LINEAR): at times_s[k] the node's origin
+  // is at translations[k] (world, since nodes are roots). The node is written with TRS instead of
+  // a matrix, as glTF requires for animated nodes. Throws std::invalid_argument on bad input.
+  void AddTranslationAnimation(int node, std::vector<float> times_s, std::vector<Eigen::Vector3f> translations);
 
   // Writes a .glb; throws std::runtime_error("<path>: ...") on failure.
   void WriteGlb(const std::filesystem::path& path) const;
@@ -69,6 +76,7 @@ class SceneBuilder {
     Eigen::Vector4f factor;
     int texture;
     bool double_sided;
+    float alpha_cutoff = -1.f;  // < 0: opaque
   };
   struct NodeData {
     std::string name, class_name;
@@ -78,6 +86,12 @@ class SceneBuilder {
   std::vector<TextureData> textures_;
   std::vector<MaterialData> materials_;
   std::vector<NodeData> nodes_;
+  struct AnimationData {
+    int node;
+    std::vector<float> times;
+    std::vector<Eigen::Vector3f> translations;
+  };
+  std::vector<AnimationData> animations_;
 };
 
 }  // namespace rigsim

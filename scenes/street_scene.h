@@ -24,5 +24,7 @@ void WriteStreetScene(const std::filesystem::path& glb_path, uint64_t seed);
 
 // Returns the same bytes WriteStreetScene would write.
 std::vector<uint8_t> StreetSceneGlb(uint64_t seed);
+// With `animated`, cars and people also move along the street (glTF translation animations).
+std::vector<uint8_t> StreetSceneGlb(uint64_t seed, bool animated);
 
 }  // namespace rigsim

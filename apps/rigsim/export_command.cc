@@ -1,0 +1,101 @@
+// rigsim export DATASET --format kalibr|opencv|colmap|nerfstudio|all --out DIR [--rig RIG.json]
+#include <cstdio>
+#include <filesystem>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "apps/rigsim/commands.h"
+#include "dataset/dataset.h"
+#include "exports/colmap.h"
+#include "exports/kalibr.h"
+#include "exports/nerfstudio.h"
+#include "exports/opencv_yaml.h"
+#include "geometry/rig.h"
+
+namespace rigsim::cli {
+
+void AddExportCommand(CLI::App& app) {
+  struct Args {
+    std::string dataset, out, rig;
+    std::vector<std::string> formats = {"all"};
+    bool force = false;
+  };
+  auto args = std::make_shared<Args>();
+  CLI::App* cmd = app.add_subcommand(
+      "export",
+      "Export a dataset's rig (ground truth, or an estimate with --rig) for other tools:\n"
+      "  kalibr      OUT/camchain.yaml (T_cn_cnm1 chain, pinhole + radtan/equidistant)\n"
+      "  opencv      OUT/opencv.yaml (cv::FileStorage: camera_matrix, distortion_coefficients, R, T)\n"
+      "  colmap      OUT/colmap/{cameras,images,points3D}.txt (images named <cam>/<frame> under DATASET/images;\n"
+      "              cx, cy + 0.5 for COLMAP's pixel convention)\n"
+      "  nerfstudio  OUT/transforms.json (per image: world_from_cam in OpenGL axes and intrinsics)\n"
+      "The output folder appears only when complete.");
+  cmd->add_option("dataset", args->dataset, "dataset folder (rig.json, frames.json, images/)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  cmd->add_option("--format", args->formats, "kalibr, opencv, colmap, nerfstudio or all (comma-separated)")
+      ->delimiter(',')
+      ->capture_default_str()
+      ->check(CLI::IsMember({"kalibr", "opencv", "colmap", "nerfstudio", "all"}));
+  cmd->add_option("--out", args->out, "output folder (created; see --force)")->required();
+  cmd->add_option("--rig", args->rig, "export this rig.json (e.g. a calibration estimate) instead of DATASET/rig.json")
+      ->check(CLI::ExistingFile);
+  cmd->add_flag("--force", args->force, "replace an existing output folder");
+  cmd->callback([args] {
+    std::set<std::string> formats(args->formats.begin(), args->formats.end());
+    if (formats.count("all")) formats = {"kalibr", "opencv", "colmap", "nerfstudio"};
+    const DatasetLayout layout(args->dataset);
+    const Rig rig = ReadRig(args->rig.empty() ? layout.RigJson() : std::filesystem::path(args->rig));
+    FramesFile frames;
+    if (formats.count("colmap") || formats.count("nerfstudio")) {
+      if (!std::filesystem::exists(layout.FramesJson())) {
+        throw std::runtime_error(layout.FramesJson().string() + ": missing; colmap and nerfstudio exports need the frame poses");
+      }
+      frames = ReadFrames(layout.FramesJson());
+    }
+    // Name images with the extension the dataset actually has.
+    std::string ext = ".png";
+    if (!frames.frames.empty() && !rig.cameras.empty()) {
+      if (auto image = layout.FindImage(rig.cameras[0].name, frames.frames[0].name)) ext = image->extension().string();
+    }
+    StagedOutput staged(args->out, args->force);
+    const std::filesystem::path& dir = staged.staging_dir();
+    std::vector<std::string> written;
+    if (formats.count("kalibr")) {
+      WriteKalibrCamchain(rig, dir / "camchain.yaml");
+      written.push_back("camchain.yaml");
+    }
+    if (formats.count("opencv")) {
+      WriteOpenCvRigYaml(rig, dir / "opencv.yaml");
+      written.push_back("opencv.yaml");
+    }
+    if (formats.count("colmap")) {
+      ColmapExportOptions o;
+      o.image_extension = ext;
+      WriteColmapModel(rig, frames, dir / "colmap", o);
+      written.push_back("colmap/");
+    }
+    if (formats.count("nerfstudio")) {
+      NerfstudioExportOptions o;
+      o.image_extension = ext;
+      const auto out_abs = std::filesystem::absolute(args->out).lexically_normal();
+      const auto images_abs = std::filesystem::absolute(layout.root() / "images").lexically_normal();
+      o.image_prefix = images_abs.lexically_relative(out_abs).generic_string();
+      WriteNerfstudioTransforms(rig, frames, dir, o);
+      for (const NerfstudioFile& f : NerfstudioTransforms(rig, frames, o)) written.push_back(f.filename);
+    }
+    staged.Commit();
+    std::string list;
+    for (const std::string& w : written) list += " " + w;
+    std::printf("exported %zu cameras%s to %s:%s\n", rig.cameras.size(),
+                frames.frames.empty() ? "" : (" x " + std::to_string(frames.frames.size()) + " frames").c_str(), args->out.c_str(),
+                list.c_str());
+    if (formats.count("colmap")) {
+      std::printf("COLMAP: --image_path %s --input_path %s\n", (layout.root() / "images").string().c_str(),
+                  (std::filesystem::path(args->out) / "colmap").string().c_str());
+    }
+  });
+}
+
+}  // namespace rigsim::cli

@@ -1,0 +1,149 @@
+// rigsim inspect FILE.gltf|FILE.glb [--rules RULES.json]: what the loader understood of a file.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+
+#include "apps/rigsim/commands.h"
+#include "labels/cityscapes.h"
+#include "scenes/gltf_loader.h"
+#include "scenes/label_rules.h"
+#include "scenes/scene.h"
+
+namespace rigsim::cli {
+namespace {
+
+// Hooks for what Scene may expose (cameras, animations): printed when the member exists, "not
+// loaded" otherwise, so this command needs no change when the loader grows them.
+template <typename S>
+std::string CamerasOf(const S& scene) {
+  if constexpr (requires { scene.cameras.size(); }) {
+    return std::to_string(scene.cameras.size());
+  } else {
+    return "not loaded (see warnings)";
+  }
+}
+
+template <typename S>
+std::string AnimationsOf(const S& scene) {
+  if constexpr (requires { scene.animation_channels.front().times_s; }) {
+    if (scene.animation_channels.empty()) return "none";
+    std::set<int> nodes;
+    double t0 = 1e300, t1 = -1e300;
+    for (const auto& ch : scene.animation_channels) {
+      nodes.insert(ch.node);
+      if (!ch.times_s.empty()) {
+        t0 = std::min(t0, ch.times_s.front());
+        t1 = std::max(t1, ch.times_s.back());
+      }
+    }
+    char buf[160];
+    std::snprintf(buf, sizeof(buf), "%zu channel(s) on %zu node(s), keys from %.2f s to %.2f s", scene.animation_channels.size(),
+                  nodes.size(), t0, t1);
+    return buf;
+  } else {
+    return "not loaded (see warnings)";
+  }
+}
+
+const char* AlphaName(AlphaMode m) {
+  switch (m) {
+    case AlphaMode::kOpaque: return "OPAQUE";
+    case AlphaMode::kMask: return "MASK";
+    case AlphaMode::kBlend: return "BLEND";
+  }
+  return "?";
+}
+
+void PrintScene(const Scene& scene, const std::filesystem::path& path, const LabelRules* rules) {
+  std::set<uint16_t> instances;
+  for (const SceneMesh& m : scene.meshes) {
+    if (m.instance_id) instances.insert(m.instance_id);
+  }
+  std::printf("file        %s (%.1f MB)\n", path.string().c_str(), std::filesystem::file_size(path) / 1e6);
+  if (rules) std::printf("label rules %s (%zu rules)\n", rules->source().c_str(), rules->rules().size());
+  std::printf("nodes       %zu with geometry (one instance each)\n", instances.size());
+  std::printf("primitives  %zu\n", scene.meshes.size());
+  std::printf("triangles   %zu\n", scene.NumTriangles());
+  std::map<std::string, int> alpha;
+  for (const Material& m : scene.materials) ++alpha[AlphaName(m.alpha_mode)];
+  std::string alpha_text;
+  for (const auto& [mode, n] : alpha) alpha_text += (alpha_text.empty() ? "" : ", ") + std::to_string(n) + " " + mode;
+  std::printf("materials   %zu%s\n", scene.materials.size(), alpha_text.empty() ? "" : (" (" + alpha_text + ")").c_str());
+  size_t texels = 0, with_alpha = 0;
+  for (const Texture& t : scene.textures) {
+    texels += size_t(t.width) * t.height;
+    for (size_t i = 3; i < t.rgba.size(); i += 4) {
+      if (t.rgba[i] != 255) {
+        ++with_alpha;
+        break;
+      }
+    }
+  }
+  std::printf("textures    %zu (%.1f Mtexels, %zu with transparent texels)\n", scene.textures.size(), texels / 1e6, with_alpha);
+  std::printf("cameras     %s\n", CamerasOf(scene).c_str());
+  std::printf("animations  %s\n", AnimationsOf(scene).c_str());
+  if (!scene.meshes.empty()) {
+    Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e30f), hi = -lo;
+    for (const SceneMesh& m : scene.meshes) {
+      for (const Eigen::Vector3f& p : m.positions) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+      }
+    }
+    std::printf("bounds      x [%.2f, %.2f]  y [%.2f, %.2f]  z [%.2f, %.2f] m (glTF +Y up)\n", lo.x(), hi.x(), lo.y(), hi.y(),
+                lo.z(), hi.z());
+  }
+
+  struct ClassStats {
+    size_t primitives = 0, triangles = 0;
+    std::set<uint16_t> instances;
+  };
+  std::map<uint8_t, ClassStats> per_class;
+  for (const SceneMesh& m : scene.meshes) {
+    ClassStats& s = per_class[m.class_id];
+    ++s.primitives;
+    s.triangles += m.indices.size() / 3;
+    if (m.instance_id) s.instances.insert(m.instance_id);
+  }
+  const double total = std::max<size_t>(1, scene.NumTriangles());
+  std::printf("\n%-3s %-16s %-9s %10s %10s %10s %7s\n", "id", "class", "reliable", "instances", "primitives", "triangles", "share");
+  for (const auto& [id, s] : per_class) {
+    const LabelClass* c = FindClassById(id);
+    std::printf("%-3d %-16s %-9s %10zu %10zu %10zu %6.1f%%\n", id, c ? std::string(c->name).c_str() : "?",
+                c && c->reliable ? "yes" : "no", s.instances.size(), s.primitives, s.triangles, 100.0 * s.triangles / total);
+  }
+  std::printf("\n%zu warning(s)\n", scene.warnings.size());
+  for (const std::string& w : scene.warnings) std::printf("  warning: %s\n", w.c_str());
+}
+
+}  // namespace
+
+void AddInspectCommand(CLI::App& app) {
+  struct Args {
+    std::string file, rules;
+  };
+  auto args = std::make_shared<Args>();
+  CLI::App* cmd = app.add_subcommand(
+      "inspect",
+      "Print what the glTF loader understood of a file: nodes, primitives, triangles, materials,\n"
+      "textures, cameras, animations, triangles per class and every warning. Exits 0 when the file\n"
+      "loads. Use --rules to try a label-rules file on a glTF without extras.class (README, 'Scenes').");
+  cmd->add_option("file", args->file, "glTF 2.0 file (.gltf or .glb)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--rules", args->rules, "label rules JSON: classes from node, mesh or material names")
+      ->check(CLI::ExistingFile);
+  cmd->callback([args] {
+    std::optional<LabelRules> rules;
+    GltfLoadOptions options;
+    if (!args->rules.empty()) {
+      rules = LabelRules::Read(args->rules);
+      options.label_rules = &*rules;
+    }
+    const Scene scene = LoadGltf(args->file, options);
+    PrintScene(scene, args->file, rules ? &*rules : nullptr);
+  });
+}
+
+}  // namespace rigsim::cli

@@ -1,0 +1,88 @@
+#include "exports/colmap.h"
+
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "exports/test_rig.h"
+
+namespace rigsim {
+namespace {
+
+std::vector<std::vector<std::string>> DataLines(const std::string& text) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream ls(line);
+    std::vector<std::string> tokens;
+    for (std::string t; ls >> t;) tokens.push_back(t);
+    rows.push_back(tokens);
+  }
+  return rows;
+}
+
+TEST(Colmap, PrincipalPointGetsHalfAPixel) {
+  const Rig rig = test::MixedRig();
+  const ColmapModelText m = ColmapModel(rig, test::TwoFrames());
+  const auto cams = DataLines(m.cameras);
+  ASSERT_EQ(cams.size(), 3u);
+  const char* names[] = {"OPENCV", "PINHOLE", "OPENCV_FISHEYE"};
+  for (size_t i = 0; i < 3; ++i) {
+    const std::vector<double>& p = rig.cameras[i].camera.params();
+    EXPECT_EQ(cams[i][0], std::to_string(i + 1));
+    EXPECT_EQ(cams[i][1], names[i]);
+    ASSERT_EQ(cams[i].size(), 4 + p.size());
+    EXPECT_EQ(std::stod(cams[i][4]), p[0]);
+    EXPECT_EQ(std::stod(cams[i][5]), p[1]);
+    EXPECT_EQ(std::stod(cams[i][6]), p[2] + 0.5);  // COLMAP: top-left pixel centre at (0.5, 0.5)
+    EXPECT_EQ(std::stod(cams[i][7]), p[3] + 0.5);
+    for (size_t k = 4; k < p.size(); ++k) EXPECT_EQ(std::stod(cams[i][4 + k]), p[k]) << "param " << k;  // same order
+  }
+}
+
+TEST(Colmap, ImagesProjectLikeRigsimShiftedByHalfAPixel) {
+  const Rig rig = test::MixedRig();
+  const FramesFile frames = test::TwoFrames();
+  const ColmapModelText m = ColmapModel(rig, frames);
+  const auto images = DataLines(m.images);
+  const auto cams = DataLines(m.cameras);
+  ASSERT_EQ(images.size(), 6u);  // 2 frames x 3 cameras; the POINTS2D lines are empty
+  const Eigen::Vector3d x_world(0.3, -1.2, -2.0);
+  for (size_t k = 0; k < images.size(); ++k) {
+    const auto& im = images[k];
+    const size_t f = k / 3, c = k % 3;
+    EXPECT_EQ(im[0], std::to_string(k + 1));
+    EXPECT_EQ(im[8], std::to_string(c + 1));
+    EXPECT_EQ(im[9], rig.cameras[c].name + "/" + frames.frames[f].name + ".png");
+    const Eigen::Quaterniond q(std::stod(im[1]), std::stod(im[2]), std::stod(im[3]), std::stod(im[4]));
+    EXPECT_GE(q.w(), 0.0);
+    const Eigen::Vector3d t(std::stod(im[5]), std::stod(im[6]), std::stod(im[7]));
+    const Eigen::Vector3d x_cam = q * x_world + t;
+    const Rigid3d truth = *rig.cameras[c].cam_from_rig * *frames.frames[f].rig_from_world;
+    EXPECT_LT((x_cam - truth * x_world).norm(), 1e-12);
+    if (c == 1) {  // the PINHOLE camera: COLMAP's projection fx x/z + cx with the exported cx
+      const double fx = std::stod(cams[1][4]), fy = std::stod(cams[1][5]), cx = std::stod(cams[1][6]), cy = std::stod(cams[1][7]);
+      const Eigen::Vector2d colmap_px(fx * x_cam.x() / x_cam.z() + cx, fy * x_cam.y() / x_cam.z() + cy);
+      const auto ours = rig.cameras[1].camera.ImgFromCam(x_cam);
+      ASSERT_TRUE(ours.has_value());
+      EXPECT_LT((colmap_px - (*ours + Eigen::Vector2d(0.5, 0.5))).norm(), 1e-9);
+    }
+  }
+  EXPECT_EQ(DataLines(m.points3d).size(), 0u);
+}
+
+TEST(Colmap, NeedsPoses) {
+  Rig rig = test::MixedRig();
+  FramesFile frames = test::TwoFrames();
+  frames.frames[1].rig_from_world.reset();
+  EXPECT_THROW(ColmapModel(rig, frames), std::invalid_argument);
+  ColmapExportOptions o;
+  o.image_extension = "jpg";
+  EXPECT_THROW(ColmapModel(rig, test::TwoFrames(), o), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rigsim

@@ -1,0 +1,34 @@
+// Kalibr camchain.yaml export (https://github.com/ethz-asl/kalibr/wiki/yaml-formats).
+//
+//   cam0:
+//     camera_model: pinhole
+//     intrinsics: [fu, fv, pu, pv]
+//     distortion_model: radtan | equidistant
+//     distortion_coeffs: [k1, k2, r1, r2] | [k1, k2, k3, k4]
+//     resolution: [width, height]
+//     rostopic: /cam0/image_raw
+//   cam1:
+//     T_cn_cnm1:            # cam1_from_cam0 = cam_from_rig[1] * cam_from_rig[0]^-1, 4x4 row-major
+//     - [r11, r12, r13, t1]
+//     ...
+//
+// Model mapping: PINHOLE -> pinhole/radtan with zero coefficients; OPENCV -> pinhole/radtan
+// (k1 k2 p1 p2, the same order as Kalibr's k1 k2 r1 r2); FULL_OPENCV -> pinhole/radtan only when
+// k3..k6 are zero (Kalibr has no rational model; otherwise an error); OPENCV_FISHEYE ->
+// pinhole/equidistant (k1..k4, Kalibr's equidistant is the same Kannala-Brandt polynomial).
+// Pixel coordinates are OpenCV's (no +0.5 shift, unlike COLMAP).
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "geometry/rig.h"
+
+namespace rigsim {
+
+// Throws std::invalid_argument when a camera has no cam_from_rig or a model Kalibr cannot express.
+std::string KalibrCamchainYaml(const Rig& rig);
+// Writes KalibrCamchainYaml to `path` atomically.
+void WriteKalibrCamchain(const Rig& rig, const std::filesystem::path& path);
+
+}  // namespace rigsim
