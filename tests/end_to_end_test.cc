@@ -1,10 +1,13 @@
 // The whole chain on the built-in street: load the shipped scene, render a small ring rig,
 // calibrate every pair with and without semantics, and compare with the rendered truth.
+#include <algorithm>
 #include <filesystem>
+
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
-#include "calibrator/pipeline.h"
+#include "calibrator/rig_calibration.h"
 #include "dataset/dataset.h"
 #include "dataset/image_io.h"
 #include "geometry/json_io.h"
@@ -20,19 +23,20 @@ namespace fs = std::filesystem;
 class StreetEndToEnd : public testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new fs::path(fs::temp_directory_path() / "rigsim_end_to_end");
+    // ctest runs each test in its own process, possibly in parallel: one folder per process.
+    dir_ = new fs::path(fs::temp_directory_path() / ("rigsim_end_to_end_" + std::to_string(::getpid())));
     fs::remove_all(*dir_);
     const Scene scene = LoadGltf("assets/scenes/street.glb");
-    RingRigOptions ring;
-    ring.num_cameras = 3;
-    ring.width = 640;
-    ring.height = 360;
+    // Exactly the demo's dataset (rig, motion, samples, seed), so this test checks what the
+    // demo prints. Fewer frames or lower resolution leave the 30% overlaps too few matches for
+    // 0.1 deg (measured: 0.4-1.0 deg with 1 frame at 640x360).
     RenderJob job;
     job.scene = &scene;
     job.scene_name = "street.glb";
-    job.rig = MakeRingRig(ring);
-    job.frames = MakeStraightTrajectory(Eigen::Vector3d(0, 1.6, 4), 0.0, 1, 2.0);
+    job.rig = MakeRingRig(RingRigOptions{});
+    job.frames = MakeStraightTrajectory(Eigen::Vector3d(0, 1.6, 4), 0.0, 4, 2.0);
     job.options.samples_per_pixel = 4;
+    job.options.seed = 1;
     RenderDataset(job, *dir_, true);
   }
   static void TearDownTestSuite() {
@@ -43,25 +47,41 @@ class StreetEndToEnd : public testing::Test {
 };
 fs::path* StreetEndToEnd::dir_ = nullptr;
 
-TEST_F(StreetEndToEnd, NeighbouringPairsCalibrateAccuratelyWithAndWithoutSemantics) {
-  CalibrationOptions options;
-  const auto reports = CalibrateDatasetPairs(*dir_, options, {SemanticMode::kNone, SemanticMode::kMask});
-  ASSERT_EQ(reports.size(), 2u);
-  for (const CalibrationReport& report : reports) {
-    SCOPED_TRACE(report.semantic_mode);
-    ASSERT_EQ(report.pairs.size(), 3u);
+// Issue 2's promise: neighbouring pairs have a median rotation error below 0.1 deg in both
+// modes; and the rig stage places every camera.
+TEST_F(StreetEndToEnd, DemoRigCalibratesAccuratelyWithAndWithoutSemantics) {
+  const auto results = CalibrateRig(*dir_, RigCalibrationOptions{}, {SemanticMode::kNone, SemanticMode::kMask});
+  ASSERT_EQ(results.size(), 2u);
+  for (const RigCalibrationResult& result : results) {
+    SCOPED_TRACE(result.semantic_mode);
+    const CalibrationReport& report = result.pairwise;
+    ASSERT_EQ(report.pairs.size(), 6u);
+    std::vector<double> rotation;
     for (const PairResult& pair : report.pairs) {
-      const bool neighbours = (pair.cam_a == "cam0" && pair.cam_b == "cam1") || (pair.cam_a == "cam1" && pair.cam_b == "cam2");
-      if (!neighbours) continue;
       SCOPED_TRACE(pair.cam_a + "-" + pair.cam_b);
+      const bool neighbours = pair.cam_a.back() + 1 == pair.cam_b.back();
+      if (!neighbours) {
+        EXPECT_FALSE(pair.success) << "these cameras share nothing";
+        continue;
+      }
       ASSERT_TRUE(pair.success) << pair.failure_reason;
       ASSERT_TRUE(pair.rotation_error_deg.has_value());
-      EXPECT_LT(*pair.rotation_error_deg, 0.1);
-      ASSERT_TRUE(pair.translation_direction_error_deg.has_value());
-      EXPECT_LT(*pair.translation_direction_error_deg, 5.0);
+      rotation.push_back(*pair.rotation_error_deg);
+      // Ground-truth precision of the ratio-tested matches: about 55-70% in these overlaps.
       ASSERT_TRUE(pair.match_precision.has_value());
-      EXPECT_GT(*pair.match_precision, 0.8);
-      EXPECT_GT(pair.inliers, 100);
+      EXPECT_GT(*pair.match_precision, 0.4);
+      EXPECT_GT(pair.inliers, 500);
+    }
+    ASSERT_EQ(rotation.size(), 3u);
+    std::sort(rotation.begin(), rotation.end());
+    EXPECT_LT(rotation[1], 0.1);
+
+    ASSERT_TRUE(result.evaluated);
+    for (size_t c = 1; c < result.rig.cameras.size(); ++c) {
+      SCOPED_TRACE(result.rig.cameras[c].name);
+      ASSERT_TRUE(result.rig.cameras[c].cam_from_rig.has_value()) << result.camera_status[c];
+      EXPECT_LT(result.camera_stats[c].rotation_error_deg.value(), 0.2);
+      EXPECT_LT(result.camera_stats[c].translation_direction_error_deg.value(), 1.5);
     }
   }
 }

@@ -10,5 +10,8 @@ void AddDemoCommand(CLI::App& app);
 void AddMakeRigCommand(CLI::App& app);
 void AddRenderCommand(CLI::App& app);
 void AddCalibrateCommand(CLI::App& app);
+void AddInspectCommand(CLI::App& app);
+void AddGenerateSceneCommand(CLI::App& app);
+void AddExportCommand(CLI::App& app);
 
 }  // namespace rigsim::cli

@@ -15,7 +15,7 @@ void AddDemoCommand(CLI::App& app) {
     std::string scene = std::string(RIGSIM_ASSET_DIR) + "/scenes/street.glb";
     std::string out = "out/demo";
     bool force = false;
-    int frames = 2;
+    int frames = 4;
     RenderSettings render;
     CalibrateSettings calibrate;
   };
@@ -36,6 +36,7 @@ void AddDemoCommand(CLI::App& app) {
   AddCalibrateSettingsOptions(*cmd, args->calibrate);
   cmd->callback([args] {
     const auto start = std::chrono::steady_clock::now();
+    args->calibrate.options.pairwise.num_threads = args->render.threads;  // one --threads for both stages
     // Fail on bad calibration options before spending time on rendering.
     args->calibrate.ToOptions();
     args->calibrate.Modes();
@@ -51,7 +52,11 @@ void AddDemoCommand(CLI::App& app) {
     job.options = args->render.ToRenderOptions();
     RenderAndReport(job, args->out, args->force);
 
-    CalibrateAndReport(args->out, args->calibrate, DatasetLayout(args->out).EvaluationJson());
+    const std::filesystem::path calibration = std::filesystem::path(args->out) / "calibration";
+    CalibrateAndReport(args->out, args->calibrate, calibration, true);
+    // The evaluation also beside the images, where the dataset's other ground truth is.
+    std::filesystem::copy_file(calibration / "evaluation.json", DatasetLayout(args->out).EvaluationJson(),
+                               std::filesystem::copy_options::overwrite_existing);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("demo finished in %.1f s\n", seconds);
   });

@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "apps/rigsim/commands.h"
+#include "apps/rigsim/interrupt.h"
 #include "apps/rigsim/version.h"
 
 int main(int argc, char** argv) {
@@ -20,10 +21,16 @@ int main(int argc, char** argv) {
   rigsim::cli::AddMakeRigCommand(app);
   rigsim::cli::AddRenderCommand(app);
   rigsim::cli::AddCalibrateCommand(app);
+  rigsim::cli::AddInspectCommand(app);
+  rigsim::cli::AddGenerateSceneCommand(app);
+  rigsim::cli::AddExportCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const rigsim::cli::Interrupted& e) {
+    std::fprintf(stderr, "rigsim: %s\n", e.what());
+    return 128 + e.signal;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "rigsim: error: %s\n", e.what());
     return 1;

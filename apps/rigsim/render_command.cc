@@ -5,6 +5,7 @@
 #include "apps/rigsim/progress.h"
 #include "apps/rigsim/render_support.h"
 #include "apps/rigsim/version.h"
+#include "geometry/camera_validation.h"
 #include "geometry/rig.h"
 #include "renderer/render_dataset.h"
 #include "scenes/gltf_loader.h"
@@ -33,12 +34,14 @@ void AddRenderCommand(CLI::App& app) {
   cmd->add_flag("--force", args->force, "replace an existing output folder");
   AddRenderSettingsOptions(*cmd, args->settings);
   cmd->callback([args] {
-    const Scene scene = LoadSceneVerbose(args->scene);
+    // The small inputs first, so that their errors come before the scene's loading time.
     RenderJob job;
+    job.rig = ReadRig(args->rig);
+    for (const std::string& w : CheckRigCoversImages(job.rig, args->rig)) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    job.frames = ReadFrames(args->frames);
+    const Scene scene = LoadSceneVerbose(args->scene);
     job.scene = &scene;
     job.scene_name = std::filesystem::path(args->scene).filename().string();
-    job.rig = ReadRig(args->rig);
-    job.frames = ReadFrames(args->frames);
     job.frames.tool_version = RIGSIM_VERSION_STRING;
     job.options = args->settings.ToRenderOptions();
     RenderAndReport(job, args->out, args->force);

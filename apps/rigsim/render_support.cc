@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 
+#include "apps/rigsim/interrupt.h"
 #include "apps/rigsim/progress.h"
 #include "apps/rigsim/report_table.h"
 #include "dataset/dataset.h"
@@ -41,7 +42,14 @@ Scene LoadSceneVerbose(const std::filesystem::path& path) {
 void RenderAndReport(const RenderJob& job, const std::filesystem::path& out, bool force) {
   const auto start = std::chrono::steady_clock::now();
   Progress progress("rendering views");
-  RenderDataset(job, out, force, [&](int done, int total) { progress(done, total); });
+  {
+    // Ctrl-C stops after the view being rendered; the staging folder is removed on the way out.
+    const InterruptScope interrupt;
+    RenderDataset(job, out, force, [&](int done, int total) {
+      progress(done, total);
+      InterruptScope::ThrowIfRequested();
+    });
+  }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const size_t views = job.rig.cameras.size() * job.frames.frames.size();
   std::printf("rendered %zu views (%zu cameras x %zu frames, %d spp) into %s in %.1f s\n", views,

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "calibrator/pipeline.h"
+#include "calibrator/rig_calibration.h"
 
 namespace rigsim::cli {
 
@@ -22,5 +23,10 @@ inline constexpr double kNeighbourOverlap = 0.05;
 std::string FormatPairTable(const std::vector<CalibrationReport>& reports, const OverlapTable& overlap);
 // One line per method: median errors over neighbouring pairs, precision, stage times.
 std::string FormatSummary(const std::vector<CalibrationReport>& reports, const OverlapTable& overlap);
+
+// One row per camera and method: status, errors against the truth, observations.
+std::string FormatRigTable(const std::vector<RigCalibrationResult>& results);
+// One line per method: cameras calibrated, worst errors, reprojection RMS, scale.
+std::string FormatRigSummary(const std::vector<RigCalibrationResult>& results);
 
 }  // namespace rigsim::cli

@@ -1,0 +1,173 @@
+// Calibration input that cannot give a pose must give a diagnosis, never a confident wrong
+// answer: featureless images, every feature masked away, views that share nothing, a pure
+// rotation, a planar scene. Each case renders a small dataset and runs the real pipeline.
+#include <filesystem>
+#include <random>
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "calibrator/evaluation.h"
+#include "calibrator/rig_calibration.h"
+#include "renderer/render_dataset.h"
+#include "scenes/gltf_loader.h"
+#include "scenes/rig_generators.h"
+
+namespace rigsim {
+namespace {
+namespace fs = std::filesystem;
+
+// A square of side `size` in the plane y = height (world, +Y up), facing up, optionally textured
+// with seeded noise rich in corners.
+Scene GroundPlane(double size, bool textured) {
+  Scene scene;
+  scene.source = "ground-plane";
+  SceneMesh m;
+  m.name = "ground";
+  m.class_id = 7;  // road
+  m.instance_id = 1;
+  m.material = 0;
+  const float h = static_cast<float>(size / 2);
+  m.positions = {{-h, 0, -h}, {h, 0, -h}, {h, 0, h}, {-h, 0, h}};
+  m.normals.assign(4, Eigen::Vector3f(0, 1, 0));
+  m.texcoords = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  m.indices = {0, 2, 1, 0, 3, 2};
+  scene.meshes.push_back(m);
+  Material mat;
+  mat.base_color_factor = Eigen::Vector4f(0.6f, 0.6f, 0.6f, 1.0f);
+  if (textured) {
+    Texture tex;
+    tex.width = tex.height = 1024;
+    tex.rgba.assign(size_t(tex.width) * tex.height * 4, 255);
+    std::mt19937 rng(5);
+    std::uniform_int_distribution<int> value(0, 255), pos(0, 1023), radius(2, 14);
+    // Random discs of random grey on a mid-grey: corners and blobs at several scales.
+    for (size_t i = 0; i < tex.rgba.size(); i += 4) tex.rgba[i] = tex.rgba[i + 1] = tex.rgba[i + 2] = 128;
+    for (int k = 0; k < 12000; ++k) {
+      const int cx = pos(rng), cy = pos(rng), r = radius(rng);
+      const uint8_t v = static_cast<uint8_t>(value(rng));
+      for (int y = std::max(0, cy - r); y < std::min(tex.height, cy + r); ++y)
+        for (int x = std::max(0, cx - r); x < std::min(tex.width, cx + r); ++x)
+          if ((x - cx) * (x - cx) + (y - cy) * (y - cy) < r * r)
+            for (int c = 0; c < 3; ++c) tex.rgba[(size_t(y) * tex.width + x) * 4 + c] = v;
+    }
+    scene.textures.push_back(tex);
+    mat.base_color_factor = Eigen::Vector4f::Ones();
+    mat.base_color_texture = 0;
+  }
+  scene.materials.push_back(mat);
+  return scene;
+}
+
+Camera SmallCamera() { return Camera::PinholeFromHorizontalFov(640, 480, 80.0); }
+
+// Two cameras: cam1's pose relative to cam0 given as rig_from_cam1.
+Rig TwoCameraRig(const Rigid3d& rig_from_cam1) {
+  Rig rig;
+  rig.cameras.push_back({"cam0", SmallCamera(), Rigid3d(), 0.0});
+  rig.cameras.push_back({"cam1", SmallCamera(), rig_from_cam1.Inverse(), 0.0});
+  return rig;
+}
+
+Rigid3d Yaw(double deg, const Eigen::Vector3d& centre = Eigen::Vector3d::Zero()) {
+  return Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(DegToRad(deg), Eigen::Vector3d::UnitY())), centre);
+}
+
+class Degenerate : public testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("rigsim_degenerate_" + std::to_string(::getpid()) + "_" +
+            testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  void Render(const Scene& scene, const Rig& rig, const FramesFile& frames) {
+    RenderJob job;
+    job.scene = &scene;
+    job.scene_name = scene.source;
+    job.rig = rig;
+    job.frames = frames;
+    RenderDataset(job, dir_, true);
+  }
+  RigCalibrationResult Calibrate(SemanticMode mode, const RigCalibrationOptions& options = {}) {
+    return CalibrateRig(dir_, options, mode);
+  }
+  fs::path dir_;
+};
+
+FramesFile LookingDownAt(double pitch_deg) {
+  // Rig 1.6 m above the ground plane, pitched down so the plane fills the views.
+  FramesFile f = MakeStraightTrajectory(Eigen::Vector3d(0, 1.6, 0), 0.0, 2, 1.0);
+  for (Frame& frame : f.frames) {
+    const Rigid3d pitch(Eigen::Quaterniond(Eigen::AngleAxisd(DegToRad(pitch_deg), Eigen::Vector3d::UnitX())),
+                        Eigen::Vector3d::Zero());
+    frame.rig_from_world = pitch * *frame.rig_from_world;
+  }
+  return f;
+}
+
+TEST_F(Degenerate, FeaturelessImagesAreDiagnosed) {
+  Render(GroundPlane(200, false), TwoCameraRig(Yaw(20, Eigen::Vector3d(0.5, 0, 0))), LookingDownAt(-50));
+  const RigCalibrationResult r = Calibrate(SemanticMode::kNone);
+  ASSERT_EQ(r.pairwise.pairs.size(), 1u);
+  EXPECT_FALSE(r.pairwise.pairs[0].success);
+  EXPECT_NE(r.pairwise.pairs[0].failure_reason.find("too few"), std::string::npos) << r.pairwise.pairs[0].failure_reason;
+  EXPECT_FALSE(r.rig.cameras[1].cam_from_rig.has_value());
+  EXPECT_NE(r.camera_status[1].find("not connected"), std::string::npos) << r.camera_status[1];
+}
+
+TEST_F(Degenerate, EverythingMaskedAwayIsDiagnosed) {
+  Render(GroundPlane(200, true), TwoCameraRig(Yaw(20, Eigen::Vector3d(0.5, 0, 0))), LookingDownAt(-50));
+  RigCalibrationOptions options;
+  options.pairwise.reliable = ReliableClasses::FromNames({"rail track"});  // not in the scene
+  const RigCalibrationResult r = Calibrate(SemanticMode::kMask, options);
+  EXPECT_EQ(r.pairwise.mean_keypoints_per_image, 0.0);
+  EXPECT_FALSE(r.pairwise.pairs[0].success);
+  EXPECT_FALSE(r.pairwise.pairs[0].failure_reason.empty());
+  EXPECT_NE(r.camera_status[1].find("not connected"), std::string::npos) << r.camera_status[1];
+}
+
+TEST_F(Degenerate, ViewsThatShareNothingAreNotConnected) {
+  // Back to back on the street: nothing in common.
+  const Scene street = LoadGltf("assets/scenes/street.glb");
+  Render(street, TwoCameraRig(Yaw(180, Eigen::Vector3d(0, 0, -0.3))),
+         MakeStraightTrajectory(Eigen::Vector3d(0, 1.6, 4), 0.0, 1, 1.0));
+  const RigCalibrationResult r = Calibrate(SemanticMode::kNone);
+  EXPECT_FALSE(r.pairwise.pairs[0].success) << "a pose between views that share nothing";
+  EXPECT_FALSE(r.rig.cameras[1].cam_from_rig.has_value());
+  EXPECT_NE(r.camera_status[1].find("not connected"), std::string::npos) << r.camera_status[1];
+}
+
+TEST_F(Degenerate, PureRotationGivesTheRotationAndNoPosition) {
+  const Scene street = LoadGltf("assets/scenes/street.glb");
+  Render(street, TwoCameraRig(Yaw(35)), MakeStraightTrajectory(Eigen::Vector3d(0, 1.6, 4), 0.0, 1, 1.0));
+  const RigCalibrationResult r = Calibrate(SemanticMode::kNone);
+  const PairResult& p = r.pairwise.pairs[0];
+  ASSERT_TRUE(p.success) << p.failure_reason;
+  EXPECT_TRUE(p.rotation_only);
+  ASSERT_TRUE(p.rotation_error_deg.has_value());
+  EXPECT_LT(*p.rotation_error_deg, 0.1);
+  EXPECT_FALSE(p.translation_direction_error_deg.has_value());
+  // The rig has no position for cam1, only its rotation.
+  EXPECT_FALSE(r.rig.cameras[1].cam_from_rig.has_value());
+  EXPECT_NE(r.camera_status[1].find("rotation only"), std::string::npos) << r.camera_status[1];
+}
+
+TEST_F(Degenerate, PlanarSceneIsSolvedOrDiagnosedNeverWrong) {
+  Render(GroundPlane(200, true), TwoCameraRig(Yaw(20, Eigen::Vector3d(0.5, 0, 0))), LookingDownAt(-50));
+  const RigCalibrationResult r = Calibrate(SemanticMode::kNone);
+  const PairResult& p = r.pairwise.pairs[0];
+  if (p.success && !p.rotation_only) {
+    ASSERT_TRUE(p.rotation_error_deg && p.translation_direction_error_deg);
+    EXPECT_LT(*p.rotation_error_deg, 0.1);
+    EXPECT_LT(*p.translation_direction_error_deg, 2.0);
+  } else {
+    EXPECT_FALSE(p.failure_reason.empty() && !p.rotation_only);
+  }
+}
+
+}  // namespace
+}  // namespace rigsim
