@@ -145,9 +145,14 @@ StagedOutput::StagedOutput(fs::path final_dir, bool force) : final_(std::move(fi
   RemoveStaleStaging(final_);
   static std::atomic<int> counter{0};
   const auto stamp = std::chrono::steady_clock::now().time_since_epoch().count();
-  staging_ = final_.parent_path() /
-             ("." + final_.filename().string() + ".partial-" + std::to_string(::getpid()) + "-" +
-              std::to_string(stamp) + "-" + std::to_string(counter++));
+  // Appended piecewise: GCC 12 warns falsely (-Wrestrict) on "literal" + std::string&&.
+  std::string name = ".";
+  for (const std::string& part : {final_.filename().string(), std::string(".partial-"), std::to_string(::getpid()),
+                                  std::string("-"), std::to_string(stamp), std::string("-"),
+                                  std::to_string(counter++)}) {
+    name += part;
+  }
+  staging_ = final_.parent_path() / name;
   if (!final_.parent_path().empty()) fs::create_directories(final_.parent_path());
   fs::create_directories(staging_);
 }
