@@ -2,8 +2,12 @@
 // errors that name the file and the JSON path, poses in one representation, and atomic writes.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
+#include <limits>
+#include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include <nlohmann/json.hpp>
 
@@ -25,8 +29,28 @@ T Get(const Json& j, const char* key, const std::string& source, const std::stri
   if (!j.is_object() || !j.contains(key)) {
     throw std::runtime_error(source + ": " + where + ": missing field '" + key + "'");
   }
+  const Json& v = j.at(key);
+  if constexpr (std::is_integral_v<T> && !std::is_same_v<T, bool>) {
+    // nlohmann converts a float (or an integer literal too long for 64 bits, which it parses as
+    // a float) to an integer with a plain cast: undefined behaviour out of range. Accept only
+    // integers that fit.
+    const auto bad = [&](const char* why) {
+      return std::runtime_error(source + ": " + where + "." + key + ": " + why + " (" + v.dump() + ")");
+    };
+    if (!v.is_number_integer()) throw bad("must be an integer");
+    if (v.is_number_unsigned()) {
+      if (v.get<uint64_t>() > static_cast<uint64_t>(std::numeric_limits<T>::max())) throw bad("out of range");
+    } else {
+      const int64_t x = v.get<int64_t>();
+      if ((std::is_unsigned_v<T> && x < 0) ||
+          (!std::is_unsigned_v<T> && (x < static_cast<int64_t>(std::numeric_limits<T>::min()) ||
+                                      x > static_cast<int64_t>(std::numeric_limits<T>::max())))) {
+        throw bad("out of range");
+      }
+    }
+  }
   try {
-    return j.at(key).get<T>();
+    return v.get<T>();
   } catch (const nlohmann::json::exception& e) {
     throw std::runtime_error(source + ": " + where + "." + key + ": wrong type (" + e.what() + ")");
   }

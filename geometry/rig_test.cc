@@ -59,6 +59,13 @@ TEST(Rig, BadJsonNamesTheFileAndTheProblem) {
                       "width");
   ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[-5,5,4.5,4.5]}]})",
                       "focal");
+  // Integer fields take integers that fit: nlohmann would cast these with undefined behaviour.
+  ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":489999999999999999999999999999,"params":[5,5,4.5,4.5]}]})",
+                      "height: must be an integer");
+  ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10.5,"height":10,"params":[5,5,4.5,4.5]}]})",
+                      "width: must be an integer");
+  ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"PINHOLE","width":18446744073709551615,"height":10,"params":[5,5,4.5,4.5]}]})",
+                      "width: out of range");
   ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"OPENCV","width":10,"height":10,"params":[5,5,4.5,4.5]}]})",
                       "8 parameters");
   ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5]},
