@@ -2,6 +2,8 @@
 
 #include <fstream>
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 namespace rigsim {
@@ -11,7 +13,10 @@ namespace fs = std::filesystem;
 class ImageIo : public testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / "rigsim_image_io_test";
+    // ctest runs the tests of this fixture in parallel processes: a folder per test.
+    dir_ = fs::temp_directory_path() /
+           ("rigsim_image_io_test_" + std::to_string(::getpid()) + "_" +
+            testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }

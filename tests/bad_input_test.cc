@@ -271,7 +271,7 @@ TEST(BadInput, MalformedJsonEverywhere) {
   WriteText(rig, R"({"cameras": [{"name": "a", "model": "PINHOLE", "width": 10,)");
   ExpectError([&] { ReadRig(rig); }, rig.string(), "invalid JSON");
   WriteText(rig, R"({"cameras": [{"name": "a", "model": "PINHOLE", "width": "ten", "height": 10, "params": [1, 1, 0, 0]}]})");
-  ExpectError([&] { ReadRig(rig); }, rig.string(), "cameras[0].width: wrong type");
+  ExpectError([&] { ReadRig(rig); }, rig.string(), "cameras[0].width: must be an integer");
   WriteText(frames, R"({"frames": [{"name": "000000", "rig_from_world": {"rotation_wxyz": [1, 0, 0]}}]})");
   ExpectError([&] { ReadFrames(frames); }, frames.string(), "missing field 'translation'");
   WriteText(frames, "\xff\xfe{}");
