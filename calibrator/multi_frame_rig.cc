@@ -399,6 +399,22 @@ MultiFrameReprojectionResidual::MultiFrameReprojectionResidual(const Camera& cam
   std::copy(camera.params().begin(), camera.params().end(), params_);
 }
 
+bool EvaluateMultiFrameReprojection(const Camera& camera, const Eigen::Vector2d& observed,
+                                    const Eigen::Matrix<double, 17, 1>& params, Eigen::Vector2d* residual,
+                                    Eigen::Matrix<double, 2, 17>* jacobian) {
+  const MultiFrameCost cost(new MultiFrameReprojectionResidual(camera, observed));
+  const double* blocks[5] = {params.data(), params.data() + 4, params.data() + 7, params.data() + 11,
+                             params.data() + 14};
+  Eigen::Matrix<double, 2, 4, Eigen::RowMajor> jcq, jrq;
+  Eigen::Matrix<double, 2, 3, Eigen::RowMajor> jct, jrt, jx;
+  double* jacobians[5] = {jcq.data(), jct.data(), jrq.data(), jrt.data(), jx.data()};
+  double r[2];
+  if (!cost.Evaluate(blocks, r, jacobians)) return false;
+  if (residual) *residual = Eigen::Vector2d(r[0], r[1]);
+  if (jacobian) *jacobian << jcq, jct, jrq, jrt, jx;
+  return true;
+}
+
 MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
     const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, const std::vector<ViewTrack>& tracks,
     const std::vector<std::optional<Rigid3d>>& initial_cam_from_rig,

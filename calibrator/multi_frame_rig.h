@@ -135,6 +135,13 @@ struct MultiFrameReprojectionResidual {
   Eigen::Vector2d observed;
 };
 
+// The residual and its Jacobians through the bundle adjustment's own Ceres cost (autodiff):
+// `params` stacks cam_from_rig (quaternion x, y, z, w; translation), rig_from_world (the same)
+// and the point in world coordinates: 4 + 3 + 4 + 3 + 3. False where it does not project.
+bool EvaluateMultiFrameReprojection(const Camera& camera, const Eigen::Vector2d& observed,
+                                    const Eigen::Matrix<double, 17, 1>& params, Eigen::Vector2d* residual,
+                                    Eigen::Matrix<double, 2, 17>* jacobian);
+
 struct MultiFrameBundleAdjustmentResult {
   std::vector<std::optional<Rigid3d>> cam_from_rig;    // refined; nullopt where not given
   std::vector<std::optional<Rigid3d>> rig_from_world;  // refined; nullopt where not given
@@ -148,8 +155,8 @@ struct MultiFrameBundleAdjustmentResult {
   int iterations = 0;
 };
 
-// Triangulates the tracks (world frame) over the posed views, then solves and filters like
-// RigBundleAdjust (same options). Camera 0's cam_from_rig and frame 0's rig_from_world must be
+// Triangulates the tracks (world frame) over the posed views, then solves and filters
+// (RigBundleAdjustmentOptions). Camera 0's cam_from_rig and frame 0's rig_from_world must be
 // given and are held constant (normally the identity); `scale_camera` (-1: none) keeps |its
 // centre|; `hold_frames` holds every frame's rig_from_world constant (a static rig, see
 // EstimateRigPositions). Throws std::invalid_argument on sizes that do not match or a missing

@@ -15,27 +15,6 @@ std::mt19937 TestRng() {
   return std::mt19937(h);
 }
 
-TEST(BuildTracks, JoinsPairsAndDropsContradictions) {
-  // Frame 0: 0:5 - 1:7 - 2:9 form one track through two pairs; 0:1 - 1:2 and 1:2 - 2:3 and
-  // 0:4 - 2:3 put keypoints 1 and 4 of camera 0 in one set: contradictory.
-  PairMatches p01{0, 1, {{{5, 7}, {1, 2}}, {{0, 0}}}};
-  PairMatches p12{1, 2, {{{7, 9}, {2, 3}}, {}}};
-  PairMatches p02{0, 2, {{{4, 3}}, {}}};
-  int conflicting = -1;
-  const std::vector<Track> tracks = BuildTracks(3, 2, {p01, p12, p02}, &conflicting);
-  EXPECT_EQ(conflicting, 1);
-  ASSERT_EQ(tracks.size(), 2u);
-  EXPECT_EQ(tracks[0].frame, 0);
-  ASSERT_EQ(tracks[0].observations.size(), 3u);
-  EXPECT_EQ(tracks[0].observations[0].camera, 0);
-  EXPECT_EQ(tracks[0].observations[0].keypoint, 5);
-  EXPECT_EQ(tracks[0].observations[2].camera, 2);
-  EXPECT_EQ(tracks[0].observations[2].keypoint, 9);
-  EXPECT_EQ(tracks[1].frame, 1);  // frames never mix: keypoint 0 of frame 1 is another point
-  EXPECT_EQ(tracks[1].observations.size(), 2u);
-  EXPECT_THROW(BuildTracks(3, 3, {p01}), std::invalid_argument);
-  EXPECT_THROW(BuildTracks(1, 2, {p01}), std::invalid_argument);
-}
 
 // A view graph from true rotations and centres (directions exact).
 ViewGraph GraphFromTruth(const std::vector<Rigid3d>& cam_from_rig, const std::vector<std::pair<int, int>>& pairs) {
@@ -104,72 +83,6 @@ TEST(EstimateCameraCentres, CamerasWithoutRotationOrDirectionAreLeftOut) {
   const CameraCentres c = EstimateCameraCentres(graph, rot, 0);
   EXPECT_TRUE(c.centre_in_rig[2].has_value());
   EXPECT_FALSE(c.centre_in_rig[3].has_value());
-}
-
-TEST(TriangulateTrack, RaysMeetAtThePoint) {
-  const Camera cam(CameraModelId::kPinhole, 640, 480, {300, 300, 320, 240});
-  const std::vector<Camera> cameras = {cam, cam};
-  const std::vector<std::optional<Rigid3d>> poses = {Rigid3d(),
-                                                     Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(-0.5, 0, 0))};
-  const Eigen::Vector3d x(0.3, -0.2, 4.0);
-  FrameKeypoints kps(1, std::vector<std::vector<Eigen::Vector2d>>(2));
-  kps[0][0].push_back(*cam.ImgFromCam(*poses[0] * x));
-  kps[0][1].push_back(*cam.ImgFromCam(*poses[1] * x));
-  const Track track{0, {{0, 0}, {1, 0}}};
-  const auto p = TriangulateTrack(cameras, kps, track, poses, DegToRad(1.0));
-  ASSERT_TRUE(p.has_value());
-  EXPECT_LT((*p - x).norm(), 1e-9);
-  // The rays meet at about 7 deg: a 10 deg minimum rejects the track.
-  EXPECT_FALSE(TriangulateTrack(cameras, kps, track, poses, DegToRad(10.0)).has_value());
-}
-
-// The autodiff Jacobian of the bundle adjustment's residual equals central differences of the
-// same residual, for every camera model, in all 10 parameters.
-TEST(RigReprojectionResidual, AutodiffJacobianMatchesFiniteDifferences) {
-  std::mt19937 rng = TestRng();
-  std::normal_distribution<double> g(0, 1);
-  const Camera cameras[] = {
-      Camera(CameraModelId::kPinhole, 640, 480, {300, 310, 320, 240}),
-      Camera(CameraModelId::kOpenCV, 640, 480, {300, 310, 320, 240, -0.1, 0.02, 0.001, -0.002}),
-      Camera(CameraModelId::kFullOpenCV, 640, 480, {300, 310, 320, 240, -0.1, 0.02, 0.001, -0.002, 0.001, 0.01, 0, 0}),
-      Camera(CameraModelId::kOpenCVFisheye, 640, 480, {200, 200, 320, 240, 0.02, -0.01, 0.002, 0.0})};
-  for (const Camera& cam : cameras) {
-    SCOPED_TRACE(std::string(CameraModelName(cam.model())));
-    for (int trial = 0; trial < 5; ++trial) {
-      const Eigen::Quaterniond q = Eigen::Quaterniond(1, 0.1 * g(rng), 0.1 * g(rng), 0.1 * g(rng)).normalized();
-      const Eigen::Vector3d t = 0.3 * Eigen::Vector3d(g(rng), g(rng), g(rng));
-      // A point 3-6 m in front of the camera, expressed in the rig frame.
-      const Eigen::Vector3d x_in_cam(g(rng), 0.5 * g(rng), 3 + 3 * std::abs(g(rng)));
-      const Eigen::Vector3d x = q.conjugate() * (x_in_cam - t);
-      const Eigen::Vector2d observed(300 + 10 * g(rng), 250 + 10 * g(rng));
-      Eigen::Vector2d r;
-      Eigen::Matrix<double, 2, 4> jq;
-      Eigen::Matrix<double, 2, 3> jt, jx;
-      Eigen::Vector4d qv = q.coeffs();
-      ASSERT_TRUE(EvaluateRigReprojection(cam, observed, qv, t, x, &r, &jq, &jt, &jx));
-      const RigReprojectionResidual functor(cam, observed);
-      // Central differences over the stacked parameters [q (4), t (3), x (3)].
-      Eigen::Matrix<double, 10, 1> params;
-      params << qv, t, x;
-      auto eval = [&](const Eigen::Matrix<double, 10, 1>& p) {
-        Eigen::Vector2d out;
-        EXPECT_TRUE(functor(p.data(), p.data() + 4, p.data() + 7, out.data()));
-        return out;
-      };
-      EXPECT_LT((eval(params) - r).norm(), 1e-12);
-      Eigen::Matrix<double, 2, 10> numeric, analytic;
-      analytic << jq, jt, jx;
-      const double h = 1e-6;
-      for (int k = 0; k < 10; ++k) {
-        Eigen::Matrix<double, 10, 1> plus = params, minus = params;
-        plus(k) += h;
-        minus(k) -= h;
-        numeric.col(k) = (eval(plus) - eval(minus)) / (2 * h);
-      }
-      EXPECT_LT((numeric - analytic).cwiseAbs().maxCoeff(), 1e-5 * std::max(1.0, analytic.cwiseAbs().maxCoeff()))
-          << "analytic\n" << analytic << "\nnumeric\n" << numeric;
-    }
-  }
 }
 
 TEST(RigBundleAdjustmentOptions, CheckNamesTheField) {

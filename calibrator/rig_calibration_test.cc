@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include "calibrator/multi_frame_rig.h"
+
 namespace rigsim {
 namespace {
 
@@ -314,9 +316,12 @@ TEST(RigBundleAdjustmentAtTruth, ResidualIsZeroAndPosesStay) {
   FrameKeypoints keypoints = s.keypoints;
   for (auto& frame : keypoints) frame.resize(n);
   int conflicting = -1;
-  const std::vector<Track> tracks = BuildTracks(n, opt.frames, pairs, &conflicting);
+  const std::vector<ViewTrack> tracks = BuildViewTracks(n, opt.frames, pairs, {}, &conflicting);
   EXPECT_EQ(conflicting, 0);
-  const RigBundleAdjustmentResult ba = RigBundleAdjust(cameras, keypoints, tracks, truth, 0, 1, {});
+  // Each frame's points live in that frame's rig frame: every rig_from_world is the identity, held.
+  const std::vector<std::optional<Rigid3d>> rig_from_world(opt.frames, Rigid3d());
+  const MultiFrameBundleAdjustmentResult ba =
+      MultiFrameRigBundleAdjust(cameras, keypoints, tracks, truth, rig_from_world, 1, {}, /*hold_frames=*/true);
   EXPECT_GT(ba.num_points, 200);
   EXPECT_LT(ba.initial_rms_px, 1e-6);
   EXPECT_LT(ba.reprojection_rms_px, 1e-6);
