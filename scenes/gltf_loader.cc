@@ -120,7 +120,16 @@ WrapMode ToWrap(int gl) {
 }
 
 // Extensions whose content we fully honour; everything else in extensionsRequired is fatal.
-bool SupportedExtension(const std::string& name) { return name == "KHR_mesh_quantization"; }
+// KHR_texture_transform is honoured on baseColorTexture, the only texture rigsim renders.
+bool SupportedExtension(const std::string& name) { return name == "KHR_mesh_quantization" || name == "KHR_texture_transform"; }
+
+// The texture coordinates a material's base colour texture samples: the TEXCOORD_<set> attribute,
+// mapped by KHR_texture_transform (identity without it). Baked into SceneMesh::texcoords, which
+// is exact because a SceneMesh is one primitive with one material.
+struct BaseColorUv {
+  int set = 0;
+  Eigen::Matrix<double, 2, 3> uv_from_texcoord = Eigen::Matrix<double, 2, 3>::Identity();
+};
 
 class Loader {
  public:
@@ -223,15 +232,21 @@ class Loader {
         out.base_color_factor = Eigen::Vector4d(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2],
                                                 pbr.baseColorFactor[3]).cast<float>();
       }
+      BaseColorUv uv;
       if (pbr.baseColorTexture.index >= 0) {
-        if (pbr.baseColorTexture.texCoord != 0) {
-          Warn("material " + std::to_string(i) + " " + Quote(m.name) + ": baseColorTexture uses TEXCOORD_" +
-               std::to_string(pbr.baseColorTexture.texCoord) + ", only TEXCOORD_0 is supported; texture ignored");
-        } else {
-          out.base_color_texture = ConvertTexture(pbr.baseColorTexture.index);
+        const std::string where = "material " + std::to_string(i) + " " + Quote(m.name) + " baseColorTexture";
+        uv.set = pbr.baseColorTexture.texCoord;
+        for (const auto& [name, value] : pbr.baseColorTexture.extensions) {
+          if (name == "KHR_texture_transform") {
+            uv = ParseTextureTransform(value, where, uv.set);
+          } else {
+            Ignore("texture-info extension " + name);
+          }
         }
-        for (const auto& [name, value] : pbr.baseColorTexture.extensions) Ignore("texture-info extension " + name);
+        if (uv.set < 0) Fail(where + ": texCoord " + std::to_string(uv.set) + " is negative");
+        out.base_color_texture = ConvertTexture(pbr.baseColorTexture.index);
       }
+      material_uv_.push_back(uv);
       if (m.alphaMode == "MASK") {
         out.alpha_mode = AlphaMode::kMask;
       } else if (m.alphaMode == "BLEND") {
@@ -246,6 +261,50 @@ class Loader {
       for (const auto& [name, value] : m.extensions) Ignore("material extension " + name);
       scene_.materials.push_back(std::move(out));
     }
+  }
+
+  // KHR_texture_transform on a textureInfo: uv' = T(offset) * R(rotation) * S(scale) * uv, and an
+  // optional texCoord that overrides the textureInfo's `texcoord_set`.
+  //
+  // Rotation: the extension rotates UVs counter-clockwise *in UV space*, where v points down, so
+  // (u, v) -> (cos r * u + sin r * v, -sin r * u + cos r * v): at 90 deg, (1, 0) -> (0, -1). This is
+  // what the Khronos sample viewer, three.js, Babylon.js, Blender and CesiumGltf compute and what the
+  // TextureTransformTest sample model checks; the README's GLSL listing shows the transpose (a
+  // counter-clockwise turn in a v-up space), a known erratum (KhronosGroup/glTF issue #1563).
+  BaseColorUv ParseTextureTransform(const tinygltf::Value& ext, const std::string& where, int texcoord_set) {
+    const std::string w = where + ": KHR_texture_transform";
+    if (!ext.IsObject()) Fail(w + " is not an object");
+    auto vec2 = [&](const char* key, Eigen::Vector2d fallback) {
+      if (!ext.Has(key)) return fallback;
+      const tinygltf::Value& v = ext.Get(key);
+      if (!v.IsArray() || v.ArrayLen() != 2 || !v.Get(0).IsNumber() || !v.Get(1).IsNumber()) {
+        Fail(w + ": " + key + " must be an array of 2 numbers");
+      }
+      const Eigen::Vector2d out(v.Get(0).GetNumberAsDouble(), v.Get(1).GetNumberAsDouble());
+      if (!out.allFinite()) Fail(w + ": " + key + " is not finite");
+      return out;
+    };
+    const Eigen::Vector2d offset = vec2("offset", Eigen::Vector2d::Zero());
+    const Eigen::Vector2d scale = vec2("scale", Eigen::Vector2d::Ones());
+    double rotation = 0.0;
+    if (ext.Has("rotation")) {
+      const tinygltf::Value& r = ext.Get("rotation");
+      if (!r.IsNumber() || !std::isfinite(r.GetNumberAsDouble())) Fail(w + ": rotation must be a finite number (radians)");
+      rotation = r.GetNumberAsDouble();
+    }
+    BaseColorUv out;
+    out.set = texcoord_set;
+    if (ext.Has("texCoord")) {
+      const tinygltf::Value& t = ext.Get("texCoord");
+      if (!t.IsInt() || t.GetNumberAsInt() < 0) Fail(w + ": texCoord must be a non-negative integer");
+      out.set = t.GetNumberAsInt();
+    }
+    const double c = std::cos(rotation), s = std::sin(rotation);
+    Eigen::Matrix2d rot;
+    rot << c, s, -s, c;
+    out.uv_from_texcoord.leftCols<2>() = rot * scale.asDiagonal();
+    out.uv_from_texcoord.col(2) = offset;
+    return out;
   }
 
   int ConvertTexture(int index) {
@@ -591,8 +650,12 @@ class Loader {
     }
     if (!prim.targets.empty()) Ignore("morph targets");
     for (const auto& [name, value] : prim.extensions) Ignore("primitive extension " + name);
+    // The texture coordinates the material's base colour texture samples (TEXCOORD_0 without one).
+    const BaseColorUv uv_map =
+        prim.material >= 0 && size_t(prim.material) < material_uv_.size() ? material_uv_[prim.material] : BaseColorUv{};
+    const std::string texcoord_name = "TEXCOORD_" + std::to_string(uv_map.set);
     for (const auto& [name, acc] : prim.attributes) {
-      if (name != "POSITION" && name != "NORMAL" && name != "TEXCOORD_0") Ignore("vertex attribute " + name);
+      if (name != "POSITION" && name != "NORMAL" && name != texcoord_name) Ignore("vertex attribute " + name);
     }
     const auto pos_it = prim.attributes.find("POSITION");
     if (pos_it == prim.attributes.end()) {
@@ -663,12 +726,16 @@ class Loader {
         for (size_t i = 0; i < n; ++i) out.local_normals[i] = Eigen::Vector3d(nrm[3 * i], nrm[3 * i + 1], nrm[3 * i + 2]).normalized().cast<float>();
       }
     }
-    if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) {
+    if (auto it = prim.attributes.find(texcoord_name); it != prim.attributes.end()) {
       size_t n = 0;
-      const std::vector<double> uv = ReadAccessor(it->second, TINYGLTF_TYPE_VEC2, where + " TEXCOORD_0", &n);
-      if (n != nverts) Fail("accessor " + std::to_string(it->second) + " (" + where + " TEXCOORD_0): count differs from POSITION");
+      const std::vector<double> uv = ReadAccessor(it->second, TINYGLTF_TYPE_VEC2, where + " " + texcoord_name, &n);
+      if (n != nverts) Fail("accessor " + std::to_string(it->second) + " (" + where + " " + texcoord_name + "): count differs from POSITION");
       out.texcoords.resize(n);
-      for (size_t i = 0; i < n; ++i) out.texcoords[i] = Eigen::Vector2f(float(uv[2 * i]), float(uv[2 * i + 1]));
+      for (size_t i = 0; i < n; ++i) {
+        out.texcoords[i] = (uv_map.uv_from_texcoord * Eigen::Vector3d(uv[2 * i], uv[2 * i + 1], 1.0)).cast<float>();
+      }
+    } else if (out.material >= 0 && scene_.materials[out.material].base_color_texture >= 0) {
+      Ignore("textured primitives without their texture's " + texcoord_name + " (rendered untextured)");
     }
 
     // The vertex sequence the mode is applied to: the indices, or 0..n-1 when non-indexed.
@@ -743,6 +810,7 @@ class Loader {
   tinygltf::Model model_;
   Scene scene_;
   std::vector<ClassTag> node_class_, mesh_class_, material_class_;
+  std::vector<BaseColorUv> material_uv_;  // per glTF material: its base colour texture's coordinates
   std::map<int, int> texture_map_;  // glTF texture -> Scene::textures index
   std::set<int> animated_nodes_;    // nodes targeted by an animation channel
   bool current_mesh_animated_ = false;  // the node being traversed moves with an animation

@@ -15,6 +15,8 @@
 //    warning) are kept in Scene::nodes / Scene::animation_channels, and meshes under an animated
 //    node keep their node-frame vertices, so renderer/scene_pose.h can re-pose them at any time.
 //    Meshes are flattened at the rest pose (the nodes' own transforms).
+//  - baseColorTexture may sample any TEXCOORD_n set and carry KHR_texture_transform (offset,
+//    rotation, scale, texCoord override); the transform is baked into SceneMesh::texcoords.
 //  - Everything the loader cannot represent (skins, morph targets, cameras, morph-weight
 //    animations, extensions, extra attributes and textures, points/lines) is named in
 //    Scene::warnings.

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -359,6 +360,95 @@ TEST(GltfLoader, DecodesBaseColorTextureAndSampler) {
   // A missing image file is an error that names it.
   std::filesystem::remove(dir / "tex.png");
   ExpectThrowsWith(path, "tex.png");
+}
+
+// A 2x2 PNG as a data URI, for materials whose texture content does not matter.
+std::string TinyPngUri() {
+  cv::Mat bgr(2, 2, CV_8UC3, cv::Scalar(10, 20, 30));
+  std::vector<uint8_t> png;
+  cv::imencode(".png", bgr, png);
+  return "data:image/png;base64," + Base64(png);
+}
+
+// KHR_texture_transform: uv' = offset + R(rotation) * (scale * uv), with the rotation
+// counter-clockwise in glTF's v-down UV space: at 90 deg (1, 0) -> (0, -1), as the Khronos sample
+// viewer and the TextureTransformTest model have it (see ParseTextureTransform).
+TEST(GltfLoader, TextureTransformIsBakedIntoTexcoords) {
+  const auto dir = TempDir();
+  TestGltf g;
+  const int pos = g.Positions(kQuad);
+  const int uv0 = g.Accessor<float>({0, 0, 1, 0, 1, 1, 0, 1}, kFloat, "VEC2", 4);
+  const int uv1 = g.Accessor<float>({0.25f, 0.25f, 0.75f, 0.25f, 0.75f, 0.75f, 0.25f, 0.75f}, kFloat, "VEC2", 4);
+  const double half_pi = std::numbers::pi / 2;
+  g.doc["extensionsUsed"] = {"KHR_texture_transform"};
+  g.doc["extensionsRequired"] = {"KHR_texture_transform"};
+  g.doc["images"] = json::array({{{"uri", TinyPngUri()}}});
+  g.doc["textures"] = json::array({{{"source", 0}}});
+  auto textured = [&](json texture_info) { return json{{"pbrMetallicRoughness", {{"baseColorTexture", texture_info}}}}; };
+  auto transform = [](json t) { return json{{"index", 0}, {"extensions", {{"KHR_texture_transform", t}}}}; };
+  g.doc["materials"] = json::array({
+      textured(transform({{"rotation", half_pi}})),                                   // 0: rotation only
+      textured(transform({{"offset", {0.5, 0.25}}, {"scale", {2, 3}}})),              // 1: offset and scale
+      textured(transform({{"offset", {0, 1}}, {"rotation", half_pi}, {"scale", {0.5, 0.5}}})),  // 2: the spec's example
+      textured(transform({{"texCoord", 1}})),                                         // 3: the override picks TEXCOORD_1
+      textured({{"index", 0}, {"texCoord", 1}, {"extensions", {{"KHR_texture_transform", {{"texCoord", 0}}}}}}),  // 4: override back to 0
+      textured({{"index", 0}, {"texCoord", 1}}),                                      // 5: plain texCoord 1
+  });
+  for (int m = 0; m < 6; ++m) {
+    g.Mesh({{"POSITION", pos}, {"TEXCOORD_0", uv0}, {"TEXCOORD_1", uv1}}, -1, 4, m);
+    g.Node({{"mesh", m}});
+  }
+  g.Scene({0, 1, 2, 3, 4, 5});
+  const Scene s = LoadGltf(g.Write(dir, "transform"));
+  ASSERT_EQ(s.meshes.size(), 6u);
+  EXPECT_FALSE(HasWarning(s, "extension KHR_texture_transform")) << "the extension is supported, not ignored";
+  auto expect_uv = [&](int mesh, std::vector<Eigen::Vector2f> expected) {
+    ASSERT_EQ(s.meshes[mesh].texcoords.size(), expected.size()) << mesh;
+    for (size_t i = 0; i < expected.size(); ++i) {
+      EXPECT_TRUE(s.meshes[mesh].texcoords[i].isApprox(expected[i], 1e-6f) ||
+                  (s.meshes[mesh].texcoords[i] - expected[i]).norm() < 1e-6f)
+          << "mesh " << mesh << " vertex " << i << ": " << s.meshes[mesh].texcoords[i].transpose() << " expected "
+          << expected[i].transpose();
+    }
+  };
+  // (0,0) (1,0) (1,1) (0,1) turned 90 deg counter-clockwise in the v-down UV plane.
+  expect_uv(0, {{0, 0}, {0, -1}, {1, -1}, {1, 0}});
+  expect_uv(1, {{0.5f, 0.25f}, {2.5f, 0.25f}, {2.5f, 3.25f}, {0.5f, 3.25f}});
+  // The spec's example "utilizes only the lower left quadrant of the source image": u in [0, 0.5],
+  // v in [0.5, 1].
+  expect_uv(2, {{0, 1}, {0, 0.5f}, {0.5f, 0.5f}, {0.5f, 1}});
+  expect_uv(3, {{0.25f, 0.25f}, {0.75f, 0.25f}, {0.75f, 0.75f}, {0.25f, 0.75f}});
+  expect_uv(4, {{0, 0}, {1, 0}, {1, 1}, {0, 1}});
+  expect_uv(5, {{0.25f, 0.25f}, {0.75f, 0.25f}, {0.75f, 0.75f}, {0.25f, 0.75f}});
+  EXPECT_TRUE(HasWarning(s, "vertex attribute TEXCOORD_0")) << "the set no texture samples is reported";
+  for (const Material& m : s.materials) EXPECT_EQ(m.base_color_texture, 0);
+}
+
+TEST(GltfLoader, MalformedTextureTransformThrowsAndMissingSetWarns) {
+  const auto dir = TempDir();
+  TestGltf g;
+  const int pos = g.Positions(kQuad);
+  const int uv0 = g.Accessor<float>({0, 0, 1, 0, 1, 1, 0, 1}, kFloat, "VEC2", 4);
+  g.doc["images"] = json::array({{{"uri", TinyPngUri()}}});
+  g.doc["textures"] = json::array({{{"source", 0}}});
+  g.doc["materials"] = json::array({{{"name", "atlas"},
+                                     {"pbrMetallicRoughness",
+                                      {{"baseColorTexture", {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"texCoord", 2}}}}}}}}}}});
+  g.Mesh({{"POSITION", pos}, {"TEXCOORD_0", uv0}}, -1, 4, 0);
+  g.Node({{"mesh", 0}});
+  g.Scene({0});
+  const Scene s = LoadGltf(g.Write(dir, "missing_set"));
+  ASSERT_EQ(s.meshes.size(), 1u);
+  EXPECT_TRUE(s.meshes[0].texcoords.empty());
+  EXPECT_TRUE(HasWarning(s, "without their texture's TEXCOORD_2"));
+
+  auto& ext = g.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]["KHR_texture_transform"];
+  ext = {{"scale", {1}}};
+  ExpectThrowsWith(g.Write(dir, "short_scale"), "material 0 'atlas' baseColorTexture: KHR_texture_transform: scale must be an array of 2 numbers");
+  ext = {{"rotation", "quarter"}};
+  ExpectThrowsWith(g.Write(dir, "text_rotation"), "rotation must be a finite number");
+  ext = {{"texCoord", -1}};
+  ExpectThrowsWith(g.Write(dir, "negative_set"), "texCoord must be a non-negative integer");
 }
 
 TEST(GltfLoader, SparseAccessorOverridesValues) {

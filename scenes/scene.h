@@ -44,7 +44,9 @@ struct SceneMesh {
   int material = -1;        // index into Scene::materials; -1 = default grey
   std::vector<Eigen::Vector3f> positions;  // world
   std::vector<Eigen::Vector3f> normals;    // world, unit; empty = use the face normal
-  std::vector<Eigen::Vector2f> texcoords;  // TEXCOORD_0; empty = none
+  // What the material's base colour texture samples: the TEXCOORD_n set it names (TEXCOORD_0
+  // without a texture), with its KHR_texture_transform already applied; empty = none.
+  std::vector<Eigen::Vector2f> texcoords;
   std::vector<uint32_t> indices;           // 3 per triangle, into positions
   // Animated meshes only (a node on the path from the root to this mesh is animated): the glTF
   // node carrying the mesh (index into Scene::nodes) and the vertices in that node's frame, from
