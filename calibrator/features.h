@@ -1,10 +1,13 @@
-// Keypoints and descriptors (SIFT through OpenCV), optionally restricted to reliable classes.
+// Keypoints and descriptors (SIFT, RootSIFT, ORB or AKAZE through OpenCV), optionally
+// restricted to reliable classes.
 //
 // Keypoint positions use rigsim's pixel convention (geometry/camera_models.h): the centre of
 // the top-left pixel is (0, 0), which is also OpenCV's, so no offset is applied.
 #pragma once
 
 #include <cstdint>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -14,14 +17,34 @@
 
 namespace rigsim {
 
+// Which detector and descriptor. SIFT and RootSIFT give float descriptors matched by L2 distance;
+// ORB and AKAZE (MLDB) give binary descriptors matched by Hamming distance (matching.h).
+//  - kRootSift: SIFT descriptors L1-normalised, then square-rooted element-wise (Arandjelovic &
+//    Zisserman 2012): L2 between them is the Hellinger kernel of the SIFT histograms, which
+//    matches better than L2 on the raw histograms. Same keypoints as SIFT.
+//  - kOrb: FAST corners + oriented BRIEF, 256 bits.
+//  - kAkaze: nonlinear scale space, MLDB descriptor (486 bits); the free substitute for SURF.
+enum class FeatureType { kSift, kRootSift, kOrb, kAkaze };
+
+inline constexpr FeatureType kAllFeatureTypes[] = {FeatureType::kSift, FeatureType::kRootSift, FeatureType::kOrb,
+                                                   FeatureType::kAkaze};
+
+// "sift", "rootsift", "orb", "akaze" (the CLI's names).
+std::string_view FeatureTypeName(FeatureType type);
+// Inverse of FeatureTypeName; throws std::invalid_argument naming the accepted names.
+FeatureType FeatureTypeFromName(std::string_view name);
+
 struct FeatureOptions {
-  // Strongest keypoints kept per image (by DoG response), counted after masking so that with a
-  // mask the whole budget goes to reliable regions. 0 keeps all. Low-overlap rigs need many:
+  FeatureType type = FeatureType::kSift;
+  // Strongest keypoints kept per image (by detector response: DoG for SIFT, Harris for ORB, Hessian
+  // for AKAZE), counted after masking so that with a mask the whole budget goes to reliable
+  // regions. 0 keeps all. For ORB it is the detector's own budget (spread over its pyramid
+  // levels), which OpenCV fills inside the mask. Low-overlap rigs need many:
   // only the keypoints in the shared part of two views can match (measured on the demo ring:
   // 8000 -> 12000 with the lower contrast threshold below took the median pair rotation error
   // from 0.10-0.20 deg to 0.04-0.06 deg).
   int max_features = 12000;
-  // SIFT scale-space layers per octave (OpenCV default 3).
+  // SIFT and RootSIFT: scale-space layers per octave (OpenCV default 3).
   int octave_layers = 3;
   // SIFT contrast threshold on the DoG (OpenCV's default is 0.04); lower finds more, weaker
   // keypoints, which the ratio test and the robust fit then sort out.
@@ -35,6 +58,10 @@ struct FeatureOptions {
   // window sees the background, which changes between views. A few pixels remove those without
   // emptying thin classes (poles, signs).
   int mask_erosion_px = 3;
+  // ORB's FAST threshold (OpenCV default 20); the pyramid is OpenCV's (scale 1.2, 8 levels).
+  int orb_fast_threshold = 20;
+  // AKAZE detector response threshold (OpenCV default 0.001); lower finds more keypoints.
+  double akaze_threshold = 0.001;
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;
@@ -47,18 +74,32 @@ struct Keypoint {
   uint8_t class_id = kUnlabeledId;  // label at the nearest pixel; kUnlabeledId without labels
 };
 
+// Float descriptors are compared by L2 distance, binary ones by Hamming distance; the two never
+// mix (MatchFeatures refuses).
+enum class DescriptorKind { kFloat, kBinary };
+
 struct FeatureSet {
   std::vector<Keypoint> keypoints;
-  std::vector<float> descriptors;  // keypoints.size() x descriptor_size, row-major
-  int descriptor_size = 0;
+  DescriptorKind kind = DescriptorKind::kFloat;
+  // kFloat: keypoints.size() x descriptor_size floats, row-major.
+  std::vector<float> descriptors;
+  // kBinary: keypoints.size() x descriptor_size bytes, row-major, bits packed as OpenCV packs them.
+  std::vector<uint8_t> binary_descriptors;
+  int descriptor_size = 0;  // floats (kFloat) or bytes (kBinary) per descriptor
 
   int size() const { return static_cast<int>(keypoints.size()); }
   const float* descriptor(int i) const { return descriptors.data() + size_t(i) * descriptor_size; }
+  const uint8_t* binary_descriptor(int i) const { return binary_descriptors.data() + size_t(i) * descriptor_size; }
+  // The first n keypoints with their descriptors, of either kind (DetectFeatures orders them
+  // strongest first, so this is the n strongest). The whole set when it has n or fewer.
+  FeatureSet Head(int n) const;
 };
 
-// Detects SIFT keypoints and descriptors in an RGB (or grey) image. `labels` (1 channel, same
-// size, may be null) gives each keypoint its class. When `detect_only_on` is given, keypoints are
-// detected only where the class is reliable (eroded mask, see FeatureOptions); it requires labels.
+// Detects keypoints and descriptors of `options.type` in an RGB (or grey) image; every detector
+// runs on the 8-bit grey image. `labels` (1 channel, same size, may be null) gives each keypoint
+// its class. When `detect_only_on` is given, keypoints are detected only where the class is
+// reliable (eroded mask, see FeatureOptions; checked again at each keypoint's pixel, since ORB
+// applies the mask on its downscaled pyramid levels); it requires labels.
 // Deterministic: keypoints are ordered by decreasing response, ties by position.
 // Throws std::invalid_argument on bad inputs.
 FeatureSet DetectFeatures(const ImageU8& rgb, const ImageU8* labels, const FeatureOptions& options,

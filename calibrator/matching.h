@@ -1,5 +1,6 @@
-// Descriptor matching between two feature sets: exact nearest neighbours (L2), Lowe's ratio
-// test and a mutual check, optionally gated by semantic class.
+// Descriptor matching between two feature sets: exact nearest neighbours (L2 for float
+// descriptors, Hamming for binary ones), Lowe's ratio test and a mutual check, optionally gated by
+// semantic class.
 //
 // Gating: keypoints are grouped by class and each class of A is matched only against the same
 // class of B. The ratio test then compares against the second-best candidate *of that class*:
@@ -21,7 +22,8 @@ struct MatchOptions {
   bool mutual = true;
   // Match only keypoints of the same class_id (the "gated" semantic modes; the pipeline sets it).
   bool gate_by_class = false;
-  // Rows of A per block of the distance computation; bounds memory to block_rows * |B| floats.
+  // Rows of A per block of the distance computation; bounds memory to block_rows * |B| floats
+  // (L2). The Hamming path streams B once per block.
   int block_rows = 1024;
 
   // Throws std::invalid_argument naming the first bad field.
@@ -31,7 +33,7 @@ struct MatchOptions {
 struct Match {
   int a = -1;            // keypoint index in A
   int b = -1;            // keypoint index in B
-  float distance = 0.f;  // L2 descriptor distance
+  float distance = 0.f;  // L2 descriptor distance, or Hamming distance (bits) for binary descriptors
 };
 
 struct MatchStats {
@@ -41,9 +43,11 @@ struct MatchStats {
   int mutual_rejected = 0;           // of those, removed by the mutual check
 };
 
-// Matches ordered by A's index. Exact brute force (a blocked matrix product), so the result is
-// deterministic and does not depend on the thread count. Throws std::invalid_argument when the
-// descriptor sizes differ.
+// Matches ordered by A's index. Dispatches on the descriptor kind: L2 by a blocked matrix product
+// for float descriptors, Hamming by popcount over 64-bit words for binary ones. Exact brute force
+// either way, so the result is deterministic and does not depend on the thread count; ties go to
+// the lowest index. Throws std::invalid_argument when the descriptor kinds differ (float against
+// binary: no meaningful distance) or the descriptor sizes differ.
 std::vector<Match> MatchFeatures(const FeatureSet& a, const FeatureSet& b, const MatchOptions& options,
                                  MatchStats* stats = nullptr);
 

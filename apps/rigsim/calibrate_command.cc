@@ -7,15 +7,17 @@ namespace rigsim::cli {
 void AddCalibrateCommand(CLI::App& app) {
   struct Args {
     std::string dataset, out;
+    std::string features = "sift";
     bool force = false;
     CalibrateSettings settings;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
       "calibrate",
-      "Calibrate the rig of DATASET from its images alone, once per semantic mode: SIFT features,\n"
-      "matches per camera pair pooled over all frames, robust relative pose per pair, rotation\n"
-      "averaging over the view graph, bundle adjustment. Gauge: the first camera is the rig frame.\n"
+      "Calibrate the rig of DATASET from its images alone, once per semantic mode: features (SIFT\n"
+      "unless --features says otherwise), matches per camera pair pooled over all frames, robust\n"
+      "relative pose per pair, rotation averaging over the view graph, bundle adjustment. Gauge:\n"
+      "the first camera is the rig frame.\n"
       "When rig.json holds the true poses (rendered data) every pair and camera is compared with\n"
       "the truth. Real photos: write rig.json with intrinsics only, photos in images/<cam>/.");
   cmd->add_option("DATASET", args->dataset, "dataset folder (rig.json, images/, optional labels/ and depth/)")
@@ -25,7 +27,15 @@ void AddCalibrateCommand(CLI::App& app) {
                   "output folder: evaluation.json and <mode>/rig.json (default DATASET/calibration)");
   cmd->add_flag("--force", args->force, "replace an existing output folder");
   AddCalibrateSettingsOptions(*cmd, args->settings);
+  cmd->add_option("--features", args->features,
+                  "keypoints and descriptors: sift (default), rootsift (SIFT descriptors L1-normalised\n"
+                  "and square-rooted), orb or akaze (binary descriptors matched by Hamming distance,\n"
+                  "several times faster to match). --max-features applies to all, --sift-contrast to\n"
+                  "sift and rootsift only")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"sift", "rootsift", "orb", "akaze"}));
   cmd->callback([args] {
+    args->settings.options.pairwise.features.type = FeatureTypeFromName(args->features);
     const std::filesystem::path out =
         args->out.empty() ? std::filesystem::path(args->dataset) / "calibration" : std::filesystem::path(args->out);
     CalibrateAndReport(args->dataset, args->settings, out, args->force);
