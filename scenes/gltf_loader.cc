@@ -5,6 +5,7 @@
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <numbers>
 #include <set>
 #include <optional>
 #include <sstream>
@@ -193,7 +194,6 @@ class Loader {
       if (!SupportedExtension(ext)) Warn("extension " + ext + " is not supported; its data is ignored");
     }
     if (!model_.skins.empty()) Warn(std::to_string(model_.skins.size()) + " skin(s) ignored (skinned meshes loaded in bind pose)");
-    if (!model_.cameras.empty()) Warn(std::to_string(model_.cameras.size()) + " camera(s) ignored (cameras come from the rig)");
   }
 
   ClassTag ParseClass(const tinygltf::Value& extras, const std::string& owner) {
@@ -586,20 +586,79 @@ class Loader {
       if (!world.allFinite()) Fail("node " + std::to_string(item.node) + ": transform is not finite");
       const ClassTag cls = node_class_[item.node] ? node_class_[item.node] : item.inherited;
       if (node.skin >= 0) Ignore("node skin bindings");
-      if (node.camera >= 0) Ignore("camera nodes");
       for (const auto& [name, value] : node.extensions) Ignore("node extension " + name);
       const bool animated = item.animated || animated_nodes_.count(item.node) > 0;
       current_mesh_animated_ = animated;
+      if (node.camera >= 0) AddCamera(item.node, world, animated);
       if (node.mesh >= 0) AddMeshInstance(item.node, world, cls);
       for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) stack.push_back({*c, world, cls, animated});
     }
-    size_t unreached_meshes = 0;
+    size_t unreached_meshes = 0, unreached_cameras = 0;
     for (size_t i = 0; i < model_.nodes.size(); ++i) {
       if (!visited[i] && model_.nodes[i].mesh >= 0) ++unreached_meshes;
+      if (!visited[i] && model_.nodes[i].camera >= 0) ++unreached_cameras;
     }
     if (unreached_meshes > 0) {
       Warn(std::to_string(unreached_meshes) + " node(s) with a mesh are not part of the loaded scene and are ignored");
     }
+    if (unreached_cameras > 0) {
+      Warn(std::to_string(unreached_cameras) + " node(s) with a camera are not part of the loaded scene and are ignored");
+    }
+    // File order (node index), whatever the traversal order: the first camera is a rig's reference.
+    std::stable_sort(scene_.cameras.begin(), scene_.cameras.end(),
+                     [](const SceneCamera& a, const SceneCamera& b) { return a.node < b.node; });
+  }
+
+  // A glTF camera on a node: its rest pose in the OpenCV frame and its perspective parameters.
+  // A camera that cannot be a rig camera (bad parameters, mirrored or singular transform, unknown
+  // type) is skipped with a warning rather than failing the load: rendering does not need it.
+  void AddCamera(int node_index, const Eigen::Matrix4d& world, bool animated) {
+    const tinygltf::Node& node = model_.nodes[node_index];
+    if (size_t(node.camera) >= model_.cameras.size()) {
+      Fail("node " + std::to_string(node_index) + ": camera " + std::to_string(node.camera) + " out of range");
+    }
+    const tinygltf::Camera& cam = model_.cameras[node.camera];
+    const std::string where = "node " + std::to_string(node_index) + (node.name.empty() ? "" : " " + Quote(node.name)) +
+                              " (camera " + std::to_string(node.camera) + (cam.name.empty() ? "" : " " + Quote(cam.name)) + ")";
+    SceneCamera out;
+    out.node = node_index;
+    out.camera = node.camera;
+    out.name = !node.name.empty() ? node.name : !cam.name.empty() ? cam.name : "camera" + std::to_string(node_index);
+    if (cam.type == "perspective") {
+      const tinygltf::PerspectiveCamera& p = cam.perspective;
+      if (!(p.yfov > 0.0 && p.yfov < std::numbers::pi)) {
+        Warn(where + ": yfov " + std::to_string(p.yfov) + " is not in (0, pi) radians; camera skipped");
+        return;
+      }
+      if (!(p.aspectRatio >= 0.0 && std::isfinite(p.aspectRatio))) {
+        Warn(where + ": aspectRatio " + std::to_string(p.aspectRatio) + " is not a positive number; camera skipped");
+        return;
+      }
+      out.yfov_rad = p.yfov;
+      out.aspect_ratio = p.aspectRatio;
+      out.znear_m = p.znear;
+      out.zfar_m = p.zfar;
+    } else if (cam.type == "orthographic") {
+      out.orthographic = true;
+      out.znear_m = cam.orthographic.znear;
+      out.zfar_m = cam.orthographic.zfar;
+    } else {
+      Warn(where + ": camera type " + Quote(cam.type) + " is neither perspective nor orthographic; camera skipped");
+      return;
+    }
+    const Eigen::Matrix3d linear = world.topLeftCorner<3, 3>();
+    if (!(linear.determinant() > 1e-12)) {
+      Warn(where + ": the node's transform mirrors or collapses space, which no camera pose can; camera skipped");
+      return;
+    }
+    Eigen::Matrix3d r = linear;
+    for (int c = 0; c < 3; ++c) r.col(c).normalize();
+    if (!(r.transpose() * r).isIdentity(1e-6)) {
+      Warn(where + ": the node's transform shears (non-uniform scale under a rotation); its orientation is approximated");
+    }
+    if (animated) Warn(where + ": is animated; cameras are loaded at their rest pose");
+    out.cam_from_world = CamFromWorldFromGltfCameraNode(world);
+    scene_.cameras.push_back(std::move(out));
   }
 
   void AddMeshInstance(int node_index, const Eigen::Matrix4d& world, ClassTag node_cls) {

@@ -17,7 +17,9 @@
 //    Meshes are flattened at the rest pose (the nodes' own transforms).
 //  - baseColorTexture may sample any TEXCOORD_n set and carry KHR_texture_transform (offset,
 //    rotation, scale, texCoord override); the transform is baked into SceneMesh::texcoords.
-//  - Everything the loader cannot represent (skins, morph targets, cameras, morph-weight
+//  - Cameras on nodes of the loaded scene become Scene::cameras (node order), posed at rest with
+//    their parents' transforms and converted to the OpenCV frame by CamFromWorldFromGltfCameraNode.
+//  - Everything the loader cannot represent (skins, morph targets, morph-weight
 //    animations, extensions, extra attributes and textures, points/lines) is named in
 //    Scene::warnings.
 //  - Malformed input (truncated file, out-of-range accessor, non-finite position, cyclic node graph)

@@ -12,6 +12,8 @@
 
 #include <Eigen/Core>
 
+#include "geometry/rigid3.h"
+
 namespace rigsim {
 
 enum class WrapMode { kRepeat, kClampToEdge, kMirroredRepeat };
@@ -80,12 +82,30 @@ struct AnimationChannel {
   std::vector<Eigen::Vector4d> values; // translation / scale in xyz; rotation quaternion (x, y, z, w)
 };
 
+// A glTF camera placed by a node of the loaded scene, at the node's rest pose (parents included).
+// Only what a rig camera needs; projection into pixels is decided by whoever picks an image size
+// (scenes/scene_cameras.h).
+struct SceneCamera {
+  std::string name;          // the node's name, else the camera's, else "camera<node index>"
+  int node = -1;             // glTF node index (Scene::cameras is sorted by it: file order)
+  int camera = -1;           // glTF camera index
+  bool orthographic = false; // orthographic cameras are kept so that tools can name them
+  double yfov_rad = 0.0;     // perspective: vertical field of view
+  double aspect_ratio = 0.0; // perspective: width / height; 0 = not given in the file
+  double znear_m = 0.0;
+  double zfar_m = 0.0;       // 0 = infinite
+  // OpenCV-frame pose (x right, y down, z forward), converted from glTF's -Z-forward, +Y-up camera
+  // frame by CamFromWorldFromGltfCameraNode (geometry/rigid3.h); node scale removed.
+  Rigid3d cam_from_world;
+};
+
 struct Scene {
   std::string source;  // file it came from, for messages
   std::vector<SceneMesh> meshes;
   std::vector<Material> materials;
   std::vector<Texture> textures;
   std::vector<std::string> warnings;  // everything the loader skipped or guessed, human readable
+  std::vector<SceneCamera> cameras;   // glTF cameras on nodes of the loaded scene, in node order
   // Node animation (empty for a static scene): the node tree and the channels that move it.
   std::vector<SceneNode> nodes;
   std::vector<AnimationChannel> animation_channels;

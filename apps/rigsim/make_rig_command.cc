@@ -1,10 +1,14 @@
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <stdexcept>
 
 #include "apps/rigsim/commands.h"
+#include "dataset/dataset.h"
 #include "geometry/rig.h"
 #include "scenes/gltf_loader.h"
 #include "scenes/rig_generators.h"
+#include "scenes/scene_cameras.h"
 
 namespace rigsim::cli {
 
@@ -26,7 +30,9 @@ void AddMakeRigCommand(CLI::App& app) {
     double step_m = 2.0;
     std::string scene;
     PlacementOptions placement;
-    std::string rig_out, frames_out;
+    std::string from_gltf;
+    std::string rig_out, frames_out, out;
+    bool force = false;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
@@ -38,7 +44,12 @@ void AddMakeRigCommand(CLI::App& app) {
       "  surround       vehicle-like: front (OPENCV), right and left (OPENCV_FISHEYE, --side-fov > 180 ok), back (PINHOLE)\n"
       "  wide-baseline  cam0/cam1 --baseline apart, toed in by --convergence in total\n"
       "With --scene the rig is placed automatically on the ground where every camera sees structure\n"
-      "and no surface is closer than --clearance (overrides --position and --heading).");
+      "and no surface is closer than --clearance (overrides --position and --heading).\n"
+      "With --from-gltf SCENE the rig is the perspective cameras that SCENE places on its nodes instead\n"
+      "(PINHOLE, --width x --height, field of view from each camera's yfov and aspectRatio; cam_from_rig\n"
+      "relative to the first camera in file order) and frames.json holds one frame with the rig where the\n"
+      "file puts it, so `rigsim render` reproduces the file's views.\n"
+      "Output: --rig-out and --frames-out, or --out DIR for DIR/rig.json and DIR/frames.json.");
   cmd->add_option("type,--type", args->type, "rig type")
       ->capture_default_str()
       ->check(CLI::IsMember({"ring", "stereo", "surround", "wide-baseline"}));
@@ -89,9 +100,64 @@ void AddMakeRigCommand(CLI::App& app) {
   cmd->add_option("--scene", args->scene, "place the rig automatically in this glTF scene")->check(CLI::ExistingFile);
   cmd->add_option("--clearance", args->placement.min_clearance_m, "placement: no surface closer along a camera axis (m)")
       ->capture_default_str();
-  cmd->add_option("--rig-out", args->rig_out, "rig.json to write")->required();
-  cmd->add_option("--frames-out", args->frames_out, "frames.json to write")->required();
+  CLI::Option* from_gltf =
+      cmd->add_option("--from-gltf", args->from_gltf,
+                      "take the rig from the perspective cameras of this glTF file (see above); rig type, "
+                      "camera, placement and trajectory options do not apply")
+          ->check(CLI::ExistingFile);
+  for (const char* name : {"type", "--cameras", "--spacing", "--overlap", "--hfov", "--radius", "--distorted", "--k1", "--k2",
+                           "--baseline", "--convergence", "--side-fov", "--vehicle", "--position", "--heading",
+                           "--trajectory", "--circle-radius", "--frames", "--step", "--scene", "--clearance"}) {
+    from_gltf->excludes(cmd->get_option(name));
+  }
+  CLI::Option* rig_out = cmd->add_option("--rig-out", args->rig_out, "rig.json to write");
+  CLI::Option* frames_out = cmd->add_option("--frames-out", args->frames_out, "frames.json to write");
+  cmd->add_option("--out", args->out,
+                  "instead of --rig-out and --frames-out: folder to write rig.json and frames.json into (appears "
+                  "complete or not at all; see --force)")
+      ->excludes(rig_out)
+      ->excludes(frames_out);
+  cmd->add_flag("--force", args->force, "with --out: replace an existing folder");
   cmd->callback([args, cmd] {
+    // Where to write, checked before any work.
+    if (args->out.empty() && (args->rig_out.empty() || args->frames_out.empty())) {
+      throw CLI::ValidationError("make-rig", "give --out DIR, or both --rig-out FILE and --frames-out FILE");
+    }
+    if (!args->out.empty() && std::filesystem::exists(args->out) && !args->force) {
+      throw std::runtime_error(args->out + ": already exists (use --force to replace it)");
+    }
+    const auto write = [&](const Rig& rig, const FramesFile& frames, const std::string& what) {
+      std::string rig_path = args->rig_out, frames_path = args->frames_out;
+      if (!args->out.empty()) {
+        StagedOutput staged(args->out, args->force);
+        WriteRig(rig, staged.staging_dir() / "rig.json");
+        WriteFrames(frames, staged.staging_dir() / "frames.json");
+        staged.Commit();
+        rig_path = (std::filesystem::path(args->out) / "rig.json").string();
+        frames_path = (std::filesystem::path(args->out) / "frames.json").string();
+      } else {
+        WriteRig(rig, rig_path);
+        WriteFrames(frames, frames_path);
+      }
+      std::printf("wrote %s (%s, %zu cameras) and %s (%zu frames, %s)\n", rig_path.c_str(), what.c_str(),
+                  rig.cameras.size(), frames_path.c_str(), frames.frames.size(),
+                  args->from_gltf.empty() ? args->trajectory.c_str() : "the file's camera poses");
+    };
+
+    if (!args->from_gltf.empty()) {
+      const Scene scene = LoadGltf(args->from_gltf);
+      SceneCameraRig from_file = RigFromSceneCameras(scene, args->ring.width, args->ring.height);
+      for (const std::string& w : from_file.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+      if (args->perturb.rotation_deg > 0 || args->perturb.translation_m > 0) PerturbRig(from_file.rig, args->perturb);
+      for (const RigCamera& c : from_file.rig.cameras) {
+        const Eigen::Vector3d centre = (*c.cam_from_rig * *from_file.frames.frames[0].rig_from_world).SourceOriginInTarget();
+        std::printf("  %-12s PINHOLE %dx%d  fx %.2f fy %.2f  at (%.3f, %.3f, %.3f)\n", c.name.c_str(), c.camera.width(),
+                    c.camera.height(), c.camera.fx(), c.camera.fy(), centre.x(), centre.y(), centre.z());
+      }
+      write(from_file.rig, from_file.frames, "from " + std::filesystem::path(args->from_gltf).filename().string());
+      return;
+    }
+
     const bool hfov_given = cmd->count("--hfov") > 0;
     const bool baseline_given = cmd->count("--baseline") > 0;
     Rig rig;
@@ -159,10 +225,7 @@ void AddMakeRigCommand(CLI::App& app) {
     }
     FramesFile frames = MakeTrajectory(t);
     frames.scene = scene_name;
-    WriteRig(rig, args->rig_out);
-    WriteFrames(frames, args->frames_out);
-    std::printf("wrote %s (%s, %zu cameras) and %s (%zu frames, %s)\n", args->rig_out.c_str(), args->type.c_str(),
-                rig.cameras.size(), args->frames_out.c_str(), frames.frames.size(), args->trajectory.c_str());
+    write(rig, frames, args->type);
   });
 }
 

@@ -1,0 +1,81 @@
+#include "scenes/scene_cameras.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <set>
+#include <stdexcept>
+
+namespace rigsim {
+namespace {
+
+std::string Quote(const std::string& s) { return "'" + s + "'"; }
+
+// Camera names become folder names in a dataset (render refuses separators, "." and "..").
+std::string FileSafeName(const SceneCamera& c) {
+  std::string name = c.name;
+  for (char& ch : name) {
+    if (ch == '/' || ch == '\\') ch = '_';
+  }
+  if (name.empty() || name == "." || name == "..") name = "camera" + std::to_string(c.node);
+  return name;
+}
+
+}  // namespace
+
+SceneCameraRig RigFromSceneCameras(const Scene& scene, int width, int height) {
+  if (width < 16 || height < 16) {
+    throw std::invalid_argument("cameras from " + scene.source + ": image size " + std::to_string(width) + "x" +
+                                std::to_string(height) + " is below 16x16");
+  }
+  SceneCameraRig out;
+  std::vector<const SceneCamera*> perspective;
+  std::string orthographic_names;
+  for (const SceneCamera& c : scene.cameras) {
+    if (c.orthographic) {
+      out.warnings.push_back("camera " + Quote(c.name) + " (node " + std::to_string(c.node) +
+                             ") is orthographic; only perspective cameras can be rig cameras, skipped");
+      orthographic_names += (orthographic_names.empty() ? "" : ", ") + Quote(c.name);
+    } else {
+      perspective.push_back(&c);
+    }
+  }
+  if (perspective.empty()) {
+    throw std::runtime_error(scene.source + ": no perspective camera in the loaded scene" +
+                             (orthographic_names.empty() ? std::string(" (the file places no camera on its nodes)")
+                                                         : " (orthographic cameras cannot be rig cameras: " + orthographic_names + ")"));
+  }
+
+  const Rigid3d rig_from_world = perspective.front()->cam_from_world;
+  const Rigid3d world_from_rig = rig_from_world.Inverse();
+  const double image_aspect = double(width) / height;
+  std::set<std::string> used;
+  for (const SceneCamera* c : perspective) {
+    std::string name = FileSafeName(*c);
+    if (!used.insert(name).second) {
+      const std::string renamed = name + "_" + std::to_string(c->node);
+      out.warnings.push_back("camera name " + Quote(name) + " repeats; the camera on node " + std::to_string(c->node) +
+                             " is called " + Quote(renamed));
+      name = renamed;
+      used.insert(name);
+    }
+    const double tan_half = std::tan(0.5 * c->yfov_rad);
+    const double aspect = c->aspect_ratio > 0 ? c->aspect_ratio : image_aspect;
+    if (c->aspect_ratio > 0 && std::abs(aspect / image_aspect - 1.0) > 1e-3) {
+      out.warnings.push_back("camera " + Quote(name) + ": the file's aspectRatio " + std::to_string(aspect) +
+                             " differs from the image's " + std::to_string(image_aspect) +
+                             "; pixels are not square (fx != fy) so that the image shows the file's field of view "
+                             "(for square pixels use an image size of that ratio, e.g. " + std::to_string(width) + "x" +
+                             std::to_string(std::max(1L, std::lround(width / aspect))) + ")");
+    }
+    const double fy = 0.5 * height / tan_half;
+    const double fx = 0.5 * width / (aspect * tan_half);
+    const Camera camera(CameraModelId::kPinhole, width, height, {fx, fy, 0.5 * (width - 1), 0.5 * (height - 1)});
+    out.rig.cameras.push_back(RigCamera{name, camera, c->cam_from_world * world_from_rig, 0.0});
+  }
+  out.frames.frames.push_back(Frame{"000000", rig_from_world, 0.0});
+  out.frames.scene = std::filesystem::path(scene.source).filename().string();
+  return out;
+}
+
+}  // namespace rigsim

@@ -1,0 +1,236 @@
+// glTF features checked through the renderer, from a file on disk to pixels:
+//  - a glTF camera used as a rig camera (scenes/scene_cameras.h) sees the file's view: a target on
+//    the camera's view axis lands at the principal point, glTF "up" is image up;
+//  - KHR_texture_transform changes what part of the texture a surface shows.
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "labels/cityscapes.h"
+#include "renderer/renderer.h"
+#include "scenes/gltf_loader.h"
+#include "scenes/scene_cameras.h"
+
+namespace rigsim {
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+fs::path TempDir() {
+  const auto* info = testing::UnitTest::GetInstance()->current_test_info();
+  const auto dir = fs::temp_directory_path() / "rigsim_gltf_features_render_test" / info->name();
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string Base64(const std::vector<uint8_t>& data) {
+  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (size_t i = 0; i < data.size(); i += 3) {
+    const uint32_t n = (uint32_t(data[i]) << 16) | (i + 1 < data.size() ? uint32_t(data[i + 1]) << 8 : 0) |
+                       (i + 2 < data.size() ? uint32_t(data[i + 2]) : 0);
+    out += k[(n >> 18) & 63];
+    out += k[(n >> 12) & 63];
+    out += i + 1 < data.size() ? k[(n >> 6) & 63] : '=';
+    out += i + 2 < data.size() ? k[n & 63] : '=';
+  }
+  return out;
+}
+
+// A glTF document of world-space quads (two triangles each, non-indexed), each its own node with a
+// class, optionally textured with texcoords (0,0) (1,0) (1,1) (0,1) at its corners.
+struct QuadGltf {
+  json doc = {{"asset", {{"version", "2.0"}}}, {"nodes", json::array()}, {"meshes", json::array()},
+              {"accessors", json::array()}, {"bufferViews", json::array()}, {"scene", 0}};
+  std::vector<uint8_t> bin;
+  std::vector<int> roots;
+
+  int View(const std::vector<float>& v, const std::string& type, size_t count) {
+    const size_t offset = bin.size();
+    bin.resize(offset + v.size() * 4);
+    std::memcpy(bin.data() + offset, v.data(), v.size() * 4);
+    doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", v.size() * 4}});
+    doc["accessors"].push_back({{"bufferView", doc["bufferViews"].size() - 1}, {"componentType", 5126}, {"count", count}, {"type", type}});
+    return int(doc["accessors"].size()) - 1;
+  }
+
+  // Corners in order around the quad; corner 0 gets uv (0, 0), 1 (1, 0), 2 (1, 1), 3 (0, 1).
+  void Quad(const std::array<Eigen::Vector3d, 4>& c, const std::string& cls, int material = -1) {
+    const int order[6] = {0, 1, 2, 0, 2, 3};
+    const float uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    std::vector<float> xyz, st;
+    for (int i : order) {
+      for (int k = 0; k < 3; ++k) xyz.push_back(float(c[i][k]));
+      st.push_back(uv[i][0]);
+      st.push_back(uv[i][1]);
+    }
+    json attributes = {{"POSITION", View(xyz, "VEC3", 6)}};
+    if (material >= 0) attributes["TEXCOORD_0"] = View(st, "VEC2", 6);
+    json prim = {{"attributes", attributes}, {"mode", 4}};
+    if (material >= 0) prim["material"] = material;
+    doc["meshes"].push_back({{"primitives", {prim}}});
+    doc["nodes"].push_back({{"mesh", doc["meshes"].size() - 1}, {"extras", {{"class", cls}}}});
+    roots.push_back(int(doc["nodes"].size()) - 1);
+  }
+
+  // A square of side `size` centred at `centre`, spanned by unit vectors `right` and `up`; uv (0, 0)
+  // at its top-left corner as seen with `right` to the right and `up` up.
+  void Square(const Eigen::Vector3d& centre, const Eigen::Vector3d& right, const Eigen::Vector3d& up, double size,
+              const std::string& cls, int material = -1) {
+    const double h = 0.5 * size;
+    Quad({centre - h * right + h * up, centre + h * right + h * up, centre + h * right - h * up, centre - h * right - h * up},
+         cls, material);
+  }
+
+  fs::path Write(const fs::path& dir, const std::string& name) {
+    json d = doc;
+    d["buffers"] = {{{"byteLength", bin.size()}, {"uri", "data:application/octet-stream;base64," + Base64(bin)}}};
+    d["scenes"] = {{{"nodes", roots}}};
+    const fs::path path = dir / (name + ".gltf");
+    std::ofstream(path) << d.dump(1);
+    return path;
+  }
+};
+
+uint8_t ClassId(const char* name) { return FindClassByName(name)->id; }
+
+TEST(GltfFeaturesRender, GltfCameraSeesTheFilesViewCentreAtThePrincipalPoint) {
+  QuadGltf g;
+  // The reference camera (node 0) somewhere else; the tested camera (node 2) is a child of a mount
+  // turned 30 deg about +Y and lifted 1.5 m, itself tilted 10 deg down about its x axis.
+  const double yfov = 50.0 * std::numbers::pi / 180.0;
+  g.doc["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", yfov}, {"znear", 0.05}}}}};
+  const Eigen::Quaterniond mount_q(Eigen::AngleAxisd(30.0 * std::numbers::pi / 180.0, Eigen::Vector3d::UnitY()));
+  const Eigen::Quaterniond cam_q(Eigen::AngleAxisd(-10.0 * std::numbers::pi / 180.0, Eigen::Vector3d::UnitX()));
+  const Eigen::Vector3d mount_t(0.3, 1.5, -0.2);
+  g.doc["nodes"].push_back({{"name", "reference"}, {"camera", 0}, {"translation", {5, 1, 5}}});
+  g.doc["nodes"].push_back({{"name", "mount"}, {"translation", {mount_t.x(), mount_t.y(), mount_t.z()}},
+                            {"rotation", {mount_q.x(), mount_q.y(), mount_q.z(), mount_q.w()}}, {"children", {2}}});
+  g.doc["nodes"].push_back({{"name", "tilted"}, {"camera", 0}, {"rotation", {cam_q.x(), cam_q.y(), cam_q.z(), cam_q.w()}}});
+  g.roots = {0, 1};
+  // The glTF camera frame of "tilted" in the world: right, up and view (-Z) directions.
+  const Eigen::Matrix3d world_from_gl = (mount_q * cam_q).toRotationMatrix();
+  const Eigen::Vector3d right = world_from_gl.col(0), up = world_from_gl.col(1), view = -world_from_gl.col(2);
+  g.Square(mount_t + 8.0 * view, right, up, 0.4, "pole");                        // on the view axis
+  g.Square(mount_t + 8.0 * view + 1.5 * up, right, up, 0.4, "traffic sign");    // above it
+  g.Square(mount_t + 20.0 * view, right, up, 60.0, "building");                  // background
+  const Scene scene = LoadGltf(g.Write(TempDir(), "cameras"));
+
+  // Odd image sizes put the principal point on a pixel centre.
+  const SceneCameraRig r = RigFromSceneCameras(scene, 161, 121);
+  ASSERT_EQ(r.rig.cameras.size(), 2u);
+  const RigCamera& cam = r.rig.cameras[1];
+  ASSERT_EQ(cam.name, "tilted");
+  EXPECT_EQ(cam.camera.cx(), 80.0);
+  EXPECT_EQ(cam.camera.cy(), 60.0);
+  const Rigid3d cam_from_world = *cam.cam_from_rig * *r.frames.frames[0].rig_from_world;
+  const Renderer renderer(scene);
+  RenderOptions options;
+  options.num_threads = 2;
+  const RenderedView view_img = renderer.Render(cam.camera, cam_from_world, options);
+
+  EXPECT_EQ(view_img.label.at(80, 60), ClassId("pole"));
+  EXPECT_NEAR(view_img.range.at(80, 60), 8.0, 1e-3);
+  // The target's pixels are centred on the principal point, the sign's straight above it.
+  auto centroid = [&](uint8_t id) {
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    int n = 0;
+    for (int y = 0; y < 121; ++y) {
+      for (int x = 0; x < 161; ++x) {
+        if (view_img.label.at(x, y) == id) {
+          sum += Eigen::Vector2d(x, y);
+          ++n;
+        }
+      }
+    }
+    EXPECT_GT(n, 4) << int(id);
+    return Eigen::Vector2d(sum / std::max(n, 1));
+  };
+  const Eigen::Vector2d pole = centroid(ClassId("pole"));
+  EXPECT_LT((pole - Eigen::Vector2d(80, 60)).norm(), 0.01) << pole.transpose();
+  const Eigen::Vector2d sign = centroid(ClassId("traffic sign"));
+  EXPECT_NEAR(sign.x(), 80.0, 0.01);
+  EXPECT_NEAR(sign.y(), 60.0 - cam.camera.fy() * 1.5 / 8.0, 0.5) << "glTF up must be image up";
+}
+
+// A 2x1 texture, left texel red, right texel green, sampled NEAREST with clamping.
+int AddRedGreenTexture(QuadGltf& g) {
+  cv::Mat bgr(1, 2, CV_8UC3);
+  bgr.at<cv::Vec3b>(0, 0) = cv::Vec3b(0, 0, 255);
+  bgr.at<cv::Vec3b>(0, 1) = cv::Vec3b(0, 255, 0);
+  std::vector<uint8_t> png;
+  cv::imencode(".png", bgr, png);
+  g.doc["images"] = {{{"uri", "data:image/png;base64," + Base64(png)}}};
+  g.doc["samplers"] = {{{"magFilter", 9728}, {"minFilter", 9728}, {"wrapS", 33071}, {"wrapT", 33071}}};
+  g.doc["textures"] = {{{"source", 0}, {"sampler", 0}}};
+  return 0;
+}
+
+TEST(GltfFeaturesRender, TextureTransformSelectsThePartOfTheTextureShown) {
+  // Four textured squares side by side facing a camera at the origin looking down -Z, uv (0, 0) at
+  // each one's top-left corner:
+  //  0 plain: left half red, right half green;
+  //  1 offset (0.5, 0), scale (0.5, 1): only the right texel, all green;
+  //  2 rotation 180 deg, offset (1, 1): uv -> (1-u, 1-v), mirrored, left half green;
+  //  3 rotation 90 deg: uv -> (v, -u) (counter-clockwise in the v-down UV plane), so the texture's
+  //    columns run down the square: top half red, bottom half green. The opposite direction,
+  //    (-v, u), would clamp to the red texel everywhere.
+  QuadGltf g;
+  AddRedGreenTexture(g);
+  const double pi = std::numbers::pi;
+  auto material = [&](json ext) {
+    json info = {{"index", 0}};
+    if (!ext.is_null()) info["extensions"] = {{"KHR_texture_transform", ext}};
+    return json{{"pbrMetallicRoughness", {{"baseColorTexture", info}}}};
+  };
+  g.doc["materials"] = {material(nullptr), material({{"offset", {0.5, 0}}, {"scale", {0.5, 1}}}),
+                        material({{"offset", {1, 1}}, {"rotation", pi}}), material({{"rotation", pi / 2}})};
+  g.doc["extensionsUsed"] = {"KHR_texture_transform"};
+  const Eigen::Vector3d right(1, 0, 0), up(0, 1, 0);
+  auto centre = [](int square) { return Eigen::Vector3d(-3.3 + 2.2 * square, 0, -6); };
+  for (int m = 0; m < 4; ++m) g.Square(centre(m), right, up, 2.0, "wall", m);
+  const Scene scene = LoadGltf(g.Write(TempDir(), "texture_transform"));
+  ASSERT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+
+  const Camera camera = Camera::PinholeFromHorizontalFov(300, 100, 90.0);
+  // cam_from_world for a camera at the origin looking down world -Z with +Y up (OpenCV axes).
+  Eigen::Matrix3d cam_from_world_r;
+  cam_from_world_r << 1, 0, 0, 0, -1, 0, 0, 0, -1;
+  const Renderer renderer(scene);
+  RenderOptions options;
+  options.shadows = false;
+  const RenderedView v = renderer.Render(camera, Rigid3d(cam_from_world_r, Eigen::Vector3d::Zero()), options);
+  // Colour at a fraction across (from the left) and down (from the top) of a square.
+  auto colour_at = [&](int square, double across, double down) {
+    const Eigen::Vector3d p = centre(square) + Eigen::Vector3d(-1.0 + 2.0 * across, 1.0 - 2.0 * down, 0);
+    const auto px = camera.ImgFromCam(cam_from_world_r * p);
+    const int x = int(std::lround(px->x())), y = int(std::lround(px->y()));
+    EXPECT_EQ(v.label.at(x, y), ClassId("wall"));
+    const int r = v.rgb.at(x, y, 0), gr = v.rgb.at(x, y, 1);
+    return r > 2 * gr + 10 ? 'R' : gr > 2 * r + 10 ? 'G' : '?';
+  };
+  EXPECT_EQ(colour_at(0, 0.25, 0.5), 'R');
+  EXPECT_EQ(colour_at(0, 0.75, 0.5), 'G');
+  EXPECT_EQ(colour_at(1, 0.25, 0.5), 'G') << "offset 0.5, scale 0.5 shows only the right texel";
+  EXPECT_EQ(colour_at(1, 0.75, 0.5), 'G');
+  EXPECT_EQ(colour_at(2, 0.25, 0.5), 'G') << "rotation by 180 deg mirrors u";
+  EXPECT_EQ(colour_at(2, 0.75, 0.5), 'R');
+  EXPECT_EQ(colour_at(3, 0.5, 0.25), 'R') << "rotation by 90 deg: u' = v";
+  EXPECT_EQ(colour_at(3, 0.5, 0.75), 'G') << "rotation by 90 deg: u' = v";
+}
+
+}  // namespace
+}  // namespace rigsim

@@ -1,0 +1,164 @@
+// `rigsim make-rig --from-gltf` through the built binary: the written rig and frames are the ones
+// RigFromSceneCameras computes, output is atomic (--out DIR, --force), and errors name the file
+// and leave nothing behind.
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "dataset/dataset.h"
+#include "geometry/rig.h"
+#include "scenes/gltf_loader.h"
+#include "scenes/scene_cameras.h"
+
+#ifndef RIGSIM_BINARY
+#error "RIGSIM_BINARY must name the rigsim executable"
+#endif
+
+namespace rigsim {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string ReadAll(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+struct Result {
+  int code = -1;
+  std::string out, err;
+};
+
+// Runs rigsim with `args` (each shell-quoted) and captures its exit code and output.
+Result RunRigsim(const fs::path& dir, const std::vector<std::string>& args) {
+  std::string cmd = std::string("'") + RIGSIM_BINARY + "'";
+  for (const std::string& a : args) cmd += " '" + a + "'";
+  cmd += " > '" + (dir / "stdout").string() + "' 2> '" + (dir / "stderr").string() + "'";
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ReadAll(dir / "stdout"), ReadAll(dir / "stderr")};
+}
+
+bool HasStagingFolder(const fs::path& dir) {
+  for (const auto& e : fs::directory_iterator(dir)) {
+    if (e.path().filename().string().find(".partial-") != std::string::npos) return true;
+  }
+  return false;
+}
+
+class MakeRigFromGltf : public testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / "rigsim_make_rig_from_gltf_cli_test" /
+           testing::UnitTest::GetInstance()->current_test_info()->name();
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    // Two perspective cameras (the second on a turned, scaled parent) and an orthographic one.
+    const double h = std::sqrt(0.5);
+    const json doc = {
+        {"asset", {{"version", "2.0"}}},
+        {"cameras",
+         {{{"type", "perspective"}, {"perspective", {{"yfov", std::numbers::pi / 3}, {"znear", 0.1}}}},
+          {{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"aspectRatio", 2.0}, {"znear", 0.1}}}},
+          {{"type", "orthographic"}, {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0.1}, {"zfar", 100}}}}}},
+        {"nodes",
+         {{{"name", "front"}, {"camera", 0}, {"translation", {1, 2, 3}}, {"rotation", {0, h, 0, h}}},
+          {{"name", "mount"}, {"translation", {0, 0, -10}}, {"rotation", {0, 1, 0, 0}}, {"scale", {2, 2, 2}}, {"children", {2}}},
+          {{"name", "back"}, {"camera", 1}, {"translation", {2, 0, 0}}},
+          {{"name", "top"}, {"camera", 2}, {"translation", {0, 50, 0}}}}},
+        {"scenes", {{{"nodes", {1, 0, 3}}}}},
+        {"scene", 0}};
+    scene_ = dir_ / "cameras.gltf";
+    std::ofstream(scene_) << doc.dump(1);
+    json none = doc;
+    none.erase("cameras");
+    for (json& n : none["nodes"]) n.erase("camera");
+    no_cameras_ = dir_ / "no_cameras.gltf";
+    std::ofstream(no_cameras_) << none.dump(1);
+  }
+
+  fs::path dir_, scene_, no_cameras_;
+};
+
+TEST_F(MakeRigFromGltf, WritesTheFilesCamerasAsRigAndOneFrame) {
+  const fs::path out = dir_ / "rig";
+  const Result r = RunRigsim(dir_, {"make-rig", "--from-gltf", scene_.string(), "--width", "640", "--height", "480", "--out", out.string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("'top'"), std::string::npos) << "the skipped orthographic camera is named: " << r.err;
+  EXPECT_NE(r.err.find("640x320"), std::string::npos) << "the aspect-ratio warning suggests a size: " << r.err;
+  const Rig rig = ReadRig(out / "rig.json");
+  const FramesFile frames = ReadFrames(out / "frames.json");
+  const SceneCameraRig expected = RigFromSceneCameras(LoadGltf(scene_), 640, 480);
+  ASSERT_EQ(rig.cameras.size(), 2u);
+  ASSERT_EQ(frames.frames.size(), 1u);
+  EXPECT_EQ(frames.scene, "cameras.gltf");
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(rig.cameras[i].name, expected.rig.cameras[i].name);
+    EXPECT_EQ(rig.cameras[i].camera.model(), CameraModelId::kPinhole);
+    for (size_t k = 0; k < 4; ++k) EXPECT_NEAR(rig.cameras[i].camera.params()[k], expected.rig.cameras[i].camera.params()[k], 1e-9);
+    // cam_from_world as render computes it equals the file's camera pose.
+    const Rigid3d cam_from_world = *rig.cameras[i].cam_from_rig * *frames.frames[0].rig_from_world;
+    const Rigid3d truth = *expected.rig.cameras[i].cam_from_rig * *expected.frames.frames[0].rig_from_world;
+    EXPECT_LT(RotationDifferenceDeg(cam_from_world.rotation, truth.rotation), 1e-9);
+    EXPECT_LT((cam_from_world.translation - truth.translation).norm(), 1e-9);
+  }
+  EXPECT_EQ(rig.cameras[0].name, "front");
+  EXPECT_EQ(rig.cameras[1].name, "back");
+
+  // The folder exists now: refused without --force (and left as it was), replaced with it.
+  const std::string before = ReadAll(out / "rig.json");
+  const Result again = RunRigsim(dir_, {"make-rig", "--from-gltf", scene_.string(), "--width", "320", "--height", "240", "--out", out.string()});
+  EXPECT_NE(again.code, 0);
+  EXPECT_NE(again.err.find("already exists (use --force"), std::string::npos) << again.err;
+  EXPECT_EQ(ReadAll(out / "rig.json"), before);
+  const Result forced = RunRigsim(dir_, {"make-rig", "--from-gltf", scene_.string(), "--width", "320", "--height", "240", "--out", out.string(), "--force"});
+  ASSERT_EQ(forced.code, 0) << forced.err;
+  EXPECT_EQ(ReadRig(out / "rig.json").cameras[0].camera.width(), 320);
+  EXPECT_FALSE(HasStagingFolder(dir_));
+
+  // The classic pair of output files works too.
+  const Result files = RunRigsim(dir_, {"make-rig", "--from-gltf", scene_.string(), "--rig-out", (dir_ / "r.json").string(),
+                                  "--frames-out", (dir_ / "f.json").string()});
+  ASSERT_EQ(files.code, 0) << files.err;
+  EXPECT_EQ(ReadRig(dir_ / "r.json").cameras.size(), 2u);
+}
+
+TEST_F(MakeRigFromGltf, AFileWithoutCamerasIsAnErrorNamingItAndWritesNothing) {
+  const fs::path out = dir_ / "rig";
+  const Result r = RunRigsim(dir_, {"make-rig", "--from-gltf", no_cameras_.string(), "--out", out.string()});
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find(no_cameras_.string() + ": no perspective camera"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_FALSE(HasStagingFolder(dir_));
+}
+
+TEST_F(MakeRigFromGltf, ConflictingOrMissingOptionsAreRefused) {
+  // A rig type or a trajectory makes no sense with cameras taken from the file.
+  Result r = RunRigsim(dir_, {"make-rig", "ring", "--from-gltf", scene_.string(), "--out", (dir_ / "a").string()});
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("excludes --from-gltf"), std::string::npos) << r.err;
+  r = RunRigsim(dir_, {"make-rig", "--from-gltf", scene_.string(), "--frames", "3", "--out", (dir_ / "a").string()});
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("--frames excludes --from-gltf"), std::string::npos) << r.err;
+  // Somewhere to write is required: --out, or both files.
+  r = RunRigsim(dir_, {"make-rig", "--from-gltf", scene_.string(), "--rig-out", (dir_ / "r.json").string()});
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("give --out DIR, or both --rig-out FILE and --frames-out FILE"), std::string::npos) << r.err;
+  r = RunRigsim(dir_, {"make-rig", "--out", (dir_ / "a").string(), "--rig-out", (dir_ / "r.json").string()});
+  EXPECT_NE(r.code, 0);
+  EXPECT_FALSE(fs::exists(dir_ / "a"));
+  EXPECT_FALSE(fs::exists(dir_ / "r.json"));
+}
+
+}  // namespace
+}  // namespace rigsim
