@@ -55,6 +55,7 @@ void CalibrationOptions::Check() const {
   matching.Check();
   two_view.Check();
   precision.Check();
+  labels.Check();
   if (num_threads < 0) throw std::invalid_argument("CalibrationOptions: num_threads must be >= 0");
 }
 
@@ -118,13 +119,8 @@ std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path
                                "x" + std::to_string(h));
     }
     ImageU8 labels;
-    if (need_labels) {
-      const auto label_path = layout.Label(rc.name, frame_name);
-      if (!std::filesystem::exists(label_path)) {
-        throw std::runtime_error(label_path.string() + ": label image missing (the semantic mode needs labels)");
-      }
-      labels = ReadLabelImage(label_path, w, h);  // checks channels, size and Cityscapes ids
-    }
+    // Checks size and Cityscapes ids or colours; names the file.
+    if (need_labels) labels = LoadLabels(options.labels, layout, rc.name, frame_name, w, h);
     for (int k = 0; k < 2; ++k) {
       if (!need_kind[k]) continue;
       const auto start = Clock::now();

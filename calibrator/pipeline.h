@@ -6,8 +6,9 @@
 // per image and kind (unmasked for none/gated, masked for mask/mask+gated) and shared.
 //
 // Reads (dataset/dataset.h): rig.json (intrinsics; cam_from_rig optional), frames.json or the
-// image stems of the first camera, images/<cam>/<frame>.*, labels/<cam>/<frame>.png when a mode
-// needs them, depth/<cam>/<frame>.exr when present (match precision).
+// image stems of the first camera, images/<cam>/<frame>.*, labels when a mode needs them
+// (labels/<cam>/<frame>.png or CalibrationOptions::labels), depth/<cam>/<frame>.exr when present
+// (match precision).
 // Assumes synchronised capture: camera time offsets are not modelled here.
 #pragma once
 
@@ -28,6 +29,7 @@
 #include "calibrator/semantics.h"
 #include "calibrator/two_view.h"
 #include "calibrator/view_graph.h"
+#include "dataset/label_source.h"
 #include "geometry/rigid3.h"
 #include "labels/cityscapes.h"
 
@@ -44,6 +46,9 @@ struct CalibrationOptions {
   TwoViewOptions two_view;
   // Classes the mask modes detect on.
   ReliableClasses reliable;
+  // Where the label images of the semantic modes come from (dataset/label_source.h): the truth
+  // in labels/, a user folder (ids or colours), or the truth through the segmentation-noise model.
+  LabelSource labels;
   // Match precision against ground-truth range images.
   MatchPrecisionOptions precision;
   // Compare with the truth when rig.json has every cam_from_rig and depth images exist.

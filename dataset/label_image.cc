@@ -64,4 +64,24 @@ ImageU8 ReadLabelImage(const std::filesystem::path& path, int width, int height)
   return labels;
 }
 
+ImageU8 ReadLabelImageIdsOrColors(const std::filesystem::path& path, int width, int height, LabelImageFormat* format) {
+  const ImageU8 image = ReadImageU8(path, 0);
+  if (image.channels == 2 || image.channels > 4) {
+    throw std::runtime_error(path.string() + ": a label image must have 1 channel (Cityscapes label ids) or 3 "
+                             "(Cityscapes colours), this one has " + std::to_string(image.channels));
+  }
+  if (width > 0 && height > 0 && !image.SameSize(width, height)) {
+    throw std::runtime_error(path.string() + ": label image is " + std::to_string(image.width) + "x" +
+                             std::to_string(image.height) + ", its image is " + std::to_string(width) + "x" +
+                             std::to_string(height));
+  }
+  if (image.channels == 1) {
+    CheckLabelIds(image, path.string());
+    if (format) *format = LabelImageFormat::kIds;
+    return image;
+  }
+  if (format) *format = LabelImageFormat::kColors;
+  return LabelsFromColors(image, path.string());  // uses the first 3 channels
+}
+
 }  // namespace rigsim

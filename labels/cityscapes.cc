@@ -1,6 +1,7 @@
 #include "labels/cityscapes.h"
 
 #include <stdexcept>
+#include <vector>
 
 namespace rigsim {
 namespace {
@@ -65,6 +66,43 @@ std::optional<uint8_t> ClassIdFromColor(const std::array<uint8_t, 3>& rgb) {
     if (c.color == rgb) return c.id;
   }
   return std::nullopt;
+}
+
+std::span<const uint8_t> ConfusableClasses(int id) {
+  // Indexed by label id; the first entry of each list is the most frequent confusion.
+  static const std::array<std::vector<uint8_t>, 34> kConfusable = {{
+      {}, {}, {}, {}, {}, {},  // void
+      {7, 22},                 // ground -> road, terrain
+      {8, 9},                  // road -> sidewalk, parking
+      {7, 22},                 // sidewalk -> road, terrain
+      {7, 8},                  // parking -> road, sidewalk
+      {7},                     // rail track -> road
+      {12, 13, 21},            // building -> wall, fence, vegetation
+      {11, 13},                // wall -> building, fence
+      {12, 11, 21},            // fence -> wall, building, vegetation
+      {13},                    // guard rail -> fence
+      {11},                    // bridge -> building
+      {11},                    // tunnel -> building
+      {20, 11, 21},            // pole -> traffic sign, building, vegetation (tree trunks)
+      {17},                    // polegroup -> pole
+      {17, 20},                // traffic light -> pole, traffic sign
+      {17, 19},                // traffic sign -> pole, traffic light
+      {22, 11},                // vegetation -> terrain, building
+      {21, 8},                 // terrain -> vegetation, sidewalk
+      {11, 21},                // sky -> building, vegetation
+      {25},                    // person -> rider
+      {24},                    // rider -> person
+      {27},                    // car -> truck
+      {26, 28},                // truck -> car, bus
+      {27, 31},                // bus -> truck, train
+      {27},                    // caravan -> truck
+      {27},                    // trailer -> truck
+      {28},                    // train -> bus
+      {33},                    // motorcycle -> bicycle
+      {32},                    // bicycle -> motorcycle
+  }};
+  if (id < 0 || id >= static_cast<int>(kConfusable.size())) return {};
+  return kConfusable[id];
 }
 
 ReliableClasses::ReliableClasses() {

@@ -37,6 +37,13 @@ const LabelClass* FindClassByName(std::string_view name);
 // Label id whose preview colour equals `rgb`, if any.
 std::optional<uint8_t> ClassIdFromColor(const std::array<uint8_t, 3>& rgb);
 
+// Classes a segmentation network plausibly predicts instead of class `id` (its most frequent
+// confusions on Cityscapes: road/sidewalk, building/wall/fence, vegetation/terrain, pole/sign,
+// car/truck, person/rider, ...). Some cross the reliable/unreliable line (building/vegetation,
+// sidewalk/terrain, sky/building), as real errors do. Empty for the void classes (ids 0..5) and
+// unknown ids. Used by the segmentation-noise model (dataset/segmentation_noise.h).
+std::span<const uint8_t> ConfusableClasses(int id);
+
 // Per-id reliability, defaulting to each class's `reliable` flag; the user can override.
 class ReliableClasses {
  public:

@@ -37,6 +37,26 @@ TEST(Cityscapes, StaticStructureIsReliableAndMovablesAreNot) {
   }
 }
 
+TEST(Cityscapes, ConfusableClassesAreOtherKnownClasses) {
+  int with_confusions = 0;
+  for (const LabelClass& c : CityscapesClasses()) {
+    const auto confusable = ConfusableClasses(c.id);
+    if (c.id <= 5) {
+      EXPECT_TRUE(confusable.empty()) << c.name;
+    }
+    with_confusions += !confusable.empty();
+    for (uint8_t other : confusable) {
+      EXPECT_NE(other, c.id) << c.name;
+      ASSERT_NE(FindClassById(other), nullptr) << c.name;
+      EXPECT_GT(other, 5) << c.name << ": confused with a void class";
+    }
+  }
+  EXPECT_EQ(with_confusions, 28);
+  EXPECT_EQ(ConfusableClasses(7)[0], 8);  // road -> sidewalk first
+  EXPECT_TRUE(ConfusableClasses(99).empty());
+  EXPECT_TRUE(ConfusableClasses(-1).empty());
+}
+
 TEST(Cityscapes, UserCanOverrideReliableClasses) {
   const ReliableClasses r = ReliableClasses::FromNames({"car", "road"});
   EXPECT_TRUE(r.IsReliable(26));

@@ -1,0 +1,124 @@
+#include "dataset/label_source.h"
+
+#include <gtest/gtest.h>
+
+#include "dataset/image_io.h"
+#include "dataset/label_image.h"
+
+namespace rigsim {
+namespace {
+namespace fs = std::filesystem;
+
+class LabelSourceTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("rigsim_label_source_" + std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    truth_ = ImageU8(64, 48, 1, 23);
+    for (int y = 20; y < 48; ++y) {
+      for (int x = 0; x < 64; ++x) truth_.at(x, y) = x < 30 ? 11 : (y > 40 ? 7 : 26);
+    }
+    const DatasetLayout layout(dir_ / "dataset");
+    fs::create_directories(layout.Label("cam0", "000000").parent_path());
+    WriteImage(layout.Label("cam0", "000000"), truth_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path Write(const std::string& folder, const ImageU8& image) {
+    const fs::path p = dir_ / folder / "cam0" / "000000.png";
+    fs::create_directories(p.parent_path());
+    WriteImage(p, image);
+    return p;
+  }
+  // LoadLabels from `folder` fails with a message naming its file and saying `part`.
+  void ExpectFolderFails(const std::string& folder, const std::string& part, int width = 64, int height = 48) {
+    const fs::path file = dir_ / folder / "cam0" / "000000.png";
+    try {
+      LoadLabels(LabelSource::Folder(dir_ / folder), DatasetLayout(dir_ / "dataset"), "cam0", "000000", width, height);
+      ADD_FAILURE() << "no error for " << folder;
+    } catch (const std::runtime_error& e) {
+      const std::string what = e.what();
+      EXPECT_EQ(what.rfind(file.string() + ": ", 0), 0u) << "message does not start with the file: " << what;
+      EXPECT_NE(what.find(part), std::string::npos) << what;
+    }
+  }
+  fs::path dir_;
+  ImageU8 truth_;
+};
+
+TEST_F(LabelSourceTest, TruthIsTheRenderedLabels) {
+  const DatasetLayout layout(dir_ / "dataset");
+  EXPECT_EQ(LoadLabels(LabelSource::Truth(), layout, "cam0", "000000", 64, 48).data, truth_.data);
+  EXPECT_EQ(LabelSource::Truth().KindName(), "truth");
+}
+
+TEST_F(LabelSourceTest, UserFolderInIdsAndInColoursGivesTheSameLabels) {
+  Write("ids", truth_);
+  Write("colors", ColorizeLabels(truth_));
+  ImageU8 rgba(64, 48, 4, 255);  // RGBA: alpha is ignored
+  const ImageU8 colors = ColorizeLabels(truth_);
+  for (int y = 0; y < 48; ++y) {
+    for (int x = 0; x < 64; ++x) {
+      for (int c = 0; c < 3; ++c) rgba.at(x, y, c) = colors.at(x, y, c);
+    }
+  }
+  Write("rgba", rgba);
+  const DatasetLayout layout(dir_ / "dataset");
+  for (const char* folder : {"ids", "colors", "rgba"}) {
+    SCOPED_TRACE(folder);
+    EXPECT_EQ(LoadLabels(LabelSource::Folder(dir_ / folder), layout, "cam0", "000000", 64, 48).data, truth_.data);
+  }
+  LabelImageFormat format;
+  ReadLabelImageIdsOrColors(dir_ / "colors" / "cam0" / "000000.png", 64, 48, &format);
+  EXPECT_EQ(format, LabelImageFormat::kColors);
+  ReadLabelImageIdsOrColors(dir_ / "ids" / "cam0" / "000000.png", 64, 48, &format);
+  EXPECT_EQ(format, LabelImageFormat::kIds);
+}
+
+TEST_F(LabelSourceTest, BadUserLabelImagesAreErrorsNamingTheFile) {
+  Write("small", ImageU8(32, 48, 1, 11));
+  ExpectFolderFails("small", "label image is 32x48, its image is 64x48");
+  ImageU8 colors = ColorizeLabels(truth_);
+  colors.at(5, 7, 0) = 1;  // (1, 130, 180): no Cityscapes colour
+  Write("bad_color", colors);
+  ExpectFolderFails("bad_color", "pixel (5, 7) has colour (1, 130, 180), which is no Cityscapes class colour");
+  ImageU8 ids = truth_;
+  ids.at(3, 2) = 77;
+  Write("bad_id", ids);
+  ExpectFolderFails("bad_id", "pixel (3, 2) has label id 77");
+  Write("two_channels", ImageU8(64, 48, 2, 11));
+  ExpectFolderFails("two_channels", "must have 1 channel (Cityscapes label ids) or 3");
+  fs::create_directories(dir_ / "empty");
+  ExpectFolderFails("empty", "label image missing");
+}
+
+TEST_F(LabelSourceTest, MissingFolderIsNamedByCheck) {
+  try {
+    LabelSource::Folder(dir_ / "nowhere").Check();
+    ADD_FAILURE();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find((dir_ / "nowhere").string() + ": no such label folder"), std::string::npos);
+  }
+  SegmentationNoiseOptions bad;
+  bad.confusion_rate = 2;
+  EXPECT_THROW(LabelSource::Noisy(bad).Check(), std::invalid_argument);
+}
+
+TEST_F(LabelSourceTest, NoisyIsTheTruthThroughTheNoiseModel) {
+  SegmentationNoiseOptions noise;
+  noise.boundary_px = 3;
+  noise.confusion_rate = 0.5;
+  noise.blob_size_px = 8;
+  noise.seed = 11;
+  const DatasetLayout layout(dir_ / "dataset");
+  const ImageU8 noisy = LoadLabels(LabelSource::Noisy(noise), layout, "cam0", "000000", 64, 48);
+  EXPECT_EQ(noisy.data, ApplySegmentationNoise(truth_, noise, "cam0", "000000").data);
+  EXPECT_NE(noisy.data, truth_.data);
+  EXPECT_EQ(LabelSource::Noisy(noise).Describe(), "noisy truth (boundary 3 px, confusion 0.5, blobs 8 px, seed 11)");
+  noise.boundary_px = 0;
+  noise.confusion_rate = 0;
+  EXPECT_EQ(LoadLabels(LabelSource::Noisy(noise), layout, "cam0", "000000", 64, 48).data, truth_.data);
+}
+
+}  // namespace
+}  // namespace rigsim
