@@ -19,14 +19,18 @@ void AddCalibrateCommand(CLI::App& app) {
       "relative pose per pair, rotation averaging over the view graph, bundle adjustment. Gauge:\n"
       "the first camera is the rig frame.\n"
       "When rig.json holds the true poses (rendered data) every pair and camera is compared with\n"
-      "the truth. Real photos: write rig.json with intrinsics only, photos in images/<cam>/.");
+      "the truth. Real photos: write rig.json with intrinsics only, photos in images/<cam>/.\n"
+      "Writes OUT/evaluation.json and per mode OUT/<mode>/: rig.json, camchain.yaml (Kalibr),\n"
+      "opencv.yaml, colmap/ (text model of the first frame) and pairs.json (per-pair statistics);\n"
+      "the three exports hold only the cameras with a full pose.");
   cmd->add_option("DATASET", args->dataset, "dataset folder (rig.json, images/, optional labels/ and depth/)")
       ->required()
       ->check(CLI::ExistingDirectory);
   cmd->add_option("--out", args->out,
-                  "output folder: evaluation.json and <mode>/rig.json (default DATASET/calibration)");
+                  "output folder: evaluation.json and <mode>/ (default DATASET/calibration)");
   cmd->add_flag("--force", args->force, "replace an existing output folder");
   AddCalibrateSettingsOptions(*cmd, args->settings);
+  AddLabelSourceOptions(*cmd, args->settings.labels);
   cmd->add_option("--features", args->features,
                   "keypoints and descriptors: sift (default), rootsift (SIFT descriptors L1-normalised\n"
                   "and square-rooted), orb or akaze (binary descriptors matched by Hamming distance,\n"

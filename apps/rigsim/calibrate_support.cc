@@ -1,17 +1,72 @@
 #include "apps/rigsim/calibrate_support.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 
 #include "apps/rigsim/report_table.h"
 #include "dataset/dataset.h"
+#include "exports/colmap.h"
+#include "exports/kalibr.h"
+#include "exports/opencv_yaml.h"
 #include "geometry/camera_validation.h"
 #include "geometry/json_io.h"
 
 namespace rigsim::cli {
 
+LabelSource LabelSettings::ToSource() const {
+  if (labels != "noisy") {
+    for (const CLI::Option* opt : noise_options) {
+      if (opt->count() > 0) throw std::invalid_argument(opt->get_name() + " needs --labels noisy (got --labels " + labels + ")");
+    }
+  }
+  LabelSource source;
+  if (labels == "truth") {
+    source = LabelSource::Truth();
+  } else if (labels == "noisy") {
+    source = LabelSource::Noisy(noise);
+  } else if (labels.empty()) {
+    throw std::invalid_argument("--labels: give truth, noisy or a folder");
+  } else {
+    source = LabelSource::Folder(labels);
+  }
+  source.Check();
+  return source;
+}
+
+void AddLabelSourceOptions(CLI::App& cmd, LabelSettings& s) {
+  const SegmentationNoiseOptions d = LabelSettings::DefaultNoise();
+  cmd.add_option("--labels", s.labels,
+                 "labels for the semantic modes: truth (DATASET/labels, as rendered), noisy (the truth through\n"
+                 "a seeded model of a segmentation network's errors, see --label-noise-*), or a folder DIR\n"
+                 "holding DIR/<cam>/<frame>.png as Cityscapes label ids (1 channel) or Cityscapes colours\n"
+                 "(RGB), told apart per file (DATASET/labels_color works). A folder named truth or noisy: ./truth")
+      ->capture_default_str();
+  s.noise_options.push_back(
+      cmd.add_option("--label-noise-boundary", s.noise.boundary_px,
+                     "noisy: class boundaries move by up to PX pixels (each class grows or shrinks, varying\n"
+                     "along the boundary)")
+          ->default_str(std::to_string(d.boundary_px))
+          ->check(CLI::Range(0, 64)));
+  s.noise_options.push_back(
+      cmd.add_option("--label-noise-confusion", s.noise.confusion_rate,
+                     "noisy: probability that a blob (a class's region within a superpixel) is relabelled\n"
+                     "to a class networks confuse it with (road/sidewalk, building/wall, car/truck, ...)")
+          ->default_str("0.1")
+          ->check(CLI::Range(0.0, 1.0)));
+  s.noise_options.push_back(cmd.add_option("--label-noise-blob", s.noise.blob_size_px,
+                                           "noisy: superpixel size of the confused blobs (px)")
+                                ->default_str(std::to_string(d.blob_size_px))
+                                ->check(CLI::Range(4, 4096)));
+  s.noise_options.push_back(
+      cmd.add_option("--label-noise-seed", s.noise.seed,
+                     "noisy: seed; every image's errors depend only on (seed, camera, frame)")
+          ->default_str(std::to_string(d.seed)));
+}
+
 RigCalibrationOptions CalibrateSettings::ToOptions() const {
   RigCalibrationOptions o = options;
+  o.pairwise.labels = labels.ToSource();
   if (!reliable.empty()) o.pairwise.reliable = ReliableClasses::FromNames(reliable);
   if (!known_distance.empty()) {
     if (known_distance.size() != 3) throw std::invalid_argument("--known-distance takes CAM_A CAM_B METRES");
@@ -82,6 +137,8 @@ void CheckCalibrationInputs(const std::filesystem::path& dataset) {
 
 namespace {
 
+namespace fs = std::filesystem;
+
 // evaluation.json: the pairwise report of each method (ReportToJson) with the rig result of the
 // same method under "rig".
 json_io::Json EvaluationJson(const std::vector<RigCalibrationResult>& results) {
@@ -97,29 +154,154 @@ json_io::Json EvaluationJson(const std::vector<RigCalibrationResult>& results) {
   return evaluation;
 }
 
+json_io::Json LabelSourceJson(const LabelSource& source, bool used) {
+  json_io::Json j = {{"kind", source.KindName()}, {"description", source.Describe()}, {"used", used}};
+  if (source.kind == LabelSource::Kind::kFolder) j["folder"] = fs::absolute(source.folder).lexically_normal().string();
+  if (source.kind == LabelSource::Kind::kNoisy) {
+    j["noise"] = {{"boundary_px", source.noise.boundary_px},
+                  {"confusion_rate", source.noise.confusion_rate},
+                  {"blob_size_px", source.noise.blob_size_px},
+                  {"seed", source.noise.seed}};
+  }
+  return j;
+}
+
+// The pair's type: two_view.h's ("general", "planar", "rotation-only") when the pair JSON has it,
+// "general" or "rotation-only" from the flags otherwise, and "failed" when there is no estimate.
+std::string PairTypeOf(const json_io::Json& pair) {
+  if (!pair.value("success", false)) return "failed";
+  if (pair.contains("pair_type") && pair["pair_type"].is_string()) return pair["pair_type"].get<std::string>();
+  return pair.value("rotation_only", false) ? "rotation-only" : "general";
+}
+
+// pairs.json of one mode: every camera pair's pairwise statistics (ReportToJson's entries) with
+// its type, the ground-truth overlap when overlap.json has it, and what the rig stage made of it.
+json_io::Json PairsJson(const json_io::Json& method, const std::string& mode, const json_io::Json& label_source,
+                        const OverlapTable& overlap) {
+  json_io::Json pairs = json_io::Json::array();
+  for (json_io::Json pair : method["pairs"]) {
+    const std::string a = pair["cam_a"], b = pair["cam_b"];
+    pair["pair_type"] = PairTypeOf(pair);
+    const auto ov = overlap.find({a, b});
+    pair["overlap"] = ov != overlap.end() ? json_io::Json(ov->second) : json_io::Json(nullptr);
+    pair["rig_edge"] = nullptr;
+    for (const json_io::Json& e : method["rig"]["edges"]) {
+      if (e["cam_a"] == a && e["cam_b"] == b) {
+        pair["rig_edge"] = {{"used", e["used"]},
+                            {"status", e["status"]},
+                            {"rotation_outlier", e["rotation_outlier"]},
+                            {"rotation_residual_deg", e["rotation_residual_deg"]}};
+      }
+    }
+    pairs.push_back(std::move(pair));
+  }
+  return {{"semantic_mode", mode},
+          {"label_source", label_source},
+          {"num_frames", method["num_frames"]},
+          {"units",
+           {{"median_residual_deg", "median angular epipolar residual of the pair's two-view inliers (deg)"},
+            {"rotation_error_deg", "angle of R_est R_true^T (deg), when rig.json has the truth"},
+            {"translation_direction_error_deg", "angle between estimated and true baseline directions (deg)"},
+            {"rig_edge.rotation_residual_deg", "the final rig's relative rotation vs this pair's (deg)"}}},
+          {"pairs", pairs}};
+}
+
+// The exports of one mode's estimate (the writers of `rigsim export`): camchain.yaml, opencv.yaml
+// and colmap/, of the cameras with a full pose only. COLMAP gets the images of the first frame:
+// the calibration's world is the rig frame at frame 0, so their cam_from_world is cam_from_rig;
+// the rig's motion over the frames is not part of the estimate. Returns the "outputs" record.
+json_io::Json WriteExports(const RigCalibrationResult& r, const DatasetLayout& layout, const std::string& first_frame,
+                           const fs::path& dir) {
+  Rig calibrated;
+  json_io::Json exported = json_io::Json::array(), omitted = json_io::Json::array(), notes = json_io::Json::array();
+  for (size_t c = 0; c < r.rig.cameras.size(); ++c) {
+    const RigCamera& rc = r.rig.cameras[c];
+    if (rc.cam_from_rig) {
+      calibrated.cameras.push_back(rc);
+      exported.push_back(rc.name);
+    } else {
+      omitted.push_back({{"name", rc.name}, {"status", c < r.camera_status.size() ? r.camera_status[c] : ""}});
+    }
+  }
+  json_io::Json files = {"rig.json", "pairs.json"};
+  auto note = [&](const std::string& text) {
+    std::fprintf(stderr, "warning: %s: %s\n", r.semantic_mode.c_str(), text.c_str());
+    notes.push_back(text);
+  };
+  if (!omitted.empty()) {
+    std::string names;
+    for (const auto& o : omitted) names += (names.empty() ? "" : ", ") + o["name"].get<std::string>();
+    note("camchain.yaml, opencv.yaml and colmap/ leave out the cameras without a full pose: " + names +
+         " (see rig.json and evaluation.json for why)");
+  }
+  if (calibrated.cameras.empty()) {
+    note("no camera has a pose: no camchain.yaml, opencv.yaml or colmap/");
+  } else {
+    try {
+      WriteKalibrCamchain(calibrated, dir / "camchain.yaml");
+      files.push_back("camchain.yaml");
+    } catch (const std::invalid_argument& e) {  // a model Kalibr cannot express
+      note(std::string("camchain.yaml not written: ") + e.what());
+    }
+    WriteOpenCvRigYaml(calibrated, dir / "opencv.yaml");
+    files.push_back("opencv.yaml");
+    FramesFile first;
+    first.frames.push_back(Frame{first_frame, Rigid3d(), 0.0});  // rig frame 0 = world
+    ColmapExportOptions colmap;
+    if (const auto image = layout.FindImage(calibrated.cameras[0].name, first.frames[0].name)) {
+      colmap.image_extension = image->extension().string();
+    }
+    WriteColmapModel(calibrated, first, dir / "colmap", colmap);
+    files.push_back("colmap/cameras.txt");
+    files.push_back("colmap/images.txt");
+    files.push_back("colmap/points3D.txt");
+  }
+  return {{"dir", r.semantic_mode},
+          {"files", files},
+          {"cameras_exported", exported},
+          {"cameras_omitted", omitted},
+          {"colmap_frame", first_frame},
+          {"notes", notes}};
+}
+
 }  // namespace
 
 std::vector<RigCalibrationResult> CalibrateAndReport(const std::filesystem::path& dataset, const CalibrateSettings& settings,
                                                      const std::filesystem::path& out_dir, bool force) {
   const RigCalibrationOptions options = settings.ToOptions();
   const std::vector<SemanticMode> modes = settings.Modes();
+  const bool labels_used = std::any_of(modes.begin(), modes.end(), NeedsLabels);
+  const LabelSource& labels = options.pairwise.labels;
+  if (!labels_used && labels.kind != LabelSource::Kind::kTruth) {
+    std::fprintf(stderr, "warning: --labels %s is not used: no semantic mode given needs labels\n",
+                 settings.labels.labels.c_str());
+  }
   // Everything that can be checked cheaply is checked before the long run, so that bad input
   // fails fast and leaves nothing behind.
-  const OverlapTable overlap = ReadOverlap(DatasetLayout(dataset).OverlapJson());
+  const DatasetLayout layout(dataset);
+  const OverlapTable overlap = ReadOverlap(layout.OverlapJson());
   CheckCalibrationInputs(dataset);
   StagedOutput staged(out_dir, force);
 
   const auto start = std::chrono::steady_clock::now();
-  std::fprintf(stderr, "calibrating %s (%zu semantic modes)...\n", dataset.string().c_str(), modes.size());
+  std::fprintf(stderr, "calibrating %s (%zu semantic modes%s)...\n", dataset.string().c_str(), modes.size(),
+               labels_used ? (", labels: " + labels.Describe()).c_str() : "");
   const std::vector<RigCalibrationResult> results = CalibrateRig(dataset, options, modes);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  json_io::WriteTextAtomic(staged.staging_dir() / "evaluation.json", EvaluationJson(results).dump(2) + "\n");
+  const std::string first_frame = layout.ReadFramesOrScan(ReadRig(layout.RigJson()).cameras.at(0).name).frames.at(0).name;
+  json_io::Json evaluation = EvaluationJson(results);
+  evaluation["label_source"] = LabelSourceJson(labels, labels_used);
   for (const RigCalibrationResult& r : results) {
-    const std::filesystem::path dir = staged.staging_dir() / r.semantic_mode;
-    std::filesystem::create_directories(dir);
+    const fs::path dir = staged.staging_dir() / r.semantic_mode;
+    fs::create_directories(dir);
     WriteRig(r.rig, dir / "rig.json");
+    json_io::Json& method = evaluation["methods"][r.semantic_mode];
+    json_io::WriteTextAtomic(dir / "pairs.json",
+                             PairsJson(method, r.semantic_mode, evaluation["label_source"], overlap).dump(2) + "\n");
+    method["outputs"] = WriteExports(r, layout, first_frame, dir);
   }
+  json_io::WriteTextAtomic(staged.staging_dir() / "evaluation.json", evaluation.dump(2) + "\n");
   staged.Commit();
 
   std::vector<CalibrationReport> pairwise;
@@ -132,7 +314,9 @@ std::vector<RigCalibrationResult> CalibrateAndReport(const std::filesystem::path
               results.empty() || results[0].rig.cameras.empty() ? "camera 0" : results[0].rig.cameras[0].name.c_str());
   std::printf("%s\n", FormatRigTable(results).c_str());
   std::printf("%s", FormatRigSummary(results).c_str());
-  std::printf("calibration took %.1f s; results in %s\n", seconds, out_dir.string().c_str());
+  std::printf("calibration took %.1f s; labels: %s; results in %s:\n", seconds,
+              labels_used ? labels.Describe().c_str() : "not used", out_dir.string().c_str());
+  std::printf("  evaluation.json; per mode <mode>/: rig.json, camchain.yaml (Kalibr), opencv.yaml, colmap/, pairs.json\n");
   return results;
 }
 

@@ -1,0 +1,420 @@
+// `rigsim calibrate` inputs and outputs through the built binary (issue 5): the label sources
+// (truth, a user folder in Cityscapes ids or colours, the segmentation-noise model) and the
+// files written per semantic mode (rig.json, Kalibr camchain.yaml, OpenCV YAML, COLMAP text
+// model, pairs.json), read back with their consumers' conventions.
+//
+// The dataset: the built-in street through a 3-camera ring placed by `make-rig --scene` (320x240,
+// 2 frames), plus a camera "back" that faces backwards and overlaps no other camera, so that one
+// camera cannot be calibrated.
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+
+#include "calibrator/pipeline.h"
+#include "dataset/dataset.h"
+#include "dataset/image_io.h"
+#include "dataset/label_image.h"
+#include "geometry/rig.h"
+
+#ifndef RIGSIM_BINARY
+#error "RIGSIM_BINARY must name the rigsim executable"
+#endif
+#ifndef RIGSIM_SOURCE_DIR
+#error "RIGSIM_SOURCE_DIR must name the source tree"
+#endif
+
+namespace rigsim {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string ReadAll(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+json ReadJson(const fs::path& path) { return json::parse(ReadAll(path)); }
+
+// Data lines of a COLMAP text file: neither comments nor empty lines.
+std::vector<std::string> DataLines(const fs::path& path) {
+  std::vector<std::string> lines;
+  std::istringstream in(ReadAll(path));
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty() && line[0] != '#') lines.push_back(line);
+  }
+  return lines;
+}
+
+struct Result {
+  int code = -1;
+  std::string out, err;
+};
+
+// Runs rigsim with `args` (at most 120 s); stdout and stderr through files beside `log_prefix`.
+Result RunRigsim(const std::vector<std::string>& args, const fs::path& log_prefix) {
+  const std::string out_path = log_prefix.string() + ".stdout", err_path = log_prefix.string() + ".stderr";
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int out = ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int err = ::open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(out, 1);
+    dup2(err, 2);
+    std::vector<std::string> copy = args;
+    std::string binary = RIGSIM_BINARY;
+    std::vector<char*> argv = {binary.data()};
+    for (std::string& a : copy) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execv(binary.c_str(), argv.data());
+    _exit(127);
+  }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  int status = 0;
+  while (waitpid(pid, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      ADD_FAILURE() << "rigsim did not finish in 120 s";
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  Result r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.out = ReadAll(out_path);
+  r.err = ReadAll(err_path);
+  return r;
+}
+
+// Hidden staging folders ".NAME.partial-*" beside `out`.
+std::vector<fs::path> StagingFolders(const fs::path& out) {
+  std::vector<fs::path> found;
+  std::string prefix = ".";
+  prefix += out.filename().string();
+  prefix += ".partial-";
+  if (!fs::exists(out.parent_path())) return found;
+  for (const auto& e : fs::directory_iterator(out.parent_path())) {
+    if (e.path().filename().string().rfind(prefix, 0) == 0) found.push_back(e.path());
+  }
+  return found;
+}
+
+class CalibrateIo : public testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    base_ = new fs::path(fs::temp_directory_path() / ("rigsim_calibrate_io_" + std::to_string(::getpid())));
+    fs::remove_all(*base_);
+    fs::create_directories(*base_);
+    const std::string scene = std::string(RIGSIM_SOURCE_DIR) + "/assets/scenes/street.glb";
+    const fs::path rig_json = *base_ / "rig.json", frames_json = *base_ / "frames.json";
+    Result r = RunRigsim({"make-rig", "ring", "--cameras", "3", "--spacing", "50", "--hfov", "90", "--width", "320", "--height",
+                    "240", "--frames", "2", "--step", "1", "--scene", scene, "--rig-out", rig_json.string(),
+                    "--frames-out", frames_json.string()},
+                   *base_ / "make_rig");
+    ASSERT_EQ(r.code, 0) << r.err;
+    Rig rig = ReadRig(rig_json);
+    RigCamera back = rig.cameras[0];
+    back.name = "back";
+    // Looks along the rig's -z, from the back of the ring: shares nothing with the others.
+    const Eigen::Matrix3d r_back = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    back.cam_from_rig = Rigid3d(r_back, -r_back * Eigen::Vector3d(0, 0, -0.5));
+    rig.cameras.push_back(back);
+    WriteRig(rig, rig_json);
+    r = RunRigsim({"render", "--scene", scene, "--rig", rig_json.string(), "--frames", frames_json.string(), "--out",
+             dataset().string(), "--spp", "1"},
+            *base_ / "render");
+    ASSERT_EQ(r.code, 0) << r.err;
+  }
+  static void TearDownTestSuite() {
+    fs::remove_all(*base_);
+    delete base_;
+  }
+  void SetUp() override {
+    dir_ = *base_ / testing::UnitTest::GetInstance()->current_test_info()->name();
+    fs::create_directories(dir_);
+  }
+
+  static fs::path dataset() { return *base_ / "dataset"; }
+  Result Calibrate(std::vector<std::string> extra, const fs::path& out) {
+    std::vector<std::string> args = {"calibrate", dataset().string(), "--out", out.string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    if (std::find(args.begin(), args.end(), "--threads") == args.end()) args.insert(args.end(), {"--threads", "2"});
+    return RunRigsim(args, dir_ / ("run" + std::to_string(runs_++)));
+  }
+  // A label folder <dir_>/<name>/<cam>/<frame>.png from the truth, transformed by `make`.
+  template <typename F>
+  fs::path LabelFolder(const std::string& name, F make) {
+    const DatasetLayout layout(dataset());
+    const Rig rig = ReadRig(layout.RigJson());
+    for (const RigCamera& rc : rig.cameras) {
+      for (const Frame& f : ReadFrames(layout.FramesJson()).frames) {
+        const fs::path p = dir_ / name / rc.name / (f.name + ".png");
+        fs::create_directories(p.parent_path());
+        WriteImage(p, make(ReadLabelImage(layout.Label(rc.name, f.name)), rc.name, f.name));
+      }
+    }
+    return dir_ / name;
+  }
+  // `rigsim calibrate` with `extra` fails with a message starting with `file` (when not empty)
+  // and saying `part`, and leaves no output.
+  void ExpectCalibrateFails(const std::vector<std::string>& extra, const std::string& file, const std::string& part) {
+    const fs::path out = dir_ / "out";
+    const Result r = Calibrate(extra, out);
+    EXPECT_NE(r.code, 0) << r.err;
+    if (!file.empty()) {
+      EXPECT_NE(r.err.find("error: " + file + ": "), std::string::npos) << "message does not start with the file: " << r.err;
+    }
+    EXPECT_NE(r.err.find(part), std::string::npos) << "message does not say '" << part << "': " << r.err;
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_TRUE(StagingFolders(out).empty());
+  }
+
+  static fs::path* base_;
+  fs::path dir_;
+  int runs_ = 0;
+};
+fs::path* CalibrateIo::base_ = nullptr;
+
+TEST_F(CalibrateIo, WritesEveryExportAndPairStatisticsPerMode) {
+  const fs::path out = dir_ / "out";
+  const Result r = Calibrate({"--semantics", "none,mask"}, out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: none: camchain.yaml, opencv.yaml and colmap/ leave out the cameras without a full "
+                       "pose: back"),
+            std::string::npos)
+      << r.err;
+  const json evaluation = ReadJson(out / "evaluation.json");
+  EXPECT_EQ(evaluation["label_source"]["kind"], "truth");
+  EXPECT_EQ(evaluation["label_source"]["used"], true);
+  for (const std::string mode : {"none", "mask"}) {
+    SCOPED_TRACE(mode);
+    const fs::path dir = out / mode;
+    // rig.json: every camera, "back" without a pose.
+    const Rig rig = ReadRig(dir / "rig.json");
+    ASSERT_EQ(rig.cameras.size(), 4u);
+    std::vector<const RigCamera*> calibrated;
+    for (const RigCamera& rc : rig.cameras) {
+      if (rc.cam_from_rig) calibrated.push_back(&rc);
+    }
+    ASSERT_EQ(calibrated.size(), 3u) << "cam0..cam2 calibrated, back not";
+    EXPECT_FALSE(rig.cameras[3].cam_from_rig.has_value());
+
+    // Kalibr: one entry per calibrated camera, a T_cn_cnm1 for all but the first.
+    const std::string camchain = ReadAll(dir / "camchain.yaml");
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_NE(camchain.find("\ncam" + std::to_string(i) + ":\n"), std::string::npos) << camchain;
+      EXPECT_NE(camchain.find("rostopic: /" + calibrated[i]->name + "/image_raw"), std::string::npos);
+    }
+    EXPECT_EQ(camchain.find("cam3:"), std::string::npos);
+    EXPECT_EQ(camchain.find("/back/"), std::string::npos);
+    size_t chain = 0;
+    for (size_t p = camchain.find("\n  T_cn_cnm1:"); p != std::string::npos; p = camchain.find("\n  T_cn_cnm1:", p + 1)) ++chain;
+    EXPECT_EQ(chain, 2u);
+
+    // OpenCV: cv::FileStorage reads it; R, T are the estimate's cam_from_rig.
+    cv::FileStorage fs_in((dir / "opencv.yaml").string(), cv::FileStorage::READ);
+    ASSERT_TRUE(fs_in.isOpened());
+    EXPECT_EQ(int(fs_in["num_cameras"]), 3);
+    const cv::FileNode cams = fs_in["cameras"];
+    ASSERT_EQ(cams.size(), 3u);
+    for (int i = 0; i < 3; ++i) {
+      const cv::FileNode c = cams[i];
+      EXPECT_EQ(std::string(c["name"]), calibrated[i]->name);
+      cv::Mat k, d, rot, t;
+      c["camera_matrix"] >> k;
+      c["distortion_coefficients"] >> d;
+      c["R"] >> rot;
+      c["T"] >> t;
+      ASSERT_EQ(k.rows, 3);
+      ASSERT_EQ(rot.rows, 3);
+      ASSERT_EQ(t.rows, 3);
+      EXPECT_EQ(k.at<double>(0, 0), calibrated[i]->camera.params()[0]);
+      const Eigen::Matrix3d r_est = calibrated[i]->cam_from_rig->RotationMatrix();
+      for (int a = 0; a < 3; ++a) {
+        EXPECT_NEAR(t.at<double>(a, 0), calibrated[i]->cam_from_rig->translation[a], 1e-12);
+        for (int b = 0; b < 3; ++b) EXPECT_NEAR(rot.at<double>(a, b), r_est(a, b), 1e-12);
+      }
+    }
+
+    // COLMAP: 3 cameras, 3 images (the first frame), no points; cx, cy + 0.5.
+    const std::vector<std::string> cameras_txt = DataLines(dir / "colmap" / "cameras.txt");
+    const std::vector<std::string> images_txt = DataLines(dir / "colmap" / "images.txt");
+    ASSERT_EQ(cameras_txt.size(), 3u);
+    ASSERT_EQ(images_txt.size(), 3u);
+    EXPECT_TRUE(DataLines(dir / "colmap" / "points3D.txt").empty());
+    for (int i = 0; i < 3; ++i) {
+      std::istringstream cam(cameras_txt[i]);
+      int id, w, h;
+      std::string model;
+      double fx, fy, cx, cy;
+      cam >> id >> model >> w >> h >> fx >> fy >> cx >> cy;
+      EXPECT_EQ(id, i + 1);
+      EXPECT_EQ(model, std::string(CameraModelName(calibrated[i]->camera.model())));
+      EXPECT_DOUBLE_EQ(cx, calibrated[i]->camera.params()[2] + 0.5);
+      const std::string name = images_txt[i].substr(images_txt[i].rfind(' ') + 1);
+      EXPECT_EQ(name, calibrated[i]->name + "/000000.png");
+      EXPECT_TRUE(fs::exists(dataset() / "images" / name));
+    }
+    const std::string first = images_txt[0];
+    EXPECT_EQ(first.substr(0, first.find(" 1 cam0/")), "1 1 0 0 0 0 0 0") << "cam0 is the rig frame";
+
+    // pairs.json: all 6 pairs, with type, counts, residuals and errors against the truth.
+    const json pairs = ReadJson(dir / "pairs.json");
+    EXPECT_EQ(pairs["semantic_mode"], mode);
+    EXPECT_EQ(pairs["label_source"]["kind"], "truth");
+    ASSERT_EQ(pairs["pairs"].size(), 6u);
+    std::set<std::string> solved;
+    for (const json& p : pairs["pairs"]) {
+      const std::string name = p["cam_a"].get<std::string>() + "-" + p["cam_b"].get<std::string>();
+      SCOPED_TRACE(name);
+      const std::string type = p["pair_type"];
+      EXPECT_TRUE(type == "general" || type == "planar" || type == "rotation-only" || type == "failed") << type;
+      EXPECT_GE(p["matches"].get<int>(), p["inliers"].get<int>());
+      EXPECT_TRUE(p["overlap"].is_number());
+      ASSERT_TRUE(p["rig_edge"].is_object());
+      if (type == "general" || type == "planar") {
+        solved.insert(name);
+        EXPECT_GT(p["inliers"].get<int>(), 20);
+        EXPECT_LT(p["median_residual_deg"].get<double>(), 0.5);
+        EXPECT_LT(p["rotation_error_deg"].get<double>(), 2.0);
+        EXPECT_TRUE(p["translation_direction_error_deg"].is_number());
+      } else {
+        EXPECT_TRUE(p["rotation_error_deg"].is_null());
+      }
+      if (name.find("back") != std::string::npos) {
+        EXPECT_EQ(type, "failed");
+        EXPECT_FALSE(p["rig_edge"]["used"].get<bool>());
+      }
+    }
+    EXPECT_TRUE(solved.count("cam0-cam1") && solved.count("cam1-cam2")) << pairs.dump(1);
+
+    // evaluation.json says what was written and what was left out.
+    const json& outputs = evaluation["methods"][mode]["outputs"];
+    EXPECT_EQ(outputs["cameras_exported"], json({"cam0", "cam1", "cam2"}));
+    ASSERT_EQ(outputs["cameras_omitted"].size(), 1u);
+    EXPECT_EQ(outputs["cameras_omitted"][0]["name"], "back");
+    EXPECT_EQ(outputs["cameras_omitted"][0]["status"].get<std::string>().rfind("not connected", 0), 0u);
+    for (const json& f : outputs["files"]) EXPECT_TRUE(fs::exists(dir / f.get<std::string>())) << f;
+    EXPECT_EQ(outputs["files"].size(), 7u);
+  }
+  EXPECT_TRUE(StagingFolders(out).empty());
+}
+
+TEST_F(CalibrateIo, UserLabelsInIdsAndInColoursGiveIdenticalResults) {
+  // Any ids the palette maps back uniquely: the truth with its colour-ambiguous void ids made 0.
+  auto ids = [](ImageU8 l, const std::string&, const std::string&) { return LabelsFromColors(ColorizeLabels(l), "x"); };
+  const fs::path id_dir = LabelFolder("ids", ids);
+  const fs::path color_dir =
+      LabelFolder("colors", [&](const ImageU8& l, const std::string& c, const std::string& f) { return ColorizeLabels(ids(l, c, f)); });
+  const Result a = Calibrate({"--semantics", "mask,gated", "--labels", id_dir.string()}, dir_ / "out_ids");
+  const Result b = Calibrate({"--semantics", "mask,gated", "--labels", color_dir.string()}, dir_ / "out_colors");
+  ASSERT_EQ(a.code, 0) << a.err;
+  ASSERT_EQ(b.code, 0) << b.err;
+  const json ea = ReadJson(dir_ / "out_ids" / "evaluation.json"), eb = ReadJson(dir_ / "out_colors" / "evaluation.json");
+  EXPECT_EQ(ea["label_source"]["kind"], "folder");
+  EXPECT_EQ(ea["label_source"]["folder"], fs::absolute(id_dir).lexically_normal().string());
+  EXPECT_EQ(eb["label_source"]["folder"], fs::absolute(color_dir).lexically_normal().string());
+  for (const std::string mode : {"mask", "gated"}) {
+    SCOPED_TRACE(mode);
+    EXPECT_EQ(ReadAll(dir_ / "out_ids" / mode / "rig.json"), ReadAll(dir_ / "out_colors" / mode / "rig.json"));
+    const json& pa = ea["methods"][mode]["pairs"];
+    const json& pb = eb["methods"][mode]["pairs"];
+    ASSERT_EQ(pa.size(), pb.size());
+    for (size_t i = 0; i < pa.size(); ++i) {
+      EXPECT_EQ(pa[i]["matches"], pb[i]["matches"]);
+      EXPECT_EQ(pa[i]["inliers"], pb[i]["inliers"]);
+      EXPECT_EQ(pa[i]["rotation_error_deg"], pb[i]["rotation_error_deg"]);
+    }
+    EXPECT_EQ(ea["methods"][mode]["summary"]["mean_keypoints_per_image"],
+              eb["methods"][mode]["summary"]["mean_keypoints_per_image"]);
+  }
+}
+
+TEST_F(CalibrateIo, NoisyLabelsAreSeededAndRecorded) {
+  const std::vector<std::string> noisy = {"--semantics", "mask,gated", "--labels", "noisy", "--label-noise-boundary", "4",
+                                          "--label-noise-confusion", "0.3", "--label-noise-seed", "5"};
+  const Result a = Calibrate(noisy, dir_ / "a");
+  std::vector<std::string> one_thread = noisy;
+  one_thread.insert(one_thread.end(), {"--threads", "1"});
+  const Result b = Calibrate(one_thread, dir_ / "b");
+  const Result truth = Calibrate({"--semantics", "mask,gated"}, dir_ / "truth");
+  ASSERT_EQ(a.code, 0) << a.err;
+  ASSERT_EQ(b.code, 0) << b.err;
+  ASSERT_EQ(truth.code, 0) << truth.err;
+  const json ea = ReadJson(dir_ / "a" / "evaluation.json"), et = ReadJson(dir_ / "truth" / "evaluation.json");
+  EXPECT_EQ(ea["label_source"]["kind"], "noisy");
+  EXPECT_EQ(ea["label_source"]["noise"]["boundary_px"], 4);
+  EXPECT_EQ(ea["label_source"]["noise"]["confusion_rate"], 0.3);
+  EXPECT_EQ(ea["label_source"]["noise"]["seed"], 5);
+  EXPECT_EQ(ReadJson(dir_ / "a" / "gated" / "pairs.json")["label_source"]["kind"], "noisy");
+  // Same seed, another thread count: the same labels, hence the same estimate.
+  for (const std::string mode : {"mask", "gated"}) {
+    EXPECT_EQ(ReadAll(dir_ / "a" / mode / "rig.json"), ReadAll(dir_ / "b" / mode / "rig.json")) << mode;
+  }
+  // The noise reached the features: the mask mode keeps other keypoints than with the truth.
+  EXPECT_NE(ea["methods"]["mask"]["summary"]["mean_keypoints_per_image"],
+            et["methods"]["mask"]["summary"]["mean_keypoints_per_image"]);
+}
+
+TEST_F(CalibrateIo, BadLabelSourcesFailNamingTheFileAndLeaveNothing) {
+  // A label image of the wrong size (in an otherwise good folder).
+  const fs::path small = LabelFolder("small", [](const ImageU8& l, const std::string& cam, const std::string& frame) {
+    return cam == "cam1" && frame == "000001" ? ImageU8(160, 120, 1, 11) : l;
+  });
+  ExpectCalibrateFails({"--semantics", "mask", "--labels", small.string()}, (small / "cam1" / "000001.png").string(),
+                       "label image is 160x120, its image is 320x240");
+  // A colour that is no Cityscapes colour.
+  const fs::path colours = LabelFolder("colours", [](const ImageU8& l, const std::string& cam, const std::string& frame) {
+    ImageU8 c = ColorizeLabels(l);
+    if (cam == "cam2" && frame == "000000") c.at(10, 20, 1) ^= 1;
+    return c;
+  });
+  ExpectCalibrateFails({"--semantics", "gated", "--labels", colours.string()}, (colours / "cam2" / "000000.png").string(),
+                       "pixel (10, 20) has colour");
+  // An id that is no Cityscapes id.
+  const fs::path ids = LabelFolder("ids", [](ImageU8 l, const std::string& cam, const std::string& frame) {
+    if (cam == "back" && frame == "000000") l.at(0, 0) = 200;
+    return l;
+  });
+  ExpectCalibrateFails({"--semantics", "mask", "--labels", ids.string()}, (ids / "back" / "000000.png").string(),
+                       "label id 200, which is no Cityscapes label id");
+  // No such folder; noise options without --labels noisy; a bad noise value.
+  ExpectCalibrateFails({"--labels", (dir_ / "nowhere").string()}, (dir_ / "nowhere").string(), "no such label folder");
+  ExpectCalibrateFails({"--label-noise-boundary", "2"}, "", "--label-noise-boundary needs --labels noisy");
+  ExpectCalibrateFails({"--labels", "noisy", "--label-noise-confusion", "1.5"}, "", "--label-noise-confusion");
+}
+
+TEST_F(CalibrateIo, LibraryNamesABadUserLabelImage) {
+  const fs::path small = LabelFolder("small", [](const ImageU8& l, const std::string& cam, const std::string&) {
+    return cam == "cam0" ? ImageU8(320, 200, 1, 11) : l;
+  });
+  CalibrationOptions options;
+  options.semantic_mode = SemanticMode::kMask;
+  options.labels = LabelSource::Folder(small);
+  try {
+    CalibrateDatasetPairs(dataset(), options);
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind((small / "cam0").string(), 0), 0u) << what;
+    EXPECT_NE(what.find("label image is 320x200, its image is 320x240"), std::string::npos) << what;
+  }
+}
+
+}  // namespace
+}  // namespace rigsim
