@@ -8,6 +8,9 @@
 //   DATASET/instances/<cam>/<frame>.png     uint16 instance ids, 0 = none
 //   DATASET/depth/<cam>/<frame>.exr         float32 range along the pixel's ray (m), 0 = no surface
 //   DATASET/overlap.json                    ground-truth co-visibility per camera pair
+//   DATASET/photometric.json                per-camera exposure, white balance, vignetting, noise
+//                                           drawn for the images (only when render varied them;
+//                                           renderer/photometric.h)
 //
 // A real-photo dataset has rig.json (intrinsics, no poses), frames.json may be absent (frames
 // are then the image file stems found for the first camera), and labels/ is optional.
@@ -49,6 +52,7 @@ class DatasetLayout {
   std::filesystem::path RigJson() const { return root_ / "rig.json"; }
   std::filesystem::path FramesJson() const { return root_ / "frames.json"; }
   std::filesystem::path OverlapJson() const { return root_ / "overlap.json"; }
+  std::filesystem::path PhotometricJson() const { return root_ / "photometric.json"; }
   std::filesystem::path EvaluationJson() const { return root_ / "evaluation.json"; }
   std::filesystem::path Image(const std::string& cam, const std::string& frame) const;
   std::filesystem::path Label(const std::string& cam, const std::string& frame) const;

@@ -32,6 +32,7 @@ void CheckJob(const RenderJob& job) {
   if (job.rig.cameras.empty()) throw std::invalid_argument("render: the rig has no cameras");
   if (job.frames.frames.empty()) throw std::invalid_argument("render: no frames to render");
   job.options.Check();
+  job.photometric.Check();
   std::set<std::string> names;
   for (const RigCamera& cam : job.rig.cameras) {
     CheckName(cam.name, "camera");
@@ -59,6 +60,42 @@ void WriteView(const DatasetLayout& layout, const std::string& cam, const std::s
   WriteImage(layout.Depth(cam, frame), view.range);
 }
 
+// Pixels outside the lens's valid region: the renderer marks them label 0 with range 0 (a surface
+// without a class has a range; sky has label kSkyId). They stay black under photometric changes.
+ImageU8 InvalidPixels(const RenderedView& view) {
+  ImageU8 invalid(view.label.width, view.label.height, 1, 0);
+  for (size_t i = 0; i < invalid.data.size(); ++i) invalid.data[i] = view.label.data[i] == 0 && view.range.data[i] == 0.0f;
+  return invalid;
+}
+
+nlohmann::json PhotometryJson(const RenderJob& job, const std::vector<CameraPhotometry>& drawn) {
+  const PhotometricOptions& o = job.photometric;
+  nlohmann::json cameras = nlohmann::json::array();
+  for (size_t c = 0; c < drawn.size(); ++c) {
+    const CameraPhotometry& p = drawn[c];
+    cameras.push_back({{"name", job.rig.cameras[c].name},
+                       {"exposure_stops", p.exposure_stops},
+                       {"gain", p.gain()},
+                       {"white_balance_rgb", {p.white_balance.x(), p.white_balance.y(), p.white_balance.z()}},
+                       {"vignetting_strength", p.vignetting_strength},
+                       {"shot_noise", p.shot_noise},
+                       {"read_noise_stddev", p.read_noise_stddev}});
+  }
+  return {{"seed", o.seed},
+          {"model",
+           "linear light: out_c = gain * white_balance_rgb[c] * V(r) * in_c + Normal(0, shot_noise * I + read_noise_stddev^2), "
+           "clipped to [0, 1] and sRGB-encoded; gain = 2^exposure_stops; V(r) = 1 / (1 + k r^2)^2 with V(1) = "
+           "1 - vignetting_strength, r = distance from the principal point / distance to the farthest image corner; "
+           "I = the noise-free value"},
+          {"options",
+           {{"exposure_stops_sigma", o.exposure_stops_sigma},
+            {"white_balance_stops_sigma", o.white_balance_stops_sigma},
+            {"vignetting_strength", o.vignetting_strength},
+            {"shot_noise", o.shot_noise},
+            {"read_noise_stddev", o.read_noise_stddev}}},
+          {"cameras", cameras}};
+}
+
 }  // namespace
 
 void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
@@ -72,6 +109,11 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
   // Built before the staging folder exists so that a bad scene leaves nothing behind.
   Renderer renderer(*job.scene);
   const bool animated = job.scene->IsAnimated();
+  const bool photometric = job.photometric.enabled();
+  std::vector<CameraPhotometry> photometry;
+  if (photometric) {
+    for (int c = 0; c < num_cams; ++c) photometry.push_back(DrawCameraPhotometry(job.photometric, c));
+  }
 
   StagedOutput staged(out_dir, force);
   const DatasetLayout layout(staged.staging_dir());
@@ -80,7 +122,8 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
   std::vector<double> overlap(size_t(num_cams) * num_cams, 0.0);
   int done = 0;
   std::vector<SceneMesh> posed;  // the renderer's meshes while an animated scene is posed
-  for (const Frame& frame : job.frames.frames) {
+  for (int frame_index = 0; frame_index < num_frames; ++frame_index) {
+    const Frame& frame = job.frames.frames[frame_index];
     std::vector<Rigid3d> cam_from_world(num_cams);
     std::vector<ImageF> ranges(num_cams);
     // Cameras grouped by capture time (timestamp + time_offset_s): an animated scene is posed once
@@ -98,6 +141,11 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
       for (int c : group) {
         cam_from_world[c] = *cams[c].cam_from_rig * *frame.rig_from_world;
         RenderedView view = renderer.Render(cams[c].camera, cam_from_world[c], job.options);
+        if (photometric) {
+          const ImageU8 invalid = InvalidPixels(view);
+          ApplyPhotometry(photometry[c], PhotometricNoiseKey{job.photometric.seed, c, frame_index}, cams[c].camera.cx(),
+                          cams[c].camera.cy(), view.rgb, &invalid, job.options.num_threads);
+        }
         WriteView(layout, cams[c].name, frame.name, view);
         ranges[c] = std::move(view.range);
         ++done;
@@ -134,6 +182,7 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
   }
   const nlohmann::json overlap_json{{"frames", num_frames}, {"pairs", pairs}};
   json_io::WriteTextAtomic(layout.OverlapJson(), overlap_json.dump(2) + "\n");
+  if (photometric) json_io::WriteTextAtomic(layout.PhotometricJson(), PhotometryJson(job, photometry).dump(2) + "\n");
 
   WriteRig(job.rig, layout.RigJson());
   FramesFile frames = job.frames;

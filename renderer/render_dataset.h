@@ -10,6 +10,12 @@
 // (renderer/scene_pose.h), so unsynchronised cameras see moving objects in different places; a
 // static scene builds its acceleration structure once. overlap.json compares the ranges each
 // camera saw at its own time (moving objects count where each camera saw them).
+//
+// Photometric variation (RenderJob::photometric, off by default): each camera's RGB images get
+// that camera's exposure, white balance, vignetting and sensor noise (renderer/photometric.h),
+// drawn from the job's photometric seed and recorded in photometric.json. Labels, instances and
+// depth are untouched; with the options off the output is byte-identical to a render without them
+// and no photometric.json is written.
 #pragma once
 
 #include <filesystem>
@@ -18,6 +24,7 @@
 
 #include "dataset/dataset.h"
 #include "geometry/rig.h"
+#include "renderer/photometric.h"
 #include "renderer/renderer.h"
 #include "scenes/scene.h"
 
@@ -29,6 +36,9 @@ struct RenderJob {
   Rig rig;                       // every camera needs cam_from_rig
   FramesFile frames;             // every frame needs rig_from_world
   RenderOptions options;         // the seed is recorded in frames.json
+  // Per-camera RGB differences; all zero (the default) = none. Its seed is its own (the CLI passes
+  // --seed) and is recorded in photometric.json.
+  PhotometricOptions photometric;
 };
 
 // Writes into out_dir:
@@ -37,6 +47,11 @@ struct RenderJob {
 //                  "overlap_b_in_a": 0.29}, ...]} for every unordered camera pair a < b (rig order);
 //                  overlap_a_in_b is the fraction of a's surface pixels (range > 0) that are visible
 //                  in b (dataset/ground_truth.h CoVisibleFraction), averaged over the frames.
+//   photometric.json (only when job.photometric is enabled):
+//                 {"seed": S, "options": {...PhotometricOptions fields}, "model": "...",
+//                  "cameras": [{"name": "cam0", "exposure_stops": 0.1, "gain": 1.07,
+//                               "white_balance_rgb": [1.02, 1, 0.97], "vignetting_strength": 0.3,
+//                               "shot_noise": 1e-4, "read_noise_stddev": 0.002}, ...]} in rig order.
 // Throws std::invalid_argument (before writing anything) when the job is incomplete, and
 // std::runtime_error when out_dir exists and `force` is false or when writing fails; any
 // exception, including one thrown by `progress`, leaves out_dir untouched.

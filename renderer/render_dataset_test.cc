@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 
@@ -216,6 +217,76 @@ TEST(RenderDatasetTest, ExistingOutputNeedsForceAndSurvivesAFailure) {
   EXPECT_FALSE(fs::exists(out / "keep.txt"));
   EXPECT_TRUE(fs::exists(DatasetLayout(out).Depth("cam2", "000000")));
   EXPECT_EQ(scratch.NumEntries(), 1);
+}
+
+std::string FileBytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// Photometric variation: off (zero magnitudes, whatever its seed) writes exactly the dataset of a
+// job without it; on, only the RGB images change, the same seed gives the same bytes whatever the
+// thread count, and photometric.json records what each camera drew.
+TEST(RenderDatasetTest, PhotometricVariationChangesOnlyRgbAndIsRecorded) {
+  ScratchDir scratch;
+  const Scene scene = WallScene();
+  RenderJob plain = WallJob(scene);
+  RenderJob off = plain;
+  off.photometric.seed = 99;  // a seed alone enables nothing
+  RenderJob on = plain;
+  on.photometric = PhotometricOptions::Defaults();
+  on.photometric.read_noise_stddev = 0.01;
+  on.photometric.seed = 7;
+  RenderJob on_one_thread = on;
+  on_one_thread.options.num_threads = 1;
+  on.options.num_threads = 2;
+  const fs::path a = scratch.path() / "plain", b = scratch.path() / "off", c = scratch.path() / "on", d = scratch.path() / "on1";
+  RenderDataset(plain, a, false);
+  RenderDataset(off, b, false);
+  RenderDataset(on, c, false);
+  RenderDataset(on_one_thread, d, false);
+  const DatasetLayout la(a), lb(b), lc(c), ld(d);
+  EXPECT_FALSE(fs::exists(la.PhotometricJson()));
+  EXPECT_FALSE(fs::exists(lb.PhotometricJson()));
+  ASSERT_TRUE(fs::exists(lc.PhotometricJson()));
+  int changed = 0;
+  for (const RigCamera& cam : plain.rig.cameras) {
+    for (const Frame& frame : plain.frames.frames) {
+      const std::string& n = cam.name;
+      const std::string& f = frame.name;
+      EXPECT_EQ(FileBytes(la.Image(n, f)), FileBytes(lb.Image(n, f))) << "off must not change a byte";
+      EXPECT_EQ(FileBytes(lc.Image(n, f)), FileBytes(ld.Image(n, f))) << "same seed, 1 or 2 threads";
+      changed += FileBytes(la.Image(n, f)) != FileBytes(lc.Image(n, f));
+      // Ground truth stays exact.
+      for (const auto& path : {&DatasetLayout::Label, &DatasetLayout::LabelColor, &DatasetLayout::Instance, &DatasetLayout::Depth}) {
+        EXPECT_EQ(FileBytes((la.*path)(n, f)), FileBytes((lc.*path)(n, f))) << (la.*path)(n, f);
+      }
+    }
+  }
+  EXPECT_EQ(changed, 6) << "every view, even cam2's sky, gets its camera's exposure and noise";
+  EXPECT_EQ(FileBytes(la.OverlapJson()), FileBytes(lc.OverlapJson()));
+
+  std::ifstream file(lc.PhotometricJson());
+  const nlohmann::json j = nlohmann::json::parse(file);
+  EXPECT_EQ(j.at("seed").get<uint64_t>(), 7u);
+  EXPECT_EQ(j.at("options").at("read_noise_stddev").get<double>(), 0.01);
+  ASSERT_EQ(j.at("cameras").size(), 3u);
+  for (int i = 0; i < 3; ++i) {
+    const nlohmann::json& cam = j.at("cameras")[i];
+    const CameraPhotometry drawn = DrawCameraPhotometry(on.photometric, i);
+    EXPECT_EQ(cam.at("name"), plain.rig.cameras[i].name);
+    EXPECT_EQ(cam.at("exposure_stops").get<double>(), drawn.exposure_stops);
+    EXPECT_EQ(cam.at("gain").get<double>(), drawn.gain());
+    EXPECT_EQ(cam.at("white_balance_rgb")[2].get<double>(), drawn.white_balance.z());
+    EXPECT_EQ(cam.at("vignetting_strength").get<double>(), 0.3);
+  }
+  EXPECT_NE(j.at("cameras")[0].at("gain"), j.at("cameras")[1].at("gain"));
+
+  // Bad options are refused before anything is written.
+  RenderJob bad = on;
+  bad.photometric.vignetting_strength = 1.2;
+  EXPECT_THROW(RenderDataset(bad, scratch.path() / "bad", false), std::invalid_argument);
+  EXPECT_FALSE(fs::exists(scratch.path() / "bad"));
 }
 
 }  // namespace

@@ -16,6 +16,7 @@ void AddRenderCommand(CLI::App& app) {
   struct Args {
     std::string scene, rig, frames, out;
     RenderSettings settings;
+    PhotometricSettings photometric;
     bool force = false;
   };
   auto args = std::make_shared<Args>();
@@ -33,9 +34,12 @@ void AddRenderCommand(CLI::App& app) {
   cmd->add_option("--out", args->out, "output dataset folder (created; see --force)")->required();
   cmd->add_flag("--force", args->force, "replace an existing output folder");
   AddRenderSettingsOptions(*cmd, args->settings);
+  AddPhotometricOptions(*cmd, args->photometric);
   cmd->callback([args] {
     // The small inputs first, so that their errors come before the scene's loading time.
     RenderJob job;
+    job.options = args->settings.ToRenderOptions();
+    job.photometric = args->photometric.ToOptions(args->settings.seed);
     job.rig = ReadRig(args->rig);
     for (const std::string& w : CheckRigCoversImages(job.rig, args->rig)) std::fprintf(stderr, "warning: %s\n", w.c_str());
     job.frames = ReadFrames(args->frames);
@@ -43,7 +47,6 @@ void AddRenderCommand(CLI::App& app) {
     job.scene = &scene;
     job.scene_name = std::filesystem::path(args->scene).filename().string();
     job.frames.tool_version = RIGSIM_VERSION_STRING;
-    job.options = args->settings.ToRenderOptions();
     RenderAndReport(job, args->out, args->force);
   });
 }

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <string>
 
 #include "apps/rigsim/interrupt.h"
 #include "apps/rigsim/progress.h"
@@ -31,6 +32,57 @@ void AddRenderSettingsOptions(CLI::App& cmd, RenderSettings& s) {
       ->check(CLI::NonNegativeNumber);
 }
 
+PhotometricOptions PhotometricSettings::ToOptions(uint64_t seed) const {
+  PhotometricOptions o = defaults ? PhotometricOptions::Defaults() : PhotometricOptions{};
+  if (exposure_sigma) o.exposure_stops_sigma = *exposure_sigma;
+  if (white_balance_sigma) o.white_balance_stops_sigma = *white_balance_sigma;
+  if (vignetting) o.vignetting_strength = *vignetting;
+  if (shot_noise) o.shot_noise = *shot_noise;
+  if (read_noise) o.read_noise_stddev = *read_noise;
+  o.seed = seed;
+  o.Check();
+  return o;
+}
+
+void AddPhotometricOptions(CLI::App& cmd, PhotometricSettings& s) {
+  const PhotometricOptions d = PhotometricOptions::Defaults();
+  auto num = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof(buf), "%g", v);
+    return std::string(buf);
+  };
+  const std::string group = "Photometric differences between cameras (RGB only; off unless asked for)";
+  cmd.add_flag("--photometric", s.defaults,
+               "give every camera its own exposure, white balance, vignetting and sensor noise, drawn from --seed, "
+               "with the default magnitudes below (each option below overrides its one; alone, an option turns on "
+               "only itself). Labels, instances and depth stay exact; the draws go to photometric.json")
+      ->group(group);
+  cmd.add_option("--exposure-sigma", s.exposure_sigma,
+                 "spread of the per-camera exposure, stops (gain 2^N(0, sigma)); --photometric: " + num(d.exposure_stops_sigma))
+      ->check(CLI::Range(0.0, 3.0))
+      ->group(group);
+  cmd.add_option("--white-balance-sigma", s.white_balance_sigma,
+                 "spread of the per-camera red and blue gains relative to green, stops; --photometric: " +
+                     num(d.white_balance_stops_sigma))
+      ->check(CLI::Range(0.0, 1.0))
+      ->group(group);
+  cmd.add_option("--vignetting", s.vignetting,
+                 "fraction of light lost at the image corner farthest from the principal point, cos^4-shaped falloff, "
+                 "in [0, 1); --photometric: " + num(d.vignetting_strength))
+      ->check(CLI::Range(0.0, 0.999))
+      ->group(group);
+  cmd.add_option("--shot-noise", s.shot_noise,
+                 "signal-dependent noise: variance per unit linear intensity (1 = white; ~1/full-well electrons); "
+                 "--photometric: " + num(d.shot_noise))
+      ->check(CLI::Range(0.0, 0.1))
+      ->group(group);
+  cmd.add_option("--read-noise", s.read_noise,
+                 "signal-independent noise: standard deviation in linear intensity (1 = white); --photometric: " +
+                     num(d.read_noise_stddev))
+      ->check(CLI::Range(0.0, 0.5))
+      ->group(group);
+}
+
 Scene LoadSceneVerbose(const std::filesystem::path& path) {
   Scene scene = LoadGltf(path);
   std::fprintf(stderr, "scene %s: %zu meshes, %zu triangles, %zu textures\n", path.string().c_str(),
@@ -55,6 +107,17 @@ void RenderAndReport(const RenderJob& job, const std::filesystem::path& out, boo
   std::printf("rendered %zu views (%zu cameras x %zu frames, %d spp) into %s in %.1f s\n", views,
               job.rig.cameras.size(), job.frames.frames.size(), job.options.samples_per_pixel, out.string().c_str(),
               seconds);
+  if (job.photometric.enabled()) {
+    std::printf("photometric differences (seed %llu; %s):\n", static_cast<unsigned long long>(job.photometric.seed),
+                DatasetLayout(out).PhotometricJson().string().c_str());
+    for (size_t c = 0; c < job.rig.cameras.size(); ++c) {
+      const CameraPhotometry p = DrawCameraPhotometry(job.photometric, int(c));
+      std::printf("  %-10s exposure %+.2f stops (gain %.3f)  white balance R %.3f B %.3f\n", job.rig.cameras[c].name.c_str(),
+                  p.exposure_stops, p.gain(), p.white_balance.x(), p.white_balance.z());
+    }
+    std::printf("  every camera: vignetting %.0f%% at the farthest corner, noise variance %g * I + %g^2\n",
+                100 * job.photometric.vignetting_strength, job.photometric.shot_noise, job.photometric.read_noise_stddev);
+  }
   const OverlapTable overlap = ReadOverlap(DatasetLayout(out).OverlapJson());
   std::printf("ground-truth overlap (fraction of the view both cameras share):\n");
   for (size_t a = 0; a < job.rig.cameras.size(); ++a) {

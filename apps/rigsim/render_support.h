@@ -2,11 +2,14 @@
 // scene with its warnings shown, and rendering with progress and a summary.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
 
+#include "renderer/photometric.h"
 #include "renderer/render_dataset.h"
 #include "renderer/renderer.h"
 #include "scenes/scene.h"
@@ -21,6 +24,17 @@ struct RenderSettings {
 };
 
 void AddRenderSettingsOptions(CLI::App& cmd, RenderSettings& settings);
+
+// Per-camera photometric variation (renderer/photometric.h): --photometric turns on the default
+// magnitudes, and each magnitude can be set on its own (alone it turns on only itself).
+struct PhotometricSettings {
+  bool defaults = false;  // --photometric
+  std::optional<double> exposure_sigma, white_balance_sigma, vignetting, shot_noise, read_noise;
+  // Off (all zero) unless asked for; seeded with the render seed. Throws std::invalid_argument.
+  PhotometricOptions ToOptions(uint64_t seed) const;
+};
+
+void AddPhotometricOptions(CLI::App& cmd, PhotometricSettings& settings);
 
 // Loads a glTF file and prints its size and every loader warning to stderr.
 Scene LoadSceneVerbose(const std::filesystem::path& path);

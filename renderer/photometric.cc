@@ -1,0 +1,162 @@
+#include "renderer/photometric.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+namespace rigsim {
+namespace {
+
+// splitmix64's finaliser: a well-mixed 64-bit hash of a 64-bit input.
+uint64_t Mix(uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
+// Streams keep the per-camera draws and the noise independent of each other.
+enum Stream : uint64_t { kExposure = 1, kWhiteRed = 2, kWhiteBlue = 3, kNoise = 4 };
+
+// A standard normal variate from 64 hashed bits (Box-Muller on two 32-bit uniforms).
+double Gaussian(uint64_t bits) {
+  const double u1 = (double(bits >> 32) + 0.5) / 4294967296.0;          // (0, 1): log is finite
+  const double u2 = double(bits & 0xFFFFFFFFull) / 4294967296.0;        // [0, 1)
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
+}
+
+uint64_t CameraKey(uint64_t seed, int camera_index, uint64_t stream) {
+  return Mix(Mix(Mix(seed) ^ uint64_t(uint32_t(camera_index))) ^ stream);
+}
+
+double SrgbToLinear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+
+struct SrgbTables {
+  std::array<double, 256> decode{};
+  std::array<double, 255> thresholds{};  // code i+1 starts at linear value thresholds[i]
+};
+
+const SrgbTables& Tables() {
+  static const SrgbTables t = [] {
+    SrgbTables out;
+    for (int i = 0; i < 256; ++i) out.decode[i] = SrgbToLinear(i / 255.0);
+    for (int i = 0; i < 255; ++i) out.thresholds[i] = SrgbToLinear((i + 0.5) / 255.0);
+    return out;
+  }();
+  return t;
+}
+
+void CheckRange(double value, double max, bool max_inclusive, const std::string& name, const std::string& unit) {
+  if (!std::isfinite(value) || value < 0.0 || (max_inclusive ? value > max : value >= max)) {
+    throw std::invalid_argument("photometric options: " + name + " = " + std::to_string(value) + " must be in [0, " +
+                                std::to_string(max) + (max_inclusive ? "]" : ")") + unit);
+  }
+}
+
+}  // namespace
+
+PhotometricOptions PhotometricOptions::Defaults() {
+  PhotometricOptions o;
+  o.exposure_stops_sigma = 0.3;
+  o.white_balance_stops_sigma = 0.1;
+  o.vignetting_strength = 0.3;
+  o.shot_noise = 1e-4;         // ~10^4 electrons at white
+  o.read_noise_stddev = 0.002;
+  return o;
+}
+
+bool PhotometricOptions::enabled() const {
+  return exposure_stops_sigma != 0.0 || white_balance_stops_sigma != 0.0 || vignetting_strength != 0.0 ||
+         shot_noise != 0.0 || read_noise_stddev != 0.0;
+}
+
+void PhotometricOptions::Check() const {
+  CheckRange(exposure_stops_sigma, 3.0, true, "exposure_stops_sigma", " stops");
+  CheckRange(white_balance_stops_sigma, 1.0, true, "white_balance_stops_sigma", " stops");
+  CheckRange(vignetting_strength, 1.0, false, "vignetting_strength", " (fraction of light lost at the farthest corner)");
+  CheckRange(shot_noise, 0.1, true, "shot_noise", " (variance per unit linear intensity)");
+  CheckRange(read_noise_stddev, 0.5, true, "read_noise_stddev", " (linear, 1 = white)");
+}
+
+double CameraPhotometry::gain() const { return std::exp2(exposure_stops); }
+
+double CameraPhotometry::Vignetting(double r) const {
+  if (vignetting_strength <= 0.0) return 1.0;
+  const double k = 1.0 / std::sqrt(1.0 - vignetting_strength) - 1.0;  // V(1) = 1 - strength
+  const double d = 1.0 + k * r * r;
+  return 1.0 / (d * d);
+}
+
+CameraPhotometry DrawCameraPhotometry(const PhotometricOptions& o, int camera_index) {
+  o.Check();
+  CameraPhotometry p;
+  p.exposure_stops = o.exposure_stops_sigma * Gaussian(CameraKey(o.seed, camera_index, kExposure));
+  p.white_balance = Eigen::Vector3d(std::exp2(o.white_balance_stops_sigma * Gaussian(CameraKey(o.seed, camera_index, kWhiteRed))), 1.0,
+                                    std::exp2(o.white_balance_stops_sigma * Gaussian(CameraKey(o.seed, camera_index, kWhiteBlue))));
+  p.vignetting_strength = o.vignetting_strength;
+  p.shot_noise = o.shot_noise;
+  p.read_noise_stddev = o.read_noise_stddev;
+  return p;
+}
+
+uint8_t SrgbCodeFromLinear(double linear) {
+  if (!(linear > 0.0)) return 0;
+  const auto& t = Tables().thresholds;
+  return uint8_t(std::upper_bound(t.begin(), t.end(), linear) - t.begin());
+}
+
+double LinearFromSrgbCode(uint8_t code) { return Tables().decode[code]; }
+
+void ApplyPhotometry(const CameraPhotometry& p, const PhotometricNoiseKey& key, double cx, double cy, ImageU8& rgb,
+                     const ImageU8* invalid, int num_threads) {
+  if (rgb.channels != 3 || rgb.data.size() != size_t(rgb.width) * rgb.height * 3) {
+    throw std::invalid_argument("ApplyPhotometry: the image must have 3 channels");
+  }
+  if (invalid && (invalid->width != rgb.width || invalid->height != rgb.height || invalid->channels != 1)) {
+    throw std::invalid_argument("ApplyPhotometry: the invalid-pixel mask must be 1 channel of the image's size");
+  }
+  const double w = rgb.width, h = rgb.height;
+  // Normalising radius: the farthest image corner from the principal point.
+  double max_r2 = 0.0;
+  for (double x : {-0.5, w - 0.5}) {
+    for (double y : {-0.5, h - 0.5}) max_r2 = std::max(max_r2, (x - cx) * (x - cx) + (y - cy) * (y - cy));
+  }
+  const double inv_max_r2 = max_r2 > 0 ? 1.0 / max_r2 : 0.0;
+  const bool noisy = p.shot_noise > 0.0 || p.read_noise_stddev > 0.0;
+  const double read_var = p.read_noise_stddev * p.read_noise_stddev;
+  const Eigen::Vector3d channel_gain = p.gain() * p.white_balance;
+  const uint64_t frame_key = Mix(Mix(Mix(Mix(key.seed) ^ uint64_t(uint32_t(key.camera_index))) ^ uint64_t(uint32_t(key.frame_index))) ^ kNoise);
+  const auto& decode = Tables().decode;
+
+  auto rows = [&](const tbb::blocked_range<int>& range) {
+    for (int y = range.begin(); y < range.end(); ++y) {
+      for (int x = 0; x < rgb.width; ++x) {
+        if (invalid && invalid->at(x, y) != 0) continue;
+        const double r2 = ((x - cx) * (x - cx) + (y - cy) * (y - cy)) * inv_max_r2;
+        const double v = p.Vignetting(std::sqrt(r2));
+        const uint64_t pixel = uint64_t(y) * rgb.width + x;
+        for (int c = 0; c < 3; ++c) {
+          uint8_t& code = rgb.at(x, y, c);
+          double value = decode[code] * channel_gain[c] * v;
+          if (noisy) {
+            const double variance = p.shot_noise * std::max(value, 0.0) + read_var;
+            value += std::sqrt(variance) * Gaussian(Mix(frame_key ^ (pixel * 3 + c)));
+          }
+          code = SrgbCodeFromLinear(std::min(value, 1.0));
+        }
+      }
+    }
+  };
+  tbb::task_arena arena(num_threads > 0 ? num_threads : tbb::task_arena::automatic);
+  arena.execute([&] { tbb::parallel_for(tbb::blocked_range<int>(0, rgb.height, 8), rows); });
+}
+
+}  // namespace rigsim

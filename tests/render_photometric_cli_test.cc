@@ -1,0 +1,145 @@
+// `rigsim render --photometric` and its magnitude options through the built binary: on, the RGB
+// images change and photometric.json records the draws while labels and depth stay the same; off,
+// nothing changes; bad values are refused before anything is written.
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "dataset/dataset.h"
+
+#ifndef RIGSIM_BINARY
+#error "RIGSIM_BINARY must name the rigsim executable"
+#endif
+
+namespace rigsim {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string ReadAll(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+struct Result {
+  int code = -1;
+  std::string out, err;
+};
+
+Result RunRigsim(const fs::path& dir, const std::vector<std::string>& args) {
+  std::string cmd = std::string("'") + RIGSIM_BINARY + "'";
+  for (const std::string& a : args) cmd += " '" + a + "'";
+  cmd += " > '" + (dir / "stdout").string() + "' 2> '" + (dir / "stderr").string() + "'";
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ReadAll(dir / "stdout"), ReadAll(dir / "stderr")};
+}
+
+std::string Base64(const std::vector<uint8_t>& data) {
+  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (size_t i = 0; i < data.size(); i += 3) {
+    const uint32_t n = (uint32_t(data[i]) << 16) | (i + 1 < data.size() ? uint32_t(data[i + 1]) << 8 : 0) |
+                       (i + 2 < data.size() ? uint32_t(data[i + 2]) : 0);
+    out += k[(n >> 18) & 63];
+    out += k[(n >> 12) & 63];
+    out += i + 1 < data.size() ? k[(n >> 6) & 63] : '=';
+    out += i + 2 < data.size() ? k[n & 63] : '=';
+  }
+  return out;
+}
+
+class RenderPhotometric : public testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / "rigsim_render_photometric_cli_test" /
+           testing::UnitTest::GetInstance()->current_test_info()->name();
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    // A large wall 6 m down -Z (every ring camera at heading 0 sees part of it, the others sky).
+    const std::vector<float> xyz = {-30, -10, -6, 30, -10, -6, 30, 20, -6, -30, -10, -6, 30, 20, -6, -30, 20, -6};
+    std::vector<uint8_t> bin(xyz.size() * 4);
+    std::memcpy(bin.data(), xyz.data(), bin.size());
+    const json doc = {
+        {"asset", {{"version", "2.0"}}},
+        {"scene", 0},
+        {"scenes", {{{"nodes", {0}}}}},
+        {"nodes", {{{"mesh", 0}, {"extras", {{"class", "building"}}}}}},
+        {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"mode", 4}}}}}}},
+        {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", 6}, {"type", "VEC3"}}}},
+        {"bufferViews", {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", bin.size()}}}},
+        {"buffers", {{{"byteLength", bin.size()}, {"uri", "data:application/octet-stream;base64," + Base64(bin)}}}}};
+    scene_ = dir_ / "wall.gltf";
+    std::ofstream(scene_) << doc.dump();
+    const Result rig = RunRigsim(dir_, {"make-rig", "--cameras", "3", "--width", "64", "--height", "48", "--out", (dir_ / "rig").string()});
+    ASSERT_EQ(rig.code, 0) << rig.err;
+  }
+
+  Result Render(const std::string& out, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"render", "--scene", scene_.string(), "--rig", (dir_ / "rig/rig.json").string(),
+                                     "--frames", (dir_ / "rig/frames.json").string(), "--out", (dir_ / out).string(),
+                                     "--spp", "1", "--seed", "3"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return RunRigsim(dir_, args);
+  }
+
+  fs::path dir_, scene_;
+};
+
+TEST_F(RenderPhotometric, OnChangesOnlyRgbAndRecordsTheDraws) {
+  const Result off = Render("off", {});
+  ASSERT_EQ(off.code, 0) << off.err;
+  EXPECT_EQ(off.out.find("photometric differences"), std::string::npos) << off.out;
+  const Result on = Render("on", {"--photometric", "--read-noise", "0.01", "--threads", "1"});
+  ASSERT_EQ(on.code, 0) << on.err;
+  EXPECT_NE(on.out.find("photometric differences (seed 3"), std::string::npos) << on.out;
+  const Result again = Render("again", {"--photometric", "--read-noise", "0.01", "--threads", "2"});
+  ASSERT_EQ(again.code, 0) << again.err;
+
+  const DatasetLayout a(dir_ / "off"), b(dir_ / "on"), c(dir_ / "again");
+  EXPECT_FALSE(fs::exists(a.PhotometricJson()));
+  ASSERT_TRUE(fs::exists(b.PhotometricJson()));
+  for (const std::string cam : {"cam0", "cam1", "cam2"}) {
+    EXPECT_NE(ReadAll(a.Image(cam, "000000")), ReadAll(b.Image(cam, "000000"))) << cam;
+    EXPECT_EQ(ReadAll(b.Image(cam, "000000")), ReadAll(c.Image(cam, "000000"))) << cam << ": same seed, same bytes";
+    EXPECT_EQ(ReadAll(a.Label(cam, "000000")), ReadAll(b.Label(cam, "000000"))) << cam;
+    EXPECT_EQ(ReadAll(a.Instance(cam, "000000")), ReadAll(b.Instance(cam, "000000"))) << cam;
+    EXPECT_EQ(ReadAll(a.Depth(cam, "000000")), ReadAll(b.Depth(cam, "000000"))) << cam;
+  }
+  const json j = json::parse(ReadAll(b.PhotometricJson()));
+  EXPECT_EQ(j.at("seed").get<int>(), 3);
+  EXPECT_EQ(j.at("options").at("read_noise_stddev").get<double>(), 0.01);
+  EXPECT_EQ(j.at("options").at("vignetting_strength").get<double>(), 0.3);  // the --photometric default
+  ASSERT_EQ(j.at("cameras").size(), 3u);
+  EXPECT_NE(j.at("cameras")[0].at("gain"), j.at("cameras")[1].at("gain"));
+
+  // One magnitude alone turns on only itself.
+  const Result vignetting_only = Render("vignetting_only", {"--vignetting", "0.5"});
+  ASSERT_EQ(vignetting_only.code, 0) << vignetting_only.err;
+  const json v = json::parse(ReadAll(DatasetLayout(dir_ / "vignetting_only").PhotometricJson()));
+  EXPECT_EQ(v.at("options").at("vignetting_strength").get<double>(), 0.5);
+  EXPECT_EQ(v.at("options").at("exposure_stops_sigma").get<double>(), 0.0);
+  EXPECT_EQ(v.at("cameras")[1].at("gain").get<double>(), 1.0);
+}
+
+TEST_F(RenderPhotometric, BadMagnitudesAreRefusedBeforeWriting) {
+  for (const auto& [option, value] : std::vector<std::pair<std::string, std::string>>{
+           {"--vignetting", "1.5"}, {"--exposure-sigma", "-1"}, {"--read-noise", "abc"}, {"--shot-noise", "0.5"}}) {
+    const Result r = Render("bad", {option, value});
+    EXPECT_NE(r.code, 0) << option << " " << value;
+    EXPECT_NE(r.err.find(option), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "bad"));
+  }
+}
+
+}  // namespace
+}  // namespace rigsim
