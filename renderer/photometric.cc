@@ -7,6 +7,8 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <tuple>
+#include <utility>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -26,12 +28,15 @@ uint64_t Mix(uint64_t x) {
 // Streams keep the per-camera draws and the noise independent of each other.
 enum Stream : uint64_t { kExposure = 1, kWhiteRed = 2, kWhiteBlue = 3, kNoise = 4 };
 
-// A standard normal variate from 64 hashed bits (Box-Muller on two 32-bit uniforms).
-double Gaussian(uint64_t bits) {
-  const double u1 = (double(bits >> 32) + 0.5) / 4294967296.0;          // (0, 1): log is finite
-  const double u2 = double(bits & 0xFFFFFFFFull) / 4294967296.0;        // [0, 1)
-  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
+// Two independent standard normal variates from 64 hashed bits (Box-Muller on two 32-bit uniforms).
+std::pair<double, double> GaussianPair(uint64_t bits) {
+  const double u1 = (double(bits >> 32) + 0.5) / 4294967296.0;    // (0, 1): log is finite
+  const double u2 = double(bits & 0xFFFFFFFFull) / 4294967296.0;  // [0, 1)
+  const double radius = std::sqrt(-2.0 * std::log(u1)), angle = 2.0 * std::numbers::pi * u2;
+  return {radius * std::cos(angle), radius * std::sin(angle)};
 }
+
+double Gaussian(uint64_t bits) { return GaussianPair(bits).first; }
 
 uint64_t CameraKey(uint64_t seed, int camera_index, uint64_t stream) {
   return Mix(Mix(Mix(seed) ^ uint64_t(uint32_t(camera_index))) ^ stream);
@@ -39,9 +44,15 @@ uint64_t CameraKey(uint64_t seed, int camera_index, uint64_t stream) {
 
 double SrgbToLinear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
 
+// Encoding without a pow per value: the code at the start of each of 4096 buckets over [0, 1],
+// finished by the thresholds where the code changes (at most a few steps: near black, where the
+// curve is steepest, a bucket spans under one code).
+constexpr int kBuckets = 4096;
+
 struct SrgbTables {
   std::array<double, 256> decode{};
-  std::array<double, 255> thresholds{};  // code i+1 starts at linear value thresholds[i]
+  std::array<double, 256> thresholds{};  // code i+1 starts at linear value thresholds[i]; [255] = +inf
+  std::array<uint8_t, kBuckets + 1> bucket_start{};
 };
 
 const SrgbTables& Tables() {
@@ -49,9 +60,22 @@ const SrgbTables& Tables() {
     SrgbTables out;
     for (int i = 0; i < 256; ++i) out.decode[i] = SrgbToLinear(i / 255.0);
     for (int i = 0; i < 255; ++i) out.thresholds[i] = SrgbToLinear((i + 0.5) / 255.0);
+    out.thresholds[255] = std::numeric_limits<double>::infinity();
+    for (int b = 0; b <= kBuckets; ++b) {
+      const double v = double(b) / kBuckets;
+      out.bucket_start[b] = uint8_t(std::upper_bound(out.thresholds.begin(), out.thresholds.begin() + 255, v) - out.thresholds.begin());
+    }
     return out;
   }();
   return t;
+}
+
+uint8_t Encode(const SrgbTables& t, double linear) {
+  if (!(linear > 0.0)) return 0;
+  if (linear >= 1.0) return 255;
+  int code = t.bucket_start[int(linear * kBuckets)];
+  while (linear >= t.thresholds[code]) ++code;
+  return uint8_t(code);
 }
 
 void CheckRange(double value, double max, bool max_inclusive, const std::string& name, const std::string& unit) {
@@ -107,11 +131,7 @@ CameraPhotometry DrawCameraPhotometry(const PhotometricOptions& o, int camera_in
   return p;
 }
 
-uint8_t SrgbCodeFromLinear(double linear) {
-  if (!(linear > 0.0)) return 0;
-  const auto& t = Tables().thresholds;
-  return uint8_t(std::upper_bound(t.begin(), t.end(), linear) - t.begin());
-}
+uint8_t SrgbCodeFromLinear(double linear) { return Encode(Tables(), linear); }
 
 double LinearFromSrgbCode(uint8_t code) { return Tables().decode[code]; }
 
@@ -134,23 +154,28 @@ void ApplyPhotometry(const CameraPhotometry& p, const PhotometricNoiseKey& key, 
   const double read_var = p.read_noise_stddev * p.read_noise_stddev;
   const Eigen::Vector3d channel_gain = p.gain() * p.white_balance;
   const uint64_t frame_key = Mix(Mix(Mix(Mix(key.seed) ^ uint64_t(uint32_t(key.camera_index))) ^ uint64_t(uint32_t(key.frame_index))) ^ kNoise);
-  const auto& decode = Tables().decode;
+  const SrgbTables& tables = Tables();
+  // V(r) = 1 / (1 + k r^2)^2 (CameraPhotometry::Vignetting), evaluated from r^2 directly.
+  const double k = p.vignetting_strength > 0 ? 1.0 / std::sqrt(1.0 - p.vignetting_strength) - 1.0 : 0.0;
 
   auto rows = [&](const tbb::blocked_range<int>& range) {
     for (int y = range.begin(); y < range.end(); ++y) {
       for (int x = 0; x < rgb.width; ++x) {
         if (invalid && invalid->at(x, y) != 0) continue;
-        const double r2 = ((x - cx) * (x - cx) + (y - cy) * (y - cy)) * inv_max_r2;
-        const double v = p.Vignetting(std::sqrt(r2));
-        const uint64_t pixel = uint64_t(y) * rgb.width + x;
+        const double d = 1.0 + k * ((x - cx) * (x - cx) + (y - cy) * (y - cy)) * inv_max_r2;
+        const double v = 1.0 / (d * d);
+        // Three normals per pixel: both of one Box-Muller pair and one of a second.
+        double z[3] = {0.0, 0.0, 0.0};
+        if (noisy) {
+          const uint64_t pixel = uint64_t(y) * rgb.width + x;
+          std::tie(z[0], z[1]) = GaussianPair(Mix(frame_key ^ (2 * pixel)));
+          z[2] = Gaussian(Mix(frame_key ^ (2 * pixel + 1)));
+        }
+        uint8_t* px = &rgb.at(x, y, 0);
         for (int c = 0; c < 3; ++c) {
-          uint8_t& code = rgb.at(x, y, c);
-          double value = decode[code] * channel_gain[c] * v;
-          if (noisy) {
-            const double variance = p.shot_noise * std::max(value, 0.0) + read_var;
-            value += std::sqrt(variance) * Gaussian(Mix(frame_key ^ (pixel * 3 + c)));
-          }
-          code = SrgbCodeFromLinear(std::min(value, 1.0));
+          double value = tables.decode[px[c]] * channel_gain[c] * v;
+          if (noisy) value += std::sqrt(p.shot_noise * std::max(value, 0.0) + read_var) * z[c];
+          px[c] = Encode(tables, value);
         }
       }
     }
