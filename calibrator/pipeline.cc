@@ -201,6 +201,8 @@ std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path
       pr.inliers = tv.num_inliers;
       pr.success = tv.success;
       pr.rotation_only = tv.rotation_only;
+      pr.pair_type = tv.pair_type;
+      pr.homography_inliers = tv.num_homography_inliers;
       pr.failure_reason = tv.failure_reason;
       pr.cam_b_from_cam_a = tv.cam_b_from_cam_a;
       pr.median_residual_deg = tv.median_residual_deg;
@@ -396,10 +398,12 @@ nlohmann::json PairToJson(const PairResult& pr) {
   j["cam_b"] = pr.cam_b;
   j["success"] = pr.success;
   j["rotation_only"] = pr.rotation_only;
+  j["pair_type"] = pr.success ? nlohmann::json(std::string(PairTypeName(pr.pair_type))) : nlohmann::json(nullptr);
   j["failure_reason"] = pr.failure_reason;
   j["frames"] = pr.frames;
   j["matches"] = pr.matches;
   j["inliers"] = pr.inliers;
+  j["homography_inliers"] = pr.homography_inliers;
   j["inlier_ratio"] = pr.matches > 0 ? nlohmann::json(double(pr.inliers) / pr.matches) : nlohmann::json(nullptr);
   j["median_residual_deg"] = pr.success ? nlohmann::json(pr.median_residual_deg) : nlohmann::json(nullptr);
   j["rotation_error_deg"] = OptionalToJson(pr.rotation_error_deg);
@@ -443,13 +447,14 @@ nlohmann::json ReportToJson(const std::vector<CalibrationReport>& reports) {
     nlohmann::json m;
     nlohmann::json pairs = nlohmann::json::array();
     std::vector<double> pose_errors, rotation_errors;
-    int succeeded = 0, rotation_only = 0;
+    int succeeded = 0, rotation_only = 0, planar = 0;
     int64_t matches = 0, inliers = 0, evaluated = 0, correct = 0;
     bool has_truth = false;
     for (const PairResult& pr : rep.pairs) {
       pairs.push_back(PairToJson(pr));
       succeeded += pr.success;
       rotation_only += pr.rotation_only;
+      planar += pr.success && pr.pair_type == PairType::kPlanar;
       matches += pr.matches;
       inliers += pr.inliers;
       evaluated += pr.matches_evaluated;
@@ -464,6 +469,7 @@ nlohmann::json ReportToJson(const std::vector<CalibrationReport>& reports) {
     summary["pairs"] = rep.pairs.size();
     summary["pairs_succeeded"] = succeeded;
     summary["pairs_rotation_only"] = rotation_only;
+    summary["pairs_planar"] = planar;
     summary["matches"] = matches;
     summary["inliers"] = inliers;
     summary["mean_keypoints_per_image"] = rep.mean_keypoints_per_image;

@@ -73,6 +73,8 @@ struct PairResult {
   int inliers = 0;
   bool success = false;
   bool rotation_only = false;  // translation unobservable; its direction is not reported
+  PairType pair_type = PairType::kGeneral;  // two_view.h; meaningful on success
+  int homography_inliers = 0;               // of the homography the planar test fits
   std::string failure_reason;
   Rigid3d cam_b_from_cam_a;  // unit translation (zero when rotation_only)
   double median_residual_deg = 0.0;
@@ -139,7 +141,8 @@ std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path
                                                      std::vector<PairwiseMatchData>* match_data = nullptr);
 
 // evaluation.json: {"methods": {"<mode>": {"summary": {...}, "timing": {...}, "pairs": [{...}]}}}.
-// Per pair: cam_a, cam_b, success, rotation_only, failure_reason, matches, inliers,
+// Per pair: cam_a, cam_b, success, rotation_only, pair_type ("general", "planar",
+// "rotation-only"; null on failure), failure_reason, matches, inliers, homography_inliers,
 // rotation_error_deg, translation_direction_error_deg, match_precision, ... (null when unknown).
 // The summary has pose AUC at 1, 2, 5, 10 deg (pose error = max of rotation and translation
 // direction errors; failures and rotation-only pairs count as infinite) and rotation AUC.

@@ -5,7 +5,7 @@
 // MAGSAC++) on the bearings in front of both cameras, as normalised coordinates with K = I;
 // pose recovery (cheirality); non-linear refinement of R and the unit t over all bearings with
 // a robust angular epipolar error (Ceres); a pure-rotation model fitted alongside detects pairs
-// whose translation is unobservable.
+// whose translation is unobservable, and a homography fitted alongside detects planar pairs.
 //
 // Conventions: the result is cam_b_from_cam_a (x_in_b = R x_in_a + t) with |t| = 1; the scale of
 // a relative pose is unobservable from images. Angles in options and results are in degrees or
@@ -13,6 +13,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -21,6 +22,18 @@
 #include "geometry/rigid3.h"
 
 namespace rigsim {
+
+// What the correspondences of a pair determine:
+//  - kGeneral: a relative pose from the essential matrix.
+//  - kPlanar: a homography explains the matches about as well as the essential matrix (a planar
+//    scene, or one whose depth variation gives less parallax than the noise). The pose is still
+//    the essential matrix's, but it rests on a degenerate configuration for the 5-point solver
+//    (two poses fit a plane: the pose is less certain than its inlier count suggests).
+//  - kRotationOnly: a pure rotation explains them; the translation is unobservable. A pure
+//    rotation is also a homography: rotation-only takes precedence over planar.
+enum class PairType { kGeneral, kPlanar, kRotationOnly };
+// "general", "planar", "rotation-only".
+std::string_view PairTypeName(PairType type);
 
 struct TwoViewOptions {
   // Fewer correspondences than this fail at once ("too few matches").
@@ -47,6 +60,18 @@ struct TwoViewOptions {
   // correspondences as the essential matrix: the parallax is below the noise and the
   // translation direction is then not observable.
   double rotation_only_ratio = 0.9;
+  // A pair is planar when a homography explains at least this fraction as many correspondences
+  // as the essential matrix (an inlier-ratio rule, as COLMAP's max_H_inlier_ratio). The
+  // homography's inlier threshold is the essential matrix's times sqrt(5.99 / 3.84): its transfer
+  // error has two degrees of freedom, the epipolar error one, so both keep 95% of noisy true
+  // matches. Measured H/E inlier ratios: points on one plane 0.973-0.990 (two_view_test.cc:
+  // 0.3-0.5 px noise, a fisheye seeing the ground beyond 90 deg) and 0.977 (the rendered textured
+  // ground of tests/degenerate_calibration_test.cc); general 3D points at 3-12 m 0.10; the
+  // demo's street pairs 0.53-0.92 with SIFT, 0.63-0.94 with ORB, all of them solved to 0.04-0.06
+  // deg with SIFT, so a facade filling 92% of the matches still leaves enough off-plane support.
+  // COLMAP's 0.8 would flag the street's cam2-cam3 (and with ORB cam0-cam1, 0.80); 0.95 separates
+  // the two groups.
+  double planar_ratio = 0.95;
   // RANSAC iterations of the 2-point pure-rotation fit, and its seed (fixed: reproducible).
   int rotation_ransac_iterations = 300;
   unsigned rotation_ransac_seed = 1;
@@ -60,11 +85,15 @@ struct TwoViewResult {
   // The translation is unobservable (pure rotation or parallax below the noise). The rotation
   // is still reported; the translation is then zero, meaning "unknown".
   bool rotation_only = false;
+  // kRotationOnly exactly when rotation_only; kPlanar when the homography explains the matches
+  // about as well as the essential matrix (TwoViewOptions::planar_ratio). Set on success.
+  PairType pair_type = PairType::kGeneral;
   Rigid3d cam_b_from_cam_a;         // unit translation (zero when rotation_only)
   std::vector<char> inlier_mask;    // one per input correspondence; 0 also for invalid pixels
   int num_inliers = 0;              // of the reported model (rotation model when rotation_only)
   int num_essential_inliers = 0;    // of the essential-matrix model after refinement
   int num_rotation_inliers = 0;     // of the pure-rotation model
+  int num_homography_inliers = 0;   // of the homography (0 when not fitted: rotation-only or no pose)
   int num_valid = 0;                // correspondences with a valid bearing in both cameras
   double median_residual_deg = 0.0;  // median angular residual of the inliers
   std::string failure_reason;        // empty on success

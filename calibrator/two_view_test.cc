@@ -1,5 +1,6 @@
 #include "calibrator/two_view.h"
 
+#include <cstdio>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -55,6 +56,8 @@ void ExpectAccurate(const Camera& cam_a, const Camera& cam_b, unsigned seed) {
   const TwoViewResult r = EstimateRelativePose(cam_a, s.px_a, cam_b, s.px_b, TwoViewOptions());
   ASSERT_TRUE(r.success) << r.failure_reason;
   EXPECT_FALSE(r.rotation_only);
+  EXPECT_EQ(r.pair_type, PairType::kGeneral) << r.num_homography_inliers << " homography vs "
+                                             << r.num_essential_inliers << " essential inliers";
   EXPECT_LT(RotationErrorDeg(r.cam_b_from_cam_a, gt), 0.05);
   EXPECT_LT(TranslationDirectionErrorDeg(r.cam_b_from_cam_a, gt).value(), 0.5);
   EXPECT_NEAR(r.cam_b_from_cam_a.translation.norm(), 1.0, 1e-9);
@@ -100,6 +103,106 @@ TEST(TwoView, FisheyeBeyondNinetyDegrees) {
   EXPECT_LT(RotationErrorDeg(r.cam_b_from_cam_a, gt), 0.05);
   EXPECT_LT(TranslationDirectionErrorDeg(r.cam_b_from_cam_a, gt).value(), 0.5);
   EXPECT_GT(r.num_inliers, 360);  // the wide-angle bearings are inliers too
+  EXPECT_EQ(r.pair_type, PairType::kGeneral);
+}
+
+// --- Pair type: planar ---------------------------------------------------------------------------
+
+// Points on the plane n . x = d (in A), seen by both cameras, with pixel noise and outliers.
+Scenario MakePlanarScenario(const Camera& cam_a, const Camera& cam_b, const Rigid3d& b_from_a,
+                            const Eigen::Vector3d& n, double d, int n_points, double noise_px, double outlier_fraction,
+                            unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  std::normal_distribution<double> noise(0.0, noise_px);
+  Scenario s;
+  while (static_cast<int>(s.px_a.size()) < n_points) {
+    // A random pixel of A, lifted to the plane along its ray.
+    const Eigen::Vector2d px(u01(rng) * (cam_a.width() - 1), u01(rng) * (cam_a.height() - 1));
+    const auto ray = cam_a.CamFromImg(px);
+    if (!ray || n.dot(*ray) <= 1e-3) continue;
+    const Eigen::Vector3d x_a = *ray * (d / n.dot(*ray));
+    if (x_a.norm() > 60.0) continue;  // grazing rays: the plane's far horizon
+    const auto pb = cam_b.ImgFromCam(b_from_a * x_a);
+    if (!pb || !cam_b.IsInImage(*pb)) continue;
+    const bool outlier = u01(rng) < outlier_fraction;
+    Eigen::Vector2d b = *pb + Eigen::Vector2d(noise(rng), noise(rng));
+    if (outlier) b = Eigen::Vector2d(u01(rng) * (cam_b.width() - 1), u01(rng) * (cam_b.height() - 1));
+    s.px_a.push_back(px + Eigen::Vector2d(noise(rng), noise(rng)));
+    s.px_b.push_back(b);
+    s.is_outlier.push_back(outlier);
+  }
+  return s;
+}
+
+double HomographyToEssential(const TwoViewResult& r) {
+  return r.num_essential_inliers > 0 ? double(r.num_homography_inliers) / r.num_essential_inliers : 0.0;
+}
+
+TEST(TwoViewPairType, Names) {
+  EXPECT_EQ(PairTypeName(PairType::kGeneral), "general");
+  EXPECT_EQ(PairTypeName(PairType::kPlanar), "planar");
+  EXPECT_EQ(PairTypeName(PairType::kRotationOnly), "rotation-only");
+}
+
+// A facade 8 m ahead, tilted, seen with a 1 m baseline: the homography explains the matches as
+// well as the essential matrix; the pose is still the essential matrix's.
+TEST(TwoViewPairType, PointsOnOnePlaneAreFlaggedPlanar) {
+  const Rigid3d gt = TestPose();
+  const Eigen::Vector3d n = Eigen::Vector3d(0.3, -0.2, 1.0).normalized();
+  for (double noise : {0.3, 0.5}) {
+    const Scenario s = MakePlanarScenario(Pinhole(), Pinhole(), gt, n, 8.0, 400, noise, 0.2, 11);
+    const TwoViewResult r = EstimateRelativePose(Pinhole(), s.px_a, Pinhole(), s.px_b, TwoViewOptions());
+    std::printf("  planar, noise %.1f px: H/E inliers %d/%d = %.3f, rot err %.4f deg, t dir err %.3f deg\n", noise,
+                r.num_homography_inliers, r.num_essential_inliers, HomographyToEssential(r),
+                RotationErrorDeg(r.cam_b_from_cam_a, gt), TranslationDirectionErrorDeg(r.cam_b_from_cam_a, gt).value_or(-1));
+    ASSERT_TRUE(r.success) << r.failure_reason;
+    EXPECT_EQ(r.pair_type, PairType::kPlanar) << HomographyToEssential(r);
+    EXPECT_FALSE(r.rotation_only);
+    EXPECT_GT(r.cam_b_from_cam_a.translation.norm(), 0.5);  // a pose, not "rotation only"
+    EXPECT_GT(HomographyToEssential(r), 0.9);
+  }
+  // The option decides: asking the homography to explain more than the essential matrix does
+  // leaves the same pair general.
+  const Scenario s = MakePlanarScenario(Pinhole(), Pinhole(), gt, n, 8.0, 400, 0.3, 0.2, 11);
+  TwoViewOptions strict;
+  strict.planar_ratio = 1.05;
+  EXPECT_EQ(EstimateRelativePose(Pinhole(), s.px_a, Pinhole(), s.px_b, strict).pair_type, PairType::kGeneral);
+}
+
+// The ground below a fisheye camera, out to beyond 90 degrees off-axis: the homography's angular
+// error is defined on the whole sphere, so those bearings count for it as for the essential matrix.
+TEST(TwoViewPairType, GroundPlaneThroughFisheyeIsPlanar) {
+  const Camera fisheye(CameraModelId::kOpenCVFisheye, 800, 800, {170, 170, 399.5, 399.5, 0.02, -0.005, 0.001, 0.0});
+  const Rigid3d gt(Eigen::Quaterniond(Eigen::AngleAxisd(DegToRad(10.0), Eigen::Vector3d::UnitY())),
+                   Eigen::Vector3d(-0.8, 0.0, 0.3));
+  // Ground 1.5 m below (camera y points down), camera pitched 30 degrees down towards it.
+  const Eigen::Vector3d n = Eigen::AngleAxisd(DegToRad(-30.0), Eigen::Vector3d::UnitX()) * Eigen::Vector3d::UnitY();
+  const Scenario s = MakePlanarScenario(fisheye, fisheye, gt, n, 1.5, 400, 0.3, 0.1, 12);
+  int beyond_90 = 0;
+  for (const Eigen::Vector2d& p : s.px_a) beyond_90 += fisheye.CamFromImg(p)->z() < 0;
+  ASSERT_GT(beyond_90, 10);
+  const TwoViewResult r = EstimateRelativePose(fisheye, s.px_a, fisheye, s.px_b, TwoViewOptions());
+  std::printf("  fisheye ground: H/E inliers %d/%d = %.3f (%d bearings beyond 90 deg)\n", r.num_homography_inliers,
+              r.num_essential_inliers, HomographyToEssential(r), beyond_90);
+  ASSERT_TRUE(r.success) << r.failure_reason;
+  EXPECT_EQ(r.pair_type, PairType::kPlanar) << HomographyToEssential(r);
+  EXPECT_GT(HomographyToEssential(r), 0.9);
+}
+
+// Points spread in depth (3-12 m) with the same baseline: far from any one plane.
+TEST(TwoViewPairType, PointsInGeneral3DAreGeneral) {
+  const Rigid3d gt = TestPose();
+  for (unsigned seed : {13u, 14u}) {
+    const Scenario s = MakeScenario(Pinhole(), Pinhole(), gt, 400, 0.3, 0.2, seed);
+    const TwoViewResult r = EstimateRelativePose(Pinhole(), s.px_a, Pinhole(), s.px_b, TwoViewOptions());
+    std::printf("  general 3D: H/E inliers %d/%d = %.3f\n", r.num_homography_inliers, r.num_essential_inliers,
+                HomographyToEssential(r));
+    ASSERT_TRUE(r.success) << r.failure_reason;
+    EXPECT_EQ(r.pair_type, PairType::kGeneral) << HomographyToEssential(r);
+    EXPECT_LT(HomographyToEssential(r), 0.5);
+    EXPECT_GT(r.num_homography_inliers, 0);  // the homography was fitted, it just explains little
+  }
 }
 
 TEST(TwoView, RefinementAtTheTruthHasZeroResidual) {
@@ -134,6 +237,7 @@ TEST(TwoView, PureRotationIsFlaggedRotationOnly) {
   const TwoViewResult r = EstimateRelativePose(cam, s.px_a, cam, s.px_b, TwoViewOptions());
   ASSERT_TRUE(r.success) << r.failure_reason;
   EXPECT_TRUE(r.rotation_only);
+  EXPECT_EQ(r.pair_type, PairType::kRotationOnly);  // a rotation is a homography too: precedence
   EXPECT_LT(RotationErrorDeg(r.cam_b_from_cam_a, gt), 0.05);
   EXPECT_EQ(r.cam_b_from_cam_a.translation.norm(), 0.0);
   EXPECT_FALSE(TranslationDirectionErrorDeg(r.cam_b_from_cam_a, TestPose()).has_value());

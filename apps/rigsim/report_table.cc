@@ -64,8 +64,8 @@ OverlapTable ReadOverlap(const std::filesystem::path& overlap_json) {
 std::string FormatPairTable(const std::vector<CalibrationReport>& reports, const OverlapTable& overlap) {
   std::ostringstream out;
   char line[256];
-  std::snprintf(line, sizeof(line), "%-14s %7s  %-10s %8s %8s %9s %10s %10s  %s\n", "pair", "overlap", "method",
-                "matches", "inliers", "precision", "rot_err", "t_dir_err", "status");
+  std::snprintf(line, sizeof(line), "%-14s %7s  %-10s %8s %8s %9s %10s %10s  %-13s  %s\n", "pair", "overlap",
+                "method", "matches", "inliers", "precision", "rot_err", "t_dir_err", "type", "status");
   out << line;
   if (reports.empty()) return out.str();
   for (size_t i = 0; i < reports[0].pairs.size(); ++i) {
@@ -73,13 +73,16 @@ std::string FormatPairTable(const std::vector<CalibrationReport>& reports, const
       const PairResult& p = reports[m].pairs[i];
       const std::string pair = m == 0 ? p.cam_a + "-" + p.cam_b : "";
       const std::string ov = m == 0 ? Opt(Percent(OverlapOf(overlap, p)), "%.0f%%") : "";
-      std::string status = p.success ? (p.rotation_only ? "rotation only" : "ok") : p.failure_reason;
+      // Type: what the matches determine (two_view.h: general, planar, rotation-only).
+      const std::string type = p.success ? std::string(PairTypeName(p.pair_type)) : "-";
+      std::string status = p.success ? "ok" : p.failure_reason;
       if (status.size() > 48) status = status.substr(0, 45) + "...";
-      std::snprintf(line, sizeof(line), "%-14s %7s  %-10s %8d %8d %9s %10s %10s  %s\n", pair.c_str(), ov.c_str(),
+      std::snprintf(line, sizeof(line), "%-14s %7s  %-10s %8d %8d %9s %10s %10s  %-13s  %s\n", pair.c_str(), ov.c_str(),
                     reports[m].semantic_mode.c_str(), p.matches, p.inliers,
                     Opt(Percent(p.match_precision), "%.1f%%").c_str(),
                     p.success ? Opt(p.rotation_error_deg, "%.3f deg").c_str() : "-",
-                    p.success ? Opt(p.translation_direction_error_deg, "%.2f deg").c_str() : "-", status.c_str());
+                    p.success ? Opt(p.translation_direction_error_deg, "%.2f deg").c_str() : "-", type.c_str(),
+                    status.c_str());
       out << line;
     }
   }
