@@ -273,3 +273,31 @@ TEST_F(PipelineTest, MissingInputsAreNamed) {
 
 }  // namespace
 }  // namespace rigsim
+
+namespace rigsim {
+namespace {
+
+// Screening only decides which pairs get the full matching: a pair that passes is matched and
+// solved exactly as without screening; one that fails is reported with the reason.
+TEST_F(PipelineTest, ScreeningKeepsAnOverlappingPairUnchangedAndReportsOneItDrops) {
+  CalibrationOptions screened, full, starved;
+  full.screen_features = 0;
+  starved.screen_features = 12;  // too few keypoints for any two-view fit
+  const CalibrationReport a = CalibrateDatasetPairs(dir_, screened);
+  const CalibrationReport b = CalibrateDatasetPairs(dir_, full);
+  ASSERT_TRUE(a.pairs[0].success) << a.pairs[0].failure_reason;
+  EXPECT_EQ(a.pairs[0].matches, b.pairs[0].matches);
+  EXPECT_EQ(a.pairs[0].inliers, b.pairs[0].inliers);
+  EXPECT_EQ(a.pairs[0].cam_b_from_cam_a.rotation.coeffs(), b.pairs[0].cam_b_from_cam_a.rotation.coeffs());
+  EXPECT_GT(a.screen_time_s, 0.0);
+  EXPECT_EQ(b.screen_time_s, 0.0);
+
+  const CalibrationReport c = CalibrateDatasetPairs(dir_, starved);
+  EXPECT_FALSE(c.pairs[0].success);
+  EXPECT_EQ(c.pairs[0].matches, 0);
+  EXPECT_EQ(c.pairs[0].distance_evaluations, 0);
+  EXPECT_NE(c.pairs[0].failure_reason.find("screened out"), std::string::npos) << c.pairs[0].failure_reason;
+}
+
+}  // namespace
+}  // namespace rigsim

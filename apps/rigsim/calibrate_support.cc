@@ -105,13 +105,18 @@ void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& s) {
                  "scale; without it the result has unit scale")
       ->expected(3);
   FeatureOptions& features = s.options.pairwise.features;
-  cmd.add_option("--max-features", features.max_features, "strongest SIFT keypoints kept per image")
+  cmd.add_option("--max-features", features.max_features, "strongest keypoints kept per image (every --features type)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   cmd.add_option("--sift-contrast", features.contrast_threshold,
                  "SIFT contrast threshold; lower finds more, weaker keypoints")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  cmd.add_option("--screen-features", s.options.pairwise.screen_features,
+                 "pair screening: match only this many strongest keypoints of two frames first and\n"
+                 "skip the full matching of pairs that show no shared view; 0 matches every pair in full")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cmd.add_option("--ratio", s.options.pairwise.matching.ratio,
                  "Lowe's ratio test: keep a match when best < ratio x second best")
       ->capture_default_str()

@@ -108,8 +108,9 @@ std::string FormatSummary(const std::vector<CalibrationReport>& reports, const O
         << ", median translation direction error " << Opt(Median(tdir), "%.2f deg") << ", median match precision "
         << Opt(Percent(Median(prec)), "%.1f%%") << "; "
         << Fmt("%.0f", r.mean_keypoints_per_image) << " keypoints/image; time detect "
-        << Fmt("%.2f s", r.detect_time_s) << ", match " << Fmt("%.2f s", r.match_time_s) << ", pose "
-        << Fmt("%.2f s", r.pose_time_s) << "\n";
+        << Fmt("%.2f s", r.detect_time_s) << ", screen " << Fmt("%.2f s", r.screen_time_s) << ", match "
+        << Fmt("%.2f s", r.match_time_s + r.temporal_match_time_s) << ", pose "
+        << Fmt("%.2f s", r.pose_time_s + r.temporal_pose_time_s) << " (summed over threads)\n";
   }
   return out.str();
 }
