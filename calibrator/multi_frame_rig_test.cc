@@ -292,3 +292,30 @@ TEST(MultiFrameReprojectionResidual, AutodiffJacobianMatchesFiniteDifferences) {
 
 }  // namespace
 }  // namespace rigsim
+
+namespace rigsim {
+namespace {
+
+// The coarse first solve (on a subsample of the points) only changes where the full solve starts.
+TEST(MultiFrameRig, CoarseFirstSolveReachesTheSameRig) {
+  const ChainRing s = MakeChainRing(4, 20240605u);
+  RigCalibrationOptions coarse, direct;
+  coarse.bundle_adjustment.coarse_points = 150;
+  direct.bundle_adjustment.coarse_points = 0;
+  RigCalibrationResult a = EstimateRig(s.observations, coarse);
+  RigCalibrationResult b = EstimateRig(s.observations, direct);
+  EvaluateRigAgainstTruth(s.truth, &a);
+  EvaluateRigAgainstTruth(s.truth, &b);
+  for (int c = 1; c < 4; ++c) {
+    ASSERT_TRUE(a.rig.cameras[c].cam_from_rig && b.rig.cameras[c].cam_from_rig) << c;
+    EXPECT_LT(a.camera_stats[c].rotation_error_deg.value(), 0.05) << c;
+    EXPECT_LT(a.camera_stats[c].translation_direction_error_deg.value(), 0.5) << c;
+    const Rigid3d& ra = *a.rig.cameras[c].cam_from_rig;
+    const Rigid3d& rb = *b.rig.cameras[c].cam_from_rig;
+    EXPECT_LT(RadToDeg(ra.rotation.angularDistance(rb.rotation)), 1e-3) << c;
+    EXPECT_LT((ra.SourceOriginInTarget() - rb.SourceOriginInTarget()).norm(), 1e-4) << c;
+  }
+}
+
+}  // namespace
+}  // namespace rigsim

@@ -111,6 +111,7 @@ void RigBundleAdjustmentOptions::Check() const {
   if (!(loss_scale_px > 0)) fail("loss_scale_px must be > 0");
   if (!(max_reprojection_error_px > 0)) fail("max_reprojection_error_px must be > 0");
   if (filter_rounds < 0) fail("filter_rounds must be >= 0");
+  if (coarse_points < 0) fail("coarse_points must be >= 0");
   if (max_iterations < 1) fail("max_iterations must be >= 1");
   if (num_threads < 1) fail("num_threads must be >= 1");
 }

@@ -60,6 +60,9 @@ struct RigBundleAdjustmentOptions {
   double max_reprojection_error_px = 3.0;
   // Solve-and-filter rounds after the first solve.
   int filter_rounds = 2;
+  // Points in the coarse first solve of the multi-frame adjustment (an even subsample of the
+  // tracks), skipped when there are fewer than twice as many; 0 = no coarse solve.
+  int coarse_points = 2000;
   // Ceres iterations per solve.
   int max_iterations = 100;
   // Ceres threads.
