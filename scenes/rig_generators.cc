@@ -464,6 +464,17 @@ FramesFile MakeStraightTrajectory(const Eigen::Vector3d& start_world, double hea
   return MakeTrajectory(o);
 }
 
+FramesFile MakeDemoTrajectory(int num_frames) {
+  TrajectoryOptions o;
+  o.kind = TrajectoryKind::kCircle;
+  o.start_world = Eigen::Vector3d(0.0, 1.6, 4.0);
+  o.heading_deg = 0.0;
+  o.num_frames = num_frames;
+  o.step_m = 2.0;
+  o.circle_radius_m = 12.0;
+  return MakeTrajectory(o);
+}
+
 void TrajectoryOptions::Check() const {
   if (num_frames < 1) Fail("trajectory", "needs at least one frame");
   if (!std::isfinite(step_m)) Fail("trajectory", "step_m must be finite");

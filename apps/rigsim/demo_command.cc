@@ -46,8 +46,7 @@ void AddDemoCommand(CLI::App& app) {
     job.scene = &scene;
     job.scene_name = std::filesystem::path(args->scene).filename().string();
     job.rig = MakeRingRig(RingRigOptions{});
-    // In the middle of the street at eye height, moving down it.
-    job.frames = MakeStraightTrajectory(Eigen::Vector3d(0.0, 1.6, 4.0), 0.0, args->frames, 2.0);
+    job.frames = MakeDemoTrajectory(args->frames);
     job.frames.tool_version = RIGSIM_VERSION_STRING;
     job.options = args->render.ToRenderOptions();
     RenderAndReport(job, args->out, args->force);
