@@ -574,7 +574,10 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
     solver_options.max_num_iterations = options.max_iterations;
     // The rounds before the last only decide which observations to filter: a coarse solve is
     // enough there (it took 150 of 155 iterations on the demo ring with the final tolerance).
-    solver_options.function_tolerance = final_round ? 1e-10 : 1e-5;
+    // The last stops at a relative cost change of 1e-6: beyond it Levenberg-Marquardt crawled
+    // 100 iterations (4.6 s on a 6-camera ring) for 3e-5 of the cost and no change in the
+    // poses at 0.001 deg.
+    solver_options.function_tolerance = final_round ? 1e-6 : 1e-5;
     solver_options.parameter_tolerance = final_round ? 1e-10 : 1e-5;
     solver_options.num_threads = options.num_threads;
     solver_options.logging_type = ceres::SILENT;

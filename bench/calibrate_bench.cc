@@ -1,0 +1,89 @@
+// Calibration speed, end to end: a 6-camera ring (60 deg apart, 95 deg hfov, 1280x720, cam1 with
+// barrel distortion) rendered once on the built-in street over 2 frames of the demo path, then
+// calibrated from its images as `rigsim calibrate --semantics none` does: read the images, SIFT,
+// pair screening, matching, two-view, rotation averaging, tracks, positions, bundle adjustment.
+// The comparison with the truth runs after the timed part (it is not calibration).
+//
+// Counters: the time of each stage (detect, screen, match and pose are summed over worker threads;
+// the rig stages run on one), and the worst camera's errors against the rendered truth.
+// Reproduce: see BENCHMARKS.md.
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+
+#include <benchmark/benchmark.h>
+
+#include "calibrator/rig_calibration.h"
+#include "geometry/json_io.h"
+#include "renderer/render_dataset.h"
+#include "scenes/gltf_loader.h"
+#include "scenes/rig_generators.h"
+
+namespace rigsim {
+namespace {
+namespace fs = std::filesystem;
+
+constexpr int kCameras = 6;
+constexpr int kFrames = 2;
+
+// Rendered once per process into a temporary folder, removed at exit.
+const fs::path& SixCameraDataset() {
+  struct Dataset {
+    fs::path dir;
+    Dataset() : dir(fs::temp_directory_path() / ("rigsim_bench_calibrate_" + std::to_string(::getpid()))) {
+      const Scene scene = LoadGltf(std::string(RIGSIM_SOURCE_DIR) + "/assets/scenes/street.glb");
+      RenderJob job;
+      job.scene = &scene;
+      job.scene_name = "street.glb";
+      RingRigOptions ring;
+      ring.num_cameras = kCameras;
+      job.rig = MakeRingRig(ring);
+      job.frames = MakeDemoTrajectory(kFrames);
+      job.options.samples_per_pixel = 4;
+      job.options.seed = 1;
+      RenderDataset(job, dir, true);
+    }
+    ~Dataset() { fs::remove_all(dir); }
+  };
+  static const Dataset dataset;
+  return dataset.dir;
+}
+
+void BM_CalibrateSixCameraRing(benchmark::State& state) {
+  const fs::path& dir = SixCameraDataset();
+  RigCalibrationOptions options;
+  options.pairwise.evaluate = false;
+  RigCalibrationResult result;
+  for (auto _ : state) {
+    result = CalibrateRig(dir, options, SemanticMode::kNone);
+    benchmark::DoNotOptimize(result);
+  }
+  const CalibrationReport& p = result.pairwise;
+  state.counters["detect_s"] = p.detect_time_s;
+  state.counters["screen_s"] = p.screen_time_s;
+  state.counters["match_s"] = p.match_time_s + p.temporal_match_time_s;
+  state.counters["pose_s"] = p.pose_time_s + p.temporal_pose_time_s;
+  state.counters["rig_s"] = result.rotation_averaging_time_s + result.tracks_time_s + result.positions_time_s;
+  state.counters["ba_s"] = result.bundle_adjustment_time_s;
+
+  EvaluateRigAgainstTruth(ReadRig(dir / "rig.json"), &result);
+  double worst_rot = 0.0, worst_dir = 0.0;
+  int calibrated = 0;
+  for (size_t c = 0; c < result.camera_stats.size(); ++c) {
+    const RigCameraStats& s = result.camera_stats[c];
+    calibrated += result.rig.cameras[c].cam_from_rig.has_value();
+    worst_rot = std::max(worst_rot, s.rotation_error_deg.value_or(1e9));
+    if (c > 0) worst_dir = std::max(worst_dir, s.translation_direction_error_deg.value_or(1e9));
+  }
+  state.counters["cameras_calibrated"] = calibrated;
+  state.counters["worst_rot_deg"] = worst_rot;
+  state.counters["worst_tdir_deg"] = worst_dir;
+}
+BENCHMARK(BM_CalibrateSixCameraRing)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(3);
+
+}  // namespace
+}  // namespace rigsim
+
+BENCHMARK_MAIN();
