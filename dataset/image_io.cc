@@ -24,6 +24,9 @@ void WriteTyped(const fs::path& path, const Image<T>& image, OIIO::TypeDesc type
   if (!out) throw std::runtime_error(path.string() + ": no image writer for this extension: " + OIIO::geterror());
   OIIO::ImageSpec spec(image.width, image.height, image.channels, type);
   if (type == OIIO::TypeDesc::FLOAT) spec.attribute("compression", "zip");
+  // OpenImageIO stamps EXR files with the current time (capDate) unless told otherwise: the same
+  // render a second later would differ in bytes. An empty date keeps output deterministic.
+  spec.attribute("DateTime", "");
   if (!out->open(tmp.string(), spec) || !out->write_image(type, image.data.data()) || !out->close()) {
     const std::string err = out->geterror();
     std::error_code ec;

@@ -1,6 +1,8 @@
 #include "dataset/image_io.h"
 
 #include <fstream>
+#include <iterator>
+#include <string>
 
 #include <unistd.h>
 
@@ -45,6 +47,24 @@ TEST_F(ImageIo, SixteenBitAndFloatRoundTrip) {
   depth.at(1, 0) = 12.345678f;
   WriteImage(dir_ / "d.exr", depth);
   EXPECT_EQ(ReadImageF(dir_ / "d.exr").data, depth.data);
+}
+
+// The same image written twice gives the same bytes, whenever it is written: no time stamp.
+// (OpenImageIO stamps EXR files with the current second unless told otherwise.)
+TEST_F(ImageIo, WritingTheSameImageLaterGivesTheSameBytes) {
+  ImageF depth(4, 2, 1, 3.5f);
+  ImageU8 rgb(4, 2, 3, 77);
+  WriteImage(dir_ / "a.exr", depth);
+  WriteImage(dir_ / "a.png", rgb);
+  ::usleep(1'100'000);
+  WriteImage(dir_ / "b.exr", depth);
+  WriteImage(dir_ / "b.png", rgb);
+  auto bytes = [&](const char* name) {
+    std::ifstream in(dir_ / name, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  };
+  EXPECT_EQ(bytes("a.exr"), bytes("b.exr"));
+  EXPECT_EQ(bytes("a.png"), bytes("b.png"));
 }
 
 TEST_F(ImageIo, ChannelConversion) {
