@@ -14,6 +14,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "renderer/srgb.h"
+
 namespace rigsim {
 namespace {
 
@@ -42,41 +44,6 @@ uint64_t CameraKey(uint64_t seed, int camera_index, uint64_t stream) {
   return Mix(Mix(Mix(seed) ^ uint64_t(uint32_t(camera_index))) ^ stream);
 }
 
-double SrgbToLinear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
-
-// Encoding without a pow per value: the code at the start of each of 4096 buckets over [0, 1],
-// finished by the thresholds where the code changes (at most a few steps: near black, where the
-// curve is steepest, a bucket spans under one code).
-constexpr int kBuckets = 4096;
-
-struct SrgbTables {
-  std::array<double, 256> decode{};
-  std::array<double, 256> thresholds{};  // code i+1 starts at linear value thresholds[i]; [255] = +inf
-  std::array<uint8_t, kBuckets + 1> bucket_start{};
-};
-
-const SrgbTables& Tables() {
-  static const SrgbTables t = [] {
-    SrgbTables out;
-    for (int i = 0; i < 256; ++i) out.decode[i] = SrgbToLinear(i / 255.0);
-    for (int i = 0; i < 255; ++i) out.thresholds[i] = SrgbToLinear((i + 0.5) / 255.0);
-    out.thresholds[255] = std::numeric_limits<double>::infinity();
-    for (int b = 0; b <= kBuckets; ++b) {
-      const double v = double(b) / kBuckets;
-      out.bucket_start[b] = uint8_t(std::upper_bound(out.thresholds.begin(), out.thresholds.begin() + 255, v) - out.thresholds.begin());
-    }
-    return out;
-  }();
-  return t;
-}
-
-uint8_t Encode(const SrgbTables& t, double linear) {
-  if (!(linear > 0.0)) return 0;
-  if (linear >= 1.0) return 255;
-  int code = t.bucket_start[int(linear * kBuckets)];
-  while (linear >= t.thresholds[code]) ++code;
-  return uint8_t(code);
-}
 
 void CheckRange(double value, double max, bool max_inclusive, const std::string& name, const std::string& unit) {
   if (!std::isfinite(value) || value < 0.0 || (max_inclusive ? value > max : value >= max)) {
@@ -131,10 +98,6 @@ CameraPhotometry DrawCameraPhotometry(const PhotometricOptions& o, int camera_in
   return p;
 }
 
-uint8_t SrgbCodeFromLinear(double linear) { return Encode(Tables(), linear); }
-
-double LinearFromSrgbCode(uint8_t code) { return Tables().decode[code]; }
-
 void ApplyPhotometry(const CameraPhotometry& p, const PhotometricNoiseKey& key, double cx, double cy, ImageU8& rgb,
                      const ImageU8* invalid, int num_threads) {
   if (rgb.channels != 3 || rgb.data.size() != size_t(rgb.width) * rgb.height * 3) {
@@ -154,7 +117,7 @@ void ApplyPhotometry(const CameraPhotometry& p, const PhotometricNoiseKey& key, 
   const double read_var = p.read_noise_stddev * p.read_noise_stddev;
   const Eigen::Vector3d channel_gain = p.gain() * p.white_balance;
   const uint64_t frame_key = Mix(Mix(Mix(Mix(key.seed) ^ uint64_t(uint32_t(key.camera_index))) ^ uint64_t(uint32_t(key.frame_index))) ^ kNoise);
-  const SrgbTables& tables = Tables();
+  const std::array<float, 256>& decode = LinearFromSrgbCodeTable();
   // V(r) = 1 / (1 + k r^2)^2 (CameraPhotometry::Vignetting), evaluated from r^2 directly.
   const double k = p.vignetting_strength > 0 ? 1.0 / std::sqrt(1.0 - p.vignetting_strength) - 1.0 : 0.0;
 
@@ -173,9 +136,9 @@ void ApplyPhotometry(const CameraPhotometry& p, const PhotometricNoiseKey& key, 
         }
         uint8_t* px = &rgb.at(x, y, 0);
         for (int c = 0; c < 3; ++c) {
-          double value = tables.decode[px[c]] * channel_gain[c] * v;
+          double value = decode[px[c]] * channel_gain[c] * v;
           if (noisy) value += std::sqrt(p.shot_noise * std::max(value, 0.0) + read_var) * z[c];
-          px[c] = Encode(tables, value);
+          px[c] = SrgbCodeFromLinear(value);
         }
       }
     }

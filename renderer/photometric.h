@@ -73,9 +73,4 @@ struct PhotometricNoiseKey {
 void ApplyPhotometry(const CameraPhotometry& params, const PhotometricNoiseKey& key, double cx, double cy, ImageU8& rgb,
                      const ImageU8* invalid = nullptr, int num_threads = 0);
 
-// The 8-bit sRGB code of a linear value (rounded to nearest, clipped; NaN -> 0), and the linear
-// value of a code. SrgbCodeFromLinear(LinearFromSrgbCode(v)) == v for every code.
-uint8_t SrgbCodeFromLinear(double linear);
-double LinearFromSrgbCode(uint8_t code);
-
 }  // namespace rigsim

@@ -21,64 +21,13 @@
 #include <tbb/task_arena.h>
 
 #include "labels/cityscapes.h"
+#include "renderer/srgb.h"
 
 namespace rigsim {
 namespace {
 
 constexpr int kTileSize = 32;
 
-// ---------------------------------------------------------------------------------------------
-// Colour encoding.
-
-float SrgbToLinear(float c) {
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
-
-float LinearToSrgb(float c) {
-  c = std::clamp(c, 0.0f, 1.0f);
-  return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-}
-
-uint8_t EncodeSrgb8(float linear) {
-  if (!(linear > 0.0f)) return 0;  // also maps NaN to black instead of an undefined cast
-  return static_cast<uint8_t>(LinearToSrgb(linear) * 255.0f + 0.5f);
-}
-
-// The same encoding without a pow: a table over [0, 1] in 4096 buckets gives the code at the
-// bucket's start, and the 255 linear values where the 8-bit code changes finish it (at most two
-// steps: the steepest part of the curve, near black, moves 0.8 codes per bucket).
-uint8_t EncodeSrgb8Fast(float linear) {
-  constexpr int kBuckets = 4096;
-  struct Tables {
-    std::array<float, 256> thresholds{};  // code i+1 starts at thresholds[i]; [255] = +inf
-    std::array<uint8_t, kBuckets + 1> start{};
-  };
-  static const Tables tables = [] {
-    Tables t;
-    for (int i = 0; i < 255; ++i) t.thresholds[i] = SrgbToLinear((i + 0.5f) / 255.0f);
-    t.thresholds[255] = std::numeric_limits<float>::infinity();
-    for (int b = 0; b <= kBuckets; ++b) {
-      const float v = float(b) / kBuckets;
-      t.start[b] = uint8_t(std::upper_bound(t.thresholds.begin(), t.thresholds.begin() + 255, v) - t.thresholds.begin());
-    }
-    return t;
-  }();
-  if (!(linear > 0.0f)) return 0;
-  if (linear >= 1.0f) return 255;
-  int code = tables.start[int(linear * kBuckets)];
-  while (linear >= tables.thresholds[code]) ++code;
-  return uint8_t(code);
-}
-
-// Texels are stored sRGB-encoded; decoding through a table keeps the per-sample cost low.
-const std::array<float, 256>& SrgbDecodeTable() {
-  static const std::array<float, 256> table = [] {
-    std::array<float, 256> t{};
-    for (int i = 0; i < 256; ++i) t[i] = SrgbToLinear(i / 255.0f);
-    return t;
-  }();
-  return table;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Counter-based random numbers: a pure function of (seed, pixel, sample), so the image does not
@@ -118,7 +67,7 @@ struct MipTexture {
 };
 
 MipLevel Downsample(const MipLevel& src) {
-  const auto& lut = SrgbDecodeTable();
+  const auto& lut = LinearFromSrgbCodeTable();
   MipLevel dst;
   dst.width = std::max(1, src.width / 2);
   dst.height = std::max(1, src.height / 2);
@@ -133,7 +82,7 @@ MipLevel Downsample(const MipLevel& src) {
       // Average colour in linear light, otherwise distant textures darken.
       for (int c = 0; c < 3; ++c) {
         const float mean = 0.25f * (lut[p[0][c]] + lut[p[1][c]] + lut[p[2][c]] + lut[p[3][c]]);
-        out[c] = EncodeSrgb8(mean);
+        out[c] = SrgbCodeFromLinear(mean);
       }
       out[3] = uint8_t((int(p[0][3]) + p[1][3] + p[2][3] + p[3][3] + 2) / 4);
     }
@@ -195,7 +144,7 @@ float ReduceCoordinate(float s, WrapMode mode) {
 // Inlined by force: as calls, these two passed every texel through the stack (measured 18% of a
 // labelled street frame in FetchTexel and SampleBilinear together).
 [[gnu::always_inline]] inline Eigen::Vector4f FetchTexel(const MipLevel& level, int x, int y) {
-  const auto& lut = SrgbDecodeTable();
+  const auto& lut = LinearFromSrgbCodeTable();
   const uint8_t* p = &level.rgba[(size_t(y) * level.width + x) * 4];
   return Eigen::Vector4f(lut[p[0]], lut[p[1]], lut[p[2]], p[3] / 255.0f);
 }
@@ -802,7 +751,7 @@ RenderedView Renderer::Render(const Camera& camera, const Rigid3d& cam_from_worl
               num_samples = 1;
             }
             radiance *= exposure / float(num_samples);
-            for (int c = 0; c < 3; ++c) view.rgb.at(x, y, c) = EncodeSrgb8Fast(radiance[c]);
+            for (int c = 0; c < 3; ++c) view.rgb.at(x, y, c) = SrgbCodeFromLinear(radiance[c]);
           }
         }
       }
