@@ -42,7 +42,6 @@ struct PairIndex {
   int a, b;
 };
 
-
 // Matches of one (mode, pair), pooled over frames in frame order.
 struct PooledMatches {
   std::vector<Eigen::Vector2d> px_a, px_b;
