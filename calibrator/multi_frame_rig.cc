@@ -1,8 +1,8 @@
 #include "calibrator/multi_frame_rig.h"
 
 #include <algorithm>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <stdexcept>
@@ -10,9 +10,9 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 #include <ceres/ceres.h>
-#include <glog/logging.h>
 #include <ceres/manifold.h>
 #include <ceres/sphere_manifold.h>
+#include <glog/logging.h>
 
 namespace rigsim {
 namespace {
@@ -470,30 +470,30 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
   // max_error_px: keep only observations reprojecting within it (after the coarse solve, whose
   // poses are good enough to tell outliers; infinite for the first triangulation).
   auto triangulate = [&](double max_error_px) {
-  std::vector<WorldPoint> points;
-  for (int i = 0; i < static_cast<int>(tracks.size()); ++i) {
-    std::vector<Eigen::Vector3d> origins, dirs;
-    for (const ViewObservation& o : tracks[i].observations) {
-      if (!posed(o)) continue;
-      const auto f = cameras[o.camera].CamFromImg(observed(o));
-      if (!f) continue;
-      const Rigid3d world_from_cam = view_pose(o).Inverse();
-      origins.push_back(world_from_cam.translation);
-      dirs.push_back((world_from_cam.rotation * *f).normalized());
+    std::vector<WorldPoint> points;
+    for (int i = 0; i < static_cast<int>(tracks.size()); ++i) {
+      std::vector<Eigen::Vector3d> origins, dirs;
+      for (const ViewObservation& o : tracks[i].observations) {
+        if (!posed(o)) continue;
+        const auto f = cameras[o.camera].CamFromImg(observed(o));
+        if (!f) continue;
+        const Rigid3d world_from_cam = view_pose(o).Inverse();
+        origins.push_back(world_from_cam.translation);
+        dirs.push_back((world_from_cam.rotation * *f).normalized());
+      }
+      const auto x = TriangulateRays(origins, dirs, min_angle);
+      if (!x) continue;
+      WorldPoint p;
+      p.track = i;
+      p.x = *x;
+      for (const ViewObservation& o : tracks[i].observations) {
+        if (!posed(o)) continue;
+        const auto e = ReprojectionError(cameras[o.camera], view_pose(o), *x, observed(o));
+        if (e && *e <= max_error_px) p.observations.push_back(o);
+      }
+      if (p.observations.size() >= 2) points.push_back(std::move(p));
     }
-    const auto x = TriangulateRays(origins, dirs, min_angle);
-    if (!x) continue;
-    WorldPoint p;
-    p.track = i;
-    p.x = *x;
-    for (const ViewObservation& o : tracks[i].observations) {
-      if (!posed(o)) continue;
-      const auto e = ReprojectionError(cameras[o.camera], view_pose(o), *x, observed(o));
-      if (e && *e <= max_error_px) p.observations.push_back(o);
-    }
-    if (p.observations.size() >= 2) points.push_back(std::move(p));
-  }
-  return points;
+    return points;
   };
   std::vector<WorldPoint> points = triangulate(std::numeric_limits<double>::infinity());
 
@@ -514,7 +514,8 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
   // Round -1 (coarse): the linear initial poses can be far off (hundreds of px RMS on the demo
   // ring), and converging from there took ~80 iterations over every point. Poses are fixed by far
   // fewer points: solve on an even subsample, then re-triangulate every track from those poses.
-  const int first_round = static_cast<int>(points.size()) > 2 * options.coarse_points && options.coarse_points > 0 ? -1 : 0;
+  const bool coarse_first = options.coarse_points > 0 && static_cast<int>(points.size()) > 2 * options.coarse_points;
+  const int first_round = coarse_first ? -1 : 0;
   for (int round = first_round; round <= options.filter_rounds; ++round) {
     const bool coarse = round < 0;
     bool final_round = round == options.filter_rounds;
