@@ -6,8 +6,6 @@
 // The dataset: the built-in street through a 3-camera ring placed by `make-rig --scene` (320x240,
 // 2 frames), plus a camera "back" that faces backwards and overlaps no other camera, so that one
 // camera cannot be calibrated.
-#include <fcntl.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -29,6 +27,7 @@
 #include "dataset/image_io.h"
 #include "dataset/label_image.h"
 #include "geometry/rig.h"
+#include "tests/rigsim_cli.h"
 
 #ifndef RIGSIM_BINARY
 #error "RIGSIM_BINARY must name the rigsim executable"
@@ -42,13 +41,6 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::string ReadAll(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 json ReadJson(const fs::path& path) { return json::parse(ReadAll(path)); }
 
 // Data lines of a COLMAP text file: neither comments nor empty lines.
@@ -61,45 +53,6 @@ std::vector<std::string> DataLines(const fs::path& path) {
   return lines;
 }
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
-
-// Runs rigsim with `args` (at most 120 s); stdout and stderr through files beside `log_prefix`.
-Result RunRigsim(const std::vector<std::string>& args, const fs::path& log_prefix) {
-  const std::string out_path = log_prefix.string() + ".stdout", err_path = log_prefix.string() + ".stderr";
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const int out = ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int err = ::open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    dup2(out, 1);
-    dup2(err, 2);
-    std::vector<std::string> copy = args;
-    std::string binary = RIGSIM_BINARY;
-    std::vector<char*> argv = {binary.data()};
-    for (std::string& a : copy) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    execv(binary.c_str(), argv.data());
-    _exit(127);
-  }
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-  int status = 0;
-  while (waitpid(pid, &status, WNOHANG) == 0) {
-    if (std::chrono::steady_clock::now() > deadline) {
-      kill(pid, SIGKILL);
-      waitpid(pid, &status, 0);
-      ADD_FAILURE() << "rigsim did not finish in 120 s";
-      break;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  Result r;
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  r.out = ReadAll(out_path);
-  r.err = ReadAll(err_path);
-  return r;
-}
 
 // Hidden staging folders ".NAME.partial-*" beside `out`.
 std::vector<fs::path> StagingFolders(const fs::path& out) {
@@ -122,7 +75,7 @@ class CalibrateIo : public testing::Test {
     fs::create_directories(*base_);
     const std::string scene = std::string(RIGSIM_SOURCE_DIR) + "/assets/scenes/street.glb";
     const fs::path rig_json = *base_ / "rig.json", frames_json = *base_ / "frames.json";
-    Result r = RunRigsim({"make-rig", "ring", "--cameras", "3", "--spacing", "50", "--hfov", "90", "--width", "320", "--height",
+    CliResult r = RunRigsim({"make-rig", "ring", "--cameras", "3", "--spacing", "50", "--hfov", "90", "--width", "320", "--height",
                     "240", "--frames", "2", "--step", "1", "--scene", scene, "--rig-out", rig_json.string(),
                     "--frames-out", frames_json.string()},
                    *base_ / "make_rig");
@@ -150,7 +103,7 @@ class CalibrateIo : public testing::Test {
   }
 
   static fs::path dataset() { return *base_ / "dataset"; }
-  Result Calibrate(std::vector<std::string> extra, const fs::path& out) {
+  CliResult Calibrate(std::vector<std::string> extra, const fs::path& out) {
     std::vector<std::string> args = {"calibrate", dataset().string(), "--out", out.string()};
     args.insert(args.end(), extra.begin(), extra.end());
     if (std::find(args.begin(), args.end(), "--threads") == args.end()) args.insert(args.end(), {"--threads", "2"});
@@ -174,7 +127,7 @@ class CalibrateIo : public testing::Test {
   // and saying `part`, and leaves no output.
   void ExpectCalibrateFails(const std::vector<std::string>& extra, const std::string& file, const std::string& part) {
     const fs::path out = dir_ / "out";
-    const Result r = Calibrate(extra, out);
+    const CliResult r = Calibrate(extra, out);
     EXPECT_NE(r.code, 0) << r.err;
     if (!file.empty()) {
       EXPECT_NE(r.err.find("error: " + file + ": "), std::string::npos) << "message does not start with the file: " << r.err;
@@ -192,7 +145,7 @@ fs::path* CalibrateIo::base_ = nullptr;
 
 TEST_F(CalibrateIo, WritesEveryExportAndPairStatisticsPerMode) {
   const fs::path out = dir_ / "out";
-  const Result r = Calibrate({"--semantics", "none,mask"}, out);
+  const CliResult r = Calibrate({"--semantics", "none,mask"}, out);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("warning: none: camchain.yaml, opencv.yaml and colmap/ leave out the cameras without a full "
                        "pose: back"),
@@ -321,8 +274,8 @@ TEST_F(CalibrateIo, UserLabelsInIdsAndInColoursGiveIdenticalResults) {
   const fs::path id_dir = LabelFolder("ids", ids);
   const fs::path color_dir =
       LabelFolder("colors", [&](const ImageU8& l, const std::string& c, const std::string& f) { return ColorizeLabels(ids(l, c, f)); });
-  const Result a = Calibrate({"--semantics", "mask,gated", "--labels", id_dir.string()}, dir_ / "out_ids");
-  const Result b = Calibrate({"--semantics", "mask,gated", "--labels", color_dir.string()}, dir_ / "out_colors");
+  const CliResult a = Calibrate({"--semantics", "mask,gated", "--labels", id_dir.string()}, dir_ / "out_ids");
+  const CliResult b = Calibrate({"--semantics", "mask,gated", "--labels", color_dir.string()}, dir_ / "out_colors");
   ASSERT_EQ(a.code, 0) << a.err;
   ASSERT_EQ(b.code, 0) << b.err;
   const json ea = ReadJson(dir_ / "out_ids" / "evaluation.json"), eb = ReadJson(dir_ / "out_colors" / "evaluation.json");
@@ -348,11 +301,11 @@ TEST_F(CalibrateIo, UserLabelsInIdsAndInColoursGiveIdenticalResults) {
 TEST_F(CalibrateIo, NoisyLabelsAreSeededAndRecorded) {
   const std::vector<std::string> noisy = {"--semantics", "mask,gated", "--labels", "noisy", "--label-noise-boundary", "4",
                                           "--label-noise-confusion", "0.3", "--label-noise-seed", "5"};
-  const Result a = Calibrate(noisy, dir_ / "a");
+  const CliResult a = Calibrate(noisy, dir_ / "a");
   std::vector<std::string> one_thread = noisy;
   one_thread.insert(one_thread.end(), {"--threads", "1"});
-  const Result b = Calibrate(one_thread, dir_ / "b");
-  const Result truth = Calibrate({"--semantics", "mask,gated"}, dir_ / "truth");
+  const CliResult b = Calibrate(one_thread, dir_ / "b");
+  const CliResult truth = Calibrate({"--semantics", "mask,gated"}, dir_ / "truth");
   ASSERT_EQ(a.code, 0) << a.err;
   ASSERT_EQ(b.code, 0) << b.err;
   ASSERT_EQ(truth.code, 0) << truth.err;

@@ -2,7 +2,6 @@
 // non-zero with a message naming the file and the problem, and leaves no output behind: neither
 // --out / evaluation.json nor a hidden staging folder. A render killed by SIGKILL or SIGINT leaves
 // the previous dataset intact (or none); a staging folder left by SIGKILL is removed by the next run.
-#include <fcntl.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -26,6 +25,7 @@
 #include "geometry/rig.h"
 #include "scenes/rig_generators.h"
 #include "scenes/scene_builder.h"
+#include "tests/rigsim_cli.h"
 
 #ifndef RIGSIM_BINARY
 #error "RIGSIM_BINARY must name the rigsim executable"
@@ -36,63 +36,8 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::string ReadAll(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 void WriteText(const fs::path& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
 
-// rigsim started with `args`; stdout and stderr go to files beside `log_prefix`.
-class Process {
- public:
-  Process(const std::vector<std::string>& args, const fs::path& log_prefix)
-      : out_(log_prefix.string() + ".stdout"), err_(log_prefix.string() + ".stderr") {
-    pid_ = fork();
-    if (pid_ == 0) {
-      const int out = ::open(out_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      const int err = ::open(err_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      dup2(out, 1);
-      dup2(err, 2);
-      std::vector<char*> argv;
-      static std::string binary = RIGSIM_BINARY;
-      argv.push_back(binary.data());
-      std::vector<std::string> copy = args;
-      for (std::string& a : copy) argv.push_back(a.data());
-      argv.push_back(nullptr);
-      execv(binary.c_str(), argv.data());
-      _exit(127);
-    }
-  }
-  pid_t pid() const { return pid_; }
-  // Waits (at most 120 s, then kills) and returns the exit code, or 128 + signal.
-  int Wait() {
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-    int status = 0;
-    while (waitpid(pid_, &status, WNOHANG) == 0) {
-      if (std::chrono::steady_clock::now() > deadline) {
-        kill(pid_, SIGKILL);
-        waitpid(pid_, &status, 0);
-        ADD_FAILURE() << "rigsim did not finish in 120 s";
-        break;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
-    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  }
-  std::string out() const { return ReadAll(out_); }
-  std::string err() const { return ReadAll(err_); }
-
- private:
-  pid_t pid_ = -1;
-  fs::path out_, err_;
-};
-
-struct Result {
-  int code;
-  std::string out, err;
-};
 
 // Hidden staging folders ".NAME.partial-*" beside `out`.
 std::vector<fs::path> StagingFolders(const fs::path& out) {
@@ -165,7 +110,7 @@ class RigsimCli : public testing::Test {
     ring.height = 240;
     WriteRig(MakeRingRig(ring), *base_ / "rig_big.json");
     WriteFrames(MakeStraightTrajectory(Eigen::Vector3d(0, 1.6, 0), 0.0, 400, 0.01), *base_ / "frames_long.json");
-    Process p({"render", "--scene", (*base_ / "scene.glb").string(), "--rig", (*base_ / "rig.json").string(), "--frames",
+    RigsimProcess p({"render", "--scene", (*base_ / "scene.glb").string(), "--rig", (*base_ / "rig.json").string(), "--frames",
                (*base_ / "frames.json").string(), "--out", (*base_ / "dataset").string(), "--spp", "1"},
               *base_ / "setup");
     ASSERT_EQ(p.Wait(), 0) << p.err();
@@ -182,11 +127,7 @@ class RigsimCli : public testing::Test {
 
   static fs::path base() { return *base_; }
 
-  Result Run(const std::vector<std::string>& args) {
-    Process p(args, dir_ / ("run" + std::to_string(runs_++)));
-    const int code = p.Wait();
-    return {code, p.out(), p.err()};
-  }
+  CliResult Run(const std::vector<std::string>& args) { return RunRigsim(args, dir_ / ("run" + std::to_string(runs_++))); }
   std::vector<std::string> RenderArgs(const fs::path& scene, const fs::path& rig, const fs::path& frames, const fs::path& out) {
     return {"render", "--scene", scene.string(), "--rig", rig.string(), "--frames", frames.string(), "--out", out.string(),
             "--spp", "1"};
@@ -196,7 +137,7 @@ class RigsimCli : public testing::Test {
   void ExpectRenderFails(const fs::path& scene, const fs::path& rig, const fs::path& frames, const std::string& file,
                          const std::string& part) {
     const fs::path out = dir_ / "out";
-    const Result r = Run(RenderArgs(scene, rig, frames, out));
+    const CliResult r = Run(RenderArgs(scene, rig, frames, out));
     EXPECT_NE(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("error: " + file + ": "), std::string::npos) << "message does not start with the file: " << r.err;
     EXPECT_NE(r.err.find(part), std::string::npos) << "message does not say '" << part << "': " << r.err;
@@ -220,7 +161,7 @@ class RigsimCli : public testing::Test {
   // `rigsim calibrate` fails naming `file` and `part` and writes no evaluation.json.
   void ExpectCalibrateFails(const fs::path& dataset, const std::string& semantics, const fs::path& file,
                             const std::string& part) {
-    const Result r = Run({"calibrate", dataset.string(), "--semantics", semantics, "--threads", "1"});
+    const CliResult r = Run({"calibrate", dataset.string(), "--semantics", semantics, "--threads", "1"});
     EXPECT_NE(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("error: " + file.string() + ": "), std::string::npos) << "message does not start with the file: " << r.err;
     EXPECT_NE(r.err.find(part), std::string::npos) << "message does not say '" << part << "': " << r.err;
@@ -287,7 +228,7 @@ TEST_F(RigsimCli, NonTrianglePrimitivesAreSkippedWithAWarning) {
   json doc = TriangleGltf();
   doc["meshes"][0]["primitives"].push_back({{"attributes", {{"POSITION", 0}}}, {"mode", 1}});  // lines
   const fs::path out = dir_ / "out";
-  const Result r = Run(RenderArgs(WriteGltf("lines.gltf", doc), base() / "rig.json", base() / "frames.json", out));
+  const CliResult r = Run(RenderArgs(WriteGltf("lines.gltf", doc), base() / "rig.json", base() / "frames.json", out));
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("warning: mesh 0 primitive 1: lines primitive (mode 1) skipped"), std::string::npos) << r.err;
   EXPECT_TRUE(fs::exists(DatasetLayout(out).Image("cam0", "000000")));
@@ -328,7 +269,7 @@ TEST_F(RigsimCli, FisheyeWithImageCircleInsideTheSensorOnlyWarns) {
   rig["cameras"][0]["params"] = {25.0, 25.0, 47.5, 31.5, -0.2, 0.0, 0.0, 0.0};  // circle of radius 21 px
   const fs::path path = dir_ / "rig.json";
   WriteText(path, rig.dump());
-  const Result r = Run(RenderArgs(base() / "scene.glb", path, base() / "frames.json", dir_ / "out"));
+  const CliResult r = Run(RenderArgs(base() / "scene.glb", path, base() / "frames.json", dir_ / "out"));
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("camera 'cam0': "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("outside the fisheye's valid image circle"), std::string::npos) << r.err;
@@ -382,7 +323,7 @@ TEST_F(RigsimCli, CalibrateLabelImageWithUnknownIds) {
 TEST_F(RigsimCli, ExistingDatasetIsNotOverwrittenWithoutForce) {
   const fs::path out = CopyDataset();
   const std::string frames_before = ReadAll(out / "frames.json");
-  const Result r = Run(RenderArgs(base() / "scene.glb", base() / "rig.json", base() / "frames_long.json", out));
+  const CliResult r = Run(RenderArgs(base() / "scene.glb", base() / "rig.json", base() / "frames_long.json", out));
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.err.find(out.string() + ": already exists (use --force to replace it)"), std::string::npos) << r.err;
   EXPECT_EQ(ReadAll(out / "frames.json"), frames_before);
@@ -390,9 +331,9 @@ TEST_F(RigsimCli, ExistingDatasetIsNotOverwrittenWithoutForce) {
 }
 
 // Starts a long render into `out` and returns once its staging folder holds the first complete view.
-std::optional<Process> StartLongRenderAndWaitForFirstView(const std::vector<std::string>& args, const fs::path& out,
+std::optional<RigsimProcess> StartLongRenderAndWaitForFirstView(const std::vector<std::string>& args, const fs::path& out,
                                                           const fs::path& log) {
-  std::optional<Process> p(std::in_place, args, log);
+  std::optional<RigsimProcess> p(std::in_place, args, log);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   while (std::chrono::steady_clock::now() < deadline) {
     for (const fs::path& staging : StagingFolders(out)) {
@@ -435,7 +376,7 @@ TEST_F(RigsimCli, SigkillLeavesThePreviousDatasetOrNoneAndTheNextRunCleansUp) {
     EXPECT_TRUE(fs::exists(DatasetLayout(out).Depth("cam1", "000000")));
   }
   // The next run into the same place removes the dead run's staging folder and completes.
-  const Result r = Run(RenderArgs(base() / "scene.glb", base() / "rig.json", base() / "frames.json", dir_ / "fresh"));
+  const CliResult r = Run(RenderArgs(base() / "scene.glb", base() / "rig.json", base() / "frames.json", dir_ / "fresh"));
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(StagingFolders(dir_ / "fresh").empty());
   EXPECT_TRUE(fs::exists(DatasetLayout(dir_ / "fresh").OverlapJson()));

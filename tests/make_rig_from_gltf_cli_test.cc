@@ -1,7 +1,6 @@
 // `rigsim make-rig --from-gltf` through the built binary: the written rig and frames are the ones
 // RigFromSceneCameras computes, output is atomic (--out DIR, --force), and errors name the file
 // and leave nothing behind.
-#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -18,6 +17,7 @@
 #include "geometry/rig.h"
 #include "scenes/gltf_loader.h"
 #include "scenes/scene_cameras.h"
+#include "tests/rigsim_cli.h"
 
 #ifndef RIGSIM_BINARY
 #error "RIGSIM_BINARY must name the rigsim executable"
@@ -28,26 +28,8 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::string ReadAll(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
-
-// Runs rigsim with `args` (each shell-quoted) and captures its exit code and output.
-Result RunRigsim(const fs::path& dir, const std::vector<std::string>& args) {
-  std::string cmd = std::string("'") + RIGSIM_BINARY + "'";
-  for (const std::string& a : args) cmd += " '" + a + "'";
-  cmd += " > '" + (dir / "stdout").string() + "' 2> '" + (dir / "stderr").string() + "'";
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ReadAll(dir / "stdout"), ReadAll(dir / "stderr")};
-}
+// Each run's output beside the test's scratch files.
+CliResult RunRigsim(const fs::path& dir, const std::vector<std::string>& args) { return rigsim::RunRigsim(args, dir / "rigsim"); }
 
 bool HasStagingFolder(const fs::path& dir) {
   for (const auto& e : fs::directory_iterator(dir)) {
@@ -92,7 +74,7 @@ class MakeRigFromGltf : public testing::Test {
 
 TEST_F(MakeRigFromGltf, WritesTheFilesCamerasAsRigAndOneFrame) {
   const fs::path out = dir_ / "rig";
-  const Result r = RunRigsim(dir_, {"make-rig", "--from-gltf", scene_.string(), "--width", "640", "--height", "480", "--out", out.string()});
+  const CliResult r = RunRigsim(dir_, {"make-rig", "--from-gltf", scene_.string(), "--width", "640", "--height", "480", "--out", out.string()});
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("'top'"), std::string::npos) << "the skipped orthographic camera is named: " << r.err;
   EXPECT_NE(r.err.find("640x320"), std::string::npos) << "the aspect-ratio warning suggests a size: " << r.err;
@@ -117,17 +99,17 @@ TEST_F(MakeRigFromGltf, WritesTheFilesCamerasAsRigAndOneFrame) {
 
   // The folder exists now: refused without --force (and left as it was), replaced with it.
   const std::string before = ReadAll(out / "rig.json");
-  const Result again = RunRigsim(dir_, {"make-rig", "--from-gltf", scene_.string(), "--width", "320", "--height", "240", "--out", out.string()});
+  const CliResult again = RunRigsim(dir_, {"make-rig", "--from-gltf", scene_.string(), "--width", "320", "--height", "240", "--out", out.string()});
   EXPECT_NE(again.code, 0);
   EXPECT_NE(again.err.find("already exists (use --force"), std::string::npos) << again.err;
   EXPECT_EQ(ReadAll(out / "rig.json"), before);
-  const Result forced = RunRigsim(dir_, {"make-rig", "--from-gltf", scene_.string(), "--width", "320", "--height", "240", "--out", out.string(), "--force"});
+  const CliResult forced = RunRigsim(dir_, {"make-rig", "--from-gltf", scene_.string(), "--width", "320", "--height", "240", "--out", out.string(), "--force"});
   ASSERT_EQ(forced.code, 0) << forced.err;
   EXPECT_EQ(ReadRig(out / "rig.json").cameras[0].camera.width(), 320);
   EXPECT_FALSE(HasStagingFolder(dir_));
 
   // The classic pair of output files works too.
-  const Result files = RunRigsim(dir_, {"make-rig", "--from-gltf", scene_.string(), "--rig-out", (dir_ / "r.json").string(),
+  const CliResult files = RunRigsim(dir_, {"make-rig", "--from-gltf", scene_.string(), "--rig-out", (dir_ / "r.json").string(),
                                   "--frames-out", (dir_ / "f.json").string()});
   ASSERT_EQ(files.code, 0) << files.err;
   EXPECT_EQ(ReadRig(dir_ / "r.json").cameras.size(), 2u);
@@ -135,7 +117,7 @@ TEST_F(MakeRigFromGltf, WritesTheFilesCamerasAsRigAndOneFrame) {
 
 TEST_F(MakeRigFromGltf, AFileWithoutCamerasIsAnErrorNamingItAndWritesNothing) {
   const fs::path out = dir_ / "rig";
-  const Result r = RunRigsim(dir_, {"make-rig", "--from-gltf", no_cameras_.string(), "--out", out.string()});
+  const CliResult r = RunRigsim(dir_, {"make-rig", "--from-gltf", no_cameras_.string(), "--out", out.string()});
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.err.find(no_cameras_.string() + ": no perspective camera"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out));
@@ -144,7 +126,7 @@ TEST_F(MakeRigFromGltf, AFileWithoutCamerasIsAnErrorNamingItAndWritesNothing) {
 
 TEST_F(MakeRigFromGltf, ConflictingOrMissingOptionsAreRefused) {
   // A rig type or a trajectory makes no sense with cameras taken from the file.
-  Result r = RunRigsim(dir_, {"make-rig", "ring", "--from-gltf", scene_.string(), "--out", (dir_ / "a").string()});
+  CliResult r = RunRigsim(dir_, {"make-rig", "ring", "--from-gltf", scene_.string(), "--out", (dir_ / "a").string()});
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.err.find("excludes --from-gltf"), std::string::npos) << r.err;
   r = RunRigsim(dir_, {"make-rig", "--from-gltf", scene_.string(), "--frames", "3", "--out", (dir_ / "a").string()});

@@ -1,7 +1,6 @@
 // `rigsim render --photometric` and its magnitude options through the built binary: on, the RGB
 // images change and photometric.json records the draws while labels and depth stay the same; off,
 // nothing changes; bad values are refused before anything is written.
-#include <sys/wait.h>
 
 #include <cstdlib>
 #include <cstring>
@@ -16,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "dataset/dataset.h"
+#include "tests/rigsim_cli.h"
 
 #ifndef RIGSIM_BINARY
 #error "RIGSIM_BINARY must name the rigsim executable"
@@ -26,23 +26,8 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::string ReadAll(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
-
-Result RunRigsim(const fs::path& dir, const std::vector<std::string>& args) {
-  std::string cmd = std::string("'") + RIGSIM_BINARY + "'";
-  for (const std::string& a : args) cmd += " '" + a + "'";
-  cmd += " > '" + (dir / "stdout").string() + "' 2> '" + (dir / "stderr").string() + "'";
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ReadAll(dir / "stdout"), ReadAll(dir / "stderr")};
-}
+// Each run's output beside the test's scratch files.
+CliResult RunRigsim(const fs::path& dir, const std::vector<std::string>& args) { return rigsim::RunRigsim(args, dir / "rigsim"); }
 
 std::string Base64(const std::vector<uint8_t>& data) {
   static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -80,11 +65,11 @@ class RenderPhotometric : public testing::Test {
         {"buffers", {{{"byteLength", bin.size()}, {"uri", "data:application/octet-stream;base64," + Base64(bin)}}}}};
     scene_ = dir_ / "wall.gltf";
     std::ofstream(scene_) << doc.dump();
-    const Result rig = RunRigsim(dir_, {"make-rig", "--cameras", "3", "--width", "64", "--height", "48", "--out", (dir_ / "rig").string()});
+    const CliResult rig = RunRigsim(dir_, {"make-rig", "--cameras", "3", "--width", "64", "--height", "48", "--out", (dir_ / "rig").string()});
     ASSERT_EQ(rig.code, 0) << rig.err;
   }
 
-  Result Render(const std::string& out, std::vector<std::string> extra) {
+  CliResult Render(const std::string& out, std::vector<std::string> extra) {
     std::vector<std::string> args = {"render", "--scene", scene_.string(), "--rig", (dir_ / "rig/rig.json").string(),
                                      "--frames", (dir_ / "rig/frames.json").string(), "--out", (dir_ / out).string(),
                                      "--spp", "1", "--seed", "3"};
@@ -96,13 +81,13 @@ class RenderPhotometric : public testing::Test {
 };
 
 TEST_F(RenderPhotometric, OnChangesOnlyRgbAndRecordsTheDraws) {
-  const Result off = Render("off", {});
+  const CliResult off = Render("off", {});
   ASSERT_EQ(off.code, 0) << off.err;
   EXPECT_EQ(off.out.find("photometric differences"), std::string::npos) << off.out;
-  const Result on = Render("on", {"--photometric", "--read-noise", "0.01", "--threads", "1"});
+  const CliResult on = Render("on", {"--photometric", "--read-noise", "0.01", "--threads", "1"});
   ASSERT_EQ(on.code, 0) << on.err;
   EXPECT_NE(on.out.find("photometric differences (seed 3"), std::string::npos) << on.out;
-  const Result again = Render("again", {"--photometric", "--read-noise", "0.01", "--threads", "2"});
+  const CliResult again = Render("again", {"--photometric", "--read-noise", "0.01", "--threads", "2"});
   ASSERT_EQ(again.code, 0) << again.err;
 
   const DatasetLayout a(dir_ / "off"), b(dir_ / "on"), c(dir_ / "again");
@@ -123,7 +108,7 @@ TEST_F(RenderPhotometric, OnChangesOnlyRgbAndRecordsTheDraws) {
   EXPECT_NE(j.at("cameras")[0].at("gain"), j.at("cameras")[1].at("gain"));
 
   // One magnitude alone turns on only itself.
-  const Result vignetting_only = Render("vignetting_only", {"--vignetting", "0.5"});
+  const CliResult vignetting_only = Render("vignetting_only", {"--vignetting", "0.5"});
   ASSERT_EQ(vignetting_only.code, 0) << vignetting_only.err;
   const json v = json::parse(ReadAll(DatasetLayout(dir_ / "vignetting_only").PhotometricJson()));
   EXPECT_EQ(v.at("options").at("vignetting_strength").get<double>(), 0.5);
@@ -134,7 +119,7 @@ TEST_F(RenderPhotometric, OnChangesOnlyRgbAndRecordsTheDraws) {
 TEST_F(RenderPhotometric, BadMagnitudesAreRefusedBeforeWriting) {
   for (const auto& [option, value] : std::vector<std::pair<std::string, std::string>>{
            {"--vignetting", "1.5"}, {"--exposure-sigma", "-1"}, {"--read-noise", "abc"}, {"--shot-noise", "0.5"}}) {
-    const Result r = Render("bad", {option, value});
+    const CliResult r = Render("bad", {option, value});
     EXPECT_NE(r.code, 0) << option << " " << value;
     EXPECT_NE(r.err.find(option), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(dir_ / "bad"));
