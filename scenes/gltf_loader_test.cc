@@ -19,6 +19,7 @@
 
 #include "labels/cityscapes.h"
 #include "scenes/scene_builder.h"
+#include "tests/data_uri.h"
 
 namespace rigsim {
 namespace {
@@ -33,20 +34,6 @@ std::filesystem::path TempDir() {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
-}
-
-std::string Base64(const std::vector<uint8_t>& data) {
-  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (size_t i = 0; i < data.size(); i += 3) {
-    const uint32_t n = (uint32_t(data[i]) << 16) | (i + 1 < data.size() ? uint32_t(data[i + 1]) << 8 : 0) |
-                       (i + 2 < data.size() ? uint32_t(data[i + 2]) : 0);
-    out += k[(n >> 18) & 63];
-    out += k[(n >> 12) & 63];
-    out += i + 1 < data.size() ? k[(n >> 6) & 63] : '=';
-    out += i + 2 < data.size() ? k[n & 63] : '=';
-  }
-  return out;
 }
 
 // Builds small glTF documents by hand, so that tests control every byte.
@@ -90,7 +77,7 @@ struct TestGltf {
   std::filesystem::path Write(const std::filesystem::path& dir, const std::string& name, bool data_uri = false) {
     json d = doc;
     if (data_uri) {
-      d["buffers"] = json::array({{{"byteLength", bin.size()}, {"uri", "data:application/octet-stream;base64," + Base64(bin)}}});
+      d["buffers"] = json::array({{{"byteLength", bin.size()}, {"uri", DataUri("application/octet-stream", bin)}}});
     } else {
       std::ofstream(dir / (name + ".bin"), std::ios::binary).write(reinterpret_cast<const char*>(bin.data()), std::streamsize(bin.size()));
       d["buffers"] = json::array({{{"byteLength", bin.size()}, {"uri", name + ".bin"}}});
@@ -310,7 +297,7 @@ TEST(GltfLoader, DecodesBaseColorTextureAndSampler) {
   TestGltf g;
   const int pos = g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
   const int uv = g.Accessor<uint8_t>({0, 255, 255, 255, 0, 0, 0, 0}, kUByte, "VEC2", 3, /*normalized=*/true);
-  g.doc["images"] = json::array({{{"uri", "tex.png"}}, {{"uri", "data:image/png;base64," + Base64(png)}}});
+  g.doc["images"] = json::array({{{"uri", "tex.png"}}, {{"uri", DataUri("image/png", png)}}});
   g.doc["samplers"] = json::array({{{"magFilter", 9728}, {"wrapS", 33071}, {"wrapT", 33648}}});
   g.doc["textures"] = json::array({{{"source", 0}, {"sampler", 0}}, {{"source", 1}}});
   g.doc["materials"] = json::array({
@@ -367,7 +354,7 @@ std::string TinyPngUri() {
   cv::Mat bgr(2, 2, CV_8UC3, cv::Scalar(10, 20, 30));
   std::vector<uint8_t> png;
   cv::imencode(".png", bgr, png);
-  return "data:image/png;base64," + Base64(png);
+  return DataUri("image/png", png);
 }
 
 // KHR_texture_transform: uv' = offset + R(rotation) * (scale * uv), with the rotation

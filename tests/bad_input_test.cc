@@ -27,6 +27,7 @@
 #include "geometry/rig.h"
 #include "scenes/gltf_loader.h"
 #include "scenes/label_rules.h"
+#include "tests/data_uri.h"
 
 namespace rigsim {
 namespace {
@@ -79,20 +80,6 @@ void ExpectError(const std::function<void()>& f, const std::string& file, const 
   }
 }
 
-std::string Base64(const std::vector<uint8_t>& data) {
-  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (size_t i = 0; i < data.size(); i += 3) {
-    const uint32_t n = (uint32_t(data[i]) << 16) | (i + 1 < data.size() ? uint32_t(data[i + 1]) << 8 : 0) |
-                       (i + 2 < data.size() ? uint32_t(data[i + 2]) : 0);
-    out += k[(n >> 18) & 63];
-    out += k[(n >> 12) & 63];
-    out += i + 1 < data.size() ? k[(n >> 6) & 63] : '=';
-    out += i + 2 < data.size() ? k[n & 63] : '=';
-  }
-  return out;
-}
-
 // A one-triangle glTF whose buffer is a data URI, to be corrupted by each test.
 struct Triangle {
   json doc;
@@ -111,7 +98,7 @@ struct Triangle {
   fs::path Write(const fs::path& path) {
     json d = doc;
     if (!d.contains("buffers")) {
-      d["buffers"] = {{{"byteLength", bin.size()}, {"uri", "data:application/octet-stream;base64," + Base64(bin)}}};
+      d["buffers"] = {{{"byteLength", bin.size()}, {"uri", DataUri("application/octet-stream", bin)}}};
     }
     WriteText(path, d.dump(1));
     return path;
@@ -214,7 +201,7 @@ TEST(BadInput, AbsurdDeclaredCountsAllocateNothing) {
                                 0, 0, 0x4e, 0x20, 0, 0, 0x4e, 0x20, 8, 6, 0, 0, 0, 0, 0, 0, 0,
                                 0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xae, 0x42, 0x60, 0x82};
     Triangle t;
-    t.doc["images"] = {{{"uri", "data:image/png;base64," + Base64(png)}}};
+    t.doc["images"] = {{{"uri", DataUri("image/png", png)}}};
     t.doc["textures"] = {{{"source", 0}}};
     t.doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
     t.doc["meshes"][0]["primitives"][0]["material"] = 0;

@@ -26,6 +26,7 @@
 #include "scenes/rig_generators.h"
 #include "scenes/scene_builder.h"
 #include "tests/rigsim_cli.h"
+#include "tests/data_uri.h"
 
 #ifndef RIGSIM_BINARY
 #error "RIGSIM_BINARY must name the rigsim executable"
@@ -52,20 +53,6 @@ std::vector<fs::path> StagingFolders(const fs::path& out) {
   return found;
 }
 
-std::string Base64(const std::vector<uint8_t>& data) {
-  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (size_t i = 0; i < data.size(); i += 3) {
-    const uint32_t n = (uint32_t(data[i]) << 16) | (i + 1 < data.size() ? uint32_t(data[i + 1]) << 8 : 0) |
-                       (i + 2 < data.size() ? uint32_t(data[i + 2]) : 0);
-    out += k[(n >> 18) & 63];
-    out += k[(n >> 12) & 63];
-    out += i + 1 < data.size() ? k[(n >> 6) & 63] : '=';
-    out += i + 2 < data.size() ? k[n & 63] : '=';
-  }
-  return out;
-}
-
 // A one-triangle glTF document with its buffer as a data URI (the tests corrupt it).
 json TriangleGltf(const std::vector<float>& xyz = {-5, 0, -5, 5, 0, -5, 0, 5, -5}) {
   std::vector<uint8_t> bin(xyz.size() * 4);
@@ -77,7 +64,7 @@ json TriangleGltf(const std::vector<float>& xyz = {-5, 0, -5, 5, 0, -5, 0, 5, -5
           {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"mode", 4}}}}}}},
           {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", xyz.size() / 3}, {"type", "VEC3"}}}},
           {"bufferViews", {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", bin.size()}}}},
-          {"buffers", {{{"byteLength", bin.size()}, {"uri", "data:application/octet-stream;base64," + Base64(bin)}}}}};
+          {"buffers", {{{"byteLength", bin.size()}, {"uri", DataUri("application/octet-stream", bin)}}}}};
 }
 
 class RigsimCli : public testing::Test {

@@ -21,6 +21,7 @@
 #include "renderer/renderer.h"
 #include "scenes/gltf_loader.h"
 #include "scenes/scene_cameras.h"
+#include "tests/data_uri.h"
 
 namespace rigsim {
 namespace {
@@ -34,20 +35,6 @@ fs::path TempDir() {
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
-}
-
-std::string Base64(const std::vector<uint8_t>& data) {
-  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (size_t i = 0; i < data.size(); i += 3) {
-    const uint32_t n = (uint32_t(data[i]) << 16) | (i + 1 < data.size() ? uint32_t(data[i + 1]) << 8 : 0) |
-                       (i + 2 < data.size() ? uint32_t(data[i + 2]) : 0);
-    out += k[(n >> 18) & 63];
-    out += k[(n >> 12) & 63];
-    out += i + 1 < data.size() ? k[(n >> 6) & 63] : '=';
-    out += i + 2 < data.size() ? k[n & 63] : '=';
-  }
-  return out;
 }
 
 // A glTF document of world-space quads (two triangles each, non-indexed), each its own node with a
@@ -97,7 +84,7 @@ struct QuadGltf {
 
   fs::path Write(const fs::path& dir, const std::string& name) {
     json d = doc;
-    d["buffers"] = {{{"byteLength", bin.size()}, {"uri", "data:application/octet-stream;base64," + Base64(bin)}}};
+    d["buffers"] = {{{"byteLength", bin.size()}, {"uri", DataUri("application/octet-stream", bin)}}};
     d["scenes"] = {{{"nodes", roots}}};
     const fs::path path = dir / (name + ".gltf");
     std::ofstream(path) << d.dump(1);
@@ -173,7 +160,7 @@ int AddRedGreenTexture(QuadGltf& g) {
   bgr.at<cv::Vec3b>(0, 1) = cv::Vec3b(0, 255, 0);
   std::vector<uint8_t> png;
   cv::imencode(".png", bgr, png);
-  g.doc["images"] = {{{"uri", "data:image/png;base64," + Base64(png)}}};
+  g.doc["images"] = {{{"uri", DataUri("image/png", png)}}};
   g.doc["samplers"] = {{{"magFilter", 9728}, {"minFilter", 9728}, {"wrapS", 33071}, {"wrapT", 33071}}};
   g.doc["textures"] = {{{"source", 0}, {"sampler", 0}}};
   return 0;

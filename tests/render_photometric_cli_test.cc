@@ -16,6 +16,7 @@
 
 #include "dataset/dataset.h"
 #include "tests/rigsim_cli.h"
+#include "tests/data_uri.h"
 
 #ifndef RIGSIM_BINARY
 #error "RIGSIM_BINARY must name the rigsim executable"
@@ -28,20 +29,6 @@ using nlohmann::json;
 
 // Each run's output beside the test's scratch files.
 CliResult RunRigsim(const fs::path& dir, const std::vector<std::string>& args) { return rigsim::RunRigsim(args, dir / "rigsim"); }
-
-std::string Base64(const std::vector<uint8_t>& data) {
-  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (size_t i = 0; i < data.size(); i += 3) {
-    const uint32_t n = (uint32_t(data[i]) << 16) | (i + 1 < data.size() ? uint32_t(data[i + 1]) << 8 : 0) |
-                       (i + 2 < data.size() ? uint32_t(data[i + 2]) : 0);
-    out += k[(n >> 18) & 63];
-    out += k[(n >> 12) & 63];
-    out += i + 1 < data.size() ? k[(n >> 6) & 63] : '=';
-    out += i + 2 < data.size() ? k[n & 63] : '=';
-  }
-  return out;
-}
 
 class RenderPhotometric : public testing::Test {
  protected:
@@ -62,7 +49,7 @@ class RenderPhotometric : public testing::Test {
         {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"mode", 4}}}}}}},
         {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", 6}, {"type", "VEC3"}}}},
         {"bufferViews", {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", bin.size()}}}},
-        {"buffers", {{{"byteLength", bin.size()}, {"uri", "data:application/octet-stream;base64," + Base64(bin)}}}}};
+        {"buffers", {{{"byteLength", bin.size()}, {"uri", DataUri("application/octet-stream", bin)}}}}};
     scene_ = dir_ / "wall.gltf";
     std::ofstream(scene_) << doc.dump();
     const CliResult rig = RunRigsim(dir_, {"make-rig", "--cameras", "3", "--width", "64", "--height", "48", "--out", (dir_ / "rig").string()});
