@@ -29,9 +29,6 @@
 #include "geometry/rig.h"
 #include "tests/rigsim_cli.h"
 
-#ifndef RIGSIM_BINARY
-#error "RIGSIM_BINARY must name the rigsim executable"
-#endif
 #ifndef RIGSIM_SOURCE_DIR
 #error "RIGSIM_SOURCE_DIR must name the source tree"
 #endif
@@ -53,19 +50,6 @@ std::vector<std::string> DataLines(const fs::path& path) {
   return lines;
 }
 
-
-// Hidden staging folders ".NAME.partial-*" beside `out`.
-std::vector<fs::path> StagingFolders(const fs::path& out) {
-  std::vector<fs::path> found;
-  std::string prefix = ".";
-  prefix += out.filename().string();
-  prefix += ".partial-";
-  if (!fs::exists(out.parent_path())) return found;
-  for (const auto& e : fs::directory_iterator(out.parent_path())) {
-    if (e.path().filename().string().rfind(prefix, 0) == 0) found.push_back(e.path());
-  }
-  return found;
-}
 
 class CalibrateIo : public testing::Test {
  protected:

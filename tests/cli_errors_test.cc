@@ -28,30 +28,12 @@
 #include "tests/rigsim_cli.h"
 #include "tests/data_uri.h"
 
-#ifndef RIGSIM_BINARY
-#error "RIGSIM_BINARY must name the rigsim executable"
-#endif
-
 namespace rigsim {
 namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
 void WriteText(const fs::path& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
-
-
-// Hidden staging folders ".NAME.partial-*" beside `out`.
-std::vector<fs::path> StagingFolders(const fs::path& out) {
-  std::vector<fs::path> found;
-  std::string prefix = ".";  // (built with += : GCC 12 warns falsely on "." + s + "...")
-  prefix += out.filename().string();
-  prefix += ".partial-";
-  if (!fs::exists(out.parent_path())) return found;
-  for (const auto& e : fs::directory_iterator(out.parent_path())) {
-    if (e.path().filename().string().rfind(prefix, 0) == 0) found.push_back(e.path());
-  }
-  return found;
-}
 
 // A one-triangle glTF document with its buffer as a data URI (the tests corrupt it).
 json TriangleGltf(const std::vector<float>& xyz = {-5, 0, -5, 5, 0, -5, 0, 5, -5}) {

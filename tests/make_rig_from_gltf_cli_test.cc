@@ -19,10 +19,6 @@
 #include "scenes/scene_cameras.h"
 #include "tests/rigsim_cli.h"
 
-#ifndef RIGSIM_BINARY
-#error "RIGSIM_BINARY must name the rigsim executable"
-#endif
-
 namespace rigsim {
 namespace {
 namespace fs = std::filesystem;

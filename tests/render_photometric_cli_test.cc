@@ -18,10 +18,6 @@
 #include "tests/rigsim_cli.h"
 #include "tests/data_uri.h"
 
-#ifndef RIGSIM_BINARY
-#error "RIGSIM_BINARY must name the rigsim executable"
-#endif
-
 namespace rigsim {
 namespace {
 namespace fs = std::filesystem;

@@ -67,4 +67,16 @@ CliResult RunRigsim(const std::vector<std::string>& args, const std::filesystem:
   return r;
 }
 
+std::vector<std::filesystem::path> StagingFolders(const std::filesystem::path& out) {
+  std::vector<std::filesystem::path> found;
+  std::string prefix = ".";  // (built with += : GCC 12 warns falsely on "." + s + "...")
+  prefix += out.filename().string();
+  prefix += ".partial-";
+  if (!std::filesystem::exists(out.parent_path())) return found;
+  for (const auto& e : std::filesystem::directory_iterator(out.parent_path())) {
+    if (e.path().filename().string().rfind(prefix, 0) == 0) found.push_back(e.path());
+  }
+  return found;
+}
+
 }  // namespace rigsim

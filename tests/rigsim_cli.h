@@ -39,4 +39,8 @@ struct CliResult {
 CliResult RunRigsim(const std::vector<std::string>& args, const std::filesystem::path& log_prefix,
                     std::chrono::seconds timeout = std::chrono::seconds(120));
 
+// The hidden staging folders ".NAME.partial-*" that a run writing to `out` builds beside it
+// (dataset/dataset.h StagedOutput); after any run, finished or failed, there should be none.
+std::vector<std::filesystem::path> StagingFolders(const std::filesystem::path& out);
+
 }  // namespace rigsim
