@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "labels/cityscapes.h"
+#include "renderer/srgb.h"
 
 namespace rigsim {
 namespace {
@@ -343,6 +344,32 @@ TEST(RendererTest, WrapModes) {
           << "mode " << int(c.mode) << " band " << band << ": " << colour[0] << " " << colour[1] << " " << colour[2];
     }
   }
+}
+
+TEST(RendererTest, BilinearFilteringBlendsTexelCentresInLinearLight) {
+  // A 2 x 1 texture, black | white, clamped and magnified over a quad spanning x in [-1, 1] at
+  // 3 m: texel centres at u = 0.25 and 0.75, a linear-light blend between them. A half-texel
+  // offset, or blending the sRGB codes instead of linear light, moves every mid-tone by tens of
+  // codes.
+  Scene scene, white;
+  AddFrontQuad(scene, -1, 1, -1, 1, 3, kRoad, 1,
+               AddMaterial(scene, {1, 1, 1, 1},
+                           AddTexture(scene, 2, 1, {{0, 0, 0, 255}, {255, 255, 255, 255}}, WrapMode::kClampToEdge, false)));
+  AddFrontQuad(white, -1, 1, -1, 1, 3, kRoad, 1,
+               AddMaterial(white, {1, 1, 1, 1}, AddTexture(white, 1, 1, {{255, 255, 255, 255}})));
+  const Camera camera = SmallPinhole();
+  const RenderedView view = Renderer(scene).Render(camera, Rigid3d(), Opts());
+  const RenderedView lit = Renderer(white).Render(camera, Rigid3d(), Opts());
+  const int y = 23;
+  int mid_tones = 0;
+  for (int x = 16; x <= 47; ++x) {  // the quad covers x = 14.8 .. 48.2
+    const double u = ((x - 31.5) * 3.0 / 50.0 + 1.0) / 2.0;  // the pixel centre's texture coordinate
+    const double weight = std::clamp(2.0 * u - 0.5, 0.0, 1.0);  // of the white texel
+    const double light = LinearFromSrgbCode(lit.rgb.at(x, y, 0));  // the quad is evenly lit
+    EXPECT_NEAR(view.rgb.at(x, y, 0), SrgbCodeFromLinear(weight * light), 2) << "x " << x << " u " << u;
+    mid_tones += weight > 0.1 && weight < 0.9;
+  }
+  EXPECT_GT(mid_tones, 10);
 }
 
 TEST(RendererTest, MipMappingAveragesAMinifiedChecker) {
