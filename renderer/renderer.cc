@@ -319,6 +319,36 @@ struct Hit {
   float u = 0, v = 0, t = 0;
 };
 
+// One tile's outputs, written pixel by pixel in cache and copied to the images row by row at the
+// end. Written in place, every tile row started new cache lines in four images, a whole image
+// row apart, one miss at a time (a one-thread street frame: 222 -> 209 ms).
+struct TileOutputs {
+  static constexpr int kPixels = kTileSize * kTileSize;
+  std::array<uint8_t, 3 * kPixels> rgb;
+  std::array<uint8_t, kPixels> label;
+  std::array<uint16_t, kPixels> instance;
+  std::array<float, kPixels> range;
+
+  // Pixels outside the lens stay black, label 0, instance 0, range 0.
+  void Clear() {
+    rgb.fill(0);
+    label.fill(0);
+    instance.fill(0);
+    range.fill(0.0f);
+  }
+
+  void CopyTo(RenderedView& view, int x_begin, int y_begin, int tile_width, int tile_height) const {
+    for (int row = 0; row < tile_height; ++row) {
+      const int y = y_begin + row;
+      const int first = row * kTileSize;
+      std::copy_n(&rgb[3 * first], 3 * tile_width, &view.rgb.at(x_begin, y, 0));
+      std::copy_n(&label[first], tile_width, &view.label.at(x_begin, y));
+      std::copy_n(&instance[first], tile_width, &view.instance.at(x_begin, y));
+      std::copy_n(&range[first], tile_width, &view.range.at(x_begin, y));
+    }
+  }
+};
+
 // Unit bearings of all pixel centres (invalid outside the lens) with each pixel's angular size
 // (for texture filtering), computed once per camera: they depend on the intrinsics only, so a
 // dataset's frames reuse them (Renderer::Impl caches them).
@@ -733,24 +763,27 @@ RenderedView Renderer::Render(const Camera& camera, const Rigid3d& cam_from_worl
     const int tiles_y = (height + kTileSize - 1) / kTileSize;
     tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const tbb::blocked_range<int>& tiles) {
       std::vector<int> rooks(grid > 0 ? 0 : spp);
+      TileOutputs out;
       for (int tile = tiles.begin(); tile < tiles.end(); ++tile) {
         const int x_begin = (tile % tiles_x) * kTileSize, y_begin = (tile / tiles_x) * kTileSize;
         const int x_end = std::min(width, x_begin + kTileSize), y_end = std::min(height, y_begin + kTileSize);
+        out.Clear();
         for (int y = y_begin; y < y_end; ++y) {
           for (int x = x_begin; x < x_end; ++x) {
             const size_t idx = size_t(y) * width + x;
             if (!centres.valid[idx]) continue;  // outside the lens: black / 0 / 0 / 0
+            const int pixel = (y - y_begin) * kTileSize + (x - x_begin);
             const Eigen::Vector3f dir = world_from_cam_f * centres.bearings[idx];
             const float pixel_angle = centres.angle[idx];
 
             const Hit centre = impl.Trace(origin, dir);
             if (centre.hit) {
               const MeshData& m = impl.meshes[centre.geom];
-              view.label.at(x, y) = m.class_id;
-              view.instance.at(x, y) = m.instance_id;
-              view.range.at(x, y) = centre.t;
+              out.label[pixel] = m.class_id;
+              out.instance[pixel] = m.instance_id;
+              out.range[pixel] = centre.t;
             } else {
-              view.label.at(x, y) = kSkyId;
+              out.label[pixel] = kSkyId;
             }
 
             Eigen::Vector3f radiance = Eigen::Vector3f::Zero();
@@ -779,9 +812,10 @@ RenderedView Renderer::Render(const Camera& camera, const Rigid3d& cam_from_worl
               num_samples = 1;
             }
             radiance *= exposure / float(num_samples);
-            for (int c = 0; c < 3; ++c) view.rgb.at(x, y, c) = SrgbCodeFromLinear(radiance[c]);
+            for (int c = 0; c < 3; ++c) out.rgb[3 * pixel + c] = SrgbCodeFromLinear(radiance[c]);
           }
         }
+        out.CopyTo(view, x_begin, y_begin, x_end - x_begin, y_end - y_begin);
       }
     });
   });

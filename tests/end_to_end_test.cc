@@ -139,7 +139,9 @@ TEST_F(StreetFirstFrame, OverlapOfNeighboursIsInTheDesignedRange) {
       EXPECT_GT(p["overlap_a_in_b"].get<double>(), 0.15);
       EXPECT_LT(p["overlap_a_in_b"].get<double>(), 0.5);
     }
-    if (p["a"] == "cam0" && p["b"] == "cam2") EXPECT_LT(p["overlap_a_in_b"].get<double>(), 0.05);
+    if (p["a"] == "cam0" && p["b"] == "cam2") {
+      EXPECT_LT(p["overlap_a_in_b"].get<double>(), 0.05);
+    }
   }
 }
 
