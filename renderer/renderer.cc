@@ -71,7 +71,9 @@ struct MipTexture {
   std::vector<MipLevel> levels;
   WrapMode wrap_s = WrapMode::kRepeat;
   WrapMode wrap_t = WrapMode::kRepeat;
-  bool nearest = false;
+  bool nearest = false;      // magnification
+  bool min_nearest = false;  // minification, within a level
+  MipFilter mip = MipFilter::kLinear;
   float texel_scale = 1.0f;  // sqrt(width * height) of level 0: texels per uv unit
 };
 
@@ -119,6 +121,8 @@ MipTexture BuildMipTexture(const Texture& texture, const std::string& where) {
   mip.wrap_s = texture.wrap_s;
   mip.wrap_t = texture.wrap_t;
   mip.nearest = texture.nearest;
+  mip.min_nearest = texture.min_nearest;
+  mip.mip = texture.mip;
   mip.texel_scale = std::sqrt(float(texture.width) * float(texture.height));
   mip.levels.push_back(LinearLevel(texture));
   while (mip.levels.back().width > 1 || mip.levels.back().height > 1) {
@@ -190,8 +194,8 @@ float ReduceCoordinate(float s, WrapMode mode) {
          ay * ((1 - ax) * FetchTexel(level, xa, yb) + ax * FetchTexel(level, xb, yb));
 }
 
-Eigen::Vector4f SampleNearest(const MipTexture& tex, float s, float t) {
-  const MipLevel& level = tex.levels[0];
+Eigen::Vector4f SampleNearest(const MipTexture& tex, int level_index, float s, float t) {
+  const MipLevel& level = tex.levels[level_index];
   const int x = int(std::floor(s * level.width)), y = int(std::floor(t * level.height));
   return FetchTexel(level, WrapIndex(x, level.width, tex.wrap_s), WrapIndex(y, level.height, tex.wrap_t));
 }
@@ -204,14 +208,38 @@ float FastLog2(float x) {
   return float(int(bits >> 23) - 127) + (mantissa - 1.0f);
 }
 
-// Trilinear filtering; `lod` = log2 of the footprint in level-0 texels. Linear RGBA.
+// Minification by a sampler other than LINEAR_MIPMAP_LINEAR (out of line: rare, and it keeps the
+// common path short). Stored units.
+[[gnu::noinline]] Eigen::Vector4f SampleMinifiedAsAsked(const MipTexture& tex, float s, float t, float lod) {
+  auto sample_level = [&](int level) {
+    return tex.min_nearest ? SampleNearest(tex, level, s, t) : SampleBilinear(tex, level, s, t);
+  };
+  const int last = int(tex.levels.size()) - 1;
+  switch (tex.mip) {
+    case MipFilter::kNone:
+      return sample_level(0);
+    case MipFilter::kNearest:
+      return sample_level(std::min(last, int(lod + 0.5f)));
+    case MipFilter::kLinear:
+    default: {
+      const int l0 = int(lod);
+      if (l0 >= last) return sample_level(last);
+      const float f = lod - float(l0);
+      return (1 - f) * sample_level(l0) + f * sample_level(l0 + 1);
+    }
+  }
+}
+
+// Filtering as the texture's glTF sampler asks (trilinear unless it says otherwise); `lod` = log2
+// of the footprint in level-0 texels, magnified when <= 0. Linear RGBA.
 [[gnu::always_inline]] inline Eigen::Vector4f SampleTexture(const MipTexture& tex, float s, float t, float lod) {
   if (!std::isfinite(s) || !std::isfinite(t)) return Eigen::Vector4f::Ones();
   s = ReduceCoordinate(s, tex.wrap_s);
   t = ReduceCoordinate(t, tex.wrap_t);
   constexpr float kUnit = 1.0f / kTexelUnit;
-  if (!(lod > 0.0f)) return kUnit * (tex.nearest ? SampleNearest(tex, s, t) : SampleBilinear(tex, 0, s, t));
-  const int last = int(tex.levels.size()) - 1;
+  if (!(lod > 0.0f)) return kUnit * (tex.nearest ? SampleNearest(tex, 0, s, t) : SampleBilinear(tex, 0, s, t));
+  if (tex.mip != MipFilter::kLinear || tex.min_nearest) return kUnit * SampleMinifiedAsAsked(tex, s, t, lod);
+  const int last = int(tex.levels.size()) - 1;  // trilinear
   const int l0 = int(lod);
   if (l0 >= last) return kUnit * SampleBilinear(tex, last, s, t);
   const float f = lod - float(l0);

@@ -405,6 +405,44 @@ TEST(RendererTest, MipMappingAveragesAMinifiedChecker) {
   EXPECT_EQ(checked, 144);
 }
 
+TEST(RendererTest, MinificationFilterOfTheSamplerIsHonoured) {
+  // The minified checker of MipMappingAveragesAMinifiedChecker under other glTF minFilters: without
+  // mip levels (NEAREST) each pixel is one texel, black or white; LINEAR_MIPMAP_NEAREST reads the
+  // nearest level (3), whose texels are the checker's mean.
+  std::vector<std::array<uint8_t, 4>> checker;
+  for (int y = 0; y < 128; ++y) {
+    for (int x = 0; x < 128; ++x) {
+      const uint8_t v = ((x / 4 + y / 4) % 2) ? 255 : 0;
+      checker.push_back({v, v, v, 255});
+    }
+  }
+  auto render = [&](bool min_nearest, MipFilter mip, const std::vector<std::array<uint8_t, 4>>& texels) {
+    Scene scene;
+    const int size = texels.size() == 1 ? 1 : 128;
+    const int tex = AddTexture(scene, size, size, texels, WrapMode::kRepeat, false);
+    scene.textures[tex].min_nearest = min_nearest;
+    scene.textures[tex].mip = mip;
+    AddFrontQuad(scene, -0.4f, 0.37f, -0.4f, 0.37f, 2.5f, kRoad, 1, AddMaterial(scene, {1, 1, 1, 1}, tex));
+    return Renderer(scene).Render(SmallPinhole(), Rigid3d(), Opts());
+  };
+  const RenderedView point = render(true, MipFilter::kNone, checker);
+  const RenderedView nearest_level = render(false, MipFilter::kNearest, checker);
+  const RenderedView trilinear = render(false, MipFilter::kLinear, checker);
+  const RenderedView white_texture = render(false, MipFilter::kLinear, {{255, 255, 255, 255}});
+  int black = 0, white = 0;
+  for (int y = 18; y <= 29; ++y) {
+    for (int x = 26; x <= 37; ++x) {
+      const int v = point.rgb.at(x, y, 0);
+      black += v == 0;
+      white += v == white_texture.rgb.at(x, y, 0);
+      EXPECT_NEAR(nearest_level.rgb.at(x, y, 0), trilinear.rgb.at(x, y, 0), 6) << x << "," << y;
+    }
+  }
+  EXPECT_EQ(black + white, 144);  // every pixel is one texel (the mix depends on how the grids beat)
+  EXPECT_GT(black, 10);
+  EXPECT_GT(white, 10);
+}
+
 TEST(RendererTest, AlphaMaskCutsOutGeometryInEveryOutput) {
   Scene scene;
   // Left texel transparent, right texel opaque.

@@ -359,6 +359,14 @@ class Loader {
       out.wrap_s = ToWrap(s.wrapS);
       out.wrap_t = ToWrap(s.wrapT);
       out.nearest = s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+      switch (s.minFilter) {
+        case TINYGLTF_TEXTURE_FILTER_NEAREST: out.min_nearest = true; out.mip = MipFilter::kNone; break;
+        case TINYGLTF_TEXTURE_FILTER_LINEAR: out.mip = MipFilter::kNone; break;
+        case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST: out.min_nearest = true; out.mip = MipFilter::kNearest; break;
+        case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST: out.mip = MipFilter::kNearest; break;
+        case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR: out.min_nearest = true; out.mip = MipFilter::kLinear; break;
+        default: out.mip = MipFilter::kLinear; break;  // LINEAR_MIPMAP_LINEAR, or undefined
+      }
     }
     scene_.textures.push_back(std::move(out));
     return texture_map_[index] = int(scene_.textures.size()) - 1;

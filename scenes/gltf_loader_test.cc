@@ -298,7 +298,7 @@ TEST(GltfLoader, DecodesBaseColorTextureAndSampler) {
   const int pos = g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
   const int uv = g.Accessor<uint8_t>({0, 255, 255, 255, 0, 0, 0, 0}, kUByte, "VEC2", 3, /*normalized=*/true);
   g.doc["images"] = json::array({{{"uri", "tex.png"}}, {{"uri", DataUri("image/png", png)}}});
-  g.doc["samplers"] = json::array({{{"magFilter", 9728}, {"wrapS", 33071}, {"wrapT", 33648}}});
+  g.doc["samplers"] = json::array({{{"magFilter", 9728}, {"minFilter", 9984}, {"wrapS", 33071}, {"wrapT", 33648}}});
   g.doc["textures"] = json::array({{{"source", 0}, {"sampler", 0}}, {{"source", 1}}});
   g.doc["materials"] = json::array({
       {{"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.25, 1, 1}}, {"baseColorTexture", {{"index", 0}}}}},
@@ -327,9 +327,13 @@ TEST(GltfLoader, DecodesBaseColorTextureAndSampler) {
     }
   }
   EXPECT_TRUE(s.textures[0].nearest);
+  EXPECT_TRUE(s.textures[0].min_nearest);  // NEAREST_MIPMAP_NEAREST
+  EXPECT_EQ(s.textures[0].mip, MipFilter::kNearest);
   EXPECT_EQ(s.textures[0].wrap_s, WrapMode::kClampToEdge);
   EXPECT_EQ(s.textures[0].wrap_t, WrapMode::kMirroredRepeat);
-  EXPECT_FALSE(s.textures[1].nearest);
+  EXPECT_FALSE(s.textures[1].nearest);  // no sampler: linear, trilinear when minified
+  EXPECT_FALSE(s.textures[1].min_nearest);
+  EXPECT_EQ(s.textures[1].mip, MipFilter::kLinear);
   EXPECT_EQ(s.textures[1].wrap_s, WrapMode::kRepeat);
   const Material& m = s.materials[0];
   EXPECT_EQ(m.base_color_texture, 0);

@@ -18,6 +18,11 @@ namespace rigsim {
 
 enum class WrapMode { kRepeat, kClampToEdge, kMirroredRepeat };
 
+// The mip levels a minified texture is read from (the second half of a glTF minFilter): level 0
+// only (NEAREST, LINEAR), the nearest level (*_MIPMAP_NEAREST) or a blend of the two nearest
+// (*_MIPMAP_LINEAR, and rigsim's choice when the file leaves minFilter undefined).
+enum class MipFilter { kNone, kNearest, kLinear };
+
 struct Texture {
   std::string name;
   int width = 0;
@@ -25,7 +30,9 @@ struct Texture {
   std::vector<uint8_t> rgba;  // width * height * 4, row 0 = top of the image
   WrapMode wrap_s = WrapMode::kRepeat;
   WrapMode wrap_t = WrapMode::kRepeat;
-  bool nearest = false;  // magnification filter NEAREST
+  bool nearest = false;      // magnification filter NEAREST (else LINEAR)
+  bool min_nearest = false;  // minification takes a level's nearest texel (minFilter NEAREST, NEAREST_MIPMAP_*)
+  MipFilter mip = MipFilter::kLinear;
 };
 
 enum class AlphaMode { kOpaque, kMask, kBlend };
