@@ -38,6 +38,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   rigsim::GltfLoadOptions options;
   options.max_accessor_count = size_t(1) << 20;  // keeps each run fast; the checks are the same
+  options.max_image_pixels = uint64_t(1) << 22;
   try {
     const rigsim::Scene scene = rigsim::LoadGltf(InputPath(), options);
     // What the loader returns must be consistent: every index addresses a vertex.

@@ -15,6 +15,8 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <tiny_gltf.h>
 
 #include "labels/cityscapes.h"
@@ -112,6 +114,81 @@ Eigen::Matrix4d LocalTransform(const tinygltf::Node& node) {
   return t.matrix();
 }
 
+// Width and height of an encoded PNG (its IHDR) or JPEG (its start-of-frame segment), read
+// without decoding; nullopt for anything else.
+std::optional<std::pair<uint64_t, uint64_t>> EncodedImageSize(const unsigned char* bytes, size_t size) {
+  auto be16 = [&](size_t i) { return uint64_t(bytes[i]) << 8 | bytes[i + 1]; };
+  auto be32 = [&](size_t i) { return be16(i) << 16 | be16(i + 2); };
+  if (size >= 24 && std::memcmp(bytes, "\x89PNG\r\n\x1a\n", 8) == 0 && std::memcmp(bytes + 12, "IHDR", 4) == 0) {
+    return std::make_pair(be32(16), be32(20));
+  }
+  if (size < 4 || bytes[0] != 0xFF || bytes[1] != 0xD8) return std::nullopt;
+  for (size_t i = 2; i + 9 <= size;) {  // JPEG segments: FF, marker, 16-bit length (itself included)
+    if (bytes[i] != 0xFF) return std::nullopt;
+    const int marker = bytes[i + 1];
+    if (marker == 0xFF) {  // fill byte
+      ++i;
+      continue;
+    }
+    const bool start_of_frame = marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC;
+    if (start_of_frame) return std::make_pair(be16(i + 7), be16(i + 5));  // length, precision, height, width
+    if (marker == 0x01 || (marker >= 0xD0 && marker <= 0xD7)) {  // markers without a segment
+      i += 2;
+      continue;
+    }
+    i += 2 + be16(i + 2);
+  }
+  return std::nullopt;
+}
+
+// Decodes glTF images with OpenCV (libpng, libjpeg) in place of tinygltf's stb_image, after two
+// checks on the encoded bytes: the image is a PNG or a JPEG, the only formats glTF 2.0 allows
+// (stb would also take BMP, PSD, GIF, ...), and its header asks for no more pixels than the limit
+// in `user_data` (a uint64_t). stb inflated a PNG's compressed data into a buffer without bound: a
+// 1x1 PNG of a few hundred bytes (found by fuzzing) made it allocate 1.2 GB. libpng inflates row
+// by row into the image's own size.
+bool LoadCheckedImage(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int req_width,
+                      int req_height, const unsigned char* bytes, int size, void* user_data) {
+  const uint64_t max_pixels = *static_cast<const uint64_t*>(user_data);
+  const auto dims = EncodedImageSize(bytes, size_t(std::max(size, 0)));
+  if (!dims) {
+    if (err) *err += "image " + std::to_string(index) + " is not a PNG or JPEG image (the formats glTF 2.0 allows)\n";
+    return false;
+  }
+  if (dims->first * dims->second > max_pixels) {
+    if (err) {
+      *err += "image " + std::to_string(index) + " is " + std::to_string(dims->first) + "x" +
+              std::to_string(dims->second) + " pixels, more than the limit of " + std::to_string(max_pixels) +
+              " (GltfLoadOptions::max_image_pixels)\n";
+    }
+    return false;
+  }
+  (void)warn;
+  (void)req_width;
+  (void)req_height;
+  cv::Mat decoded;
+  try {
+    decoded = cv::imdecode(cv::Mat(1, size, CV_8U, const_cast<unsigned char*>(bytes)), cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception&) {
+    decoded.release();
+  }
+  const int channels = decoded.empty() ? 0 : decoded.channels();
+  if (decoded.empty() || (decoded.depth() != CV_8U && decoded.depth() != CV_16U) || channels > 4) {
+    if (err) *err += "image " + std::to_string(index) + ": cannot decode it\n";
+    return false;
+  }
+  if (channels == 3) cv::cvtColor(decoded, decoded, cv::COLOR_BGR2RGB);
+  if (channels == 4) cv::cvtColor(decoded, decoded, cv::COLOR_BGRA2RGBA);
+  if (!decoded.isContinuous()) decoded = decoded.clone();
+  image->width = decoded.cols;
+  image->height = decoded.rows;
+  image->component = channels;
+  image->bits = decoded.depth() == CV_16U ? 16 : 8;
+  image->pixel_type = decoded.depth() == CV_16U ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+  image->image.assign(decoded.data, decoded.data + decoded.total() * decoded.elemSize());
+  return true;
+}
+
 WrapMode ToWrap(int gl) {
   switch (gl) {
     case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return WrapMode::kClampToEdge;
@@ -168,6 +245,7 @@ class Loader {
     in.close();
 
     tinygltf::TinyGLTF gltf;
+    gltf.SetImageLoader(&LoadCheckedImage, const_cast<uint64_t*>(&options_.max_image_pixels));
     std::string err, warn;
     const bool ok = binary ? gltf.LoadBinaryFromFile(&model_, &err, &warn, path_.string())
                            : gltf.LoadASCIIFromFile(&model_, &err, &warn, path_.string());

@@ -27,6 +27,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 
 #include "scenes/scene.h"
@@ -42,6 +43,9 @@ struct GltfLoadOptions {
   // instanced by N nodes counts N times). Checked before allocating, so that a corrupt or hostile
   // count fails with a message instead of exhausting memory.
   size_t max_accessor_count = size_t(1) << 26;
+  // Upper bound on an image's width x height, read from its header before it is decoded (16384 x
+  // 16384 by default: 1 GiB of RGBA), for the same reason.
+  uint64_t max_image_pixels = uint64_t(1) << 28;
   // Throw on the first warning instead of collecting it (for pipelines that must not lose data).
   bool warnings_are_errors = false;
   // Classes by node, mesh and material names (scenes/label_rules.h) for primitives that get no

@@ -364,6 +364,50 @@ std::string TinyPngUri() {
 // KHR_texture_transform: uv' = offset + R(rotation) * (scale * uv), with the rotation
 // counter-clockwise in glTF's v-down UV space: at 90 deg (1, 0) -> (0, -1), as the Khronos sample
 // viewer and the TextureTransformTest model have it (see ParseTextureTransform).
+TEST(GltfLoader, ImagesAreCheckedBeforeDecoding) {
+  const auto dir = TempDir();
+  // Only a PNG's IHDR, claiming 70000 x 70000 pixels (18 GiB as RGBA); a BMP (stb would decode it,
+  // glTF does not allow it); a real 3 x 2 JPEG, under a limit of 5 pixels and then the default.
+  const std::vector<uint8_t> huge_png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R',
+                                         0, 1, 0x11, 0x70, 0, 1, 0x11, 0x70, 8, 6, 0, 0, 0, 0, 0, 0, 0};
+  std::vector<uint8_t> bmp(64, 0);
+  bmp[0] = 'B';
+  bmp[1] = 'M';
+  std::vector<uint8_t> jpeg;
+  ASSERT_TRUE(cv::imencode(".jpg", cv::Mat(2, 3, CV_8UC3, cv::Scalar(40, 80, 120)), jpeg));
+  struct Case {
+    const std::vector<uint8_t>* bytes;
+    uint64_t max_pixels;
+    std::string error;  // empty: loads
+  };
+  const uint64_t default_limit = GltfLoadOptions{}.max_image_pixels;
+  for (const Case& c : {Case{&huge_png, default_limit, "image 0 is 70000x70000 pixels, more than the limit"},
+                        Case{&bmp, default_limit, "image 0 is not a PNG or JPEG image"},
+                        Case{&jpeg, 5, "image 0 is 3x2 pixels, more than the limit of 5"}, Case{&jpeg, default_limit, ""}}) {
+    TestGltf g;
+    const int pos = g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    g.doc["images"] = json::array({{{"uri", DataUri("image/png", *c.bytes)}}});
+    g.Mesh({{"POSITION", pos}});
+    g.Node({{"mesh", 0}});
+    g.Scene({0});
+    const auto path = g.Write(dir, "image");
+    GltfLoadOptions options;
+    options.max_image_pixels = c.max_pixels;
+    if (c.error.empty()) {
+      EXPECT_NO_THROW(LoadGltf(path, options));
+      continue;
+    }
+    try {
+      LoadGltf(path, options);
+      ADD_FAILURE() << "loaded; expected: " << c.error;
+    } catch (const std::runtime_error& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(c.error), std::string::npos) << what;
+      EXPECT_NE(what.find(path.string()), std::string::npos) << what;
+    }
+  }
+}
+
 TEST(GltfLoader, TextureTransformIsBakedIntoTexcoords) {
   const auto dir = TempDir();
   TestGltf g;
