@@ -84,10 +84,11 @@ class Degenerate : public testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  void Render(const Scene& scene, const Rig& rig, const FramesFile& frames, int samples_per_pixel = 1) {
+  void Render(const Scene& scene, const Rig& rig, const FramesFile& frames, int samples_per_pixel = 1,
+              uint64_t seed = 0) {
     RenderJob job;
     job.options.samples_per_pixel = samples_per_pixel;
-    job.options.seed = 1;
+    job.options.seed = seed;
     job.scene = &scene;
     job.scene_name = scene.source;
     job.rig = rig;
@@ -182,34 +183,35 @@ TEST_F(Degenerate, PlanarSceneIsSolvedOrDiagnosedNeverWrong) {
 
 TEST_F(Degenerate, WeakRigMotionGivesRotationsNotWrongPositions) {
   // The demo ring at 640x360, driven 3 frames straight ahead: few features, and a motion without a
-  // turn, which barely links the cameras' positions. Measured with a looser observability test:
-  // position eigenvalue ratio 40, and the positions came out 48-108 deg wrong at a 0.22 px
-  // reprojection RMS, every camera reported "calibrated" (the render's seed matters: seed 0 gives a
-  // ratio of 4, diagnosed either way).
+  // turn, which barely links the cameras' positions. Each render seed lands elsewhere on that edge;
+  // measured with the observability test as it was (eigenvalue ratio >= 20, the smallest clamped
+  // at 0), every camera was reported "calibrated" with a wrong position:
+  //   seed 2: ratio 26.4, positions 29-89 deg wrong;
+  //   seed 6: smallest eigenvalue -0.009 (clamped: ratio infinite), positions 57-117 deg wrong.
   const Scene street = LoadGltf("assets/scenes/street.glb");
   RingRigOptions ring;
   ring.width = 640;
   ring.height = 360;
   const Rig rig = MakeRingRig(ring);
-  Render(street, rig, MakeStraightTrajectory(Eigen::Vector3d(0, 1.6, 4), 0.0, 3, 2.0), 4);
-  RigCalibrationResult r = Calibrate(SemanticMode::kNone);
-  if (!r.evaluated) EvaluateRigAgainstTruth(rig, &r);
-  ASSERT_TRUE(r.evaluated);
-  int rotation_only = 0;
-  for (size_t c = 1; c < rig.cameras.size(); ++c) {
-    const RigCameraStats& s = r.camera_stats[c];
-    ASSERT_TRUE(s.rotation_error_deg.has_value()) << r.camera_status[c];
-    EXPECT_LT(*s.rotation_error_deg, 1.0) << rig.cameras[c].name;
-    if (r.rig.cameras[c].cam_from_rig.has_value()) {  // a position was given: it must be right
-      ASSERT_TRUE(s.translation_direction_error_deg.has_value());
-      EXPECT_LT(*s.translation_direction_error_deg, 5.0) << rig.cameras[c].name << ": " << r.camera_status[c];
-    } else {
-      EXPECT_NE(r.camera_status[c].find("rotation only"), std::string::npos) << r.camera_status[c];
-      ++rotation_only;
+  for (const uint64_t seed : {2, 6}) {
+    SCOPED_TRACE("render seed " + std::to_string(seed));
+    fs::remove_all(dir_);
+    Render(street, rig, MakeStraightTrajectory(Eigen::Vector3d(0, 1.6, 4), 0.0, 3, 2.0), 4, seed);
+    RigCalibrationResult r = Calibrate(SemanticMode::kNone);
+    if (!r.evaluated) EvaluateRigAgainstTruth(rig, &r);
+    ASSERT_TRUE(r.evaluated);
+    for (size_t c = 1; c < rig.cameras.size(); ++c) {
+      const RigCameraStats& s = r.camera_stats[c];
+      ASSERT_TRUE(s.rotation_error_deg.has_value()) << r.camera_status[c];
+      EXPECT_LT(*s.rotation_error_deg, 1.0) << rig.cameras[c].name;
+      if (r.rig.cameras[c].cam_from_rig.has_value()) {  // a position was given: it must be right
+        ASSERT_TRUE(s.translation_direction_error_deg.has_value());
+        EXPECT_LT(*s.translation_direction_error_deg, 5.0) << rig.cameras[c].name << ": " << r.camera_status[c];
+      } else {
+        EXPECT_NE(r.camera_status[c].find("rotation only"), std::string::npos) << r.camera_status[c];
+      }
     }
   }
-  RecordProperty("position_eigenvalue_ratio", std::to_string(r.position_eigenvalue_ratio));
-  RecordProperty("rotation_only_cameras", rotation_only);
 }
 
 }  // namespace
