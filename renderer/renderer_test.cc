@@ -372,10 +372,8 @@ TEST(RendererTest, BilinearFilteringBlendsTexelCentresInLinearLight) {
   EXPECT_GT(mid_tones, 10);
 }
 
-TEST(RendererTest, MipMappingAveragesAMinifiedChecker) {
-  // A 128 x 128 checker of 4-texel squares seen at about 8.3 texels per pixel: point sampling
-  // (or a mip level chosen too fine) gives a black-and-white moire; the right level (3, where a
-  // texel covers 2 x 2 squares) gives the checker's mean, as a uniform texture of that mean does.
+// A 128 x 128 black-and-white checker of 4-texel squares.
+std::vector<std::array<uint8_t, 4>> Checker128() {
   std::vector<std::array<uint8_t, 4>> checker;
   for (int y = 0; y < 128; ++y) {
     for (int x = 0; x < 128; ++x) {
@@ -383,6 +381,14 @@ TEST(RendererTest, MipMappingAveragesAMinifiedChecker) {
       checker.push_back({v, v, v, 255});
     }
   }
+  return checker;
+}
+
+TEST(RendererTest, MipMappingAveragesAMinifiedChecker) {
+  // A 128 x 128 checker of 4-texel squares seen at about 8.3 texels per pixel: point sampling
+  // (or a mip level chosen too fine) gives a black-and-white moire; the right level (3, where a
+  // texel covers 2 x 2 squares) gives the checker's mean, as a uniform texture of that mean does.
+  const std::vector<std::array<uint8_t, 4>> checker = Checker128();
   const uint8_t mean_srgb = 188;  // sRGB encoding of linear 0.5
   Scene scene, uniform;
   // 0.77 m: a non-integer number of texels per pixel, so point samples do not fall on a pattern
@@ -409,13 +415,7 @@ TEST(RendererTest, MinificationFilterOfTheSamplerIsHonoured) {
   // The minified checker of MipMappingAveragesAMinifiedChecker under other glTF minFilters: without
   // mip levels (NEAREST) each pixel is one texel, black or white; LINEAR_MIPMAP_NEAREST reads the
   // nearest level (3), whose texels are the checker's mean.
-  std::vector<std::array<uint8_t, 4>> checker;
-  for (int y = 0; y < 128; ++y) {
-    for (int x = 0; x < 128; ++x) {
-      const uint8_t v = ((x / 4 + y / 4) % 2) ? 255 : 0;
-      checker.push_back({v, v, v, 255});
-    }
-  }
+  const std::vector<std::array<uint8_t, 4>> checker = Checker128();
   auto render = [&](bool min_nearest, MipFilter mip, const std::vector<std::array<uint8_t, 4>>& texels) {
     Scene scene;
     const int size = texels.size() == 1 ? 1 : 128;
