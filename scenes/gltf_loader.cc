@@ -155,7 +155,7 @@ bool LoadCheckedImage(tinygltf::Image* image, const int index, std::string* err,
     if (err) *err += "image " + std::to_string(index) + " is not a PNG or JPEG image (the formats glTF 2.0 allows)\n";
     return false;
   }
-  if (dims->first * dims->second > max_pixels) {
+  if (dims->second != 0 && dims->first > max_pixels / dims->second) {  // width x height > max
     if (err) {
       *err += "image " + std::to_string(index) + " is " + std::to_string(dims->first) + "x" +
               std::to_string(dims->second) + " pixels, more than the limit of " + std::to_string(max_pixels) +

@@ -370,6 +370,9 @@ TEST(GltfLoader, ImagesAreCheckedBeforeDecoding) {
   // glTF does not allow it); a real 3 x 2 JPEG, under a limit of 5 pixels and then the default.
   const std::vector<uint8_t> huge_png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R',
                                          0, 1, 0x11, 0x70, 0, 1, 0x11, 0x70, 8, 6, 0, 0, 0, 0, 0, 0, 0};
+  // The largest size a PNG header can state (2^32 - 1 each way).
+  std::vector<uint8_t> widest_png = huge_png;
+  for (int i = 16; i < 24; ++i) widest_png[i] = 0xFF;
   std::vector<uint8_t> bmp(64, 0);
   bmp[0] = 'B';
   bmp[1] = 'M';
@@ -383,6 +386,7 @@ TEST(GltfLoader, ImagesAreCheckedBeforeDecoding) {
   const uint64_t default_limit = GltfLoadOptions{}.max_image_pixels;
   for (const Case& c : {Case{&huge_png, default_limit, "image 0 is 70000x70000 pixels, more than the limit"},
                         Case{&bmp, default_limit, "image 0 is not a PNG or JPEG image"},
+                        Case{&widest_png, default_limit, "image 0 is 4294967295x4294967295 pixels, more than the limit"},
                         Case{&jpeg, 5, "image 0 is 3x2 pixels, more than the limit of 5"}, Case{&jpeg, default_limit, ""}}) {
     TestGltf g;
     const int pos = g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
