@@ -147,8 +147,8 @@ std::optional<std::pair<uint64_t, uint64_t>> EncodedImageSize(const unsigned cha
 // in `user_data` (a uint64_t). stb inflated a PNG's compressed data into a buffer without bound: a
 // 1x1 PNG of a few hundred bytes (found by fuzzing) made it allocate 1.2 GB. libpng inflates row
 // by row into the image's own size.
-bool LoadCheckedImage(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int req_width,
-                      int req_height, const unsigned char* bytes, int size, void* user_data) {
+bool LoadCheckedImage(tinygltf::Image* image, const int index, std::string* err, std::string* /*warn*/,
+                      int /*req_width*/, int /*req_height*/, const unsigned char* bytes, int size, void* user_data) {
   const uint64_t max_pixels = *static_cast<const uint64_t*>(user_data);
   const auto dims = EncodedImageSize(bytes, size_t(std::max(size, 0)));
   if (!dims) {
@@ -163,9 +163,6 @@ bool LoadCheckedImage(tinygltf::Image* image, const int index, std::string* err,
     }
     return false;
   }
-  (void)warn;
-  (void)req_width;
-  (void)req_height;
   cv::Mat decoded;
   try {
     decoded = cv::imdecode(cv::Mat(1, size, CV_8U, const_cast<unsigned char*>(bytes)), cv::IMREAD_UNCHANGED);
