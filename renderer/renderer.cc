@@ -61,10 +61,24 @@ float UnitFloat(uint64_t h) { return float(h >> 40) * 0x1p-24f; }  // [0, 1)
 
 constexpr float kTexelUnit = 65535.0f;  // stored value of a linear 1.0
 
+// One level, stored with a border one texel wide that holds the texels the sampler's wrap modes
+// put beside the edges. With coordinates reduced to [0, 1] (ReduceCoordinate), a bilinear
+// look-up's four texels are then always in memory next to each other: no wrapping per texel, and
+// each pair of neighbours is one load.
 struct MipLevel {
-  int width = 0;
+  int width = 0;   // without the border
   int height = 0;
-  std::vector<uint16_t> rgba;  // linear RGBA * kTexelUnit
+  int stride = 0;  // texels per stored row: width + 2
+  float fixed_width = 0, fixed_height = 0;  // width and height * 65536 (16.16 fixed point)
+  std::vector<uint16_t> rgba;  // (height + 2) rows of RGBA, linear * kTexelUnit
+
+  MipLevel() = default;
+  MipLevel(int w, int h)
+      : width(w), height(h), stride(w + 2), fixed_width(float(w) * 65536.0f), fixed_height(float(h) * 65536.0f),
+        rgba(size_t(w + 2) * (h + 2) * 4) {}
+  // x in [-1, width], y in [-1, height].
+  const uint16_t* Texel(int x, int y) const { return &rgba[(size_t(y + 1) * stride + (x + 1)) * 4]; }
+  uint16_t* Texel(int x, int y) { return &rgba[(size_t(y + 1) * stride + (x + 1)) * 4]; }
 };
 
 struct MipTexture {
@@ -77,33 +91,63 @@ struct MipTexture {
   float texel_scale = 1.0f;  // sqrt(width * height) of level 0: texels per uv unit
 };
 
+// The texel that index i (-1 <= i <= n) shows under a wrap mode.
+int WrapIndex(int i, int n, WrapMode mode) {
+  if (i >= 0 && i < n) return i;
+  switch (mode) {
+    case WrapMode::kClampToEdge:
+      return std::clamp(i, 0, n - 1);
+    case WrapMode::kMirroredRepeat:  // ... t1 t0 | t0 t1 ... t(n-1) | t(n-1) ...
+      return i < 0 ? std::min(-i - 1, n - 1) : std::max(2 * n - 1 - i, 0);
+    case WrapMode::kRepeat:
+    default:
+      return i < 0 ? n - 1 : 0;
+  }
+}
+
+// Fills the border from the level's own texels.
+void FillBorder(MipLevel& level, WrapMode wrap_s, WrapMode wrap_t) {
+  auto fill = [&](int x, int y) {
+    std::copy_n(level.Texel(WrapIndex(x, level.width, wrap_s), WrapIndex(y, level.height, wrap_t)), 4,
+                level.Texel(x, y));
+  };
+  for (int y = 0; y < level.height; ++y) {
+    fill(-1, y);
+    fill(level.width, y);
+  }
+  for (int x = -1; x <= level.width; ++x) {  // corners included
+    fill(x, -1);
+    fill(x, level.height);
+  }
+}
+
 // Level 0: the source's sRGB colour decoded to linear light; alpha is linear already.
 MipLevel LinearLevel(const Texture& texture) {
   std::array<uint16_t, 256> colour{};
   for (int code = 0; code < 256; ++code) {
     colour[code] = uint16_t(std::lround(LinearFromSrgbCode(uint8_t(code)) * kTexelUnit));
   }
-  MipLevel level{texture.width, texture.height, std::vector<uint16_t>(texture.rgba.size())};
-  for (size_t i = 0; i < texture.rgba.size(); i += 4) {
-    for (int c = 0; c < 3; ++c) level.rgba[i + c] = colour[texture.rgba[i + c]];
-    level.rgba[i + 3] = uint16_t(texture.rgba[i + 3] * 257);  // 255 -> 65535
+  MipLevel level(texture.width, texture.height);
+  for (int y = 0; y < texture.height; ++y) {
+    for (int x = 0; x < texture.width; ++x) {
+      const uint8_t* in = &texture.rgba[(size_t(y) * texture.width + x) * 4];
+      uint16_t* out = level.Texel(x, y);
+      for (int c = 0; c < 3; ++c) out[c] = colour[in[c]];
+      out[3] = uint16_t(in[3] * 257);  // 255 -> 65535
+    }
   }
   return level;
 }
 
 // Averages 2x2 blocks (in linear light, so distant textures do not darken).
 MipLevel Downsample(const MipLevel& src) {
-  MipLevel dst;
-  dst.width = std::max(1, src.width / 2);
-  dst.height = std::max(1, src.height / 2);
-  dst.rgba.resize(size_t(dst.width) * dst.height * 4);
+  MipLevel dst(std::max(1, src.width / 2), std::max(1, src.height / 2));
   for (int y = 0; y < dst.height; ++y) {
     const int y0 = std::min(2 * y, src.height - 1), y1 = std::min(2 * y + 1, src.height - 1);
     for (int x = 0; x < dst.width; ++x) {
       const int x0 = std::min(2 * x, src.width - 1), x1 = std::min(2 * x + 1, src.width - 1);
-      const uint16_t* p[4] = {&src.rgba[(size_t(y0) * src.width + x0) * 4], &src.rgba[(size_t(y0) * src.width + x1) * 4],
-                              &src.rgba[(size_t(y1) * src.width + x0) * 4], &src.rgba[(size_t(y1) * src.width + x1) * 4]};
-      uint16_t* out = &dst.rgba[(size_t(y) * dst.width + x) * 4];
+      const uint16_t* p[4] = {src.Texel(x0, y0), src.Texel(x1, y0), src.Texel(x0, y1), src.Texel(x1, y1)};
+      uint16_t* out = dst.Texel(x, y);
       for (int c = 0; c < 4; ++c) out[c] = uint16_t((uint32_t(p[0][c]) + p[1][c] + p[2][c] + p[3][c] + 2) / 4);
     }
   }
@@ -128,91 +172,122 @@ MipTexture BuildMipTexture(const Texture& texture, const std::string& where) {
   while (mip.levels.back().width > 1 || mip.levels.back().height > 1) {
     mip.levels.push_back(Downsample(mip.levels.back()));
   }
+  for (MipLevel& level : mip.levels) FillBorder(level, texture.wrap_s, texture.wrap_t);
   return mip;
 }
 
-[[gnu::always_inline]] inline int WrapIndex(int i, int n, WrapMode mode) {
-  if (i >= 0 && i < n) return i;  // the common case, without an integer division
+// Brings a texture coordinate into [0, 1] under its wrap mode. A mirrored coordinate folds onto
+// [0, 1] exactly: the mirrored texture, and any symmetric filter of it, is the same at s and 2 - s.
+[[gnu::always_inline]] inline float ReduceCoordinate(float s, WrapMode mode) {
   switch (mode) {
-    case WrapMode::kClampToEdge:
-      return std::clamp(i, 0, n - 1);
+    case WrapMode::kRepeat:
+      return s - std::floor(s);  // [0, 1]: 1 when s is a tiny negative number
     case WrapMode::kMirroredRepeat: {
-      int r = i % (2 * n);
-      if (r < 0) r += 2 * n;
-      return r < n ? r : 2 * n - 1 - r;
+      const float r = s - 2.0f * std::floor(0.5f * s);  // [0, 2]
+      return r > 1.0f ? 2.0f - r : r;
     }
-    case WrapMode::kRepeat:
-    default: {
-      int r = i % n;
-      return r < 0 ? r + n : r;
-    }
-  }
-}
-
-// Brings a texture coordinate near [0, 1] before it is turned into integers (huge coordinates
-// would overflow int); exact for the periodic modes, harmless for clamp.
-float ReduceCoordinate(float s, WrapMode mode) {
-  switch (mode) {
-    case WrapMode::kRepeat:
-      return s - std::floor(s);
-    case WrapMode::kMirroredRepeat:
-      return s - 2.0f * std::floor(0.5f * s);
     case WrapMode::kClampToEdge:
     default:
-      return std::clamp(s, -1.0f, 2.0f);
+      return std::clamp(s, 0.0f, 1.0f);
   }
 }
 
-// A texel in stored units (linear * kTexelUnit). Inlined by force: as calls, the texel fetches
-// passed every texel through the stack.
-[[gnu::always_inline]] inline Eigen::Vector4f FetchTexel(const MipLevel& level, int x, int y) {
-  const uint16_t* p = &level.rgba[(size_t(y) * level.width + x) * 4];
+// Texel arithmetic in 16-bit integers, on two texels at once (one SSE2 register): a bilinear
+// look-up is two loads and three blends, and the result becomes float once, at the end, instead
+// of once per texel. The portable branch does the same integer arithmetic, so both give the same
+// bytes.
 #if defined(__SSE2__)
-  const __m128i texel = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(p));
-  Eigen::Vector4f out;
-  _mm_storeu_ps(out.data(), _mm_cvtepi32_ps(_mm_unpacklo_epi16(texel, _mm_setzero_si128())));
-  return out;
+using TexelPair = __m128i;  // lanes 0-3: texel a (RGBA), lanes 4-7: texel b
 #else
-  return Eigen::Vector4f(p[0], p[1], p[2], p[3]);
+struct TexelPair {
+  std::array<uint16_t, 8> lane;
+};
+#endif
+
+// Texels p and p + 1 (a stored row's neighbours).
+[[gnu::always_inline]] inline TexelPair LoadTexelPair(const uint16_t* p) {
+#if defined(__SSE2__)
+  return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
+#else
+  return TexelPair{{p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7]}};
 #endif
 }
 
-// `s`, `t` already reduced (ReduceCoordinate); texel centres are at (i + 0.5) / width (glTF: uv
-// (0, 0) is the image's top-left corner). Result in stored units. The texel grid position is
-// taken in 16.16 fixed point: a shift and a mask instead of two std::floor, which compile to a
-// dozen instructions each without SSE4.1 (a one-thread street frame: 226 -> 220 ms).
-[[gnu::always_inline]] inline Eigen::Vector4f SampleBilinear(const MipTexture& tex, int level_index, float s,
-                                                              float t) {
-  const MipLevel& level = tex.levels[level_index];
-  const int64_t fx = int64_t(s * float(level.width) * 65536.0f) - 32768;
-  const int64_t fy = int64_t(t * float(level.height) * 65536.0f) - 32768;
-  const int x0 = int(fx >> 16), y0 = int(fy >> 16);  // arithmetic shift: floor
-  const float ax = float(fx & 0xffff) * (1.0f / 65536.0f), ay = float(fy & 0xffff) * (1.0f / 65536.0f);
-  const int xa = WrapIndex(x0, level.width, tex.wrap_s), xb = WrapIndex(x0 + 1, level.width, tex.wrap_s);
-  const int ya = WrapIndex(y0, level.height, tex.wrap_t), yb = WrapIndex(y0 + 1, level.height, tex.wrap_t);
-  return (1 - ay) * ((1 - ax) * FetchTexel(level, xa, ya) + ax * FetchTexel(level, xb, ya)) +
-         ay * ((1 - ax) * FetchTexel(level, xa, yb) + ax * FetchTexel(level, xb, yb));
+// The first texel of each pair, joined as (a of `first`, a of `second`).
+[[gnu::always_inline]] inline TexelPair JoinFirsts(TexelPair first, TexelPair second) {
+#if defined(__SSE2__)
+  return _mm_unpacklo_epi64(first, second);
+#else
+  return TexelPair{{first.lane[0], first.lane[1], first.lane[2], first.lane[3], second.lane[0], second.lane[1],
+                    second.lane[2], second.lane[3]}};
+#endif
 }
 
-Eigen::Vector4f SampleNearest(const MipTexture& tex, int level_index, float s, float t) {
-  const MipLevel& level = tex.levels[level_index];
-  const int x = int(std::floor(s * level.width)), y = int(std::floor(t * level.height));
-  return FetchTexel(level, WrapIndex(x, level.width, tex.wrap_s), WrapIndex(y, level.height, tex.wrap_t));
+// a + (b - a) * w / 65536 into the first texel, as a - hi(a * w) + hi(b * w) with hi(p) = p >> 16:
+// within one unit, exact when w = 0 or a = b (an opaque texel stays exactly opaque), and never
+// beyond 65535.
+[[gnu::always_inline]] inline TexelPair LerpPair(TexelPair pair, uint16_t w) {
+#if defined(__SSE2__)
+  const __m128i scaled = _mm_mulhi_epu16(pair, _mm_set1_epi16(int16_t(w)));
+  return _mm_add_epi16(pair, _mm_sub_epi16(_mm_srli_si128(scaled, 8), scaled));
+#else
+  TexelPair out = pair;
+  for (int c = 0; c < 4; ++c) {
+    const uint32_t a = pair.lane[c], b = pair.lane[c + 4];
+    out.lane[c] = uint16_t(a - ((a * w) >> 16) + ((b * w) >> 16));
+  }
+  return out;
+#endif
+}
+
+// The first texel in linear units.
+[[gnu::always_inline]] inline Eigen::Vector4f FirstTexelLinear(TexelPair pair) {
+#if defined(__SSE2__)
+  Eigen::Vector4f out;
+  const __m128 stored = _mm_cvtepi32_ps(_mm_unpacklo_epi16(pair, _mm_setzero_si128()));
+  _mm_storeu_ps(out.data(), _mm_mul_ps(stored, _mm_set1_ps(1.0f / kTexelUnit)));
+  return out;
+#else
+  return Eigen::Vector4f(pair.lane[0], pair.lane[1], pair.lane[2], pair.lane[3]) * (1.0f / kTexelUnit);
+#endif
+}
+
+// A blend weight in [0, 1] as a 16-bit fraction.
+[[gnu::always_inline]] inline uint16_t WeightU16(float f) { return uint16_t(std::clamp(int(f * 65536.0f), 0, 65535)); }
+
+// `s`, `t` in [0, 1] (ReduceCoordinate); texel centres are at (i + 0.5) / width (glTF: uv
+// (0, 0) is the image's top-left corner). The texel grid position is taken in 16.16 fixed point:
+// the integer part picks the texels and the fraction is the blend weight, with no std::floor
+// (a dozen instructions without SSE4.1). The four texels are at x0, x0 + 1 in [-1, width] and
+// y0, y0 + 1 in [-1, height]: inside the bordered level.
+[[gnu::always_inline]] inline TexelPair SampleBilinear(const MipLevel& level, float s, float t) {
+  const int64_t fx = int64_t(s * level.fixed_width) - 32768;
+  const int64_t fy = int64_t(t * level.fixed_height) - 32768;
+  const uint16_t* top = level.Texel(int(fx >> 16), int(fy >> 16));  // arithmetic shift: floor
+  const uint16_t wx = uint16_t(fx & 0xffff), wy = uint16_t(fy & 0xffff);
+  return LerpPair(JoinFirsts(LerpPair(LoadTexelPair(top), wx), LerpPair(LoadTexelPair(top + 4 * level.stride), wx)),
+                  wy);
+}
+
+// x = floor(s * width) is in [0, width]: width (s = 1) is the border texel, which is what s = 1
+// shows under every wrap mode.
+TexelPair SampleNearest(const MipLevel& level, float s, float t) {
+  return LoadTexelPair(level.Texel(int(s * float(level.width)), int(t * float(level.height))));
 }
 
 // log2 to within 0.09 (exponent plus the mantissa's linear part): plenty to pick mip levels and
 // their blend, at a fraction of std::log2's cost per textured hit.
-float FastLog2(float x) {
+[[gnu::always_inline]] inline float FastLog2(float x) {
   const uint32_t bits = std::bit_cast<uint32_t>(x);
   const float mantissa = std::bit_cast<float>((bits & 0x007fffffu) | 0x3f800000u);  // in [1, 2)
   return float(int(bits >> 23) - 127) + (mantissa - 1.0f);
 }
 
 // Minification by a sampler other than LINEAR_MIPMAP_LINEAR (out of line: rare, and it keeps the
-// common path short). Stored units.
-[[gnu::noinline]] Eigen::Vector4f SampleMinifiedAsAsked(const MipTexture& tex, float s, float t, float lod) {
+// common path short).
+[[gnu::noinline]] TexelPair SampleMinifiedAsAsked(const MipTexture& tex, float s, float t, float lod) {
   auto sample_level = [&](int level) {
-    return tex.min_nearest ? SampleNearest(tex, level, s, t) : SampleBilinear(tex, level, s, t);
+    return tex.min_nearest ? SampleNearest(tex.levels[level], s, t) : SampleBilinear(tex.levels[level], s, t);
   };
   const int last = int(tex.levels.size()) - 1;
   switch (tex.mip) {
@@ -224,26 +299,27 @@ float FastLog2(float x) {
     default: {
       const int l0 = int(lod);
       if (l0 >= last) return sample_level(last);
-      const float f = lod - float(l0);
-      return (1 - f) * sample_level(l0) + f * sample_level(l0 + 1);
+      return LerpPair(JoinFirsts(sample_level(l0), sample_level(l0 + 1)), WeightU16(lod - float(l0)));
     }
   }
 }
 
 // Filtering as the texture's glTF sampler asks (trilinear unless it says otherwise); `lod` = log2
-// of the footprint in level-0 texels, magnified when <= 0. Linear RGBA.
-[[gnu::always_inline]] inline Eigen::Vector4f SampleTexture(const MipTexture& tex, float s, float t, float lod) {
-  if (!std::isfinite(s) || !std::isfinite(t)) return Eigen::Vector4f::Ones();
-  s = ReduceCoordinate(s, tex.wrap_s);
-  t = ReduceCoordinate(t, tex.wrap_t);
-  constexpr float kUnit = 1.0f / kTexelUnit;
-  if (!(lod > 0.0f)) return kUnit * (tex.nearest ? SampleNearest(tex, 0, s, t) : SampleBilinear(tex, 0, s, t));
-  if (tex.mip != MipFilter::kLinear || tex.min_nearest) return kUnit * SampleMinifiedAsAsked(tex, s, t, lod);
+// of the footprint in level-0 texels, magnified when <= 0.
+[[gnu::always_inline]] inline TexelPair SampleTexels(const MipTexture& tex, float s, float t, float lod) {
+  if (!(lod > 0.0f)) return tex.nearest ? SampleNearest(tex.levels[0], s, t) : SampleBilinear(tex.levels[0], s, t);
+  if (tex.mip != MipFilter::kLinear || tex.min_nearest) return SampleMinifiedAsAsked(tex, s, t, lod);
   const int last = int(tex.levels.size()) - 1;  // trilinear
   const int l0 = int(lod);
-  if (l0 >= last) return kUnit * SampleBilinear(tex, last, s, t);
-  const float f = lod - float(l0);
-  return ((kUnit - f * kUnit) * SampleBilinear(tex, l0, s, t) + (f * kUnit) * SampleBilinear(tex, l0 + 1, s, t));
+  if (l0 >= last) return SampleBilinear(tex.levels[last], s, t);
+  return LerpPair(JoinFirsts(SampleBilinear(tex.levels[l0], s, t), SampleBilinear(tex.levels[l0 + 1], s, t)),
+                  WeightU16(lod - float(l0)));
+}
+
+// Linear RGBA of the texture at (s, t).
+[[gnu::always_inline]] inline Eigen::Vector4f SampleTexture(const MipTexture& tex, float s, float t, float lod) {
+  if (!std::isfinite(s) || !std::isfinite(t)) return Eigen::Vector4f::Ones();
+  return FirstTexelLinear(SampleTexels(tex, ReduceCoordinate(s, tex.wrap_s), ReduceCoordinate(t, tex.wrap_t), lod));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -366,6 +442,15 @@ struct TileOutputs {
   }
 
   void CopyTo(RenderedView& view, int x_begin, int y_begin, int tile_width, int tile_height) const {
+    if (tile_width == kTileSize) {
+      CopyRows(view, x_begin, y_begin, kTileSize, tile_height);  // constant sizes: inlined copies, not memmove calls
+    } else {
+      CopyRows(view, x_begin, y_begin, tile_width, tile_height);
+    }
+  }
+
+  [[gnu::always_inline]] void CopyRows(RenderedView& view, int x_begin, int y_begin, int tile_width,
+                                       int tile_height) const {
     for (int row = 0; row < tile_height; ++row) {
       const int y = y_begin + row;
       const int first = row * kTileSize;
@@ -516,7 +601,7 @@ struct Renderer::Impl {
   }
 
   // Radiance leaving the hit towards the camera.
-  Eigen::Vector3f Shade(const Hit& hit, const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float sample_angle,
+  [[gnu::always_inline]] Eigen::Vector3f Shade(const Hit& hit, const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float sample_angle,
                         const ShadeParams& p) const {
     const MeshData& m = meshes[hit.geom];
     Eigen::Vector3f ng, n;
@@ -778,6 +863,7 @@ RenderedView Renderer::Render(const Camera& camera, const Rigid3d& cam_from_worl
   shade.sky_intensity = float(options.sky_intensity);
   shade.shadows = options.shadows;
   const float exposure = float(options.exposure);
+  const SrgbEncodeTables& srgb = SrgbEncodeTables::Get();
 
   int grid = int(std::lround(std::sqrt(double(spp))));
   if (grid * grid != spp) grid = 0;  // n-rooks
@@ -840,7 +926,7 @@ RenderedView Renderer::Render(const Camera& camera, const Rigid3d& cam_from_worl
               num_samples = 1;
             }
             radiance *= exposure / float(num_samples);
-            for (int c = 0; c < 3; ++c) out.rgb[3 * pixel + c] = SrgbCodeFromLinear(radiance[c]);
+            for (int c = 0; c < 3; ++c) out.rgb[3 * pixel + c] = SrgbCodeFromLinear(radiance[c], srgb);
           }
         }
         out.CopyTo(view, x_begin, y_begin, x_end - x_begin, y_end - y_begin);

@@ -346,6 +346,33 @@ TEST(RendererTest, WrapModes) {
   }
 }
 
+TEST(RendererTest, BilinearFilteringWrapsAcrossTheTextureEdgeAsTheSamplerSays) {
+  // The same red | blue texture over u in [0, 2], filtered bilinearly. At u = 1 and u = 1.5 a
+  // look-up straddles the texture's edge: repeat blends the last texel with the first (purple),
+  // clamp holds the edge texel (blue), and mirrored repeat reflects (blue at u = 1; at u = 1.5 it
+  // reads u = 0.5, halfway between the texels: purple).
+  struct Case {
+    WrapMode mode;
+    std::array<bool, 2> purple;  // at u = 1 and u = 1.5
+  };
+  auto is_purple = [](const std::array<int, 3>& c) {
+    return c[0] > 30 && c[2] > 30 && std::abs(c[0] - c[2]) < 0.25 * std::max(c[0], c[2]) && c[1] == 0;
+  };
+  for (const Case& c : {Case{WrapMode::kRepeat, {true, true}}, Case{WrapMode::kClampToEdge, {false, false}},
+                        Case{WrapMode::kMirroredRepeat, {false, true}}}) {
+    Scene scene;
+    const int tex = AddTexture(scene, 2, 1, {{255, 0, 0, 255}, {0, 0, 255, 255}}, c.mode, false);
+    AddFrontQuad(scene, -2, 2, -1, 1, 3, kCar, 1, AddMaterial(scene, {1, 1, 1, 1}, tex), 2, 1);
+    const Camera camera = SmallPinhole();
+    const RenderedView view = Renderer(scene).Render(camera, Rigid3d(), Opts());
+    for (int i = 0; i < 2; ++i) {
+      const auto colour = ColourAt(view, camera, {0.0 + i, 0, 3});  // u = 1 + i / 2
+      EXPECT_TRUE(c.purple[i] ? is_purple(colour) : IsBlue(colour))
+          << "mode " << int(c.mode) << " u " << 1 + 0.5 * i << ": " << colour[0] << " " << colour[1] << " " << colour[2];
+    }
+  }
+}
+
 TEST(RendererTest, BilinearFilteringBlendsTexelCentresInLinearLight) {
   // A 2 x 1 texture, black | white, clamped and magnified over a quad spanning x in [-1, 1] at
   // 3 m: texel centres at u = 0.25 and 0.75, a linear-light blend between them. A half-texel
