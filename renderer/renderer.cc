@@ -176,14 +176,22 @@ MipTexture BuildMipTexture(const Texture& texture, const std::string& where) {
   return mip;
 }
 
+// floor(x) without a call or SSE4.1's roundss: floats of magnitude 2^23 and beyond are whole
+// numbers already.
+[[gnu::always_inline]] inline float FloorFloat(float x) {
+  if (!(std::abs(x) < 8388608.0f)) return x;
+  const float truncated = float(int(x));
+  return truncated > x ? truncated - 1.0f : truncated;
+}
+
 // Brings a texture coordinate into [0, 1] under its wrap mode. A mirrored coordinate folds onto
 // [0, 1] exactly: the mirrored texture, and any symmetric filter of it, is the same at s and 2 - s.
 [[gnu::always_inline]] inline float ReduceCoordinate(float s, WrapMode mode) {
   switch (mode) {
     case WrapMode::kRepeat:
-      return s - std::floor(s);  // [0, 1]: 1 when s is a tiny negative number
+      return s - FloorFloat(s);  // [0, 1]: 1 when s is a tiny negative number
     case WrapMode::kMirroredRepeat: {
-      const float r = s - 2.0f * std::floor(0.5f * s);  // [0, 2]
+      const float r = s - 2.0f * FloorFloat(0.5f * s);  // [0, 2]
       return r > 1.0f ? 2.0f - r : r;
     }
     case WrapMode::kClampToEdge:
@@ -433,12 +441,12 @@ struct TileOutputs {
   std::array<uint16_t, kPixels> instance;
   std::array<float, kPixels> range;
 
-  // Pixels outside the lens stay black, label 0, instance 0, range 0.
-  void Clear() {
-    rgb.fill(0);
-    label.fill(0);
-    instance.fill(0);
-    range.fill(0.0f);
+  // A pixel outside the lens: black, label 0, instance 0, range 0.
+  void SetInvalid(int pixel) {
+    std::fill_n(&rgb[3 * pixel], 3, 0);
+    label[pixel] = 0;
+    instance[pixel] = 0;
+    range[pixel] = 0.0f;
   }
 
   void CopyTo(RenderedView& view, int x_begin, int y_begin, int tile_width, int tile_height) const {
@@ -881,12 +889,14 @@ RenderedView Renderer::Render(const Camera& camera, const Rigid3d& cam_from_worl
       for (int tile = tiles.begin(); tile < tiles.end(); ++tile) {
         const int x_begin = (tile % tiles_x) * kTileSize, y_begin = (tile / tiles_x) * kTileSize;
         const int x_end = std::min(width, x_begin + kTileSize), y_end = std::min(height, y_begin + kTileSize);
-        out.Clear();
         for (int y = y_begin; y < y_end; ++y) {
           for (int x = x_begin; x < x_end; ++x) {
             const size_t idx = size_t(y) * width + x;
-            if (!centres.valid[idx]) continue;  // outside the lens: black / 0 / 0 / 0
             const int pixel = (y - y_begin) * kTileSize + (x - x_begin);
+            if (!centres.valid[idx]) {
+              out.SetInvalid(pixel);
+              continue;
+            }
             const Eigen::Vector3f dir = world_from_cam_f * centres.bearings[idx];
             const float pixel_angle = centres.angle[idx];
 
@@ -898,6 +908,8 @@ RenderedView Renderer::Render(const Camera& camera, const Rigid3d& cam_from_worl
               out.range[pixel] = centre.t;
             } else {
               out.label[pixel] = kSkyId;
+              out.instance[pixel] = 0;
+              out.range[pixel] = 0.0f;
             }
 
             Eigen::Vector3f radiance = Eigen::Vector3f::Zero();
