@@ -970,11 +970,16 @@ TraceOnlyStats Renderer::TraceOnlyForBenchmark(const Camera& camera, const Rigid
   int grid = int(std::lround(std::sqrt(double(spp))));
   if (grid * grid != spp) grid = 0;
 
-  // Rays per tile, in Render's order: the pixel centre, then its samples.
+  // Rays per tile, in Render's order: the pixel centre, then each sample followed by its shadow
+  // ray (or the centre's shadow ray at 1 spp).
+  struct Ray {
+    Eigen::Vector3f vector;  // a camera ray's direction, or a shadow ray's origin
+    bool shadow;
+  };
   const int tiles_x = (width + kTileSize - 1) / kTileSize;
   const int tiles_y = (height + kTileSize - 1) / kTileSize;
   const int num_tiles = tiles_x * tiles_y;
-  std::vector<std::vector<Eigen::Vector3f>> primary(num_tiles), shadow(num_tiles);
+  std::vector<std::vector<Ray>> rays(num_tiles);
   tbb::task_arena arena(options.num_threads > 0 ? options.num_threads : tbb::task_arena::automatic);
   arena.execute([&] {
     tbb::parallel_for(0, num_tiles, [&](int tile) {
@@ -986,14 +991,14 @@ TraceOnlyStats Renderer::TraceOnlyForBenchmark(const Camera& camera, const Rigid
         if (!h.hit || !shade.shadows) return;
         Eigen::Vector3f ng, n;
         impl.SurfaceNormals(h, dir, &ng, &n);
-        if (Impl::NeedsSunRay(ng, n, shade)) shadow[tile].push_back(Impl::ShadowRayOrigin(h, origin, dir, ng));
+        if (Impl::NeedsSunRay(ng, n, shade)) rays[tile].push_back({Impl::ShadowRayOrigin(h, origin, dir, ng), true});
       };
       for (int y = y_begin; y < y_end; ++y) {
         for (int x = x_begin; x < x_end; ++x) {
           const auto bearing = camera.CamFromImg(Eigen::Vector2d(x, y));
           if (!bearing) continue;
           const Eigen::Vector3f dir = to_world(*bearing);
-          primary[tile].push_back(dir);
+          rays[tile].push_back({dir, false});
           int num_samples = 0;
           if (spp > 1) {
             if (grid == 0) {
@@ -1007,7 +1012,7 @@ TraceOnlyStats Renderer::TraceOnlyForBenchmark(const Camera& camera, const Rigid
               const auto sample_bearing = camera.CamFromImg(Eigen::Vector2d(x, y) + offset);
               if (!sample_bearing) continue;
               const Eigen::Vector3f sdir = to_world(*sample_bearing);
-              primary[tile].push_back(sdir);
+              rays[tile].push_back({sdir, false});
               shaded(sdir);
               ++num_samples;
             }
@@ -1019,17 +1024,17 @@ TraceOnlyStats Renderer::TraceOnlyForBenchmark(const Camera& camera, const Rigid
   });
 
   TraceOnlyStats stats;
-  for (int t = 0; t < num_tiles; ++t) {
-    stats.primary_rays += primary[t].size();
-    stats.shadow_rays += shadow[t].size();
+  for (const std::vector<Ray>& tile_rays : rays) {
+    for (const Ray& ray : tile_rays) ++(ray.shadow ? stats.shadow_rays : stats.primary_rays);
   }
   std::atomic<size_t> sink{0};  // keeps the results observable so nothing is optimised away
   const auto start = std::chrono::steady_clock::now();
   arena.execute([&] {
     tbb::parallel_for(0, num_tiles, [&](int tile) {
       size_t hits = 0;
-      for (const Eigen::Vector3f& dir : primary[tile]) hits += impl.Trace(origin, dir).hit;
-      for (const Eigen::Vector3f& o : shadow[tile]) hits += impl.Occluded(o, shade.sun_dir);
+      for (const Ray& ray : rays[tile]) {
+        hits += ray.shadow ? impl.Occluded(ray.vector, shade.sun_dir) : impl.Trace(origin, ray.vector).hit;
+      }
       sink += hits;
     });
   });
