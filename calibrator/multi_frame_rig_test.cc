@@ -173,6 +173,21 @@ TEST(MultiFrameRig, ChainRingIsDeterminedByTheRigMotion) {
                       s.truth.cameras[1].cam_from_rig->SourceOriginInTarget().norm();
   EXPECT_NEAR(s_est, s_gt, 0.01 * s_gt);
   EXPECT_LT(r.reprojection_rms_px, 0.5);
+  // The rig's pose at every frame (frame 0 is the world), against the truth: rotation, and the
+  // centre in units of cam1's distance from cam0.
+  ASSERT_EQ(r.rig_from_world.size(), 4u);
+  const double unit = s.truth.cameras[1].cam_from_rig->SourceOriginInTarget().norm();
+  for (int k = 0; k < 4; ++k) {
+    ASSERT_TRUE(r.rig_from_world[k].has_value()) << k;
+    EXPECT_LT(RotationErrorDeg(*r.rig_from_world[k], s.rig_from_world[k]), 0.05) << k;
+    const Eigen::Vector3d centre = unit * r.rig_from_world[k]->SourceOriginInTarget();
+    EXPECT_LT((centre - s.rig_from_world[k].SourceOriginInTarget()).norm(), 0.01 + 0.005 * k) << k;
+  }
+  const nlohmann::json frames = RigCalibrationToJson({r})["methods"]["rig"]["rig_from_world_per_frame"];
+  ASSERT_EQ(frames.size(), 4u);
+  EXPECT_EQ(frames[0]["rotation_wxyz"], nlohmann::json({1.0, 0.0, 0.0, 0.0}));  // frame 0 is the world
+  EXPECT_EQ(frames[0]["translation"], nlohmann::json({0.0, 0.0, 0.0}));
+  EXPECT_EQ(frames[3]["translation"].size(), 3u);
   std::printf("eigenvalue ratio %.1f\n", r.position_eigenvalue_ratio);
   std::printf("RMS %.3f px (initial %.3f), %d points, %d tracks, %d conflicting\n", r.reprojection_rms_px,
               r.initial_reprojection_rms_px, r.num_points, r.num_tracks, r.num_conflicting_tracks);
@@ -189,6 +204,13 @@ TEST(MultiFrameRig, KnownDistanceGivesMetricPositions) {
   EvaluateRigAgainstTruth(s.truth, &r);
   EXPECT_TRUE(r.metric_scale);
   for (int c = 1; c < 4; ++c) EXPECT_LT(r.camera_stats[c].position_error_m.value(), 0.01) << c;
+  // The rig's motion takes the same scale: 2 m per frame.
+  ASSERT_EQ(r.rig_from_world.size(), 3u);
+  for (int k = 0; k < 3; ++k) {
+    ASSERT_TRUE(r.rig_from_world[k].has_value()) << k;
+    EXPECT_LT((r.rig_from_world[k]->SourceOriginInTarget() - s.rig_from_world[k].SourceOriginInTarget()).norm(), 0.02)
+        << k;
+  }
 }
 
 TEST(MultiFrameRig, OneFrameChainReportsPositionsNotObservable) {
@@ -196,6 +218,7 @@ TEST(MultiFrameRig, OneFrameChainReportsPositionsNotObservable) {
   RigCalibrationResult r = EstimateRig(s.observations, {});
   EvaluateRigAgainstTruth(s.truth, &r);
   EXPECT_FALSE(r.rig_motion_estimated);
+  EXPECT_TRUE(r.rig_from_world.empty());  // positions not observable: no frame poses either
   std::printf("one frame: eigenvalue ratio %.2f\n", r.position_eigenvalue_ratio);
   EXPECT_EQ(r.camera_status[0], "calibrated (reference: rig frame)");
   for (int c = 1; c < 4; ++c) {

@@ -251,6 +251,7 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
 
   // 6. Scale.
   std::vector<std::optional<Rigid3d>> pose = ba.cam_from_rig;
+  if (positions.unique) result.rig_from_world = ba.rig_from_world;
   result.scale = scale_camera >= 0 ? "unit scale: |centre of " + obs.camera_names[scale_camera] + "| = 1"
                                    : "no scale (no camera with a position besides " + obs.camera_names[0] + ")";
   if (moving && result.num_frames_posed < num_frames) {
@@ -265,6 +266,9 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
       if (d > 1e-12) {
         const double s = options.known_distance->metres / d;
         for (auto& p : pose) {
+          if (p) p->translation *= s;
+        }
+        for (auto& p : result.rig_from_world) {
           if (p) p->translation *= s;
         }
         result.metric_scale = true;
@@ -450,6 +454,9 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
                    {"tracks_time_s", r.tracks_time_s},
                    {"bundle_adjustment_time_s", r.bundle_adjustment_time_s}};
     m["cameras"] = cams;
+    nlohmann::json frames = nlohmann::json::array();  // per frame index: the rig's pose, or null
+    for (const auto& p : r.rig_from_world) frames.push_back(p ? PoseToJson(*p) : nlohmann::json(nullptr));
+    m["rig_from_world_per_frame"] = frames;
     m["edges"] = edges;
     m["warnings"] = r.warnings;
     const std::string key = r.semantic_mode.empty() ? "rig" : r.semantic_mode;

@@ -130,6 +130,10 @@ struct RigCalibrationResult {
   // between frames (temporal pairs used) or taken as static.
   int num_frames = 0;
   int num_frames_posed = 0;
+  // Per frame: the rig's pose, rig_from_world, with the rig frame at frame 0 as the world and in
+  // the scale of cam_from_rig (the identity for every frame of a static rig); nullopt for a frame
+  // without one. Empty when the camera positions are not observable.
+  std::vector<std::optional<Rigid3d>> rig_from_world;
   bool rig_motion_estimated = false;
   int num_temporal_pairs_used = 0;  // successful temporal pairs between cameras with a rotation
   // Observability of the linear positions (RigPositions::eigenvalue_ratio): large when determined.

@@ -188,11 +188,15 @@ TEST_F(CalibrateIo, WritesEveryExportAndPairStatisticsPerMode) {
       }
     }
 
-    // COLMAP: 3 cameras, 3 images (the first frame), no points; cx, cy + 0.5.
+    // COLMAP: 3 cameras, an image per camera and frame (both frames have a rig pose), no points;
+    // cx, cy + 0.5.
+    const json& outputs = evaluation["methods"][mode]["outputs"];
+    EXPECT_EQ(outputs["colmap_frames"], json({"000000", "000001"}));
+    EXPECT_TRUE(outputs["colmap_frames_omitted"].empty());
     const std::vector<std::string> cameras_txt = DataLines(dir / "colmap" / "cameras.txt");
     const std::vector<std::string> images_txt = DataLines(dir / "colmap" / "images.txt");
     ASSERT_EQ(cameras_txt.size(), 3u);
-    ASSERT_EQ(images_txt.size(), 3u);
+    ASSERT_EQ(images_txt.size(), 6u);
     EXPECT_TRUE(DataLines(dir / "colmap" / "points3D.txt").empty());
     for (int i = 0; i < 3; ++i) {
       std::istringstream cam(cameras_txt[i]);
@@ -209,6 +213,28 @@ TEST_F(CalibrateIo, WritesEveryExportAndPairStatisticsPerMode) {
     }
     const std::string first = images_txt[0];
     EXPECT_EQ(first.substr(0, first.find(" 1 cam0/")), "1 1 0 0 0 0 0 0") << "cam0 is the rig frame";
+    // cam0 at frame 1 (image 4): its centre in the calibration's world (cam0 at frame 0) is the
+    // rig's motion, which must agree with the truth in direction and, in units of cam1's distance
+    // from cam0, in length.
+    std::istringstream moved(images_txt[3]);
+    int image_id, camera_id;
+    double qw, qx, qy, qz, tx, ty, tz;
+    std::string moved_name;
+    moved >> image_id >> qw >> qx >> qy >> qz >> tx >> ty >> tz >> camera_id >> moved_name;
+    EXPECT_EQ(moved_name, "cam0/000001.png");
+    const Rigid3d moved_from_world(Eigen::Quaterniond(qw, qx, qy, qz), Eigen::Vector3d(tx, ty, tz));
+    const Eigen::Vector3d motion = moved_from_world.SourceOriginInTarget();
+    const DatasetLayout layout(dataset());
+    const Rig truth = ReadRig(layout.RigJson());
+    const FramesFile truth_frames = ReadFrames(layout.FramesJson());
+    const Rigid3d true_world = *truth.cameras[0].cam_from_rig * *truth_frames.frames[0].rig_from_world;
+    const Eigen::Vector3d true_motion =
+        true_world * (*truth.cameras[0].cam_from_rig * *truth_frames.frames[1].rig_from_world).SourceOriginInTarget();
+    const double true_unit = (*truth.cameras[1].cam_from_rig * truth.cameras[0].cam_from_rig->Inverse())
+                                 .SourceOriginInTarget()
+                                 .norm();
+    EXPECT_LT(AngleBetweenDeg(motion, true_motion), 3.0) << motion.transpose() << " vs " << true_motion.transpose();
+    EXPECT_NEAR(motion.norm() * true_unit, true_motion.norm(), 0.1 * true_motion.norm());
 
     // pairs.json: all 6 pairs, with type, counts, residuals and errors against the truth.
     const json pairs = ReadJson(dir / "pairs.json");
@@ -241,7 +267,6 @@ TEST_F(CalibrateIo, WritesEveryExportAndPairStatisticsPerMode) {
     EXPECT_TRUE(solved.count("cam0-cam1") && solved.count("cam1-cam2")) << pairs.dump(1);
 
     // evaluation.json says what was written and what was left out.
-    const json& outputs = evaluation["methods"][mode]["outputs"];
     EXPECT_EQ(outputs["cameras_exported"], json({"cam0", "cam1", "cam2"}));
     ASSERT_EQ(outputs["cameras_omitted"].size(), 1u);
     EXPECT_EQ(outputs["cameras_omitted"][0]["name"], "back");

@@ -212,13 +212,14 @@ json_io::Json PairsJson(const json_io::Json& method, const std::string& mode, co
 }
 
 // The exports of one mode's estimate (the writers of `rigsim export`): camchain.yaml, opencv.yaml
-// and colmap/, of the cameras with a full pose only. COLMAP gets the images of the first frame:
-// the calibration's world is the rig frame at frame 0, so their cam_from_world is cam_from_rig;
-// the rig's motion over the frames is not part of the estimate. Returns the "outputs" record.
-json_io::Json WriteExports(const RigCalibrationResult& r, const DatasetLayout& layout, const std::string& first_frame,
+// and colmap/, of the cameras with a full pose only. COLMAP gets the images of every frame with a
+// rig pose, cam_from_world = cam_from_rig * rig_from_world, in the calibration's world (the rig
+// frame at frame 0). Returns the "outputs" record.
+json_io::Json WriteExports(const RigCalibrationResult& r, const DatasetLayout& layout, const FramesFile& frames,
                            const fs::path& dir) {
   Rig calibrated;
   json_io::Json exported = json_io::Json::array(), omitted = json_io::Json::array(), notes = json_io::Json::array();
+  json_io::Json colmap_frames = json_io::Json::array(), colmap_frames_omitted = json_io::Json::array();
   for (size_t c = 0; c < r.rig.cameras.size(); ++c) {
     const RigCamera& rc = r.rig.cameras[c];
     if (rc.cam_from_rig) {
@@ -250,13 +251,20 @@ json_io::Json WriteExports(const RigCalibrationResult& r, const DatasetLayout& l
     }
     WriteOpenCvRigYaml(calibrated, dir / "opencv.yaml");
     files.push_back("opencv.yaml");
-    FramesFile first;
-    first.frames.push_back(Frame{first_frame, Rigid3d(), 0.0});  // rig frame 0 = world
+    FramesFile posed;
+    for (size_t k = 0; k < frames.frames.size(); ++k) {
+      // Without positions only frame 0 has a pose: its rig frame is the world.
+      const std::optional<Rigid3d> rig_from_world =
+          k < r.rig_from_world.size() ? r.rig_from_world[k] : k == 0 ? std::optional<Rigid3d>(Rigid3d()) : std::nullopt;
+      if (rig_from_world) posed.frames.push_back(Frame{frames.frames[k].name, rig_from_world, frames.frames[k].timestamp_s});
+      else colmap_frames_omitted.push_back(frames.frames[k].name);
+    }
     ColmapExportOptions colmap;
-    if (const auto image = layout.FindImage(calibrated.cameras[0].name, first.frames[0].name)) {
+    if (const auto image = layout.FindImage(calibrated.cameras[0].name, posed.frames[0].name)) {
       colmap.image_extension = image->extension().string();
     }
-    WriteColmapModel(calibrated, first, dir / "colmap", colmap);
+    WriteColmapModel(calibrated, posed, dir / "colmap", colmap);
+    for (const Frame& f : posed.frames) colmap_frames.push_back(f.name);
     files.push_back("colmap/cameras.txt");
     files.push_back("colmap/images.txt");
     files.push_back("colmap/points3D.txt");
@@ -265,7 +273,8 @@ json_io::Json WriteExports(const RigCalibrationResult& r, const DatasetLayout& l
           {"files", files},
           {"cameras_exported", exported},
           {"cameras_omitted", omitted},
-          {"colmap_frame", first_frame},
+          {"colmap_frames", colmap_frames},
+          {"colmap_frames_omitted", colmap_frames_omitted},
           {"notes", notes}};
 }
 
@@ -294,7 +303,7 @@ std::vector<RigCalibrationResult> CalibrateAndReport(const std::filesystem::path
   const std::vector<RigCalibrationResult> results = CalibrateRig(dataset, options, modes);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  const std::string first_frame = layout.ReadFramesOrScan(ReadRig(layout.RigJson()).cameras.at(0).name).frames.at(0).name;
+  const FramesFile frames = layout.ReadFramesOrScan(ReadRig(layout.RigJson()).cameras.at(0).name);
   json_io::Json evaluation = EvaluationJson(results);
   evaluation["label_source"] = LabelSourceJson(labels, labels_used);
   for (const RigCalibrationResult& r : results) {
@@ -304,7 +313,7 @@ std::vector<RigCalibrationResult> CalibrateAndReport(const std::filesystem::path
     json_io::Json& method = evaluation["methods"][r.semantic_mode];
     json_io::WriteTextAtomic(dir / "pairs.json",
                              PairsJson(method, r.semantic_mode, evaluation["label_source"], overlap).dump(2) + "\n");
-    method["outputs"] = WriteExports(r, layout, first_frame, dir);
+    method["outputs"] = WriteExports(r, layout, frames, dir);
   }
   json_io::WriteTextAtomic(staged.staging_dir() / "evaluation.json", evaluation.dump(2) + "\n");
   staged.Commit();

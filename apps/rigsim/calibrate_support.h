@@ -61,8 +61,8 @@ void CheckCalibrationInputs(const std::filesystem::path& dataset);
 //                          "outputs" (files written, cameras exported and omitted, notes)
 //   <mode>/rig.json        the estimated rig: every camera, cam_from_rig only for calibrated ones
 //   <mode>/camchain.yaml   Kalibr; <mode>/opencv.yaml  cv::FileStorage; <mode>/colmap/  COLMAP text
-//                          model of the first frame (the calibration's world is the rig frame at
-//                          frame 0). The writers of `rigsim export` (exports/), given only the
+//                          model of every frame with a rig pose (the calibration's world is the
+//                          rig frame at frame 0). The writers of `rigsim export` (exports/), given only the
 //                          cameras with a full pose: a camera "not connected" or "rotation only"
 //                          is left out with a warning and listed in evaluation.json. A model
 //                          Kalibr cannot express skips camchain.yaml with a note, not the run.
