@@ -27,6 +27,7 @@ FramesFile FramesFromJsonText(const std::string& text, const std::string& source
   }
   FramesFile out;
   if (root.contains("scene")) out.scene = Get<std::string>(root, "scene", source, "root");
+  if (root.contains("label_rules")) out.label_rules = Get<std::string>(root, "label_rules", source, "root");
   if (root.contains("seed")) out.seed = Get<uint64_t>(root, "seed", source, "root");
   if (root.contains("tool_version")) out.tool_version = Get<std::string>(root, "tool_version", source, "root");
   std::set<std::string> names;
@@ -58,8 +59,10 @@ std::string FramesToJsonText(const FramesFile& frames) {
     if (f.rig_from_world) j["rig_from_world"] = json_io::PoseToJson(*f.rig_from_world);
     list.push_back(std::move(j));
   }
-  return Json{{"scene", frames.scene}, {"seed", frames.seed}, {"tool_version", frames.tool_version}, {"frames", list}}
-             .dump(2) +
+  Json root{{"scene", frames.scene}, {"seed", frames.seed}, {"tool_version", frames.tool_version}};
+  if (!frames.label_rules.empty()) root["label_rules"] = frames.label_rules;
+  root["frames"] = std::move(list);
+  return root.dump(2) +
          "\n";
 }
 

@@ -35,6 +35,7 @@ struct Frame {
 struct FramesFile {
   std::vector<Frame> frames;
   std::string scene;          // scene file the frames were rendered from
+  std::string label_rules;    // label-rules file that classified the scene, if any
   uint64_t seed = 0;
   std::string tool_version;
 };

@@ -22,9 +22,12 @@ TEST(Frames, JsonRoundTrip) {
   f.tool_version = "0.1.0";
   f.frames.push_back({"000000", Rigid3d(Eigen::Quaterniond(0, 1, 0, 0), Eigen::Vector3d(1, 2, 3)), 0.5});
   f.frames.push_back({"000001", std::nullopt, 1.0});
+  EXPECT_EQ(FramesToJsonText(f).find("label_rules"), std::string::npos);  // only when rules were used
+  f.label_rules = "rules.json";
   const FramesFile back = FramesFromJsonText(FramesToJsonText(f), "frames.json");
   ASSERT_EQ(back.frames.size(), 2u);
   EXPECT_EQ(back.scene, "street.glb");
+  EXPECT_EQ(back.label_rules, "rules.json");
   EXPECT_EQ(back.seed, 7u);
   EXPECT_TRUE(back.frames[0].rig_from_world.has_value());
   EXPECT_FALSE(back.frames[1].rig_from_world.has_value());

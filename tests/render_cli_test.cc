@@ -1,6 +1,7 @@
-// `rigsim render --photometric` and its magnitude options through the built binary: on, the RGB
+// `rigsim render` options through the built binary. --photometric and its magnitudes: on, the RGB
 // images change and photometric.json records the draws while labels and depth stay the same; off,
-// nothing changes; bad values are refused before anything is written.
+// nothing changes; bad values are refused before anything is written. --rules: a glTF without
+// extras.class is labelled by name; a bad rules file is refused, naming it, before rendering.
 
 #include <cstdlib>
 #include <cstring>
@@ -15,6 +16,8 @@
 #include <nlohmann/json.hpp>
 
 #include "dataset/dataset.h"
+#include "dataset/label_image.h"
+#include "labels/cityscapes.h"
 #include "tests/rigsim_cli.h"
 #include "tests/data_uri.h"
 
@@ -26,14 +29,21 @@ using nlohmann::json;
 // Each run's output beside the test's scratch files.
 CliResult RunRigsim(const fs::path& dir, const std::vector<std::string>& args) { return rigsim::RunRigsim(args, dir / "rigsim"); }
 
-class RenderPhotometric : public testing::Test {
+class RenderCli : public testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / "rigsim_render_photometric_cli_test" /
+    dir_ = fs::temp_directory_path() / "rigsim_render_cli_test" /
            testing::UnitTest::GetInstance()->current_test_info()->name();
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     // A large wall 6 m down -Z (every ring camera at heading 0 sees part of it, the others sky).
+    scene_ = dir_ / "wall.gltf";
+    WriteWall(scene_, {{"mesh", 0}, {"extras", {{"class", "building"}}}});
+    const CliResult rig = RunRigsim(dir_, {"make-rig", "--cameras", "3", "--width", "64", "--height", "48", "--out", (dir_ / "rig").string()});
+    ASSERT_EQ(rig.code, 0) << rig.err;
+  }
+
+  static void WriteWall(const fs::path& path, const json& node) {
     const std::vector<float> xyz = {-30, -10, -6, 30, -10, -6, 30, 20, -6, -30, -10, -6, 30, 20, -6, -30, 20, -6};
     std::vector<uint8_t> bin(xyz.size() * 4);
     std::memcpy(bin.data(), xyz.data(), bin.size());
@@ -41,19 +51,19 @@ class RenderPhotometric : public testing::Test {
         {"asset", {{"version", "2.0"}}},
         {"scene", 0},
         {"scenes", {{{"nodes", {0}}}}},
-        {"nodes", {{{"mesh", 0}, {"extras", {{"class", "building"}}}}}},
+        {"nodes", {node}},
         {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"mode", 4}}}}}}},
         {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", 6}, {"type", "VEC3"}}}},
         {"bufferViews", {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", bin.size()}}}},
         {"buffers", {{{"byteLength", bin.size()}, {"uri", DataUri("application/octet-stream", bin)}}}}};
-    scene_ = dir_ / "wall.gltf";
-    std::ofstream(scene_) << doc.dump();
-    const CliResult rig = RunRigsim(dir_, {"make-rig", "--cameras", "3", "--width", "64", "--height", "48", "--out", (dir_ / "rig").string()});
-    ASSERT_EQ(rig.code, 0) << rig.err;
+    std::ofstream(path) << doc.dump();
   }
 
   CliResult Render(const std::string& out, std::vector<std::string> extra) {
-    std::vector<std::string> args = {"render", "--scene", scene_.string(), "--rig", (dir_ / "rig/rig.json").string(),
+    return RenderScene(scene_, out, std::move(extra));
+  }
+  CliResult RenderScene(const fs::path& scene, const std::string& out, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"render", "--scene", scene.string(), "--rig", (dir_ / "rig/rig.json").string(),
                                      "--frames", (dir_ / "rig/frames.json").string(), "--out", (dir_ / out).string(),
                                      "--spp", "1", "--seed", "3"};
     args.insert(args.end(), extra.begin(), extra.end());
@@ -63,7 +73,7 @@ class RenderPhotometric : public testing::Test {
   fs::path dir_, scene_;
 };
 
-TEST_F(RenderPhotometric, OnChangesOnlyRgbAndRecordsTheDraws) {
+TEST_F(RenderCli, OnChangesOnlyRgbAndRecordsTheDraws) {
   const CliResult off = Render("off", {});
   ASSERT_EQ(off.code, 0) << off.err;
   EXPECT_EQ(off.out.find("photometric differences"), std::string::npos) << off.out;
@@ -99,7 +109,7 @@ TEST_F(RenderPhotometric, OnChangesOnlyRgbAndRecordsTheDraws) {
   EXPECT_EQ(v.at("cameras")[1].at("gain").get<double>(), 1.0);
 }
 
-TEST_F(RenderPhotometric, BadMagnitudesAreRefusedBeforeWriting) {
+TEST_F(RenderCli, BadMagnitudesAreRefusedBeforeWriting) {
   for (const auto& [option, value] : std::vector<std::pair<std::string, std::string>>{
            {"--vignetting", "1.5"}, {"--exposure-sigma", "-1"}, {"--read-noise", "abc"}, {"--shot-noise", "0.5"}}) {
     const CliResult r = Render("bad", {option, value});
@@ -107,6 +117,47 @@ TEST_F(RenderPhotometric, BadMagnitudesAreRefusedBeforeWriting) {
     EXPECT_NE(r.err.find(option), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(dir_ / "bad"));
   }
+}
+
+
+TEST_F(RenderCli, RulesLabelAGltfWithoutClasses) {
+  // The same wall, named but without extras.class.
+  const fs::path facade = dir_ / "facade.gltf", rules = dir_ / "rules.json";
+  WriteWall(facade, {{"mesh", 0}, {"name", "Facade_01"}});
+  std::ofstream(rules) << R"({"rules": [{"match": "node", "glob": "Facade*", "class": "building"}]})";
+  const CliResult plain = RenderScene(facade, "plain", {});
+  ASSERT_EQ(plain.code, 0) << plain.err;
+  const CliResult ruled = RenderScene(facade, "ruled", {"--rules", rules.string()});
+  ASSERT_EQ(ruled.code, 0) << ruled.err;
+  EXPECT_NE(ruled.err.find("label rules " + rules.string() + " (1 rules)"), std::string::npos) << ruled.err;
+  EXPECT_EQ(ReadFrames(DatasetLayout(dir_ / "ruled").FramesJson()).label_rules, "rules.json");
+  EXPECT_EQ(ReadFrames(DatasetLayout(dir_ / "plain").FramesJson()).label_rules, "");
+
+  // cam0 faces the wall: every pixel that is not sky is the wall, unlabeled without the rules and
+  // a building with them.
+  const uint8_t building = FindClassByName("building")->id;
+  const ImageU8 without = ReadLabelImage(DatasetLayout(dir_ / "plain").Label("cam0", "000000"));
+  const ImageU8 with = ReadLabelImage(DatasetLayout(dir_ / "ruled").Label("cam0", "000000"));
+  ASSERT_TRUE(with.SameSize(without.width, without.height));
+  int wall = 0;
+  for (size_t i = 0; i < with.data.size(); ++i) {
+    if (without.data[i] == kSkyId) {
+      EXPECT_EQ(with.data[i], kSkyId);
+      continue;
+    }
+    ++wall;
+    EXPECT_EQ(without.data[i], kUnlabeledId);
+    EXPECT_EQ(with.data[i], building);
+  }
+  EXPECT_GT(wall, int(with.data.size() / 4));
+
+  // A rules file with an unknown class: refused with its name and the rule, nothing written.
+  std::ofstream(rules) << R"({"rules": [{"match": "node", "glob": "Facade*", "class": "buildings"}]})";
+  const CliResult bad = RenderScene(facade, "bad", {"--rules", rules.string()});
+  EXPECT_NE(bad.code, 0);
+  EXPECT_NE(bad.err.find(rules.string()), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("unknown class 'buildings'"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir_ / "bad"));
 }
 
 }  // namespace

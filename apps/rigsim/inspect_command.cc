@@ -7,6 +7,7 @@
 #include <string>
 
 #include "apps/rigsim/commands.h"
+#include "apps/rigsim/render_support.h"
 #include "labels/cityscapes.h"
 #include "scenes/gltf_loader.h"
 #include "scenes/label_rules.h"
@@ -130,10 +131,9 @@ void AddInspectCommand(CLI::App& app) {
       "inspect",
       "Print what the glTF loader understood of a file: nodes, primitives, triangles, materials,\n"
       "textures, cameras, animations, triangles per class and every warning. Exits 0 when the file\n"
-      "loads. Use --rules to try a label-rules file on a glTF without extras.class (README, 'Scenes').");
+      "loads. Use --rules to try a label-rules file on a glTF without extras.class.");
   cmd->add_option("file", args->file, "glTF 2.0 file (.gltf or .glb)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--rules", args->rules, "label rules JSON: classes from node, mesh or material names")
-      ->check(CLI::ExistingFile);
+  AddLabelRulesOption(*cmd, args->rules);
   cmd->callback([args] {
     std::optional<LabelRules> rules;
     GltfLoadOptions options;

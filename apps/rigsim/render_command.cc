@@ -14,7 +14,7 @@ namespace rigsim::cli {
 
 void AddRenderCommand(CLI::App& app) {
   struct Args {
-    std::string scene, rig, frames, out;
+    std::string scene, rules, rig, frames, out;
     RenderSettings settings;
     PhotometricSettings photometric;
     bool force = false;
@@ -25,6 +25,7 @@ void AddRenderCommand(CLI::App& app) {
       "Render a dataset: every camera of RIG at every frame of FRAMES, with labels, instances, depth,\n"
       "the rig and frames files and the ground-truth overlap (see README, 'Dataset layout').");
   cmd->add_option("--scene", args->scene, "glTF 2.0 scene (.gltf or .glb)")->required()->check(CLI::ExistingFile);
+  AddLabelRulesOption(*cmd, args->rules);
   cmd->add_option("--rig", args->rig, "rig.json with every camera's cam_from_rig (rigsim make-rig writes one)")
       ->required()
       ->check(CLI::ExistingFile);
@@ -43,9 +44,10 @@ void AddRenderCommand(CLI::App& app) {
     job.rig = ReadRig(args->rig);
     for (const std::string& w : CheckRigCoversImages(job.rig, args->rig)) std::fprintf(stderr, "warning: %s\n", w.c_str());
     job.frames = ReadFrames(args->frames);
-    const Scene scene = LoadSceneVerbose(args->scene);
+    const Scene scene = LoadSceneVerbose(args->scene, args->rules);
     job.scene = &scene;
     job.scene_name = std::filesystem::path(args->scene).filename().string();
+    job.frames.label_rules = args->rules.empty() ? "" : std::filesystem::path(args->rules).filename().string();
     job.frames.tool_version = RIGSIM_VERSION_STRING;
     RenderAndReport(job, args->out, args->force);
   });

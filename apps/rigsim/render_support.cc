@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <optional>
 #include <string>
 
 #include "apps/rigsim/interrupt.h"
@@ -9,6 +10,7 @@
 #include "apps/rigsim/report_table.h"
 #include "dataset/dataset.h"
 #include "scenes/gltf_loader.h"
+#include "scenes/label_rules.h"
 
 namespace rigsim::cli {
 
@@ -83,10 +85,23 @@ void AddPhotometricOptions(CLI::App& cmd, PhotometricSettings& s) {
       ->group(group);
 }
 
-Scene LoadSceneVerbose(const std::filesystem::path& path) {
-  Scene scene = LoadGltf(path);
+void AddLabelRulesOption(CLI::App& cmd, std::string& rules_path) {
+  cmd.add_option("--rules", rules_path,
+                 "label rules JSON: classes from node, mesh or material names (a glTF without extras.class)")
+      ->check(CLI::ExistingFile);
+}
+
+Scene LoadSceneVerbose(const std::filesystem::path& path, const std::string& rules_path) {
+  std::optional<LabelRules> rules;
+  GltfLoadOptions options;
+  if (!rules_path.empty()) {
+    rules = LabelRules::Read(rules_path);
+    options.label_rules = &*rules;
+  }
+  Scene scene = LoadGltf(path, options);
   std::fprintf(stderr, "scene %s: %zu meshes, %zu triangles, %zu textures\n", path.string().c_str(),
                scene.meshes.size(), scene.NumTriangles(), scene.textures.size());
+  if (rules) std::fprintf(stderr, "  label rules %s (%zu rules)\n", rules_path.c_str(), rules->rules().size());
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "  warning: %s\n", w.c_str());
   return scene;
 }

@@ -36,8 +36,13 @@ struct PhotometricSettings {
 
 void AddPhotometricOptions(CLI::App& cmd, PhotometricSettings& settings);
 
-// Loads a glTF file and prints its size and every loader warning to stderr.
-Scene LoadSceneVerbose(const std::filesystem::path& path);
+// --rules RULES.json: Cityscapes classes for a glTF without extras.class, from node, mesh or
+// material names (scenes/label_rules.h; README, 'Labelling a foreign glTF with a rules file').
+void AddLabelRulesOption(CLI::App& cmd, std::string& rules_path);
+
+// Loads a glTF file, labelled by the rules file when `rules_path` is not empty, and prints its
+// size, the rules used and every loader warning to stderr.
+Scene LoadSceneVerbose(const std::filesystem::path& path, const std::string& rules_path = "");
 
 // Renders with a progress line, then prints time and the ground-truth overlap per pair.
 void RenderAndReport(const RenderJob& job, const std::filesystem::path& out, bool force);
