@@ -70,12 +70,14 @@ struct MipLevel {
   int height = 0;
   int stride = 0;  // texels per stored row: width + 2
   float fixed_width = 0, fixed_height = 0;  // width and height * 65536 (16.16 fixed point)
-  std::vector<uint16_t> rgba;  // (height + 2) rows of RGBA, linear * kTexelUnit
+  // (height + 2) rows of RGBA, linear * kTexelUnit, and one texel more: a two-texel load at the
+  // last texel (nearest filtering at s = t = 1) stays inside.
+  std::vector<uint16_t> rgba;
 
   MipLevel() = default;
   MipLevel(int w, int h)
       : width(w), height(h), stride(w + 2), fixed_width(float(w) * 65536.0f), fixed_height(float(h) * 65536.0f),
-        rgba(size_t(w + 2) * (h + 2) * 4) {}
+        rgba((size_t(w + 2) * (h + 2) + 1) * 4) {}
   // x in [-1, width], y in [-1, height].
   const uint16_t* Texel(int x, int y) const { return &rgba[(size_t(y + 1) * stride + (x + 1)) * 4]; }
   uint16_t* Texel(int x, int y) { return &rgba[(size_t(y + 1) * stride + (x + 1)) * 4]; }
@@ -278,7 +280,7 @@ struct TexelPair {
 }
 
 // x = floor(s * width) is in [0, width]: width (s = 1) is the border texel, which is what s = 1
-// shows under every wrap mode.
+// shows under every wrap mode. (The pair's second texel is loaded and not used.)
 TexelPair SampleNearest(const MipLevel& level, float s, float t) {
   return LoadTexelPair(level.Texel(int(s * float(level.width)), int(t * float(level.height))));
 }
@@ -450,8 +452,8 @@ struct TileOutputs {
   }
 
   void CopyTo(RenderedView& view, int x_begin, int y_begin, int tile_width, int tile_height) const {
-    if (tile_width == kTileSize) {
-      CopyRows(view, x_begin, y_begin, kTileSize, tile_height);  // constant sizes: inlined copies, not memmove calls
+    if (tile_width == kTileSize) {  // constant sizes: inlined copies, not memmove calls
+      CopyRows(view, x_begin, y_begin, kTileSize, tile_height);
     } else {
       CopyRows(view, x_begin, y_begin, tile_width, tile_height);
     }
@@ -609,8 +611,9 @@ struct Renderer::Impl {
   }
 
   // Radiance leaving the hit towards the camera.
-  [[gnu::always_inline]] Eigen::Vector3f Shade(const Hit& hit, const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float sample_angle,
-                        const ShadeParams& p) const {
+  [[gnu::always_inline]] Eigen::Vector3f Shade(const Hit& hit, const Eigen::Vector3f& origin,
+                                               const Eigen::Vector3f& dir, float sample_angle,
+                                               const ShadeParams& p) const {
     const MeshData& m = meshes[hit.geom];
     Eigen::Vector3f ng, n;
     SurfaceNormals(hit, dir, &ng, &n);

@@ -253,11 +253,18 @@ json_io::Json WriteExports(const RigCalibrationResult& r, const DatasetLayout& l
     files.push_back("opencv.yaml");
     FramesFile posed;
     for (size_t k = 0; k < frames.frames.size(); ++k) {
-      // Without positions only frame 0 has a pose: its rig frame is the world.
-      const std::optional<Rigid3d> rig_from_world =
-          k < r.rig_from_world.size() ? r.rig_from_world[k] : k == 0 ? std::optional<Rigid3d>(Rigid3d()) : std::nullopt;
-      if (rig_from_world) posed.frames.push_back(Frame{frames.frames[k].name, rig_from_world, frames.frames[k].timestamp_s});
-      else colmap_frames_omitted.push_back(frames.frames[k].name);
+      const Frame& f = frames.frames[k];
+      std::optional<Rigid3d> rig_from_world;
+      if (k < r.rig_from_world.size()) {
+        rig_from_world = r.rig_from_world[k];
+      } else if (k == 0) {
+        rig_from_world = Rigid3d();  // without positions only frame 0 has a pose: its rig frame is the world
+      }
+      if (rig_from_world) {
+        posed.frames.push_back(Frame{f.name, rig_from_world, f.timestamp_s});
+      } else {
+        colmap_frames_omitted.push_back(f.name);
+      }
     }
     ColmapExportOptions colmap;
     if (const auto image = layout.FindImage(calibrated.cameras[0].name, posed.frames[0].name)) {

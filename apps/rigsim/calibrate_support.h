@@ -62,10 +62,11 @@ void CheckCalibrationInputs(const std::filesystem::path& dataset);
 //   <mode>/rig.json        the estimated rig: every camera, cam_from_rig only for calibrated ones
 //   <mode>/camchain.yaml   Kalibr; <mode>/opencv.yaml  cv::FileStorage; <mode>/colmap/  COLMAP text
 //                          model of every frame with a rig pose (the calibration's world is the
-//                          rig frame at frame 0). The writers of `rigsim export` (exports/), given only the
-//                          cameras with a full pose: a camera "not connected" or "rotation only"
-//                          is left out with a warning and listed in evaluation.json. A model
-//                          Kalibr cannot express skips camchain.yaml with a note, not the run.
+//                          rig frame at frame 0). The writers of `rigsim export` (exports/),
+//                          given only the cameras with a full pose: a camera "not connected" or
+//                          "rotation only" is left out with a warning and listed in
+//                          evaluation.json. A model Kalibr cannot express skips camchain.yaml
+//                          with a note, not the run.
 //   <mode>/pairs.json      per camera pair: pair_type (general, planar, rotation-only, failed),
 //                          matches, inliers, median residual (deg), errors against the truth when
 //                          rig.json has it, ground-truth overlap, and the rig stage's use of it
