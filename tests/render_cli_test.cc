@@ -73,7 +73,7 @@ class RenderCli : public testing::Test {
   fs::path dir_, scene_;
 };
 
-TEST_F(RenderCli, OnChangesOnlyRgbAndRecordsTheDraws) {
+TEST_F(RenderCli, PhotometricOnChangesOnlyRgbAndRecordsTheDraws) {
   const CliResult off = Render("off", {});
   ASSERT_EQ(off.code, 0) << off.err;
   EXPECT_EQ(off.out.find("photometric differences"), std::string::npos) << off.out;
@@ -109,7 +109,7 @@ TEST_F(RenderCli, OnChangesOnlyRgbAndRecordsTheDraws) {
   EXPECT_EQ(v.at("cameras")[1].at("gain").get<double>(), 1.0);
 }
 
-TEST_F(RenderCli, BadMagnitudesAreRefusedBeforeWriting) {
+TEST_F(RenderCli, BadPhotometricMagnitudesAreRefusedBeforeWriting) {
   for (const auto& [option, value] : std::vector<std::pair<std::string, std::string>>{
            {"--vignetting", "1.5"}, {"--exposure-sigma", "-1"}, {"--read-noise", "abc"}, {"--shot-noise", "0.5"}}) {
     const CliResult r = Render("bad", {option, value});
@@ -118,7 +118,6 @@ TEST_F(RenderCli, BadMagnitudesAreRefusedBeforeWriting) {
     EXPECT_FALSE(fs::exists(dir_ / "bad"));
   }
 }
-
 
 TEST_F(RenderCli, RulesLabelAGltfWithoutClasses) {
   // The same wall, named but without extras.class.
