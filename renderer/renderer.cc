@@ -348,7 +348,7 @@ struct MeshData {
   // more than a third of the shading time in the street benchmark).
   struct TriangleShading {
     Eigen::Vector3f face_normal;  // unit (zero for degenerate triangles)
-    float uv_per_metre = 0.0f;    // sqrt(uv area / world area), for mip selection
+    float texels_per_metre = 0.0f;  // level-0 texels per metre on the surface, for mip selection
   };
   std::vector<TriangleShading> triangles;
   std::vector<std::array<Eigen::Vector2f, 3>> corner_texcoords;  // per triangle, when textured
@@ -624,7 +624,7 @@ struct Renderer::Impl {
       // Pixel footprint on the surface (major axis) against the triangle's texel density.
       const float cos_incidence = std::max(std::abs(ng.dot(dir)), 0.1f);
       const float footprint_m = hit.t * sample_angle / cos_incidence;
-      const float texels = footprint_m * m.triangles[hit.prim].uv_per_metre * m.texture->texel_scale;
+      const float texels = footprint_m * m.triangles[hit.prim].texels_per_metre;
       const float lod = texels > 0 ? FastLog2(texels) : 0.0f;
       base = base.cwiseProduct(SampleTexture(*m.texture, uv.x(), uv.y(), lod));
     }
@@ -794,7 +794,10 @@ void Renderer::Impl::BuildGeometry(const std::vector<SceneMesh>& scene_meshes) {
         const Eigen::Vector2f& t0 = mesh.texcoords[tri[0]];
         const Eigen::Vector2f e1 = mesh.texcoords[tri[1]] - t0;
         const Eigen::Vector2f e2 = mesh.texcoords[tri[2]] - t0;
-        if (area2 > 0) m.triangles[t].uv_per_metre = std::sqrt(std::abs(e1.x() * e2.y() - e1.y() * e2.x()) / area2);
+        if (area2 > 0 && m.texture != nullptr) {  // sqrt(uv area / world area) * texels per uv unit
+          m.triangles[t].texels_per_metre =
+              std::sqrt(std::abs(e1.x() * e2.y() - e1.y() * e2.x()) / area2) * m.texture->texel_scale;
+        }
         if (m.texture != nullptr) m.corner_texcoords[t] = {t0, mesh.texcoords[tri[1]], mesh.texcoords[tri[2]]};
       }
       for (int c = 0; c < 3 && !mesh.normals.empty() && !smooth; ++c) {
