@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
+#include <re2/re2.h>
 
 #include "labels/cityscapes.h"
 
@@ -112,13 +113,12 @@ LabelRules LabelRules::FromJsonText(const std::string& text, const std::string& 
     const LabelClass* c = FindClassByName(cls);
     if (!c) throw std::runtime_error(where + "unknown class '" + cls + "' (not a Cityscapes class name)");
     rule.class_id = c->id;
-    std::regex re;
+    std::shared_ptr<const re2::RE2> re;
     if (rule.is_regex) {
-      try {
-        re = std::regex(rule.pattern, std::regex::ECMAScript);
-      } catch (const std::regex_error& e) {
-        throw std::runtime_error(where + "bad regex '" + rule.pattern + "': " + e.what());
-      }
+      re2::RE2::Options options;
+      options.set_log_errors(false);  // the error goes into our message instead
+      re = std::make_shared<const re2::RE2>(rule.pattern, options);
+      if (!re->ok()) throw std::runtime_error(where + "bad regex '" + rule.pattern + "': " + re->error());
     }
     out.rules_.push_back(std::move(rule));
     out.regexes_.push_back(std::move(re));
@@ -136,7 +136,7 @@ LabelRules LabelRules::Read(const std::filesystem::path& path) {
 
 bool LabelRules::Matches(size_t i, const std::string& name) const {
   if (name.empty()) return false;
-  return rules_[i].is_regex ? std::regex_search(name, regexes_[i]) : GlobMatch(rules_[i].pattern, name);
+  return rules_[i].is_regex ? re2::RE2::PartialMatch(name, *regexes_[i]) : GlobMatch(rules_[i].pattern, name);
 }
 
 std::optional<size_t> LabelRules::Match(const Names& names) const {

@@ -10,8 +10,11 @@
 //  - `match` says which name is tested: "node" (the node carrying the mesh, then each of its
 //    ancestors, nearest first), "mesh" or "material" (of the primitive).
 //  - `glob` matches the whole name: `*` any run of characters, `?` one character, `[abc]` /
-//    `[a-z]` / `[!abc]` a character set; case-sensitive. `regex` is an ECMAScript regular
-//    expression searched anywhere in the name (anchor it with ^...$ to match the whole name).
+//    `[a-z]` / `[!abc]` a character set; case-sensitive. `regex` is a regular expression in RE2's
+//    syntax (Perl-like: classes, alternation, anchors, (?:...), repetition; no backreferences or
+//    lookaround) searched anywhere in the name (anchor it with ^...$ to match the whole name).
+//    RE2 matches in time linear in the name: a rules file cannot make loading hang, as
+//    std::regex's backtracking did on nested repetitions.
 //  - `class` is a Cityscapes class name (labels/cityscapes.h).
 //  - Rules are tried in file order; the first that matches decides. The loader consults them only
 //    for primitives without a class from extras (extras always win).
@@ -21,9 +24,13 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
-#include <regex>
+#include <memory>
 #include <string>
 #include <vector>
+
+namespace re2 {
+class RE2;
+}
 
 namespace rigsim {
 
@@ -63,7 +70,7 @@ class LabelRules {
 
   std::string source_;
   std::vector<LabelRule> rules_;
-  std::vector<std::regex> regexes_;  // one per rule (unused for globs)
+  std::vector<std::shared_ptr<const re2::RE2>> regexes_;  // one per rule (null for globs)
 };
 
 // Shell-style glob match of the whole `name` (see above). Exposed for tests and tools.

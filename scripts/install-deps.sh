@@ -15,6 +15,7 @@ packages=(
   nlohmann-json3-dev
   libcli11-dev
   libtbb-dev
+  libre2-dev                             # label-rule regexes in linear time (scenes/label_rules.h)
   libgtest-dev libgmock-dev
   libbenchmark-dev
   clang libclang-rt-14-dev               # fuzzing: clang and libFuzzer (libclang_rt.fuzzer), scripts/fuzz.sh
