@@ -324,6 +324,15 @@ TEST(RendererTest, TexcoordOriginIsTheImageTopLeft) {
   EXPECT_TRUE(IsBlue(ColourAt(view, camera, {0, 0.5, 3})));
 }
 
+// A 2 x 1 texture (red | blue) on a quad 3 m ahead spanning x in [-2, 2] and u in [0, 2]: u = 1
+// is at x = 0 and each unit of x is half a texture width.
+RenderedView RenderRedBlueOverTwoRepeats(const Camera& camera, WrapMode mode, bool nearest) {
+  Scene scene;
+  const int tex = AddTexture(scene, 2, 1, {{255, 0, 0, 255}, {0, 0, 255, 255}}, mode, nearest);
+  AddFrontQuad(scene, -2, 2, -1, 1, 3, kCar, 1, AddMaterial(scene, {1, 1, 1, 1}, tex), 2, 1);
+  return Renderer(scene).Render(camera, Rigid3d(), Opts());
+}
+
 TEST(RendererTest, WrapModes) {
   // A 2 x 1 texture (red | blue) over u in [0, 2]: four bands of half a texture-width each.
   struct Case {
@@ -333,11 +342,8 @@ TEST(RendererTest, WrapModes) {
   for (const Case& c : {Case{WrapMode::kRepeat, {true, false, true, false}},
                         Case{WrapMode::kClampToEdge, {true, false, false, false}},
                         Case{WrapMode::kMirroredRepeat, {true, false, false, true}}}) {
-    Scene scene;
-    const int tex = AddTexture(scene, 2, 1, {{255, 0, 0, 255}, {0, 0, 255, 255}}, c.mode, true);
-    AddFrontQuad(scene, -2, 2, -1, 1, 3, kCar, 1, AddMaterial(scene, {1, 1, 1, 1}, tex), 2, 1);
     const Camera camera = SmallPinhole();
-    const RenderedView view = Renderer(scene).Render(camera, Rigid3d(), Opts());
+    const RenderedView view = RenderRedBlueOverTwoRepeats(camera, c.mode, /*nearest=*/true);
     for (int band = 0; band < 4; ++band) {
       const auto colour = ColourAt(view, camera, {-1.5 + band, 0, 3});
       EXPECT_TRUE(c.red[band] ? IsRed(colour) : IsBlue(colour))
@@ -360,11 +366,8 @@ TEST(RendererTest, BilinearFilteringWrapsAcrossTheTextureEdgeAsTheSamplerSays) {
   };
   for (const Case& c : {Case{WrapMode::kRepeat, {true, true}}, Case{WrapMode::kClampToEdge, {false, false}},
                         Case{WrapMode::kMirroredRepeat, {false, true}}}) {
-    Scene scene;
-    const int tex = AddTexture(scene, 2, 1, {{255, 0, 0, 255}, {0, 0, 255, 255}}, c.mode, false);
-    AddFrontQuad(scene, -2, 2, -1, 1, 3, kCar, 1, AddMaterial(scene, {1, 1, 1, 1}, tex), 2, 1);
     const Camera camera = SmallPinhole();
-    const RenderedView view = Renderer(scene).Render(camera, Rigid3d(), Opts());
+    const RenderedView view = RenderRedBlueOverTwoRepeats(camera, c.mode, /*nearest=*/false);
     for (int i = 0; i < 2; ++i) {
       const auto colour = ColourAt(view, camera, {0.0 + i, 0, 3});  // u = 1 + i / 2
       EXPECT_TRUE(c.purple[i] ? is_purple(colour) : IsBlue(colour))
