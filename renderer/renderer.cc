@@ -353,7 +353,16 @@ struct MeshData {
   std::vector<TriangleShading> triangles;
   std::vector<std::array<Eigen::Vector2f, 3>> corner_texcoords;  // per triangle, when textured
   std::vector<std::array<Eigen::Vector3f, 3>> corner_normals;    // per triangle, only for smooth meshes
+  std::vector<std::array<Eigen::Vector4f, 3>> corner_colors;     // per triangle, only with COLOR_0
 };
+
+// The material's base colour at a hit, before its texture: the factor times the interpolated
+// vertex colour (COLOR_0) when the mesh has one.
+Eigen::Vector4f BaseColorAt(const MeshData& m, unsigned prim, float u, float v) {
+  if (m.corner_colors.empty()) return m.base_color;
+  const auto& cc = m.corner_colors[prim];
+  return m.base_color.cwiseProduct((1 - u - v) * cc[0] + u * cc[1] + v * cc[2]);
+}
 
 Eigen::Vector2f InterpolateTexcoord(const MeshData& m, unsigned prim, float u, float v) {
   const auto& tc = m.corner_texcoords[prim];
@@ -363,7 +372,7 @@ Eigen::Vector2f InterpolateTexcoord(const MeshData& m, unsigned prim, float u, f
 // Alpha of the material at a hit, tested at full resolution so that the cut-out does not depend
 // on distance.
 float AlphaAt(const MeshData& m, unsigned prim, float u, float v) {
-  float alpha = m.base_color[3];
+  float alpha = BaseColorAt(m, prim, u, v)[3];
   if (m.texture != nullptr) {
     const Eigen::Vector2f uv = InterpolateTexcoord(m, prim, u, v);
     alpha *= SampleTexture(*m.texture, uv.x(), uv.y(), 0.0f)[3];
@@ -633,7 +642,7 @@ struct Renderer::Impl {
     Eigen::Vector3f ng, n;
     SurfaceNormals(hit, r.dir, &ng, &n);
 
-    Eigen::Vector4f base = m.base_color;
+    Eigen::Vector4f base = BaseColorAt(m, hit.prim, hit.u, hit.v);
     if (m.texture != nullptr) {
       const Eigen::Vector2f uv = InterpolateTexcoord(m, hit.prim, hit.u, hit.v);
       // Pixel footprint on the surface (major axis) against the triangle's texel density.
@@ -776,6 +785,10 @@ void Renderer::Impl::BuildGeometry(const std::vector<SceneMesh>& scene_meshes) {
       throw std::invalid_argument(where + ": " + std::to_string(mesh.texcoords.size()) + " texcoords for " +
                                   std::to_string(mesh.positions.size()) + " positions");
     }
+    if (!mesh.colors.empty() && mesh.colors.size() != mesh.positions.size()) {
+      throw std::invalid_argument(where + ": " + std::to_string(mesh.colors.size()) + " vertex colours for " +
+                                  std::to_string(mesh.positions.size()) + " positions");
+    }
     if (mesh.material < -1 || mesh.material >= int(scene.materials.size())) {
       throw std::invalid_argument(where + ": material index " + std::to_string(mesh.material) + " out of range");
     }
@@ -824,6 +837,15 @@ void Renderer::Impl::BuildGeometry(const std::vector<SceneMesh>& scene_meshes) {
         const Eigen::Vector3f& vn = mesh.normals[tri[c]];
         const float len = vn.norm();
         smooth = !(len > 0 && std::abs(vn.dot(m.triangles[t].face_normal)) > (1.0f - 1e-6f) * len);
+      }
+    }
+    if (!mesh.colors.empty()) {
+      // glTF's default material is white: vertex colours on a mesh without one show as they are.
+      if (mesh.material < 0) m.base_color = Eigen::Vector4f::Ones();
+      m.corner_colors.resize(num_tris);
+      for (size_t t = 0; t < num_tris; ++t) {
+        const uint32_t* tri = &mesh.indices[3 * t];
+        m.corner_colors[t] = {mesh.colors[tri[0]], mesh.colors[tri[1]], mesh.colors[tri[2]]};
       }
     }
     if (smooth) {

@@ -498,6 +498,50 @@ TEST(RendererTest, AlphaMaskCutsOutGeometryInEveryOutput) {
   EXPECT_GT(view.rgb.at(rx, y, 0), 20);
 }
 
+// COLOR_0 (glTF 2.0) multiplies the base colour factor, is interpolated across the triangles, and
+// its alpha takes part in the MASK test; without a material the colours show as they are.
+TEST(RendererTest, VertexColoursMultiplyTheBaseColourAndTheirAlphaCutsOut) {
+  const Camera camera = SmallPinhole();
+  // Corners at x = -1 red, at x = 1 blue; `factor` < 0: no material.
+  auto render = [&](const Eigen::Vector4f& factor, const Eigen::Vector4f& red) {
+    Scene scene;
+    const int material = factor[0] < 0 ? -1 : AddMaterial(scene, factor);
+    const int quad = AddFrontQuad(scene, -1, 1, -1, 1, 3, kCar, 1, material);
+    const Eigen::Vector4f blue(0, 0, 1, 1);
+    scene.meshes[quad].colors = {red, blue, blue, red};
+    return Renderer(scene).Render(camera, Rigid3d(), Opts());
+  };
+  const Eigen::Vector4f red(1, 0, 0, 1);
+  const RenderedView view = render({1, 1, 1, 1}, red);
+  // Linear red / blue at x: (1 - x) / (1 + x), no green.
+  for (const double x : {-0.5, 0.0, 0.5}) {
+    const std::array<int, 3> c = ColourAt(view, camera, {x, 0, 3});
+    EXPECT_EQ(c[1], 0);
+    EXPECT_NEAR(LinearFromSrgbCode(uint8_t(c[0])) / LinearFromSrgbCode(uint8_t(c[2])), (1 - x) / (1 + x), 0.1 * (1 - x) / (1 + x))
+        << "x = " << x;
+  }
+  // No material: glTF's default is white, so the colours are not darkened by the default grey.
+  EXPECT_EQ(render({-1, 0, 0, 0}, red).rgb.data, view.rgb.data);
+  // The factor and the colour multiply: a factor of 0.5 in red on red corners is red corners of 0.5.
+  EXPECT_EQ(render({0.5f, 1, 1, 1}, red).rgb.data, render({1, 1, 1, 1}, {0.5f, 0, 0, 1}).rgb.data);
+  EXPECT_NE(render({0.5f, 1, 1, 1}, red).rgb.data, view.rgb.data);
+
+  // Alpha 0 at x = -1 and 1 at x = 1 under MASK (cutoff 0.5): the left half is cut out.
+  Scene scene;
+  const int mask = AddMaterial(scene, {1, 1, 1, 1});
+  scene.materials[mask].alpha_mode = AlphaMode::kMask;
+  scene.materials[mask].alpha_cutoff = 0.5f;
+  const int quad = AddFrontQuad(scene, -1, 1, -1, 1, 3, kCar, 4, mask);
+  scene.meshes[quad].colors = {{1, 1, 1, 0}, {1, 1, 1, 1}, {1, 1, 1, 1}, {1, 1, 1, 0}};
+  AddFrontQuad(scene, -50, 50, -50, 50, 6, kRoad, 7);
+  const RenderedView masked = Renderer(scene).Render(camera, Rigid3d(), Opts());
+  const Eigen::Vector2d left = *camera.ImgFromCam(Eigen::Vector3d(-0.5, 0, 3));
+  const Eigen::Vector2d right = *camera.ImgFromCam(Eigen::Vector3d(0.5, 0, 3));
+  const int y = int(std::lround(left.y()));
+  EXPECT_EQ(masked.label.at(int(std::lround(left.x())), y), kRoad);
+  EXPECT_EQ(masked.label.at(int(std::lround(right.x())), y), kCar);
+}
+
 // A camera 10 m above the origin looking straight down (+Z of the world at the image bottom).
 Rigid3d LookingDown(double height) {
   Eigen::Matrix3d world_from_cam;
@@ -642,6 +686,14 @@ TEST(RendererTest, OptionsAndSceneAreChecked) {
     FAIL() << "expected an exception";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("broken.glb"), std::string::npos) << e.what();
+  }
+  scene.meshes[0].indices = {0, 1, 2};
+  scene.meshes[0].colors = {Eigen::Vector4f::Ones()};  // one colour for four vertices
+  try {
+    Renderer renderer(scene);
+    FAIL() << "expected an exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("1 vertex colours for 4 positions"), std::string::npos) << e.what();
   }
 }
 

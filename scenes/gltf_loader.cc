@@ -797,7 +797,9 @@ class Loader {
         prim.material >= 0 && size_t(prim.material) < material_uv_.size() ? material_uv_[prim.material] : BaseColorUv{};
     const std::string texcoord_name = "TEXCOORD_" + std::to_string(uv_map.set);
     for (const auto& [name, acc] : prim.attributes) {
-      if (name != "POSITION" && name != "NORMAL" && name != texcoord_name) Ignore("vertex attribute " + name);
+      if (name != "POSITION" && name != "NORMAL" && name != texcoord_name && name != "COLOR_0") {
+        Ignore("vertex attribute " + name);
+      }
     }
     const auto pos_it = prim.attributes.find("POSITION");
     if (pos_it == prim.attributes.end()) {
@@ -880,6 +882,8 @@ class Loader {
       Ignore("textured primitives without their texture's " + texcoord_name + " (rendered untextured)");
     }
 
+    if (auto it = prim.attributes.find("COLOR_0"); it != prim.attributes.end()) ReadVertexColors(it->second, where, nverts, &out);
+
     // The vertex sequence the mode is applied to: the indices, or 0..n-1 when non-indexed.
     std::vector<uint32_t> seq;
     if (prim.indices >= 0) {
@@ -936,6 +940,30 @@ class Loader {
       ++unlabeled_meshes_;
     }
     scene_.meshes.push_back(std::move(out));
+  }
+
+  // COLOR_0 (glTF 2.0: VEC3 or VEC4 of float, or of normalized unsigned byte or short), linear
+  // RGBA with alpha 1 when it is VEC3.
+  void ReadVertexColors(int accessor, const std::string& where, size_t nverts, SceneMesh* out) {
+    const std::string label = "accessor " + std::to_string(accessor) + " (" + where + " COLOR_0)";
+    if (accessor < 0 || size_t(accessor) >= model_.accessors.size()) Fail(label + ": index out of range");
+    const tinygltf::Accessor& a = model_.accessors[accessor];
+    if (a.type != TINYGLTF_TYPE_VEC3 && a.type != TINYGLTF_TYPE_VEC4) Fail(label + ": type must be VEC3 or VEC4");
+    const bool normalized_integer = a.normalized && (a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                                                     a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+    if (a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT && !normalized_integer) {
+      Fail(label + ": componentType must be FLOAT, or normalized UNSIGNED_BYTE or UNSIGNED_SHORT");
+    }
+    size_t n = 0;
+    const std::vector<double> rgba = ReadAccessor(accessor, a.type, where + " COLOR_0", &n);
+    if (n != nverts) Fail(label + ": count differs from POSITION");
+    const int ncomp = a.type == TINYGLTF_TYPE_VEC4 ? 4 : 3;
+    out->colors.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+      Eigen::Vector4d c(rgba[ncomp * i], rgba[ncomp * i + 1], rgba[ncomp * i + 2], ncomp == 4 ? rgba[ncomp * i + 3] : 1.0);
+      if (!c.allFinite()) Fail(label + ": vertex " + std::to_string(i) + " is not finite");
+      out->colors[i] = c.cwiseMax(0.0).cwiseMin(1.0).cast<float>();  // the spec's range
+    }
   }
 
   void Summarise() {

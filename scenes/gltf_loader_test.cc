@@ -515,7 +515,7 @@ TEST(GltfLoader, LinesAndUnsupportedFeaturesAreWarnings) {
   const int pos = g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
   g.Mesh({{"POSITION", pos}}, -1, /*LINES=*/1);
   g.doc["meshes"][0]["name"] = "wires";
-  g.Mesh({{"POSITION", pos}, {"COLOR_0", pos}}, -1, 4);
+  g.Mesh({{"POSITION", pos}, {"COLOR_1", pos}}, -1, 4);
   g.doc["extensionsUsed"] = {"KHR_materials_unlit"};
   g.doc["cameras"] = json::array({{{"type", "perspective"}, {"perspective", {{"yfov", 1.0}, {"znear", 0.1}}}}});
   g.Node({{"mesh", 0}});
@@ -527,10 +527,48 @@ TEST(GltfLoader, LinesAndUnsupportedFeaturesAreWarnings) {
   EXPECT_TRUE(HasWarning(s, "KHR_materials_unlit"));
   EXPECT_EQ(s.cameras.size(), 1u) << "cameras are loaded (scenes/scene_cameras.h), not warned about";
   EXPECT_FALSE(HasWarning(s, "camera"));
-  EXPECT_TRUE(HasWarning(s, "vertex attribute COLOR_0"));
+  EXPECT_TRUE(HasWarning(s, "vertex attribute COLOR_1"));
   GltfLoadOptions strict;
   strict.warnings_are_errors = true;
   EXPECT_THROW(LoadGltf(dir / "lines.gltf", strict), std::runtime_error);
+}
+
+TEST(GltfLoader, VertexColoursAreReadAsLinearRgba) {
+  const auto dir = TempDir();
+  TestGltf g;
+  const int pos = g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+  // VEC3 float (alpha 1) on one mesh, VEC4 normalized unsigned byte on the other.
+  const int rgb = g.Accessor(std::vector<float>{1, 0, 0, 0, 0.5f, 0, 0, 0, 2}, kFloat, "VEC3", 3);
+  const int rgba = g.Accessor(std::vector<uint8_t>{255, 0, 0, 255, 0, 51, 0, 102, 0, 0, 255, 0}, kUByte, "VEC4", 3, true);
+  g.Mesh({{"POSITION", pos}, {"COLOR_0", rgb}});
+  g.Mesh({{"POSITION", pos}, {"COLOR_0", rgba}});
+  g.Node({{"mesh", 0}});
+  g.Node({{"mesh", 1}});
+  g.Scene({0, 1});
+  const Scene s = LoadGltf(g.Write(dir, "colours"));
+  ASSERT_EQ(s.meshes.size(), 2u);
+  ASSERT_EQ(s.meshes[0].colors.size(), 3u);
+  EXPECT_TRUE(s.meshes[0].colors[0].isApprox(Eigen::Vector4f(1, 0, 0, 1)));
+  EXPECT_TRUE(s.meshes[0].colors[1].isApprox(Eigen::Vector4f(0, 0.5f, 0, 1)));
+  EXPECT_TRUE(s.meshes[0].colors[2].isApprox(Eigen::Vector4f(0, 0, 1, 1))) << "clipped to the spec's [0, 1]";
+  ASSERT_EQ(s.meshes[1].colors.size(), 3u);
+  EXPECT_TRUE(s.meshes[1].colors[1].isApprox(Eigen::Vector4f(0, 0.2f, 0, 0.4f)));
+  EXPECT_TRUE(s.meshes[1].colors[2].isApprox(Eigen::Vector4f(0, 0, 1, 0)));
+  EXPECT_FALSE(HasWarning(s, "COLOR_0"));
+
+  TestGltf bad;
+  const int bad_pos = bad.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+  const int not_normalized = bad.Accessor(std::vector<uint8_t>{255, 0, 0, 0, 255, 0, 0, 0, 255, 0, 0, 0}, kUByte, "VEC3", 3);
+  const int too_few = bad.Accessor(std::vector<float>{1, 1, 1, 1, 1, 1}, kFloat, "VEC3", 2);
+  const int scalar = bad.Accessor(std::vector<float>{1, 1, 1}, kFloat, "SCALAR", 3);
+  bad.Node({{"mesh", bad.Mesh({{"POSITION", bad_pos}, {"COLOR_0", not_normalized}})}});
+  bad.Scene({0});
+  ExpectThrowsWith(bad.Write(dir, "not_normalized"),
+                   "COLOR_0): componentType must be FLOAT, or normalized UNSIGNED_BYTE or UNSIGNED_SHORT");
+  bad.doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = too_few;
+  ExpectThrowsWith(bad.Write(dir, "too_few"), "COLOR_0): count differs from POSITION");
+  bad.doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = scalar;
+  ExpectThrowsWith(bad.Write(dir, "scalar"), "COLOR_0): type must be VEC3 or VEC4");
 }
 
 TEST(GltfLoader, TruncatedGlbThrowsWithFileName) {

@@ -56,6 +56,9 @@ struct SceneMesh {
   // What the material's base colour texture samples: the TEXCOORD_n set it names (TEXCOORD_0
   // without a texture), with its KHR_texture_transform already applied; empty = none.
   std::vector<Eigen::Vector2f> texcoords;
+  // COLOR_0: linear RGBA per vertex, which multiplies the material's base colour (glTF 2.0);
+  // empty = none.
+  std::vector<Eigen::Vector4f> colors;
   std::vector<uint32_t> indices;           // 3 per triangle, into positions
   // Animated meshes only (a node on the path from the root to this mesh is animated): the glTF
   // node carrying the mesh (index into Scene::nodes) and the vertices in that node's frame, from

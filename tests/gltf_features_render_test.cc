@@ -1,7 +1,8 @@
 // glTF features checked through the renderer, from a file on disk to pixels:
 //  - a glTF camera used as a rig camera (scenes/scene_cameras.h) sees the file's view: a target on
 //    the camera's view axis lands at the principal point, glTF "up" is image up;
-//  - KHR_texture_transform changes what part of the texture a surface shows.
+//  - KHR_texture_transform changes what part of the texture a surface shows;
+//  - vertex colours (COLOR_0) colour a surface without a material or texture.
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -19,6 +20,7 @@
 
 #include "labels/cityscapes.h"
 #include "renderer/renderer.h"
+#include "renderer/srgb.h"
 #include "scenes/gltf_loader.h"
 #include "scenes/scene_cameras.h"
 #include "tests/data_uri.h"
@@ -55,17 +57,21 @@ struct QuadGltf {
   }
 
   // Corners in order around the quad; corner 0 gets uv (0, 0), 1 (1, 0), 2 (1, 1), 3 (0, 1).
-  void Quad(const std::array<Eigen::Vector3d, 4>& c, const std::string& cls, int material = -1) {
+  // `rgba`: COLOR_0 per corner (none when empty).
+  void Quad(const std::array<Eigen::Vector3d, 4>& c, const std::string& cls, int material = -1,
+            const std::vector<Eigen::Vector4f>& rgba = {}) {
     const int order[6] = {0, 1, 2, 0, 2, 3};
     const float uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-    std::vector<float> xyz, st;
+    std::vector<float> xyz, st, colours;
     for (int i : order) {
       for (int k = 0; k < 3; ++k) xyz.push_back(float(c[i][k]));
       st.push_back(uv[i][0]);
       st.push_back(uv[i][1]);
+      for (int k = 0; k < 4 && !rgba.empty(); ++k) colours.push_back(rgba[i][k]);
     }
     json attributes = {{"POSITION", View(xyz, "VEC3", 6)}};
     if (material >= 0) attributes["TEXCOORD_0"] = View(st, "VEC2", 6);
+    if (!rgba.empty()) attributes["COLOR_0"] = View(colours, "VEC4", 6);
     json prim = {{"attributes", attributes}, {"mode", 4}};
     if (material >= 0) prim["material"] = material;
     doc["meshes"].push_back({{"primitives", {prim}}});
@@ -217,6 +223,37 @@ TEST(GltfFeaturesRender, TextureTransformSelectsThePartOfTheTextureShown) {
   EXPECT_EQ(colour_at(2, 0.75, 0.5), 'R');
   EXPECT_EQ(colour_at(3, 0.5, 0.25), 'R') << "rotation by 90 deg: u' = v";
   EXPECT_EQ(colour_at(3, 0.5, 0.75), 'G') << "rotation by 90 deg: u' = v";
+}
+
+TEST(GltfFeaturesRender, VertexColoursColourASurfaceWithoutMaterial) {
+  // One square 5 m down -Z: red on its left edge, green on its right, no material.
+  QuadGltf g;
+  const Eigen::Vector4f red(1, 0, 0, 1), green(0, 1, 0, 1);
+  g.Quad({Eigen::Vector3d(-1, 1, -5), Eigen::Vector3d(1, 1, -5), Eigen::Vector3d(1, -1, -5), Eigen::Vector3d(-1, -1, -5)},
+         "wall", -1, {red, green, green, red});
+  const Scene scene = LoadGltf(g.Write(TempDir(), "vertex_colours"));
+  ASSERT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+
+  const Camera camera = Camera::PinholeFromHorizontalFov(100, 100, 60.0);
+  Eigen::Matrix3d cam_from_world_r;  // at the origin looking down world -Z, +Y up
+  cam_from_world_r << 1, 0, 0, 0, -1, 0, 0, 0, -1;
+  RenderOptions options;
+  options.shadows = false;
+  const RenderedView v = Renderer(scene).Render(camera, Rigid3d(cam_from_world_r, Eigen::Vector3d::Zero()), options);
+  auto rgb_at = [&](double x) {
+    const auto px = camera.ImgFromCam(cam_from_world_r * Eigen::Vector3d(x, 0, -5));
+    const int u = int(std::lround(px->x())), w = int(std::lround(px->y()));
+    EXPECT_EQ(v.label.at(u, w), ClassId("wall"));
+    return std::array<int, 3>{v.rgb.at(u, w, 0), v.rgb.at(u, w, 1), v.rgb.at(u, w, 2)};
+  };
+  const std::array<int, 3> left = rgb_at(-0.8), middle = rgb_at(0.0), right = rgb_at(0.8);
+  // In linear light, 0.8 of the way across is 9 parts of one colour to 1 of the other.
+  auto linear = [](int code) { return LinearFromSrgbCode(uint8_t(code)); };
+  EXPECT_NEAR(linear(left[0]) / linear(left[1]), 9.0, 1.0) << "red side";
+  EXPECT_NEAR(linear(right[1]) / linear(right[0]), 9.0, 1.0) << "green side";
+  EXPECT_NEAR(linear(middle[0]) / linear(middle[1]), 1.0, 0.1) << "half way (within a pixel): as much red as green";
+  EXPECT_EQ(left[2], 0);
+  EXPECT_EQ(right[2], 0);
 }
 
 }  // namespace

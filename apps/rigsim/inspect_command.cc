@@ -66,7 +66,9 @@ void PrintScene(const Scene& scene, const std::filesystem::path& path, const Lab
   std::printf("file        %s (%.1f MB)\n", path.string().c_str(), std::filesystem::file_size(path) / 1e6);
   if (rules) std::printf("label rules %s (%zu rules)\n", rules->source().c_str(), rules->rules().size());
   std::printf("nodes       %zu with geometry (one instance each)\n", instances.size());
-  std::printf("primitives  %zu\n", scene.meshes.size());
+  const size_t coloured = std::count_if(scene.meshes.begin(), scene.meshes.end(), [](const SceneMesh& m) { return !m.colors.empty(); });
+  std::printf("primitives  %zu%s\n", scene.meshes.size(),
+              coloured ? (" (" + std::to_string(coloured) + " with vertex colours)").c_str() : "");
   std::printf("triangles   %zu\n", scene.NumTriangles());
   std::map<std::string, int> alpha;
   for (const Material& m : scene.materials) ++alpha[AlphaName(m.alpha_mode)];

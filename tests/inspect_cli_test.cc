@@ -1,0 +1,82 @@
+// `rigsim inspect` through the built binary: what the loader understood of a file (counts, vertex
+// colours, classes, warnings), and a clear error naming a file it cannot read.
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "tests/data_uri.h"
+#include "tests/rigsim_cli.h"
+
+namespace rigsim {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+fs::path TempDir() {
+  const fs::path dir = fs::temp_directory_path() / "rigsim_inspect_cli_test" /
+                       testing::UnitTest::GetInstance()->current_test_info()->name();
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// One triangle of class `building` with COLOR_0, and one unclassified triangle with a TEXCOORD_1
+// nothing samples.
+fs::path WriteTwoTriangles(const fs::path& dir) {
+  const std::vector<float> floats = {0, 0, 0, 1, 0, 0, 0, 1, 0,                // positions
+                                     1, 0, 0, 1, 0, 1, 0, 1, 0, 0, 1, 1,    // COLOR_0 (VEC4)
+                                     0, 0, 1, 0, 0, 1};                     // TEXCOORD_1
+  std::vector<uint8_t> bin(floats.size() * 4);
+  std::memcpy(bin.data(), floats.data(), bin.size());
+  json accessors = json::array();
+  accessors.push_back({{"bufferView", 0}, {"componentType", 5126}, {"count", 3}, {"type", "VEC3"}});
+  accessors.push_back({{"bufferView", 0}, {"byteOffset", 36}, {"componentType", 5126}, {"count", 3}, {"type", "VEC4"}});
+  accessors.push_back({{"bufferView", 0}, {"byteOffset", 84}, {"componentType", 5126}, {"count", 3}, {"type", "VEC2"}});
+  json coloured = {{"attributes", {{"POSITION", 0}, {"COLOR_0", 1}}}};
+  json second_uv = {{"attributes", {{"POSITION", 0}, {"TEXCOORD_1", 2}}}};
+  json doc;
+  doc["asset"] = {{"version", "2.0"}};
+  doc["scene"] = 0;
+  doc["scenes"] = json::array({{{"nodes", {0, 1}}}});
+  doc["nodes"] = json::array({{{"name", "house"}, {"mesh", 0}, {"extras", {{"class", "building"}}}}, {{"mesh", 1}}});
+  doc["meshes"] = json::array({{{"primitives", json::array({coloured})}}, {{"primitives", json::array({second_uv})}}});
+  doc["accessors"] = accessors;
+  doc["bufferViews"] = json::array({{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", bin.size()}}});
+  doc["buffers"] = json::array({{{"byteLength", bin.size()}, {"uri", DataUri("application/octet-stream", bin)}}});
+  const fs::path path = dir / "two.gltf";
+  std::ofstream(path) << doc.dump();
+  return path;
+}
+
+TEST(InspectCli, ReportsWhatTheLoaderUnderstood) {
+  const fs::path dir = TempDir();
+  const CliResult r = RunRigsim({"inspect", WriteTwoTriangles(dir).string()}, dir / "rigsim");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("primitives  2 (1 with vertex colours)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("triangles   2"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("building"), std::string::npos) << r.out;
+  // The unsupported attribute and the unclassified triangle are named.
+  EXPECT_NE((r.out + r.err).find("TEXCOORD_1"), std::string::npos) << r.out << r.err;
+  EXPECT_NE((r.out + r.err).find("1 triangles in 1 primitive(s) have no class"), std::string::npos) << r.out << r.err;
+}
+
+TEST(InspectCli, AnUnreadableFileIsAnErrorNamingIt) {
+  const fs::path dir = TempDir();
+  const fs::path bad = dir / "broken.gltf";
+  std::ofstream(bad) << "{ \"asset\": { \"version\": \"2.0\" }, \"meshes\": [";
+  const CliResult r = RunRigsim({"inspect", bad.string()}, dir / "rigsim");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find(bad.string()), std::string::npos) << r.err;
+  const CliResult missing = RunRigsim({"inspect", (dir / "missing.glb").string()}, dir / "rigsim_missing");
+  EXPECT_NE(missing.code, 0);
+  EXPECT_NE(missing.err.find("missing.glb"), std::string::npos) << missing.err;
+}
+
+}  // namespace
+}  // namespace rigsim
