@@ -343,6 +343,7 @@ struct MeshData {
   const MipTexture* texture = nullptr;  // nullptr: no texture or no texcoords
   bool alpha_tested = false;
   float alpha_cutoff = 0.5f;
+  bool unlit = false;  // KHR_materials_unlit: no sun, no sky, no shadow ray
   // Per-triangle shading data, copied out of the indexed mesh so that shading a hit reads one or
   // two cache lines instead of chasing the index buffer into three vertex arrays (that chase cost
   // more than a third of the shading time in the street benchmark).
@@ -653,6 +654,11 @@ struct Renderer::Impl {
       base = base.cwiseProduct(SampleTexture(*m.texture, uv.x(), uv.y(), lod));
     }
     r.albedo = base.head<3>();
+    if (m.unlit) {  // as the Khronos viewer shows it: the colour itself, at exposure 1 white is white
+      r.light = 1.0f;
+      r.sun_ray = false;
+      return;
+    }
 
     const float up = std::clamp(n.y(), -1.0f, 1.0f);
     r.light = p.sky_intensity * (0.5f * (1 + up) + kGroundBounce * 0.5f * (1 - up));
@@ -811,6 +817,7 @@ void Renderer::Impl::BuildGeometry(const std::vector<SceneMesh>& scene_meshes) {
       // fully transparent texels (foliage cards, fences) from occluding.
       m.alpha_tested = material.alpha_mode != AlphaMode::kOpaque;
       m.alpha_cutoff = material.alpha_cutoff;
+      m.unlit = material.unlit;
     }
 
     const size_t num_tris = mesh.indices.size() / 3;
@@ -1071,11 +1078,13 @@ TraceOnlyStats Renderer::TraceOnlyForBenchmark(const Camera& camera, const Rigid
       std::vector<Ray> row_shadow_rays;
       const int x_begin = (tile % tiles_x) * kTileSize, y_begin = (tile / tiles_x) * kTileSize;
       const int x_end = std::min(width, x_begin + kTileSize), y_end = std::min(height, y_begin + kTileSize);
-      auto shaded = [&](const Eigen::Vector3f& dir, const Hit& h) {
+      auto shaded = [&](const Eigen::Vector3f& dir, const Hit& h) {  // Render's decision, by Render's code
         if (!h.hit || !shade.shadows) return;
-        Eigen::Vector3f ng, n;
-        impl.SurfaceNormals(h, dir, &ng, &n);
-        if (Impl::NeedsSunRay(ng, n, shade)) row_shadow_rays.push_back({Impl::ShadowRayOrigin(h, origin, dir, ng), true});
+        SampleRecord r;
+        r.hit = h;
+        r.dir = dir;
+        impl.ShadeWithoutShadow(r, origin, shade);
+        if (r.sun_ray) row_shadow_rays.push_back({r.shadow_origin, true});
       };
       for (int y = y_begin; y < y_end; ++y) {
         row_shadow_rays.clear();

@@ -542,6 +542,30 @@ TEST(RendererTest, VertexColoursMultiplyTheBaseColourAndTheirAlphaCutsOut) {
   EXPECT_EQ(masked.label.at(int(std::lround(right.x())), y), kCar);
 }
 
+// KHR_materials_unlit: the base colour is the pixel's linear value, whatever the sun, the sky, the
+// surface's orientation or a shadow; the same material lit is shaded.
+TEST(RendererTest, UnlitMaterialsShowTheirBaseColour) {
+  for (const bool unlit : {true, false}) {
+    Scene scene;
+    const int grey = AddMaterial(scene, {0.5f, 0.25f, 0.125f, 1});
+    scene.materials[grey].unlit = unlit;
+    AddFrontQuad(scene, -1, 1, -1, 1, 3, kCar, 1, grey);
+    // An occluder between the quad and the sun (which shines from behind the camera, above).
+    AddQuad(scene, {-3, -4, 0}, {3, -4, 0}, {3, -4, 6}, {-3, -4, 6}, kRoad, 2);
+    RenderOptions options = Opts();
+    options.sun_direction_world = Eigen::Vector3d(0, -1, -0.3);
+    const Camera camera = SmallPinhole();
+    const RenderedView view = Renderer(scene).Render(camera, Rigid3d(), options);
+    const std::array<int, 3> c = ColourAt(view, camera, {0, 0, 3});
+    const std::array<int, 3> expected = {SrgbCodeFromLinear(0.5f), SrgbCodeFromLinear(0.25f), SrgbCodeFromLinear(0.125f)};
+    if (unlit) {
+      EXPECT_EQ(c, expected);
+    } else {
+      EXPECT_NE(c, expected);
+    }
+  }
+}
+
 // A camera 10 m above the origin looking straight down (+Z of the world at the image bottom).
 Rigid3d LookingDown(double height) {
   Eigen::Matrix3d world_from_cam;

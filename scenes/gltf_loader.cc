@@ -196,7 +196,9 @@ WrapMode ToWrap(int gl) {
 
 // Extensions whose content we fully honour; everything else in extensionsRequired is fatal.
 // KHR_texture_transform is honoured on baseColorTexture, the only texture rigsim renders.
-bool SupportedExtension(const std::string& name) { return name == "KHR_mesh_quantization" || name == "KHR_texture_transform"; }
+bool SupportedExtension(const std::string& name) {
+  return name == "KHR_mesh_quantization" || name == "KHR_texture_transform" || name == "KHR_materials_unlit";
+}
 
 // The texture coordinates a material's base colour texture samples: the TEXCOORD_<set> attribute,
 // mapped by KHR_texture_transform (identity without it). Baked into SceneMesh::texcoords, which
@@ -333,7 +335,13 @@ class Loader {
       if (m.normalTexture.index >= 0) Ignore("normalTexture (materials)");
       if (m.occlusionTexture.index >= 0) Ignore("occlusionTexture (materials)");
       if (m.emissiveTexture.index >= 0) Ignore("emissiveTexture (materials)");
-      for (const auto& [name, value] : m.extensions) Ignore("material extension " + name);
+      for (const auto& [name, value] : m.extensions) {
+        if (name == "KHR_materials_unlit") {
+          out.unlit = true;
+        } else {
+          Ignore("material extension " + name);
+        }
+      }
       scene_.materials.push_back(std::move(out));
     }
   }

@@ -412,6 +412,24 @@ TEST(GltfLoader, ImagesAreCheckedBeforeDecoding) {
   }
 }
 
+TEST(GltfLoader, UnlitMaterialsAreMarked) {
+  const auto dir = TempDir();
+  TestGltf g;
+  const int pos = g.Positions(kQuad);
+  g.doc["extensionsUsed"] = {"KHR_materials_unlit"};
+  g.doc["extensionsRequired"] = {"KHR_materials_unlit"};  // honoured, so not refused
+  g.doc["materials"] = json::array({{{"name", "lit"}},
+                                    {{"name", "flat"}, {"extensions", {{"KHR_materials_unlit", json::object()}}}}});
+  g.Node({{"mesh", g.Mesh({{"POSITION", pos}}, -1, 6, 0)}});
+  g.Node({{"mesh", g.Mesh({{"POSITION", pos}}, -1, 6, 1)}});
+  g.Scene({0, 1});
+  const Scene s = LoadGltf(g.Write(dir, "unlit"));
+  ASSERT_EQ(s.materials.size(), 2u);
+  EXPECT_FALSE(s.materials[0].unlit);
+  EXPECT_TRUE(s.materials[1].unlit);
+  EXPECT_FALSE(HasWarning(s, "unlit"));
+}
+
 TEST(GltfLoader, TextureTransformIsBakedIntoTexcoords) {
   const auto dir = TempDir();
   TestGltf g;
@@ -516,7 +534,7 @@ TEST(GltfLoader, LinesAndUnsupportedFeaturesAreWarnings) {
   g.Mesh({{"POSITION", pos}}, -1, /*LINES=*/1);
   g.doc["meshes"][0]["name"] = "wires";
   g.Mesh({{"POSITION", pos}, {"COLOR_1", pos}}, -1, 4);
-  g.doc["extensionsUsed"] = {"KHR_materials_unlit"};
+  g.doc["extensionsUsed"] = {"KHR_materials_clearcoat"};
   g.doc["cameras"] = json::array({{{"type", "perspective"}, {"perspective", {{"yfov", 1.0}, {"znear", 0.1}}}}});
   g.Node({{"mesh", 0}});
   g.Node({{"mesh", 1}, {"camera", 0}});
@@ -524,7 +542,7 @@ TEST(GltfLoader, LinesAndUnsupportedFeaturesAreWarnings) {
   const Scene s = LoadGltf(g.Write(dir, "lines"));
   EXPECT_EQ(s.meshes.size(), 1u);
   EXPECT_TRUE(HasWarning(s, "mesh 0 'wires' primitive 0: lines primitive"));
-  EXPECT_TRUE(HasWarning(s, "KHR_materials_unlit"));
+  EXPECT_TRUE(HasWarning(s, "KHR_materials_clearcoat"));
   EXPECT_EQ(s.cameras.size(), 1u) << "cameras are loaded (scenes/scene_cameras.h), not warned about";
   EXPECT_FALSE(HasWarning(s, "camera"));
   EXPECT_TRUE(HasWarning(s, "vertex attribute COLOR_1"));

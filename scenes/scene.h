@@ -44,6 +44,7 @@ struct Material {
   AlphaMode alpha_mode = AlphaMode::kOpaque;
   float alpha_cutoff = 0.5f;
   bool double_sided = false;
+  bool unlit = false;  // KHR_materials_unlit: the base colour is what the camera sees
 };
 
 struct SceneMesh {

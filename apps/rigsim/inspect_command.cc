@@ -72,6 +72,8 @@ void PrintScene(const Scene& scene, const std::filesystem::path& path, const Lab
   std::printf("triangles   %zu\n", scene.NumTriangles());
   std::map<std::string, int> alpha;
   for (const Material& m : scene.materials) ++alpha[AlphaName(m.alpha_mode)];
+  const size_t unlit = std::count_if(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.unlit; });
+  if (unlit) alpha["unlit"] = int(unlit);
   std::string alpha_text;
   for (const auto& [mode, n] : alpha) alpha_text += (alpha_text.empty() ? "" : ", ") + std::to_string(n) + " " + mode;
   std::printf("materials   %zu%s\n", scene.materials.size(), alpha_text.empty() ? "" : (" (" + alpha_text + ")").c_str());
