@@ -31,6 +31,11 @@ namespace rigsim {
 namespace {
 
 constexpr int kTileSize = 32;
+// A tile row is shaded in batches of pixels of at most this many samples together (at least one
+// pixel): a whole row up to 32 spp, and a bounded buffer at any spp.
+constexpr int kMaxBatchSamples = 1024;
+
+int PixelsPerBatch(int spp) { return std::clamp(kMaxBatchSamples / spp, 1, kTileSize); }
 
 
 // ---------------------------------------------------------------------------------------------
@@ -941,92 +946,95 @@ RenderedView Renderer::Render(const Camera& camera, const Rigid3d& cam_from_worl
     tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const tbb::blocked_range<int>& tiles) {
       std::vector<int> rooks(grid > 0 ? 0 : spp);
       std::vector<SampleRecord> records;
-      records.reserve(size_t(kTileSize) * spp);
+      const int batch_pixels = PixelsPerBatch(spp);
+      records.reserve(size_t(batch_pixels) * spp);
       TileOutputs out;
       for (int tile = tiles.begin(); tile < tiles.end(); ++tile) {
         const int x_begin = (tile % tiles_x) * kTileSize, y_begin = (tile / tiles_x) * kTileSize;
         const int x_end = std::min(width, x_begin + kTileSize), y_end = std::min(height, y_begin + kTileSize);
         for (int y = y_begin; y < y_end; ++y) {
-          // 1. Camera rays: label, instance and depth from the pixel centre's ray; the rays that
-          //    make the colour (the centre's at 1 spp) queued in pixel order.
-          records.clear();
-          for (int x = x_begin; x < x_end; ++x) {
-            const size_t idx = size_t(y) * width + x;
-            const int pixel = (y - y_begin) * kTileSize + (x - x_begin);
-            if (!centres.valid[idx]) {
-              out.SetInvalid(pixel);
-              continue;
-            }
-            const Eigen::Vector3f dir = world_from_cam_f * centres.bearings[idx];
-            const float pixel_angle = centres.angle[idx];
+          for (int batch_begin = x_begin; batch_begin < x_end; batch_begin += batch_pixels) {
+            // 1. Camera rays: label, instance and depth from the pixel centre's ray; the rays that
+            //    make the colour (the centre's at 1 spp) queued in pixel order.
+            records.clear();
+            for (int x = batch_begin; x < std::min(x_end, batch_begin + batch_pixels); ++x) {
+              const size_t idx = size_t(y) * width + x;
+              const int pixel = (y - y_begin) * kTileSize + (x - x_begin);
+              if (!centres.valid[idx]) {
+                out.SetInvalid(pixel);
+                continue;
+              }
+              const Eigen::Vector3f dir = world_from_cam_f * centres.bearings[idx];
+              const float pixel_angle = centres.angle[idx];
 
-            // At 1 spp the centre's ray is the colour's too: traced straight into its record.
-            const size_t first = records.size();
-            Hit centre_own;
-            Hit* centre_ptr = &centre_own;
-            if (spp == 1) {
-              SampleRecord& r = records.emplace_back();  // no reallocation: capacity kTileSize * spp
-              r.dir = dir;
-              r.angle = pixel_angle;
-              r.pixel = pixel;
-              centre_ptr = &r.hit;
-            }
-            const Hit& centre = *centre_ptr;
-            impl.Trace(origin, dir, *centre_ptr);
-            if (centre.hit) {
-              const MeshData& m = impl.meshes[centre.geom];
-              out.label[pixel] = m.class_id;
-              out.instance[pixel] = m.instance_id;
-              out.range[pixel] = centre.t;
-            } else {
-              out.label[pixel] = kSkyId;
-              out.instance[pixel] = 0;
-              out.range[pixel] = 0.0f;
-            }
+              // At 1 spp the centre's ray is the colour's too: traced straight into its record.
+              const size_t first = records.size();
+              Hit centre_own;
+              Hit* centre_ptr = &centre_own;
+              if (spp == 1) {
+                SampleRecord& r = records.emplace_back();  // no reallocation: capacity batch_pixels * spp
+                r.dir = dir;
+                r.angle = pixel_angle;
+                r.pixel = pixel;
+                centre_ptr = &r.hit;
+              }
+              const Hit& centre = *centre_ptr;
+              impl.Trace(origin, dir, *centre_ptr);
+              if (centre.hit) {
+                const MeshData& m = impl.meshes[centre.geom];
+                out.label[pixel] = m.class_id;
+                out.instance[pixel] = m.instance_id;
+                out.range[pixel] = centre.t;
+              } else {
+                out.label[pixel] = kSkyId;
+                out.instance[pixel] = 0;
+                out.range[pixel] = 0.0f;
+              }
 
-            if (spp > 1) {
-              if (grid == 0) {  // n-rooks: a per-pixel random permutation of the y strata
-                for (int i = 0; i < spp; ++i) rooks[i] = i;
-                for (int i = spp - 1; i > 0; --i) {
-                  const int j = int(HashSample(options.seed, x, y, i, 2) % uint64_t(i + 1));
-                  std::swap(rooks[i], rooks[j]);
+              if (spp > 1) {
+                if (grid == 0) {  // n-rooks: a per-pixel random permutation of the y strata
+                  for (int i = 0; i < spp; ++i) rooks[i] = i;
+                  for (int i = spp - 1; i > 0; --i) {
+                    const int j = int(HashSample(options.seed, x, y, i, 2) % uint64_t(i + 1));
+                    std::swap(rooks[i], rooks[j]);
+                  }
+                }
+                const float sample_angle = pixel_angle / std::sqrt(float(spp));
+                for (int s = 0; s < spp; ++s) {
+                  const Eigen::Vector2d offset = SampleOffset(options.seed, x, y, s, spp, grid, rooks);
+                  const auto sample_bearing = camera.CamFromImg(Eigen::Vector2d(x, y) + offset);
+                  if (!sample_bearing) continue;  // part of the pixel lies outside the lens
+                  SampleRecord& r = records.emplace_back();
+                  r.dir = to_world(*sample_bearing);
+                  impl.Trace(origin, r.dir, r.hit);
+                  r.angle = sample_angle;
+                  r.pixel = pixel;
                 }
               }
-              const float sample_angle = pixel_angle / std::sqrt(float(spp));
-              for (int s = 0; s < spp; ++s) {
-                const Eigen::Vector2d offset = SampleOffset(options.seed, x, y, s, spp, grid, rooks);
-                const auto sample_bearing = camera.CamFromImg(Eigen::Vector2d(x, y) + offset);
-                if (!sample_bearing) continue;  // part of the pixel lies outside the lens
+              if (records.size() == first) {  // every sample outside the lens
                 SampleRecord& r = records.emplace_back();
-                r.dir = to_world(*sample_bearing);
-                impl.Trace(origin, r.dir, r.hit);
-                r.angle = sample_angle;
+                r.hit = centre;
+                r.dir = dir;
+                r.angle = pixel_angle;
                 r.pixel = pixel;
               }
             }
-            if (records.size() == first) {  // every sample outside the lens
-              SampleRecord& r = records.emplace_back();
-              r.hit = centre;
-              r.dir = dir;
-              r.angle = pixel_angle;
-              r.pixel = pixel;
+            // 2. Shading without the sun: no rays traced, so the hits' work can overlap.
+            for (SampleRecord& r : records) {
+              if (r.hit.hit) impl.ShadeWithoutShadow(r, origin, shade);
             }
-          }
-          // 2. Shading without the sun: no rays traced, so the hits' work can overlap.
-          for (SampleRecord& r : records) {
-            if (r.hit.hit) impl.ShadeWithoutShadow(r, origin, shade);
-          }
-          // 3. Shadow rays, then each pixel's colour: the mean of its samples.
-          for (size_t i = 0; i < records.size();) {
-            const int pixel = records[i].pixel;
-            Eigen::Vector3f radiance = Eigen::Vector3f::Zero();
-            int num_samples = 0;
-            for (; i < records.size() && records[i].pixel == pixel; ++i, ++num_samples) {
-              SampleRecord& r = records[i];
-              radiance += r.hit.hit ? impl.FinishShading(r, shade) : SkyRadiance(r.dir, shade);
+            // 3. Shadow rays, then each pixel's colour: the mean of its samples.
+            for (size_t i = 0; i < records.size();) {
+              const int pixel = records[i].pixel;
+              Eigen::Vector3f radiance = Eigen::Vector3f::Zero();
+              int num_samples = 0;
+              for (; i < records.size() && records[i].pixel == pixel; ++i, ++num_samples) {
+                SampleRecord& r = records[i];
+                radiance += r.hit.hit ? impl.FinishShading(r, shade) : SkyRadiance(r.dir, shade);
+              }
+              radiance *= exposure / float(num_samples);
+              for (int c = 0; c < 3; ++c) out.rgb[3 * pixel + c] = SrgbCodeFromLinear(radiance[c], srgb);
             }
-            radiance *= exposure / float(num_samples);
-            for (int c = 0; c < 3; ++c) out.rgb[3 * pixel + c] = SrgbCodeFromLinear(radiance[c], srgb);
           }
         }
         out.CopyTo(view, x_begin, y_begin, x_end - x_begin, y_end - y_begin);
@@ -1058,8 +1066,8 @@ TraceOnlyStats Renderer::TraceOnlyForBenchmark(const Camera& camera, const Rigid
   int grid = int(std::lround(std::sqrt(double(spp))));
   if (grid * grid != spp) grid = 0;
 
-  // Rays per tile, in Render's order: row by row, each pixel's centre ray and sample rays, then
-  // the row's shadow rays.
+  // Rays per tile, in Render's order: row by row and batch by batch (PixelsPerBatch), each pixel's
+  // centre ray and sample rays, then the batch's shadow rays.
   struct Ray {
     Eigen::Vector3f vector;  // a camera ray's direction, or a shadow ray's origin
     bool shadow;
@@ -1075,7 +1083,7 @@ TraceOnlyStats Renderer::TraceOnlyForBenchmark(const Camera& camera, const Rigid
     const PixelCentreRays& centres = *centres_ptr;
     tbb::parallel_for(0, num_tiles, [&](int tile) {
       std::vector<int> rooks(grid > 0 ? 0 : spp);
-      std::vector<Ray> row_shadow_rays;
+      std::vector<Ray> batch_shadow_rays;
       const int x_begin = (tile % tiles_x) * kTileSize, y_begin = (tile / tiles_x) * kTileSize;
       const int x_end = std::min(width, x_begin + kTileSize), y_end = std::min(height, y_begin + kTileSize);
       auto shaded = [&](const Eigen::Vector3f& dir, const Hit& h) {  // Render's decision, by Render's code
@@ -1084,11 +1092,15 @@ TraceOnlyStats Renderer::TraceOnlyForBenchmark(const Camera& camera, const Rigid
         r.hit = h;
         r.dir = dir;
         impl.ShadeWithoutShadow(r, origin, shade);
-        if (r.sun_ray) row_shadow_rays.push_back({r.shadow_origin, true});
+        if (r.sun_ray) batch_shadow_rays.push_back({r.shadow_origin, true});
       };
+      const int batch_pixels = PixelsPerBatch(spp);
       for (int y = y_begin; y < y_end; ++y) {
-        row_shadow_rays.clear();
         for (int x = x_begin; x < x_end; ++x) {
+          if ((x - x_begin) % batch_pixels == 0) {  // a new batch: the last one's shadow rays first
+            rays[tile].insert(rays[tile].end(), batch_shadow_rays.begin(), batch_shadow_rays.end());
+            batch_shadow_rays.clear();
+          }
           const size_t idx = size_t(y) * width + x;
           if (!centres.valid[idx]) continue;
           const Eigen::Vector3f dir = world_from_cam_f * centres.bearings[idx];
@@ -1117,8 +1129,8 @@ TraceOnlyStats Renderer::TraceOnlyForBenchmark(const Camera& camera, const Rigid
           }
           if (num_samples == 0) shaded(dir, centre);
         }
-        rays[tile].insert(rays[tile].end(), row_shadow_rays.begin(), row_shadow_rays.end());
       }
+      rays[tile].insert(rays[tile].end(), batch_shadow_rays.begin(), batch_shadow_rays.end());
     });
   });
 
