@@ -24,6 +24,9 @@ void WriteTyped(const fs::path& path, const Image<T>& image, OIIO::TypeDesc type
   if (!out) throw std::runtime_error(path.string() + ": no image writer for this extension: " + OIIO::geterror());
   OIIO::ImageSpec spec(image.width, image.height, image.channels, type);
   if (type == OIIO::TypeDesc::FLOAT) spec.attribute("compression", "zip");
+  // PNG at zlib's fastest level: a rendered 1280x720 RGB image is written in 51 ms instead of
+  // 170 ms at OpenImageIO's default 6, for files 17% larger (labels and instances barely change).
+  if (type != OIIO::TypeDesc::FLOAT) spec.attribute("png:compressionLevel", 1);
   // OpenImageIO stamps EXR files with the current time (capDate) unless told otherwise: the same
   // render a second later would differ in bytes. An empty date keeps output deterministic.
   spec.attribute("DateTime", "");
