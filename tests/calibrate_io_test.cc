@@ -236,6 +236,20 @@ TEST_F(CalibrateIo, WritesEveryExportAndPairStatisticsPerMode) {
     EXPECT_LT(AngleBetweenDeg(motion, true_motion), 3.0) << motion.transpose() << " vs " << true_motion.transpose();
     EXPECT_NEAR(motion.norm() * true_unit, true_motion.norm(), 0.1 * true_motion.norm());
 
+    // rig_topdown.svg: every camera's true centre, an estimated one for the three calibrated, and
+    // it is listed among the outputs.
+    const std::string svg = ReadAll(dir / "rig_topdown.svg");
+    EXPECT_EQ(svg.rfind("<svg", 0), 0u);
+    for (const RigCamera& rc : rig.cameras) {
+      EXPECT_NE(svg.find("class=\"truth\" data-camera=\"" + rc.name + "\""), std::string::npos) << rc.name;
+      EXPECT_EQ(svg.find("class=\"estimate\" data-camera=\"" + rc.name + "\"") != std::string::npos,
+                rc.cam_from_rig.has_value())
+          << rc.name;
+    }
+    EXPECT_TRUE(evaluation["methods"][mode]["rig"]["summary"]["max_rotation_error_deg"].is_number());
+    const json files = evaluation["methods"][mode]["outputs"]["files"];
+    EXPECT_NE(std::find(files.begin(), files.end(), "rig_topdown.svg"), files.end()) << files.dump();
+
     // pairs.json: all 6 pairs, with type, counts, residuals and errors against the truth.
     const json pairs = ReadJson(dir / "pairs.json");
     EXPECT_EQ(pairs["semantic_mode"], mode);
@@ -272,9 +286,32 @@ TEST_F(CalibrateIo, WritesEveryExportAndPairStatisticsPerMode) {
     EXPECT_EQ(outputs["cameras_omitted"][0]["name"], "back");
     EXPECT_EQ(outputs["cameras_omitted"][0]["status"].get<std::string>().rfind("not connected", 0), 0u);
     for (const json& f : outputs["files"]) EXPECT_TRUE(fs::exists(dir / f.get<std::string>())) << f;
-    EXPECT_EQ(outputs["files"].size(), 7u);
+    EXPECT_EQ(outputs["files"].size(), 8u);
   }
   EXPECT_TRUE(StagingFolders(out).empty());
+}
+
+// Real photos: rig.json with intrinsics only, the images and nothing else. The plot shows the
+// estimate alone, in the units of a result without metric scale.
+TEST_F(CalibrateIo, PhotosWithoutTruthCalibrateAndPlotTheEstimateAlone) {
+  const fs::path photos = dir_ / "photos";
+  fs::create_directories(photos);
+  fs::copy(dataset() / "images", photos / "images", fs::copy_options::recursive);
+  Rig rig = ReadRig(dataset() / "rig.json");
+  for (RigCamera& rc : rig.cameras) rc.cam_from_rig.reset();
+  WriteRig(rig, photos / "rig.json");
+  const fs::path out = dir_ / "out";
+  const CliResult r = RunRigsim({"calibrate", photos.string(), "--out", out.string(), "--semantics", "none", "--threads", "2"},
+                                dir_ / "run");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string svg = ReadAll(out / "none" / "rig_topdown.svg");
+  EXPECT_EQ(svg.find("class=\"truth\""), std::string::npos);
+  for (const std::string name : {"cam0", "cam1", "cam2"}) {
+    EXPECT_NE(svg.find("class=\"estimate\" data-camera=\"" + name + "\""), std::string::npos) << name << svg;
+  }
+  EXPECT_NE(svg.find(" units</text>"), std::string::npos);
+  EXPECT_TRUE(ReadJson(out / "evaluation.json")["methods"]["none"]["rig"]["summary"]["max_rotation_error_deg"].is_null())
+      << "no truth: nothing compared";
 }
 
 TEST_F(CalibrateIo, UserLabelsInIdsAndInColoursGiveIdenticalResults) {

@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <optional>
 
 #include "apps/rigsim/report_table.h"
 #include "dataset/dataset.h"
 #include "exports/colmap.h"
 #include "exports/kalibr.h"
 #include "exports/opencv_yaml.h"
+#include "exports/rig_plot.h"
 #include "geometry/camera_validation.h"
 #include "geometry/json_io.h"
 
@@ -214,9 +216,10 @@ json_io::Json PairsJson(const json_io::Json& method, const std::string& mode, co
 // The exports of one mode's estimate (the writers of `rigsim export`): camchain.yaml, opencv.yaml
 // and colmap/, of the cameras with a full pose only. COLMAP gets the images of every frame with a
 // rig pose, cam_from_world = cam_from_rig * rig_from_world, in the calibration's world (the rig
-// frame at frame 0). Returns the "outputs" record.
-json_io::Json WriteExports(const RigCalibrationResult& r, const DatasetLayout& layout, const FramesFile& frames,
-                           const fs::path& dir) {
+// frame at frame 0). And rig_topdown.svg, the estimate against `truth` (when known) seen from
+// above. Returns the "outputs" record.
+json_io::Json WriteExports(const RigCalibrationResult& r, const std::optional<Rig>& truth, const DatasetLayout& layout,
+                           const FramesFile& frames, const fs::path& dir) {
   Rig calibrated;
   json_io::Json exported = json_io::Json::array(), omitted = json_io::Json::array(), notes = json_io::Json::array();
   json_io::Json colmap_frames = json_io::Json::array(), colmap_frames_omitted = json_io::Json::array();
@@ -239,6 +242,22 @@ json_io::Json WriteExports(const RigCalibrationResult& r, const DatasetLayout& l
     for (const auto& o : omitted) names += (names.empty() ? "" : ", ") + o["name"].get<std::string>();
     note("camchain.yaml, opencv.yaml and colmap/ leave out the cameras without a full pose: " + names +
          " (see rig.json and evaluation.json for why)");
+  }
+  RigPlotInput plot;
+  plot.estimate = r.rig;
+  plot.truth = truth;
+  plot.metric = r.metric_scale;
+  for (size_t c = 0; c < r.rig.cameras.size(); ++c) {
+    const bool rotation_only = !r.rig.cameras[c].cam_from_rig && c < r.cam_from_rig_rotation.size();
+    plot.rotation_only.push_back(rotation_only ? r.cam_from_rig_rotation[c] : std::nullopt);
+  }
+  plot.title = "rigsim calibrate, " + r.semantic_mode + ": " + std::to_string(exported.size()) + " of " +
+               std::to_string(r.rig.cameras.size()) + " cameras with a full pose";
+  try {
+    json_io::WriteTextAtomic(dir / "rig_topdown.svg", RigTopDownSvg(plot));
+    files.push_back("rig_topdown.svg");
+  } catch (const std::invalid_argument& e) {
+    note(std::string("rig_topdown.svg not written: ") + e.what());
   }
   if (calibrated.cameras.empty()) {
     note("no camera has a pose: no camchain.yaml, opencv.yaml or colmap/");
@@ -310,7 +329,9 @@ std::vector<RigCalibrationResult> CalibrateAndReport(const std::filesystem::path
   const std::vector<RigCalibrationResult> results = CalibrateRig(dataset, options, modes);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  const FramesFile frames = layout.ReadFramesOrScan(ReadRig(layout.RigJson()).cameras.at(0).name);
+  const Rig dataset_rig = ReadRig(layout.RigJson());
+  const FramesFile frames = layout.ReadFramesOrScan(dataset_rig.cameras.at(0).name);
+  const std::optional<Rig> truth = dataset_rig.HasAllPoses() ? std::optional<Rig>(dataset_rig) : std::nullopt;
   json_io::Json evaluation = EvaluationJson(results);
   evaluation["label_source"] = LabelSourceJson(labels, labels_used);
   for (const RigCalibrationResult& r : results) {
@@ -320,7 +341,7 @@ std::vector<RigCalibrationResult> CalibrateAndReport(const std::filesystem::path
     json_io::Json& method = evaluation["methods"][r.semantic_mode];
     json_io::WriteTextAtomic(dir / "pairs.json",
                              PairsJson(method, r.semantic_mode, evaluation["label_source"], overlap).dump(2) + "\n");
-    method["outputs"] = WriteExports(r, layout, frames, dir);
+    method["outputs"] = WriteExports(r, truth, layout, frames, dir);
   }
   json_io::WriteTextAtomic(staged.staging_dir() / "evaluation.json", evaluation.dump(2) + "\n");
   staged.Commit();
@@ -337,7 +358,8 @@ std::vector<RigCalibrationResult> CalibrateAndReport(const std::filesystem::path
   std::printf("%s", FormatRigSummary(results).c_str());
   std::printf("calibration took %.1f s; labels: %s; results in %s:\n", seconds,
               labels_used ? labels.Describe().c_str() : "not used", out_dir.string().c_str());
-  std::printf("  evaluation.json; per mode <mode>/: rig.json, camchain.yaml (Kalibr), opencv.yaml, colmap/, pairs.json\n");
+  std::printf("  evaluation.json; per mode <mode>/: rig.json, camchain.yaml (Kalibr), opencv.yaml, colmap/, pairs.json,\n"
+              "  rig_topdown.svg (the rig seen from above%s)\n", results.empty() || !truth ? "" : ", against the truth");
   return results;
 }
 
