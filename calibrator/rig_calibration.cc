@@ -57,6 +57,27 @@ RigObservations ObservationsFromPipeline(const Rig& rig, const CalibrationReport
   return obs;
 }
 
+// Each pair's inliers in its best frame (the most inliers; the first of equals).
+std::vector<PairInlierSample> InlierSamples(const Rig& rig, const CalibrationReport& report, const PairwiseMatchData& data) {
+  std::vector<PairInlierSample> samples;
+  for (size_t p = 0; p < report.pairs.size() && p < data.inliers.size(); ++p) {
+    const auto& per_frame = data.inliers[p];
+    size_t best = 0;
+    for (size_t k = 1; k < per_frame.size(); ++k) {
+      if (per_frame[k].size() > per_frame[best].size()) best = k;
+    }
+    if (per_frame.empty() || per_frame[best].empty()) continue;
+    const int a = rig.FindCamera(report.pairs[p].cam_a), b = rig.FindCamera(report.pairs[p].cam_b);
+    if (a < 0 || b < 0 || best >= data.keypoints.size()) continue;
+    PairInlierSample s{report.pairs[p].cam_a, report.pairs[p].cam_b, int(best), {}};
+    for (const auto& [ka, kb] : per_frame[best]) {
+      s.points.emplace_back(data.keypoints[best][a].at(ka), data.keypoints[best][b].at(kb));
+    }
+    samples.push_back(std::move(s));
+  }
+  return samples;
+}
+
 }  // namespace
 
 void RigCalibrationOptions::Check() const {
@@ -369,6 +390,7 @@ std::vector<RigCalibrationResult> CalibrateRig(const std::filesystem::path& data
     r.semantic_mode = reports[m].semantic_mode;
     for (size_t c = 0; c < truth.cameras.size(); ++c) r.rig.cameras[c].time_offset_s = truth.cameras[c].time_offset_s;
     r.pairwise = reports[m];
+    r.inlier_samples = InlierSamples(truth, reports[m], data[m]);
     if (options.pairwise.evaluate) EvaluateRigAgainstTruth(truth, &r);
     results.push_back(std::move(r));
   }

@@ -103,6 +103,14 @@ struct RigEdgeStats {
   std::string status;                           // "used" or why not
 };
 
+// One camera pair's two-view inliers in the frame where it has the most, in pixels: what a
+// person looks at to judge a pair (calibrator/match_image.h draws them).
+struct PairInlierSample {
+  std::string cam_a, cam_b;
+  int frame = -1;  // index into the dataset's frames, in the order the pipeline read them
+  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> points;  // (in cam_a, in cam_b)
+};
+
 struct RigCalibrationResult {
   std::string semantic_mode;
   // Intrinsics as read; cam_from_rig estimated for calibrated cameras, nullopt otherwise.
@@ -140,6 +148,8 @@ struct RigCalibrationResult {
   double position_eigenvalue_ratio = 0.0;
   // Ground truth available and compared.
   bool evaluated = false;
+  // Per camera pair with two-view inliers (CalibrationReport::pairs order, failed pairs left out).
+  std::vector<PairInlierSample> inlier_samples;
   CalibrationReport pairwise;
   // Wall time of the rig stages (the pairwise ones are in `pairwise`).
   double rotation_averaging_time_s = 0.0;

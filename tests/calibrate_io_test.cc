@@ -277,6 +277,14 @@ TEST_F(CalibrateIo, WritesEveryExportAndPairStatisticsPerMode) {
         EXPECT_EQ(type, "failed");
         EXPECT_FALSE(p["rig_edge"]["used"].get<bool>());
       }
+      // matches/<pair>.jpg for every pair with inliers: the two photos side by side, 320 px each.
+      const fs::path drawn = dir / "matches" / (name + ".jpg");
+      EXPECT_EQ(fs::exists(drawn), type != "failed" && p["inliers"].get<int>() > 0);
+      if (fs::exists(drawn)) {
+        const ImageU8 image = ReadImageU8(drawn);
+        EXPECT_EQ(image.width, 640);
+        EXPECT_EQ(image.height, 240);
+      }
     }
     EXPECT_TRUE(solved.count("cam0-cam1") && solved.count("cam1-cam2")) << pairs.dump(1);
 
@@ -286,7 +294,10 @@ TEST_F(CalibrateIo, WritesEveryExportAndPairStatisticsPerMode) {
     EXPECT_EQ(outputs["cameras_omitted"][0]["name"], "back");
     EXPECT_EQ(outputs["cameras_omitted"][0]["status"].get<std::string>().rfind("not connected", 0), 0u);
     for (const json& f : outputs["files"]) EXPECT_TRUE(fs::exists(dir / f.get<std::string>())) << f;
-    EXPECT_EQ(outputs["files"].size(), 8u);
+    size_t match_images = 0;
+    for (const auto& entry : fs::directory_iterator(dir / "matches")) match_images += entry.path().extension() == ".jpg";
+    EXPECT_GE(match_images, 2u);
+    EXPECT_EQ(outputs["files"].size(), 8u + match_images);
   }
   EXPECT_TRUE(StagingFolders(out).empty());
 }

@@ -22,8 +22,9 @@ void AddCalibrateCommand(CLI::App& app) {
       "the truth. Real photos: write rig.json with intrinsics only, photos in images/<cam>/.\n"
       "Writes OUT/evaluation.json and per mode OUT/<mode>/: rig.json, camchain.yaml (Kalibr),\n"
       "opencv.yaml, colmap/ (text model of every frame with a rig pose), pairs.json\n"
-      "(per-pair statistics) and rig_topdown.svg (the rig seen from above, over the truth when\n"
-      "known); the three exports hold only the cameras with a full pose.");
+      "(per-pair statistics), rig_topdown.svg (the rig seen from above, over the truth when\n"
+      "known) and matches/ (each solved pair's inliers drawn over its photos); the three exports\n"
+      "hold only the cameras with a full pose.");
   cmd->add_option("DATASET", args->dataset, "dataset folder (rig.json, images/, optional labels/ and depth/)")
       ->required()
       ->check(CLI::ExistingDirectory);

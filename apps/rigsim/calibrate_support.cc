@@ -6,7 +6,9 @@
 #include <optional>
 
 #include "apps/rigsim/report_table.h"
+#include "calibrator/match_image.h"
 #include "dataset/dataset.h"
+#include "dataset/image_io.h"
 #include "exports/colmap.h"
 #include "exports/kalibr.h"
 #include "exports/opencv_yaml.h"
@@ -304,6 +306,24 @@ json_io::Json WriteExports(const RigCalibrationResult& r, const std::optional<Ri
           {"notes", notes}};
 }
 
+// <mode>/matches/<cam_a>-<cam_b>.jpg: each pair's two-view inliers in its best frame, drawn over
+// the two photos. Returns the files written (relative to `dir`).
+std::vector<std::string> WriteMatchImages(const RigCalibrationResult& r, const DatasetLayout& layout,
+                                          const FramesFile& frames, const fs::path& dir) {
+  std::vector<std::string> files;
+  for (const PairInlierSample& s : r.inlier_samples) {
+    if (s.frame < 0 || size_t(s.frame) >= frames.frames.size()) continue;
+    const std::string& frame = frames.frames[s.frame].name;
+    const auto path_a = layout.FindImage(s.cam_a, frame), path_b = layout.FindImage(s.cam_b, frame);
+    if (!path_a || !path_b) continue;
+    const std::string name = "matches/" + s.cam_a + "-" + s.cam_b + ".jpg";
+    fs::create_directories(dir / "matches");
+    WriteImage(dir / name, DrawMatches(ReadImageU8(*path_a, 3), ReadImageU8(*path_b, 3), s.points));
+    files.push_back(name);
+  }
+  return files;
+}
+
 }  // namespace
 
 std::vector<RigCalibrationResult> CalibrateAndReport(const std::filesystem::path& dataset, const CalibrateSettings& settings,
@@ -342,6 +362,7 @@ std::vector<RigCalibrationResult> CalibrateAndReport(const std::filesystem::path
     json_io::WriteTextAtomic(dir / "pairs.json",
                              PairsJson(method, r.semantic_mode, evaluation["label_source"], overlap).dump(2) + "\n");
     method["outputs"] = WriteExports(r, truth, layout, frames, dir);
+    for (const std::string& file : WriteMatchImages(r, layout, frames, dir)) method["outputs"]["files"].push_back(file);
   }
   json_io::WriteTextAtomic(staged.staging_dir() / "evaluation.json", evaluation.dump(2) + "\n");
   staged.Commit();
@@ -359,7 +380,8 @@ std::vector<RigCalibrationResult> CalibrateAndReport(const std::filesystem::path
   std::printf("calibration took %.1f s; labels: %s; results in %s:\n", seconds,
               labels_used ? labels.Describe().c_str() : "not used", out_dir.string().c_str());
   std::printf("  evaluation.json; per mode <mode>/: rig.json, camchain.yaml (Kalibr), opencv.yaml, colmap/, pairs.json,\n"
-              "  rig_topdown.svg (the rig seen from above%s)\n", results.empty() || !truth ? "" : ", against the truth");
+              "  rig_topdown.svg (the rig seen from above%s), matches/ (each solved pair's inliers)\n",
+              results.empty() || !truth ? "" : ", against the truth");
   return results;
 }
 
