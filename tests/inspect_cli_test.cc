@@ -18,13 +18,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-fs::path TempDir() {
-  const fs::path dir = fs::temp_directory_path() / "rigsim_inspect_cli_test" /
-                       testing::UnitTest::GetInstance()->current_test_info()->name();
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path TempDir() { return FreshTestDir("rigsim_inspect_cli_test"); }
 
 // One triangle of class `building` with COLOR_0 and an unlit material, and one unclassified
 // triangle with a TEXCOORD_1 nothing samples.

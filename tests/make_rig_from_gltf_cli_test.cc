@@ -37,10 +37,7 @@ bool HasStagingFolder(const fs::path& dir) {
 class MakeRigFromGltf : public testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / "rigsim_make_rig_from_gltf_cli_test" /
-           testing::UnitTest::GetInstance()->current_test_info()->name();
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = FreshTestDir("rigsim_make_rig_from_gltf_cli_test");
     // Two perspective cameras (the second on a turned, scaled parent) and an orthographic one.
     const double h = std::sqrt(0.5);
     const json doc = {

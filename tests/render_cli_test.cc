@@ -32,10 +32,7 @@ CliResult RunRigsim(const fs::path& dir, const std::vector<std::string>& args) {
 class RenderCli : public testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / "rigsim_render_cli_test" /
-           testing::UnitTest::GetInstance()->current_test_info()->name();
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = FreshTestDir("rigsim_render_cli_test");
     // A large wall 6 m down -Z (every ring camera at heading 0 sees part of it, the others sky).
     scene_ = dir_ / "wall.gltf";
     WriteWall(scene_, {{"mesh", 0}, {"extras", {{"class", "building"}}}});

@@ -17,6 +17,14 @@
 
 namespace rigsim {
 
+std::filesystem::path FreshTestDir(const std::string& suite) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / suite / testing::UnitTest::GetInstance()->current_test_info()->name();
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
 std::string ReadAll(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::ostringstream ss;

@@ -11,6 +11,9 @@
 
 namespace rigsim {
 
+// A fresh, empty folder for the running test: <tmp>/<suite>/<test name>.
+std::filesystem::path FreshTestDir(const std::string& suite);
+
 // The whole file as bytes ("" when it cannot be read).
 std::string ReadAll(const std::filesystem::path& path);
 
