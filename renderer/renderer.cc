@@ -362,17 +362,21 @@ struct MeshData {
   std::vector<std::array<Eigen::Vector4f, 3>> corner_colors;     // per triangle, only with COLOR_0
 };
 
+// A per-corner attribute at barycentric (u, v) of a hit (Embree's: weight u on corner 1, v on 2).
+template <typename T>
+T AtHit(const std::array<T, 3>& corners, float u, float v) {
+  return (1 - u - v) * corners[0] + u * corners[1] + v * corners[2];
+}
+
 // The material's base colour at a hit, before its texture: the factor times the interpolated
 // vertex colour (COLOR_0) when the mesh has one.
 Eigen::Vector4f BaseColorAt(const MeshData& m, unsigned prim, float u, float v) {
   if (m.corner_colors.empty()) return m.base_color;
-  const auto& cc = m.corner_colors[prim];
-  return m.base_color.cwiseProduct((1 - u - v) * cc[0] + u * cc[1] + v * cc[2]);
+  return m.base_color.cwiseProduct(AtHit(m.corner_colors[prim], u, v));
 }
 
 Eigen::Vector2f InterpolateTexcoord(const MeshData& m, unsigned prim, float u, float v) {
-  const auto& tc = m.corner_texcoords[prim];
-  return (1 - u - v) * tc[0] + u * tc[1] + v * tc[2];
+  return AtHit(m.corner_texcoords[prim], u, v);
 }
 
 // Alpha of the material at a hit, tested at full resolution so that the cut-out does not depend
@@ -689,9 +693,7 @@ struct Renderer::Impl {
     if (ng.dot(dir) > 0) ng = -ng;
     Eigen::Vector3f n = ng;
     if (!m.corner_normals.empty()) {
-      const auto& cn = m.corner_normals[hit.prim];
-      const float b0 = 1.0f - hit.u - hit.v;
-      const Eigen::Vector3f ni = b0 * cn[0] + hit.u * cn[1] + hit.v * cn[2];
+      const Eigen::Vector3f ni = AtHit(m.corner_normals[hit.prim], hit.u, hit.v);
       const float len = ni.norm();
       if (len > 1e-12f) {
         n = ni / len;
