@@ -349,6 +349,9 @@ struct MeshData {
   bool alpha_tested = false;
   float alpha_cutoff = 0.5f;
   bool unlit = false;  // KHR_materials_unlit: no sun, no sky, no shadow ray
+  Eigen::Vector3f emissive = Eigen::Vector3f::Zero();  // linear RGB, added to the reflected light
+  const MipTexture* emissive_texture = nullptr;         // nullptr: none, or no emissive texcoords
+  bool emits = false;  // some emission to add (never for unlit materials, which show their colour)
   // Per-triangle shading data, copied out of the indexed mesh so that shading a hit reads one or
   // two cache lines instead of chasing the index buffer into three vertex arrays (that chase cost
   // more than a third of the shading time in the street benchmark).
@@ -360,7 +363,21 @@ struct MeshData {
   std::vector<std::array<Eigen::Vector2f, 3>> corner_texcoords;  // per triangle, when textured
   std::vector<std::array<Eigen::Vector3f, 3>> corner_normals;    // per triangle, only for smooth meshes
   std::vector<std::array<Eigen::Vector4f, 3>> corner_colors;     // per triangle, only with COLOR_0
+  // Per triangle, only with an emissive texture: its coordinates and texel density.
+  std::vector<std::array<Eigen::Vector2f, 3>> corner_emissive_texcoords;
+  std::vector<float> emissive_texels_per_metre;
 };
+
+// Level-0 texels per metre of a triangle whose corners p0..p2 map to t0..t2, for a texture with
+// `texel_scale` texels per uv unit: sqrt(uv area / world area) * texel_scale (0 when degenerate).
+float TexelsPerMetre(const Eigen::Vector3f& p0, const Eigen::Vector3f& p1, const Eigen::Vector3f& p2,
+                     const Eigen::Vector2f& t0, const Eigen::Vector2f& t1, const Eigen::Vector2f& t2,
+                     float texel_scale) {
+  const float area2 = (p1 - p0).cross(p2 - p0).norm();
+  if (!(area2 > 0)) return 0.0f;
+  const Eigen::Vector2f e1 = t1 - t0, e2 = t2 - t0;
+  return std::sqrt(std::abs(e1.x() * e2.y() - e1.y() * e2.x()) / area2) * texel_scale;
+}
 
 // A per-corner attribute at barycentric (u, v) of a hit (Embree's: weight u on corner 1, v on 2).
 template <typename T>
@@ -655,10 +672,7 @@ struct Renderer::Impl {
     Eigen::Vector4f base = BaseColorAt(m, hit.prim, hit.u, hit.v);
     if (m.texture != nullptr) {
       const Eigen::Vector2f uv = InterpolateTexcoord(m, hit.prim, hit.u, hit.v);
-      // Pixel footprint on the surface (major axis) against the triangle's texel density.
-      const float cos_incidence = std::max(std::abs(ng.dot(r.dir)), 0.1f);
-      const float footprint_m = hit.t * r.angle / cos_incidence;
-      const float texels = footprint_m * m.triangles[hit.prim].texels_per_metre;
+      const float texels = FootprintMetres(hit, r.dir, r.angle, ng) * m.triangles[hit.prim].texels_per_metre;
       const float lod = texels > 0 ? FastLog2(texels) : 0.0f;
       base = base.cwiseProduct(SampleTexture(*m.texture, uv.x(), uv.y(), lod));
     }
@@ -681,7 +695,29 @@ struct Renderer::Impl {
   // Radiance leaving the hit towards the camera, once the shadow ray (if any) is answered.
   [[gnu::always_inline]] Eigen::Vector3f FinishShading(SampleRecord& r, const ShadeParams& p) const {
     if (r.sun_ray && (!p.shadows || !Occluded(r.shadow_origin, p.sun_dir))) r.light += r.sun_light;
-    return r.albedo * r.light;
+    const Eigen::Vector3f reflected = r.albedo * r.light;
+    const MeshData& m = meshes[r.hit.geom];
+    return m.emits ? Eigen::Vector3f(reflected + Emission(m, r)) : reflected;
+  }
+
+  // Pixel footprint on the surface (major axis), for the textures' mip levels: `angle` is the
+  // ray's angular footprint, `ng` the geometric normal.
+  [[gnu::always_inline]] static float FootprintMetres(const Hit& hit, const Eigen::Vector3f& dir, float angle,
+                                                      const Eigen::Vector3f& ng) {
+    return hit.t * angle / std::max(std::abs(ng.dot(dir)), 0.1f);
+  }
+
+  // What an emissive surface gives off towards the camera ray (out of line: rare, and it keeps
+  // the common path short).
+  [[gnu::noinline]] static Eigen::Vector3f Emission(const MeshData& m, const SampleRecord& r) {
+    if (m.emissive_texture == nullptr) return m.emissive;
+    const Hit& hit = r.hit;
+    const Eigen::Vector2f uv = AtHit(m.corner_emissive_texcoords[hit.prim], hit.u, hit.v);
+    Eigen::Vector3f ng = m.triangles[hit.prim].face_normal;  // the footprint ignores its sign
+    if (ng.squaredNorm() == 0.0f) ng = -r.dir;                // as SurfaceNormals
+    const float texels = FootprintMetres(hit, r.dir, r.angle, ng) * m.emissive_texels_per_metre[hit.prim];
+    const float lod = texels > 0 ? FastLog2(texels) : 0.0f;
+    return m.emissive.cwiseProduct(SampleTexture(*m.emissive_texture, uv.x(), uv.y(), lod).head<3>());
   }
 
   // Geometric (ng) and shading (n) normals at a hit, both facing the incoming ray: surfaces are
@@ -798,6 +834,10 @@ void Renderer::Impl::BuildGeometry(const std::vector<SceneMesh>& scene_meshes) {
       throw std::invalid_argument(where + ": " + std::to_string(mesh.texcoords.size()) + " texcoords for " +
                                   std::to_string(mesh.positions.size()) + " positions");
     }
+    if (!mesh.emissive_texcoords.empty() && mesh.emissive_texcoords.size() != mesh.positions.size()) {
+      throw std::invalid_argument(where + ": " + std::to_string(mesh.emissive_texcoords.size()) +
+                                  " emissive texcoords for " + std::to_string(mesh.positions.size()) + " positions");
+    }
     if (!mesh.colors.empty() && mesh.colors.size() != mesh.positions.size()) {
       throw std::invalid_argument(where + ": " + std::to_string(mesh.colors.size()) + " vertex colours for " +
                                   std::to_string(mesh.positions.size()) + " positions");
@@ -825,11 +865,24 @@ void Renderer::Impl::BuildGeometry(const std::vector<SceneMesh>& scene_meshes) {
       m.alpha_tested = material.alpha_mode != AlphaMode::kOpaque;
       m.alpha_cutoff = material.alpha_cutoff;
       m.unlit = material.unlit;
+      m.emissive = material.emissive;
+      m.emits = !material.unlit && material.emissive != Eigen::Vector3f::Zero();
+      if (material.emissive_texture >= int(scene.textures.size()) || material.emissive_texture < -1) {
+        throw std::invalid_argument(where + ": material '" + material.name + "' emissive texture index " +
+                                    std::to_string(material.emissive_texture) + " out of range");
+      }
+      if (material.emissive_texture >= 0 && !mesh.emissive_texcoords.empty()) {
+        m.emissive_texture = &impl.textures[material.emissive_texture];
+      }
     }
 
     const size_t num_tris = mesh.indices.size() / 3;
     m.triangles.assign(num_tris, {});
     if (m.texture != nullptr) m.corner_texcoords.resize(num_tris);
+    if (m.emissive_texture != nullptr) {
+      m.corner_emissive_texcoords.resize(num_tris);
+      m.emissive_texels_per_metre.resize(num_tris);
+    }
     bool smooth = false;  // some vertex normal differs from its face's: interpolate per hit
     for (size_t t = 0; t < num_tris; ++t) {
       const uint32_t* tri = &mesh.indices[3 * t];
@@ -837,15 +890,18 @@ void Renderer::Impl::BuildGeometry(const std::vector<SceneMesh>& scene_meshes) {
       const Eigen::Vector3f cross = (mesh.positions[tri[1]] - p0).cross(mesh.positions[tri[2]] - p0);
       const float area2 = cross.norm();
       m.triangles[t].face_normal = area2 > 0 ? Eigen::Vector3f(cross / area2) : Eigen::Vector3f::Zero();
-      if (!mesh.texcoords.empty()) {
-        const Eigen::Vector2f& t0 = mesh.texcoords[tri[0]];
-        const Eigen::Vector2f e1 = mesh.texcoords[tri[1]] - t0;
-        const Eigen::Vector2f e2 = mesh.texcoords[tri[2]] - t0;
-        if (area2 > 0 && m.texture != nullptr) {  // sqrt(uv area / world area) * texels per uv unit
-          m.triangles[t].texels_per_metre =
-              std::sqrt(std::abs(e1.x() * e2.y() - e1.y() * e2.x()) / area2) * m.texture->texel_scale;
-        }
-        if (m.texture != nullptr) m.corner_texcoords[t] = {t0, mesh.texcoords[tri[1]], mesh.texcoords[tri[2]]};
+      const Eigen::Vector3f& p1 = mesh.positions[tri[1]];
+      const Eigen::Vector3f& p2 = mesh.positions[tri[2]];
+      if (m.texture != nullptr) {
+        const auto& tc = mesh.texcoords;
+        m.triangles[t].texels_per_metre = TexelsPerMetre(p0, p1, p2, tc[tri[0]], tc[tri[1]], tc[tri[2]], m.texture->texel_scale);
+        m.corner_texcoords[t] = {tc[tri[0]], tc[tri[1]], tc[tri[2]]};
+      }
+      if (m.emissive_texture != nullptr) {
+        const auto& tc = mesh.emissive_texcoords;
+        m.emissive_texels_per_metre[t] =
+            TexelsPerMetre(p0, p1, p2, tc[tri[0]], tc[tri[1]], tc[tri[2]], m.emissive_texture->texel_scale);
+        m.corner_emissive_texcoords[t] = {tc[tri[0]], tc[tri[1]], tc[tri[2]]};
       }
       for (int c = 0; c < 3 && !mesh.normals.empty() && !smooth; ++c) {
         const Eigen::Vector3f& vn = mesh.normals[tri[c]];

@@ -566,6 +566,52 @@ TEST(RendererTest, UnlitMaterialsShowTheirBaseColour) {
   }
 }
 
+// Emission adds to the reflected light, in shadow too, and is the colour itself on a black
+// surface; an unlit material ignores it.
+TEST(RendererTest, EmissionAddsToTheReflectedLight) {
+  const Eigen::Vector3f emission(0.25f, 0.125f, 0.0f);
+  auto render = [&](const Eigen::Vector4f& base, const Eigen::Vector3f& emissive, bool unlit) {
+    Scene scene;
+    const int material = AddMaterial(scene, base);
+    scene.materials[material].emissive = emissive;
+    scene.materials[material].unlit = unlit;
+    AddFrontQuad(scene, -1, 1, -1, 1, 3, kCar, 1, material);
+    AddQuad(scene, {-3, -4, 0}, {3, -4, 0}, {3, -4, 6}, {-3, -4, 6}, kRoad, 2);  // shades the quad from the sun
+    RenderOptions options = Opts();
+    options.sun_direction_world = Eigen::Vector3d(0, -1, -0.3);
+    const Camera camera = SmallPinhole();
+    return ColourAt(Renderer(scene).Render(camera, Rigid3d(), options), camera, {0, 0, 3});
+  };
+  auto linear = [](int code) { return LinearFromSrgbCode(uint8_t(code)); };
+  const Eigen::Vector4f grey(0.5f, 0.5f, 0.5f, 1);
+  const std::array<int, 3> dark = render(grey, Eigen::Vector3f::Zero(), false);
+  const std::array<int, 3> glowing = render(grey, emission, false);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(linear(glowing[c]) - linear(dark[c]), emission[c], 0.005) << c;
+  const std::array<int, 3> black = render({0, 0, 0, 1}, emission, false);
+  for (int c = 0; c < 3; ++c) EXPECT_EQ(black[c], SrgbCodeFromLinear(emission[c])) << c;
+  EXPECT_EQ(render(grey, emission, true), render(grey, Eigen::Vector3f::Zero(), true));
+}
+
+// The emissive texture multiplies the emission and is read through its own coordinates: here u
+// runs the other way from the base colour's, so the red | blue texture shows blue | red.
+TEST(RendererTest, EmissiveTextureUsesItsOwnTexcoords) {
+  Scene scene;
+  const int tex = AddTexture(scene, 2, 1, {{255, 0, 0, 255}, {0, 0, 255, 255}});
+  const int material = AddMaterial(scene, {0, 0, 0, 1}, tex);  // black: the texture shows only as emission
+  scene.materials[material].emissive = Eigen::Vector3f(1, 1, 1);
+  scene.materials[material].emissive_texture = tex;
+  AddFrontQuad(scene, -1, 1, -1, 1, 3, kCar, 1, material);
+  scene.meshes.back().emissive_texcoords = {{1, 0}, {0, 0}, {0, 1}, {1, 1}};
+  const Camera camera = SmallPinhole();
+  const Renderer renderer(scene);
+  const RenderedView view = renderer.Render(camera, Rigid3d(), Opts());
+  EXPECT_EQ(ColourAt(view, camera, {-0.5, 0, 3}), (std::array<int, 3>{0, 0, 255}));
+  EXPECT_EQ(ColourAt(view, camera, {0.5, 0, 3}), (std::array<int, 3>{255, 0, 0}));
+
+  scene.meshes.back().emissive_texcoords.pop_back();
+  EXPECT_THROW(Renderer{scene}, std::invalid_argument) << "emissive texcoords must match the positions";
+}
+
 // A camera 10 m above the origin looking straight down (+Z of the world at the image bottom).
 Rigid3d LookingDown(double height) {
   Eigen::Matrix3d world_from_cam;

@@ -195,17 +195,24 @@ WrapMode ToWrap(int gl) {
 }
 
 // Extensions whose content we fully honour; everything else in extensionsRequired is fatal.
-// KHR_texture_transform is honoured on baseColorTexture, the only texture rigsim renders.
+// KHR_texture_transform is honoured on the textures rigsim renders: base colour and emissive.
 bool SupportedExtension(const std::string& name) {
-  return name == "KHR_mesh_quantization" || name == "KHR_texture_transform" || name == "KHR_materials_unlit";
+  return name == "KHR_mesh_quantization" || name == "KHR_texture_transform" || name == "KHR_materials_unlit" ||
+         name == "KHR_materials_emissive_strength";
 }
 
-// The texture coordinates a material's base colour texture samples: the TEXCOORD_<set> attribute,
-// mapped by KHR_texture_transform (identity without it). Baked into SceneMesh::texcoords, which
-// is exact because a SceneMesh is one primitive with one material.
-struct BaseColorUv {
+// The texture coordinates a material's texture samples: the TEXCOORD_<set> attribute, mapped by
+// KHR_texture_transform (identity without it). Baked into SceneMesh::texcoords (base colour) and
+// SceneMesh::emissive_texcoords, which is exact because a SceneMesh is one primitive with one
+// material.
+struct TextureUv {
   int set = 0;
   Eigen::Matrix<double, 2, 3> uv_from_texcoord = Eigen::Matrix<double, 2, 3>::Identity();
+};
+
+struct MaterialUvs {
+  TextureUv base_color;
+  std::optional<TextureUv> emissive;  // only with an emissive texture
 };
 
 class Loader {
@@ -309,21 +316,14 @@ class Loader {
         out.base_color_factor = Eigen::Vector4d(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2],
                                                 pbr.baseColorFactor[3]).cast<float>();
       }
-      BaseColorUv uv;
+      const std::string material_label = "material " + std::to_string(i) + " " + Quote(m.name);
+      MaterialUvs uvs;
       if (pbr.baseColorTexture.index >= 0) {
-        const std::string where = "material " + std::to_string(i) + " " + Quote(m.name) + " baseColorTexture";
-        uv.set = pbr.baseColorTexture.texCoord;
-        for (const auto& [name, value] : pbr.baseColorTexture.extensions) {
-          if (name == "KHR_texture_transform") {
-            uv = ParseTextureTransform(value, where, uv.set);
-          } else {
-            Ignore("texture-info extension " + name);
-          }
-        }
-        if (uv.set < 0) Fail(where + ": texCoord " + std::to_string(uv.set) + " is negative");
+        uvs.base_color = ParseTextureInfoUv(pbr.baseColorTexture, material_label + " baseColorTexture");
         out.base_color_texture = ConvertTexture(pbr.baseColorTexture.index);
       }
-      material_uv_.push_back(uv);
+      ConvertEmission(m, material_label, &out, &uvs);
+      material_uv_.push_back(uvs);
       if (m.alphaMode == "MASK") {
         out.alpha_mode = AlphaMode::kMask;
       } else if (m.alphaMode == "BLEND") {
@@ -334,15 +334,76 @@ class Loader {
       if (pbr.metallicRoughnessTexture.index >= 0) Ignore("metallicRoughnessTexture (materials)");
       if (m.normalTexture.index >= 0) Ignore("normalTexture (materials)");
       if (m.occlusionTexture.index >= 0) Ignore("occlusionTexture (materials)");
-      if (m.emissiveTexture.index >= 0) Ignore("emissiveTexture (materials)");
       for (const auto& [name, value] : m.extensions) {
         if (name == "KHR_materials_unlit") {
           out.unlit = true;
+        } else if (name == "KHR_materials_emissive_strength") {
+          // read by ConvertEmission
         } else {
           Ignore("material extension " + name);
         }
       }
       scene_.materials.push_back(std::move(out));
+    }
+  }
+
+  // The primitive's TEXCOORD_<uv.set> mapped by uv's transform; empty when it has no such attribute.
+  std::vector<Eigen::Vector2f> ReadTexcoords(const tinygltf::Primitive& prim, const TextureUv& uv, size_t nverts,
+                                             const std::string& where) {
+    const std::string name = "TEXCOORD_" + std::to_string(uv.set);
+    const auto it = prim.attributes.find(name);
+    if (it == prim.attributes.end()) return {};
+    size_t n = 0;
+    const std::vector<double> raw = ReadAccessor(it->second, TINYGLTF_TYPE_VEC2, where + " " + name, &n);
+    if (n != nverts) Fail("accessor " + std::to_string(it->second) + " (" + where + " " + name + "): count differs from POSITION");
+    std::vector<Eigen::Vector2f> out(n);
+    for (size_t i = 0; i < n; ++i) {
+      out[i] = (uv.uv_from_texcoord * Eigen::Vector3d(raw[2 * i], raw[2 * i + 1], 1.0)).cast<float>();
+    }
+    return out;
+  }
+
+  // The coordinates a textureInfo samples: its texCoord, or KHR_texture_transform's.
+  template <typename TextureInfo>
+  TextureUv ParseTextureInfoUv(const TextureInfo& info, const std::string& where) {
+    TextureUv uv;
+    uv.set = info.texCoord;
+    for (const auto& [name, value] : info.extensions) {
+      if (name == "KHR_texture_transform") {
+        uv = ParseTextureTransform(value, where, uv.set);
+      } else {
+        Ignore("texture-info extension " + name);
+      }
+    }
+    if (uv.set < 0) Fail(where + ": texCoord " + std::to_string(uv.set) + " is negative");
+    return uv;
+  }
+
+  // emissiveFactor (glTF: each in [0, 1]), scaled by KHR_materials_emissive_strength (>= 0), and the
+  // emissive texture with its coordinates.
+  void ConvertEmission(const tinygltf::Material& m, const std::string& where, Material* out, MaterialUvs* uvs) {
+    const std::vector<double>& f = m.emissiveFactor;
+    if (f.size() != 3) Fail(where + ": emissiveFactor must have 3 numbers, got " + std::to_string(f.size()));
+    for (double v : f) {
+      if (!(v >= 0.0) || !std::isfinite(v)) Fail(where + ": emissiveFactor must be finite and >= 0, got " + std::to_string(v));
+      if (v > 1.0) Warn(where + ": emissiveFactor " + std::to_string(v) + " is above glTF's maximum of 1; used as given");
+    }
+    double strength = 1.0;
+    if (auto it = m.extensions.find("KHR_materials_emissive_strength"); it != m.extensions.end()) {
+      const tinygltf::Value& ext = it->second;
+      if (!ext.IsObject()) Fail(where + ": KHR_materials_emissive_strength is not an object");
+      if (ext.Has("emissiveStrength")) {
+        const tinygltf::Value& v = ext.Get("emissiveStrength");
+        strength = v.IsNumber() ? v.GetNumberAsDouble() : -1.0;
+        if (!(strength >= 0.0) || !std::isfinite(strength)) {
+          Fail(where + ": KHR_materials_emissive_strength: emissiveStrength must be a finite number >= 0");
+        }
+      }
+    }
+    out->emissive = (Eigen::Vector3d(f[0], f[1], f[2]) * strength).cast<float>();
+    if (m.emissiveTexture.index >= 0 && out->emissive != Eigen::Vector3f::Zero()) {
+      uvs->emissive = ParseTextureInfoUv(m.emissiveTexture, where + " emissiveTexture");
+      out->emissive_texture = ConvertTexture(m.emissiveTexture.index);
     }
   }
 
@@ -354,7 +415,7 @@ class Loader {
   // what the Khronos sample viewer, three.js, Babylon.js, Blender and CesiumGltf compute and what the
   // TextureTransformTest sample model checks; the README's GLSL listing shows the transpose (a
   // counter-clockwise turn in a v-up space), a known erratum (KhronosGroup/glTF issue #1563).
-  BaseColorUv ParseTextureTransform(const tinygltf::Value& ext, const std::string& where, int texcoord_set) {
+  TextureUv ParseTextureTransform(const tinygltf::Value& ext, const std::string& where, int texcoord_set) {
     const std::string w = where + ": KHR_texture_transform";
     if (!ext.IsObject()) Fail(w + " is not an object");
     auto vec2 = [&](const char* key, Eigen::Vector2d fallback) {
@@ -375,7 +436,7 @@ class Loader {
       if (!r.IsNumber() || !std::isfinite(r.GetNumberAsDouble())) Fail(w + ": rotation must be a finite number (radians)");
       rotation = r.GetNumberAsDouble();
     }
-    BaseColorUv out;
+    TextureUv out;
     out.set = texcoord_set;
     if (ext.Has("texCoord")) {
       const tinygltf::Value& t = ext.Get("texCoord");
@@ -800,12 +861,15 @@ class Loader {
     }
     if (!prim.targets.empty()) Ignore("morph targets");
     for (const auto& [name, value] : prim.extensions) Ignore("primitive extension " + name);
-    // The texture coordinates the material's base colour texture samples (TEXCOORD_0 without one).
-    const BaseColorUv uv_map =
-        prim.material >= 0 && size_t(prim.material) < material_uv_.size() ? material_uv_[prim.material] : BaseColorUv{};
+    // The texture coordinates the material's textures sample (TEXCOORD_0 without a texture).
+    const MaterialUvs uvs =
+        prim.material >= 0 && size_t(prim.material) < material_uv_.size() ? material_uv_[prim.material] : MaterialUvs{};
+    const TextureUv& uv_map = uvs.base_color;
     const std::string texcoord_name = "TEXCOORD_" + std::to_string(uv_map.set);
+    const std::string emissive_texcoord_name = uvs.emissive ? "TEXCOORD_" + std::to_string(uvs.emissive->set) : "";
     for (const auto& [name, acc] : prim.attributes) {
-      if (name != "POSITION" && name != "NORMAL" && name != texcoord_name && name != "COLOR_0") {
+      if (name != "POSITION" && name != "NORMAL" && name != texcoord_name && name != emissive_texcoord_name &&
+          name != "COLOR_0") {
         Ignore("vertex attribute " + name);
       }
     }
@@ -878,16 +942,15 @@ class Loader {
         for (size_t i = 0; i < n; ++i) out.local_normals[i] = Eigen::Vector3d(nrm[3 * i], nrm[3 * i + 1], nrm[3 * i + 2]).normalized().cast<float>();
       }
     }
-    if (auto it = prim.attributes.find(texcoord_name); it != prim.attributes.end()) {
-      size_t n = 0;
-      const std::vector<double> uv = ReadAccessor(it->second, TINYGLTF_TYPE_VEC2, where + " " + texcoord_name, &n);
-      if (n != nverts) Fail("accessor " + std::to_string(it->second) + " (" + where + " " + texcoord_name + "): count differs from POSITION");
-      out.texcoords.resize(n);
-      for (size_t i = 0; i < n; ++i) {
-        out.texcoords[i] = (uv_map.uv_from_texcoord * Eigen::Vector3d(uv[2 * i], uv[2 * i + 1], 1.0)).cast<float>();
-      }
-    } else if (out.material >= 0 && scene_.materials[out.material].base_color_texture >= 0) {
+    out.texcoords = ReadTexcoords(prim, uv_map, nverts, where);
+    if (out.texcoords.empty() && out.material >= 0 && scene_.materials[out.material].base_color_texture >= 0) {
       Ignore("textured primitives without their texture's " + texcoord_name + " (rendered untextured)");
+    }
+    if (uvs.emissive) {
+      out.emissive_texcoords = ReadTexcoords(prim, *uvs.emissive, nverts, where);
+      if (out.emissive_texcoords.empty()) {
+        Ignore("emissive primitives without their texture's " + emissive_texcoord_name + " (emissive texture not shown)");
+      }
     }
 
     if (auto it = prim.attributes.find("COLOR_0"); it != prim.attributes.end()) ReadVertexColors(it->second, where, nverts, &out);
@@ -988,7 +1051,7 @@ class Loader {
   tinygltf::Model model_;
   Scene scene_;
   std::vector<ClassTag> node_class_, mesh_class_, material_class_;
-  std::vector<BaseColorUv> material_uv_;  // per glTF material: its base colour texture's coordinates
+  std::vector<MaterialUvs> material_uv_;  // per glTF material: its textures' coordinates
   std::map<int, int> texture_map_;  // glTF texture -> Scene::textures index
   std::set<int> animated_nodes_;    // nodes targeted by an animation channel
   bool current_mesh_animated_ = false;  // the node being traversed moves with an animation

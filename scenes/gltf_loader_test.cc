@@ -430,6 +430,51 @@ TEST(GltfLoader, UnlitMaterialsAreMarked) {
   EXPECT_FALSE(HasWarning(s, "unlit"));
 }
 
+// emissiveFactor times KHR_materials_emissive_strength, and an emissive texture sampled through its
+// own texCoord and KHR_texture_transform, baked apart from the base colour's coordinates.
+TEST(GltfLoader, EmissionIsReadWithItsStrengthAndItsOwnTexcoords) {
+  const auto dir = TempDir();
+  TestGltf g;
+  const int pos = g.Positions(kQuad);
+  const int uv0 = g.Accessor<float>({0, 0, 1, 0, 1, 1, 0, 1}, kFloat, "VEC2", 4);
+  const int uv1 = g.Accessor<float>({0.25f, 0.25f, 0.75f, 0.25f, 0.75f, 0.75f, 0.25f, 0.75f}, kFloat, "VEC2", 4);
+  g.doc["extensionsUsed"] = {"KHR_materials_emissive_strength", "KHR_texture_transform"};
+  g.doc["extensionsRequired"] = {"KHR_materials_emissive_strength"};  // honoured, so not refused
+  g.doc["images"] = json::array({{{"uri", TinyPngUri()}}});
+  g.doc["textures"] = json::array({{{"source", 0}}});
+  g.doc["materials"] = json::array({
+      {{"name", "sign"},
+       {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}},
+       {"emissiveFactor", {0.5, 0.25, 0}},
+       {"emissiveTexture", {{"index", 0}, {"texCoord", 1}, {"extensions", {{"KHR_texture_transform", {{"offset", {1, 0}}}}}}}},
+       {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}}}}},
+      {{"name", "dark"}, {"emissiveTexture", {{"index", 0}}}},  // factor 0: the texture adds nothing
+  });
+  g.Node({{"mesh", g.Mesh({{"POSITION", pos}, {"TEXCOORD_0", uv0}, {"TEXCOORD_1", uv1}}, -1, 4, 0)}});
+  g.Node({{"mesh", g.Mesh({{"POSITION", pos}, {"TEXCOORD_0", uv0}}, -1, 4, 1)}});
+  g.Scene({0, 1});
+  const Scene s = LoadGltf(g.Write(dir, "emissive"));
+  ASSERT_EQ(s.materials.size(), 2u);
+  EXPECT_TRUE(s.materials[0].emissive.isApprox(Eigen::Vector3f(2, 1, 0)));
+  EXPECT_EQ(s.materials[0].emissive_texture, 0);
+  EXPECT_EQ(s.materials[1].emissive, Eigen::Vector3f::Zero());
+  EXPECT_EQ(s.materials[1].emissive_texture, -1);
+  ASSERT_EQ(s.meshes.size(), 2u);
+  ASSERT_EQ(s.meshes[0].texcoords.size(), 4u);
+  ASSERT_EQ(s.meshes[0].emissive_texcoords.size(), 4u);
+  EXPECT_EQ(s.meshes[0].texcoords[1], Eigen::Vector2f(1, 0));               // TEXCOORD_0 as it is
+  EXPECT_EQ(s.meshes[0].emissive_texcoords[1], Eigen::Vector2f(1.75f, 0.25f));  // TEXCOORD_1 + offset
+  EXPECT_TRUE(s.meshes[1].emissive_texcoords.empty());
+  EXPECT_FALSE(HasWarning(s, "emissive"));
+  EXPECT_FALSE(HasWarning(s, "TEXCOORD_1")) << "the emissive texture samples it";
+
+  g.doc["materials"][0]["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"] = -1;
+  ExpectThrowsWith(g.Write(dir, "negative_strength"), "material 0 'sign': KHR_materials_emissive_strength: emissiveStrength must be");
+  g.doc["materials"][0]["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"] = 1;
+  g.doc["materials"][0]["emissiveFactor"] = {0.5, -0.25, 0};
+  ExpectThrowsWith(g.Write(dir, "negative_factor"), "material 0 'sign': emissiveFactor must be finite and >= 0");
+}
+
 TEST(GltfLoader, TextureTransformIsBakedIntoTexcoords) {
   const auto dir = TempDir();
   TestGltf g;

@@ -45,6 +45,11 @@ struct Material {
   float alpha_cutoff = 0.5f;
   bool double_sided = false;
   bool unlit = false;  // KHR_materials_unlit: the base colour is what the camera sees
+  // Light the surface gives off itself, added to what it reflects and cast on nothing else:
+  // glTF's emissiveFactor times KHR_materials_emissive_strength, linear RGB (1 shows white at
+  // exposure 1).
+  Eigen::Vector3f emissive = Eigen::Vector3f::Zero();
+  int emissive_texture = -1;  // index into Scene::textures; multiplies `emissive`
 };
 
 struct SceneMesh {
@@ -57,6 +62,9 @@ struct SceneMesh {
   // What the material's base colour texture samples: the TEXCOORD_n set it names (TEXCOORD_0
   // without a texture), with its KHR_texture_transform already applied; empty = none.
   std::vector<Eigen::Vector2f> texcoords;
+  // What the material's emissive texture samples (its own TEXCOORD_n and KHR_texture_transform);
+  // empty = none.
+  std::vector<Eigen::Vector2f> emissive_texcoords;
   // COLOR_0: linear RGBA per vertex, which multiplies the material's base colour (glTF 2.0);
   // empty = none.
   std::vector<Eigen::Vector4f> colors;

@@ -256,5 +256,25 @@ TEST(GltfFeaturesRender, VertexColoursColourASurfaceWithoutMaterial) {
   EXPECT_EQ(right[2], 0);
 }
 
+// A black surface with emissiveFactor scaled by KHR_materials_emissive_strength shows exactly
+// that light, whatever the sun and sky.
+TEST(GltfFeaturesRender, EmissiveSurfaceShowsItsEmission) {
+  QuadGltf g;
+  g.doc["extensionsUsed"] = {"KHR_materials_emissive_strength"};
+  g.doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}}},
+                         {"emissiveFactor", {0.2, 0.1, 0.05}},
+                         {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 2}}}}}}};
+  g.Square(Eigen::Vector3d(0, 0, -5), Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), 2, "wall", 0);
+  const Scene scene = LoadGltf(g.Write(TempDir(), "emissive"));
+  ASSERT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+
+  const Camera camera = Camera::PinholeFromHorizontalFov(100, 100, 60.0);
+  Eigen::Matrix3d cam_from_world_r;  // at the origin looking down world -Z, +Y up
+  cam_from_world_r << 1, 0, 0, 0, -1, 0, 0, 0, -1;
+  const RenderedView v = Renderer(scene).Render(camera, Rigid3d(cam_from_world_r, Eigen::Vector3d::Zero()), RenderOptions{});
+  const float expected[3] = {0.4f, 0.2f, 0.1f};
+  for (int c = 0; c < 3; ++c) EXPECT_EQ(v.rgb.at(50, 50, c), SrgbCodeFromLinear(expected[c])) << c;
+}
+
 }  // namespace
 }  // namespace rigsim

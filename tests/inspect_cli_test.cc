@@ -1,5 +1,5 @@
 // `rigsim inspect` through the built binary: what the loader understood of a file (counts, vertex
-// colours, unlit materials, classes, warnings), and a clear error naming a file it cannot read.
+// colours, unlit and emissive materials, classes, warnings), and a clear error naming a file it cannot read.
 
 #include <cstring>
 #include <filesystem>
@@ -41,7 +41,7 @@ fs::path WriteTwoTriangles(const fs::path& dir) {
   doc["nodes"] = json::array({{{"name", "house"}, {"mesh", 0}, {"extras", {{"class", "building"}}}}, {{"mesh", 1}}});
   doc["meshes"] = json::array({{{"primitives", json::array({coloured})}}, {{"primitives", json::array({second_uv})}}});
   doc["accessors"] = accessors;
-  doc["materials"] = json::array({{{"extensions", {{"KHR_materials_unlit", json::object()}}}}});
+  doc["materials"] = json::array({{{"extensions", {{"KHR_materials_unlit", json::object()}}}, {"emissiveFactor", {1, 0.5, 0}}}});
   doc["meshes"][0]["primitives"][0]["material"] = 0;
   doc["bufferViews"] = json::array({{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", bin.size()}}});
   doc["buffers"] = json::array({{{"byteLength", bin.size()}, {"uri", DataUri("application/octet-stream", bin)}}});
@@ -56,7 +56,7 @@ TEST(InspectCli, ReportsWhatTheLoaderUnderstood) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("primitives  2 (1 with vertex colours)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("triangles   2"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("materials   1 (1 OPAQUE, 1 unlit)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("materials   1 (1 OPAQUE, 1 emissive, 1 unlit)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("building"), std::string::npos) << r.out;
   // The unsupported attribute and the unclassified triangle are named.
   EXPECT_NE((r.out + r.err).find("TEXCOORD_1"), std::string::npos) << r.out << r.err;

@@ -74,6 +74,9 @@ void PrintScene(const Scene& scene, const std::filesystem::path& path, const Lab
   for (const Material& m : scene.materials) ++alpha[AlphaName(m.alpha_mode)];
   const size_t unlit = std::count_if(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.unlit; });
   if (unlit) alpha["unlit"] = int(unlit);
+  const size_t emissive = std::count_if(scene.materials.begin(), scene.materials.end(),
+                                        [](const Material& m) { return m.emissive != Eigen::Vector3f::Zero(); });
+  if (emissive) alpha["emissive"] = int(emissive);
   std::string alpha_text;
   for (const auto& [mode, n] : alpha) alpha_text += (alpha_text.empty() ? "" : ", ") + std::to_string(n) + " " + mode;
   std::printf("materials   %zu%s\n", scene.materials.size(), alpha_text.empty() ? "" : (" (" + alpha_text + ")").c_str());
