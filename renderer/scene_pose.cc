@@ -9,6 +9,8 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 
+#include "scenes/skinning.h"
+
 namespace rigsim {
 namespace {
 
@@ -94,6 +96,13 @@ std::vector<SceneMesh> PoseMeshesAt(const Scene& scene, double time_s) {
       throw std::invalid_argument(scene.source + ": animated mesh " + std::to_string(m) + " '" + mesh.name +
                                   "' has an invalid node or local vertex count");
     }
+    if (mesh.skin >= 0) {
+      if (size_t(mesh.skin) >= scene.skins.size()) {
+        throw std::invalid_argument(scene.source + ": mesh " + std::to_string(m) + " '" + mesh.name + "': skin out of range");
+      }
+      SkinMesh(scene.skins[mesh.skin], world, &mesh);
+      continue;
+    }
     const Eigen::Matrix3d linear = world[mesh.node].topLeftCorner<3, 3>();
     const Eigen::Vector3d offset = world[mesh.node].topRightCorner<3, 1>();
     for (size_t i = 0; i < mesh.positions.size(); ++i) {
@@ -122,6 +131,7 @@ Scene PoseSceneAt(const Scene& scene, double time_s) {
   posed.materials = scene.materials;
   posed.textures = scene.textures;
   posed.warnings = scene.warnings;
+  posed.skins = scene.skins;
   posed.nodes = scene.nodes;
   posed.animation_channels = scene.animation_channels;
   return posed;

@@ -20,7 +20,8 @@ namespace rigsim {
 std::vector<Eigen::Matrix4d> NodeWorldTransformsAt(const Scene& scene, double time_s);
 
 // Copies scene.meshes and re-poses the animated ones (SceneMesh::node >= 0) at `time_s`:
-// positions and normals in world coordinates. Static meshes are copied unchanged.
+// positions and normals in world coordinates; a skinned mesh (SceneMesh::skin >= 0) follows its
+// joints (scenes/skinning.h). Static meshes are copied unchanged.
 std::vector<SceneMesh> PoseMeshesAt(const Scene& scene, double time_s);
 
 // The flat world-space scene at `time_s` (a copy of `scene`, textures included, with posed meshes).

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <stdexcept>
 #include <string>
 
 #include <Eigen/Geometry>
@@ -51,6 +52,29 @@ Eigen::Vector3d MeshCentre(const SceneMesh& mesh) {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (const Eigen::Vector3f& p : mesh.positions) sum += p.cast<double>();
   return sum / double(mesh.positions.size());
+}
+
+// The animated box of AnimatedBoxScene, skinned instead to joint node 1, which moves from
+// (0, 0, 6) at t = 0 to (2, 0, 6) at t = 1; node 0, which carries the mesh, stays put and does not
+// place it.
+TEST(ScenePoseTest, SkinnedMeshFollowsItsAnimatedJoint) {
+  Scene scene = AnimatedBoxScene();
+  scene.animation_channels[0].node = 1;
+  scene.animation_channels[0].values = {Eigen::Vector4d(0, 0, 6, 0), Eigen::Vector4d(2, 0, 6, 0)};
+  SceneNode joint;
+  joint.name = "joint";
+  scene.nodes.push_back(joint);
+  scene.skins.push_back(SceneSkin{{1}, {Eigen::Matrix4d::Identity()}});
+  SceneMesh& box = scene.meshes[0];
+  box.skin = 0;
+  box.joints.assign(box.local_positions.size(), {0, 0, 0, 0});
+  box.weights.assign(box.local_positions.size(), Eigen::Vector4f(1, 0, 0, 0));
+  for (double t : {0.0, 0.5, 1.0}) {
+    const std::vector<SceneMesh> posed = PoseMeshesAt(scene, t);
+    EXPECT_TRUE(MeshCentre(posed[0]).isApprox(Eigen::Vector3d(2 * t, 0, 6), 1e-6)) << t << ": " << MeshCentre(posed[0]).transpose();
+  }
+  scene.skins[0].joints = {7};  // no such node
+  EXPECT_THROW(PoseMeshesAt(scene, 0.5), std::invalid_argument);
 }
 
 // Mean x of the pixels showing `instance`; -1 when none.

@@ -21,6 +21,7 @@
 
 #include "labels/cityscapes.h"
 #include "scenes/label_rules.h"
+#include "scenes/skinning.h"
 
 namespace rigsim {
 namespace {
@@ -226,7 +227,9 @@ class Loader {
     ParseClasses();
     ConvertMaterials();
     ParseAnimations();
+    ParseSkins();
     Traverse();
+    SkinAtRestPose();
     Summarise();
     return std::move(scene_);
   }
@@ -277,7 +280,6 @@ class Loader {
     for (const std::string& ext : model_.extensionsUsed) {
       if (!SupportedExtension(ext)) Warn("extension " + ext + " is not supported; its data is ignored");
     }
-    if (!model_.skins.empty()) Warn(std::to_string(model_.skins.size()) + " skin(s) ignored (skinned meshes loaded in bind pose)");
   }
 
   ClassTag ParseClass(const tinygltf::Value& extras, const std::string& owner) {
@@ -344,6 +346,44 @@ class Loader {
         }
       }
       scene_.materials.push_back(std::move(out));
+    }
+  }
+
+  // JOINTS_0 (unsigned byte or short) and WEIGHTS_0 (float, or normalized unsigned byte or
+  // short), weights rescaled to sum to 1.
+  void ReadSkinning(const tinygltf::Primitive& prim, int skin, size_t nverts, const std::string& where, SceneMesh* out) {
+    if (size_t(skin) >= scene_.skins.size()) Fail(where + ": skin " + std::to_string(skin) + " out of range");
+    const int joints_acc = prim.attributes.at("JOINTS_0"), weights_acc = prim.attributes.at("WEIGHTS_0");
+    const std::string joints_label = "accessor " + std::to_string(joints_acc) + " (" + where + " JOINTS_0)";
+    const std::string weights_label = "accessor " + std::to_string(weights_acc) + " (" + where + " WEIGHTS_0)";
+    size_t nj = 0, nw = 0;
+    const std::vector<double> joints = ReadAccessor(joints_acc, TINYGLTF_TYPE_VEC4, where + " JOINTS_0", &nj);
+    const std::vector<double> weights = ReadAccessor(weights_acc, TINYGLTF_TYPE_VEC4, where + " WEIGHTS_0", &nw);
+    const int joint_type = model_.accessors[joints_acc].componentType;  // in range: ReadAccessor checked
+    if (joint_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && joint_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
+      Fail(joints_label + ": componentType must be UNSIGNED_BYTE or UNSIGNED_SHORT");
+    }
+    if (nj != nverts) Fail(joints_label + ": count differs from POSITION");
+    if (nw != nverts) Fail(weights_label + ": count differs from POSITION");
+    const size_t num_joints = scene_.skins[skin].joints.size();
+    out->skin = skin;
+    out->joints.resize(nverts);
+    out->weights.resize(nverts);
+    for (size_t i = 0; i < nverts; ++i) {
+      double sum = 0;
+      for (int k = 0; k < 4; ++k) {
+        const double w = weights[4 * i + k];
+        if (!(w >= 0.0) || !std::isfinite(w)) Fail(weights_label + ": weight of vertex " + std::to_string(i) + " is negative or not finite");
+        const double j = joints[4 * i + k];
+        if (w > 0.0 && j >= double(num_joints)) {
+          Fail(joints_label + ": vertex " + std::to_string(i) + " names joint " + std::to_string(int(j)) + " of a skin with " +
+               std::to_string(num_joints));
+        }
+        out->joints[i][k] = uint16_t(j);
+        sum += w;
+      }
+      if (!(sum > 0.0)) Fail(weights_label + ": vertex " + std::to_string(i) + " has no joint weight");
+      for (int k = 0; k < 4; ++k) out->weights[i][k] = float(weights[4 * i + k] / sum);
     }
   }
 
@@ -714,6 +754,65 @@ class Loader {
     }
   }
 
+  // glTF skins: joints (nodes) and inverse bind matrices (identity when the file gives none).
+  void ParseSkins() {
+    for (size_t k = 0; k < model_.skins.size(); ++k) {
+      const tinygltf::Skin& in = model_.skins[k];
+      const std::string where = "skin " + std::to_string(k) + (in.name.empty() ? "" : " " + Quote(in.name));
+      SceneSkin out;
+      for (int joint : in.joints) {
+        if (joint < 0 || size_t(joint) >= model_.nodes.size()) Fail(where + ": joint node " + std::to_string(joint) + " out of range");
+        out.joints.push_back(joint);
+      }
+      out.inverse_bind.assign(out.joints.size(), Eigen::Matrix4d::Identity());
+      if (in.inverseBindMatrices >= 0) {
+        size_t count = 0;
+        const std::vector<double> m = ReadAccessor(in.inverseBindMatrices, TINYGLTF_TYPE_MAT4, where + " inverseBindMatrices", &count);
+        if (count < out.joints.size()) {
+          Fail(where + ": " + std::to_string(count) + " inverse bind matrices for " + std::to_string(out.joints.size()) + " joints");
+        }
+        for (size_t j = 0; j < out.joints.size(); ++j) {
+          for (int i = 0; i < 16; ++i) out.inverse_bind[j](i % 4, i / 4) = m[16 * j + i];  // column-major in glTF
+          if (!out.inverse_bind[j].allFinite()) Fail(where + ": inverse bind matrix " + std::to_string(j) + " is not finite");
+        }
+      }
+      scene_.skins.push_back(std::move(out));
+    }
+  }
+
+  // Places the skinned meshes by their joints at the nodes' rest transforms (the mesh node's own
+  // transform does not apply, glTF 2.0 "Skins").
+  void SkinAtRestPose() {
+    bool any = false;
+    for (const SceneMesh& m : scene_.meshes) any = any || m.skin >= 0;
+    if (!any) return;
+    std::vector<int> parent(model_.nodes.size(), -1);
+    for (size_t i = 0; i < model_.nodes.size(); ++i) {
+      for (int c : model_.nodes[i].children) {
+        if (c >= 0 && size_t(c) < parent.size()) parent[c] = int(i);
+      }
+    }
+    std::vector<Eigen::Matrix4d> world(model_.nodes.size());
+    for (size_t i = 0; i < model_.nodes.size(); ++i) {
+      world[i] = LocalTransform(model_.nodes[i]);
+      for (int p = parent[i], depth = 0; p >= 0; p = parent[p]) {
+        if (++depth > int(model_.nodes.size())) Fail("node " + std::to_string(i) + " is its own ancestor");
+        world[i] = LocalTransform(model_.nodes[p]) * world[i];
+      }
+    }
+    for (SceneMesh& m : scene_.meshes) {
+      if (m.skin < 0) continue;
+      try {
+        SkinMesh(scene_.skins[m.skin], world, &m);
+      } catch (const std::invalid_argument& e) {
+        Fail(e.what());
+      }
+      for (const Eigen::Vector3f& p : m.positions) {
+        if (!p.allFinite()) Fail("skinned mesh '" + m.name + "': a vertex is not finite at the rest pose");
+      }
+    }
+  }
+
   void Traverse() {
     struct Item {
       int node;
@@ -737,7 +836,6 @@ class Loader {
       const Eigen::Matrix4d world = item.parent_from_world * LocalTransform(node);
       if (!world.allFinite()) Fail("node " + std::to_string(item.node) + ": transform is not finite");
       const ClassTag cls = node_class_[item.node] ? node_class_[item.node] : item.inherited;
-      if (node.skin >= 0) Ignore("node skin bindings");
       for (const auto& [name, value] : node.extensions) Ignore("node extension " + name);
       const bool animated = item.animated || animated_nodes_.count(item.node) > 0;
       current_mesh_animated_ = animated;
@@ -867,9 +965,13 @@ class Loader {
     const TextureUv& uv_map = uvs.base_color;
     const std::string texcoord_name = "TEXCOORD_" + std::to_string(uv_map.set);
     const std::string emissive_texcoord_name = uvs.emissive ? "TEXCOORD_" + std::to_string(uvs.emissive->set) : "";
+    const bool skinned = node.skin >= 0 && prim.attributes.count("JOINTS_0") && prim.attributes.count("WEIGHTS_0");
+    if (node.skin >= 0 && !skinned) {
+      Warn(where + ": on a skinned node but without JOINTS_0 and WEIGHTS_0; placed by its node");
+    }
     for (const auto& [name, acc] : prim.attributes) {
       if (name != "POSITION" && name != "NORMAL" && name != texcoord_name && name != emissive_texcoord_name &&
-          name != "COLOR_0") {
+          name != "COLOR_0" && !(skinned && (name == "JOINTS_0" || name == "WEIGHTS_0"))) {
         Ignore("vertex attribute " + name);
       }
     }
@@ -930,8 +1032,10 @@ class Loader {
         }
       }
     }
-    if (current_mesh_animated_) {
-      // PoseSceneAt re-poses this mesh from its node-frame vertices.
+    if (skinned) ReadSkinning(prim, node.skin, nverts, where, &out);
+    if (current_mesh_animated_ || skinned) {
+      // PoseSceneAt re-poses this mesh from its node-frame vertices (SkinAtRestPose places a
+      // skinned one).
       out.node = node_index;
       out.local_positions.resize(nverts);
       for (size_t i = 0; i < nverts; ++i) out.local_positions[i] = Eigen::Vector3d(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]).cast<float>();

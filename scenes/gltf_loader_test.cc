@@ -475,6 +475,42 @@ TEST(GltfLoader, EmissionIsReadWithItsStrengthAndItsOwnTexcoords) {
   ExpectThrowsWith(g.Write(dir, "negative_factor"), "material 0 'sign': emissiveFactor must be finite and >= 0");
 }
 
+// A quad skinned to two joints: its lower edge follows joint 1 (at the origin), its upper edge
+// joint 2, bound at (0, 1, 0) and at rest at (5, 1, 0). The mesh node's own translation does not
+// apply (glTF: a skinned mesh is placed by its joints).
+TEST(GltfLoader, SkinnedMeshesArePlacedByTheirJoints) {
+  const auto dir = TempDir();
+  TestGltf g;
+  const int pos = g.Positions(kQuad);
+  const int joints = g.Accessor<uint8_t>({0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0}, kUByte, "VEC4", 4);
+  const int weights = g.Accessor<float>({1, 0, 0, 0, 1, 0, 0, 0, 0, 2, 0, 0, 0, 1, 0, 0}, kFloat, "VEC4", 4);  // rescaled to sum 1
+  const std::vector<float> ibm = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1,     // joint 1: identity
+                                  1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, -1, 0, 1};   // joint 2: translate(0, -1, 0)
+  const int ibm_acc = g.Accessor(ibm, kFloat, "MAT4", 2);
+  g.doc["skins"] = json::array({{{"joints", {1, 2}}, {"inverseBindMatrices", ibm_acc}}});
+  g.Node({{"mesh", g.Mesh({{"POSITION", pos}, {"JOINTS_0", joints}, {"WEIGHTS_0", weights}}, -1, 6)},
+          {"skin", 0}, {"translation", {100, 0, 0}}});
+  g.Node({{"children", {2}}});
+  g.Node({{"translation", {5, 1, 0}}});
+  g.Scene({0, 1});
+  const Scene s = LoadGltf(g.Write(dir, "skinned"));
+  ASSERT_EQ(s.skins.size(), 1u);
+  EXPECT_EQ(s.skins[0].joints, (std::vector<int>{1, 2}));
+  ASSERT_EQ(s.meshes.size(), 1u);
+  const SceneMesh& m = s.meshes[0];
+  EXPECT_EQ(m.skin, 0);
+  ASSERT_EQ(m.positions.size(), 4u);
+  const Eigen::Vector3f expected[4] = {{0, 0, 0}, {1, 0, 0}, {6, 1, 0}, {5, 1, 0}};
+  for (int i = 0; i < 4; ++i) EXPECT_TRUE(m.positions[i].isApprox(expected[i])) << i << ": " << m.positions[i].transpose();
+  EXPECT_FALSE(HasWarning(s, "skin"));
+  EXPECT_FALSE(HasWarning(s, "JOINTS_0"));
+
+  g.doc["skins"][0]["joints"] = {1};  // vertex 2 weighs joint 1 of a skin that now has one
+  ExpectThrowsWith(g.Write(dir, "joint_beyond_skin"), "JOINTS_0): vertex 2 names joint 1 of a skin with 1");
+  g.doc["skins"][0]["joints"] = {1, 2, 0};
+  ExpectThrowsWith(g.Write(dir, "short_ibm"), "skin 0: 2 inverse bind matrices for 3 joints");
+}
+
 TEST(GltfLoader, TextureTransformIsBakedIntoTexcoords) {
   const auto dir = TempDir();
   TestGltf g;

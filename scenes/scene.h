@@ -6,6 +6,7 @@
 // Texture coordinates follow glTF: (0, 0) is the top-left corner of the image's first pixel.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -69,12 +70,24 @@ struct SceneMesh {
   // empty = none.
   std::vector<Eigen::Vector4f> colors;
   std::vector<uint32_t> indices;           // 3 per triangle, into positions
-  // Animated meshes only (a node on the path from the root to this mesh is animated): the glTF
-  // node carrying the mesh (index into Scene::nodes) and the vertices in that node's frame, from
+  // Animated and skinned meshes only: the glTF node carrying the mesh (index into the file's
+  // nodes, and into Scene::nodes when animated) and the vertices in the mesh's own frame, from
   // which PoseSceneAt (renderer/scene_pose.h) recomputes `positions` and `normals` at any time.
   int node = -1;
   std::vector<Eigen::Vector3f> local_positions;
   std::vector<Eigen::Vector3f> local_normals;
+  // Skinned meshes only: index into Scene::skins, and per vertex JOINTS_0 (indices into the skin's
+  // joints) and WEIGHTS_0 (summing to 1). Such a mesh is placed by its joints, not by its node.
+  int skin = -1;
+  std::vector<std::array<uint16_t, 4>> joints;
+  std::vector<Eigen::Vector4f> weights;
+};
+
+// A glTF skin: the nodes (joints) that move a skinned mesh's vertices, each with its inverse bind
+// matrix (joint_from_mesh at bind time).
+struct SceneSkin {
+  std::vector<int> joints;  // glTF node indices
+  std::vector<Eigen::Matrix4d> inverse_bind;
 };
 
 // A glTF node's rest transform and parent; filled by the loader only for animated scenes.
@@ -125,6 +138,7 @@ struct Scene {
   std::vector<Texture> textures;
   std::vector<std::string> warnings;  // everything the loader skipped or guessed, human readable
   std::vector<SceneCamera> cameras;   // glTF cameras on nodes of the loaded scene, in node order
+  std::vector<SceneSkin> skins;       // glTF skins (SceneMesh::skin)
   // Node animation (empty for a static scene): the node tree and the channels that move it.
   std::vector<SceneNode> nodes;
   std::vector<AnimationChannel> animation_channels;

@@ -67,8 +67,11 @@ void PrintScene(const Scene& scene, const std::filesystem::path& path, const Lab
   if (rules) std::printf("label rules %s (%zu rules)\n", rules->source().c_str(), rules->rules().size());
   std::printf("nodes       %zu with geometry (one instance each)\n", instances.size());
   const size_t coloured = std::count_if(scene.meshes.begin(), scene.meshes.end(), [](const SceneMesh& m) { return !m.colors.empty(); });
-  std::printf("primitives  %zu%s\n", scene.meshes.size(),
-              coloured ? (" (" + std::to_string(coloured) + " with vertex colours)").c_str() : "");
+  const size_t skinned = std::count_if(scene.meshes.begin(), scene.meshes.end(), [](const SceneMesh& m) { return m.skin >= 0; });
+  std::string kinds;
+  if (coloured) kinds += std::to_string(coloured) + " with vertex colours";
+  if (skinned) kinds += (kinds.empty() ? "" : ", ") + std::to_string(skinned) + " skinned";
+  std::printf("primitives  %zu%s\n", scene.meshes.size(), kinds.empty() ? "" : (" (" + kinds + ")").c_str());
   std::printf("triangles   %zu\n", scene.NumTriangles());
   std::map<std::string, int> alpha;
   for (const Material& m : scene.materials) ++alpha[AlphaName(m.alpha_mode)];
