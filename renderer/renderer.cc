@@ -128,11 +128,16 @@ void FillBorder(MipLevel& level, WrapMode wrap_s, WrapMode wrap_t) {
   }
 }
 
-// Level 0: the source's sRGB colour decoded to linear light; alpha is linear already.
-MipLevel LinearLevel(const Texture& texture) {
+// What a texture's RGB codes hold: colour (base colour, emission) in sRGB encoding, or data
+// (normal maps) as they are.
+enum class TexelEncoding { kSrgb, kLinear };
+
+// Level 0: the source's RGB decoded to linear values; alpha is linear already.
+MipLevel LinearLevel(const Texture& texture, TexelEncoding encoding) {
   std::array<uint16_t, 256> colour{};
   for (int code = 0; code < 256; ++code) {
-    colour[code] = uint16_t(std::lround(LinearFromSrgbCode(uint8_t(code)) * kTexelUnit));
+    colour[code] = encoding == TexelEncoding::kSrgb ? uint16_t(std::lround(LinearFromSrgbCode(uint8_t(code)) * kTexelUnit))
+                                                    : uint16_t(code * 257);
   }
   MipLevel level(texture.width, texture.height);
   for (int y = 0; y < texture.height; ++y) {
@@ -161,7 +166,7 @@ MipLevel Downsample(const MipLevel& src) {
   return dst;
 }
 
-MipTexture BuildMipTexture(const Texture& texture, const std::string& where) {
+MipTexture BuildMipTexture(const Texture& texture, TexelEncoding encoding, const std::string& where) {
   if (texture.width <= 0 || texture.height <= 0 ||
       texture.rgba.size() != size_t(texture.width) * texture.height * 4) {
     throw std::invalid_argument(where + ": texture '" + texture.name + "' has size " + std::to_string(texture.width) +
@@ -175,7 +180,7 @@ MipTexture BuildMipTexture(const Texture& texture, const std::string& where) {
   mip.min_nearest = texture.min_nearest;
   mip.mip = texture.mip;
   mip.texel_scale = std::sqrt(float(texture.width) * float(texture.height));
-  mip.levels.push_back(LinearLevel(texture));
+  mip.levels.push_back(LinearLevel(texture, encoding));
   while (mip.levels.back().width > 1 || mip.levels.back().height > 1) {
     mip.levels.push_back(Downsample(mip.levels.back()));
   }
@@ -352,6 +357,8 @@ struct MeshData {
   Eigen::Vector3f emissive = Eigen::Vector3f::Zero();  // linear RGB, added to the reflected light
   const MipTexture* emissive_texture = nullptr;         // nullptr: none, or no emissive texcoords
   bool emits = false;  // some emission to add (never for unlit materials, which show their colour)
+  const MipTexture* normal_texture = nullptr;  // nullptr: none, or no normal-map texcoords
+  float normal_scale = 1.0f;
   // Per-triangle shading data, copied out of the indexed mesh so that shading a hit reads one or
   // two cache lines instead of chasing the index buffer into three vertex arrays (that chase cost
   // more than a third of the shading time in the street benchmark).
@@ -366,7 +373,26 @@ struct MeshData {
   // Per triangle, only with an emissive texture: its coordinates and texel density.
   std::vector<std::array<Eigen::Vector2f, 3>> corner_emissive_texcoords;
   std::vector<float> emissive_texels_per_metre;
+  // Per triangle, only with a normal map: its coordinates, texel density and tangent frame.
+  struct TangentFrame {
+    Eigen::Vector3f along_u;   // dP/du, world
+    Eigen::Vector3f up_image;  // -dP/dv: towards the texture's top row, where normal maps' +Y points
+  };
+  std::vector<std::array<Eigen::Vector2f, 3>> corner_normal_texcoords;
+  std::vector<float> normal_texels_per_metre;
+  std::vector<TangentFrame> tangent_frames;
 };
+
+// dP/du and -dP/dv of the triangle p0..p2 with texture coordinates t0..t2 (zero when the
+// coordinates are degenerate): the solution of p1 - p0 = dP/du du1 + dP/dv dv1 and likewise for p2.
+MeshData::TangentFrame TangentFrameOf(const Eigen::Vector3f& p0, const Eigen::Vector3f& p1, const Eigen::Vector3f& p2,
+                                      const Eigen::Vector2f& t0, const Eigen::Vector2f& t1, const Eigen::Vector2f& t2) {
+  const Eigen::Vector3f e1 = p1 - p0, e2 = p2 - p0;
+  const Eigen::Vector2f d1 = t1 - t0, d2 = t2 - t0;
+  const float det = d1.x() * d2.y() - d2.x() * d1.y();
+  if (!(std::abs(det) > 0.0f)) return {Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
+  return {(e1 * d2.y() - e2 * d1.y()) / det, -(e2 * d1.x() - e1 * d2.x()) / det};
+}
 
 // Level-0 texels per metre of a triangle whose corners p0..p2 map to t0..t2, for a texture with
 // `texel_scale` texels per uv unit: sqrt(uv area / world area) * texel_scale (0 when degenerate).
@@ -582,7 +608,8 @@ struct Renderer::Impl {
   static constexpr size_t kMaxCachedCameras = 8;  // ~27 MB each at 1280x720
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
-  std::vector<MipTexture> textures;
+  std::vector<MipTexture> textures;               // colour, by Scene::textures index
+  std::map<int, MipTexture> data_textures;        // normal maps, by Scene::textures index
   std::vector<MeshData> meshes;  // index == Embree geomID
 
   // (Re)builds the per-mesh data and the Embree scene from `meshes` (materials and textures of
@@ -668,6 +695,7 @@ struct Renderer::Impl {
     const MeshData& m = meshes[hit.geom];
     Eigen::Vector3f ng, n;
     SurfaceNormals(hit, r.dir, &ng, &n);
+    if (m.normal_texture != nullptr) n = NormalMapped(m, r, ng, n);
 
     Eigen::Vector4f base = BaseColorAt(m, hit.prim, hit.u, hit.v);
     if (m.texture != nullptr) {
@@ -698,6 +726,29 @@ struct Renderer::Impl {
     const Eigen::Vector3f reflected = r.albedo * r.light;
     const MeshData& m = meshes[r.hit.geom];
     return m.emits ? Eigen::Vector3f(reflected + Emission(m, r)) : reflected;
+  }
+
+  // The shading normal `n` (facing the ray) turned by the mesh's normal map. The map's axes are
+  // the triangle's tangent frame made orthogonal to n; its +Z is the surface's outside, so seen
+  // from the back the whole frame turns over (out of line: rare, and it keeps the common path short).
+  [[gnu::noinline]] static Eigen::Vector3f NormalMapped(const MeshData& m, const SampleRecord& r,
+                                                        const Eigen::Vector3f& ng, const Eigen::Vector3f& n) {
+    const Hit& hit = r.hit;
+    const MeshData::TangentFrame& frame = m.tangent_frames[hit.prim];
+    Eigen::Vector3f x = frame.along_u - n * n.dot(frame.along_u);
+    Eigen::Vector3f y = frame.up_image - n * n.dot(frame.up_image);
+    if (!(x.squaredNorm() > 0.0f) || !(y.squaredNorm() > 0.0f)) return n;
+    const Eigen::Vector3f outside = m.corner_normals.empty() ? m.triangles[hit.prim].face_normal
+                                                             : AtHit(m.corner_normals[hit.prim], hit.u, hit.v);
+    const float side = outside.dot(n) >= 0.0f ? 1.0f : -1.0f;
+    const Eigen::Vector2f uv = AtHit(m.corner_normal_texcoords[hit.prim], hit.u, hit.v);
+    const float texels = FootprintMetres(hit, r.dir, r.angle, ng) * m.normal_texels_per_metre[hit.prim];
+    const Eigen::Vector4f texel = SampleTexture(*m.normal_texture, uv.x(), uv.y(), texels > 0 ? FastLog2(texels) : 0.0f);
+    const float tx = (2 * texel.x() - 1) * m.normal_scale, ty = (2 * texel.y() - 1) * m.normal_scale;
+    const float tz = 2 * texel.z() - 1;
+    const Eigen::Vector3f mapped = side * (tx * x.normalized() + ty * y.normalized()) + tz * n;
+    const float len = mapped.norm();
+    return len > 1e-12f ? Eigen::Vector3f(mapped / len) : n;
   }
 
   // Pixel footprint on the surface (major axis), for the textures' mip levels: `angle` is the
@@ -792,7 +843,16 @@ Renderer::Renderer(const Scene& scene) : impl_(std::make_unique<Impl>()) {
   impl.source = source;
 
   impl.textures.reserve(scene.textures.size());  // MeshData points into it: no reallocation
-  for (const Texture& texture : scene.textures) impl.textures.push_back(BuildMipTexture(texture, source));
+  for (const Texture& texture : scene.textures) {
+    impl.textures.push_back(BuildMipTexture(texture, TexelEncoding::kSrgb, source));
+  }
+  // Normal maps hold data, not colour: their levels are built from the codes as they are.
+  for (const Material& material : scene.materials) {
+    const int t = material.normal_texture;
+    if (t >= 0 && size_t(t) < scene.textures.size() && !impl.data_textures.count(t)) {
+      impl.data_textures.emplace(t, BuildMipTexture(scene.textures[t], TexelEncoding::kLinear, source));
+    }
+  }
 
   impl.device = rtcNewDevice(nullptr);
   if (impl.device == nullptr) {
@@ -834,6 +894,10 @@ void Renderer::Impl::BuildGeometry(const std::vector<SceneMesh>& scene_meshes) {
       throw std::invalid_argument(where + ": " + std::to_string(mesh.texcoords.size()) + " texcoords for " +
                                   std::to_string(mesh.positions.size()) + " positions");
     }
+    if (!mesh.normal_texcoords.empty() && mesh.normal_texcoords.size() != mesh.positions.size()) {
+      throw std::invalid_argument(where + ": " + std::to_string(mesh.normal_texcoords.size()) +
+                                  " normal-map texcoords for " + std::to_string(mesh.positions.size()) + " positions");
+    }
     if (!mesh.emissive_texcoords.empty() && mesh.emissive_texcoords.size() != mesh.positions.size()) {
       throw std::invalid_argument(where + ": " + std::to_string(mesh.emissive_texcoords.size()) +
                                   " emissive texcoords for " + std::to_string(mesh.positions.size()) + " positions");
@@ -874,6 +938,14 @@ void Renderer::Impl::BuildGeometry(const std::vector<SceneMesh>& scene_meshes) {
       if (material.emissive_texture >= 0 && !mesh.emissive_texcoords.empty()) {
         m.emissive_texture = &impl.textures[material.emissive_texture];
       }
+      if (material.normal_texture >= int(scene.textures.size()) || material.normal_texture < -1) {
+        throw std::invalid_argument(where + ": material '" + material.name + "' normal texture index " +
+                                    std::to_string(material.normal_texture) + " out of range");
+      }
+      if (material.normal_texture >= 0 && !mesh.normal_texcoords.empty() && !material.unlit) {
+        m.normal_texture = &impl.data_textures.at(material.normal_texture);
+        m.normal_scale = material.normal_scale;
+      }
     }
 
     const size_t num_tris = mesh.indices.size() / 3;
@@ -882,6 +954,11 @@ void Renderer::Impl::BuildGeometry(const std::vector<SceneMesh>& scene_meshes) {
     if (m.emissive_texture != nullptr) {
       m.corner_emissive_texcoords.resize(num_tris);
       m.emissive_texels_per_metre.resize(num_tris);
+    }
+    if (m.normal_texture != nullptr) {
+      m.corner_normal_texcoords.resize(num_tris);
+      m.normal_texels_per_metre.resize(num_tris);
+      m.tangent_frames.resize(num_tris);
     }
     bool smooth = false;  // some vertex normal differs from its face's: interpolate per hit
     for (size_t t = 0; t < num_tris; ++t) {
@@ -902,6 +979,13 @@ void Renderer::Impl::BuildGeometry(const std::vector<SceneMesh>& scene_meshes) {
         m.emissive_texels_per_metre[t] =
             TexelsPerMetre(p0, p1, p2, tc[tri[0]], tc[tri[1]], tc[tri[2]], m.emissive_texture->texel_scale);
         m.corner_emissive_texcoords[t] = {tc[tri[0]], tc[tri[1]], tc[tri[2]]};
+      }
+      if (m.normal_texture != nullptr) {
+        const auto& tc = mesh.normal_texcoords;
+        m.normal_texels_per_metre[t] =
+            TexelsPerMetre(p0, p1, p2, tc[tri[0]], tc[tri[1]], tc[tri[2]], m.normal_texture->texel_scale);
+        m.corner_normal_texcoords[t] = {tc[tri[0]], tc[tri[1]], tc[tri[2]]};
+        m.tangent_frames[t] = TangentFrameOf(p0, p1, p2, tc[tri[0]], tc[tri[1]], tc[tri[2]]);
       }
       for (int c = 0; c < 3 && !mesh.normals.empty() && !smooth; ++c) {
         const Eigen::Vector3f& vn = mesh.normals[tri[c]];

@@ -612,6 +612,45 @@ TEST(RendererTest, EmissiveTextureUsesItsOwnTexcoords) {
   EXPECT_THROW(Renderer{scene}, std::invalid_argument) << "emissive texcoords must match the positions";
 }
 
+// Red channel of the pixel at the centre of a white 2 x 2 m quad 3 m ahead whose normal map is
+// the single texel `normal` (RGB codes). `facing_camera`: the quad's outside (winding) faces the
+// camera, with u growing to the image's left and v downwards; else the camera sees its back.
+int NormalMappedRed(const std::array<uint8_t, 3>& normal, bool facing_camera, const Eigen::Vector3d& sun) {
+  Scene scene;
+  const int map = AddTexture(scene, 1, 1, {{normal[0], normal[1], normal[2], 255}});
+  const int material = AddMaterial(scene, {1, 1, 1, 1});
+  scene.materials[material].normal_texture = map;
+  AddFrontQuad(scene, facing_camera ? 1 : -1, facing_camera ? -1 : 1, -1, 1, 3, kCar, 1, material);
+  scene.meshes.back().normal_texcoords = scene.meshes.back().texcoords;
+  RenderOptions options = Opts();
+  options.sun_direction_world = sun;
+  const Camera camera = SmallPinhole();
+  return ColourAt(Renderer(scene).Render(camera, Rigid3d(), options), camera, {0, 0, 3})[0];
+}
+
+// The normal map turns the shading normal: +X along u, +Y towards the texture's top row (the
+// image's top here, world -y), +Z out of the surface; seen from the back the frame turns over.
+TEST(RendererTest, NormalMapsTurnTheShadingNormal) {
+  const std::array<uint8_t, 3> flat = {128, 128, 255}, up = {128, 255, 128}, down = {128, 0, 128};
+  const std::array<uint8_t, 3> along_u = {255, 128, 128}, against_u = {0, 128, 128};
+  const Eigen::Vector3d sun_above(0, -1, -0.2), sun_left(-1, 0, -0.2);  // left: where u grows
+  const int flat_above = NormalMappedRed(flat, true, sun_above);
+  EXPECT_GT(NormalMappedRed(up, true, sun_above), flat_above + 40);
+  EXPECT_LT(NormalMappedRed(down, true, sun_above), flat_above);
+  const int flat_left = NormalMappedRed(flat, true, sun_left);
+  EXPECT_GT(NormalMappedRed(along_u, true, sun_left), flat_left + 40);
+  EXPECT_LT(NormalMappedRed(against_u, true, sun_left), flat_left);
+  // From the back, "up" on the map points away from the sun above.
+  EXPECT_LT(NormalMappedRed(up, false, sun_above), NormalMappedRed(flat, false, sun_above));
+  // A flat map changes (almost) nothing: 128 is a hair above the middle of 0..255.
+  Scene plain;
+  AddFrontQuad(plain, 1, -1, -1, 1, 3, kCar, 1, AddMaterial(plain, {1, 1, 1, 1}));
+  RenderOptions options = Opts();
+  options.sun_direction_world = sun_above;
+  const Camera camera = SmallPinhole();
+  EXPECT_NEAR(ColourAt(Renderer(plain).Render(camera, Rigid3d(), options), camera, {0, 0, 3})[0], flat_above, 1);
+}
+
 // A camera 10 m above the origin looking straight down (+Z of the world at the image bottom).
 Rigid3d LookingDown(double height) {
   Eigen::Matrix3d world_from_cam;

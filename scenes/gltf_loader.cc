@@ -214,6 +214,7 @@ struct TextureUv {
 struct MaterialUvs {
   TextureUv base_color;
   std::optional<TextureUv> emissive;  // only with an emissive texture
+  std::optional<TextureUv> normal;    // only with a normal texture
 };
 
 class Loader {
@@ -325,6 +326,13 @@ class Loader {
         out.base_color_texture = ConvertTexture(pbr.baseColorTexture.index);
       }
       ConvertEmission(m, material_label, &out, &uvs);
+      if (m.normalTexture.index >= 0) {
+        const std::string where = material_label + " normalTexture";
+        if (!std::isfinite(m.normalTexture.scale)) Fail(where + ": scale is not finite");
+        uvs.normal = ParseTextureInfoUv(m.normalTexture, where);
+        out.normal_texture = ConvertTexture(m.normalTexture.index);
+        out.normal_scale = float(m.normalTexture.scale);
+      }
       material_uv_.push_back(uvs);
       if (m.alphaMode == "MASK") {
         out.alpha_mode = AlphaMode::kMask;
@@ -334,7 +342,6 @@ class Loader {
       out.alpha_cutoff = float(m.alphaCutoff);
       out.double_sided = m.doubleSided;
       if (pbr.metallicRoughnessTexture.index >= 0) Ignore("metallicRoughnessTexture (materials)");
-      if (m.normalTexture.index >= 0) Ignore("normalTexture (materials)");
       if (m.occlusionTexture.index >= 0) Ignore("occlusionTexture (materials)");
       for (const auto& [name, value] : m.extensions) {
         if (name == "KHR_materials_unlit") {
@@ -965,13 +972,14 @@ class Loader {
     const TextureUv& uv_map = uvs.base_color;
     const std::string texcoord_name = "TEXCOORD_" + std::to_string(uv_map.set);
     const std::string emissive_texcoord_name = uvs.emissive ? "TEXCOORD_" + std::to_string(uvs.emissive->set) : "";
+    const std::string normal_texcoord_name = uvs.normal ? "TEXCOORD_" + std::to_string(uvs.normal->set) : "";
     const bool skinned = node.skin >= 0 && prim.attributes.count("JOINTS_0") && prim.attributes.count("WEIGHTS_0");
     if (node.skin >= 0 && !skinned) {
       Warn(where + ": on a skinned node but without JOINTS_0 and WEIGHTS_0; placed by its node");
     }
     for (const auto& [name, acc] : prim.attributes) {
       if (name != "POSITION" && name != "NORMAL" && name != texcoord_name && name != emissive_texcoord_name &&
-          name != "COLOR_0" && !(skinned && (name == "JOINTS_0" || name == "WEIGHTS_0"))) {
+          name != normal_texcoord_name && name != "COLOR_0" && !(skinned && (name == "JOINTS_0" || name == "WEIGHTS_0"))) {
         Ignore("vertex attribute " + name);
       }
     }
@@ -1054,6 +1062,12 @@ class Loader {
       out.emissive_texcoords = ReadTexcoords(prim, *uvs.emissive, nverts, where);
       if (out.emissive_texcoords.empty()) {
         Ignore("emissive primitives without their texture's " + emissive_texcoord_name + " (emissive texture not shown)");
+      }
+    }
+    if (uvs.normal) {
+      out.normal_texcoords = ReadTexcoords(prim, *uvs.normal, nverts, where);
+      if (out.normal_texcoords.empty()) {
+        Ignore("normal-mapped primitives without their texture's " + normal_texcoord_name + " (normal map not used)");
       }
     }
 

@@ -475,6 +475,29 @@ TEST(GltfLoader, EmissionIsReadWithItsStrengthAndItsOwnTexcoords) {
   ExpectThrowsWith(g.Write(dir, "negative_factor"), "material 0 'sign': emissiveFactor must be finite and >= 0");
 }
 
+// normalTexture: its scale, and its own texCoord baked into SceneMesh::normal_texcoords.
+TEST(GltfLoader, NormalTextureIsReadWithItsScaleAndTexcoords) {
+  const auto dir = TempDir();
+  TestGltf g;
+  const int pos = g.Positions(kQuad);
+  const int uv0 = g.Accessor<float>({0, 0, 1, 0, 1, 1, 0, 1}, kFloat, "VEC2", 4);
+  const int uv1 = g.Accessor<float>({0.25f, 0.25f, 0.75f, 0.25f, 0.75f, 0.75f, 0.25f, 0.75f}, kFloat, "VEC2", 4);
+  g.doc["images"] = json::array({{{"uri", TinyPngUri()}}});
+  g.doc["textures"] = json::array({{{"source", 0}}});
+  g.doc["materials"] = json::array({{{"name", "bricks"}, {"normalTexture", {{"index", 0}, {"texCoord", 1}, {"scale", 0.5}}}}});
+  g.Node({{"mesh", g.Mesh({{"POSITION", pos}, {"TEXCOORD_0", uv0}, {"TEXCOORD_1", uv1}}, -1, 4, 0)}});
+  g.Scene({0});
+  const Scene s = LoadGltf(g.Write(dir, "normal_map"));
+  ASSERT_EQ(s.materials.size(), 1u);
+  EXPECT_EQ(s.materials[0].normal_texture, 0);
+  EXPECT_FLOAT_EQ(s.materials[0].normal_scale, 0.5f);
+  ASSERT_EQ(s.meshes.size(), 1u);
+  ASSERT_EQ(s.meshes[0].normal_texcoords.size(), 4u);
+  EXPECT_EQ(s.meshes[0].normal_texcoords[1], Eigen::Vector2f(0.75f, 0.25f));
+  EXPECT_FALSE(HasWarning(s, "normalTexture"));
+  EXPECT_FALSE(HasWarning(s, "TEXCOORD_1"));
+}
+
 // A quad skinned to two joints: its lower edge follows joint 1 (at the origin), its upper edge
 // joint 2, bound at (0, 1, 0) and at rest at (5, 1, 0). The mesh node's own translation does not
 // apply (glTF: a skinned mesh is placed by its joints).

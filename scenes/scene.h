@@ -51,6 +51,10 @@ struct Material {
   // exposure 1).
   Eigen::Vector3f emissive = Eigen::Vector3f::Zero();
   int emissive_texture = -1;  // index into Scene::textures; multiplies `emissive`
+  // Tangent-space normal map (glTF normalTexture: linear RGB, +X along u, +Y towards the image's
+  // top, i.e. decreasing v) and its scale on X and Y.
+  int normal_texture = -1;  // index into Scene::textures
+  float normal_scale = 1.0f;
 };
 
 struct SceneMesh {
@@ -66,6 +70,9 @@ struct SceneMesh {
   // What the material's emissive texture samples (its own TEXCOORD_n and KHR_texture_transform);
   // empty = none.
   std::vector<Eigen::Vector2f> emissive_texcoords;
+  // What the material's normal texture samples; empty = none. The tangent frame is derived per
+  // triangle from the positions and these coordinates (a file's TANGENT attribute is not used).
+  std::vector<Eigen::Vector2f> normal_texcoords;
   // COLOR_0: linear RGBA per vertex, which multiplies the material's base colour (glTF 2.0);
   // empty = none.
   std::vector<Eigen::Vector4f> colors;

@@ -80,6 +80,9 @@ void PrintScene(const Scene& scene, const std::filesystem::path& path, const Lab
   const size_t emissive = std::count_if(scene.materials.begin(), scene.materials.end(),
                                         [](const Material& m) { return m.emissive != Eigen::Vector3f::Zero(); });
   if (emissive) alpha["emissive"] = int(emissive);
+  const size_t normal_mapped = std::count_if(scene.materials.begin(), scene.materials.end(),
+                                             [](const Material& m) { return m.normal_texture >= 0; });
+  if (normal_mapped) alpha["normal-mapped"] = int(normal_mapped);
   std::string alpha_text;
   for (const auto& [mode, n] : alpha) alpha_text += (alpha_text.empty() ? "" : ", ") + std::to_string(n) + " " + mode;
   std::printf("materials   %zu%s\n", scene.materials.size(), alpha_text.empty() ? "" : (" (" + alpha_text + ")").c_str());
