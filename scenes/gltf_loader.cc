@@ -115,7 +115,24 @@ Eigen::Matrix4d LocalTransform(const tinygltf::Node& node) {
   return t.matrix();
 }
 
-// Width and height of an encoded PNG (its IHDR) or JPEG (its start-of-frame segment), read
+// Width and height of a WebP file (RIFF "WEBP" with a VP8, VP8L or VP8X first chunk, as the
+// WebP container specification lays them out), read without decoding; nullopt otherwise.
+std::optional<std::pair<uint64_t, uint64_t>> EncodedWebpSize(const unsigned char* b, size_t size) {
+  if (size < 30 || std::memcmp(b, "RIFF", 4) != 0 || std::memcmp(b + 8, "WEBP", 4) != 0) return std::nullopt;
+  auto le16 = [&](size_t i) { return uint64_t(b[i]) | uint64_t(b[i + 1]) << 8; };
+  auto le24 = [&](size_t i) { return le16(i) | uint64_t(b[i + 2]) << 16; };
+  if (std::memcmp(b + 12, "VP8 ", 4) == 0 && b[23] == 0x9d && b[24] == 0x01 && b[25] == 0x2a) {  // lossy key frame
+    return std::make_pair(le16(26) & 0x3fff, le16(28) & 0x3fff);
+  }
+  if (std::memcmp(b + 12, "VP8L", 4) == 0 && b[20] == 0x2f) {  // lossless: 14-bit width - 1, height - 1
+    const uint64_t bits = le16(21) | le16(23) << 16;
+    return std::make_pair((bits & 0x3fff) + 1, ((bits >> 14) & 0x3fff) + 1);
+  }
+  if (std::memcmp(b + 12, "VP8X", 4) == 0) return std::make_pair(le24(24) + 1, le24(27) + 1);  // extended: canvas
+  return std::nullopt;
+}
+
+// Width and height of an encoded PNG (its IHDR), JPEG (its start-of-frame segment) or WebP, read
 // without decoding; nullopt for anything else.
 std::optional<std::pair<uint64_t, uint64_t>> EncodedImageSize(const unsigned char* bytes, size_t size) {
   auto be16 = [&](size_t i) { return uint64_t(bytes[i]) << 8 | bytes[i + 1]; };
@@ -123,6 +140,7 @@ std::optional<std::pair<uint64_t, uint64_t>> EncodedImageSize(const unsigned cha
   if (size >= 24 && std::memcmp(bytes, "\x89PNG\r\n\x1a\n", 8) == 0 && std::memcmp(bytes + 12, "IHDR", 4) == 0) {
     return std::make_pair(be32(16), be32(20));
   }
+  if (auto webp = EncodedWebpSize(bytes, size)) return webp;
   if (size < 4 || bytes[0] != 0xFF || bytes[1] != 0xD8) return std::nullopt;
   for (size_t i = 2; i + 9 <= size;) {  // JPEG segments: FF, marker, 16-bit length (itself included)
     if (bytes[i] != 0xFF) return std::nullopt;
@@ -142,9 +160,9 @@ std::optional<std::pair<uint64_t, uint64_t>> EncodedImageSize(const unsigned cha
   return std::nullopt;
 }
 
-// Decodes glTF images with OpenCV (libpng, libjpeg) in place of tinygltf's stb_image, after two
-// checks on the encoded bytes: the image is a PNG or a JPEG, the only formats glTF 2.0 allows
-// (stb would also take BMP, PSD, GIF, ...), and its header asks for no more pixels than the limit
+// Decodes glTF images with OpenCV (libpng, libjpeg, libwebp) in place of tinygltf's stb_image,
+// after two checks on the encoded bytes: the image is a PNG or a JPEG, the formats glTF 2.0
+// allows, or a WebP (EXT_texture_webp) (stb would also take BMP, PSD, GIF, ...), and its header asks for no more pixels than the limit
 // in `user_data` (a uint64_t). stb inflated a PNG's compressed data into a buffer without bound: a
 // 1x1 PNG of a few hundred bytes (found by fuzzing) made it allocate 1.2 GB. libpng inflates row
 // by row into the image's own size.
@@ -153,7 +171,7 @@ bool LoadCheckedImage(tinygltf::Image* image, const int index, std::string* err,
   const uint64_t max_pixels = *static_cast<const uint64_t*>(user_data);
   const auto dims = EncodedImageSize(bytes, size_t(std::max(size, 0)));
   if (!dims) {
-    if (err) *err += "image " + std::to_string(index) + " is not a PNG or JPEG image (the formats glTF 2.0 allows)\n";
+    if (err) *err += "image " + std::to_string(index) + " is not a PNG, JPEG or WebP image (the formats glTF 2.0 and EXT_texture_webp allow)\n";
     return false;
   }
   if (dims->second != 0 && dims->first > max_pixels / dims->second) {  // width x height > max
@@ -199,7 +217,7 @@ WrapMode ToWrap(int gl) {
 // KHR_texture_transform is honoured on the textures rigsim renders: base colour and emissive.
 bool SupportedExtension(const std::string& name) {
   return name == "KHR_mesh_quantization" || name == "KHR_texture_transform" || name == "KHR_materials_unlit" ||
-         name == "KHR_materials_emissive_strength";
+         name == "KHR_materials_emissive_strength" || name == "EXT_texture_webp";
 }
 
 // The texture coordinates a material's texture samples: the TEXCOORD_<set> attribute, mapped by
@@ -502,13 +520,23 @@ class Loader {
     if (index < 0 || size_t(index) >= model_.textures.size()) Fail("texture " + std::to_string(index) + " out of range");
     if (auto it = texture_map_.find(index); it != texture_map_.end()) return it->second;
     const tinygltf::Texture& t = model_.textures[index];
-    for (const auto& [name, value] : t.extensions) Ignore("texture extension " + name);
-    if (t.source < 0 || size_t(t.source) >= model_.images.size()) {
+    int source = t.source;
+    for (const auto& [name, value] : t.extensions) {
+      if (name == "EXT_texture_webp") {  // the WebP image, in place of the optional PNG or JPEG fallback
+        if (!value.IsObject() || !value.Has("source") || !value.Get("source").IsInt()) {
+          Fail("texture " + std::to_string(index) + ": EXT_texture_webp has no integer source");
+        }
+        source = value.Get("source").GetNumberAsInt();
+      } else {
+        Ignore("texture extension " + name);
+      }
+    }
+    if (source < 0 || size_t(source) >= model_.images.size()) {
       Warn("texture " + std::to_string(index) + " has no usable image source; texture ignored");
       return texture_map_[index] = -1;
     }
-    const tinygltf::Image& img = model_.images[t.source];
-    const std::string image_label = "image " + std::to_string(t.source) + (img.uri.empty() ? "" : " " + Quote(img.uri));
+    const tinygltf::Image& img = model_.images[source];
+    const std::string image_label = "image " + std::to_string(source) + (img.uri.empty() ? "" : " " + Quote(img.uri));
     if (img.image.empty() || img.width <= 0 || img.height <= 0) {
       if (!img.uri.empty()) Fail(image_label + ": cannot read " + (path_.parent_path() / img.uri).string());
       Fail(image_label + ": no decoded pixels");

@@ -108,16 +108,21 @@ bool HasWarning(const Scene& s, const std::string& part) {
   return false;
 }
 
-// Expects LoadGltf(path) to throw a message starting with the file name and containing `part`.
-void ExpectThrowsWith(const std::filesystem::path& path, const std::string& part) {
+// Expects LoadGltf(path, options) to throw a message starting with the file name and containing
+// `part`.
+void ExpectThrowsWithOptions(const std::filesystem::path& path, const GltfLoadOptions& options, const std::string& part) {
   try {
-    LoadGltf(path);
+    LoadGltf(path, options);
     ADD_FAILURE() << "no exception for " << path;
   } catch (const std::runtime_error& e) {
     const std::string msg = e.what();
     EXPECT_EQ(msg.rfind(path.string(), 0), 0u) << msg;
     EXPECT_NE(msg.find(part), std::string::npos) << msg;
   }
+}
+
+void ExpectThrowsWith(const std::filesystem::path& path, const std::string& part) {
+  ExpectThrowsWithOptions(path, GltfLoadOptions{}, part);
 }
 
 TEST(GltfLoader, TrsEqualsMatrix) {
@@ -364,6 +369,55 @@ std::string TinyPngUri() {
 // KHR_texture_transform: uv' = offset + R(rotation) * (scale * uv), with the rotation
 // counter-clockwise in glTF's v-down UV space: at 90 deg (1, 0) -> (0, -1), as the Khronos sample
 // viewer and the TextureTransformTest model have it (see ParseTextureTransform).
+// EXT_texture_webp: the texture's WebP image replaces its (here absent) PNG fallback. Lossless
+// pixels arrive exactly; lossy and lossless WebP headers give the size that the pixel limit checks.
+TEST(GltfLoader, WebpTexturesThroughTheirExtension) {
+  const auto dir = TempDir();
+  cv::Mat bgra(2, 3, CV_8UC4);
+  for (int y = 0; y < 2; ++y) {
+    for (int x = 0; x < 3; ++x) bgra.at<cv::Vec4b>(y, x) = cv::Vec4b(uint8_t(10 * x), uint8_t(50 + y), 200, uint8_t(255 - 40 * x));
+  }
+  std::vector<uint8_t> lossless, lossy, lossy_alpha;  // VP8L, VP8 and VP8X first chunks
+  ASSERT_TRUE(cv::imencode(".webp", bgra, lossless, {cv::IMWRITE_WEBP_QUALITY, 101}));
+  ASSERT_TRUE(cv::imencode(".webp", bgra, lossy_alpha, {cv::IMWRITE_WEBP_QUALITY, 80}));
+  cv::Mat bgr(2, 3, CV_8UC3, cv::Scalar(30, 60, 90));
+  ASSERT_TRUE(cv::imencode(".webp", bgr, lossy, {cv::IMWRITE_WEBP_QUALITY, 80}));
+  for (const std::vector<uint8_t>* webp : {&lossless, &lossy, &lossy_alpha}) {
+    TestGltf g;
+    const int pos = g.Positions(kQuad);
+    const int uv = g.Accessor<float>({0, 0, 1, 0, 1, 1, 0, 1}, kFloat, "VEC2", 4);
+    g.doc["extensionsUsed"] = {"EXT_texture_webp"};
+    g.doc["extensionsRequired"] = {"EXT_texture_webp"};
+    const std::string name = webp == &lossless ? "lossless" : webp == &lossy ? "lossy" : "lossy_alpha";
+    EXPECT_EQ(std::string(webp->begin() + 12, webp->begin() + 16), webp == &lossless ? "VP8L" : webp == &lossy ? "VP8 " : "VP8X");
+    std::ofstream(dir / (name + ".webp"), std::ios::binary).write(reinterpret_cast<const char*>(webp->data()), std::streamsize(webp->size()));
+    g.doc["images"] = json::array({{{"uri", name + ".webp"}}});
+    g.doc["textures"] = json::array({{{"extensions", {{"EXT_texture_webp", {{"source", 0}}}}}}});
+    g.doc["materials"] = json::array({{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}});
+    g.Node({{"mesh", g.Mesh({{"POSITION", pos}, {"TEXCOORD_0", uv}}, -1, 6, 0)}});
+    g.Scene({0});
+    const auto path = g.Write(dir, name);
+    const Scene s = LoadGltf(path);
+    ASSERT_EQ(s.textures.size(), 1u);
+    EXPECT_EQ(s.materials[0].base_color_texture, 0);
+    EXPECT_EQ(s.textures[0].width, 3);
+    EXPECT_EQ(s.textures[0].height, 2);
+    EXPECT_FALSE(HasWarning(s, "webp"));
+    if (webp == &lossless) {
+      for (int y = 0; y < 2; ++y) {
+        for (int x = 0; x < 3; ++x) {
+          const uint8_t* t = &s.textures[0].rgba[(size_t(y) * 3 + x) * 4];
+          const cv::Vec4b& b = bgra.at<cv::Vec4b>(y, x);
+          EXPECT_EQ((std::array<int, 4>{t[0], t[1], t[2], t[3]}), (std::array<int, 4>{b[2], b[1], b[0], b[3]})) << x << "," << y;
+        }
+      }
+    }
+    GltfLoadOptions small;
+    small.max_image_pixels = 5;
+    ExpectThrowsWithOptions(path, small, "image 0 is 3x2 pixels, more than the limit of 5");
+  }
+}
+
 TEST(GltfLoader, ImagesAreCheckedBeforeDecoding) {
   const auto dir = TempDir();
   // Only a PNG's IHDR, claiming 70000 x 70000 pixels (18 GiB as RGBA); a BMP (stb would decode it,
@@ -385,7 +439,7 @@ TEST(GltfLoader, ImagesAreCheckedBeforeDecoding) {
   };
   const uint64_t default_limit = GltfLoadOptions{}.max_image_pixels;
   for (const Case& c : {Case{&huge_png, default_limit, "image 0 is 70000x70000 pixels, more than the limit"},
-                        Case{&bmp, default_limit, "image 0 is not a PNG or JPEG image"},
+                        Case{&bmp, default_limit, "image 0 is not a PNG, JPEG or WebP image"},
                         Case{&widest_png, default_limit, "image 0 is 4294967295x4294967295 pixels, more than the limit"},
                         Case{&jpeg, 5, "image 0 is 3x2 pixels, more than the limit of 5"}, Case{&jpeg, default_limit, ""}}) {
     TestGltf g;
