@@ -345,53 +345,10 @@ TexelPair SampleNearest(const MipLevel& level, float s, float t) {
 // ---------------------------------------------------------------------------------------------
 // Scene data prepared once so that shading a hit is table look-ups only.
 
-struct MeshData {
-  const SceneMesh* mesh = nullptr;
-  uint8_t class_id = 0;
-  uint16_t instance_id = 0;
-  Eigen::Vector4f base_color = Eigen::Vector4f(0.5f, 0.5f, 0.5f, 1.0f);  // linear RGBA factor
-  const MipTexture* texture = nullptr;  // nullptr: no texture or no texcoords
-  bool alpha_tested = false;
-  float alpha_cutoff = 0.5f;
-  bool unlit = false;  // KHR_materials_unlit: no sun, no sky, no shadow ray
-  Eigen::Vector3f emissive = Eigen::Vector3f::Zero();  // linear RGB, added to the reflected light
-  const MipTexture* emissive_texture = nullptr;         // nullptr: none, or no emissive texcoords
-  bool emits = false;  // some emission to add (never for unlit materials, which show their colour)
-  const MipTexture* normal_texture = nullptr;  // nullptr: none, or no normal-map texcoords
-  float normal_scale = 1.0f;
-  // Per-triangle shading data, copied out of the indexed mesh so that shading a hit reads one or
-  // two cache lines instead of chasing the index buffer into three vertex arrays (that chase cost
-  // more than a third of the shading time in the street benchmark).
-  struct TriangleShading {
-    Eigen::Vector3f face_normal;  // unit (zero for degenerate triangles)
-    float texels_per_metre = 0.0f;  // level-0 texels per metre on the surface, for mip selection
-  };
-  std::vector<TriangleShading> triangles;
-  std::vector<std::array<Eigen::Vector2f, 3>> corner_texcoords;  // per triangle, when textured
-  std::vector<std::array<Eigen::Vector3f, 3>> corner_normals;    // per triangle, only for smooth meshes
-  std::vector<std::array<Eigen::Vector4f, 3>> corner_colors;     // per triangle, only with COLOR_0
-  // Per triangle, only with an emissive texture: its coordinates and texel density.
-  std::vector<std::array<Eigen::Vector2f, 3>> corner_emissive_texcoords;
-  std::vector<float> emissive_texels_per_metre;
-  // Per triangle, only with a normal map: its coordinates, texel density and tangent frame.
-  struct TangentFrame {
-    Eigen::Vector3f along_u;   // dP/du, world
-    Eigen::Vector3f up_image;  // -dP/dv: towards the texture's top row, where normal maps' +Y points
-  };
-  std::vector<std::array<Eigen::Vector2f, 3>> corner_normal_texcoords;
-  std::vector<float> normal_texels_per_metre;
-  std::vector<TangentFrame> tangent_frames;
-};
-
-// dP/du and -dP/dv of the triangle p0..p2 with texture coordinates t0..t2 (zero when the
-// coordinates are degenerate): the solution of p1 - p0 = dP/du du1 + dP/dv dv1 and likewise for p2.
-MeshData::TangentFrame TangentFrameOf(const Eigen::Vector3f& p0, const Eigen::Vector3f& p1, const Eigen::Vector3f& p2,
-                                      const Eigen::Vector2f& t0, const Eigen::Vector2f& t1, const Eigen::Vector2f& t2) {
-  const Eigen::Vector3f e1 = p1 - p0, e2 = p2 - p0;
-  const Eigen::Vector2f d1 = t1 - t0, d2 = t2 - t0;
-  const float det = d1.x() * d2.y() - d2.x() * d1.y();
-  if (!(std::abs(det) > 0.0f)) return {Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
-  return {(e1 * d2.y() - e2 * d1.y()) / det, -(e2 * d1.x() - e1 * d2.x()) / det};
+// A per-corner attribute at barycentric (u, v) of a hit (Embree's: weight u on corner 1, v on 2).
+template <typename T>
+T AtHit(const std::array<T, 3>& corners, float u, float v) {
+  return (1 - u - v) * corners[0] + u * corners[1] + v * corners[2];
 }
 
 // Level-0 texels per metre of a triangle whose corners p0..p2 map to t0..t2, for a texture with
@@ -405,11 +362,83 @@ float TexelsPerMetre(const Eigen::Vector3f& p0, const Eigen::Vector3f& p1, const
   return std::sqrt(std::abs(e1.x() * e2.y() - e1.y() * e2.x()) / area2) * texel_scale;
 }
 
-// A per-corner attribute at barycentric (u, v) of a hit (Embree's: weight u on corner 1, v on 2).
-template <typename T>
-T AtHit(const std::array<T, 3>& corners, float u, float v) {
-  return (1 - u - v) * corners[0] + u * corners[1] + v * corners[2];
+// The mip level to read for a footprint of `texels` level-0 texels (magnified when <= 0).
+[[gnu::always_inline]] inline float LodOf(float texels) { return texels > 0 ? FastLog2(texels) : 0.0f; }
+
+// A texture a mesh samples through its own coordinates (emission, normal map): per triangle its
+// corners' coordinates and its texel density.
+struct TextureLayer {
+  const MipTexture* texture = nullptr;  // nullptr: none, or the mesh has no such coordinates
+  std::vector<std::array<Eigen::Vector2f, 3>> corners;
+  std::vector<float> texels_per_metre;
+
+  void Build(const MipTexture* tex, const SceneMesh& mesh, const std::vector<Eigen::Vector2f>& texcoords) {
+    texture = tex;
+    const size_t num_tris = mesh.indices.size() / 3;
+    corners.resize(num_tris);
+    texels_per_metre.resize(num_tris);
+    for (size_t t = 0; t < num_tris; ++t) {
+      const uint32_t* tri = &mesh.indices[3 * t];
+      corners[t] = {texcoords[tri[0]], texcoords[tri[1]], texcoords[tri[2]]};
+      texels_per_metre[t] = TexelsPerMetre(mesh.positions[tri[0]], mesh.positions[tri[1]], mesh.positions[tri[2]],
+                                           corners[t][0], corners[t][1], corners[t][2], texture->texel_scale);
+    }
+  }
+
+  // Linear RGBA at barycentric (u, v) of triangle `prim`, for a pixel footprint of `footprint_m`.
+  Eigen::Vector4f Sample(unsigned prim, float u, float v, float footprint_m) const {
+    const Eigen::Vector2f uv = AtHit(corners[prim], u, v);
+    return SampleTexture(*texture, uv.x(), uv.y(), LodOf(footprint_m * texels_per_metre[prim]));
+  }
+};
+
+// A triangle's tangent frame for normal mapping.
+struct TangentFrame {
+  Eigen::Vector3f along_u;   // dP/du, world
+  Eigen::Vector3f up_image;  // -dP/dv: towards the texture's top row, where normal maps' +Y points
+};
+
+struct MeshData {
+  const SceneMesh* mesh = nullptr;
+  uint8_t class_id = 0;
+  uint16_t instance_id = 0;
+  Eigen::Vector4f base_color = Eigen::Vector4f(0.5f, 0.5f, 0.5f, 1.0f);  // linear RGBA factor
+  const MipTexture* texture = nullptr;  // nullptr: no texture or no texcoords
+  bool alpha_tested = false;
+  float alpha_cutoff = 0.5f;
+  bool unlit = false;  // KHR_materials_unlit: no sun, no sky, no shadow ray
+  Eigen::Vector3f emissive = Eigen::Vector3f::Zero();  // linear RGB, added to the reflected light
+  bool emits = false;  // some emission to add (never for unlit materials, which show their colour)
+  TextureLayer emissive_layer;                          // multiplies `emissive`
+  TextureLayer normal_layer;                            // the normal map
+  float normal_scale = 1.0f;
+  // Per-triangle shading data, copied out of the indexed mesh so that shading a hit reads one or
+  // two cache lines instead of chasing the index buffer into three vertex arrays (that chase cost
+  // more than a third of the shading time in the street benchmark).
+  struct TriangleShading {
+    Eigen::Vector3f face_normal;  // unit (zero for degenerate triangles)
+    float texels_per_metre = 0.0f;  // level-0 texels per metre on the surface, for mip selection
+  };
+  std::vector<TriangleShading> triangles;
+  std::vector<std::array<Eigen::Vector2f, 3>> corner_texcoords;  // per triangle, when textured
+  std::vector<std::array<Eigen::Vector3f, 3>> corner_normals;    // per triangle, only for smooth meshes
+  std::vector<std::array<Eigen::Vector4f, 3>> corner_colors;     // per triangle, only with COLOR_0
+  // Per triangle, only with a normal map: its tangent frame.
+  std::vector<TangentFrame> tangent_frames;
+};
+
+// dP/du and -dP/dv of the triangle p0..p2 with texture coordinates t0..t2 (zero when the
+// coordinates are degenerate): the solution of p1 - p0 = dP/du du1 + dP/dv dv1 and likewise for p2.
+TangentFrame TangentFrameOf(const Eigen::Vector3f& p0, const Eigen::Vector3f& p1, const Eigen::Vector3f& p2,
+                                      const Eigen::Vector2f& t0, const Eigen::Vector2f& t1, const Eigen::Vector2f& t2) {
+  const Eigen::Vector3f e1 = p1 - p0, e2 = p2 - p0;
+  const Eigen::Vector2f d1 = t1 - t0, d2 = t2 - t0;
+  const float det = d1.x() * d2.y() - d2.x() * d1.y();
+  if (!(std::abs(det) > 0.0f)) return {Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
+  return {(e1 * d2.y() - e2 * d1.y()) / det, -(e2 * d1.x() - e1 * d2.x()) / det};
 }
+
+
 
 // The material's base colour at a hit, before its texture: the factor times the interpolated
 // vertex colour (COLOR_0) when the mesh has one.
@@ -695,14 +724,13 @@ struct Renderer::Impl {
     const MeshData& m = meshes[hit.geom];
     Eigen::Vector3f ng, n;
     SurfaceNormals(hit, r.dir, &ng, &n);
-    if (m.normal_texture != nullptr) n = NormalMapped(m, r, ng, n);
+    if (m.normal_layer.texture != nullptr) n = NormalMapped(m, r, ng, n);
 
     Eigen::Vector4f base = BaseColorAt(m, hit.prim, hit.u, hit.v);
     if (m.texture != nullptr) {
       const Eigen::Vector2f uv = InterpolateTexcoord(m, hit.prim, hit.u, hit.v);
       const float texels = FootprintMetres(hit, r.dir, r.angle, ng) * m.triangles[hit.prim].texels_per_metre;
-      const float lod = texels > 0 ? FastLog2(texels) : 0.0f;
-      base = base.cwiseProduct(SampleTexture(*m.texture, uv.x(), uv.y(), lod));
+      base = base.cwiseProduct(SampleTexture(*m.texture, uv.x(), uv.y(), LodOf(texels)));
     }
     r.albedo = base.head<3>();
     if (m.unlit) {  // as the Khronos viewer shows it: the colour itself, at exposure 1 white is white
@@ -734,16 +762,14 @@ struct Renderer::Impl {
   [[gnu::noinline]] static Eigen::Vector3f NormalMapped(const MeshData& m, const SampleRecord& r,
                                                         const Eigen::Vector3f& ng, const Eigen::Vector3f& n) {
     const Hit& hit = r.hit;
-    const MeshData::TangentFrame& frame = m.tangent_frames[hit.prim];
+    const TangentFrame& frame = m.tangent_frames[hit.prim];
     Eigen::Vector3f x = frame.along_u - n * n.dot(frame.along_u);
     Eigen::Vector3f y = frame.up_image - n * n.dot(frame.up_image);
     if (!(x.squaredNorm() > 0.0f) || !(y.squaredNorm() > 0.0f)) return n;
     const Eigen::Vector3f outside = m.corner_normals.empty() ? m.triangles[hit.prim].face_normal
                                                              : AtHit(m.corner_normals[hit.prim], hit.u, hit.v);
     const float side = outside.dot(n) >= 0.0f ? 1.0f : -1.0f;
-    const Eigen::Vector2f uv = AtHit(m.corner_normal_texcoords[hit.prim], hit.u, hit.v);
-    const float texels = FootprintMetres(hit, r.dir, r.angle, ng) * m.normal_texels_per_metre[hit.prim];
-    const Eigen::Vector4f texel = SampleTexture(*m.normal_texture, uv.x(), uv.y(), texels > 0 ? FastLog2(texels) : 0.0f);
+    const Eigen::Vector4f texel = m.normal_layer.Sample(hit.prim, hit.u, hit.v, FootprintMetres(hit, r.dir, r.angle, ng));
     const float tx = (2 * texel.x() - 1) * m.normal_scale, ty = (2 * texel.y() - 1) * m.normal_scale;
     const float tz = 2 * texel.z() - 1;
     const Eigen::Vector3f mapped = side * (tx * x.normalized() + ty * y.normalized()) + tz * n;
@@ -761,14 +787,12 @@ struct Renderer::Impl {
   // What an emissive surface gives off towards the camera ray (out of line: rare, and it keeps
   // the common path short).
   [[gnu::noinline]] static Eigen::Vector3f Emission(const MeshData& m, const SampleRecord& r) {
-    if (m.emissive_texture == nullptr) return m.emissive;
+    if (m.emissive_layer.texture == nullptr) return m.emissive;
     const Hit& hit = r.hit;
-    const Eigen::Vector2f uv = AtHit(m.corner_emissive_texcoords[hit.prim], hit.u, hit.v);
     Eigen::Vector3f ng = m.triangles[hit.prim].face_normal;  // the footprint ignores its sign
     if (ng.squaredNorm() == 0.0f) ng = -r.dir;                // as SurfaceNormals
-    const float texels = FootprintMetres(hit, r.dir, r.angle, ng) * m.emissive_texels_per_metre[hit.prim];
-    const float lod = texels > 0 ? FastLog2(texels) : 0.0f;
-    return m.emissive.cwiseProduct(SampleTexture(*m.emissive_texture, uv.x(), uv.y(), lod).head<3>());
+    const Eigen::Vector4f texel = m.emissive_layer.Sample(hit.prim, hit.u, hit.v, FootprintMetres(hit, r.dir, r.angle, ng));
+    return m.emissive.cwiseProduct(texel.head<3>());
   }
 
   // Geometric (ng) and shading (n) normals at a hit, both facing the incoming ray: surfaces are
@@ -936,30 +960,28 @@ void Renderer::Impl::BuildGeometry(const std::vector<SceneMesh>& scene_meshes) {
                                     std::to_string(material.emissive_texture) + " out of range");
       }
       if (material.emissive_texture >= 0 && !mesh.emissive_texcoords.empty()) {
-        m.emissive_texture = &impl.textures[material.emissive_texture];
+        m.emissive_layer.Build(&impl.textures[material.emissive_texture], mesh, mesh.emissive_texcoords);
       }
       if (material.normal_texture >= int(scene.textures.size()) || material.normal_texture < -1) {
         throw std::invalid_argument(where + ": material '" + material.name + "' normal texture index " +
                                     std::to_string(material.normal_texture) + " out of range");
       }
       if (material.normal_texture >= 0 && !mesh.normal_texcoords.empty() && !material.unlit) {
-        m.normal_texture = &impl.data_textures.at(material.normal_texture);
+        m.normal_layer.Build(&impl.data_textures.at(material.normal_texture), mesh, mesh.normal_texcoords);
         m.normal_scale = material.normal_scale;
+        m.tangent_frames.resize(m.normal_layer.corners.size());
+        for (size_t t = 0; t < m.tangent_frames.size(); ++t) {
+          const uint32_t* tri = &mesh.indices[3 * t];
+          const auto& c = m.normal_layer.corners[t];
+          m.tangent_frames[t] =
+              TangentFrameOf(mesh.positions[tri[0]], mesh.positions[tri[1]], mesh.positions[tri[2]], c[0], c[1], c[2]);
+        }
       }
     }
 
     const size_t num_tris = mesh.indices.size() / 3;
     m.triangles.assign(num_tris, {});
     if (m.texture != nullptr) m.corner_texcoords.resize(num_tris);
-    if (m.emissive_texture != nullptr) {
-      m.corner_emissive_texcoords.resize(num_tris);
-      m.emissive_texels_per_metre.resize(num_tris);
-    }
-    if (m.normal_texture != nullptr) {
-      m.corner_normal_texcoords.resize(num_tris);
-      m.normal_texels_per_metre.resize(num_tris);
-      m.tangent_frames.resize(num_tris);
-    }
     bool smooth = false;  // some vertex normal differs from its face's: interpolate per hit
     for (size_t t = 0; t < num_tris; ++t) {
       const uint32_t* tri = &mesh.indices[3 * t];
@@ -973,19 +995,6 @@ void Renderer::Impl::BuildGeometry(const std::vector<SceneMesh>& scene_meshes) {
         const auto& tc = mesh.texcoords;
         m.triangles[t].texels_per_metre = TexelsPerMetre(p0, p1, p2, tc[tri[0]], tc[tri[1]], tc[tri[2]], m.texture->texel_scale);
         m.corner_texcoords[t] = {tc[tri[0]], tc[tri[1]], tc[tri[2]]};
-      }
-      if (m.emissive_texture != nullptr) {
-        const auto& tc = mesh.emissive_texcoords;
-        m.emissive_texels_per_metre[t] =
-            TexelsPerMetre(p0, p1, p2, tc[tri[0]], tc[tri[1]], tc[tri[2]], m.emissive_texture->texel_scale);
-        m.corner_emissive_texcoords[t] = {tc[tri[0]], tc[tri[1]], tc[tri[2]]};
-      }
-      if (m.normal_texture != nullptr) {
-        const auto& tc = mesh.normal_texcoords;
-        m.normal_texels_per_metre[t] =
-            TexelsPerMetre(p0, p1, p2, tc[tri[0]], tc[tri[1]], tc[tri[2]], m.normal_texture->texel_scale);
-        m.corner_normal_texcoords[t] = {tc[tri[0]], tc[tri[1]], tc[tri[2]]};
-        m.tangent_frames[t] = TangentFrameOf(p0, p1, p2, tc[tri[0]], tc[tri[1]], tc[tri[2]]);
       }
       for (int c = 0; c < 3 && !mesh.normals.empty() && !smooth; ++c) {
         const Eigen::Vector3f& vn = mesh.normals[tri[c]];
