@@ -162,8 +162,8 @@ std::optional<std::pair<uint64_t, uint64_t>> EncodedImageSize(const unsigned cha
 
 // Decodes glTF images with OpenCV (libpng, libjpeg, libwebp) in place of tinygltf's stb_image,
 // after two checks on the encoded bytes: the image is a PNG or a JPEG, the formats glTF 2.0
-// allows, or a WebP (EXT_texture_webp) (stb would also take BMP, PSD, GIF, ...), and its header asks for no more pixels than the limit
-// in `user_data` (a uint64_t). stb inflated a PNG's compressed data into a buffer without bound: a
+// allows, or a WebP (EXT_texture_webp) (stb would also take BMP, PSD, GIF, ...), and its header
+// asks for no more pixels than the limit in `user_data` (a uint64_t). stb inflated a PNG's compressed data into a buffer without bound: a
 // 1x1 PNG of a few hundred bytes (found by fuzzing) made it allocate 1.2 GB. libpng inflates row
 // by row into the image's own size.
 bool LoadCheckedImage(tinygltf::Image* image, const int index, std::string* err, std::string* /*warn*/,
@@ -214,16 +214,16 @@ WrapMode ToWrap(int gl) {
 }
 
 // Extensions whose content we fully honour; everything else in extensionsRequired is fatal.
-// KHR_texture_transform is honoured on the textures rigsim renders: base colour and emissive.
+// KHR_texture_transform is honoured on the textures rigsim renders: base colour, emissive, normal.
 bool SupportedExtension(const std::string& name) {
   return name == "KHR_mesh_quantization" || name == "KHR_texture_transform" || name == "KHR_materials_unlit" ||
          name == "KHR_materials_emissive_strength" || name == "EXT_texture_webp";
 }
 
 // The texture coordinates a material's texture samples: the TEXCOORD_<set> attribute, mapped by
-// KHR_texture_transform (identity without it). Baked into SceneMesh::texcoords (base colour) and
-// SceneMesh::emissive_texcoords, which is exact because a SceneMesh is one primitive with one
-// material.
+// KHR_texture_transform (identity without it). Baked into SceneMesh::texcoords (base colour),
+// emissive_texcoords and normal_texcoords, which is exact because a SceneMesh is one primitive
+// with one material.
 struct TextureUv {
   int set = 0;
   Eigen::Matrix<double, 2, 3> uv_from_texcoord = Eigen::Matrix<double, 2, 3>::Identity();
