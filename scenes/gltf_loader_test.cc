@@ -55,6 +55,14 @@ struct TestGltf {
     return int(doc["accessors"].size()) - 1;
   }
   int Positions(const std::vector<float>& xyz) { return Accessor(xyz, kFloat, "VEC3", xyz.size() / 3); }
+  // kQuad's positions, TEXCOORD_0 on its corners' unit square and TEXCOORD_1 on the square's
+  // middle quarter: the accessors of (POSITION, TEXCOORD_0, TEXCOORD_1).
+  struct TwoSets {
+    int pos, uv0, uv1;
+  };
+  TwoSets QuadWithTwoTexcoordSets();
+  // textures[0]: a 2 x 2 PNG (TinyPngUri) as images[0].
+  void TinyTexture();
   // A mesh with one primitive; returns the mesh index.
   int Mesh(json attributes, int indices = -1, int mode = 4, int material = -1, json extras = nullptr) {
     json prim = {{"attributes", attributes}, {"mode", mode}};
@@ -366,6 +374,16 @@ std::string TinyPngUri() {
   return DataUri("image/png", png);
 }
 
+TestGltf::TwoSets TestGltf::QuadWithTwoTexcoordSets() {
+  return {Positions(kQuad), Accessor<float>({0, 0, 1, 0, 1, 1, 0, 1}, kFloat, "VEC2", 4),
+          Accessor<float>({0.25f, 0.25f, 0.75f, 0.25f, 0.75f, 0.75f, 0.25f, 0.75f}, kFloat, "VEC2", 4)};
+}
+
+void TestGltf::TinyTexture() {
+  doc["images"] = json::array({{{"uri", TinyPngUri()}}});
+  doc["textures"] = json::array({{{"source", 0}}});
+}
+
 // KHR_texture_transform: uv' = offset + R(rotation) * (scale * uv), with the rotation
 // counter-clockwise in glTF's v-down UV space: at 90 deg (1, 0) -> (0, -1), as the Khronos sample
 // viewer and the TextureTransformTest model have it (see ParseTextureTransform).
@@ -489,13 +507,10 @@ TEST(GltfLoader, UnlitMaterialsAreMarked) {
 TEST(GltfLoader, EmissionIsReadWithItsStrengthAndItsOwnTexcoords) {
   const auto dir = TempDir();
   TestGltf g;
-  const int pos = g.Positions(kQuad);
-  const int uv0 = g.Accessor<float>({0, 0, 1, 0, 1, 1, 0, 1}, kFloat, "VEC2", 4);
-  const int uv1 = g.Accessor<float>({0.25f, 0.25f, 0.75f, 0.25f, 0.75f, 0.75f, 0.25f, 0.75f}, kFloat, "VEC2", 4);
+  const auto [pos, uv0, uv1] = g.QuadWithTwoTexcoordSets();
   g.doc["extensionsUsed"] = {"KHR_materials_emissive_strength", "KHR_texture_transform"};
   g.doc["extensionsRequired"] = {"KHR_materials_emissive_strength"};  // honoured, so not refused
-  g.doc["images"] = json::array({{{"uri", TinyPngUri()}}});
-  g.doc["textures"] = json::array({{{"source", 0}}});
+  g.TinyTexture();
   g.doc["materials"] = json::array({
       {{"name", "sign"},
        {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}},
@@ -533,11 +548,8 @@ TEST(GltfLoader, EmissionIsReadWithItsStrengthAndItsOwnTexcoords) {
 TEST(GltfLoader, NormalTextureIsReadWithItsScaleAndTexcoords) {
   const auto dir = TempDir();
   TestGltf g;
-  const int pos = g.Positions(kQuad);
-  const int uv0 = g.Accessor<float>({0, 0, 1, 0, 1, 1, 0, 1}, kFloat, "VEC2", 4);
-  const int uv1 = g.Accessor<float>({0.25f, 0.25f, 0.75f, 0.25f, 0.75f, 0.75f, 0.25f, 0.75f}, kFloat, "VEC2", 4);
-  g.doc["images"] = json::array({{{"uri", TinyPngUri()}}});
-  g.doc["textures"] = json::array({{{"source", 0}}});
+  const auto [pos, uv0, uv1] = g.QuadWithTwoTexcoordSets();
+  g.TinyTexture();
   g.doc["materials"] = json::array({{{"name", "bricks"}, {"normalTexture", {{"index", 0}, {"texCoord", 1}, {"scale", 0.5}}}}});
   g.Node({{"mesh", g.Mesh({{"POSITION", pos}, {"TEXCOORD_0", uv0}, {"TEXCOORD_1", uv1}}, -1, 4, 0)}});
   g.Scene({0});
@@ -591,14 +603,11 @@ TEST(GltfLoader, SkinnedMeshesArePlacedByTheirJoints) {
 TEST(GltfLoader, TextureTransformIsBakedIntoTexcoords) {
   const auto dir = TempDir();
   TestGltf g;
-  const int pos = g.Positions(kQuad);
-  const int uv0 = g.Accessor<float>({0, 0, 1, 0, 1, 1, 0, 1}, kFloat, "VEC2", 4);
-  const int uv1 = g.Accessor<float>({0.25f, 0.25f, 0.75f, 0.25f, 0.75f, 0.75f, 0.25f, 0.75f}, kFloat, "VEC2", 4);
+  const auto [pos, uv0, uv1] = g.QuadWithTwoTexcoordSets();
   const double half_pi = std::numbers::pi / 2;
   g.doc["extensionsUsed"] = {"KHR_texture_transform"};
   g.doc["extensionsRequired"] = {"KHR_texture_transform"};
-  g.doc["images"] = json::array({{{"uri", TinyPngUri()}}});
-  g.doc["textures"] = json::array({{{"source", 0}}});
+  g.TinyTexture();
   auto textured = [&](json texture_info) { return json{{"pbrMetallicRoughness", {{"baseColorTexture", texture_info}}}}; };
   auto transform = [](json t) { return json{{"index", 0}, {"extensions", {{"KHR_texture_transform", t}}}}; };
   g.doc["materials"] = json::array({
