@@ -910,26 +910,18 @@ void Renderer::Impl::BuildGeometry(const std::vector<SceneMesh>& scene_meshes) {
                                     std::to_string(mesh.positions.size()) + " positions");
       }
     }
-    if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size()) {
-      throw std::invalid_argument(where + ": " + std::to_string(mesh.normals.size()) + " normals for " +
-                                  std::to_string(mesh.positions.size()) + " positions");
-    }
-    if (!mesh.texcoords.empty() && mesh.texcoords.size() != mesh.positions.size()) {
-      throw std::invalid_argument(where + ": " + std::to_string(mesh.texcoords.size()) + " texcoords for " +
-                                  std::to_string(mesh.positions.size()) + " positions");
-    }
-    if (!mesh.normal_texcoords.empty() && mesh.normal_texcoords.size() != mesh.positions.size()) {
-      throw std::invalid_argument(where + ": " + std::to_string(mesh.normal_texcoords.size()) +
-                                  " normal-map texcoords for " + std::to_string(mesh.positions.size()) + " positions");
-    }
-    if (!mesh.emissive_texcoords.empty() && mesh.emissive_texcoords.size() != mesh.positions.size()) {
-      throw std::invalid_argument(where + ": " + std::to_string(mesh.emissive_texcoords.size()) +
-                                  " emissive texcoords for " + std::to_string(mesh.positions.size()) + " positions");
-    }
-    if (!mesh.colors.empty() && mesh.colors.size() != mesh.positions.size()) {
-      throw std::invalid_argument(where + ": " + std::to_string(mesh.colors.size()) + " vertex colours for " +
-                                  std::to_string(mesh.positions.size()) + " positions");
-    }
+    // Per-vertex attributes: none, or one per position.
+    auto check_per_vertex = [&](size_t count, const char* what) {
+      if (count != 0 && count != mesh.positions.size()) {
+        throw std::invalid_argument(where + ": " + std::to_string(count) + " " + what + " for " +
+                                    std::to_string(mesh.positions.size()) + " positions");
+      }
+    };
+    check_per_vertex(mesh.normals.size(), "normals");
+    check_per_vertex(mesh.texcoords.size(), "texcoords");
+    check_per_vertex(mesh.normal_texcoords.size(), "normal-map texcoords");
+    check_per_vertex(mesh.emissive_texcoords.size(), "emissive texcoords");
+    check_per_vertex(mesh.colors.size(), "vertex colours");
     if (mesh.material < -1 || mesh.material >= int(scene.materials.size())) {
       throw std::invalid_argument(where + ": material index " + std::to_string(mesh.material) + " out of range");
     }
@@ -941,10 +933,15 @@ void Renderer::Impl::BuildGeometry(const std::vector<SceneMesh>& scene_meshes) {
     if (mesh.material >= 0) {
       const Material& material = scene.materials[mesh.material];
       m.base_color = material.base_color_factor;
-      if (material.base_color_texture >= int(scene.textures.size()) || material.base_color_texture < -1) {
-        throw std::invalid_argument(where + ": material '" + material.name + "' texture index " +
-                                    std::to_string(material.base_color_texture) + " out of range");
-      }
+      auto check_texture = [&](int index, const char* what) {
+        if (index >= int(scene.textures.size()) || index < -1) {
+          throw std::invalid_argument(where + ": material '" + material.name + "' " + what + " index " +
+                                      std::to_string(index) + " out of range");
+        }
+      };
+      check_texture(material.base_color_texture, "texture");
+      check_texture(material.emissive_texture, "emissive texture");
+      check_texture(material.normal_texture, "normal texture");
       if (material.base_color_texture >= 0 && !mesh.texcoords.empty()) {
         m.texture = &impl.textures[material.base_color_texture];
       }
@@ -955,16 +952,8 @@ void Renderer::Impl::BuildGeometry(const std::vector<SceneMesh>& scene_meshes) {
       m.unlit = material.unlit;
       m.emissive = material.emissive;
       m.emits = !material.unlit && material.emissive != Eigen::Vector3f::Zero();
-      if (material.emissive_texture >= int(scene.textures.size()) || material.emissive_texture < -1) {
-        throw std::invalid_argument(where + ": material '" + material.name + "' emissive texture index " +
-                                    std::to_string(material.emissive_texture) + " out of range");
-      }
       if (material.emissive_texture >= 0 && !mesh.emissive_texcoords.empty()) {
         m.emissive_layer.Build(&impl.textures[material.emissive_texture], mesh, mesh.emissive_texcoords);
-      }
-      if (material.normal_texture >= int(scene.textures.size()) || material.normal_texture < -1) {
-        throw std::invalid_argument(where + ": material '" + material.name + "' normal texture index " +
-                                    std::to_string(material.normal_texture) + " out of range");
       }
       if (material.normal_texture >= 0 && !mesh.normal_texcoords.empty() && !material.unlit) {
         m.normal_layer.Build(&impl.data_textures.at(material.normal_texture), mesh, mesh.normal_texcoords);
