@@ -815,30 +815,20 @@ class Loader {
     }
   }
 
-  // Places the skinned meshes by their joints at the nodes' rest transforms (the mesh node's own
-  // transform does not apply, glTF 2.0 "Skins").
+  // Places the skinned meshes by their joints at the nodes' rest transforms, as Traverse found
+  // them (the mesh node's own transform does not apply, glTF 2.0 "Skins"; a skin's joints must be
+  // in the scene that uses it).
   void SkinAtRestPose() {
-    bool any = false;
-    for (const SceneMesh& m : scene_.meshes) any = any || m.skin >= 0;
-    if (!any) return;
-    std::vector<int> parent(model_.nodes.size(), -1);
-    for (size_t i = 0; i < model_.nodes.size(); ++i) {
-      for (int c : model_.nodes[i].children) {
-        if (c >= 0 && size_t(c) < parent.size()) parent[c] = int(i);
-      }
-    }
-    std::vector<Eigen::Matrix4d> world(model_.nodes.size());
-    for (size_t i = 0; i < model_.nodes.size(); ++i) {
-      world[i] = LocalTransform(model_.nodes[i]);
-      for (int p = parent[i], depth = 0; p >= 0; p = parent[p]) {
-        if (++depth > int(model_.nodes.size())) Fail("node " + std::to_string(i) + " is its own ancestor");
-        world[i] = LocalTransform(model_.nodes[p]) * world[i];
-      }
-    }
     for (SceneMesh& m : scene_.meshes) {
       if (m.skin < 0) continue;
+      for (int joint : scene_.skins[m.skin].joints) {
+        if (!traversed_[joint]) {
+          Fail("skin " + std::to_string(m.skin) + ": joint node " + std::to_string(joint) +
+               " is not in the loaded scene (glTF requires a skin's joints to be)");
+        }
+      }
       try {
-        SkinMesh(scene_.skins[m.skin], world, &m);
+        SkinMesh(scene_.skins[m.skin], rest_world_, &m);
       } catch (const std::invalid_argument& e) {
         Fail(e.what());
       }
@@ -855,7 +845,9 @@ class Loader {
       ClassTag inherited;
       bool animated = false;  // an ancestor is animated
     };
-    std::vector<bool> visited(model_.nodes.size(), false);
+    std::vector<bool>& visited = traversed_;
+    visited.assign(model_.nodes.size(), false);
+    rest_world_.assign(model_.nodes.size(), Eigen::Matrix4d::Identity());
     std::vector<Item> stack;
     const std::vector<int> roots = RootNodes();
     for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.push_back({*it, Eigen::Matrix4d::Identity(), std::nullopt});
@@ -870,6 +862,7 @@ class Loader {
       const tinygltf::Node& node = model_.nodes[item.node];
       const Eigen::Matrix4d world = item.parent_from_world * LocalTransform(node);
       if (!world.allFinite()) Fail("node " + std::to_string(item.node) + ": transform is not finite");
+      rest_world_[item.node] = world;
       const ClassTag cls = node_class_[item.node] ? node_class_[item.node] : item.inherited;
       for (const auto& [name, value] : node.extensions) Ignore("node extension " + name);
       const bool animated = item.animated || animated_nodes_.count(item.node) > 0;
@@ -1200,6 +1193,8 @@ class Loader {
   std::vector<MaterialUvs> material_uv_;  // per glTF material: its textures' coordinates
   std::map<int, int> texture_map_;  // glTF texture -> Scene::textures index
   std::set<int> animated_nodes_;    // nodes targeted by an animation channel
+  std::vector<bool> traversed_;                 // per glTF node: reached from the loaded scene's roots
+  std::vector<Eigen::Matrix4d> rest_world_;     // per glTF node: world_from_node at rest (when traversed)
   bool current_mesh_animated_ = false;  // the node being traversed moves with an animation
   std::map<std::string, size_t> ignored_;
   uint32_t next_instance_ = 1;

@@ -598,6 +598,9 @@ TEST(GltfLoader, SkinnedMeshesArePlacedByTheirJoints) {
   ExpectThrowsWith(g.Write(dir, "joint_beyond_skin"), "JOINTS_0): vertex 2 names joint 1 of a skin with 1");
   g.doc["skins"][0]["joints"] = {1, 2, 0};
   ExpectThrowsWith(g.Write(dir, "short_ibm"), "skin 0: 2 inverse bind matrices for 3 joints");
+  g.doc["skins"][0]["joints"] = {1, 2};
+  g.Scene({0});  // the joints' tree is left out of the scene
+  ExpectThrowsWith(g.Write(dir, "joints_outside_scene"), "skin 0: joint node 1 is not in the loaded scene");
 }
 
 TEST(GltfLoader, TextureTransformIsBakedIntoTexcoords) {
