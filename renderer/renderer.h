@@ -66,8 +66,8 @@ struct RenderedView {
 // What TraceOnlyForBenchmark traced and how long Embree alone took.
 struct TraceOnlyStats {
   double seconds = 0.0;       // wall time of the Embree calls only (rays prepared beforehand)
-  size_t primary_rays = 0;    // rtcIntersect1 calls: what Render traces for the same view
-  size_t shadow_rays = 0;     // rtcOccluded1 calls: what Render casts for the same view
+  size_t primary_rays = 0;    // camera rays: what Render traces for the same view
+  size_t shadow_rays = 0;     // shadow rays: what Render casts for the same view
 };
 
 class Renderer {
@@ -93,8 +93,9 @@ class Renderer {
   // For benchmarks only (bench/render_bench.cc): the lower bound Render is measured against.
   // Generates exactly the rays Render would trace for this view (pixel centres, the jittered
   // samples when samples_per_pixel > 1, and the shadow rays of the shaded samples), untimed, then
-  // times Embree alone tracing them (rtcIntersect1 / rtcOccluded1 over tiles on
-  // options.num_threads threads): no ray generation, shading, texturing or output.
+  // times Embree alone tracing them as Render does (the same coherent streams of a batch's camera
+  // rays, then its shadow rays, over the same tiles on options.num_threads threads): no ray
+  // generation, shading, texturing or output.
   TraceOnlyStats TraceOnlyForBenchmark(const Camera& camera, const Rigid3d& cam_from_world,
                                        const RenderOptions& options) const;
 

@@ -693,6 +693,78 @@ TEST(RendererTest, SunLightAndHardShadows) {
   EXPECT_EQ(unshadowed.rgb.at(sx, sy, 0), view.rgb.at(lx, ly, 0));
 }
 
+// Render traces a batch's shadow rays together and hands each answer back to its own pixel. Rows
+// here mix sky and the undersides of bars (no shadow ray) with ground in and out of the bars'
+// striped shadow; every pixel whose centre is not on an edge must have its analytic colour, so an
+// answer handed to the pixel next door fails at every edge of the shadow.
+TEST(RendererTest, EveryPixelGetsItsOwnShadowRay) {
+  constexpr uint8_t kPole = 17;
+  constexpr float kBarHeight = 1.5f, kBarWidth = 0.6f, kBarPitch = 1.2f, kBarNear = 5, kBarFar = -30;
+  Scene scene;
+  const int grey = AddMaterial(scene, {0.5f, 0.5f, 0.5f, 1});
+  AddQuad(scene, {-100, 0, -100}, {100, 0, -100}, {100, 0, 100}, {-100, 0, 100}, kRoad, 1, grey);
+  std::vector<float> bar_x;
+  for (int i = 0; i <= 10; ++i) {
+    const float x0 = -6 + kBarPitch * i;
+    bar_x.push_back(x0);
+    AddQuad(scene, {x0, kBarHeight, kBarFar}, {x0 + kBarWidth, kBarHeight, kBarFar}, {x0 + kBarWidth, kBarHeight, kBarNear},
+            {x0, kBarHeight, kBarNear}, kPole, uint16_t(2 + i), grey);
+  }
+  RenderOptions options = Opts();
+  options.sun_direction_world = Eigen::Vector3d(0.45, 0.85, -0.2);
+  const Eigen::Vector3d sun = options.sun_direction_world.normalized();
+
+  // 1 m above the ground looking along -Z, rolled by 25 degrees so that the horizon crosses rows.
+  const Eigen::Vector3d centre(0, 1, 6);
+  Eigen::Matrix3d level;
+  level << Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, -1, 0), Eigen::Vector3d(0, 0, -1);
+  const Eigen::Matrix3d world_from_cam = level * Eigen::AngleAxisd(25 * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Rigid3d cam_from_world = Rigid3d(world_from_cam, centre).Inverse();
+  const Camera camera(CameraModelId::kPinhole, 96, 64, {60, 60, 47.5, 31.5});
+  const RenderedView view = Renderer(scene).Render(camera, cam_from_world, options);
+
+  enum Kind { kSky, kBar, kLit, kShadow };
+  auto under_bar = [&](const Eigen::Vector3d& p) {  // p at bar height
+    if (p.z() < kBarFar || p.z() > kBarNear) return false;
+    return std::any_of(bar_x.begin(), bar_x.end(), [&](float x0) { return p.x() >= x0 && p.x() <= x0 + kBarWidth; });
+  };
+  auto kind_at = [&](double x, double y) {
+    const Eigen::Vector3d d = world_from_cam * camera.CamFromImg(Eigen::Vector2d(x, y))->normalized();
+    if (d.y() > 0) return under_bar(centre + (kBarHeight - centre.y()) / d.y() * d) ? kBar : kSky;
+    if (d.y() == 0) return kSky;
+    const Eigen::Vector3d p = centre - centre.y() / d.y() * d;
+    if (std::abs(p.x()) > 100 || std::abs(p.z()) > 100) return kSky;
+    return under_bar(p + kBarHeight / sun.y() * sun) ? kShadow : kLit;
+  };
+  auto linear = [](int v) { const double c = v / 255.0; return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); };
+  const double sky = options.sky_intensity;
+  const std::array<double, 4> expected = {0, 0.5 * 0.3 * sky, 0.5 * (sky + options.sun_intensity * sun.y()), 0.5 * sky};
+  const std::array<uint8_t, 4> label = {kSkyId, kPole, kRoad, kRoad};
+
+  std::array<int, 4> checked{};
+  int mixed_rows = 0;  // rows where pixels without a shadow ray sit beside lit and shadowed ground
+  for (int y = 1; y + 1 < camera.height(); ++y) {
+    std::array<int, 4> in_row{};
+    for (int x = 1; x + 1 < camera.width(); ++x) {
+      const Kind kind = kind_at(x, y);
+      constexpr double kMargin = 0.1;  // px: float rays cannot settle a centre closer to an edge
+      if (kind != kind_at(x - kMargin, y) || kind != kind_at(x + kMargin, y) || kind != kind_at(x, y - kMargin) ||
+          kind != kind_at(x, y + kMargin)) {
+        continue;
+      }
+      ++checked[kind];
+      ++in_row[kind];
+      ASSERT_EQ(view.label.at(x, y), label[kind]) << "pixel (" << x << ", " << y << ")";
+      if (kind != kSky) {
+        EXPECT_NEAR(linear(view.rgb.at(x, y, 0)), expected[kind], 0.01) << "pixel (" << x << ", " << y << ")";
+      }
+    }
+    if (in_row[kSky] + in_row[kBar] > 0 && in_row[kLit] > 0 && in_row[kShadow] > 0) ++mixed_rows;
+  }
+  for (int kind = 0; kind < 4; ++kind) EXPECT_GT(checked[kind], 100) << "kind " << kind;
+  EXPECT_GE(mixed_rows, 10);
+}
+
 // cam_from_world of a camera at `centre` looking at `target`, image-up towards world +Y.
 Rigid3d LookAt(const Eigen::Vector3d& centre, const Eigen::Vector3d& target) {
   const Eigen::Vector3d z = (target - centre).normalized();
