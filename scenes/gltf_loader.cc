@@ -213,6 +213,25 @@ WrapMode ToWrap(int gl) {
   }
 }
 
+// glTF allows an animation channel without a target node (an extension such as
+// KHR_animation_pointer then names its target). tinygltf 2.7 skips such a channel but reports it
+// as an error, in two lines; this removes those lines from `err` and returns how many channels
+// were skipped. A node of the wrong type still fails: tinygltf words that differently.
+int TakeNodelessChannelErrors(std::string* err) {
+  std::istringstream lines(*err);
+  std::string kept;
+  int channels = 0;
+  for (std::string line; std::getline(lines, line);) {
+    if (line == "`node` field is missing in animation.channels.target") {
+      ++channels;
+    } else if (line != "'node' property is missing.") {
+      kept += line + "\n";
+    }
+  }
+  *err = kept;
+  return channels;
+}
+
 // Extensions whose content we fully honour; everything else in extensionsRequired is fatal.
 // KHR_texture_transform is honoured on the textures rigsim renders: base colour, emissive, normal.
 bool SupportedExtension(const std::string& name) {
@@ -277,6 +296,7 @@ class Loader {
     std::string err, warn;
     const bool ok = binary ? gltf.LoadBinaryFromFile(&model_, &err, &warn, path_.string())
                            : gltf.LoadASCIIFromFile(&model_, &err, &warn, path_.string());
+    const int nodeless_channels = TakeNodelessChannelErrors(&err);
     // tinygltf reports a missing image as a warning; we turn it into an error naming the file.
     std::istringstream warn_lines(warn);
     for (std::string line; std::getline(warn_lines, line);) {
@@ -289,6 +309,10 @@ class Loader {
     if (!ok || !err.empty()) {
       while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
       Fail(std::string(binary ? "invalid .glb: " : "invalid .gltf: ") + (err.empty() ? "tinygltf failed" : err));
+    }
+    if (nodeless_channels > 0) {
+      Warn(std::to_string(nodeless_channels) + " animation channel(s) without a target node ignored (an extension " +
+           "such as KHR_animation_pointer names what they animate)");
     }
   }
 

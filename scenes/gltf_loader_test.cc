@@ -94,6 +94,24 @@ struct TestGltf {
     std::ofstream(path) << d.dump(1);
     return path;
   }
+  // Writes `name`.glb: the document and its buffer in one binary file.
+  std::filesystem::path WriteGlb(const std::filesystem::path& dir, const std::string& name) {
+    json d = doc;
+    d["buffers"] = json::array({{{"byteLength", bin.size()}}});
+    std::string text = d.dump();
+    while (text.size() % 4) text += ' ';
+    std::vector<uint8_t> chunk = bin;
+    while (chunk.size() % 4) chunk.push_back(0);
+    std::vector<uint32_t> header = {0x46546C67u, 2, uint32_t(28 + text.size() + chunk.size()), uint32_t(text.size()), 0x4E4F534Au};
+    const std::vector<uint32_t> bin_header = {uint32_t(chunk.size()), 0x004E4942u};
+    const auto path = dir / (name + ".glb");
+    std::ofstream out(path, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(header.data()), 20);
+    out.write(text.data(), std::streamsize(text.size()));
+    out.write(reinterpret_cast<const char*>(bin_header.data()), 8);
+    out.write(reinterpret_cast<const char*>(chunk.data()), std::streamsize(chunk.size()));
+    return path;
+  }
 };
 
 const std::vector<float> kQuad = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};  // 4 corners in the z = 0 plane
@@ -888,6 +906,42 @@ TEST(GltfLoader, BadAnimationsThrowOrWarn) {
   // Output count mismatch.
   g.doc["animations"][0]["samplers"][0] = {{"input", times}, {"output", cubic}};
   ExpectThrowsWith(g.Write(dir, "count"), "output values for 2 keyframes");
+}
+
+// glTF allows a channel without a target node: an extension (KHR_animation_pointer) names what it
+// animates. Such channels are ignored with a warning, in .gltf and .glb files alike; the file's
+// other channels still animate their nodes.
+TEST(GltfLoader, ChannelsWithoutATargetNodeAreIgnored) {
+  const auto dir = TempDir();
+  TestGltf g;
+  g.Mesh({{"POSITION", g.Positions(kQuad)}});
+  g.Node({{"mesh", 0}});
+  g.Scene({0});
+  const int times = g.Accessor(std::vector<float>{0, 1}, kFloat, "SCALAR", 2);
+  const int moves = g.Accessor(std::vector<float>{0, 0, 0, 1, 0, 0}, kFloat, "VEC3", 2);
+  const int fades = g.Accessor(std::vector<float>{1, 0}, kFloat, "SCALAR", 2);
+  const json pointer = {{"path", "pointer"},
+                        {"extensions", {{"KHR_animation_pointer", {{"pointer", "/materials/0/alphaCutoff"}}}}}};
+  g.doc["extensionsUsed"] = {"KHR_animation_pointer"};
+  g.doc["animations"] = json::array(
+      {{{"name", "move and fade"},
+        {"samplers", {{{"input", times}, {"output", moves}}, {{"input", times}, {"output", fades}}}},
+        {"channels", {{{"sampler", 1}, {"target", pointer}}, {{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}}}}},
+       {{"name", "fade only"}, {"samplers", {{{"input", times}, {"output", fades}}}}, {"channels", {{{"sampler", 0}, {"target", pointer}}}}}});
+  for (const auto& path : {g.Write(dir, "pointer"), g.WriteGlb(dir, "pointer")}) {
+    SCOPED_TRACE(path.string());
+    const Scene s = LoadGltf(path);
+    ASSERT_EQ(s.animation_channels.size(), 1u);
+    EXPECT_EQ(s.animation_channels[0].node, 0);
+    EXPECT_EQ(s.animation_channels[0].path, AnimationPath::kTranslation);
+    EXPECT_TRUE(s.animation_channels[0].values[1].head<3>().isApprox(Eigen::Vector3d(1, 0, 0)));
+    EXPECT_TRUE(HasWarning(s, "2 animation channel(s) without a target node ignored"));
+    EXPECT_TRUE(HasWarning(s, "KHR_animation_pointer"));
+    EXPECT_EQ(s.meshes.size(), 1u);
+  }
+  // A file that is broken otherwise still fails with tinygltf's message.
+  g.doc["animations"][0]["channels"][1]["target"].erase("path");
+  ExpectThrowsWith(g.Write(dir, "no_path"), "`path` field is missing");
 }
 
 }  // namespace
