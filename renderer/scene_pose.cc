@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 
+#include "scenes/morphing.h"
 #include "scenes/skinning.h"
 
 namespace rigsim {
@@ -37,6 +38,22 @@ Eigen::Vector4d Sample(const AnimationChannel& ch, double t) {
   return (1 - a) * ch.values[k] + a * ch.values[k + 1];
 }
 
+// A weights channel's morph weights at `t` (clamped; LINEAR blends each weight, STEP holds).
+Eigen::VectorXd SampleWeights(const AnimationChannel& ch, double t) {
+  const auto& times = ch.times_s;
+  if (t <= times.front()) return ch.weights.front();
+  if (t >= times.back()) return ch.weights.back();
+  const size_t k = size_t(std::upper_bound(times.begin(), times.end(), t) - times.begin()) - 1;  // times[k] <= t < times[k+1]
+  if (ch.interpolation == AnimationInterpolation::kStep) return ch.weights[k];
+  const double a = (t - times[k]) / (times[k + 1] - times[k]);
+  return (1 - a) * ch.weights[k] + a * ch.weights[k + 1];
+}
+
+[[noreturn]] void ThrowInconsistent(const Scene& scene, const AnimationChannel& ch) {
+  throw std::invalid_argument(scene.source + ": animation channel of node " + std::to_string(ch.node) +
+                              " is inconsistent (node out of range or keys without values)");
+}
+
 }  // namespace
 
 std::vector<Eigen::Matrix4d> NodeWorldTransformsAt(const Scene& scene, double time_s) {
@@ -47,9 +64,9 @@ std::vector<Eigen::Matrix4d> NodeWorldTransformsAt(const Scene& scene, double ti
     trs[i] = {scene.nodes[i].translation, FromXyzw(scene.nodes[i].rotation_xyzw), scene.nodes[i].scale};
   }
   for (const AnimationChannel& ch : scene.animation_channels) {
+    if (ch.path == AnimationPath::kWeights) continue;  // moves a mesh's vertices, not its node
     if (ch.node < 0 || size_t(ch.node) >= n || ch.times_s.empty() || ch.values.size() != ch.times_s.size()) {
-      throw std::invalid_argument(scene.source + ": animation channel of node " + std::to_string(ch.node) +
-                                  " is inconsistent (node out of range or keys without values)");
+      ThrowInconsistent(scene, ch);
     }
     const Eigen::Vector4d v = Sample(ch, time_s);
     animated[ch.node] = true;
@@ -57,6 +74,7 @@ std::vector<Eigen::Matrix4d> NodeWorldTransformsAt(const Scene& scene, double ti
       case AnimationPath::kTranslation: trs[ch.node].translation = v.head<3>(); break;
       case AnimationPath::kRotation: trs[ch.node].rotation = FromXyzw(v); break;
       case AnimationPath::kScale: trs[ch.node].scale = v.head<3>(); break;
+      case AnimationPath::kWeights: break;
     }
   }
   std::vector<Eigen::Matrix4d> world(n);
@@ -84,13 +102,41 @@ std::vector<Eigen::Matrix4d> NodeWorldTransformsAt(const Scene& scene, double ti
   return world;
 }
 
+std::vector<std::vector<double>> MorphWeightsAt(const Scene& scene, double time_s) {
+  std::vector<std::vector<double>> weights(scene.nodes.size());
+  for (const AnimationChannel& ch : scene.animation_channels) {
+    if (ch.path != AnimationPath::kWeights) continue;
+    if (ch.node < 0 || size_t(ch.node) >= weights.size() || ch.times_s.empty() || ch.weights.size() != ch.times_s.size()) {
+      ThrowInconsistent(scene, ch);
+    }
+    for (const Eigen::VectorXd& w : ch.weights) {
+      if (w.size() != ch.weights.front().size()) {
+        throw std::invalid_argument(scene.source + ": morph weights channel of node " + std::to_string(ch.node) +
+                                    " has keys of different lengths");
+      }
+    }
+    const Eigen::VectorXd w = SampleWeights(ch, time_s);
+    weights[ch.node].assign(w.data(), w.data() + w.size());
+  }
+  return weights;
+}
+
 std::vector<SceneMesh> PoseMeshesAt(const Scene& scene, double time_s) {
   std::vector<SceneMesh> meshes = scene.meshes;
   if (!scene.IsAnimated()) return meshes;
   const std::vector<Eigen::Matrix4d> world = NodeWorldTransformsAt(scene, time_s);
+  const std::vector<std::vector<double>> morph_weights = MorphWeightsAt(scene, time_s);
   for (size_t m = 0; m < meshes.size(); ++m) {
     SceneMesh& mesh = meshes[m];
     if (mesh.node < 0) continue;
+    if (!mesh.morph_targets.empty()) {
+      // Morphing comes first, in the mesh's own frame; placing or skinning follows (glTF 2.0).
+      if (size_t(mesh.node) >= morph_weights.size() || morph_weights[mesh.node].empty()) {
+        throw std::invalid_argument(scene.source + ": mesh " + std::to_string(m) + " '" + mesh.name +
+                                    "' has morph targets to pose but no weights channel on its node");
+      }
+      MorphMesh(morph_weights[mesh.node], &mesh);
+    }
     if (size_t(mesh.node) >= world.size() || mesh.local_positions.size() != mesh.positions.size() ||
         (!mesh.local_normals.empty() && mesh.local_normals.size() != mesh.positions.size())) {
       throw std::invalid_argument(scene.source + ": animated mesh " + std::to_string(m) + " '" + mesh.name +

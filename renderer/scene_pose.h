@@ -3,7 +3,8 @@
 //
 // Conventions: times in seconds on the glTF animation clock (frames.json timestamp_s + a camera's
 // time_offset_s); before the first key the first value holds, after the last the last. LINEAR
-// interpolates translation and scale linearly and rotation by slerp; STEP holds the previous key.
+// interpolates translation, scale and morph weights linearly and rotation by slerp; STEP holds the
+// previous key.
 // A node's local transform is T * R * S (or its matrix when it has one and is not animated).
 // Posing is a pure function of (scene, time), so renders stay byte-identical across threads.
 #pragma once
@@ -19,8 +20,13 @@ namespace rigsim {
 // world_from_node of every Scene::nodes entry at `time_s` (empty for a static scene).
 std::vector<Eigen::Matrix4d> NodeWorldTransformsAt(const Scene& scene, double time_s);
 
+// Morph weights (AnimationPath::kWeights) at `time_s`, per Scene::nodes entry; empty for a node
+// whose weights are not animated. LINEAR blends each weight linearly, STEP holds.
+std::vector<std::vector<double>> MorphWeightsAt(const Scene& scene, double time_s);
+
 // Copies scene.meshes and re-poses the animated ones (SceneMesh::node >= 0) at `time_s`:
-// positions and normals in world coordinates; a skinned mesh (SceneMesh::skin >= 0) follows its
+// a mesh with animated morph weights is morphed first (scenes/morphing.h), then positions and
+// normals are placed in world coordinates; a skinned mesh (SceneMesh::skin >= 0) follows its
 // joints (scenes/skinning.h). Static meshes are copied unchanged.
 std::vector<SceneMesh> PoseMeshesAt(const Scene& scene, double time_s);
 

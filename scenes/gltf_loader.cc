@@ -21,6 +21,7 @@
 
 #include "labels/cityscapes.h"
 #include "scenes/label_rules.h"
+#include "scenes/morphing.h"
 #include "scenes/skinning.h"
 
 namespace rigsim {
@@ -735,9 +736,17 @@ class Loader {
     return model_.scenes[scene].nodes;
   }
 
-  // Node animations: the node tree (rest transforms, parents) and every translation, rotation and
-  // scale channel. Morph-target weights are not supported (warned); CUBICSPLINE keys are sampled
-  // at their values and interpolated linearly (warned).
+  // How many morph targets the mesh on `node` has (its first primitive's: all must have as many);
+  // 0 without a mesh.
+  size_t MorphTargetCount(int node) const {
+    const int mesh = model_.nodes[node].mesh;
+    if (mesh < 0 || size_t(mesh) >= model_.meshes.size() || model_.meshes[mesh].primitives.empty()) return 0;
+    return model_.meshes[mesh].primitives[0].targets.size();
+  }
+
+  // Node animations: the node tree (rest transforms, parents) and every translation, rotation,
+  // scale and morph-weights channel. CUBICSPLINE keys are sampled at their values and interpolated
+  // linearly (warned).
   void ParseAnimations() {
     if (model_.animations.empty()) return;
     for (size_t a = 0; a < model_.animations.size(); ++a) {
@@ -750,8 +759,16 @@ class Loader {
         if (size_t(ch.target_node) >= model_.nodes.size()) Fail(where + ": target node " + std::to_string(ch.target_node) + " out of range");
         AnimationChannel out;
         out.node = ch.target_node;
-        int ncomp = 3;
-        if (ch.target_path == "translation") {
+        int ncomp = 3;  // values per key (the morph target count for weights)
+        if (ch.target_path == "weights") {
+          out.path = AnimationPath::kWeights;
+          ncomp = int(MorphTargetCount(ch.target_node));
+          if (ncomp == 0) {
+            Warn(where + ": animates the morph weights of node " + std::to_string(ch.target_node) +
+                 ", whose mesh has no morph targets; ignored");
+            continue;
+          }
+        } else if (ch.target_path == "translation") {
           out.path = AnimationPath::kTranslation;
         } else if (ch.target_path == "rotation") {
           out.path = AnimationPath::kRotation;
@@ -773,23 +790,34 @@ class Loader {
         }
         size_t nkeys = 0, nvalues = 0;
         const std::vector<double> times = ReadAccessor(sampler.input, TINYGLTF_TYPE_SCALAR, where + " input", &nkeys);
-        const std::vector<double> values =
-            ReadAccessor(sampler.output, ncomp == 4 ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3, where + " output", &nvalues);
+        const bool weights = out.path == AnimationPath::kWeights;
+        const int output_type = weights ? TINYGLTF_TYPE_SCALAR : ncomp == 4 ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3;
+        const std::vector<double> values = ReadAccessor(sampler.output, output_type, where + " output", &nvalues);
         if (nkeys == 0) Fail(where + ": no keyframes");
-        if (nvalues != (cubic ? 3 * nkeys : nkeys)) {
-          Fail(where + ": " + std::to_string(nvalues) + " output values for " + std::to_string(nkeys) + " keyframes");
+        // Weights: one scalar per morph target per key (glTF 2.0, "Animations").
+        const size_t per_key = weights ? size_t(ncomp) : 1;
+        if (nvalues != (cubic ? 3 : 1) * nkeys * per_key) {
+          Fail(where + ": " + std::to_string(nvalues) + " output values for " + std::to_string(nkeys) + " keyframes" +
+               (weights ? " of " + std::to_string(ncomp) + " morph target weights" : ""));
         }
         for (size_t k = 0; k < nkeys; ++k) {
           if (!std::isfinite(times[k]) || (k > 0 && !(times[k] > times[k - 1]))) {
             Fail(where + ": keyframe times must be finite and strictly increasing (key " + std::to_string(k) + ")");
           }
           const size_t v = cubic ? 3 * k + 1 : k;  // cubic: (in-tangent, value, out-tangent)
+          out.times_s.push_back(times[k]);
+          if (weights) {
+            const Eigen::VectorXd w = Eigen::Map<const Eigen::VectorXd>(values.data() + ncomp * v, ncomp);
+            if (!w.allFinite()) Fail(where + ": keyframe weights " + std::to_string(k) + " are not finite");
+            out.weights.push_back(w);
+            continue;
+          }
           Eigen::Vector4d value(values[ncomp * v], values[ncomp * v + 1], values[ncomp * v + 2], ncomp == 4 ? values[ncomp * v + 3] : 0.0);
           if (!value.allFinite()) Fail(where + ": keyframe value " + std::to_string(k) + " is not finite");
-          out.times_s.push_back(times[k]);
           out.values.push_back(value);
         }
-        animated_nodes_.insert(out.node);
+        // Morph weights move no node: the mesh alone is re-posed, not the node's subtree.
+        (weights ? morph_animated_nodes_ : animated_nodes_).insert(out.node);
         scene_.animation_channels.push_back(std::move(out));
       }
     }
@@ -975,9 +1003,69 @@ class Loader {
     }
     const tinygltf::Mesh& mesh = model_.meshes[node.mesh];
     const ClassTag mesh_cls = mesh_class_[node.mesh] ? mesh_class_[node.mesh] : node_cls;
+    const std::vector<double> morph_weights = RestMorphWeights(node_index);
     for (size_t p = 0; p < mesh.primitives.size(); ++p) {
-      AddPrimitive(node_index, node.mesh, int(p), world, mesh_cls, instance);
+      AddPrimitive(node_index, node.mesh, int(p), world, mesh_cls, instance, morph_weights);
     }
+  }
+
+  // The morph weights of the mesh on `node` at rest: node.weights, else mesh.weights, else zeros;
+  // one per morph target, which every primitive of the mesh must have as many of.
+  std::vector<double> RestMorphWeights(int node_index) {
+    const tinygltf::Node& node = model_.nodes[node_index];
+    const tinygltf::Mesh& mesh = model_.meshes[node.mesh];
+    const size_t count = MorphTargetCount(node_index);
+    for (size_t p = 1; p < mesh.primitives.size(); ++p) {
+      if (mesh.primitives[p].targets.size() != count) {
+        Fail(MeshLabel(model_, node.mesh, int(p)) + ": " + std::to_string(mesh.primitives[p].targets.size()) +
+             " morph targets, primitive 0 has " + std::to_string(count) + " (glTF requires the same number)");
+      }
+    }
+    const bool from_node = !node.weights.empty();
+    const std::vector<double>& weights = from_node ? node.weights : mesh.weights;
+    const std::string owner = from_node ? "node " + std::to_string(node_index) + (node.name.empty() ? "" : " " + Quote(node.name))
+                                        : "mesh " + std::to_string(node.mesh) + (mesh.name.empty() ? "" : " " + Quote(mesh.name));
+    if (weights.empty()) return std::vector<double>(count, 0.0);
+    if (weights.size() != count) {
+      Fail(owner + ": " + std::to_string(weights.size()) + " morph weights for " + std::to_string(count) + " morph targets");
+    }
+    for (size_t i = 0; i < weights.size(); ++i) {
+      if (!std::isfinite(weights[i])) Fail(owner + ": morph weight " + std::to_string(i) + " is not finite");
+    }
+    return weights;
+  }
+
+  // The primitive's morph targets: POSITION and (when the primitive has normals) NORMAL
+  // displacements, VEC3 of float or, under KHR_mesh_quantization, of (normalized) byte or short.
+  // TANGENT, which rigsim does not use, and other attributes are ignored.
+  std::vector<MorphTarget> ReadMorphTargets(const tinygltf::Primitive& prim, size_t nverts, const std::string& where) {
+    std::vector<MorphTarget> targets(prim.targets.size());
+    for (size_t t = 0; t < prim.targets.size(); ++t) {
+      for (const auto& [name, accessor] : prim.targets[t]) {
+        const bool normal = name == "NORMAL" && prim.attributes.count("NORMAL");
+        if (name != "POSITION" && !normal) {
+          Ignore("morph target attribute " + name);
+          continue;
+        }
+        const std::string use = where + " target " + std::to_string(t) + " " + name;
+        const std::string label = "accessor " + std::to_string(accessor) + " (" + use + ")";
+        size_t n = 0;
+        const std::vector<double> d = ReadAccessor(accessor, TINYGLTF_TYPE_VEC3, use, &n);
+        const int type = model_.accessors[accessor].componentType;  // in range: ReadAccessor checked
+        if (type != TINYGLTF_COMPONENT_TYPE_FLOAT && type != TINYGLTF_COMPONENT_TYPE_BYTE && type != TINYGLTF_COMPONENT_TYPE_SHORT) {
+          Fail(label + ": componentType must be FLOAT, BYTE or SHORT");
+        }
+        if (n != nverts) Fail(label + ": count " + std::to_string(n) + " differs from POSITION's " + std::to_string(nverts));
+        std::vector<Eigen::Vector3f>& out = normal ? targets[t].normals : targets[t].positions;
+        out.resize(n);
+        for (size_t i = 0; i < n; ++i) {
+          const Eigen::Vector3d v(d[3 * i], d[3 * i + 1], d[3 * i + 2]);
+          if (!v.allFinite()) Fail(label + ": vertex " + std::to_string(i) + " is not finite");
+          out[i] = v.cast<float>();
+        }
+      }
+    }
+    return targets;
   }
 
   // The class the label rules give a primitive (node names: the node, then its ancestors).
@@ -999,7 +1087,42 @@ class Loader {
     return options_.label_rules->Classify(names);
   }
 
-  void AddPrimitive(int node_index, int mesh_index, int prim_index, const Eigen::Matrix4d& world, ClassTag cls, uint16_t instance) {
+  // Applies the rest morph weights to the primitive's node-frame positions and normals (xyz
+  // triples). A mesh whose weights are animated keeps its base vertices and targets for posing.
+  void Morph(const tinygltf::Primitive& prim, size_t nverts, const std::vector<double>& weights, bool keep, const std::string& where,
+             std::vector<double>* pos, std::vector<double>* nrm, SceneMesh* out) {
+    auto to_vectors = [](const std::vector<double>& xyz) {
+      std::vector<Eigen::Vector3f> v(xyz.size() / 3);
+      for (size_t i = 0; i < v.size(); ++i) v[i] = Eigen::Vector3d(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]).normalized().cast<float>();
+      return v;
+    };
+    SceneMesh& m = *out;
+    m.morph_targets = ReadMorphTargets(prim, nverts, where);
+    m.morph_base_positions.resize(nverts);
+    for (size_t i = 0; i < nverts; ++i) m.morph_base_positions[i] = Eigen::Vector3d((*pos)[3 * i], (*pos)[3 * i + 1], (*pos)[3 * i + 2]).cast<float>();
+    m.morph_base_normals = to_vectors(*nrm);
+    try {
+      MorphMesh(weights, &m);  // the one implementation, which PoseSceneAt uses too
+    } catch (const std::invalid_argument& e) {
+      Fail(where + ": " + e.what());
+    }
+    for (size_t i = 0; i < nverts; ++i) {
+      for (int c = 0; c < 3; ++c) (*pos)[3 * i + c] = m.local_positions[i][c];
+    }
+    for (size_t i = 0; i < m.local_normals.size(); ++i) {
+      for (int c = 0; c < 3; ++c) (*nrm)[3 * i + c] = m.local_normals[i][c];
+    }
+    m.local_positions.clear();
+    m.local_normals.clear();
+    if (!keep) {
+      m.morph_base_positions.clear();
+      m.morph_base_normals.clear();
+      m.morph_targets.clear();
+    }
+  }
+
+  void AddPrimitive(int node_index, int mesh_index, int prim_index, const Eigen::Matrix4d& world, ClassTag cls, uint16_t instance,
+                    const std::vector<double>& morph_weights) {
     const tinygltf::Node& node = model_.nodes[node_index];
     const tinygltf::Mesh& mesh = model_.meshes[mesh_index];
     const tinygltf::Primitive& prim = mesh.primitives[prim_index];
@@ -1009,7 +1132,6 @@ class Loader {
       Warn(where + ": " + kind + " primitive (mode " + std::to_string(prim.mode) + ") skipped; only triangles are rendered");
       return;
     }
-    if (!prim.targets.empty()) Ignore("morph targets");
     for (const auto& [name, value] : prim.extensions) Ignore("primitive extension " + name);
     // The texture coordinates the material's textures sample (TEXCOORD_0 without a texture).
     const MaterialUvs uvs =
@@ -1049,7 +1171,16 @@ class Loader {
     }
 
     size_t nverts = 0;
-    const std::vector<double> pos = ReadAccessor(pos_it->second, TINYGLTF_TYPE_VEC3, where + " POSITION", &nverts);
+    std::vector<double> pos = ReadAccessor(pos_it->second, TINYGLTF_TYPE_VEC3, where + " POSITION", &nverts);
+    std::vector<double> nrm;
+    if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
+      size_t n = 0;
+      nrm = ReadAccessor(it->second, TINYGLTF_TYPE_VEC3, where + " NORMAL", &n);
+      if (n != nverts) Fail("accessor " + std::to_string(it->second) + " (" + where + " NORMAL): count differs from POSITION");
+    }
+    out.num_morph_targets = int(prim.targets.size());
+    const bool morph_animated = !prim.targets.empty() && morph_animated_nodes_.count(node_index) > 0;
+    if (!prim.targets.empty()) Morph(prim, nverts, morph_weights, morph_animated, where, &pos, &nrm, &out);
     const Eigen::Matrix3d linear = world.topLeftCorner<3, 3>();
     const Eigen::Vector3d offset = world.topRightCorner<3, 1>();
     out.positions.resize(nverts);
@@ -1062,10 +1193,8 @@ class Loader {
       out.positions[i] = w.cast<float>();
     }
 
-    if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
-      size_t n = 0;
-      const std::vector<double> nrm = ReadAccessor(it->second, TINYGLTF_TYPE_VEC3, where + " NORMAL", &n);
-      if (n != nverts) Fail("accessor " + std::to_string(it->second) + " (" + where + " NORMAL): count differs from POSITION");
+    if (!nrm.empty()) {
+      const size_t n = nverts;
       const double det = linear.determinant();
       if (std::abs(det) < 1e-300) {
         Warn(where + ": singular node transform; normals dropped (face normals used)");
@@ -1086,19 +1215,18 @@ class Loader {
       }
     }
     if (skinned) ReadSkinning(prim, node.skin, nverts, where, &out);
-    if (current_mesh_animated_ || skinned) {
+    if (current_mesh_animated_ || skinned || morph_animated) {
       // PoseSceneAt re-poses this mesh from its node-frame vertices (SkinAtRestPose places a
       // skinned one).
       out.node = node_index;
       out.local_positions.resize(nverts);
       for (size_t i = 0; i < nverts; ++i) out.local_positions[i] = Eigen::Vector3d(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]).cast<float>();
       if (!out.normals.empty()) {
-        size_t n = 0;
-        const std::vector<double> nrm = ReadAccessor(prim.attributes.at("NORMAL"), TINYGLTF_TYPE_VEC3, where + " NORMAL", &n);
-        out.local_normals.resize(n);
-        for (size_t i = 0; i < n; ++i) out.local_normals[i] = Eigen::Vector3d(nrm[3 * i], nrm[3 * i + 1], nrm[3 * i + 2]).normalized().cast<float>();
+        out.local_normals.resize(nverts);
+        for (size_t i = 0; i < nverts; ++i) out.local_normals[i] = Eigen::Vector3d(nrm[3 * i], nrm[3 * i + 1], nrm[3 * i + 2]).normalized().cast<float>();
       }
     }
+    if (out.normals.empty()) out.morph_base_normals.clear();  // as local_normals: face normals are used
     out.texcoords = ReadTexcoords(prim, uv_map, nverts, where);
     if (out.texcoords.empty() && out.material >= 0 && scene_.materials[out.material].base_color_texture >= 0) {
       Ignore("textured primitives without their texture's " + texcoord_name + " (rendered untextured)");
@@ -1216,7 +1344,8 @@ class Loader {
   std::vector<ClassTag> node_class_, mesh_class_, material_class_;
   std::vector<MaterialUvs> material_uv_;  // per glTF material: its textures' coordinates
   std::map<int, int> texture_map_;  // glTF texture -> Scene::textures index
-  std::set<int> animated_nodes_;    // nodes targeted by an animation channel
+  std::set<int> animated_nodes_;    // nodes targeted by a translation, rotation or scale channel
+  std::set<int> morph_animated_nodes_;  // nodes whose morph weights a channel animates
   std::vector<bool> traversed_;                 // per glTF node: reached from the loaded scene's roots
   std::vector<Eigen::Matrix4d> rest_world_;     // per glTF node: world_from_node at rest (when traversed)
   bool current_mesh_animated_ = false;  // the node being traversed moves with an animation

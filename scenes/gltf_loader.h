@@ -11,17 +11,19 @@
 //    label rules (scenes/label_rules.h); geometry still without a class is unlabeled (id 0) and one
 //    warning counts it.
 //  - Each node carrying a mesh is one instance; ids 1, 2, ... in depth-first traversal order.
-//  - Node animations (translation, rotation, scale; LINEAR and STEP, CUBICSPLINE as LINEAR with a
-//    warning) are kept in Scene::nodes / Scene::animation_channels, and meshes under an animated
-//    node keep their node-frame vertices, so renderer/scene_pose.h can re-pose them at any time.
-//    Meshes are flattened at the rest pose (the nodes' own transforms).
+//  - Node animations (translation, rotation, scale, morph weights; LINEAR and STEP, CUBICSPLINE as
+//    LINEAR with a warning) are kept in Scene::nodes / Scene::animation_channels, and meshes under
+//    an animated node keep their node-frame vertices, so renderer/scene_pose.h can re-pose them at
+//    any time. Meshes are flattened at the rest pose (the nodes' own transforms).
+//  - Morph targets (POSITION and NORMAL displacements) are applied at load with the rest weights
+//    (node.weights, else mesh.weights, else 0), before skinning; a mesh whose node's weights are
+//    animated also keeps its base vertices and targets (SceneMesh::morph_targets).
 //  - baseColorTexture may sample any TEXCOORD_n set and carry KHR_texture_transform (offset,
 //    rotation, scale, texCoord override); the transform is baked into SceneMesh::texcoords.
 //  - Cameras on nodes of the loaded scene become Scene::cameras (node order), posed at rest with
 //    their parents' transforms and converted to the OpenCV frame by CamFromWorldFromGltfCameraNode.
-//  - Everything the loader cannot represent (skins, morph targets, morph-weight
-//    animations, extensions, extra attributes and textures, points/lines) is named in
-//    Scene::warnings.
+//  - Everything the loader cannot represent (extensions, extra attributes and textures, TANGENT
+//    morph displacements, points/lines) is named in Scene::warnings.
 //  - Malformed input (truncated file, out-of-range accessor, non-finite position, cyclic node graph)
 //    throws std::runtime_error whose message starts with the file name.
 #pragma once

@@ -944,5 +944,162 @@ TEST(GltfLoader, ChannelsWithoutATargetNodeAreIgnored) {
   ExpectThrowsWith(g.Write(dir, "no_path"), "`path` field is missing");
 }
 
+// kQuad (indexed as a fan) with two morph targets: target 0 lifts vertex i by 2 (i + 1) in z and
+// tips the normals (0, 0, 1) towards +x by 1; target 1, quantized (normalized BYTE, as
+// KHR_mesh_quantization allows), moves every vertex by 1 in y.
+int MorphedQuadMesh(TestGltf& g, json weights = nullptr) {
+  constexpr int kByte = 5120;
+  const int pos = g.Positions(kQuad);
+  const int nrm = g.Accessor(std::vector<float>{0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1}, kFloat, "VEC3", 4);
+  const int lift = g.Positions({0, 0, 2, 0, 0, 4, 0, 0, 6, 0, 0, 8});
+  const int tip = g.Accessor(std::vector<float>{1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0}, kFloat, "VEC3", 4);
+  const int shift = g.Accessor(std::vector<int8_t>{0, 127, 0, 0, 127, 0, 0, 127, 0, 0, 127, 0}, kByte, "VEC3", 4, /*normalized=*/true);
+  const int mesh = g.Mesh({{"POSITION", pos}, {"NORMAL", nrm}}, -1, /*TRIANGLE_FAN=*/6);
+  g.doc["meshes"][mesh]["primitives"][0]["targets"] = {{{"POSITION", lift}, {"NORMAL", tip}}, {{"POSITION", shift}}};
+  if (!weights.is_null()) g.doc["meshes"][mesh]["weights"] = weights;
+  return mesh;
+}
+
+// Static morphs are applied at load with the rest weights: node.weights, else mesh.weights, else 0.
+TEST(GltfLoader, MorphTargetsAreAppliedAtTheRestWeights) {
+  const auto dir = TempDir();
+  TestGltf g;
+  const int mesh = MorphedQuadMesh(g, {0.5, 0.0});
+  g.Node({{"mesh", mesh}, {"translation", {10, 0, 0}}});     // mesh.weights (0.5, 0)
+  g.Node({{"mesh", mesh}, {"weights", {1.0, 0.0}}});          // node.weights override them
+  g.Node({{"mesh", mesh}, {"weights", {0.0, 1.0}}});          // the quantized target alone
+  g.Scene({0, 1, 2});
+  const Scene s = LoadGltf(g.Write(dir, "morphed"));
+  ASSERT_EQ(s.meshes.size(), 3u);
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector3f base(kQuad[3 * i], kQuad[3 * i + 1], kQuad[3 * i + 2]);
+    EXPECT_TRUE(s.meshes[0].positions[i].isApprox(base + Eigen::Vector3f(10, 0, i + 1))) << i << ": " << s.meshes[0].positions[i].transpose();
+    EXPECT_TRUE(s.meshes[1].positions[i].isApprox(base + Eigen::Vector3f(0, 0, 2 * (i + 1)))) << i << ": " << s.meshes[1].positions[i].transpose();
+    EXPECT_TRUE(s.meshes[2].positions[i].isApprox(base + Eigen::Vector3f(0, 1, 0))) << i << ": " << s.meshes[2].positions[i].transpose();
+  }
+  ASSERT_EQ(s.meshes[0].normals.size(), 4u);
+  EXPECT_TRUE(s.meshes[0].normals[0].isApprox(Eigen::Vector3f(0.5f, 0, 1).normalized())) << s.meshes[0].normals[0].transpose();
+  EXPECT_TRUE(s.meshes[1].normals[3].isApprox(Eigen::Vector3f(1, 0, 1).normalized())) << s.meshes[1].normals[3].transpose();
+  EXPECT_TRUE(s.meshes[2].normals[3].isApprox(Eigen::Vector3f(0, 0, 1)));
+  // Static meshes carry no copy of the targets.
+  EXPECT_EQ(s.meshes[0].num_morph_targets, 2);
+  EXPECT_TRUE(s.meshes[0].morph_targets.empty());
+  EXPECT_TRUE(s.meshes[0].morph_base_positions.empty());
+  EXPECT_EQ(s.meshes[0].node, -1);
+  EXPECT_FALSE(HasWarning(s, "morph"));
+  EXPECT_FALSE(s.IsAnimated());
+}
+
+// glTF 2.0 "Skins": morphing comes first, in the mesh's frame. The joint scales by 2, so skinning
+// before morphing would lift the quad by 1 instead of 2.
+TEST(GltfLoader, MorphingComesBeforeSkinning) {
+  const auto dir = TempDir();
+  TestGltf g;
+  const int mesh = MorphedQuadMesh(g, {0.0, 1.0});
+  g.doc["meshes"][mesh]["primitives"][0]["attributes"]["JOINTS_0"] = g.Accessor<uint8_t>(std::vector<uint8_t>(16, 0), kUByte, "VEC4", 4);
+  g.doc["meshes"][mesh]["primitives"][0]["attributes"]["WEIGHTS_0"] =
+      g.Accessor<float>({1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0}, kFloat, "VEC4", 4);
+  const int ibm = g.Accessor(std::vector<float>{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, kFloat, "MAT4", 1);
+  g.doc["skins"] = json::array({{{"joints", {1}}, {"inverseBindMatrices", ibm}}});
+  g.Node({{"mesh", mesh}, {"skin", 0}});
+  g.Node({{"scale", {2, 2, 2}}});
+  g.Scene({0, 1});
+  const Scene s = LoadGltf(g.Write(dir, "skinned_morph"));
+  ASSERT_EQ(s.meshes.size(), 1u);
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector3f expected = 2 * (Eigen::Vector3f(kQuad[3 * i], kQuad[3 * i + 1], kQuad[3 * i + 2]) + Eigen::Vector3f(0, 1, 0));
+    EXPECT_TRUE(s.meshes[0].positions[i].isApprox(expected)) << i << ": " << s.meshes[0].positions[i].transpose();
+  }
+}
+
+TEST(GltfLoader, MalformedMorphTargetsThrow) {
+  const auto dir = TempDir();
+  TestGltf g;
+  const int mesh = MorphedQuadMesh(g);
+  g.Node({{"mesh", mesh}, {"name", "face"}});
+  g.Scene({0});
+  json& prim = g.doc["meshes"][mesh]["primitives"][0];
+  const json good_targets = prim["targets"];
+  EXPECT_FALSE(HasWarning(LoadGltf(g.Write(dir, "zero_weights")), "morph"));  // no weights: all 0
+  g.doc["meshes"][mesh]["weights"] = {0.5};
+  ExpectThrowsWith(g.Write(dir, "mesh_weights"), "mesh 0: 1 morph weights for 2 morph targets");
+  g.doc["meshes"][mesh].erase("weights");
+  g.doc["nodes"][0]["weights"] = {0.5, 0.5, 0.5};
+  ExpectThrowsWith(g.Write(dir, "node_weights"), "node 0 'face': 3 morph weights for 2 morph targets");
+  g.doc["nodes"][0].erase("weights");
+  prim["targets"][0]["POSITION"] = g.Positions({0, 0, 1, 0, 0, 1, 0, 0, 1});
+  ExpectThrowsWith(g.Write(dir, "count"), "(mesh 0 primitive 0 target 0 POSITION): count 3 differs from POSITION's 4");
+  prim["targets"][0]["POSITION"] = g.Accessor(std::vector<float>(8, 0.0f), kFloat, "VEC2", 4);
+  ExpectThrowsWith(g.Write(dir, "type"), "(mesh 0 primitive 0 target 0 POSITION): unexpected type");
+  prim["targets"][0]["POSITION"] = g.Accessor(std::vector<uint32_t>(12, 0), kUInt, "VEC3", 4);
+  ExpectThrowsWith(g.Write(dir, "component"), "target 0 POSITION): componentType must be FLOAT, BYTE or SHORT");
+  prim["targets"][0]["POSITION"] = g.Positions({0, 0, 0, 0, std::numeric_limits<float>::infinity(), 0, 0, 0, 0, 0, 0, 0});
+  ExpectThrowsWith(g.Write(dir, "infinite"), "target 0 POSITION): vertex 1 is not finite");
+  prim["targets"] = good_targets;
+  g.doc["meshes"][mesh]["primitives"].push_back(prim);
+  g.doc["meshes"][mesh]["primitives"][1]["targets"].erase(1);
+  ExpectThrowsWith(g.Write(dir, "primitives_differ"), "mesh 0 primitive 1: 1 morph targets, primitive 0 has 2");
+}
+
+// A "weights" channel keeps one weight per target per key, and the mesh on its node keeps its base
+// vertices and targets for PoseSceneAt; another instance of the same mesh stays static.
+TEST(GltfLoader, MorphWeightAnimationsAreKeptForPosing) {
+  const auto dir = TempDir();
+  TestGltf g;
+  const int mesh = MorphedQuadMesh(g, {0.5, 0.0});
+  g.Node({{"mesh", mesh}, {"children", {1}}});
+  g.Node({{"mesh", mesh}, {"translation", {0, 0, 5}}});
+  g.Scene({0});
+  const int times = g.Accessor(std::vector<float>{0, 1}, kFloat, "SCALAR", 2);
+  const int weights = g.Accessor(std::vector<float>{0, 0, 1, 0.5f}, kFloat, "SCALAR", 4);
+  g.doc["animations"] = json::array({{{"samplers", {{{"input", times}, {"output", weights}, {"interpolation", "STEP"}}}},
+                                      {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "weights"}}}}}}}});
+  const Scene s = LoadGltf(g.Write(dir, "morph_animated"));
+  ASSERT_TRUE(s.IsAnimated());
+  ASSERT_EQ(s.animation_channels.size(), 1u);
+  const AnimationChannel& ch = s.animation_channels[0];
+  EXPECT_EQ(ch.node, 0);
+  EXPECT_EQ(ch.path, AnimationPath::kWeights);
+  EXPECT_EQ(ch.interpolation, AnimationInterpolation::kStep);
+  EXPECT_TRUE(ch.values.empty());
+  ASSERT_EQ(ch.weights.size(), 2u);
+  EXPECT_TRUE(ch.weights[0].isApprox(Eigen::Vector2d(0, 0)) && ch.weights[0].size() == 2) << ch.weights[0].transpose();
+  EXPECT_TRUE(ch.weights[1].isApprox(Eigen::Vector2d(1, 0.5))) << ch.weights[1].transpose();
+  ASSERT_EQ(s.meshes.size(), 2u);
+  const SceneMesh& animated = s.meshes[0];
+  EXPECT_EQ(animated.node, 0);
+  ASSERT_EQ(animated.morph_targets.size(), 2u);
+  ASSERT_EQ(animated.morph_base_positions.size(), 4u);
+  EXPECT_TRUE(animated.morph_base_positions[2].isApprox(Eigen::Vector3f(1, 1, 0)));
+  EXPECT_EQ(animated.morph_base_normals.size(), 4u);
+  EXPECT_TRUE(animated.morph_targets[0].positions[2].isApprox(Eigen::Vector3f(0, 0, 6)));
+  EXPECT_TRUE(animated.morph_targets[1].normals.empty());
+  EXPECT_TRUE(animated.local_positions[2].isApprox(Eigen::Vector3f(1, 1, 3))) << "morphed at rest (mesh.weights)";
+  EXPECT_TRUE(animated.positions[2].isApprox(Eigen::Vector3f(1, 1, 3)));
+  // The child's node does not move: its mesh is static, without the targets.
+  EXPECT_EQ(s.meshes[1].node, -1);
+  EXPECT_TRUE(s.meshes[1].morph_targets.empty());
+  EXPECT_TRUE(s.meshes[1].positions[2].isApprox(Eigen::Vector3f(1, 1, 8)));
+  EXPECT_FALSE(HasWarning(s, "weights"));
+
+  // CUBICSPLINE: the key values (the middle of each in-tangent, value, out-tangent triple), warned.
+  const int cubic = g.Accessor(std::vector<float>{9, 9, 0, 0, 9, 9, 9, 9, 1, 0.5f, 9, 9}, kFloat, "SCALAR", 12);
+  g.doc["animations"][0]["samplers"][0] = {{"input", times}, {"output", cubic}, {"interpolation", "CUBICSPLINE"}};
+  const Scene c = LoadGltf(g.Write(dir, "cubic"));
+  ASSERT_EQ(c.animation_channels.size(), 1u);
+  EXPECT_TRUE(c.animation_channels[0].weights[1].isApprox(Eigen::Vector2d(1, 0.5))) << c.animation_channels[0].weights[1].transpose();
+  EXPECT_TRUE(HasWarning(c, "CUBICSPLINE"));
+  // One weight per key is too few for two targets.
+  g.doc["animations"][0]["samplers"][0] = {{"input", times}, {"output", times}};
+  ExpectThrowsWith(g.Write(dir, "short"), "2 output values for 2 keyframes of 2 morph target weights");
+  // A node without morph targets: the channel is ignored with a warning.
+  g.doc["animations"][0]["samplers"][0] = {{"input", times}, {"output", weights}};
+  g.doc["nodes"].push_back({{"name", "empty"}});
+  g.doc["animations"][0]["channels"][0]["target"]["node"] = 2;
+  const Scene ignored = LoadGltf(g.Write(dir, "no_targets"));
+  EXPECT_TRUE(ignored.animation_channels.empty());
+  EXPECT_TRUE(HasWarning(ignored, "whose mesh has no morph targets; ignored"));
+}
+
 }  // namespace
 }  // namespace rigsim

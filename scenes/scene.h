@@ -57,6 +57,12 @@ struct Material {
   float normal_scale = 1.0f;
 };
 
+// One glTF morph target of a mesh: the displacement of every vertex, in the mesh's own frame.
+struct MorphTarget {
+  std::vector<Eigen::Vector3f> positions;  // one per vertex; empty = the target moves no position
+  std::vector<Eigen::Vector3f> normals;    // one per vertex; empty = the target turns no normal
+};
+
 struct SceneMesh {
   std::string name;         // node name (or mesh name when the node has none)
   uint8_t class_id = 0;     // Cityscapes label id (labels/cityscapes.h); 0 = unlabeled
@@ -77,9 +83,9 @@ struct SceneMesh {
   // empty = none.
   std::vector<Eigen::Vector4f> colors;
   std::vector<uint32_t> indices;           // 3 per triangle, into positions
-  // Animated and skinned meshes only: the glTF node carrying the mesh (index into the file's
-  // nodes, and into Scene::nodes when animated) and the vertices in the mesh's own frame, from
-  // which PoseSceneAt (renderer/scene_pose.h) recomputes `positions` and `normals` at any time.
+  // Animated (node or morph weights) and skinned meshes only: the glTF node carrying the mesh
+  // (index into the file's nodes, and into Scene::nodes when animated) and the vertices in the
+  // mesh's own frame (morphed at the rest weights), from which PoseSceneAt (renderer/scene_pose.h) recomputes `positions` and `normals` at any time.
   int node = -1;
   std::vector<Eigen::Vector3f> local_positions;
   std::vector<Eigen::Vector3f> local_normals;
@@ -88,6 +94,16 @@ struct SceneMesh {
   int skin = -1;
   std::vector<std::array<uint16_t, 4>> joints;
   std::vector<Eigen::Vector4f> weights;
+  // How many morph targets the glTF primitive has (0 = none). Their rest weights (node.weights,
+  // else mesh.weights) are already applied to every vertex above.
+  int num_morph_targets = 0;
+  // Only when the node's morph weights are animated (a kWeights channel): the node-frame vertices
+  // before morphing and the targets, from which PoseSceneAt recomputes local_positions and
+  // local_normals (scenes/morphing.h) before placing or skinning the mesh. Empty otherwise, so
+  // that static meshes carry no copy.
+  std::vector<Eigen::Vector3f> morph_base_positions;
+  std::vector<Eigen::Vector3f> morph_base_normals;
+  std::vector<MorphTarget> morph_targets;
 };
 
 // A glTF skin: the nodes (joints) that move a skinned mesh's vertices, each with its inverse bind
@@ -108,7 +124,7 @@ struct SceneNode {
   Eigen::Vector3d scale = Eigen::Vector3d::Ones();
 };
 
-enum class AnimationPath { kTranslation, kRotation, kScale };
+enum class AnimationPath { kTranslation, kRotation, kScale, kWeights };
 enum class AnimationInterpolation { kLinear, kStep };  // CUBICSPLINE is loaded as LINEAR (warned)
 
 // One glTF animation channel with its sampler: keyframes of one property of one node. Before the
@@ -119,6 +135,8 @@ struct AnimationChannel {
   AnimationInterpolation interpolation = AnimationInterpolation::kLinear;
   std::vector<double> times_s;         // increasing
   std::vector<Eigen::Vector4d> values; // translation / scale in xyz; rotation quaternion (x, y, z, w)
+  // kWeights only (`values` is then empty): per key, one weight per morph target of the node's mesh.
+  std::vector<Eigen::VectorXd> weights;
 };
 
 // A glTF camera placed by a node of the loaded scene, at the node's rest pose (parents included).
