@@ -77,6 +77,80 @@ TEST(ScenePoseTest, SkinnedMeshFollowsItsAnimatedJoint) {
   EXPECT_THROW(PoseMeshesAt(scene, 0.5), std::invalid_argument);
 }
 
+// The box of AnimatedBoxScene on a node that stays at (0, 0, 6), with two morph targets: target 0
+// moves every vertex by 2 in x and tips the normals towards +x, target 1 by 1 in y. A weights
+// channel goes from (0, 0) at t = 0 to (1, 0.5) at t = 1.
+Scene MorphedBoxScene(AnimationInterpolation interpolation) {
+  Scene scene = AnimatedBoxScene();
+  scene.nodes[0].translation = Eigen::Vector3d(0, 0, 6);
+  AnimationChannel& ch = scene.animation_channels[0];
+  ch.path = AnimationPath::kWeights;
+  ch.interpolation = interpolation;
+  ch.values.clear();
+  ch.weights = {Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 0.5)};
+  SceneMesh& box = scene.meshes[0];
+  box.morph_base_positions = box.local_positions;
+  box.morph_base_normals.assign(8, Eigen::Vector3f(0, 0, -1));
+  box.local_normals = box.morph_base_normals;
+  box.num_morph_targets = 2;
+  box.morph_targets.resize(2);
+  box.morph_targets[0].positions.assign(8, Eigen::Vector3f(2, 0, 0));
+  box.morph_targets[0].normals.assign(8, Eigen::Vector3f(1, 0, 0));
+  box.morph_targets[1].positions.assign(8, Eigen::Vector3f(0, 1, 0));
+  return scene;
+}
+
+TEST(ScenePoseTest, MorphWeightsAreInterpolatedOrHeld) {
+  const Scene linear = MorphedBoxScene(AnimationInterpolation::kLinear);
+  for (double t : {0.0, 0.5, 1.0}) {
+    const std::vector<SceneMesh> posed = PoseMeshesAt(linear, t);
+    EXPECT_TRUE(MeshCentre(posed[0]).isApprox(Eigen::Vector3d(2 * t, 0.5 * t, 6), 1e-6)) << t << ": " << MeshCentre(posed[0]).transpose();
+    ASSERT_EQ(posed[0].normals.size(), 8u);
+    EXPECT_TRUE(posed[0].normals[3].isApprox(Eigen::Vector3f(float(t), 0, -1).normalized(), 1e-6f)) << t << ": " << posed[0].normals[3].transpose();
+  }
+  EXPECT_EQ(MorphWeightsAt(linear, 0.5)[0], (std::vector<double>{0.5, 0.25}));
+  EXPECT_TRUE(MeshCentre(PoseMeshesAt(linear, 9.0)[0]).isApprox(Eigen::Vector3d(2, 0.5, 6), 1e-6));  // clamped
+  // Posing reads the base vertices, never its own output: posing twice gives the same.
+  const Scene posed = PoseSceneAt(linear, 1.0);
+  EXPECT_TRUE(MeshCentre(PoseMeshesAt(posed, 0.5)[0]).isApprox(Eigen::Vector3d(1, 0.25, 6), 1e-6));
+
+  const Scene step = MorphedBoxScene(AnimationInterpolation::kStep);
+  EXPECT_TRUE(MeshCentre(PoseMeshesAt(step, 0.0)[0]).isApprox(Eigen::Vector3d(0, 0, 6), 1e-6));
+  EXPECT_TRUE(MeshCentre(PoseMeshesAt(step, 0.5)[0]).isApprox(Eigen::Vector3d(0, 0, 6), 1e-6));
+  EXPECT_TRUE(MeshCentre(PoseMeshesAt(step, 1.0)[0]).isApprox(Eigen::Vector3d(2, 0.5, 6), 1e-6));
+
+  Scene broken = MorphedBoxScene(AnimationInterpolation::kLinear);
+  broken.animation_channels[0].weights[1] = Eigen::Vector3d(1, 0, 0);  // three weights for two targets
+  EXPECT_THROW(PoseMeshesAt(broken, 0.5), std::invalid_argument);
+  broken.animation_channels.clear();
+  broken.animation_channels.push_back(AnimatedBoxScene().animation_channels[0]);  // moved, but no weights
+  EXPECT_THROW(PoseMeshesAt(broken, 0.5), std::invalid_argument);
+}
+
+// Morphing comes before skinning: the joint scales by 2 and moves from (0, 0, 6) to (2, 0, 6), so
+// the lift of target 1 (0.5 at t = 0.5) is doubled; skinning first would leave it at 0.5.
+TEST(ScenePoseTest, SkinnedMeshIsMorphedBeforeItIsSkinned) {
+  Scene scene = MorphedBoxScene(AnimationInterpolation::kLinear);
+  scene.meshes[0].morph_targets[0].positions.assign(8, Eigen::Vector3f::Zero());
+  scene.animation_channels[0].weights = {Eigen::Vector2d(0, 0), Eigen::Vector2d(0, 1)};
+  SceneNode joint;
+  joint.scale = Eigen::Vector3d(2, 2, 2);
+  scene.nodes.push_back(joint);
+  AnimationChannel move = AnimatedBoxScene().animation_channels[0];
+  move.node = 1;
+  move.values = {Eigen::Vector4d(0, 0, 6, 0), Eigen::Vector4d(2, 0, 6, 0)};
+  scene.animation_channels.push_back(move);
+  scene.skins.push_back(SceneSkin{{1}, {Eigen::Matrix4d::Identity()}});
+  SceneMesh& box = scene.meshes[0];
+  box.skin = 0;
+  box.joints.assign(8, {0, 0, 0, 0});
+  box.weights.assign(8, Eigen::Vector4f(1, 0, 0, 0));
+  for (double t : {0.0, 0.5, 1.0}) {
+    EXPECT_TRUE(MeshCentre(PoseMeshesAt(scene, t)[0]).isApprox(Eigen::Vector3d(2 * t, 2 * t, 6), 1e-6))
+        << t << ": " << MeshCentre(PoseMeshesAt(scene, t)[0]).transpose();
+  }
+}
+
 // Mean x of the pixels showing `instance`; -1 when none.
 double InstanceCentroidX(const ImageU16& instance, uint16_t id) {
   double sum = 0;
