@@ -1,5 +1,6 @@
 // `rigsim inspect` through the built binary: what the loader understood of a file (counts, vertex
-// colours, unlit and emissive materials, classes, warnings), and a clear error naming a file it cannot read.
+// colours, unlit and emissive materials, classes, morph targets, warnings), and a clear error
+// naming a file it cannot read.
 
 #include <cstring>
 #include <filesystem>
@@ -61,6 +62,21 @@ TEST(InspectCli, ReportsWhatTheLoaderUnderstood) {
   // The unsupported attribute and the unclassified triangle are named.
   EXPECT_NE((r.out + r.err).find("TEXCOORD_1"), std::string::npos) << r.out << r.err;
   EXPECT_NE((r.out + r.err).find("1 triangles in 1 primitive(s) have no class"), std::string::npos) << r.out << r.err;
+}
+
+// The fuzz seed with morph targets: one mesh on two nodes, one of them with animated weights.
+TEST(InspectCli, ReportsMorphTargetsAndWeightChannels) {
+  const fs::path dir = TempDir();
+  const fs::path seed = fs::path(RIGSIM_SOURCE_DIR) / "tests/fuzz_corpus/fuzz_gltf/morphed_quad.gltf";
+  const CliResult r = RunRigsim({"inspect", seed.string()}, dir / "rigsim");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("morphs      2 primitive(s) with morph targets, 2 targets in all, 1 with animated weights"), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("animations  1 channel(s) (1 of morph weights) on 1 node(s), keys from 0.00 s to 1.00 s"), std::string::npos)
+      << r.out;
+  // mesh.weights (0.5) lift the first quad to z 0.25..0.5, node.weights (1) the second to 0.5..1.
+  EXPECT_NE(r.out.find("z [0.25, 1.00]"), std::string::npos) << r.out;
+  EXPECT_EQ((r.out + r.err).find("morph targets ("), std::string::npos) << "no longer warned as unsupported: " << r.out;
 }
 
 TEST(InspectCli, AnUnreadableFileIsAnErrorNamingIt) {

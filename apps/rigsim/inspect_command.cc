@@ -33,20 +33,37 @@ std::string AnimationsOf(const S& scene) {
     if (scene.animation_channels.empty()) return "none";
     std::set<int> nodes;
     double t0 = 1e300, t1 = -1e300;
+    size_t weights = 0;  // channels of morph-target weights
     for (const auto& ch : scene.animation_channels) {
       nodes.insert(ch.node);
+      if (ch.path == AnimationPath::kWeights) ++weights;
       if (!ch.times_s.empty()) {
         t0 = std::min(t0, ch.times_s.front());
         t1 = std::max(t1, ch.times_s.back());
       }
     }
-    char buf[160];
-    std::snprintf(buf, sizeof(buf), "%zu channel(s) on %zu node(s), keys from %.2f s to %.2f s", scene.animation_channels.size(),
-                  nodes.size(), t0, t1);
+    char buf[200];
+    const std::string of_weights = weights ? " (" + std::to_string(weights) + " of morph weights)" : "";
+    std::snprintf(buf, sizeof(buf), "%zu channel(s)%s on %zu node(s), keys from %.2f s to %.2f s", scene.animation_channels.size(),
+                  of_weights.c_str(), nodes.size(), t0, t1);
     return buf;
   } else {
     return "not loaded (see warnings)";
   }
+}
+
+// Primitives with morph targets, their targets, and how many of them have animated weights.
+std::string MorphsOf(const Scene& scene) {
+  size_t morphed = 0, targets = 0, animated = 0;
+  for (const SceneMesh& m : scene.meshes) {
+    if (m.num_morph_targets == 0) continue;
+    ++morphed;
+    targets += size_t(m.num_morph_targets);
+    if (!m.morph_targets.empty()) ++animated;
+  }
+  if (morphed == 0) return "none";
+  return std::to_string(morphed) + " primitive(s) with morph targets, " + std::to_string(targets) + " targets in all, " +
+         std::to_string(animated) + " with animated weights";
 }
 
 const char* AlphaName(AlphaMode m) {
@@ -71,6 +88,7 @@ void PrintScene(const Scene& scene, const std::filesystem::path& path, const Lab
   std::string kinds;
   if (coloured) kinds += std::to_string(coloured) + " with vertex colours";
   if (skinned) kinds += (kinds.empty() ? "" : ", ") + std::to_string(skinned) + " skinned";
+
   std::printf("primitives  %zu%s\n", scene.meshes.size(), kinds.empty() ? "" : (" (" + kinds + ")").c_str());
   std::printf("triangles   %zu\n", scene.NumTriangles());
   std::map<std::string, int> alpha;
@@ -99,6 +117,7 @@ void PrintScene(const Scene& scene, const std::filesystem::path& path, const Lab
   std::printf("textures    %zu (%.1f Mtexels, %zu with transparent texels)\n", scene.textures.size(), texels / 1e6, with_alpha);
   std::printf("cameras     %s\n", CamerasOf(scene).c_str());
   std::printf("animations  %s\n", AnimationsOf(scene).c_str());
+  std::printf("morphs      %s\n", MorphsOf(scene).c_str());
   if (!scene.meshes.empty()) {
     Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e30f), hi = -lo;
     for (const SceneMesh& m : scene.meshes) {
