@@ -214,18 +214,20 @@ WrapMode ToWrap(int gl) {
   }
 }
 
-// glTF allows an animation channel without a target node (an extension such as
-// KHR_animation_pointer then names its target). tinygltf 2.7 skips such a channel but reports it
-// as an error, in two lines; this removes those lines from `err` and returns how many channels
-// were skipped. A node of the wrong type still fails: tinygltf words that differently.
-int TakeNodelessChannelErrors(std::string* err) {
+// tinygltf 2.7 reports two things glTF allows as errors, although it goes on loading: an
+// animation channel without a target node (an extension such as KHR_animation_pointer names its
+// target; tinygltf skips the channel, in two lines of `err`) and a skin without
+// inverseBindMatrices (identity matrices, as in glTF). This removes those lines from `err` and
+// returns how many channels were skipped. A node or matrix index of the wrong type still fails:
+// tinygltf words that differently.
+int TakeErrorsGltfAllows(std::string* err) {
   std::istringstream lines(*err);
   std::string kept;
   int channels = 0;
   for (std::string line; std::getline(lines, line);) {
     if (line == "`node` field is missing in animation.channels.target") {
       ++channels;
-    } else if (line != "'node' property is missing.") {
+    } else if (line != "'node' property is missing." && line != "'inverseBindMatrices' property is missing in Skin.") {
       kept += line + "\n";
     }
   }
@@ -297,7 +299,7 @@ class Loader {
     std::string err, warn;
     const bool ok = binary ? gltf.LoadBinaryFromFile(&model_, &err, &warn, path_.string())
                            : gltf.LoadASCIIFromFile(&model_, &err, &warn, path_.string());
-    const int nodeless_channels = TakeNodelessChannelErrors(&err);
+    const int nodeless_channels = TakeErrorsGltfAllows(&err);
     // tinygltf reports a missing image as a warning; we turn it into an error naming the file.
     std::istringstream warn_lines(warn);
     for (std::string line; std::getline(warn_lines, line);) {
@@ -1026,6 +1028,10 @@ class Loader {
     const std::string owner = from_node ? "node " + std::to_string(node_index) + (node.name.empty() ? "" : " " + Quote(node.name))
                                         : "mesh " + std::to_string(node.mesh) + (mesh.name.empty() ? "" : " " + Quote(mesh.name));
     if (weights.empty()) return std::vector<double>(count, 0.0);
+    if (count == 0) {  // invalid glTF, but nothing to morph: exporters write such weights
+      Warn(owner + ": " + std::to_string(weights.size()) + " morph weights but no morph targets; weights ignored");
+      return {};
+    }
     if (weights.size() != count) {
       Fail(owner + ": " + std::to_string(weights.size()) + " morph weights for " + std::to_string(count) + " morph targets");
     }

@@ -617,6 +617,14 @@ TEST(GltfLoader, SkinnedMeshesArePlacedByTheirJoints) {
   g.doc["skins"][0]["joints"] = {1, 2, 0};
   ExpectThrowsWith(g.Write(dir, "short_ibm"), "skin 0: 2 inverse bind matrices for 3 joints");
   g.doc["skins"][0]["joints"] = {1, 2};
+  g.doc["skins"][0].erase("inverseBindMatrices");  // glTF: identity matrices
+  const Scene identity = LoadGltf(g.Write(dir, "no_ibm"));
+  const Eigen::Vector3f unbound[4] = {{0, 0, 0}, {1, 0, 0}, {6, 2, 0}, {5, 2, 0}};  // joint 2 no longer moves down 1
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_TRUE(identity.meshes[0].positions[i].isApprox(unbound[i])) << i << ": " << identity.meshes[0].positions[i].transpose();
+  }
+  EXPECT_FALSE(HasWarning(identity, "inverseBindMatrices"));
+  g.doc["skins"][0]["inverseBindMatrices"] = ibm_acc;
   g.Scene({0});  // the joints' tree is left out of the scene
   ExpectThrowsWith(g.Write(dir, "joints_outside_scene"), "skin 0: joint node 1 is not in the loaded scene");
 }
@@ -1027,6 +1035,12 @@ TEST(GltfLoader, MalformedMorphTargetsThrow) {
   g.doc["nodes"][0]["weights"] = {0.5, 0.5, 0.5};
   ExpectThrowsWith(g.Write(dir, "node_weights"), "node 0 'face': 3 morph weights for 2 morph targets");
   g.doc["nodes"][0].erase("weights");
+  TestGltf plain;  // weights on a mesh without targets: nothing to morph, so a warning
+  plain.Mesh({{"POSITION", plain.Positions(kQuad)}});
+  plain.doc["meshes"][0]["weights"] = {0.5};
+  plain.Node({{"mesh", 0}});
+  plain.Scene({0});
+  EXPECT_TRUE(HasWarning(LoadGltf(plain.Write(dir, "no_targets")), "mesh 0: 1 morph weights but no morph targets"));
   prim["targets"][0]["POSITION"] = g.Positions({0, 0, 1, 0, 0, 1, 0, 0, 1});
   ExpectThrowsWith(g.Write(dir, "count"), "(mesh 0 primitive 0 target 0 POSITION): count 3 differs from POSITION's 4");
   prim["targets"][0]["POSITION"] = g.Accessor(std::vector<float>(8, 0.0f), kFloat, "VEC2", 4);
