@@ -85,7 +85,8 @@ struct SceneMesh {
   std::vector<uint32_t> indices;           // 3 per triangle, into positions
   // Animated (node or morph weights) and skinned meshes only: the glTF node carrying the mesh
   // (index into the file's nodes, and into Scene::nodes when animated) and the vertices in the
-  // mesh's own frame (morphed at the rest weights), from which PoseSceneAt (renderer/scene_pose.h) recomputes `positions` and `normals` at any time.
+  // mesh's own frame (morphed at the rest weights), from which PoseSceneAt
+  // (renderer/scene_pose.h) recomputes `positions` and `normals` at any time.
   int node = -1;
   std::vector<Eigen::Vector3f> local_positions;
   std::vector<Eigen::Vector3f> local_normals;
