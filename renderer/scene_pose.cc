@@ -23,14 +23,26 @@ struct Trs {
 
 Eigen::Quaterniond FromXyzw(const Eigen::Vector4d& q) { return Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized(); }
 
+// Where `t` falls among a channel's keys: key k, and the fraction a of the way to key k + 1 (0
+// before the first key, at or after the last, and under STEP, which holds key k).
+struct KeyBracket {
+  size_t k = 0;
+  double a = 0.0;
+};
+
+KeyBracket BracketOf(const AnimationChannel& ch, double t) {
+  const auto& times = ch.times_s;
+  if (t <= times.front()) return {0, 0.0};
+  if (t >= times.back()) return {times.size() - 1, 0.0};
+  const size_t k = size_t(std::upper_bound(times.begin(), times.end(), t) - times.begin()) - 1;  // times[k] <= t < times[k+1]
+  if (ch.interpolation == AnimationInterpolation::kStep) return {k, 0.0};
+  return {k, (t - times[k]) / (times[k + 1] - times[k])};
+}
+
 // The channel's value at `t` (clamped to its key range).
 Eigen::Vector4d Sample(const AnimationChannel& ch, double t) {
-  const auto& times = ch.times_s;
-  if (t <= times.front()) return ch.values.front();
-  if (t >= times.back()) return ch.values.back();
-  const size_t k = size_t(std::upper_bound(times.begin(), times.end(), t) - times.begin()) - 1;  // times[k] <= t < times[k+1]
-  if (ch.interpolation == AnimationInterpolation::kStep) return ch.values[k];
-  const double a = (t - times[k]) / (times[k + 1] - times[k]);
+  const auto [k, a] = BracketOf(ch, t);
+  if (a == 0.0) return ch.values[k];
   if (ch.path == AnimationPath::kRotation) {
     const Eigen::Quaterniond q = FromXyzw(ch.values[k]).slerp(a, FromXyzw(ch.values[k + 1]));
     return Eigen::Vector4d(q.x(), q.y(), q.z(), q.w());
@@ -40,12 +52,8 @@ Eigen::Vector4d Sample(const AnimationChannel& ch, double t) {
 
 // A weights channel's morph weights at `t` (clamped; LINEAR blends each weight, STEP holds).
 Eigen::VectorXd SampleWeights(const AnimationChannel& ch, double t) {
-  const auto& times = ch.times_s;
-  if (t <= times.front()) return ch.weights.front();
-  if (t >= times.back()) return ch.weights.back();
-  const size_t k = size_t(std::upper_bound(times.begin(), times.end(), t) - times.begin()) - 1;  // times[k] <= t < times[k+1]
-  if (ch.interpolation == AnimationInterpolation::kStep) return ch.weights[k];
-  const double a = (t - times[k]) / (times[k + 1] - times[k]);
+  const auto [k, a] = BracketOf(ch, t);
+  if (a == 0.0) return ch.weights[k];
   return (1 - a) * ch.weights[k] + a * ch.weights[k + 1];
 }
 
