@@ -412,6 +412,8 @@ struct MeshData {
   TextureLayer emissive_layer;                          // multiplies `emissive`
   TextureLayer normal_layer;                            // the normal map
   float normal_scale = 1.0f;
+  TextureLayer occlusion_layer;                         // scales the sky light
+  float occlusion_strength = 1.0f;
   // Per-triangle shading data, copied out of the indexed mesh so that shading a hit reads one or
   // two cache lines instead of chasing the index buffer into three vertex arrays (that chase cost
   // more than a third of the shading time in the street benchmark).
@@ -638,7 +640,7 @@ struct Renderer::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
   std::vector<MipTexture> textures;               // colour, by Scene::textures index
-  std::map<int, MipTexture> data_textures;        // normal maps, by Scene::textures index
+  std::map<int, MipTexture> data_textures;        // normal and occlusion maps, by Scene::textures index
   std::vector<MeshData> meshes;  // index == Embree geomID
 
   // (Re)builds the per-mesh data and the Embree scene from `meshes` (materials and textures of
@@ -715,6 +717,7 @@ struct Renderer::Impl {
 
     const float up = std::clamp(n.y(), -1.0f, 1.0f);
     r.light = p.sky_intensity * (0.5f * (1 + up) + kGroundBounce * 0.5f * (1 - up));
+    if (m.occlusion_layer.texture != nullptr) r.light *= Occlusion(m, r, ng);
     r.sun_ray = NeedsSunRay(ng, n, p);
     if (r.sun_ray) {
       r.sun_light = p.sun_intensity * n.dot(p.sun_dir);
@@ -749,6 +752,14 @@ struct Renderer::Impl {
     const Eigen::Vector3f mapped = side * (tx * x.normalized() + ty * y.normalized()) + tz * n;
     const float len = mapped.norm();
     return len > 1e-12f ? Eigen::Vector3f(mapped / len) : n;
+  }
+
+  // How much of the sky the material's occlusion map lets through at the hit (out of line: rare,
+  // and it keeps the common path short).
+  [[gnu::noinline]] static float Occlusion(const MeshData& m, const SampleRecord& r, const Eigen::Vector3f& ng) {
+    const Hit& hit = r.hit;
+    const float open = m.occlusion_layer.Sample(hit.prim, hit.u, hit.v, FootprintMetres(hit, r.dir, r.angle, ng)).x();
+    return 1.0f + m.occlusion_strength * (open - 1.0f);
   }
 
   // Pixel footprint on the surface (major axis), for the textures' mip levels: `angle` is the
@@ -1010,11 +1021,13 @@ Renderer::Renderer(const Scene& scene) : impl_(std::make_unique<Impl>()) {
   for (const Texture& texture : scene.textures) {
     impl.textures.push_back(BuildMipTexture(texture, TexelEncoding::kSrgb, source));
   }
-  // Normal maps hold data, not colour: their levels are built from the codes as they are.
+  // Normal and occlusion maps hold data, not colour: their levels are built from the codes as
+  // they are.
   for (const Material& material : scene.materials) {
-    const int t = material.normal_texture;
-    if (t >= 0 && size_t(t) < scene.textures.size() && !impl.data_textures.count(t)) {
-      impl.data_textures.emplace(t, BuildMipTexture(scene.textures[t], TexelEncoding::kLinear, source));
+    for (const int t : {material.normal_texture, material.occlusion_texture}) {
+      if (t >= 0 && size_t(t) < scene.textures.size() && !impl.data_textures.count(t)) {
+        impl.data_textures.emplace(t, BuildMipTexture(scene.textures[t], TexelEncoding::kLinear, source));
+      }
     }
   }
 
@@ -1061,6 +1074,7 @@ void Renderer::Impl::BuildGeometry(const std::vector<SceneMesh>& scene_meshes) {
     check_per_vertex(mesh.texcoords.size(), "texcoords");
     check_per_vertex(mesh.normal_texcoords.size(), "normal-map texcoords");
     check_per_vertex(mesh.emissive_texcoords.size(), "emissive texcoords");
+    check_per_vertex(mesh.occlusion_texcoords.size(), "occlusion texcoords");
     check_per_vertex(mesh.colors.size(), "vertex colours");
     if (mesh.material < -1 || mesh.material >= int(scene.materials.size())) {
       throw std::invalid_argument(where + ": material index " + std::to_string(mesh.material) + " out of range");
@@ -1082,6 +1096,7 @@ void Renderer::Impl::BuildGeometry(const std::vector<SceneMesh>& scene_meshes) {
       check_texture(material.base_color_texture, "texture");
       check_texture(material.emissive_texture, "emissive texture");
       check_texture(material.normal_texture, "normal texture");
+      check_texture(material.occlusion_texture, "occlusion texture");
       if (material.base_color_texture >= 0 && !mesh.texcoords.empty()) {
         m.texture = &impl.textures[material.base_color_texture];
       }
@@ -1094,6 +1109,10 @@ void Renderer::Impl::BuildGeometry(const std::vector<SceneMesh>& scene_meshes) {
       m.emits = !material.unlit && material.emissive != Eigen::Vector3f::Zero();
       if (material.emissive_texture >= 0 && !mesh.emissive_texcoords.empty()) {
         m.emissive_layer.Build(&impl.textures[material.emissive_texture], mesh, mesh.emissive_texcoords);
+      }
+      if (material.occlusion_texture >= 0 && !mesh.occlusion_texcoords.empty() && !material.unlit) {
+        m.occlusion_layer.Build(&impl.data_textures.at(material.occlusion_texture), mesh, mesh.occlusion_texcoords);
+        m.occlusion_strength = material.occlusion_strength;
       }
       if (material.normal_texture >= 0 && !mesh.normal_texcoords.empty() && !material.unlit) {
         m.normal_layer.Build(&impl.data_textures.at(material.normal_texture), mesh, mesh.normal_texcoords);

@@ -651,6 +651,33 @@ TEST(RendererTest, NormalMapsTurnTheShadingNormal) {
   EXPECT_NEAR(ColourAt(Renderer(plain).Render(camera, Rigid3d(), options), camera, {0, 0, 3})[0], flat_above, 1);
 }
 
+// The occlusion map scales the sky light by 1 + strength * (occlusion - 1), read from its red
+// channel as data (not sRGB), and leaves the sun alone.
+TEST(RendererTest, OcclusionScalesTheSkyLightOnly) {
+  auto linear_red = [](uint8_t code, float strength, bool sun) {
+    Scene scene;
+    const int map = AddTexture(scene, 1, 1, {{code, 255, 255, 255}});
+    const int material = AddMaterial(scene, {1, 1, 1, 1});
+    scene.materials[material].occlusion_texture = map;
+    scene.materials[material].occlusion_strength = strength;
+    AddFrontQuad(scene, 1, -1, -1, 1, 3, kCar, 1, material);
+    scene.meshes.back().occlusion_texcoords = scene.meshes.back().texcoords;
+    RenderOptions options = Opts();
+    options.sun_direction_world = Eigen::Vector3d(0, 0, -1);  // straight at the quad's lit side
+    options.sun_intensity = sun ? 0.4 : 0.0;  // below white, so nothing clips
+    const Camera camera = SmallPinhole();
+    const int v = ColourAt(Renderer(scene).Render(camera, Rigid3d(), options), camera, {0, 0, 3})[0];
+    const double c = v / 255.0;
+    return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+  };
+  const double open = linear_red(255, 1, false);
+  EXPECT_NEAR(linear_red(51, 1, false), 0.2 * open, 0.005);            // code 51 = 0.2 as data
+  EXPECT_NEAR(linear_red(51, 0.5f, false), 0.6 * open, 0.005);         // 1 + 0.5 (0.2 - 1)
+  EXPECT_NEAR(linear_red(0, 0, false), open, 0.005);                   // strength 0: no effect
+  const double sun_only = linear_red(255, 1, true) - open;
+  EXPECT_NEAR(linear_red(0, 1, true), sun_only, 0.01);                 // fully occluded: the sun alone
+}
+
 // A camera 10 m above the origin looking straight down (+Z of the world at the image bottom).
 Rigid3d LookingDown(double height) {
   Eigen::Matrix3d world_from_cam;

@@ -236,7 +236,8 @@ int TakeErrorsGltfAllows(std::string* err) {
 }
 
 // Extensions whose content we fully honour; everything else in extensionsRequired is fatal.
-// KHR_texture_transform is honoured on the textures rigsim renders: base colour, emissive, normal.
+// KHR_texture_transform is honoured on the textures rigsim renders: base colour, emissive,
+// normal, occlusion.
 bool SupportedExtension(const std::string& name) {
   return name == "KHR_mesh_quantization" || name == "KHR_texture_transform" || name == "KHR_materials_unlit" ||
          name == "KHR_materials_emissive_strength" || name == "EXT_texture_webp";
@@ -255,6 +256,7 @@ struct MaterialUvs {
   TextureUv base_color;
   std::optional<TextureUv> emissive;  // only with an emissive texture
   std::optional<TextureUv> normal;    // only with a normal texture
+  std::optional<TextureUv> occlusion;  // only with an occlusion texture
 };
 
 class Loader {
@@ -355,6 +357,7 @@ class Loader {
   }
 
   void ConvertMaterials() {
+    material_uv_.resize(model_.materials.size());
     for (size_t i = 0; i < model_.materials.size(); ++i) {
       const tinygltf::Material& m = model_.materials[i];
       Material out;
@@ -365,7 +368,7 @@ class Loader {
                                                 pbr.baseColorFactor[3]).cast<float>();
       }
       const std::string material_label = "material " + std::to_string(i) + " " + Quote(m.name);
-      MaterialUvs uvs;
+      MaterialUvs& uvs = material_uv_[i];
       if (pbr.baseColorTexture.index >= 0) {
         uvs.base_color = ParseTextureInfoUv(pbr.baseColorTexture, material_label + " baseColorTexture");
         out.base_color_texture = ConvertTexture(pbr.baseColorTexture.index);
@@ -378,7 +381,14 @@ class Loader {
         out.normal_texture = ConvertTexture(m.normalTexture.index);
         out.normal_scale = float(m.normalTexture.scale);
       }
-      material_uv_.push_back(uvs);
+      if (m.occlusionTexture.index >= 0) {
+        const std::string where = material_label + " occlusionTexture";
+        const double strength = m.occlusionTexture.strength;
+        if (!(strength >= 0.0 && strength <= 1.0)) Fail(where + ": strength must be in [0, 1], got " + std::to_string(strength));
+        uvs.occlusion = ParseTextureInfoUv(m.occlusionTexture, where);
+        out.occlusion_texture = ConvertTexture(m.occlusionTexture.index);
+        out.occlusion_strength = float(strength);
+      }
       if (m.alphaMode == "MASK") {
         out.alpha_mode = AlphaMode::kMask;
       } else if (m.alphaMode == "BLEND") {
@@ -387,7 +397,6 @@ class Loader {
       out.alpha_cutoff = float(m.alphaCutoff);
       out.double_sided = m.doubleSided;
       if (pbr.metallicRoughnessTexture.index >= 0) Ignore("metallicRoughnessTexture (materials)");
-      if (m.occlusionTexture.index >= 0) Ignore("occlusionTexture (materials)");
       for (const auto& [name, value] : m.extensions) {
         if (name == "KHR_materials_unlit") {
           out.unlit = true;
@@ -1146,13 +1155,15 @@ class Loader {
     const std::string texcoord_name = "TEXCOORD_" + std::to_string(uv_map.set);
     const std::string emissive_texcoord_name = uvs.emissive ? "TEXCOORD_" + std::to_string(uvs.emissive->set) : "";
     const std::string normal_texcoord_name = uvs.normal ? "TEXCOORD_" + std::to_string(uvs.normal->set) : "";
+    const std::string occlusion_texcoord_name = uvs.occlusion ? "TEXCOORD_" + std::to_string(uvs.occlusion->set) : "";
     const bool skinned = node.skin >= 0 && prim.attributes.count("JOINTS_0") && prim.attributes.count("WEIGHTS_0");
     if (node.skin >= 0 && !skinned) {
       Warn(where + ": on a skinned node but without JOINTS_0 and WEIGHTS_0; placed by its node");
     }
     for (const auto& [name, acc] : prim.attributes) {
       if (name != "POSITION" && name != "NORMAL" && name != texcoord_name && name != emissive_texcoord_name &&
-          name != normal_texcoord_name && name != "COLOR_0" && !(skinned && (name == "JOINTS_0" || name == "WEIGHTS_0"))) {
+          name != normal_texcoord_name && name != occlusion_texcoord_name && name != "COLOR_0" &&
+          !(skinned && (name == "JOINTS_0" || name == "WEIGHTS_0"))) {
         Ignore("vertex attribute " + name);
       }
     }
@@ -1247,6 +1258,12 @@ class Loader {
       out.normal_texcoords = ReadTexcoords(prim, *uvs.normal, nverts, where);
       if (out.normal_texcoords.empty()) {
         Ignore("normal-mapped primitives without their texture's " + normal_texcoord_name + " (normal map not used)");
+      }
+    }
+    if (uvs.occlusion) {
+      out.occlusion_texcoords = ReadTexcoords(prim, *uvs.occlusion, nverts, where);
+      if (out.occlusion_texcoords.empty()) {
+        Ignore("occluded primitives without their texture's " + occlusion_texcoord_name + " (occlusion not used)");
       }
     }
 

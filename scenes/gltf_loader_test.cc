@@ -582,6 +582,29 @@ TEST(GltfLoader, NormalTextureIsReadWithItsScaleAndTexcoords) {
   EXPECT_FALSE(HasWarning(s, "TEXCOORD_1"));
 }
 
+// occlusionTexture: its strength, and its own texCoord baked into SceneMesh::occlusion_texcoords;
+// a strength outside glTF's [0, 1] is refused.
+TEST(GltfLoader, OcclusionTextureIsReadWithItsStrengthAndTexcoords) {
+  const auto dir = TempDir();
+  TestGltf g;
+  const auto [pos, uv0, uv1] = g.QuadWithTwoTexcoordSets();
+  g.TinyTexture();
+  g.doc["materials"] = json::array({{{"name", "baked"}, {"occlusionTexture", {{"index", 0}, {"texCoord", 1}, {"strength", 0.25}}}}});
+  g.Node({{"mesh", g.Mesh({{"POSITION", pos}, {"TEXCOORD_0", uv0}, {"TEXCOORD_1", uv1}}, -1, 4, 0)}});
+  g.Scene({0});
+  const Scene s = LoadGltf(g.Write(dir, "occlusion"));
+  ASSERT_EQ(s.materials.size(), 1u);
+  EXPECT_EQ(s.materials[0].occlusion_texture, 0);
+  EXPECT_FLOAT_EQ(s.materials[0].occlusion_strength, 0.25f);
+  ASSERT_EQ(s.meshes.size(), 1u);
+  ASSERT_EQ(s.meshes[0].occlusion_texcoords.size(), 4u);
+  EXPECT_EQ(s.meshes[0].occlusion_texcoords[1], Eigen::Vector2f(0.75f, 0.25f));
+  EXPECT_FALSE(HasWarning(s, "occlusion"));
+  EXPECT_FALSE(HasWarning(s, "TEXCOORD_1"));
+  g.doc["materials"][0]["occlusionTexture"]["strength"] = 1.5;
+  ExpectThrowsWith(g.Write(dir, "strong"), "material 0 'baked' occlusionTexture: strength must be in [0, 1], got 1.5");
+}
+
 // A quad skinned to two joints: its lower edge follows joint 1 (at the origin), its upper edge
 // joint 2, bound at (0, 1, 0) and at rest at (5, 1, 0). The mesh node's own translation does not
 // apply (glTF: a skinned mesh is placed by its joints).

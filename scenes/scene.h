@@ -55,6 +55,11 @@ struct Material {
   // top, i.e. decreasing v) and its scale on X and Y.
   int normal_texture = -1;  // index into Scene::textures
   float normal_scale = 1.0f;
+  // Ambient occlusion (glTF occlusionTexture: linear, red channel, 1 = open) and its strength:
+  // the sky light is scaled by 1 + strength * (occlusion - 1). The sun is not, as glTF applies
+  // occlusion to indirect light only.
+  int occlusion_texture = -1;  // index into Scene::textures
+  float occlusion_strength = 1.0f;
 };
 
 // One glTF morph target of a mesh: the displacement of every vertex, in the mesh's own frame.
@@ -79,6 +84,8 @@ struct SceneMesh {
   // What the material's normal texture samples; empty = none. The tangent frame is derived per
   // triangle from the positions and these coordinates (a file's TANGENT attribute is not used).
   std::vector<Eigen::Vector2f> normal_texcoords;
+  // What the material's occlusion texture samples; empty = none.
+  std::vector<Eigen::Vector2f> occlusion_texcoords;
   // COLOR_0: linear RGBA per vertex, which multiplies the material's base colour (glTF 2.0);
   // empty = none.
   std::vector<Eigen::Vector4f> colors;

@@ -101,6 +101,9 @@ void PrintScene(const Scene& scene, const std::filesystem::path& path, const Lab
   const size_t normal_mapped = std::count_if(scene.materials.begin(), scene.materials.end(),
                                              [](const Material& m) { return m.normal_texture >= 0; });
   if (normal_mapped) alpha["normal-mapped"] = int(normal_mapped);
+  const size_t occluded = std::count_if(scene.materials.begin(), scene.materials.end(),
+                                        [](const Material& m) { return m.occlusion_texture >= 0; });
+  if (occluded) alpha["with occlusion"] = int(occluded);
   std::string alpha_text;
   for (const auto& [mode, n] : alpha) alpha_text += (alpha_text.empty() ? "" : ", ") + std::to_string(n) + " " + mode;
   std::printf("materials   %zu%s\n", scene.materials.size(), alpha_text.empty() ? "" : (" (" + alpha_text + ")").c_str());
