@@ -79,6 +79,19 @@ TEST(InspectCli, ReportsMorphTargetsAndWeightChannels) {
   EXPECT_EQ((r.out + r.err).find("morph targets ("), std::string::npos) << "no longer warned as unsupported: " << r.out;
 }
 
+// The fuzz seeds with a normal map and with an occlusion map: both are counted, neither warned.
+TEST(InspectCli, ReportsNormalAndOcclusionMaps) {
+  const fs::path dir = TempDir();
+  const fs::path seeds = fs::path(RIGSIM_SOURCE_DIR) / "tests/fuzz_corpus/fuzz_gltf";
+  const CliResult normal = RunRigsim({"inspect", (seeds / "normal_mapped_quad.gltf").string()}, dir / "rigsim_normal");
+  ASSERT_EQ(normal.code, 0) << normal.err;
+  EXPECT_NE(normal.out.find("materials   1 (1 OPAQUE, 1 normal-mapped)"), std::string::npos) << normal.out;
+  const CliResult occluded = RunRigsim({"inspect", (seeds / "occluded_quad.gltf").string()}, dir / "rigsim_occluded");
+  ASSERT_EQ(occluded.code, 0) << occluded.err;
+  EXPECT_NE(occluded.out.find("materials   1 (1 OPAQUE, 1 with occlusion)"), std::string::npos) << occluded.out;
+  EXPECT_EQ((occluded.out + occluded.err).find("occlusionTexture"), std::string::npos) << "no longer warned: " << occluded.out;
+}
+
 TEST(InspectCli, AnUnreadableFileIsAnErrorNamingIt) {
   const fs::path dir = TempDir();
   const fs::path bad = dir / "broken.gltf";
