@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <numbers>
 #include <set>
@@ -15,6 +17,7 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <tiny_gltf.h>
@@ -235,6 +238,44 @@ int TakeErrorsGltfAllows(std::string* err) {
   return channels;
 }
 
+// tinygltf quotes a data URI whole in its messages, and a buffer's can be megabytes: this keeps
+// each one's first characters and says how long it was.
+std::string AbbreviateDataUris(std::string text) {
+  constexpr size_t kKeep = 32;
+  for (size_t at = text.find("data:"); at != std::string::npos; at = text.find("data:", at + 1)) {
+    const size_t comma = text.find(',', at);
+    if (comma == std::string::npos) break;
+    const size_t end = std::min(text.find_first_of(" \n\"'", comma), text.size());  // base64 has none of these
+    const size_t length = end - comma - 1;
+    if (length > kKeep) text.replace(comma + 1 + kKeep, length - kKeep, "... (" + std::to_string(length) + " characters)");
+  }
+  return text;
+}
+
+// A glTF or GLB file's extensionsRequired or extensionsUsed (`key`), read without tinygltf (best
+// effort: empty when the JSON cannot be read). For files tinygltf refuses: a file that needs an
+// extension rigsim lacks should be refused for that, not for what tinygltf stumbles on first
+// (Draco's accessors without bufferViews, say).
+std::vector<std::string> DeclaredExtensions(const std::filesystem::path& path, bool binary, const char* key) {
+  std::ifstream in(path, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  if (binary) {  // the JSON chunk: length at byte 12, type "JSON" at 16, data from 20
+    uint32_t length = 0, type = 0;
+    if (text.size() < 20) return {};
+    std::memcpy(&length, text.data() + 12, 4);
+    std::memcpy(&type, text.data() + 16, 4);
+    if (type != 0x4E4F534Au || length > text.size() - 20) return {};
+    text = text.substr(20, length);
+  }
+  const nlohmann::json doc = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  std::vector<std::string> out;
+  if (!doc.is_object() || !doc.contains(key) || !doc[key].is_array()) return out;
+  for (const nlohmann::json& ext : doc[key]) {
+    if (ext.is_string()) out.push_back(ext.get<std::string>());
+  }
+  return out;
+}
+
 // Extensions whose content we fully honour; everything else in extensionsRequired is fatal.
 // KHR_texture_transform is honoured on the textures rigsim renders: base colour, emissive,
 // normal, occlusion.
@@ -302,17 +343,34 @@ class Loader {
     const bool ok = binary ? gltf.LoadBinaryFromFile(&model_, &err, &warn, path_.string())
                            : gltf.LoadASCIIFromFile(&model_, &err, &warn, path_.string());
     const int nodeless_channels = TakeErrorsGltfAllows(&err);
+    err = AbbreviateDataUris(err);
+    warn = AbbreviateDataUris(warn);
+    auto missing_file = [](const std::string& line) {
+      return line.find("Failed to load external") != std::string::npos || line.find("File not found") != std::string::npos;
+    };
+    std::string unsupported_used;  // named when the file is refused anyway
+    if (!ok || !err.empty() || missing_file(warn)) {
+      for (const std::string& ext : DeclaredExtensions(path_, binary, "extensionsRequired")) {
+        if (!SupportedExtension(ext)) Fail("requires extension " + ext + ", which rigsim does not support");
+      }
+      for (const std::string& ext : DeclaredExtensions(path_, binary, "extensionsUsed")) {
+        if (!SupportedExtension(ext)) unsupported_used += (unsupported_used.empty() ? "" : ", ") + ext;
+      }
+    }
     // tinygltf reports a missing image as a warning; we turn it into an error naming the file.
     std::istringstream warn_lines(warn);
     for (std::string line; std::getline(warn_lines, line);) {
       if (line.empty()) continue;
-      if (line.find("Failed to load external") != std::string::npos || line.find("File not found") != std::string::npos) {
-        Fail(line);
-      }
+      if (missing_file(line)) Fail(line);
       Warn("tinygltf: " + line);
     }
     if (!ok || !err.empty()) {
       while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
+      // tinygltf's words for a buffer whose data URI is not base64 or not byteLength bytes long.
+      if (err.find("Failed to decode 'uri' : ") == 0 && err.find(" in Buffer") != std::string::npos) {
+        err += " (the data URI is not base64, or does not decode to the buffer's byteLength)";
+      }
+      if (!unsupported_used.empty()) err += " (the file also uses " + unsupported_used + ", which rigsim does not read)";
       Fail(std::string(binary ? "invalid .glb: " : "invalid .gltf: ") + (err.empty() ? "tinygltf failed" : err));
     }
     if (nodeless_channels > 0) {

@@ -824,6 +824,49 @@ TEST(GltfLoader, TruncatedGlbThrowsWithFileName) {
   ExpectThrowsWith(dir / "does_not_exist.glb", "cannot open");
 }
 
+// A file that requires an extension rigsim lacks is refused naming it, even when tinygltf would
+// stumble first on what the extension changes (Draco: an accessor without a bufferView).
+TEST(GltfLoader, UnsupportedExtensionsAreNamedWhenTheFileIsRefused) {
+  const auto dir = TempDir();
+  TestGltf g;
+  const int pos = g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+  g.doc["accessors"].push_back({{"componentType", kUShort}, {"count", 3}, {"type", "SCALAR"}});  // no bufferView
+  g.Mesh({{"POSITION", pos}}, 1);
+  g.doc["meshes"][0]["primitives"][0]["extensions"] = {{"KHR_draco_mesh_compression", {{"bufferView", 0}, {"attributes", {{"POSITION", 0}}}}}};
+  g.Node({{"mesh", 0}});
+  g.Scene({0});
+  g.doc["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+  g.doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+  ExpectThrowsWith(g.Write(dir, "draco"), "requires extension KHR_draco_mesh_compression, which rigsim does not support");
+  ExpectThrowsWith(g.WriteGlb(dir, "draco"), "requires extension KHR_draco_mesh_compression, which rigsim does not support");
+  g.doc.erase("extensionsRequired");  // optional, but without the fallback data glTF then requires
+  ExpectThrowsWith(g.Write(dir, "draco_used"), "(the file also uses KHR_draco_mesh_compression, which rigsim does not read)");
+}
+
+// A buffer's data URI that does not hold byteLength bytes: the message says so and quotes the
+// URI's start only (tinygltf quotes it whole, megabytes for a real buffer).
+TEST(GltfLoader, ABufferOfTheWrongLengthIsNamedBriefly) {
+  const auto dir = TempDir();
+  TestGltf g;
+  g.Mesh({{"POSITION", g.Positions(std::vector<float>(3000, 0.0f))}});
+  g.Node({{"mesh", 0}});
+  g.Scene({0});
+  const auto path = g.Write(dir, "short", /*data_uri=*/true);
+  json doc = json::parse(std::ifstream(path));
+  doc["buffers"][0]["byteLength"] = 12004;  // 4 bytes more than the data
+  std::ofstream(path) << doc.dump();
+  try {
+    LoadGltf(path);
+    ADD_FAILURE() << "no exception";
+  } catch (const std::runtime_error& e) {
+    const std::string msg = e.what();
+    EXPECT_LT(msg.size(), 400u) << msg;
+    EXPECT_NE(msg.find("data:application/octet-stream;base64,"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("... (16000 characters)"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("does not decode to the buffer's byteLength"), std::string::npos) << msg;
+  }
+}
+
 TEST(GltfLoader, AccessorOutOfRangeThrows) {
   const auto dir = TempDir();
   TestGltf g;
