@@ -13,14 +13,12 @@ float RangeAt(const ImageF& range, const Eigen::Vector2d& px) {
   return std::isfinite(r) && r > 0 ? r : 0.0f;
 }
 
-std::optional<Eigen::Vector2d> TransferPixel(const Eigen::Vector2d& px_a, const Camera& cam_a, const ImageF& range_a,
-                                             const Camera& cam_b, const ImageF& range_b, const Rigid3d& b_from_a,
-                                             const DepthTransferOptions& options) {
-  const float r_a = RangeAt(range_a, px_a);
-  if (r_a <= 0) return std::nullopt;
-  const auto ray_a = cam_a.CamFromImg(px_a);
-  if (!ray_a) return std::nullopt;
-  const Eigen::Vector3d x_in_b = b_from_a * (*ray_a * r_a);
+namespace {
+
+// B's pixel where the point `x_in_b` (B's frame) appears, when it projects inside B's image and
+// B's range image sees that surface there (not something nearer, or sky).
+std::optional<Eigen::Vector2d> SeenInB(const Eigen::Vector3d& x_in_b, const Camera& cam_b, const ImageF& range_b,
+                                       const DepthTransferOptions& options) {
   const auto px_b = cam_b.ImgFromCam(x_in_b);
   if (!px_b || !cam_b.IsInImage(*px_b)) return std::nullopt;
   const double expected = x_in_b.norm();
@@ -30,30 +28,53 @@ std::optional<Eigen::Vector2d> TransferPixel(const Eigen::Vector2d& px_a, const 
   // Occluded when all of them see something else (nearer, or sky).
   const int x0 = static_cast<int>(std::floor(px_b->x()));
   const int y0 = static_cast<int>(std::floor(px_b->y()));
-  bool seen = false;
-  for (int dy = 0; dy <= 1 && !seen; ++dy) {
-    for (int dx = 0; dx <= 1 && !seen; ++dx) {
+  for (int dy = 0; dy <= 1; ++dy) {
+    for (int dx = 0; dx <= 1; ++dx) {
       const int x = x0 + dx, y = y0 + dy;
       if (x < 0 || y < 0 || x >= range_b.width || y >= range_b.height) continue;
       const float r_b = range_b.at(x, y);
-      seen = std::isfinite(r_b) && r_b > 0 && std::abs(r_b - expected) <= tol;
+      if (std::isfinite(r_b) && r_b > 0 && std::abs(r_b - expected) <= tol) return px_b;
     }
   }
-  if (!seen) return std::nullopt;
-  return px_b;
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<Eigen::Vector2d> TransferPixel(const Eigen::Vector2d& px_a, const Camera& cam_a, const ImageF& range_a,
+                                             const Camera& cam_b, const ImageF& range_b, const Rigid3d& b_from_a,
+                                             const DepthTransferOptions& options) {
+  const float r_a = RangeAt(range_a, px_a);
+  if (r_a <= 0) return std::nullopt;
+  const auto ray_a = cam_a.CamFromImg(px_a);
+  if (!ray_a) return std::nullopt;
+  return SeenInB(b_from_a * (*ray_a * r_a), cam_b, range_b, options);
+}
+
+CoVisibleCounts CountCoVisible(const Camera& cam_a, const ImageF& range_a, const std::vector<TransferTarget>& targets,
+                               int y_begin, int y_end, const DepthTransferOptions& options) {
+  CoVisibleCounts counts;
+  counts.visible.assign(targets.size(), 0);
+  for (int y = std::max(y_begin, 0); y < std::min(y_end, range_a.height); ++y) {
+    for (int x = 0; x < range_a.width; ++x) {
+      const float r_a = range_a.at(x, y);
+      if (!(r_a > 0)) continue;
+      ++counts.surface;
+      const auto ray_a = cam_a.CamFromImg(Eigen::Vector2d(x, y));
+      if (!ray_a || !std::isfinite(r_a)) continue;
+      const Eigen::Vector3d x_in_a = *ray_a * r_a;
+      for (size_t t = 0; t < targets.size(); ++t) {
+        if (SeenInB(targets[t].b_from_a * x_in_a, *targets[t].camera, *targets[t].range, options)) ++counts.visible[t];
+      }
+    }
+  }
+  return counts;
 }
 
 double CoVisibleFraction(const Camera& cam_a, const ImageF& range_a, const Camera& cam_b, const ImageF& range_b,
                          const Rigid3d& b_from_a, const DepthTransferOptions& options) {
-  size_t surface = 0, visible = 0;
-  for (int y = 0; y < range_a.height; ++y) {
-    for (int x = 0; x < range_a.width; ++x) {
-      if (!(range_a.at(x, y) > 0)) continue;
-      ++surface;
-      if (TransferPixel(Eigen::Vector2d(x, y), cam_a, range_a, cam_b, range_b, b_from_a, options)) ++visible;
-    }
-  }
-  return surface == 0 ? 0.0 : double(visible) / double(surface);
+  const CoVisibleCounts counts = CountCoVisible(cam_a, range_a, {{&cam_b, &range_b, b_from_a}}, 0, range_a.height, options);
+  return counts.surface == 0 ? 0.0 : double(counts.visible[0]) / double(counts.surface);
 }
 
 }  // namespace rigsim

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <optional>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -28,6 +29,24 @@ float RangeAt(const ImageF& range, const Eigen::Vector2d& px);
 std::optional<Eigen::Vector2d> TransferPixel(const Eigen::Vector2d& px_a, const Camera& cam_a, const ImageF& range_a,
                                              const Camera& cam_b, const ImageF& range_b, const Rigid3d& b_from_a,
                                              const DepthTransferOptions& options = {});
+
+// A view that camera A's surface points are transferred to: its camera and range image, and
+// its pose relative to A.
+struct TransferTarget {
+  const Camera* camera = nullptr;
+  const ImageF* range = nullptr;
+  Rigid3d b_from_a;
+};
+
+// Over rows [y_begin, y_end) of A's range image: how many pixels see a surface, and how many of
+// those are visible (depth-tested) in each target. Each pixel's ray is computed once for all the
+// targets: undistorting it is most of the cost.
+struct CoVisibleCounts {
+  size_t surface = 0;
+  std::vector<size_t> visible;  // per target
+};
+CoVisibleCounts CountCoVisible(const Camera& cam_a, const ImageF& range_a, const std::vector<TransferTarget>& targets,
+                               int y_begin, int y_end, const DepthTransferOptions& options = {});
 
 // Fraction of A's pixels with a surface that are visible in B (depth-tested).
 double CoVisibleFraction(const Camera& cam_a, const ImageF& range_a, const Camera& cam_b, const ImageF& range_b,

@@ -66,5 +66,27 @@ TEST(GroundTruth, CoVisibleFractionOfAShiftedView) {
   EXPECT_NEAR(CoVisibleFraction(cam, range, cam, range_b, b_from_a), 0.5, 0.03);
 }
 
+// Several targets at once, over bands of rows, give what one target over the whole image gives.
+TEST(GroundTruth, CountCoVisibleSumsOverBandsAndTargets) {
+  const Camera cam = Camera::PinholeFromHorizontalFov(80, 60, 60.0);
+  const ImageF range = PlaneRange(cam, Rigid3d(), 4.0);
+  const double half_width = 4.0 * std::tan(DegToRad(30.0));
+  const Rigid3d half(Eigen::Matrix3d::Identity(), Eigen::Vector3d(-half_width, 0, 0));
+  const Rigid3d quarter(Eigen::Matrix3d::Identity(), Eigen::Vector3d(-half_width / 2, 0, 0));
+  const ImageF range_half = PlaneRange(cam, half, 4.0), range_quarter = PlaneRange(cam, quarter, 4.0);
+  const std::vector<TransferTarget> targets = {{&cam, &range_half, half}, {&cam, &range_quarter, quarter}};
+  CoVisibleCounts sum;
+  sum.visible.assign(2, 0);
+  for (int y = 0; y < range.height; y += 7) {  // bands that do not divide the height
+    const CoVisibleCounts band = CountCoVisible(cam, range, targets, y, y + 7);
+    sum.surface += band.surface;
+    for (int t = 0; t < 2; ++t) sum.visible[t] += band.visible[t];
+  }
+  EXPECT_EQ(sum.surface, size_t(range.width) * range.height);
+  EXPECT_DOUBLE_EQ(double(sum.visible[0]) / sum.surface, CoVisibleFraction(cam, range, cam, range_half, half));
+  EXPECT_DOUBLE_EQ(double(sum.visible[1]) / sum.surface, CoVisibleFraction(cam, range, cam, range_quarter, quarter));
+  EXPECT_NEAR(double(sum.visible[1]) / sum.surface, 0.75, 0.03);
+}
+
 }  // namespace
 }  // namespace rigsim

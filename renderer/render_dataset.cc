@@ -154,23 +154,42 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
         if (progress) progress(done, total);
       }
     }
-    // Ordered pairs are independent: evaluate them in parallel, each into its own slot.
-    std::vector<std::pair<int, int>> pairs;
+    // Each camera's surface pixels against every other camera, in bands of rows in parallel,
+    // each into its own slot: a pixel's ray is undistorted once for all the other cameras.
+    constexpr int kBandRows = 32;
+    struct Band {
+      int a, y_begin;
+    };
+    std::vector<Band> bands;
     for (int a = 0; a < num_cams; ++a) {
-      for (int b = 0; b < num_cams; ++b) {
-        if (a != b) pairs.emplace_back(a, b);
-      }
+      for (int y = 0; y < ranges[a].height; y += kBandRows) bands.push_back({a, y});
     }
-    std::vector<double> fractions(pairs.size(), 0.0);
+    std::vector<CoVisibleCounts> counts(bands.size());
     tbb::task_arena arena(job.options.num_threads > 0 ? job.options.num_threads : tbb::task_arena::automatic);
     arena.execute([&] {
-      tbb::parallel_for(size_t(0), pairs.size(), [&](size_t i) {
-        const auto [a, b] = pairs[i];
-        const Rigid3d b_from_a = cam_from_world[b] * cam_from_world[a].Inverse();
-        fractions[i] = CoVisibleFraction(cams[a].camera, ranges[a], cams[b].camera, ranges[b], b_from_a);
+      tbb::parallel_for(size_t(0), bands.size(), [&](size_t i) {
+        const int a = bands[i].a;
+        std::vector<TransferTarget> targets;
+        for (int b = 0; b < num_cams; ++b) {
+          if (b != a) targets.push_back({&cams[b].camera, &ranges[b], cam_from_world[b] * cam_from_world[a].Inverse()});
+        }
+        counts[i] = CountCoVisible(cams[a].camera, ranges[a], targets, bands[i].y_begin, bands[i].y_begin + kBandRows);
       });
     });
-    for (size_t i = 0; i < pairs.size(); ++i) overlap[size_t(pairs[i].first) * num_cams + pairs[i].second] += fractions[i];
+    std::vector<size_t> surface(num_cams, 0), visible(size_t(num_cams) * num_cams, 0);
+    for (size_t i = 0; i < bands.size(); ++i) {
+      const int a = bands[i].a;
+      surface[a] += counts[i].surface;
+      for (int b = 0, t = 0; b < num_cams; ++b) {
+        if (b != a) visible[size_t(a) * num_cams + b] += counts[i].visible[t++];
+      }
+    }
+    for (int a = 0; a < num_cams; ++a) {
+      for (int b = 0; b < num_cams; ++b) {
+        const size_t ab = size_t(a) * num_cams + b;
+        if (b != a && surface[a] > 0) overlap[ab] += double(visible[ab]) / double(surface[a]);
+      }
+    }
   }
 
   nlohmann::json pairs = nlohmann::json::array();

@@ -46,7 +46,7 @@ struct RenderJob {
 //   overlap.json: {"frames": F, "pairs": [{"a": "cam0", "b": "cam1", "overlap_a_in_b": 0.31,
 //                  "overlap_b_in_a": 0.29}, ...]} for every unordered camera pair a < b (rig order);
 //                  overlap_a_in_b is the fraction of a's surface pixels (range > 0) that are visible
-//                  in b (dataset/ground_truth.h CoVisibleFraction), averaged over the frames.
+//                  in b (dataset/ground_truth.h CountCoVisible), averaged over the frames.
 //   photometric.json (only when job.photometric is enabled):
 //                 {"seed": S, "options": {...PhotometricOptions fields}, "model": "...",
 //                  "cameras": [{"name": "cam0", "exposure_stops": 0.1, "gain": 1.07,
