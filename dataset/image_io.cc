@@ -23,10 +23,17 @@ void WriteTyped(const fs::path& path, const Image<T>& image, OIIO::TypeDesc type
   auto out = OIIO::ImageOutput::create(path.string());
   if (!out) throw std::runtime_error(path.string() + ": no image writer for this extension: " + OIIO::geterror());
   OIIO::ImageSpec spec(image.width, image.height, image.channels, type);
-  if (type == OIIO::TypeDesc::FLOAT) spec.attribute("compression", "zip");
+  // Float images (depth) uncompressed: zip shrank a rendered 1280x720 range image by only 16%
+  // (3.1 MB instead of 3.7) and took 68 ms to write it instead of 13.
+  if (type == OIIO::TypeDesc::FLOAT) spec.attribute("compression", "none");
   // PNG at zlib's fastest level: a rendered 1280x720 RGB image is written in 51 ms instead of
   // 170 ms at OpenImageIO's default 6, for files 17% larger (labels and instances barely change).
-  if (type != OIIO::TypeDesc::FLOAT) spec.attribute("png:compressionLevel", 1);
+  // Rows filtered by Paeth alone rather than libpng's per-row choice among all five filters: the
+  // same size within 1%, written 20-60% faster (RGB 42 -> 34 ms, label colours 17 -> 10 ms).
+  if (type != OIIO::TypeDesc::FLOAT) {
+    spec.attribute("png:compressionLevel", 1);
+    spec.attribute("png:filter", 0x80);  // PNG_FILTER_PAETH
+  }
   // OpenImageIO stamps EXR files with the current time (capDate) unless told otherwise: the same
   // render a second later would differ in bytes. An empty date keeps output deterministic.
   spec.attribute("DateTime", "");
