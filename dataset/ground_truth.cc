@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace rigsim {
 
@@ -52,7 +54,12 @@ std::optional<Eigen::Vector2d> TransferPixel(const Eigen::Vector2d& px_a, const 
 }
 
 CoVisibleCounts CountCoVisible(const Camera& cam_a, const ImageF& range_a, const std::vector<TransferTarget>& targets,
-                               int y_begin, int y_end, const DepthTransferOptions& options) {
+                               int y_begin, int y_end, const DepthTransferOptions& options,
+                               const std::vector<Eigen::Vector3f>* bearings_a) {
+  if (bearings_a && bearings_a->size() != size_t(range_a.width) * range_a.height) {
+    throw std::invalid_argument("CountCoVisible: " + std::to_string(bearings_a->size()) + " bearings for a " +
+                                std::to_string(range_a.width) + "x" + std::to_string(range_a.height) + " range image");
+  }
   CoVisibleCounts counts;
   counts.visible.assign(targets.size(), 0);
   for (int y = std::max(y_begin, 0); y < std::min(y_end, range_a.height); ++y) {
@@ -60,8 +67,10 @@ CoVisibleCounts CountCoVisible(const Camera& cam_a, const ImageF& range_a, const
       const float r_a = range_a.at(x, y);
       if (!(r_a > 0)) continue;
       ++counts.surface;
-      const auto ray_a = cam_a.CamFromImg(Eigen::Vector2d(x, y));
-      if (!ray_a || !std::isfinite(r_a)) continue;
+      const std::optional<Eigen::Vector3d> ray_a =
+          bearings_a ? std::optional<Eigen::Vector3d>((*bearings_a)[size_t(y) * range_a.width + x].cast<double>())
+                     : cam_a.CamFromImg(Eigen::Vector2d(x, y));
+      if (!ray_a || ray_a->isZero() || !std::isfinite(r_a)) continue;
       const Eigen::Vector3d x_in_a = *ray_a * r_a;
       for (size_t t = 0; t < targets.size(); ++t) {
         if (SeenInB(targets[t].b_from_a * x_in_a, *targets[t].camera, *targets[t].range, options)) ++counts.visible[t];

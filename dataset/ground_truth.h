@@ -40,13 +40,15 @@ struct TransferTarget {
 
 // Over rows [y_begin, y_end) of A's range image: how many pixels see a surface, and how many of
 // those are visible (depth-tested) in each target. Each pixel's ray is computed once for all the
-// targets: undistorting it is most of the cost.
+// targets: undistorting it is most of the cost. `bearings_a`, when given, are A's pixel-centre
+// rays already computed (row-major unit vectors, as Renderer::PixelCentreBearings gives them).
 struct CoVisibleCounts {
   size_t surface = 0;
   std::vector<size_t> visible;  // per target
 };
 CoVisibleCounts CountCoVisible(const Camera& cam_a, const ImageF& range_a, const std::vector<TransferTarget>& targets,
-                               int y_begin, int y_end, const DepthTransferOptions& options = {});
+                               int y_begin, int y_end, const DepthTransferOptions& options = {},
+                               const std::vector<Eigen::Vector3f>* bearings_a = nullptr);
 
 // Fraction of A's pixels with a surface that are visible in B (depth-tested).
 double CoVisibleFraction(const Camera& cam_a, const ImageF& range_a, const Camera& cam_b, const ImageF& range_b,

@@ -86,6 +86,17 @@ TEST(GroundTruth, CountCoVisibleSumsOverBandsAndTargets) {
   EXPECT_DOUBLE_EQ(double(sum.visible[0]) / sum.surface, CoVisibleFraction(cam, range, cam, range_half, half));
   EXPECT_DOUBLE_EQ(double(sum.visible[1]) / sum.surface, CoVisibleFraction(cam, range, cam, range_quarter, quarter));
   EXPECT_NEAR(double(sum.visible[1]) / sum.surface, 0.75, 0.03);
+
+  // Bearings computed beforehand give the same counts; a list of the wrong size is refused.
+  std::vector<Eigen::Vector3f> bearings;
+  for (int y = 0; y < range.height; ++y) {
+    for (int x = 0; x < range.width; ++x) bearings.push_back(cam.CamFromImg(Eigen::Vector2d(x, y))->normalized().cast<float>());
+  }
+  const CoVisibleCounts given = CountCoVisible(cam, range, targets, 0, range.height, {}, &bearings);
+  EXPECT_EQ(given.surface, sum.surface);
+  EXPECT_EQ(given.visible, sum.visible);
+  bearings.pop_back();
+  EXPECT_THROW(CountCoVisible(cam, range, targets, 0, range.height, {}, &bearings), std::invalid_argument);
 }
 
 }  // namespace

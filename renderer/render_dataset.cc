@@ -1,6 +1,7 @@
 #include "renderer/render_dataset.h"
 
 #include <map>
+#include <memory>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -164,6 +165,8 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
     for (int a = 0; a < num_cams; ++a) {
       for (int y = 0; y < ranges[a].height; y += kBandRows) bands.push_back({a, y});
     }
+    std::vector<std::shared_ptr<const std::vector<Eigen::Vector3f>>> bearings(num_cams);
+    for (int c = 0; c < num_cams; ++c) bearings[c] = renderer.PixelCentreBearings(cams[c].camera);  // cached
     std::vector<CoVisibleCounts> counts(bands.size());
     tbb::task_arena arena(job.options.num_threads > 0 ? job.options.num_threads : tbb::task_arena::automatic);
     arena.execute([&] {
@@ -173,7 +176,8 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
         for (int b = 0; b < num_cams; ++b) {
           if (b != a) targets.push_back({&cams[b].camera, &ranges[b], cam_from_world[b] * cam_from_world[a].Inverse()});
         }
-        counts[i] = CountCoVisible(cams[a].camera, ranges[a], targets, bands[i].y_begin, bands[i].y_begin + kBandRows);
+        counts[i] = CountCoVisible(cams[a].camera, ranges[a], targets, bands[i].y_begin, bands[i].y_begin + kBandRows, {},
+                                   bearings[a].get());
       });
     });
     std::vector<size_t> surface(num_cams, 0), visible(size_t(num_cams) * num_cams, 0);

@@ -1281,6 +1281,11 @@ RenderedView Renderer::Render(const Camera& camera, const Rigid3d& cam_from_worl
   return view;
 }
 
+std::shared_ptr<const std::vector<Eigen::Vector3f>> Renderer::PixelCentreBearings(const Camera& camera) const {
+  const std::shared_ptr<const PixelCentreRays> rays = impl_->CentreRays(camera);
+  return std::shared_ptr<const std::vector<Eigen::Vector3f>>(rays, &rays->bearings);  // keeps `rays` alive
+}
+
 // ---------------------------------------------------------------------------------------------
 
 TraceOnlyStats Renderer::TraceOnlyForBenchmark(const Camera& camera, const Rigid3d& cam_from_world,

@@ -90,6 +90,11 @@ class Renderer {
   // Renders one view. Thread-safe (const): several views may render concurrently.
   RenderedView Render(const Camera& camera, const Rigid3d& cam_from_world, const RenderOptions& options) const;
 
+  // The unit bearings (camera frame) of the camera's pixel centres, row-major, zero outside the
+  // lens: the rays Render traces through them, computed once per camera and kept. For work on
+  // every pixel of a rendered view (the ground-truth overlap) without undistorting each again.
+  std::shared_ptr<const std::vector<Eigen::Vector3f>> PixelCentreBearings(const Camera& camera) const;
+
   // For benchmarks only (bench/render_bench.cc): the lower bound Render is measured against.
   // Generates exactly the rays Render would trace for this view (pixel centres, the jittered
   // samples when samples_per_pixel > 1, and the shadow rays of the shaded samples), untimed, then

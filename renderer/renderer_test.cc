@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <string>
 #include <vector>
 #include <stdexcept>
@@ -685,6 +686,29 @@ Rigid3d LookingDown(double height) {
   world_from_cam.col(1) = Eigen::Vector3d(0, 0, 1);
   world_from_cam.col(2) = Eigen::Vector3d(0, -1, 0);
   return Rigid3d(world_from_cam, Eigen::Vector3d(0, height, 0)).Inverse();
+}
+
+// The pixel-centre bearings Render traces: CamFromImg's, normalised, and zero outside the lens.
+TEST(RendererTest, PixelCentreBearingsAreTheCameraModelsRays) {
+  const Camera fisheye(CameraModelId::kOpenCVFisheye, 64, 48, {12, 12, 31.5, 23.5, 0.05, -0.01, 0, 0});
+  const Scene empty;
+  const std::shared_ptr<const std::vector<Eigen::Vector3f>> kept = Renderer(empty).PixelCentreBearings(fisheye);
+  const std::vector<Eigen::Vector3f>& bearings = *kept;  // outlives the renderer: the pointer keeps it
+  ASSERT_EQ(bearings.size(), size_t(64 * 48));
+  int outside = 0;
+  for (int y = 0; y < 48; ++y) {
+    for (int x = 0; x < 64; ++x) {
+      const Eigen::Vector3f& b = bearings[size_t(y) * 64 + x];
+      const auto ray = fisheye.CamFromImg(Eigen::Vector2d(x, y));
+      if (!ray) {
+        EXPECT_TRUE(b.isZero()) << x << ", " << y;
+        ++outside;
+        continue;
+      }
+      EXPECT_LT((b.cast<double>() - ray->normalized()).norm(), 1e-6) << x << ", " << y;
+    }
+  }
+  EXPECT_GT(outside, 0);  // the corners lie beyond the lens's valid image circle
 }
 
 TEST(RendererTest, SunLightAndHardShadows) {
