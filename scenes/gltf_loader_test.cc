@@ -562,15 +562,21 @@ TEST(GltfLoader, EmissionIsReadWithItsStrengthAndItsOwnTexcoords) {
   ExpectThrowsWith(g.Write(dir, "negative_factor"), "material 0 'sign': emissiveFactor must be finite and >= 0");
 }
 
-// normalTexture: its scale, and its own texCoord baked into SceneMesh::normal_texcoords.
-TEST(GltfLoader, NormalTextureIsReadWithItsScaleAndTexcoords) {
-  const auto dir = TempDir();
+// The two-texcoord quad on one node, with the tiny texture and `material` as its only material.
+TestGltf QuadWithMaterial(const json& material) {
   TestGltf g;
   const auto [pos, uv0, uv1] = g.QuadWithTwoTexcoordSets();
   g.TinyTexture();
-  g.doc["materials"] = json::array({{{"name", "bricks"}, {"normalTexture", {{"index", 0}, {"texCoord", 1}, {"scale", 0.5}}}}});
+  g.doc["materials"] = json::array({material});
   g.Node({{"mesh", g.Mesh({{"POSITION", pos}, {"TEXCOORD_0", uv0}, {"TEXCOORD_1", uv1}}, -1, 4, 0)}});
   g.Scene({0});
+  return g;
+}
+
+// normalTexture: its scale, and its own texCoord baked into SceneMesh::normal_texcoords.
+TEST(GltfLoader, NormalTextureIsReadWithItsScaleAndTexcoords) {
+  const auto dir = TempDir();
+  TestGltf g = QuadWithMaterial({{"name", "bricks"}, {"normalTexture", {{"index", 0}, {"texCoord", 1}, {"scale", 0.5}}}});
   const Scene s = LoadGltf(g.Write(dir, "normal_map"));
   ASSERT_EQ(s.materials.size(), 1u);
   EXPECT_EQ(s.materials[0].normal_texture, 0);
@@ -586,12 +592,7 @@ TEST(GltfLoader, NormalTextureIsReadWithItsScaleAndTexcoords) {
 // a strength outside glTF's [0, 1] is refused.
 TEST(GltfLoader, OcclusionTextureIsReadWithItsStrengthAndTexcoords) {
   const auto dir = TempDir();
-  TestGltf g;
-  const auto [pos, uv0, uv1] = g.QuadWithTwoTexcoordSets();
-  g.TinyTexture();
-  g.doc["materials"] = json::array({{{"name", "baked"}, {"occlusionTexture", {{"index", 0}, {"texCoord", 1}, {"strength", 0.25}}}}});
-  g.Node({{"mesh", g.Mesh({{"POSITION", pos}, {"TEXCOORD_0", uv0}, {"TEXCOORD_1", uv1}}, -1, 4, 0)}});
-  g.Scene({0});
+  TestGltf g = QuadWithMaterial({{"name", "baked"}, {"occlusionTexture", {{"index", 0}, {"texCoord", 1}, {"strength", 0.25}}}});
   const Scene s = LoadGltf(g.Write(dir, "occlusion"));
   ASSERT_EQ(s.materials.size(), 1u);
   EXPECT_EQ(s.materials[0].occlusion_texture, 0);
