@@ -125,6 +125,9 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
   std::vector<double> overlap(size_t(num_cams) * num_cams, 0.0);
   int done = 0;
   std::vector<SceneMesh> posed;  // the renderer's meshes while an animated scene is posed
+  // Each camera's pixel-centre rays, for the overlap: computed by the renderer, once per run.
+  std::vector<std::shared_ptr<const std::vector<Eigen::Vector3f>>> bearings(num_cams);
+  for (int c = 0; c < num_cams; ++c) bearings[c] = renderer.PixelCentreBearings(cams[c].camera);
   for (int frame_index = 0; frame_index < num_frames; ++frame_index) {
     const Frame& frame = job.frames.frames[frame_index];
     std::vector<Rigid3d> cam_from_world(num_cams);
@@ -165,8 +168,6 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
     for (int a = 0; a < num_cams; ++a) {
       for (int y = 0; y < ranges[a].height; y += kBandRows) bands.push_back({a, y});
     }
-    std::vector<std::shared_ptr<const std::vector<Eigen::Vector3f>>> bearings(num_cams);
-    for (int c = 0; c < num_cams; ++c) bearings[c] = renderer.PixelCentreBearings(cams[c].camera);  // cached
     std::vector<CoVisibleCounts> counts(bands.size());
     tbb::task_arena arena(job.options.num_threads > 0 ? job.options.num_threads : tbb::task_arena::automatic);
     arena.execute([&] {

@@ -252,11 +252,15 @@ std::string AbbreviateDataUris(std::string text) {
   return text;
 }
 
-// A glTF or GLB file's extensionsRequired or extensionsUsed (`key`), read without tinygltf (best
-// effort: empty when the JSON cannot be read). For files tinygltf refuses: a file that needs an
-// extension rigsim lacks should be refused for that, not for what tinygltf stumbles on first
-// (Draco's accessors without bufferViews, say).
-std::vector<std::string> DeclaredExtensions(const std::filesystem::path& path, bool binary, const char* key) {
+// A glTF or GLB file's extensionsRequired and extensionsUsed, read without tinygltf (best effort:
+// empty when the JSON cannot be read). For files tinygltf refuses: a file that needs an extension
+// rigsim lacks should be refused for that, not for what tinygltf stumbles on first (Draco's
+// accessors without bufferViews, say).
+struct DeclaredExtensions {
+  std::vector<std::string> required, used;
+};
+
+DeclaredExtensions ReadDeclaredExtensions(const std::filesystem::path& path, bool binary) {
   std::ifstream in(path, std::ios::binary);
   std::string text((std::istreambuf_iterator<char>(in)), {});
   if (binary) {  // the JSON chunk: length at byte 12, type "JSON" at 16, data from 20
@@ -268,12 +272,15 @@ std::vector<std::string> DeclaredExtensions(const std::filesystem::path& path, b
     text = text.substr(20, length);
   }
   const nlohmann::json doc = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
-  std::vector<std::string> out;
-  if (!doc.is_object() || !doc.contains(key) || !doc[key].is_array()) return out;
-  for (const nlohmann::json& ext : doc[key]) {
-    if (ext.is_string()) out.push_back(ext.get<std::string>());
-  }
-  return out;
+  auto names = [&](const char* key) {
+    std::vector<std::string> out;
+    if (!doc.is_object() || !doc.contains(key) || !doc[key].is_array()) return out;
+    for (const nlohmann::json& ext : doc[key]) {
+      if (ext.is_string()) out.push_back(ext.get<std::string>());
+    }
+    return out;
+  };
+  return {names("extensionsRequired"), names("extensionsUsed")};
 }
 
 // Extensions whose content we fully honour; everything else in extensionsRequired is fatal.
@@ -350,10 +357,11 @@ class Loader {
     };
     std::string unsupported_used;  // named when the file is refused anyway
     if (!ok || !err.empty() || missing_file(warn)) {
-      for (const std::string& ext : DeclaredExtensions(path_, binary, "extensionsRequired")) {
+      const DeclaredExtensions declared = ReadDeclaredExtensions(path_, binary);
+      for (const std::string& ext : declared.required) {
         if (!SupportedExtension(ext)) Fail("requires extension " + ext + ", which rigsim does not support");
       }
-      for (const std::string& ext : DeclaredExtensions(path_, binary, "extensionsUsed")) {
+      for (const std::string& ext : declared.used) {
         if (!SupportedExtension(ext)) unsupported_used += (unsupported_used.empty() ? "" : ", ") + ext;
       }
     }
