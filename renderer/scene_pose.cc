@@ -157,8 +157,10 @@ std::vector<SceneMesh> PoseMeshesAt(const Scene& scene, double time_s) {
       SkinMesh(scene.skins[mesh.skin], world, &mesh);
       continue;
     }
-    const Eigen::Matrix3d linear = world[mesh.node].topLeftCorner<3, 3>();
-    const Eigen::Vector3d offset = world[mesh.node].topRightCorner<3, 1>();
+    // Identity but for an EXT_mesh_gpu_instancing instance, whose transform comes before its node's.
+    const Eigen::Matrix4d world_from_mesh = world[mesh.node] * mesh.node_from_instance;
+    const Eigen::Matrix3d linear = world_from_mesh.topLeftCorner<3, 3>();
+    const Eigen::Vector3d offset = world_from_mesh.topRightCorner<3, 1>();
     for (size_t i = 0; i < mesh.positions.size(); ++i) {
       mesh.positions[i] = (linear * mesh.local_positions[i].cast<double>() + offset).cast<float>();
     }

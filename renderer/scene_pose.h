@@ -26,8 +26,9 @@ std::vector<std::vector<double>> MorphWeightsAt(const Scene& scene, double time_
 
 // Copies scene.meshes and re-poses the animated ones (SceneMesh::node >= 0) at `time_s`:
 // a mesh with animated morph weights is morphed first (scenes/morphing.h), then positions and
-// normals are placed in world coordinates; a skinned mesh (SceneMesh::skin >= 0) follows its
-// joints (scenes/skinning.h). Static meshes are copied unchanged.
+// normals are placed in world coordinates (by world_from_node * SceneMesh::node_from_instance, the
+// latter identity but for EXT_mesh_gpu_instancing instances); a skinned mesh (SceneMesh::skin >= 0)
+// follows its joints (scenes/skinning.h). Static meshes are copied unchanged.
 std::vector<SceneMesh> PoseMeshesAt(const Scene& scene, double time_s);
 
 // The flat world-space scene at `time_s` (a copy of `scene`, textures included, with posed meshes).

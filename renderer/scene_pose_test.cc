@@ -208,6 +208,61 @@ TEST(ScenePoseTest, RotationSlerpsAndChildrenFollowTheirParent) {
   EXPECT_TRUE(MeshCentre(PoseMeshesAt(scene, 1.0)[0]).isApprox(expected, 1e-6));
 }
 
+// EXT_mesh_gpu_instancing: three instances of the box on node 0, which moves along x and turns
+// 90 deg about y from t = 0 to 1. Each follows its node in the node's frame, world_from_node(t) *
+// node_from_instance: the instance 2 m along the node's z is at (-1, 0, 8) at t = 0 and at (1, 0,
+// 6) + R_y(90) (0, 0, 2) = (3, 0, 6) at t = 1 (node_from_instance first would leave it at (1, 0, 8)).
+// The instance scaled by 2 and turned has its normals by the inverse transpose; morphing comes
+// before both.
+TEST(ScenePoseTest, GpuInstancesFollowTheirAnimatedNode) {
+  Scene scene = AnimatedBoxScene();
+  AnimationChannel turn;
+  turn.node = 0;
+  turn.path = AnimationPath::kRotation;
+  turn.times_s = {0.0, 1.0};
+  const Eigen::Quaterniond q90(Eigen::AngleAxisd(kPi / 2, Eigen::Vector3d::UnitY()));
+  turn.values = {Eigen::Vector4d(0, 0, 0, 1), Eigen::Vector4d(q90.x(), q90.y(), q90.z(), q90.w())};
+  scene.animation_channels.push_back(turn);
+  const SceneMesh box = scene.meshes[0];
+  scene.meshes.clear();
+  const Eigen::Affine3d along_z(Eigen::Translation3d(0, 0, 2));
+  const Eigen::Affine3d stretched = Eigen::Translation3d(0, 3, 0) * Eigen::AngleAxisd(kPi / 2, Eigen::Vector3d::UnitZ()) * Eigen::Scaling(2.0, 1.0, 1.0);
+  const Eigen::Matrix4d instances[3] = {Eigen::Matrix4d::Identity(), along_z.matrix(), stretched.matrix()};
+  for (int i = 0; i < 3; ++i) {
+    SceneMesh m = box;
+    m.instance_id = uint16_t(10 + i);
+    m.gpu_instance = i;
+    m.node_from_instance = instances[i];
+    m.local_normals.assign(m.local_positions.size(), Eigen::Vector3f(1, 0, 1).normalized());
+    scene.meshes.push_back(m);
+  }
+  for (double t : {0.0, 1.0}) {
+    const std::vector<SceneMesh> posed = PoseMeshesAt(scene, t);
+    ASSERT_EQ(posed.size(), 3u);
+    const Eigen::Vector3d node(2 * t - 1, 0, 6);
+    const Eigen::Matrix3d r = t == 0.0 ? Eigen::Matrix3d::Identity() : q90.toRotationMatrix();
+    EXPECT_TRUE(MeshCentre(posed[0]).isApprox(node, 1e-6)) << t << ": " << MeshCentre(posed[0]).transpose();
+    EXPECT_TRUE(MeshCentre(posed[1]).isApprox(node + r * Eigen::Vector3d(0, 0, 2), 1e-6)) << t << ": " << MeshCentre(posed[1]).transpose();
+    EXPECT_TRUE(MeshCentre(posed[2]).isApprox(node + r * Eigen::Vector3d(0, 3, 0), 1e-6)) << t << ": " << MeshCentre(posed[2]).transpose();
+    // Corner (0.5, 0.5, 0.5) of the stretched instance: S (1, 0.5, 0.5), R_z (-0.5, 1, 0.5), T (-0.5, 4, 0.5).
+    EXPECT_TRUE(posed[2].positions[7].cast<double>().isApprox(node + r * Eigen::Vector3d(-0.5, 4, 0.5), 1e-6)) << posed[2].positions[7].transpose();
+    // Normal (1, 0, 1): S^-T (0.5, 0, 1), R_z (0, 0.5, 1), then the node's turn.
+    const Eigen::Vector3d normal = r * Eigen::Vector3d(0, 0.5, 1).normalized();
+    EXPECT_TRUE(posed[2].normals[0].cast<double>().isApprox(normal, 1e-6)) << t << ": " << posed[2].normals[0].transpose();
+  }
+
+  // Morph weights animated on the instanced node: each instance is morphed, then placed.
+  Scene morphed = MorphedBoxScene(AnimationInterpolation::kLinear);
+  SceneMesh moved = morphed.meshes[0];
+  moved.gpu_instance = 1;
+  moved.node_from_instance = along_z.matrix();
+  morphed.meshes[0].gpu_instance = 0;
+  morphed.meshes.push_back(moved);
+  const std::vector<SceneMesh> posed = PoseMeshesAt(morphed, 1.0);
+  EXPECT_TRUE(MeshCentre(posed[0]).isApprox(Eigen::Vector3d(2, 0.5, 6), 1e-6)) << MeshCentre(posed[0]).transpose();
+  EXPECT_TRUE(MeshCentre(posed[1]).isApprox(Eigen::Vector3d(2, 0.5, 8), 1e-6)) << MeshCentre(posed[1]).transpose();
+}
+
 TEST(ScenePoseTest, StaticScenesAreCopiedUnchanged) {
   Scene scene = AnimatedBoxScene();
   scene.animation_channels.clear();

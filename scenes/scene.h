@@ -71,7 +71,7 @@ struct MorphTarget {
 struct SceneMesh {
   std::string name;         // node name (or mesh name when the node has none)
   uint8_t class_id = 0;     // Cityscapes label id (labels/cityscapes.h); 0 = unlabeled
-  uint16_t instance_id = 0; // 1.. per glTF node carrying geometry; 0 = none
+  uint16_t instance_id = 0; // 1.. per glTF node carrying geometry (per instance of it, below); 0 = none
   int material = -1;        // index into Scene::materials; -1 = default grey
   std::vector<Eigen::Vector3f> positions;  // world
   std::vector<Eigen::Vector3f> normals;    // world, unit; empty = use the face normal
@@ -112,6 +112,12 @@ struct SceneMesh {
   std::vector<Eigen::Vector3f> morph_base_positions;
   std::vector<Eigen::Vector3f> morph_base_normals;
   std::vector<MorphTarget> morph_targets;
+  // EXT_mesh_gpu_instancing: which instance of its node this mesh is (-1 = the node is not
+  // instanced), and the instance's T * R * S in the node's frame. Each instance is its own set of
+  // meshes with its own instance_id; an animated one is placed at world_from_node(t) *
+  // node_from_instance (the instance transform comes first, glTF "Transformation Order").
+  int gpu_instance = -1;
+  Eigen::Matrix4d node_from_instance = Eigen::Matrix4d::Identity();
 };
 
 // A glTF skin: the nodes (joints) that move a skinned mesh's vertices, each with its inverse bind
