@@ -283,12 +283,14 @@ DeclaredExtensions ReadDeclaredExtensions(const std::filesystem::path& path, boo
   return {names("extensionsRequired"), names("extensionsUsed")};
 }
 
+constexpr const char* kGpuInstancing = "EXT_mesh_gpu_instancing";
+
 // Extensions whose content we fully honour; everything else in extensionsRequired is fatal.
 // KHR_texture_transform is honoured on the textures rigsim renders: base colour, emissive,
-// normal, occlusion.
+// normal, occlusion. EXT_mesh_gpu_instancing's custom attributes (_ID, ...) are named as ignored.
 bool SupportedExtension(const std::string& name) {
   return name == "KHR_mesh_quantization" || name == "KHR_texture_transform" || name == "KHR_materials_unlit" ||
-         name == "KHR_materials_emissive_strength" || name == "EXT_texture_webp";
+         name == "KHR_materials_emissive_strength" || name == "EXT_texture_webp" || name == kGpuInstancing;
 }
 
 // The texture coordinates a material's texture samples: the TEXCOORD_<set> attribute, mapped by
@@ -993,11 +995,17 @@ class Loader {
       if (!world.allFinite()) Fail("node " + std::to_string(item.node) + ": transform is not finite");
       rest_world_[item.node] = world;
       const ClassTag cls = node_class_[item.node] ? node_class_[item.node] : item.inherited;
-      for (const auto& [name, value] : node.extensions) Ignore("node extension " + name);
+      for (const auto& [name, value] : node.extensions) {
+        if (name != kGpuInstancing) Ignore("node extension " + name);
+      }
       const bool animated = item.animated || animated_nodes_.count(item.node) > 0;
       current_mesh_animated_ = animated;
       if (node.camera >= 0) AddCamera(item.node, world, animated);
-      if (node.mesh >= 0) AddMeshInstance(item.node, world, cls);
+      if (node.mesh >= 0) {
+        AddMeshInstance(item.node, world, cls);
+      } else if (node.extensions.count(kGpuInstancing)) {
+        Warn(NodeLabel(item.node) + ": " + kGpuInstancing + " on a node without a mesh, where it means nothing; ignored");
+      }
       for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) stack.push_back({*c, world, cls, animated});
     }
     size_t unreached_meshes = 0, unreached_cameras = 0;
@@ -1068,22 +1076,161 @@ class Loader {
     scene_.cameras.push_back(std::move(out));
   }
 
+  // Where one copy of a node's mesh goes: the instance's transform in the node's frame (identity
+  // without EXT_mesh_gpu_instancing), its instance id and its index among the node's instances
+  // (-1 = not instanced).
+  struct Placement {
+    Eigen::Matrix4d node_from_instance = Eigen::Matrix4d::Identity();
+    uint16_t instance_id = 0;
+    int gpu_instance = -1;
+  };
+
+  // 1, 2, ... for each instance (a mesh node, or one instance of an instanced node); 0 after 65535.
+  uint16_t NextInstanceId() {
+    if (next_instance_ <= 65535) return uint16_t(next_instance_++);
+    if (!instance_overflow_warned_) {
+      instance_overflow_warned_ = true;
+      Warn("more than 65535 mesh nodes or instances: further ones get instance id 0");
+    }
+    return 0;
+  }
+
+  std::string NodeLabel(int node_index) const {
+    const std::string& name = model_.nodes[node_index].name;
+    return "node " + std::to_string(node_index) + (name.empty() ? "" : " " + Quote(name));
+  }
+
   void AddMeshInstance(int node_index, const Eigen::Matrix4d& world, ClassTag node_cls) {
     const tinygltf::Node& node = model_.nodes[node_index];
     if (size_t(node.mesh) >= model_.meshes.size()) Fail("node " + std::to_string(node_index) + ": mesh " + std::to_string(node.mesh) + " out of range");
-    uint16_t instance = 0;
-    if (next_instance_ <= 65535) {
-      instance = uint16_t(next_instance_++);
-    } else if (!instance_overflow_warned_) {
-      instance_overflow_warned_ = true;
-      Warn("more than 65535 mesh nodes: further nodes get instance id 0");
-    }
+    std::vector<Placement> placements = GpuInstances(node_index);
+    if (placements.empty()) placements.push_back({});
+    for (Placement& p : placements) p.instance_id = NextInstanceId();
     const tinygltf::Mesh& mesh = model_.meshes[node.mesh];
     const ClassTag mesh_cls = mesh_class_[node.mesh] ? mesh_class_[node.mesh] : node_cls;
     const std::vector<double> morph_weights = RestMorphWeights(node_index);
     for (size_t p = 0; p < mesh.primitives.size(); ++p) {
-      AddPrimitive(node_index, node.mesh, int(p), world, mesh_cls, instance, morph_weights);
+      AddPrimitive(node_index, node.mesh, int(p), world, mesh_cls, placements, morph_weights);
     }
+  }
+
+  // EXT_mesh_gpu_instancing on a mesh node: each instance's T * R * S (node_from_instance) and
+  // index, in accessor order, without instance ids yet; empty when the node has no such extension (or is skinned, which the extension
+  // leaves undefined: drawn once, by its joints, with a warning). TRANSLATION and SCALE are VEC3
+  // float, ROTATION VEC4 float or normalized byte/short (x, y, z, w), all of one count; a missing
+  // one is identity. The geometry all instances make is bounded before anything is decoded.
+  std::vector<Placement> GpuInstances(int node_index) {
+    const tinygltf::Node& node = model_.nodes[node_index];
+    const auto ext_it = node.extensions.find(kGpuInstancing);
+    if (ext_it == node.extensions.end()) return {};
+    const std::string where = NodeLabel(node_index) + " " + kGpuInstancing;
+    if (node.skin >= 0) {
+      Warn(where + ": on a skinned node, which the extension leaves undefined; the mesh is drawn once, placed by its joints");
+      return {};
+    }
+    const tinygltf::Value& ext = ext_it->second;
+    if (!ext.IsObject() || !ext.Has("attributes") || !ext.Get("attributes").IsObject()) Fail(where + ": has no attributes object");
+    const tinygltf::Value& attributes = ext.Get("attributes");
+    struct Attribute {
+      const char* name;
+      int type;
+      int accessor = -1;
+    };
+    Attribute trs[3] = {{"TRANSLATION", TINYGLTF_TYPE_VEC3}, {"ROTATION", TINYGLTF_TYPE_VEC4}, {"SCALE", TINYGLTF_TYPE_VEC3}};
+    for (const std::string& key : attributes.Keys()) {
+      Attribute* known = nullptr;
+      for (Attribute& a : trs) known = key == a.name ? &a : known;
+      if (!known) {
+        Ignore(std::string(kGpuInstancing) + " attribute " + key);  // custom (_ID, ...): nothing rigsim draws
+        continue;
+      }
+      const tinygltf::Value& v = attributes.Get(key);
+      if (!v.IsInt()) Fail(where + ": attribute " + key + " is not an accessor index");
+      known->accessor = v.GetNumberAsInt();
+    }
+    // Metadata first (types, counts), so that the size bound holds before anything is read.
+    size_t count = 0;
+    const Attribute* first = nullptr;
+    for (const Attribute& a : trs) {
+      if (a.accessor < 0 && attributes.Has(a.name)) Fail(where + ": " + a.name + " accessor " + std::to_string(a.accessor) + " out of range");
+      if (a.accessor < 0) continue;
+      const std::string label = "accessor " + std::to_string(a.accessor) + " (" + where + " " + a.name + ")";
+      if (size_t(a.accessor) >= model_.accessors.size()) Fail(label + ": index out of range");
+      const tinygltf::Accessor& acc = model_.accessors[a.accessor];
+      const bool rotation = a.type == TINYGLTF_TYPE_VEC4;
+      if (acc.type != a.type) Fail(label + ": type must be " + (rotation ? "VEC4" : "VEC3"));
+      const bool normalized_signed =
+          acc.normalized && (acc.componentType == TINYGLTF_COMPONENT_TYPE_BYTE || acc.componentType == TINYGLTF_COMPONENT_TYPE_SHORT);
+      if (acc.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT && !(rotation && normalized_signed)) {
+        Fail(label + ": componentType must be FLOAT" + (rotation ? ", or normalized BYTE or SHORT" : ""));
+      }
+      if (acc.count == 0) Fail(label + ": count is 0 (an instanced node needs at least one instance)");
+      if (first && acc.count != count) {
+        Fail(label + ": count " + std::to_string(acc.count) + " differs from " + first->name + "'s " + std::to_string(count) +
+             " (all instance attributes must have the same count)");
+      }
+      first = &a;
+      count = acc.count;
+    }
+    if (!first) {
+      Warn(where + ": no TRANSLATION, ROTATION or SCALE attribute; the mesh is drawn once");
+      return {};
+    }
+    CheckInstancedSize(node_index, count, where);
+    std::vector<double> values[3];  // per attribute: count x (3 or 4), empty when not given
+    for (int k = 0; k < 3; ++k) {
+      const Attribute& a = trs[k];
+      if (a.accessor < 0) continue;
+      const std::string label = "accessor " + std::to_string(a.accessor) + " (" + where + " " + a.name + ")";
+      size_t n = 0;
+      values[k] = ReadAccessor(a.accessor, a.type, where + " " + a.name, &n);
+      const size_t ncomp = size_t(NumComponents(a.type));
+      for (size_t i = 0; i < values[k].size(); ++i) {
+        if (!std::isfinite(values[k][i])) Fail(label + ": instance " + std::to_string(i / ncomp) + " is not finite");
+      }
+      for (size_t i = 0; k == 1 && i < n; ++i) {
+        if (!(Eigen::Map<const Eigen::Vector4d>(&values[k][4 * i]).norm() > 1e-6)) {
+          Fail(label + ": instance " + std::to_string(i) + " has a zero quaternion, which is no rotation");
+        }
+      }
+    }
+    std::vector<Placement> out(count);  // count is bounded now: ReadAccessor checked it
+    for (size_t i = 0; i < count; ++i) {
+      Eigen::Affine3d t = Eigen::Affine3d::Identity();
+      if (!values[0].empty()) t.translate(Eigen::Map<const Eigen::Vector3d>(&values[0][3 * i]));
+      if (!values[1].empty()) {
+        const double* q = &values[1][4 * i];  // glTF (x, y, z, w); quantized (and float) ones are unit only nearly
+        t.rotate(Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized());
+      }
+      if (!values[2].empty()) t.scale(Eigen::Map<const Eigen::Vector3d>(&values[2][3 * i]));
+      out[i].node_from_instance = t.matrix();
+      out[i].gpu_instance = int(i);
+    }
+    return out;
+  }
+
+  // Instances copy their mesh's geometry, which is decoded once per node: this bounds the copies
+  // (vertices and indices of every instance, summed over the file) by max_accessor_count, as
+  // ReadAccessor bounds what is decoded, so that a small file cannot ask for billions of vertices.
+  void CheckInstancedSize(int node_index, size_t count, const std::string& where) {
+    const tinygltf::Mesh& mesh = model_.meshes[model_.nodes[node_index].mesh];
+    auto accessor_count = [&](int a) -> size_t { return a >= 0 && size_t(a) < model_.accessors.size() ? model_.accessors[a].count : 0; };
+    size_t per_instance = 0;  // accessor metadata only: AddPrimitive checks the accessors themselves
+    for (const tinygltf::Primitive& prim : mesh.primitives) {
+      const auto pos = prim.attributes.find("POSITION");
+      if (pos == prim.attributes.end()) continue;
+      per_instance += std::min(accessor_count(pos->second), options_.max_accessor_count);
+      per_instance += std::min(accessor_count(prim.indices), options_.max_accessor_count);
+    }
+    const size_t limit = options_.max_accessor_count;
+    const size_t room = limit - std::min(limit, instanced_elements_);
+    if (per_instance > 0 && count > room / per_instance) {
+      Fail(where + ": " + std::to_string(count) + " instances of a mesh of " + std::to_string(per_instance) +
+           " vertices and indices each exceed the limit of " + std::to_string(limit) +
+           " on all instanced geometry (GltfLoadOptions::max_accessor_count; instanced nodes before this one made " +
+           std::to_string(instanced_elements_) + ")");
+    }
+    instanced_elements_ += count * per_instance;
   }
 
   // The morph weights of the mesh on `node` at rest: node.weights, else mesh.weights, else zeros;
@@ -1202,8 +1349,10 @@ class Loader {
     }
   }
 
-  void AddPrimitive(int node_index, int mesh_index, int prim_index, const Eigen::Matrix4d& world, ClassTag cls, uint16_t instance,
-                    const std::vector<double>& morph_weights) {
+  // Decodes the primitive once and adds one SceneMesh per placement (one, or one per
+  // EXT_mesh_gpu_instancing instance), each at world * node_from_instance.
+  void AddPrimitive(int node_index, int mesh_index, int prim_index, const Eigen::Matrix4d& world, ClassTag cls,
+                    const std::vector<Placement>& placements, const std::vector<double>& morph_weights) {
     const tinygltf::Node& node = model_.nodes[node_index];
     const tinygltf::Mesh& mesh = model_.meshes[mesh_index];
     const tinygltf::Primitive& prim = mesh.primitives[prim_index];
@@ -1238,9 +1387,8 @@ class Loader {
       Warn(where + ": no POSITION attribute; skipped");
       return;
     }
-    SceneMesh out;
+    SceneMesh out;  // what every placement shares; positions, normals and winding are per placement
     out.name = !node.name.empty() ? node.name : mesh.name;
-    out.instance_id = instance;
     if (prim.material >= 0) {
       if (size_t(prim.material) >= model_.materials.size()) Fail(where + ": material " + std::to_string(prim.material) + " out of range");
       out.material = prim.material;
@@ -1264,52 +1412,20 @@ class Loader {
     out.num_morph_targets = int(prim.targets.size());
     const bool morph_animated = !prim.targets.empty() && morph_animated_nodes_.count(node_index) > 0;
     if (!prim.targets.empty()) Morph(prim, nverts, morph_weights, morph_animated, where, &pos, &nrm, &out);
-    const Eigen::Matrix3d linear = world.topLeftCorner<3, 3>();
-    const Eigen::Vector3d offset = world.topRightCorner<3, 1>();
-    out.positions.resize(nverts);
     for (size_t i = 0; i < nverts; ++i) {
-      const Eigen::Vector3d x(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
-      const Eigen::Vector3d w = linear * x + offset;
-      if (!x.allFinite() || !w.allFinite()) {
+      if (!Eigen::Vector3d(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]).allFinite()) {
         Fail("accessor " + std::to_string(pos_it->second) + " (" + where + " POSITION): vertex " + std::to_string(i) + " is not finite");
-      }
-      out.positions[i] = w.cast<float>();
-    }
-
-    if (!nrm.empty()) {
-      const size_t n = nverts;
-      const double det = linear.determinant();
-      if (std::abs(det) < 1e-300) {
-        Warn(where + ": singular node transform; normals dropped (face normals used)");
-      } else {
-        const Eigen::Matrix3d normal_matrix = linear.inverse().transpose();
-        out.normals.resize(n);
-        bool bad = false;
-        for (size_t i = 0; i < n && !bad; ++i) {
-          const Eigen::Vector3d v = normal_matrix * Eigen::Vector3d(nrm[3 * i], nrm[3 * i + 1], nrm[3 * i + 2]);
-          const double len = v.norm();
-          if (!std::isfinite(len) || len < 1e-12) bad = true;
-          else out.normals[i] = (v / len).cast<float>();
-        }
-        if (bad) {
-          Warn(where + ": zero or non-finite normals; normals dropped (face normals used)");
-          out.normals.clear();
-        }
       }
     }
     if (skinned) ReadSkinning(prim, node.skin, nverts, where, &out);
-    if (current_mesh_animated_ || skinned || morph_animated) {
+    const bool posed_later = current_mesh_animated_ || skinned || morph_animated;
+    if (posed_later) {
       // PoseSceneAt re-poses this mesh from its node-frame vertices (SkinAtRestPose places a
-      // skinned one).
+      // skinned one); local_normals are set per placement, as a placement may drop its normals.
       out.node = node_index;
       out.local_positions.resize(nverts);
       for (size_t i = 0; i < nverts; ++i) out.local_positions[i] = Eigen::Vector3d(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]).cast<float>();
-      if (!out.normals.empty()) {
-        out.local_normals.resize(nverts);
-        for (size_t i = 0; i < nverts; ++i) out.local_normals[i] = Eigen::Vector3d(nrm[3 * i], nrm[3 * i + 1], nrm[3 * i + 2]).normalized().cast<float>();
-      }
     }
-    if (out.normals.empty()) out.morph_base_normals.clear();  // as local_normals: face normals are used
     out.texcoords = ReadTexcoords(prim, uv_map, nverts, where);
     if (out.texcoords.empty() && out.material >= 0 && scene_.materials[out.material].base_color_texture >= 0) {
       Ignore("textured primitives without their texture's " + texcoord_name + " (rendered untextured)");
@@ -1359,12 +1475,11 @@ class Loader {
       for (size_t i = 0; i < nverts; ++i) seq[i] = uint32_t(i);
     }
 
-    // A mirroring transform turns counter-clockwise faces clockwise: swap two corners to undo it.
-    const bool flip = linear.determinant() < 0;
+    // In the file's winding; PlacePrimitive turns it for a mirroring placement.
     auto emit = [&](uint32_t a, uint32_t b, uint32_t c) {
       out.indices.push_back(a);
-      out.indices.push_back(flip ? c : b);
-      out.indices.push_back(flip ? b : c);
+      out.indices.push_back(b);
+      out.indices.push_back(c);
     };
     if (prim.mode == TINYGLTF_MODE_TRIANGLES) {
       if (seq.size() % 3 != 0) Warn(where + ": vertex/index count " + std::to_string(seq.size()) + " is not a multiple of 3; the remainder is ignored");
@@ -1386,11 +1501,81 @@ class Loader {
       Warn(where + ": no triangles; skipped");
       return;
     }
-    if (!cls) {
-      unlabeled_triangles_ += out.indices.size() / 3;
-      ++unlabeled_meshes_;
+    size_t singular = 0, bad_normals = 0;  // placements whose normals were dropped, warned once below
+    for (size_t k = 0; k < placements.size(); ++k) {
+      const Placement& place = placements[k];
+      const bool last = k + 1 == placements.size();
+      SceneMesh copy = last ? std::move(out) : out;
+      copy.instance_id = place.instance_id;
+      copy.gpu_instance = place.gpu_instance;
+      copy.node_from_instance = place.node_from_instance;
+      const std::string instance_where = place.gpu_instance < 0 ? where : where + " instance " + std::to_string(place.gpu_instance);
+      PlacePrimitive(world * place.node_from_instance, pos, nrm, posed_later, pos_it->second, instance_where, &singular, &bad_normals,
+                     &copy);
+      if (!cls) {
+        unlabeled_triangles_ += copy.indices.size() / 3;
+        ++unlabeled_meshes_;
+      }
+      scene_.meshes.push_back(std::move(copy));
     }
-    scene_.meshes.push_back(std::move(out));
+    const bool instanced = placements.front().gpu_instance >= 0;
+    const std::string of = instanced ? " (" + std::to_string(placements.size()) + " instances)" : "";
+    if (singular) {
+      Warn(where + ": singular node transform" + (instanced ? " for " + std::to_string(singular) + " instance(s)" : "") +
+           "; normals dropped (face normals used)");
+    }
+    if (bad_normals) {
+      Warn(where + ": zero or non-finite normals" + (instanced ? " in " + std::to_string(bad_normals) + " instance(s)" : "") +
+           "; normals dropped (face normals used)");
+    }
+  }
+
+  // Places one copy of a decoded primitive (node-frame positions `pos` and normals `nrm`, xyz
+  // triples) at `world`: world positions, normals by the inverse transpose, the winding turned
+  // when `world` mirrors, and local_normals for a mesh PoseSceneAt re-poses. A placement whose
+  // normals cannot be transformed counts in *singular or *bad_normals and uses face normals.
+  void PlacePrimitive(const Eigen::Matrix4d& world, const std::vector<double>& pos, const std::vector<double>& nrm, bool posed_later,
+                      int pos_accessor, const std::string& where, size_t* singular, size_t* bad_normals, SceneMesh* out) {
+    const size_t nverts = pos.size() / 3;
+    const Eigen::Matrix3d linear = world.topLeftCorner<3, 3>();
+    const Eigen::Vector3d offset = world.topRightCorner<3, 1>();
+    out->positions.resize(nverts);
+    for (size_t i = 0; i < nverts; ++i) {
+      const Eigen::Vector3d w = linear * Eigen::Vector3d(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]) + offset;
+      if (!w.allFinite()) {
+        Fail("accessor " + std::to_string(pos_accessor) + " (" + where + " POSITION): vertex " + std::to_string(i) +
+             " is not finite once transformed");
+      }
+      out->positions[i] = w.cast<float>();
+    }
+    if (!nrm.empty()) {
+      if (std::abs(linear.determinant()) < 1e-300) {
+        ++*singular;
+      } else {
+        const Eigen::Matrix3d normal_matrix = linear.inverse().transpose();
+        out->normals.resize(nverts);
+        bool bad = false;
+        for (size_t i = 0; i < nverts && !bad; ++i) {
+          const Eigen::Vector3d v = normal_matrix * Eigen::Vector3d(nrm[3 * i], nrm[3 * i + 1], nrm[3 * i + 2]);
+          const double len = v.norm();
+          if (!std::isfinite(len) || len < 1e-12) bad = true;
+          else out->normals[i] = (v / len).cast<float>();
+        }
+        if (bad) {
+          ++*bad_normals;
+          out->normals.clear();
+        }
+      }
+    }
+    if (posed_later && !out->normals.empty()) {
+      out->local_normals.resize(nverts);
+      for (size_t i = 0; i < nverts; ++i) out->local_normals[i] = Eigen::Vector3d(nrm[3 * i], nrm[3 * i + 1], nrm[3 * i + 2]).normalized().cast<float>();
+    }
+    if (out->normals.empty()) out->morph_base_normals.clear();  // as local_normals: face normals are used
+    // A mirroring transform turns counter-clockwise faces clockwise: swap two corners to undo it.
+    if (linear.determinant() < 0) {
+      for (size_t t = 0; t + 2 < out->indices.size(); t += 3) std::swap(out->indices[t + 1], out->indices[t + 2]);
+    }
   }
 
   // COLOR_0 (glTF 2.0: VEC3 or VEC4 of float, or of normalized unsigned byte or short), linear
@@ -1444,6 +1629,7 @@ class Loader {
   size_t unlabeled_triangles_ = 0;
   size_t unlabeled_meshes_ = 0;
   size_t decoded_elements_ = 0;  // accessor elements read so far (ReadAccessor's total bound)
+  size_t instanced_elements_ = 0;  // vertices and indices of every GPU instance so far (CheckInstancedSize)
   std::vector<int> rule_parent_;  // parent node of each node, for label rules (built on first use)
 };
 

@@ -10,7 +10,10 @@
 //    class names (labels/cityscapes.h). Primitives without one are classified by the optional
 //    label rules (scenes/label_rules.h); geometry still without a class is unlabeled (id 0) and one
 //    warning counts it.
-//  - Each node carrying a mesh is one instance; ids 1, 2, ... in depth-first traversal order.
+//  - Each node carrying a mesh is one instance; ids 1, 2, ... in depth-first traversal order. A
+//    node with EXT_mesh_gpu_instancing is one instance per entry of its TRANSLATION / ROTATION /
+//    SCALE accessors instead, each placed at world_from_node * T * R * S with its own id
+//    (SceneMesh::gpu_instance, node_from_instance); a skinned one is drawn once, with a warning.
 //  - Node animations (translation, rotation, scale, morph weights; LINEAR and STEP, CUBICSPLINE as
 //    LINEAR with a warning) are kept in Scene::nodes / Scene::animation_channels, and meshes under
 //    an animated node keep their node-frame vertices, so renderer/scene_pose.h can re-pose them at
@@ -41,8 +44,9 @@ class LabelRules;  // scenes/label_rules.h
 struct GltfLoadOptions {
   // Index of the glTF scene to flatten; -1 = the file's `scene` (scene 0 when the file sets none).
   int scene = -1;
-  // Upper bound on any accessor's element count, and on the sum over every accessor read (a mesh
-  // instanced by N nodes counts N times). Checked before allocating, so that a corrupt or hostile
+  // Upper bound on any accessor's element count, on the sum over every accessor read (a mesh
+  // instanced by N nodes counts N times), and on the vertices and indices that EXT_mesh_gpu_instancing
+  // instances copy, summed over the file. Checked before allocating, so that a corrupt or hostile
   // count fails with a message instead of exhausting memory.
   size_t max_accessor_count = size_t(1) << 26;
   // Upper bound on an image's width x height, read from its header before it is decoded (16384 x
