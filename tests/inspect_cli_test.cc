@@ -1,6 +1,6 @@
 // `rigsim inspect` through the built binary: what the loader understood of a file (counts, vertex
-// colours, unlit and emissive materials, classes, morph targets, warnings), and a clear error
-// naming a file it cannot read.
+// colours, unlit and emissive materials, classes, morph targets, GPU instances, warnings), and a
+// clear error naming a file it cannot read.
 
 #include <cstring>
 #include <filesystem>
@@ -90,6 +90,24 @@ TEST(InspectCli, ReportsNormalAndOcclusionMaps) {
   ASSERT_EQ(occluded.code, 0) << occluded.err;
   EXPECT_NE(occluded.out.find("materials   1 (1 OPAQUE, 1 with occlusion)"), std::string::npos) << occluded.out;
   EXPECT_EQ((occluded.out + occluded.err).find("occlusionTexture"), std::string::npos) << "no longer warned: " << occluded.out;
+}
+
+// The fuzz seed with EXT_mesh_gpu_instancing (required): a house node and a node of three tree
+// instances (float translation and scale, normalized-short rotation, one mirrored, an _ID
+// attribute), whose node is animated. Every instance is counted, and so is its node.
+TEST(InspectCli, ReportsGpuInstances) {
+  const fs::path dir = TempDir();
+  const fs::path seed = fs::path(RIGSIM_SOURCE_DIR) / "tests/fuzz_corpus/fuzz_gltf/instanced_quad.gltf";
+  const CliResult r = RunRigsim({"inspect", seed.string()}, dir / "rigsim");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("nodes       2 with geometry (4 instances, 3 of them from 1 node(s) via EXT_mesh_gpu_instancing)"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("triangles   8"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("x [0.00, 4.00]  y [0.00, 1.00]  z [-3.00, 2.00]"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("vegetation       no                 3          3          6"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("EXT_mesh_gpu_instancing attribute _ID"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("extension EXT_mesh_gpu_instancing"), std::string::npos) << "no longer warned as unsupported: " << r.out;
 }
 
 TEST(InspectCli, AnUnreadableFileIsAnErrorNamingIt) {

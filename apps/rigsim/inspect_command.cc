@@ -76,13 +76,23 @@ const char* AlphaName(AlphaMode m) {
 }
 
 void PrintScene(const Scene& scene, const std::filesystem::path& path, const LabelRules* rules) {
-  std::set<uint16_t> instances;
+  // A node is one instance, or under EXT_mesh_gpu_instancing one per entry of its accessors, each
+  // with its own id: such nodes are counted by their instance 0.
+  std::set<uint16_t> plain, instanced_nodes, gpu_instances;
   for (const SceneMesh& m : scene.meshes) {
-    if (m.instance_id) instances.insert(m.instance_id);
+    if (!m.instance_id) continue;
+    (m.gpu_instance < 0 ? plain : gpu_instances).insert(m.instance_id);
+    if (m.gpu_instance == 0) instanced_nodes.insert(m.instance_id);
   }
   std::printf("file        %s (%.1f MB)\n", path.string().c_str(), std::filesystem::file_size(path) / 1e6);
   if (rules) std::printf("label rules %s (%zu rules)\n", rules->source().c_str(), rules->rules().size());
-  std::printf("nodes       %zu with geometry (one instance each)\n", instances.size());
+  if (gpu_instances.empty()) {
+    std::printf("nodes       %zu with geometry (one instance each)\n", plain.size());
+  } else {
+    std::printf("nodes       %zu with geometry (%zu instances, %zu of them from %zu node(s) via EXT_mesh_gpu_instancing)\n",
+                plain.size() + instanced_nodes.size(), plain.size() + gpu_instances.size(), gpu_instances.size(),
+                instanced_nodes.size());
+  }
   const size_t coloured = std::count_if(scene.meshes.begin(), scene.meshes.end(), [](const SceneMesh& m) { return !m.colors.empty(); });
   const size_t skinned = std::count_if(scene.meshes.begin(), scene.meshes.end(), [](const SceneMesh& m) { return m.skin >= 0; });
   std::string kinds;
