@@ -2,13 +2,15 @@
 //  - a glTF camera used as a rig camera (scenes/scene_cameras.h) sees the file's view: a target on
 //    the camera's view axis lands at the principal point, glTF "up" is image up;
 //  - KHR_texture_transform changes what part of the texture a surface shows;
-//  - vertex colours (COLOR_0) colour a surface without a material or texture.
+//  - vertex colours (COLOR_0) colour a surface without a material or texture;
+//  - EXT_mesh_gpu_instancing draws every instance, each its own object in the instance image.
 #include <array>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -254,6 +256,49 @@ TEST(GltfFeaturesRender, VertexColoursColourASurfaceWithoutMaterial) {
   EXPECT_NEAR(linear(middle[0]) / linear(middle[1]), 1.0, 0.1) << "half way (within a pixel): as much red as green";
   EXPECT_EQ(left[2], 0);
   EXPECT_EQ(right[2], 0);
+}
+
+// One square node, 5 m down -Z, drawn by three instances 1.5 m apart along x (the middle one
+// turned 45 deg about z): each shows at its own place with its own id, nothing between them.
+TEST(GltfFeaturesRender, GpuInstancesAreSeparateObjectsInTheInstanceImage) {
+  QuadGltf g;
+  g.doc["extensionsUsed"] = {"EXT_mesh_gpu_instancing"};
+  g.doc["extensionsRequired"] = {"EXT_mesh_gpu_instancing"};
+  g.Square(Eigen::Vector3d(0, 0, -5), Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), 0.8, "vegetation");
+  const float s = float(std::sin(std::numbers::pi / 8)), c = float(std::cos(std::numbers::pi / 8));
+  const int t = g.View({-1.5f, 0, 0, 0, 0, 0, 1.5f, 0, 0}, "VEC3", 3);
+  const int r = g.View({0, 0, 0, 1, 0, 0, s, c, 0, 0, 0, 1}, "VEC4", 3);
+  g.doc["nodes"].back()["extensions"] = {{"EXT_mesh_gpu_instancing", {{"attributes", {{"TRANSLATION", t}, {"ROTATION", r}}}}}};
+  const Scene scene = LoadGltf(g.Write(TempDir(), "instanced"));
+  ASSERT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+  ASSERT_EQ(scene.meshes.size(), 3u);
+
+  const Camera camera = Camera::PinholeFromHorizontalFov(160, 100, 60.0);
+  Eigen::Matrix3d cam_from_world_r;  // at the origin looking down world -Z, +Y up
+  cam_from_world_r << 1, 0, 0, 0, -1, 0, 0, 0, -1;
+  RenderOptions options;
+  options.shadows = false;
+  const RenderedView v = Renderer(scene).Render(camera, Rigid3d(cam_from_world_r, Eigen::Vector3d::Zero()), options);
+  auto pixel = [&](double x, double y) {
+    const auto px = camera.ImgFromCam(cam_from_world_r * Eigen::Vector3d(x, y, -5));
+    return std::array<int, 2>{int(std::lround(px->x())), int(std::lround(px->y()))};
+  };
+  std::set<uint16_t> seen;
+  for (int i = 0; i < 3; ++i) {
+    const auto [u, w] = pixel(1.5 * (i - 1), 0.0);
+    EXPECT_EQ(v.instance.at(u, w), scene.meshes[i].instance_id) << "instance " << i;
+    EXPECT_EQ(v.label.at(u, w), ClassId("vegetation")) << "instance " << i;
+    seen.insert(v.instance.at(u, w));
+    const auto [gu, gw] = pixel(1.5 * (i - 1) + (i == 0 ? 0.75 : -0.75), 0.0);  // the gaps
+    EXPECT_EQ(v.instance.at(gu, gw), 0) << "beside instance " << i;
+  }
+  EXPECT_EQ(seen.size(), 3u);
+  EXPECT_EQ(seen.count(0), 0u);
+  // The turned instance reaches its corners' diagonal (0.4 * sqrt 2 along x), the others do not.
+  const auto [du, dw] = pixel(0.52, 0.0);
+  EXPECT_EQ(v.instance.at(du, dw), scene.meshes[1].instance_id);
+  const auto [eu, ew] = pixel(1.5 - 0.52, 0.0);
+  EXPECT_EQ(v.instance.at(eu, ew), 0);
 }
 
 // A black surface with emissiveFactor scaled by KHR_materials_emissive_strength shows exactly
