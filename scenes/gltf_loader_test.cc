@@ -1351,6 +1351,26 @@ TEST(GltfLoader, GpuInstancesAreDecodedOnceAndBoundedInTotal) {
   ExpectThrowsWith(g.Write(dir, "absurd"), "4000000000 instances of a mesh of 10 vertices and indices each exceed the limit of 67108864");
 }
 
+// Instance ids are uint16: past 65535 instances, further ones get 0 and one warning says so.
+TEST(GltfLoader, GpuInstancesBeyond65535GetIdZeroWithOneWarning) {
+  const auto dir = TempDir();
+  TestGltf g;
+  g.Mesh({{"POSITION", g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0})}});
+  constexpr int kCount = 65540;
+  std::vector<float> t(3 * kCount);
+  for (int i = 0; i < kCount; ++i) t[3 * i] = float(i);
+  const int ta = g.Accessor(t, kFloat, "VEC3", kCount);
+  g.Node({{"mesh", 0}, {"extras", {{"class", "person"}}}, {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", {{"TRANSLATION", ta}}}}}}}});
+  g.Scene({0});
+  const Scene s = LoadGltf(g.Write(dir, "crowd"));
+  ASSERT_EQ(s.meshes.size(), size_t(kCount));
+  EXPECT_EQ(s.meshes[65534].instance_id, 65535);
+  EXPECT_EQ(s.meshes[65535].instance_id, 0);
+  EXPECT_EQ(s.meshes[kCount - 1].instance_id, 0);
+  EXPECT_EQ(s.meshes[kCount - 1].positions[0], Eigen::Vector3f(kCount - 1, 0, 0));
+  EXPECT_EQ(s.warnings, (std::vector<std::string>{"more than 65535 mesh nodes or instances: further ones get instance id 0"}));
+}
+
 // Under an animated node, every instance keeps its node, its mesh-frame vertices and its
 // node_from_instance for PoseSceneAt. A skinned node with the extension (undefined by it) is drawn
 // once, by its joints, with a warning; on a node without a mesh the extension is warned about.
