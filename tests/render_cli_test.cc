@@ -1,7 +1,8 @@
 // `rigsim render` options through the built binary. --photometric and its magnitudes: on, the RGB
 // images change and photometric.json records the draws while labels and depth stay the same; off,
 // nothing changes; bad values are refused before anything is written. --rules: a glTF without
-// extras.class is labelled by name; a bad rules file is refused, naming it, before rendering.
+// extras.class is labelled by name; a bad rules file is refused, naming it, before rendering. The
+// ground-truth overlap is printed per camera pair, and not at all for one camera.
 
 #include <cstdlib>
 #include <cstring>
@@ -104,6 +105,25 @@ TEST_F(RenderCli, PhotometricOnChangesOnlyRgbAndRecordsTheDraws) {
   EXPECT_EQ(v.at("options").at("vignetting_strength").get<double>(), 0.5);
   EXPECT_EQ(v.at("options").at("exposure_stops_sigma").get<double>(), 0.0);
   EXPECT_EQ(v.at("cameras")[1].at("gain").get<double>(), 1.0);
+}
+
+TEST_F(RenderCli, PrintsTheOverlapOfEveryPairAndNoHeadingForOneCamera) {
+  const CliResult three = Render("three", {});
+  ASSERT_EQ(three.code, 0) << three.err;
+  EXPECT_NE(three.out.find("ground-truth overlap"), std::string::npos) << three.out;
+  for (const std::string pair : {"cam0-cam1", "cam0-cam2", "cam1-cam2"}) {
+    EXPECT_NE(three.out.find("  " + pair + " "), std::string::npos) << pair << "\n" << three.out;
+  }
+
+  // A one-camera ring: make-rig's default distorted camera (index 1) does not apply.
+  const CliResult rig = RunRigsim(dir_, {"make-rig", "--cameras", "1", "--width", "64", "--height", "48", "--out",
+                                         (dir_ / "rig1").string()});
+  ASSERT_EQ(rig.code, 0) << rig.err;
+  const CliResult one = RunRigsim(dir_, {"render", "--scene", scene_.string(), "--rig", (dir_ / "rig1/rig.json").string(),
+                                         "--frames", (dir_ / "rig1/frames.json").string(), "--out", (dir_ / "one").string()});
+  ASSERT_EQ(one.code, 0) << one.err;
+  EXPECT_NE(one.out.find("rendered 1 views"), std::string::npos) << one.out;
+  EXPECT_EQ(one.out.find("overlap"), std::string::npos) << one.out;
 }
 
 TEST_F(RenderCli, BadPhotometricMagnitudesAreRefusedBeforeWriting) {

@@ -62,7 +62,8 @@ void AddMakeRigCommand(CLI::App& app) {
   cmd->add_option("--hfov", args->hfov_deg, "horizontal field of view of the perspective cameras (deg; ring default 95, "
                                             "stereo 80, wide-baseline 70, surround front 100)");
   cmd->add_option("--radius", r.radius_m, "ring: radius (m)")->capture_default_str();
-  cmd->add_option("--distorted", r.distorted_camera, "ring: index of the camera with barrel distortion (-1 = none)")
+  cmd->add_option("--distorted", r.distorted_camera,
+                  "ring: index of the camera with barrel distortion (-1 = none; a one-camera ring has none unless given)")
       ->capture_default_str();
   cmd->add_option("--k1", r.k1, "ring: its OPENCV k1")->capture_default_str();
   cmd->add_option("--k2", r.k2, "ring: its OPENCV k2")->capture_default_str();
@@ -164,6 +165,8 @@ void AddMakeRigCommand(CLI::App& app) {
     if (args->type == "ring") {
       RingRigOptions o = args->ring;
       if (hfov_given) o.hfov_deg = args->hfov_deg;
+      // The default distorted camera (index 1) only exists from two cameras on.
+      if (cmd->count("--distorted") == 0 && o.distorted_camera >= o.num_cameras) o.distorted_camera = -1;
       o.target_overlap = args->overlap_percent / 100.0;
       rig = MakeRingRig(o);
     } else if (args->type == "stereo") {

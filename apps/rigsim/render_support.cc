@@ -133,6 +133,7 @@ void RenderAndReport(const RenderJob& job, const std::filesystem::path& out, boo
     std::printf("  every camera: vignetting %.0f%% at the farthest corner, noise variance %g * I + %g^2\n",
                 100 * job.photometric.vignetting_strength, job.photometric.shot_noise, job.photometric.read_noise_stddev);
   }
+  if (job.rig.cameras.size() < 2) return;  // no pair to share a view
   const OverlapTable overlap = ReadOverlap(DatasetLayout(out).OverlapJson());
   std::printf("ground-truth overlap (fraction of the view both cameras share):\n");
   for (size_t a = 0; a < job.rig.cameras.size(); ++a) {
