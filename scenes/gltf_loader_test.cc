@@ -1,14 +1,19 @@
 #include "scenes/gltf_loader.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <map>
+#include <memory>
 #include <numbers>
+#include <set>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -16,6 +21,8 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <draco/compression/encode.h>
+#include <draco/mesh/triangle_soup_mesh_builder.h>
 
 #include "labels/cityscapes.h"
 #include "scenes/scene_builder.h"
@@ -826,22 +833,210 @@ TEST(GltfLoader, TruncatedGlbThrowsWithFileName) {
 }
 
 // A file that requires an extension rigsim lacks is refused naming it, even when tinygltf would
-// stumble first on what the extension changes (Draco: an accessor without a bufferView).
+// stumble first on what the extension changes (here an index accessor without a bufferView, which
+// tinygltf refuses).
 TEST(GltfLoader, UnsupportedExtensionsAreNamedWhenTheFileIsRefused) {
   const auto dir = TempDir();
   TestGltf g;
   const int pos = g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
   g.doc["accessors"].push_back({{"componentType", kUShort}, {"count", 3}, {"type", "SCALAR"}});  // no bufferView
   g.Mesh({{"POSITION", pos}}, 1);
-  g.doc["meshes"][0]["primitives"][0]["extensions"] = {{"KHR_draco_mesh_compression", {{"bufferView", 0}, {"attributes", {{"POSITION", 0}}}}}};
+  g.Node({{"mesh", 0}});
+  g.Scene({0});
+  g.doc["extensionsUsed"] = {"EXT_future_compression"};
+  g.doc["extensionsRequired"] = {"EXT_future_compression"};
+  ExpectThrowsWith(g.Write(dir, "future"), "requires extension EXT_future_compression, which rigsim does not support");
+  ExpectThrowsWith(g.WriteGlb(dir, "future"), "requires extension EXT_future_compression, which rigsim does not support");
+  g.doc.erase("extensionsRequired");
+  ExpectThrowsWith(g.Write(dir, "future_used"), "(the file also uses EXT_future_compression, which rigsim does not read)");
+}
+
+// An n x n grid of vertices in the z = 0 plane, 2 (n - 1)^2 triangles wound counter-clockwise
+// seen from +z, compressed with Draco: TEXCOORD_0 = (i, j) / (n - 1), position (i / 2, j / 4, 0)
+// and COLOR_0 as normalized bytes (i, j, 255 - i, 255). `method` is Draco's sequential or
+// edgebreaker coding; `position_bits` > 0 quantises the positions (lossy), 0 keeps them exact.
+struct DracoGrid {
+  std::vector<uint8_t> bytes;
+  int position_id, texcoord_id, color_id;  // the attributes' Draco ids
+};
+
+DracoGrid EncodeDracoGrid(int n, int method, int position_bits) {
+  draco::TriangleSoupMeshBuilder builder;
+  builder.Start(2 * (n - 1) * (n - 1));
+  const int pos = builder.AddAttribute(draco::GeometryAttribute::POSITION, 3, draco::DT_FLOAT32);
+  const int uv = builder.AddAttribute(draco::GeometryAttribute::TEX_COORD, 2, draco::DT_FLOAT32);
+  const int color = builder.AddAttribute(draco::GeometryAttribute::COLOR, 4, draco::DT_UINT8, true);
+  int face = 0;
+  auto corner = [n](int i, int j) {
+    return std::tuple(std::array<float, 3>{i * 0.5f, j * 0.25f, 0.0f}, std::array<float, 2>{float(i) / (n - 1), float(j) / (n - 1)},
+                      std::array<uint8_t, 4>{uint8_t(i), uint8_t(j), uint8_t(255 - i), 255});
+  };
+  auto add = [&](std::array<std::pair<int, int>, 3> ij) {
+    const auto a = corner(ij[0].first, ij[0].second), b = corner(ij[1].first, ij[1].second), c = corner(ij[2].first, ij[2].second);
+    builder.SetAttributeValuesForFace(pos, draco::FaceIndex(face), std::get<0>(a).data(), std::get<0>(b).data(), std::get<0>(c).data());
+    builder.SetAttributeValuesForFace(uv, draco::FaceIndex(face), std::get<1>(a).data(), std::get<1>(b).data(), std::get<1>(c).data());
+    builder.SetAttributeValuesForFace(color, draco::FaceIndex(face), std::get<2>(a).data(), std::get<2>(b).data(), std::get<2>(c).data());
+    ++face;
+  };
+  for (int i = 0; i + 1 < n; ++i) {
+    for (int j = 0; j + 1 < n; ++j) {
+      add({{{i, j}, {i + 1, j}, {i + 1, j + 1}}});
+      add({{{i, j}, {i + 1, j + 1}, {i, j + 1}}});
+    }
+  }
+  const std::unique_ptr<draco::Mesh> mesh = builder.Finalize();
+  draco::Encoder encoder;
+  encoder.SetEncodingMethod(method);
+  if (position_bits > 0) encoder.SetAttributeQuantization(draco::GeometryAttribute::POSITION, position_bits);
+  draco::EncoderBuffer buffer;
+  const draco::Status status = encoder.EncodeMeshToBuffer(*mesh, &buffer);
+  EXPECT_TRUE(status.ok()) << status.error_msg_string();
+  return {std::vector<uint8_t>(buffer.data(), buffer.data() + buffer.size()), int(mesh->attribute(pos)->unique_id()),
+          int(mesh->attribute(uv)->unique_id()), int(mesh->attribute(color)->unique_id())};
+}
+
+// A glTF file whose one mesh is `grid`, the way exporters write Draco: bufferView 0 holds the
+// compressed data and the primitive's accessors have no bufferView.
+TestGltf DracoGltf(const DracoGrid& grid, int n, int index_type) {
+  TestGltf g;
+  g.bin = grid.bytes;
+  g.doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 0}, {"byteLength", grid.bytes.size()}});
+  const size_t points = size_t(n) * n;
+  g.doc["accessors"] = json::array({{{"componentType", index_type}, {"count", 6 * (n - 1) * (n - 1)}, {"type", "SCALAR"}},
+                                    {{"componentType", kFloat}, {"count", points}, {"type", "VEC3"}},
+                                    {{"componentType", kFloat}, {"count", points}, {"type", "VEC2"}},
+                                    {{"componentType", kUByte}, {"count", points}, {"type", "VEC4"}, {"normalized", true}}});
+  g.Mesh({{"POSITION", 1}, {"TEXCOORD_0", 2}, {"COLOR_0", 3}}, 0);
+  g.doc["meshes"][0]["primitives"][0]["extensions"] = {
+      {"KHR_draco_mesh_compression",
+       {{"bufferView", 0},
+        {"attributes", {{"POSITION", grid.position_id}, {"TEXCOORD_0", grid.texcoord_id}, {"COLOR_0", grid.color_id}}}}}};
   g.Node({{"mesh", 0}});
   g.Scene({0});
   g.doc["extensionsUsed"] = {"KHR_draco_mesh_compression"};
   g.doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};
-  ExpectThrowsWith(g.Write(dir, "draco"), "requires extension KHR_draco_mesh_compression, which rigsim does not support");
-  ExpectThrowsWith(g.WriteGlb(dir, "draco"), "requires extension KHR_draco_mesh_compression, which rigsim does not support");
-  g.doc.erase("extensionsRequired");  // optional, but without the fallback data glTF then requires
-  ExpectThrowsWith(g.Write(dir, "draco_used"), "(the file also uses KHR_draco_mesh_compression, which rigsim does not read)");
+  return g;
+}
+
+// The loaded mesh is the grid: every triangle, its winding, and each corner's attributes. Draco
+// may reorder the vertices and triangles, so corners are matched through their texture
+// coordinates, which are stored exactly; positions may be off by `position_tolerance`.
+void ExpectTheDracoGrid(const Scene& scene, int n, float position_tolerance) {
+  ASSERT_EQ(scene.meshes.size(), 1u);
+  const SceneMesh& m = scene.meshes[0];
+  ASSERT_EQ(m.indices.size(), size_t(6 * (n - 1) * (n - 1)));
+  ASSERT_EQ(m.texcoords.size(), m.positions.size());
+  ASSERT_EQ(m.colors.size(), m.positions.size());
+  std::multiset<std::array<int, 6>> triangles;
+  for (size_t t = 0; t < m.indices.size() / 3; ++t) {
+    EXPECT_GT(FaceNormal(m, t).z(), 0.99f) << "triangle " << t << " turned over";
+    std::array<int, 6> grid_points{};
+    for (int c = 0; c < 3; ++c) {
+      const uint32_t v = m.indices[3 * t + c];
+      const int i = int(std::lround(m.texcoords[v].x() * (n - 1))), j = int(std::lround(m.texcoords[v].y() * (n - 1)));
+      EXPECT_FLOAT_EQ(m.texcoords[v].x() * (n - 1), float(i));
+      EXPECT_NEAR(m.positions[v].x(), i * 0.5f, position_tolerance);
+      EXPECT_NEAR(m.positions[v].y(), j * 0.25f, position_tolerance);
+      EXPECT_NEAR(m.positions[v].z(), 0.0f, position_tolerance);
+      EXPECT_NEAR(m.colors[v].x(), i / 255.0f, 1e-6f);
+      EXPECT_NEAR(m.colors[v].z(), (255 - i) / 255.0f, 1e-6f);
+      EXPECT_NEAR(m.colors[v].y(), j / 255.0f, 1e-6f);
+      grid_points[2 * c] = i;
+      grid_points[2 * c + 1] = j;
+    }
+    // Rotated so that the smallest corner comes first: the same triangle whatever corner Draco starts at.
+    std::array<std::pair<int, int>, 3> corners = {{{grid_points[0], grid_points[1]}, {grid_points[2], grid_points[3]},
+                                                   {grid_points[4], grid_points[5]}}};
+    std::rotate(corners.begin(), std::min_element(corners.begin(), corners.end()), corners.end());
+    triangles.insert({corners[0].first, corners[0].second, corners[1].first, corners[1].second, corners[2].first,
+                      corners[2].second});
+  }
+  std::multiset<std::array<int, 6>> expected;
+  for (int i = 0; i + 1 < n; ++i) {
+    for (int j = 0; j + 1 < n; ++j) {
+      expected.insert({i, j, i + 1, j, i + 1, j + 1});
+      expected.insert({i, j, i + 1, j + 1, i, j + 1});
+    }
+  }
+  EXPECT_EQ(triangles, expected);
+}
+
+TEST(GltfLoader, DracoCompressedMeshesLoadAsTheMeshTheyEncode) {
+  const auto dir = TempDir();
+  const int n = 5;
+  for (const int method : {draco::MESH_SEQUENTIAL_ENCODING, draco::MESH_EDGEBREAKER_ENCODING}) {
+    SCOPED_TRACE(method == draco::MESH_SEQUENTIAL_ENCODING ? "sequential" : "edgebreaker");
+    TestGltf g = DracoGltf(EncodeDracoGrid(n, method, 0), n, kUShort);
+    for (const auto& path : {g.Write(dir, "grid"), g.Write(dir, "grid_uri", true), g.WriteGlb(dir, "grid")}) {
+      SCOPED_TRACE(path.filename().string());
+      const Scene scene = LoadGltf(path);
+      ExpectTheDracoGrid(scene, n, 0.0f);
+      for (const std::string& w : scene.warnings) EXPECT_EQ(w.find("draco"), std::string::npos) << w;
+    }
+  }
+  // Quantised positions come back within half a quantisation step of the 2 m range.
+  const int bits = 10;
+  TestGltf q = DracoGltf(EncodeDracoGrid(n, draco::MESH_EDGEBREAKER_ENCODING, bits), n, kUInt);
+  ExpectTheDracoGrid(LoadGltf(q.Write(dir, "quantised")), n, 2.0f / ((1 << bits) - 1));
+}
+
+TEST(GltfLoader, MalformedDracoPrimitivesAreRefusedNamingThePrimitive) {
+  const auto dir = TempDir();
+  const int n = 3;
+  const DracoGrid grid = EncodeDracoGrid(n, draco::MESH_EDGEBREAKER_ENCODING, 0);
+  const std::string where = "mesh 0 primitive 0: KHR_draco_mesh_compression: ";
+  {
+    TestGltf g = DracoGltf(grid, n, kUShort);
+    g.doc["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["bufferView"] = 4;
+    ExpectThrowsWith(g.Write(dir, "view"), where + "bufferView is missing or not one of the file's 1 buffer views");
+    ExpectThrowsWith(g.WriteGlb(dir, "view"), where + "bufferView is missing or not one of the file's 1 buffer views");
+  }
+  {
+    TestGltf g = DracoGltf(grid, n, kUShort);
+    std::fill(g.bin.begin() + 4, g.bin.end(), uint8_t(0x5a));  // "DRAC" kept, the rest garbage
+    ExpectThrowsWith(g.Write(dir, "garbage"), where + "the Draco data in bufferView 0 does not decode");
+  }
+  {
+    TestGltf g = DracoGltf(grid, n, kUShort);
+    g.doc["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["attributes"]["TEXCOORD_0"] = 9;
+    ExpectThrowsWith(g.Write(dir, "id"), where + "attribute TEXCOORD_0: the Draco data has no attribute with id 9");
+  }
+  {
+    TestGltf g = DracoGltf(grid, n, kUShort);
+    g.doc["accessors"][2]["type"] = "VEC3";
+    ExpectThrowsWith(g.Write(dir, "components"), where + "attribute TEXCOORD_0: the Draco attribute has 2 components, its accessor 3");
+  }
+  {
+    const int big = 17;  // 289 vertices: more than unsigned bytes can index
+    TestGltf g = DracoGltf(EncodeDracoGrid(big, draco::MESH_SEQUENTIAL_ENCODING, 0), big, kUByte);
+    ExpectThrowsWith(g.Write(dir, "bytes"), where + "289 vertices cannot be indexed by the indices accessor's unsigned bytes");
+  }
+  {
+    // tinygltf reads a rewritten copy elsewhere; a missing buffer is still named where the file expects it.
+    TestGltf g = DracoGltf(grid, n, kUShort);
+    const auto path = g.Write(dir, "missing");
+    std::filesystem::remove(dir / "missing.bin");
+    ExpectThrowsWith(path, "File not found : " + (dir / "missing.bin").generic_string());
+  }
+}
+
+// The rewritten copies tinygltf reads are removed after every load, failed or not.
+TEST(GltfLoader, DracoLoadsLeaveNoCopyBehind) {
+  const auto dir = TempDir();
+  auto copies = [] {
+    int count = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::temp_directory_path())) {
+      const std::string name = entry.path().filename().string();
+      count += name.rfind("rigsim_gltf_", 0) == 0 && name.size() == std::string("rigsim_gltf_XXXXXX").size();
+    }
+    return count;
+  };
+  const int before = copies();
+  TestGltf g = DracoGltf(EncodeDracoGrid(3, draco::MESH_EDGEBREAKER_ENCODING, 0), 3, kUShort);
+  EXPECT_NO_THROW(LoadGltf(g.WriteGlb(dir, "ok")));
+  g.doc["accessors"][2]["type"] = "VEC3";
+  EXPECT_THROW(LoadGltf(g.Write(dir, "bad")), std::runtime_error);
+  EXPECT_EQ(copies(), before);
 }
 
 // A buffer's data URI that does not hold byteLength bytes: the message says so and quotes the

@@ -8,6 +8,7 @@ packages=(
   libembree-dev
   libopenimageio-dev openimageio-tools   # OIIO's CMake config needs the tools (see DESIGN.md)
   libtinygltf-dev
+  libdraco-dev                           # Draco-compressed glTF meshes (scenes/gltf_draco.h)
   libglm-dev
   libopencv-dev
   libeigen3-dev

@@ -1,0 +1,341 @@
+#include "scenes/gltf_draco.h"
+
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <utility>
+
+#include <draco/compression/decode.h>
+#include <draco/core/decoder_buffer.h>
+#include <nlohmann/json.hpp>
+
+namespace rigsim {
+namespace {
+
+using nlohmann::json;
+
+uint32_t ReadU32(const unsigned char* p) {
+  uint32_t v;
+  std::memcpy(&v, p, 4);  // GLB is little-endian, as is every machine rigsim builds on
+  return v;
+}
+
+void AppendU32(std::vector<unsigned char>& out, uint32_t v) {
+  const auto* p = reinterpret_cast<const unsigned char*>(&v);
+  out.insert(out.end(), p, p + 4);
+}
+
+// Appends `bytes` as a new buffer with a tightly packed buffer view over it and returns the view.
+int AppendBufferView(tinygltf::Model& model, std::vector<unsigned char> bytes) {
+  tinygltf::BufferView view;
+  view.buffer = int(model.buffers.size());
+  view.byteOffset = 0;
+  view.byteLength = bytes.size();
+  view.byteStride = 0;
+  tinygltf::Buffer buffer;
+  buffer.data = std::move(bytes);
+  model.buffers.push_back(std::move(buffer));
+  model.bufferViews.push_back(std::move(view));
+  return int(model.bufferViews.size() - 1);
+}
+
+// A copy of `accessor` reading `count` elements from the start of `view`.
+int AppendAccessor(tinygltf::Model& model, tinygltf::Accessor accessor, int view, size_t count) {
+  accessor.bufferView = view;
+  accessor.byteOffset = 0;
+  accessor.count = count;
+  accessor.sparse.isSparse = false;  // the decoded values are the whole data
+  model.accessors.push_back(std::move(accessor));
+  return int(model.accessors.size() - 1);
+}
+
+template <typename T>
+std::vector<unsigned char> AsBytes(const std::vector<T>& values) {
+  std::vector<unsigned char> bytes(values.size() * sizeof(T));
+  if (!bytes.empty()) std::memcpy(bytes.data(), values.data(), bytes.size());
+  return bytes;
+}
+
+// The mesh's triangles as indices of the accessor's component type.
+template <typename T>
+std::vector<unsigned char> IndexBytes(const draco::Mesh& mesh) {
+  std::vector<T> indices;
+  indices.reserve(size_t(mesh.num_faces()) * 3);
+  for (draco::FaceIndex f(0); f < mesh.num_faces(); ++f) {
+    for (const draco::PointIndex& p : mesh.face(f)) indices.push_back(T(p.value()));
+  }
+  return AsBytes(indices);
+}
+
+// Every point's value of `attribute`, converted to T (Draco scales normalized integers to floats
+// and back as glTF means them).
+template <typename T>
+bool AttributeBytes(const draco::Mesh& mesh, const draco::PointAttribute& attribute, int components,
+                    std::vector<unsigned char>* bytes) {
+  std::vector<T> values(size_t(mesh.num_points()) * components);
+  for (draco::PointIndex p(0); p < mesh.num_points(); ++p) {
+    if (!attribute.ConvertValue<T>(attribute.mapped_index(p), int8_t(components), &values[size_t(p.value()) * components])) {
+      return false;
+    }
+  }
+  *bytes = AsBytes(values);
+  return true;
+}
+
+class PrimitiveDecoder {
+ public:
+  PrimitiveDecoder(tinygltf::Model& model, tinygltf::Primitive& prim, std::string where, size_t max_elements)
+      : model_(model), prim_(prim), where_(std::move(where)), max_elements_(max_elements) {}
+
+  void Decode(const tinygltf::Value& extension) {
+    if (!extension.IsObject() || !extension.Has("bufferView") || !extension.Get("bufferView").IsInt()) {
+      Fail("the extension object has no integer bufferView");
+    }
+    const std::unique_ptr<draco::Mesh> mesh = DecodeMesh(extension.Get("bufferView").Get<int>());
+    if (size_t(mesh->num_points()) > max_elements_ || size_t(mesh->num_faces()) * 3 > max_elements_) {
+      Fail("decodes to " + std::to_string(mesh->num_points()) + " vertices and " + std::to_string(mesh->num_faces()) +
+           " triangles, beyond the limit of " + std::to_string(max_elements_) + " elements");
+    }
+    ReplaceIndices(*mesh);
+    const tinygltf::Value& attributes = extension.Get("attributes");
+    if (!attributes.IsObject()) Fail("the extension object has no attributes object");
+    for (const std::string& name : attributes.Keys()) {
+      const tinygltf::Value& id = attributes.Get(name);
+      if (!id.IsInt() || id.Get<int>() < 0) Fail("attribute " + name + ": its Draco id is not a non-negative integer");
+      // An attribute the primitive itself does not list is not part of the glTF mesh.
+      if (prim_.attributes.count(name)) ReplaceAttribute(*mesh, name, uint32_t(id.Get<int>()));
+    }
+  }
+
+ private:
+  [[noreturn]] void Fail(const std::string& what) const {
+    throw std::invalid_argument(where_ + ": " + std::string(kDracoExtension) + ": " + what);
+  }
+
+  std::unique_ptr<draco::Mesh> DecodeMesh(int view_index) const {
+    if (view_index < 0 || size_t(view_index) >= model_.bufferViews.size()) {
+      Fail("bufferView " + std::to_string(view_index) + " out of range");
+    }
+    const tinygltf::BufferView& view = model_.bufferViews[view_index];
+    if (view.buffer < 0 || size_t(view.buffer) >= model_.buffers.size()) {
+      Fail("bufferView " + std::to_string(view_index) + " names buffer " + std::to_string(view.buffer) + ", out of range");
+    }
+    const std::vector<unsigned char>& data = model_.buffers[view.buffer].data;
+    if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset) {
+      Fail("bufferView " + std::to_string(view_index) + " (bytes " + std::to_string(view.byteOffset) + " + " +
+           std::to_string(view.byteLength) + ") lies beyond its buffer's " + std::to_string(data.size()) + " bytes");
+    }
+    draco::DecoderBuffer buffer;
+    buffer.Init(reinterpret_cast<const char*>(data.data() + view.byteOffset), view.byteLength);
+    draco::Decoder decoder;
+    auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
+    if (!decoded.ok()) Fail("the Draco data in bufferView " + std::to_string(view_index) + " does not decode: " +
+                            decoded.status().error_msg_string());
+    std::unique_ptr<draco::Mesh> mesh = std::move(decoded).value();
+    if (mesh == nullptr) Fail("the Draco data in bufferView " + std::to_string(view_index) + " holds no mesh");
+    return mesh;
+  }
+
+  void ReplaceIndices(const draco::Mesh& mesh) {
+    tinygltf::Accessor accessor;
+    if (prim_.indices >= 0) {
+      if (size_t(prim_.indices) >= model_.accessors.size()) Fail("indices accessor out of range");
+      accessor = model_.accessors[prim_.indices];
+    } else {  // glTF expects indices with Draco; without them the decoded triangles still say how to draw
+      accessor.type = TINYGLTF_TYPE_SCALAR;
+      accessor.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+    }
+    if (accessor.type != TINYGLTF_TYPE_SCALAR) Fail("the indices accessor is not SCALAR");
+    const uint64_t largest = mesh.num_points() == 0 ? 0 : uint64_t(mesh.num_points()) - 1;
+    std::vector<unsigned char> bytes;
+    switch (accessor.componentType) {
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        if (largest > std::numeric_limits<uint8_t>::max()) Fail(TooManyPoints(mesh, "unsigned byte"));
+        bytes = IndexBytes<uint8_t>(mesh);
+        break;
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+        if (largest > std::numeric_limits<uint16_t>::max()) Fail(TooManyPoints(mesh, "unsigned short"));
+        bytes = IndexBytes<uint16_t>(mesh);
+        break;
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+        bytes = IndexBytes<uint32_t>(mesh);
+        break;
+      default:
+        Fail("the indices accessor's componentType " + std::to_string(accessor.componentType) +
+             " is not an unsigned byte, short or int");
+    }
+    prim_.indices = AppendAccessor(model_, accessor, AppendBufferView(model_, std::move(bytes)), size_t(mesh.num_faces()) * 3);
+  }
+
+  static std::string TooManyPoints(const draco::Mesh& mesh, const std::string& type) {
+    return std::to_string(mesh.num_points()) + " vertices cannot be indexed by the indices accessor's " + type + "s";
+  }
+
+  void ReplaceAttribute(const draco::Mesh& mesh, const std::string& name, uint32_t id) {
+    const int accessor_index = prim_.attributes.at(name);
+    if (accessor_index < 0 || size_t(accessor_index) >= model_.accessors.size()) {
+      Fail("attribute " + name + ": accessor " + std::to_string(accessor_index) + " out of range");
+    }
+    const tinygltf::Accessor& accessor = model_.accessors[accessor_index];
+    const draco::PointAttribute* attribute = mesh.GetAttributeByUniqueId(id);
+    if (attribute == nullptr) Fail("attribute " + name + ": the Draco data has no attribute with id " + std::to_string(id));
+    const int components = tinygltf::GetNumComponentsInType(uint32_t(accessor.type));
+    if (components <= 0 || attribute->num_components() != components) {
+      Fail("attribute " + name + ": the Draco attribute has " + std::to_string(int(attribute->num_components())) +
+           " components, its accessor " + std::to_string(components));
+    }
+    std::vector<unsigned char> bytes;
+    bool converted = false;
+    switch (accessor.componentType) {
+      case TINYGLTF_COMPONENT_TYPE_FLOAT: converted = AttributeBytes<float>(mesh, *attribute, components, &bytes); break;
+      case TINYGLTF_COMPONENT_TYPE_BYTE: converted = AttributeBytes<int8_t>(mesh, *attribute, components, &bytes); break;
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: converted = AttributeBytes<uint8_t>(mesh, *attribute, components, &bytes); break;
+      case TINYGLTF_COMPONENT_TYPE_SHORT: converted = AttributeBytes<int16_t>(mesh, *attribute, components, &bytes); break;
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: converted = AttributeBytes<uint16_t>(mesh, *attribute, components, &bytes); break;
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: converted = AttributeBytes<uint32_t>(mesh, *attribute, components, &bytes); break;
+      default: Fail("attribute " + name + ": componentType " + std::to_string(accessor.componentType) + " is not a vertex type");
+    }
+    if (!converted) Fail("attribute " + name + ": the Draco values do not convert to the accessor's componentType");
+    prim_.attributes[name] = AppendAccessor(model_, accessor, AppendBufferView(model_, std::move(bytes)), size_t(mesh.num_points()));
+  }
+
+  tinygltf::Model& model_;
+  tinygltf::Primitive& prim_;
+  std::string where_;
+  size_t max_elements_;
+};
+
+// How a copy of `file` in `copy_dir` refers to the original's folder, as the start of a relative
+// URI (tinygltf joins a URI to the file's folder even when it is absolute; it URL-decodes URIs, so
+// '%' and '+' are escaped).
+std::string UriPrefix(const std::filesystem::path& file, const std::filesystem::path& copy_dir) {
+  const std::filesystem::path from = std::filesystem::absolute(copy_dir).lexically_normal();
+  const std::filesystem::path to = std::filesystem::absolute(file).parent_path().lexically_normal();
+  std::string out;
+  for (const char c : to.lexically_relative(from).generic_string()) {
+    if (c == '%') {
+      out += "%25";
+    } else if (c == '+') {
+      out += "%2B";
+    } else {
+      out += c;
+    }
+  }
+  if (!out.empty() && out.back() != '/') out += '/';
+  return out;
+}
+
+// A relative URI made relative to the copy's folder (data URIs, absolute paths and URIs with a
+// scheme stay).
+void MakeAbsolute(json& uri, const std::string& prefix) {
+  if (!uri.is_string()) return;
+  const std::string u = uri.get<std::string>();
+  if (u.empty() || u.front() == '/' || u.rfind("data:", 0) == 0 || u.find("://") != std::string::npos) return;
+  uri = prefix + u;
+}
+
+// The JSON of DracoReadableCopy, or nothing when it is not a glTF object.
+std::optional<std::string> ReadableJson(const std::string& text, const std::string& prefix) {
+  json doc = json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (!doc.is_object()) return std::nullopt;
+  for (const char* list : {"buffers", "images"}) {
+    if (!doc.contains(list) || !doc[list].is_array()) continue;
+    for (json& item : doc[list]) {
+      if (item.is_object() && item.contains("uri")) MakeAbsolute(item["uri"], prefix);
+    }
+  }
+  if (!doc.contains("meshes") || !doc["meshes"].is_array()) return doc.dump();
+  json* accessors = doc.contains("accessors") && doc["accessors"].is_array() ? &doc["accessors"] : nullptr;
+  const size_t num_views = doc.contains("bufferViews") && doc["bufferViews"].is_array() ? doc["bufferViews"].size() : 0;
+  for (size_t m = 0; m < doc["meshes"].size(); ++m) {
+    json& mesh = doc["meshes"][m];
+    if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+    for (size_t p = 0; p < mesh["primitives"].size(); ++p) {
+      json& prim = mesh["primitives"][p];
+      if (!prim.is_object() || !prim.contains("extensions") || !prim["extensions"].is_object() ||
+          !prim["extensions"].contains(kDracoExtension)) {
+        continue;
+      }
+      const std::string name = mesh.contains("name") && mesh["name"].is_string() ? mesh["name"].get<std::string>() : "";
+      const json& extension = prim["extensions"][std::string(kDracoExtension)];
+      const json* view = extension.is_object() && extension.contains("bufferView") ? &extension["bufferView"] : nullptr;
+      if (view == nullptr || !view->is_number_integer() || view->get<int64_t>() < 0 || size_t(view->get<int64_t>()) >= num_views) {
+        throw std::invalid_argument(PrimitiveLabel(m, name, p) + ": " + std::string(kDracoExtension) +
+                                    ": bufferView is missing or not one of the file's " + std::to_string(num_views) +
+                                    " buffer views");
+      }
+      if (!prim.contains("indices") || !prim["indices"].is_number_integer() || accessors == nullptr) continue;
+      const int64_t indices = prim["indices"].get<int64_t>();
+      if (indices < 0 || size_t(indices) >= accessors->size() || !(*accessors)[indices].is_object()) continue;
+      if (!(*accessors)[indices].contains("bufferView")) (*accessors)[indices]["bufferView"] = *view;
+    }
+  }
+  return doc.dump();
+}
+
+}  // namespace
+
+std::string PrimitiveLabel(size_t mesh, const std::string& mesh_name, size_t prim) {
+  std::string label = "mesh " + std::to_string(mesh);
+  if (!mesh_name.empty()) label += " '" + mesh_name + "'";
+  return label + " primitive " + std::to_string(prim);
+}
+
+std::optional<DracoCopy> DracoReadableCopy(const std::filesystem::path& file,
+                                           const std::function<std::filesystem::path()>& copy_dir) {
+  std::ifstream in(file, std::ios::binary);
+  std::vector<unsigned char> bytes(20);
+  in.read(reinterpret_cast<char*>(bytes.data()), 20);
+  bytes.resize(size_t(in.gcount()));
+  if (bytes.size() == 20 && std::memcmp(bytes.data(), "glTF", 4) == 0) {
+    // Header (magic, version, length), then chunks of (length, type, data); the first is JSON.
+    // Only the JSON is read unless it names the extension.
+    constexpr uint32_t kJsonChunk = 0x4E4F534A;
+    const uint32_t json_length = ReadU32(&bytes[12]);
+    if (ReadU32(&bytes[16]) != kJsonChunk) return std::nullopt;
+    std::string text(json_length, '\0');
+    in.read(text.data(), std::streamsize(json_length));
+    if (size_t(in.gcount()) != json_length || text.find(kDracoExtension) == std::string::npos) return std::nullopt;
+    bytes.insert(bytes.end(), text.begin(), text.end());
+    bytes.insert(bytes.end(), std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    const std::string prefix = UriPrefix(file, copy_dir());
+    std::optional<std::string> rewritten = ReadableJson(text, prefix);
+    if (!rewritten) return std::nullopt;
+    while (rewritten->size() % 4 != 0) rewritten->push_back(' ');  // chunks stay 4-byte aligned
+    const size_t rest = 20 + json_length;  // the binary chunk, unchanged
+    std::vector<unsigned char> out(bytes.begin(), bytes.begin() + 8);
+    AppendU32(out, uint32_t(12 + 8 + rewritten->size() + (bytes.size() - rest)));
+    AppendU32(out, uint32_t(rewritten->size()));
+    AppendU32(out, kJsonChunk);
+    out.insert(out.end(), rewritten->begin(), rewritten->end());
+    out.insert(out.end(), bytes.begin() + rest, bytes.end());
+    return DracoCopy{std::move(out), prefix};
+  }
+  bytes.insert(bytes.end(), std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  const std::string text(bytes.begin(), bytes.end());
+  if (text.find(kDracoExtension) == std::string::npos) return std::nullopt;
+  const std::string prefix = UriPrefix(file, copy_dir());
+  const std::optional<std::string> rewritten = ReadableJson(text, prefix);
+  if (!rewritten) return std::nullopt;
+  return DracoCopy{std::vector<unsigned char>(rewritten->begin(), rewritten->end()), prefix};
+}
+
+void DecodeDracoPrimitives(tinygltf::Model& model, size_t max_elements) {
+  for (size_t m = 0; m < model.meshes.size(); ++m) {
+    for (size_t p = 0; p < model.meshes[m].primitives.size(); ++p) {
+      tinygltf::Primitive& prim = model.meshes[m].primitives[p];
+      const auto it = prim.extensions.find(std::string(kDracoExtension));
+      if (it == prim.extensions.end()) continue;
+      const tinygltf::Value extension = it->second;
+      prim.extensions.erase(it);
+      PrimitiveDecoder(model, prim, PrimitiveLabel(m, model.meshes[m].name, p), max_elements).Decode(extension);
+    }
+  }
+}
+
+}  // namespace rigsim
