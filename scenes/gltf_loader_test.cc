@@ -54,7 +54,7 @@ struct TestGltf {
     while (bin.size() % 4) bin.push_back(0);
     const size_t offset = bin.size();
     bin.resize(offset + values.size() * sizeof(T));
-    std::memcpy(bin.data() + offset, values.data(), values.size() * sizeof(T));
+    if (!values.empty()) std::memcpy(bin.data() + offset, values.data(), values.size() * sizeof(T));  // no null source
     doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", values.size() * sizeof(T)}});
     json a = {{"bufferView", doc["bufferViews"].size() - 1}, {"componentType", component_type}, {"count", count}, {"type", type}};
     if (normalized) a["normalized"] = true;
