@@ -20,11 +20,10 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <stdlib.h>  // mkdtemp
 #include <tiny_gltf.h>
 
 #include "labels/cityscapes.h"
-#include "scenes/gltf_draco.h"
+#include "scenes/gltf_compression.h"
 #include "scenes/label_rules.h"
 #include "scenes/morphing.h"
 #include "scenes/skinning.h"
@@ -36,29 +35,6 @@ namespace {
 using ClassTag = std::optional<uint8_t>;
 
 std::string Quote(const std::string& s) { return "'" + s + "'"; }
-
-// A private folder under the system's temporary folder, removed with its contents when it goes
-// out of scope.
-class ScratchDir {
- public:
-  ScratchDir() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "rigsim_gltf_XXXXXX").string();
-    if (::mkdtemp(pattern.data()) == nullptr) {
-      throw std::runtime_error("cannot create a temporary folder in " + std::filesystem::temp_directory_path().string());
-    }
-    path_ = pattern;
-  }
-  ~ScratchDir() {
-    std::error_code ignored;
-    if (!path_.empty()) std::filesystem::remove_all(path_, ignored);
-  }
-  ScratchDir(const ScratchDir&) = delete;
-  ScratchDir& operator=(const ScratchDir&) = delete;
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
 
 std::string MeshLabel(const tinygltf::Model& model, int mesh, int prim) {
   return PrimitiveLabel(size_t(mesh), model.meshes[mesh].name, size_t(prim));
@@ -314,7 +290,7 @@ constexpr const char* kGpuInstancing = "EXT_mesh_gpu_instancing";
 bool SupportedExtension(const std::string& name) {
   return name == "KHR_mesh_quantization" || name == "KHR_texture_transform" || name == "KHR_materials_unlit" ||
          name == "KHR_materials_emissive_strength" || name == "EXT_texture_webp" || name == kGpuInstancing ||
-         name == kDracoExtension;
+         name == kDracoExtension || name == kMeshoptExtension;
 }
 
 // The texture coordinates a material's texture samples: the TEXCOORD_<set> attribute, mapped by
@@ -370,34 +346,28 @@ class Loader {
     const bool binary = in.gcount() == 4 && std::memcmp(magic, "glTF", 4) == 0;
     in.close();
 
-    // Draco-compressed primitives: tinygltf reads a rewritten copy (scenes/gltf_draco.h).
-    std::optional<ScratchDir> scratch;
-    std::optional<DracoCopy> copy;
+    // Compressed meshes: tinygltf reads a version it accepts (scenes/gltf_compression.h).
+    std::optional<ReadableGltf> readable;
     try {
-      copy = DracoReadableCopy(path_, [&] { return scratch.emplace().path(); });
+      readable = ReadableGltfOf(path_);
     } catch (const std::invalid_argument& e) {
       Fail(e.what());
-    }
-    std::string load_path = path_.string();
-    if (copy) {
-      load_path = (scratch->path() / path_.filename()).string();
-      std::ofstream out(load_path, std::ios::binary);
-      out.write(reinterpret_cast<const char*>(copy->bytes.data()), std::streamsize(copy->bytes.size()));
-      if (!out) Fail("cannot write a readable copy to " + scratch->path().string());
     }
 
     tinygltf::TinyGLTF gltf;
     gltf.SetImageLoader(&LoadCheckedImage, const_cast<uint64_t*>(&options_.max_image_pixels));
     std::string err, warn;
-    const bool ok = binary ? gltf.LoadBinaryFromFile(&model_, &err, &warn, load_path)
-                           : gltf.LoadASCIIFromFile(&model_, &err, &warn, load_path);
-    if (copy && !copy->uri_prefix.empty()) {  // messages name the original's folder, not the copy's way there
-      const std::string folder = path_.parent_path().empty() ? "" : path_.parent_path().generic_string() + "/";
-      for (std::string* text : {&err, &warn}) {
-        for (size_t at = 0; (at = text->find(copy->uri_prefix, at)) != std::string::npos; at += folder.size()) {
-          text->replace(at, copy->uri_prefix.size(), folder);
-        }
-      }
+    bool ok = false;
+    if (!readable) {
+      ok = binary ? gltf.LoadBinaryFromFile(&model_, &err, &warn, path_.string())
+                  : gltf.LoadASCIIFromFile(&model_, &err, &warn, path_.string());
+    } else {
+      const std::string folder = path_.parent_path().string();  // for external buffers and images
+      const std::vector<unsigned char>& bytes = readable->bytes;
+      ok = binary ? gltf.LoadBinaryFromMemory(&model_, &err, &warn, bytes.data(), unsigned(bytes.size()), folder)
+                  : gltf.LoadASCIIFromString(&model_, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
+                                             unsigned(bytes.size()), folder);
+      readable->bytes = {};
     }
     const int nodeless_channels = TakeErrorsGltfAllows(&err);
     err = AbbreviateDataUris(err);
@@ -436,7 +406,11 @@ class Loader {
            "such as KHR_animation_pointer names what they animate)");
     }
     try {
-      DecodeDracoPrimitives(model_, options_.max_accessor_count);
+      if (readable) {
+        // Decoded data is bounded like accessors: elements of at most 16 bytes (VEC4 float).
+        DecodeMeshoptBufferViews(model_, readable->fallback_lengths, options_.max_accessor_count * 16);
+        DecodeDracoPrimitives(model_, options_.max_accessor_count);
+      }
     } catch (const std::invalid_argument& e) {
       Fail(e.what());
     }

@@ -8,7 +8,8 @@ packages=(
   libembree-dev
   libopenimageio-dev openimageio-tools   # OIIO's CMake config needs the tools (see DESIGN.md)
   libtinygltf-dev
-  libdraco-dev                           # Draco-compressed glTF meshes (scenes/gltf_draco.h)
+  libdraco-dev                           # Draco-compressed glTF meshes (scenes/gltf_compression.h)
+  libmeshoptimizer-dev                   # meshopt-compressed glTF buffers (scenes/gltf_compression.h)
   libglm-dev
   libopencv-dev
   libeigen3-dev

@@ -1,17 +1,21 @@
-#include "scenes/gltf_draco.h"
+#include "scenes/gltf_compression.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <functional>
 #include <iterator>
 #include <limits>
+#include <map>
 #include <memory>
 #include <stdexcept>
 #include <utility>
 
 #include <draco/compression/decode.h>
 #include <draco/core/decoder_buffer.h>
+#include <meshoptimizer.h>
 #include <nlohmann/json.hpp>
 
 namespace rigsim {
@@ -210,46 +214,33 @@ class PrimitiveDecoder {
   size_t max_elements_;
 };
 
-// How a copy of `file` in `copy_dir` refers to the original's folder, as the start of a relative
-// URI (tinygltf joins a URI to the file's folder even when it is absolute; it URL-decodes URIs, so
-// '%' and '+' are escaped).
-std::string UriPrefix(const std::filesystem::path& file, const std::filesystem::path& copy_dir) {
-  const std::filesystem::path from = std::filesystem::absolute(copy_dir).lexically_normal();
-  const std::filesystem::path to = std::filesystem::absolute(file).parent_path().lexically_normal();
-  std::string out;
-  for (const char c : to.lexically_relative(from).generic_string()) {
-    if (c == '%') {
-      out += "%25";
-    } else if (c == '+') {
-      out += "%2B";
-    } else {
-      out += c;
-    }
-  }
-  if (!out.empty() && out.back() != '/') out += '/';
-  return out;
-}
-
-// A relative URI made relative to the copy's folder (data URIs, absolute paths and URIs with a
-// scheme stay).
-void MakeAbsolute(json& uri, const std::string& prefix) {
-  if (!uri.is_string()) return;
-  const std::string u = uri.get<std::string>();
-  if (u.empty() || u.front() == '/' || u.rfind("data:", 0) == 0 || u.find("://") != std::string::npos) return;
-  uri = prefix + u;
-}
-
-// The JSON of DracoReadableCopy, or nothing when it is not a glTF object.
-std::optional<std::string> ReadableJson(const std::string& text, const std::string& prefix) {
+// The JSON of ReadableGltf, or nothing when it is not a glTF object. Adds to *fallback_lengths.
+std::optional<std::string> ReadableJson(const std::string& text, std::map<int, size_t>* fallback_lengths) {
   json doc = json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (!doc.is_object()) return std::nullopt;
-  for (const char* list : {"buffers", "images"}) {
-    if (!doc.contains(list) || !doc[list].is_array()) continue;
-    for (json& item : doc[list]) {
-      if (item.is_object() && item.contains("uri")) MakeAbsolute(item["uri"], prefix);
+  // EXT_meshopt_compression's fallback buffers: one zero byte each for tinygltf (which refuses a
+  // .gltf buffer without a URI and gives a GLB's BIN chunk to every such buffer); their length is
+  // kept for DecodeMeshoptBufferViews.
+  if (doc.contains("buffers") && doc["buffers"].is_array()) {
+    for (size_t b = 0; b < doc["buffers"].size(); ++b) {
+      json& buffer = doc["buffers"][b];
+      if (!buffer.is_object() || buffer.contains("uri") || !buffer.contains("extensions") ||
+          !buffer["extensions"].is_object() || !buffer["extensions"].contains(kMeshoptExtension)) {
+        continue;
+      }
+      const json& extension = buffer["extensions"][std::string(kMeshoptExtension)];
+      if (!extension.is_object() || !extension.value("fallback", false)) continue;
+      if (!buffer.contains("byteLength") || !buffer["byteLength"].is_number_unsigned()) {
+        throw std::invalid_argument("buffer " + std::to_string(b) + ": " + std::string(kMeshoptExtension) +
+                                    " fallback buffer without an unsigned byteLength");
+      }
+      (*fallback_lengths)[int(b)] = buffer["byteLength"].get<size_t>();
+      buffer["byteLength"] = 1;
+      buffer["uri"] = "data:application/octet-stream;base64,AA==";
     }
   }
   if (!doc.contains("meshes") || !doc["meshes"].is_array()) return doc.dump();
+  // KHR_draco_mesh_compression: tinygltf refuses an index accessor without a bufferView.
   json* accessors = doc.contains("accessors") && doc["accessors"].is_array() ? &doc["accessors"] : nullptr;
   const size_t num_views = doc.contains("bufferViews") && doc["bufferViews"].is_array() ? doc["bufferViews"].size() : 0;
   for (size_t m = 0; m < doc["meshes"].size(); ++m) {
@@ -278,6 +269,77 @@ std::optional<std::string> ReadableJson(const std::string& text, const std::stri
   return doc.dump();
 }
 
+// An EXT_meshopt_compression buffer view's extension object, read and checked.
+struct MeshoptView {
+  int source = -1;  // buffer
+  size_t offset = 0, length = 0, stride = 0, count = 0;
+  std::string mode, filter = "NONE";
+};
+
+MeshoptView ReadMeshoptView(const tinygltf::Value& extension, const std::function<void(const std::string&)>& fail) {
+  if (!extension.IsObject()) fail("the extension is not an object");
+  auto number = [&](const char* key, bool required, size_t fallback) -> size_t {
+    if (!extension.Has(key)) {
+      if (required) fail(std::string("has no ") + key);
+      return fallback;
+    }
+    const tinygltf::Value& v = extension.Get(key);
+    if (!v.IsNumber() || v.GetNumberAsDouble() < 0 || v.GetNumberAsDouble() != std::floor(v.GetNumberAsDouble()) ||
+        v.GetNumberAsDouble() > 9.0e15) {
+      fail(std::string(key) + " is not a non-negative integer");
+    }
+    return size_t(v.GetNumberAsDouble());
+  };
+  auto text = [&](const char* key, bool required, const std::string& fallback) -> std::string {
+    if (!extension.Has(key)) {
+      if (required) fail(std::string("has no ") + key);
+      return fallback;
+    }
+    if (!extension.Get(key).IsString()) fail(std::string(key) + " is not a string");
+    return extension.Get(key).Get<std::string>();
+  };
+  MeshoptView v;
+  v.source = int(std::min<size_t>(number("buffer", true, 0), size_t(std::numeric_limits<int>::max())));
+  v.offset = number("byteOffset", false, 0);
+  v.length = number("byteLength", true, 0);
+  v.stride = number("byteStride", true, 0);
+  v.count = number("count", true, 0);
+  v.mode = text("mode", true, "");
+  v.filter = text("filter", false, "NONE");
+  return v;
+}
+
+// Decodes `v`'s compressed bytes into `out` (count * stride bytes), as its mode and filter say.
+void DecodeMeshopt(const MeshoptView& v, const unsigned char* compressed, unsigned char* out,
+                   const std::function<void(const std::string&)>& fail) {
+  int result = 0;
+  if (v.mode == "ATTRIBUTES") {
+    if (v.stride == 0 || v.stride % 4 != 0 || v.stride > 256) fail("ATTRIBUTES need a byteStride of 4, 8, ... 256");
+    result = meshopt_decodeVertexBuffer(out, v.count, v.stride, compressed, v.length);
+  } else if (v.mode == "TRIANGLES" || v.mode == "INDICES") {
+    if (v.stride != 2 && v.stride != 4) fail(v.mode + " need a byteStride of 2 or 4");
+    if (v.mode == "TRIANGLES" && v.count % 3 != 0) fail("TRIANGLES need a count that is a multiple of 3");
+    result = v.mode == "TRIANGLES" ? meshopt_decodeIndexBuffer(out, v.count, v.stride, compressed, v.length)
+                                   : meshopt_decodeIndexSequence(out, v.count, v.stride, compressed, v.length);
+  } else {
+    fail("mode '" + v.mode + "' is none of ATTRIBUTES, TRIANGLES, INDICES");
+  }
+  if (result != 0) fail("the compressed bytes do not decode (meshoptimizer error " + std::to_string(result) + ")");
+  if (v.filter == "NONE") return;
+  if (v.mode != "ATTRIBUTES") fail("filter " + v.filter + " on " + v.mode + ", which takes none");
+  if (v.filter == "OCTAHEDRAL") {
+    if (v.stride != 4 && v.stride != 8) fail("OCTAHEDRAL needs a byteStride of 4 or 8");
+    meshopt_decodeFilterOct(out, v.count, v.stride);
+  } else if (v.filter == "QUATERNION") {
+    if (v.stride != 8) fail("QUATERNION needs a byteStride of 8");
+    meshopt_decodeFilterQuat(out, v.count, v.stride);
+  } else if (v.filter == "EXPONENTIAL") {
+    meshopt_decodeFilterExp(out, v.count, v.stride);
+  } else {
+    fail("filter '" + v.filter + "' is none of NONE, OCTAHEDRAL, QUATERNION, EXPONENTIAL");
+  }
+}
+
 }  // namespace
 
 std::string PrimitiveLabel(size_t mesh, const std::string& mesh_name, size_t prim) {
@@ -286,43 +348,84 @@ std::string PrimitiveLabel(size_t mesh, const std::string& mesh_name, size_t pri
   return label + " primitive " + std::to_string(prim);
 }
 
-std::optional<DracoCopy> DracoReadableCopy(const std::filesystem::path& file,
-                                           const std::function<std::filesystem::path()>& copy_dir) {
+std::optional<ReadableGltf> ReadableGltfOf(const std::filesystem::path& file) {
+  auto mentions_compression = [](const std::string& text) {
+    return text.find(kDracoExtension) != std::string::npos || text.find(kMeshoptExtension) != std::string::npos;
+  };
   std::ifstream in(file, std::ios::binary);
   std::vector<unsigned char> bytes(20);
   in.read(reinterpret_cast<char*>(bytes.data()), 20);
   bytes.resize(size_t(in.gcount()));
+  ReadableGltf out;
   if (bytes.size() == 20 && std::memcmp(bytes.data(), "glTF", 4) == 0) {
     // Header (magic, version, length), then chunks of (length, type, data); the first is JSON.
-    // Only the JSON is read unless it names the extension.
+    // Only the JSON is read unless it names an extension.
     constexpr uint32_t kJsonChunk = 0x4E4F534A;
     const uint32_t json_length = ReadU32(&bytes[12]);
     if (ReadU32(&bytes[16]) != kJsonChunk) return std::nullopt;
     std::string text(json_length, '\0');
     in.read(text.data(), std::streamsize(json_length));
-    if (size_t(in.gcount()) != json_length || text.find(kDracoExtension) == std::string::npos) return std::nullopt;
-    bytes.insert(bytes.end(), text.begin(), text.end());
-    bytes.insert(bytes.end(), std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    const std::string prefix = UriPrefix(file, copy_dir());
-    std::optional<std::string> rewritten = ReadableJson(text, prefix);
+    if (size_t(in.gcount()) != json_length || !mentions_compression(text)) return std::nullopt;
+    std::optional<std::string> rewritten = ReadableJson(text, &out.fallback_lengths);
     if (!rewritten) return std::nullopt;
     while (rewritten->size() % 4 != 0) rewritten->push_back(' ');  // chunks stay 4-byte aligned
-    const size_t rest = 20 + json_length;  // the binary chunk, unchanged
-    std::vector<unsigned char> out(bytes.begin(), bytes.begin() + 8);
-    AppendU32(out, uint32_t(12 + 8 + rewritten->size() + (bytes.size() - rest)));
-    AppendU32(out, uint32_t(rewritten->size()));
-    AppendU32(out, kJsonChunk);
-    out.insert(out.end(), rewritten->begin(), rewritten->end());
-    out.insert(out.end(), bytes.begin() + rest, bytes.end());
-    return DracoCopy{std::move(out), prefix};
+    out.bytes.assign(bytes.begin(), bytes.begin() + 8);
+    const std::vector<unsigned char> rest((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    AppendU32(out.bytes, uint32_t(12 + 8 + rewritten->size() + rest.size()));
+    AppendU32(out.bytes, uint32_t(rewritten->size()));
+    AppendU32(out.bytes, kJsonChunk);
+    out.bytes.insert(out.bytes.end(), rewritten->begin(), rewritten->end());
+    out.bytes.insert(out.bytes.end(), rest.begin(), rest.end());  // the binary chunk, unchanged
+    return out;
   }
   bytes.insert(bytes.end(), std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   const std::string text(bytes.begin(), bytes.end());
-  if (text.find(kDracoExtension) == std::string::npos) return std::nullopt;
-  const std::string prefix = UriPrefix(file, copy_dir());
-  const std::optional<std::string> rewritten = ReadableJson(text, prefix);
+  if (!mentions_compression(text)) return std::nullopt;
+  const std::optional<std::string> rewritten = ReadableJson(text, &out.fallback_lengths);
   if (!rewritten) return std::nullopt;
-  return DracoCopy{std::vector<unsigned char>(rewritten->begin(), rewritten->end()), prefix};
+  out.bytes.assign(rewritten->begin(), rewritten->end());
+  return out;
+}
+
+void DecodeMeshoptBufferViews(tinygltf::Model& model, const std::map<int, size_t>& fallback_lengths, size_t max_bytes) {
+  size_t total = 0;
+  for (const auto& [index, length] : fallback_lengths) {
+    if (size_t(index) >= model.buffers.size()) continue;
+    total += std::min(length, max_bytes + 1);
+    if (total > max_bytes) {
+      throw std::invalid_argument("buffer " + std::to_string(index) + ": " + std::string(kMeshoptExtension) +
+                                  ": the fallback buffers' " + std::to_string(total) + "+ bytes exceed the limit of " +
+                                  std::to_string(max_bytes) + " decoded bytes");
+    }
+    model.buffers[index].data.assign(length, 0);
+  }
+  for (size_t i = 0; i < model.bufferViews.size(); ++i) {
+    tinygltf::BufferView& view = model.bufferViews[i];
+    const auto it = view.extensions.find(std::string(kMeshoptExtension));
+    if (it == view.extensions.end()) continue;
+    const tinygltf::Value extension = it->second;
+    view.extensions.erase(it);
+    if (!fallback_lengths.count(view.buffer)) continue;  // the buffer holds the data uncompressed too
+    const std::string where = "bufferView " + std::to_string(i) + ": " + std::string(kMeshoptExtension) + ": ";
+    auto fail = [&](const std::string& what) { throw std::invalid_argument(where + what); };
+    const MeshoptView v = ReadMeshoptView(extension, fail);
+    if (size_t(v.source) >= model.buffers.size()) fail("buffer " + std::to_string(v.source) + " out of range");
+    const std::vector<unsigned char>& source = model.buffers[v.source].data;
+    if (v.offset > source.size() || v.length > source.size() - v.offset) {
+      fail("bytes " + std::to_string(v.offset) + " + " + std::to_string(v.length) + " lie beyond buffer " +
+           std::to_string(v.source) + "'s " + std::to_string(source.size()));
+    }
+    std::vector<unsigned char>& target = model.buffers[view.buffer].data;
+    if (v.stride != 0 && v.count > view.byteLength / v.stride) {
+      fail(std::to_string(v.count) + " elements of " + std::to_string(v.stride) + " bytes do not fit the view's " +
+           std::to_string(view.byteLength) + " bytes");
+    }
+    if (view.byteOffset > target.size() || view.byteLength > target.size() - view.byteOffset) {
+      fail("the view (bytes " + std::to_string(view.byteOffset) + " + " + std::to_string(view.byteLength) +
+           ") lies beyond its fallback buffer's " + std::to_string(target.size()));
+    }
+    DecodeMeshopt(v, source.data() + v.offset, target.data() + view.byteOffset, fail);
+  }
 }
 
 void DecodeDracoPrimitives(tinygltf::Model& model, size_t max_elements) {
