@@ -362,7 +362,10 @@ std::optional<ReadableGltf> ReadableGltfOf(const std::filesystem::path& file) {
     // Only the JSON is read unless it names an extension.
     constexpr uint32_t kJsonChunk = 0x4E4F534A;
     const uint32_t json_length = ReadU32(&bytes[12]);
-    if (ReadU32(&bytes[16]) != kJsonChunk) return std::nullopt;
+    std::error_code error;
+    const uintmax_t file_size = std::filesystem::file_size(file, error);
+    // A chunk longer than the file: tinygltf says so; nothing is allocated for it here.
+    if (ReadU32(&bytes[16]) != kJsonChunk || error || json_length > file_size - 20) return std::nullopt;
     std::string text(json_length, '\0');
     in.read(text.data(), std::streamsize(json_length));
     if (size_t(in.gcount()) != json_length || !mentions_compression(text)) return std::nullopt;
@@ -387,8 +390,8 @@ std::optional<ReadableGltf> ReadableGltfOf(const std::filesystem::path& file) {
   return out;
 }
 
-void DecodeMeshoptBufferViews(tinygltf::Model& model, const std::map<int, size_t>& fallback_lengths, size_t max_bytes) {
-  size_t total = 0;
+size_t DecodeMeshoptBufferViews(tinygltf::Model& model, const std::map<int, size_t>& fallback_lengths, size_t max_bytes) {
+  size_t total = 0, decoded = 0;
   for (const auto& [index, length] : fallback_lengths) {
     if (size_t(index) >= model.buffers.size()) continue;
     total += std::min(length, max_bytes + 1);
@@ -425,10 +428,13 @@ void DecodeMeshoptBufferViews(tinygltf::Model& model, const std::map<int, size_t
            ") lies beyond its fallback buffer's " + std::to_string(target.size()));
     }
     DecodeMeshopt(v, source.data() + v.offset, target.data() + view.byteOffset, fail);
+    ++decoded;
   }
+  return decoded;
 }
 
-void DecodeDracoPrimitives(tinygltf::Model& model, size_t max_elements) {
+size_t DecodeDracoPrimitives(tinygltf::Model& model, size_t max_elements) {
+  size_t decoded = 0;
   for (size_t m = 0; m < model.meshes.size(); ++m) {
     for (size_t p = 0; p < model.meshes[m].primitives.size(); ++p) {
       tinygltf::Primitive& prim = model.meshes[m].primitives[p];
@@ -437,8 +443,10 @@ void DecodeDracoPrimitives(tinygltf::Model& model, size_t max_elements) {
       const tinygltf::Value extension = it->second;
       prim.extensions.erase(it);
       PrimitiveDecoder(model, prim, PrimitiveLabel(m, model.meshes[m].name, p), max_elements).Decode(extension);
+      ++decoded;
     }
   }
+  return decoded;
 }
 
 }  // namespace rigsim
