@@ -44,13 +44,15 @@ std::optional<ReadableGltf> ReadableGltfOf(const std::filesystem::path& file);
 // every buffer view compressed with EXT_meshopt_compression (attributes, triangles or indices,
 // with their filters). Views over buffers that hold their data are left as they are. Throws
 // std::invalid_argument naming the buffer view when its extension object or data is malformed.
-void DecodeMeshoptBufferViews(tinygltf::Model& model, const std::map<int, size_t>& fallback_lengths, size_t max_bytes);
+// Returns how many views it decoded.
+size_t DecodeMeshoptBufferViews(tinygltf::Model& model, const std::map<int, size_t>& fallback_lengths, size_t max_bytes);
 
 // Decodes every primitive that carries KHR_draco_mesh_compression: its indices and the attributes
 // the extension names become new accessors (over new buffers and buffer views appended to the
 // model) that the primitive points to; the extension object is then removed. At most
 // `max_elements` vertices or indices per primitive. Throws std::invalid_argument naming the mesh
-// and primitive when the extension object or its data is malformed.
-void DecodeDracoPrimitives(tinygltf::Model& model, size_t max_elements);
+// and primitive when the extension object or its data is malformed. Returns how many primitives
+// it decoded.
+size_t DecodeDracoPrimitives(tinygltf::Model& model, size_t max_elements);
 
 }  // namespace rigsim

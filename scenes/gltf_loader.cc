@@ -408,8 +408,8 @@ class Loader {
     try {
       if (readable) {
         // Decoded data is bounded like accessors: elements of at most 16 bytes (VEC4 float).
-        DecodeMeshoptBufferViews(model_, readable->fallback_lengths, options_.max_accessor_count * 16);
-        DecodeDracoPrimitives(model_, options_.max_accessor_count);
+        scene_.meshopt_views = DecodeMeshoptBufferViews(model_, readable->fallback_lengths, options_.max_accessor_count * 16);
+        scene_.draco_primitives = DecodeDracoPrimitives(model_, options_.max_accessor_count);
       }
     } catch (const std::invalid_argument& e) {
       Fail(e.what());

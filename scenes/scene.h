@@ -181,6 +181,10 @@ struct Scene {
   // Node animation (empty for a static scene): the node tree and the channels that move it.
   std::vector<SceneNode> nodes;
   std::vector<AnimationChannel> animation_channels;
+  // What the loader decompressed (for `rigsim inspect`): KHR_draco_mesh_compression primitives
+  // and EXT_meshopt_compression buffer views.
+  size_t draco_primitives = 0;
+  size_t meshopt_views = 0;
 
   bool IsAnimated() const { return !animation_channels.empty(); }
 

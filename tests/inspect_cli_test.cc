@@ -1,6 +1,6 @@
 // `rigsim inspect` through the built binary: what the loader understood of a file (counts, vertex
-// colours, unlit and emissive materials, classes, morph targets, GPU instances, warnings), and a
-// clear error naming a file it cannot read.
+// colours, unlit and emissive materials, classes, morph targets, GPU instances, compressed meshes,
+// warnings), and a clear error naming a file it cannot read.
 
 #include <cstring>
 #include <filesystem>
@@ -108,6 +108,24 @@ TEST(InspectCli, ReportsGpuInstances) {
   EXPECT_NE(r.out.find("vegetation       no                 3          3          6"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("EXT_mesh_gpu_instancing attribute _ID"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("extension EXT_mesh_gpu_instancing"), std::string::npos) << "no longer warned as unsupported: " << r.out;
+}
+
+// The fuzz seeds compressed with Draco (one primitive) and meshopt (four buffer views), and one
+// compressed with neither.
+TEST(InspectCli, ReportsCompressedMeshes) {
+  const fs::path dir = TempDir();
+  const fs::path seeds = fs::path(RIGSIM_SOURCE_DIR) / "tests/fuzz_corpus/fuzz_gltf";
+  const CliResult draco = RunRigsim({"inspect", (seeds / "draco_grid.glb").string()}, dir / "rigsim_draco");
+  ASSERT_EQ(draco.code, 0) << draco.err;
+  EXPECT_NE(draco.out.find("compressed  1 primitive(s) by KHR_draco_mesh_compression\n"), std::string::npos) << draco.out;
+  EXPECT_NE(draco.out.find("triangles   32"), std::string::npos) << draco.out;
+  const CliResult meshopt = RunRigsim({"inspect", (seeds / "meshopt_grid.gltf").string()}, dir / "rigsim_meshopt");
+  ASSERT_EQ(meshopt.code, 0) << meshopt.err;
+  EXPECT_NE(meshopt.out.find("compressed  4 buffer view(s) by EXT_meshopt_compression\n"), std::string::npos) << meshopt.out;
+  EXPECT_NE(meshopt.out.find("triangles   36"), std::string::npos) << meshopt.out;  // two primitives of a 4 x 4 grid
+  const CliResult plain = RunRigsim({"inspect", (seeds / "triangle.gltf").string()}, dir / "rigsim_plain");
+  ASSERT_EQ(plain.code, 0) << plain.err;
+  EXPECT_NE(plain.out.find("compressed  none"), std::string::npos) << plain.out;
 }
 
 TEST(InspectCli, AnUnreadableFileIsAnErrorNamingIt) {

@@ -131,6 +131,12 @@ void PrintScene(const Scene& scene, const std::filesystem::path& path, const Lab
   std::printf("cameras     %s\n", CamerasOf(scene).c_str());
   std::printf("animations  %s\n", AnimationsOf(scene).c_str());
   std::printf("morphs      %s\n", MorphsOf(scene).c_str());
+  std::string compressed;
+  if (scene.draco_primitives) compressed += std::to_string(scene.draco_primitives) + " primitive(s) by KHR_draco_mesh_compression";
+  if (scene.meshopt_views) {
+    compressed += (compressed.empty() ? "" : ", ") + std::to_string(scene.meshopt_views) + " buffer view(s) by EXT_meshopt_compression";
+  }
+  std::printf("compressed  %s\n", compressed.empty() ? "none" : compressed.c_str());
   if (!scene.meshes.empty()) {
     Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e30f), hi = -lo;
     for (const SceneMesh& m : scene.meshes) {
