@@ -102,6 +102,20 @@ struct QuadGltf {
 
 uint8_t ClassId(const char* name) { return FindClassByName(name)->id; }
 
+// cam_from_world for a camera at the origin looking down world -Z with +Y up (OpenCV axes).
+Eigen::Matrix3d LookingDownMinusZ() {
+  Eigen::Matrix3d r;
+  r << 1, 0, 0, 0, -1, 0, 0, 0, -1;
+  return r;
+}
+
+// What `camera` at the origin looking down -Z sees of `scene`, with or without sun shadows.
+RenderedView RenderFromOrigin(const Scene& scene, const Camera& camera, bool shadows) {
+  RenderOptions options;
+  options.shadows = shadows;
+  return Renderer(scene).Render(camera, Rigid3d(LookingDownMinusZ(), Eigen::Vector3d::Zero()), options);
+}
+
 TEST(GltfFeaturesRender, GltfCameraSeesTheFilesViewCentreAtThePrincipalPoint) {
   QuadGltf g;
   // The reference camera (node 0) somewhere else; the tested camera (node 2) is a child of a mount
@@ -201,13 +215,8 @@ TEST(GltfFeaturesRender, TextureTransformSelectsThePartOfTheTextureShown) {
   ASSERT_TRUE(scene.warnings.empty()) << scene.warnings.front();
 
   const Camera camera = Camera::PinholeFromHorizontalFov(300, 100, 90.0);
-  // cam_from_world for a camera at the origin looking down world -Z with +Y up (OpenCV axes).
-  Eigen::Matrix3d cam_from_world_r;
-  cam_from_world_r << 1, 0, 0, 0, -1, 0, 0, 0, -1;
-  const Renderer renderer(scene);
-  RenderOptions options;
-  options.shadows = false;
-  const RenderedView v = renderer.Render(camera, Rigid3d(cam_from_world_r, Eigen::Vector3d::Zero()), options);
+  const Eigen::Matrix3d cam_from_world_r = LookingDownMinusZ();
+  const RenderedView v = RenderFromOrigin(scene, camera, /*shadows=*/false);
   // Colour at a fraction across (from the left) and down (from the top) of a square.
   auto colour_at = [&](int square, double across, double down) {
     const Eigen::Vector3d p = centre(square) + Eigen::Vector3d(-1.0 + 2.0 * across, 1.0 - 2.0 * down, 0);
@@ -237,11 +246,8 @@ TEST(GltfFeaturesRender, VertexColoursColourASurfaceWithoutMaterial) {
   ASSERT_TRUE(scene.warnings.empty()) << scene.warnings.front();
 
   const Camera camera = Camera::PinholeFromHorizontalFov(100, 100, 60.0);
-  Eigen::Matrix3d cam_from_world_r;  // at the origin looking down world -Z, +Y up
-  cam_from_world_r << 1, 0, 0, 0, -1, 0, 0, 0, -1;
-  RenderOptions options;
-  options.shadows = false;
-  const RenderedView v = Renderer(scene).Render(camera, Rigid3d(cam_from_world_r, Eigen::Vector3d::Zero()), options);
+  const Eigen::Matrix3d cam_from_world_r = LookingDownMinusZ();
+  const RenderedView v = RenderFromOrigin(scene, camera, /*shadows=*/false);
   auto rgb_at = [&](double x) {
     const auto px = camera.ImgFromCam(cam_from_world_r * Eigen::Vector3d(x, 0, -5));
     const int u = int(std::lround(px->x())), w = int(std::lround(px->y()));
@@ -274,11 +280,8 @@ TEST(GltfFeaturesRender, GpuInstancesAreSeparateObjectsInTheInstanceImage) {
   ASSERT_EQ(scene.meshes.size(), 3u);
 
   const Camera camera = Camera::PinholeFromHorizontalFov(160, 100, 60.0);
-  Eigen::Matrix3d cam_from_world_r;  // at the origin looking down world -Z, +Y up
-  cam_from_world_r << 1, 0, 0, 0, -1, 0, 0, 0, -1;
-  RenderOptions options;
-  options.shadows = false;
-  const RenderedView v = Renderer(scene).Render(camera, Rigid3d(cam_from_world_r, Eigen::Vector3d::Zero()), options);
+  const Eigen::Matrix3d cam_from_world_r = LookingDownMinusZ();
+  const RenderedView v = RenderFromOrigin(scene, camera, /*shadows=*/false);
   auto pixel = [&](double x, double y) {
     const auto px = camera.ImgFromCam(cam_from_world_r * Eigen::Vector3d(x, y, -5));
     return std::array<int, 2>{int(std::lround(px->x())), int(std::lround(px->y()))};
@@ -314,9 +317,7 @@ TEST(GltfFeaturesRender, EmissiveSurfaceShowsItsEmission) {
   ASSERT_TRUE(scene.warnings.empty()) << scene.warnings.front();
 
   const Camera camera = Camera::PinholeFromHorizontalFov(100, 100, 60.0);
-  Eigen::Matrix3d cam_from_world_r;  // at the origin looking down world -Z, +Y up
-  cam_from_world_r << 1, 0, 0, 0, -1, 0, 0, 0, -1;
-  const RenderedView v = Renderer(scene).Render(camera, Rigid3d(cam_from_world_r, Eigen::Vector3d::Zero()), RenderOptions{});
+  const RenderedView v = RenderFromOrigin(scene, camera, /*shadows=*/true);
   const float expected[3] = {0.4f, 0.2f, 0.1f};
   for (int c = 0; c < 3; ++c) EXPECT_EQ(v.rgb.at(50, 50, c), SrgbCodeFromLinear(expected[c])) << c;
 }
