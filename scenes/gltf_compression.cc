@@ -4,9 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
 #include <functional>
-#include <iterator>
 #include <limits>
 #include <map>
 #include <memory>
@@ -348,45 +346,35 @@ std::string PrimitiveLabel(size_t mesh, const std::string& mesh_name, size_t pri
   return label + " primitive " + std::to_string(prim);
 }
 
-std::optional<ReadableGltf> ReadableGltfOf(const std::filesystem::path& file) {
-  auto mentions_compression = [](const std::string& text) {
-    return text.find(kDracoExtension) != std::string::npos || text.find(kMeshoptExtension) != std::string::npos;
-  };
-  std::ifstream in(file, std::ios::binary);
-  std::vector<unsigned char> bytes(20);
-  in.read(reinterpret_cast<char*>(bytes.data()), 20);
-  bytes.resize(size_t(in.gcount()));
+std::string_view GltfJson(const std::vector<unsigned char>& file) {
+  const std::string_view all(reinterpret_cast<const char*>(file.data()), file.size());
+  if (file.size() < 4 || std::memcmp(file.data(), "glTF", 4) != 0) return all;  // .gltf: all JSON
+  // GLB: header (magic, version, length), then chunks of (length, type, data); the first is JSON.
+  constexpr uint32_t kJsonChunk = 0x4E4F534A;
+  if (file.size() < 20 || ReadU32(&file[16]) != kJsonChunk || ReadU32(&file[12]) > file.size() - 20) return {};
+  return all.substr(20, ReadU32(&file[12]));
+}
+
+std::optional<ReadableGltf> ReadableGltfOf(const std::vector<unsigned char>& file) {
+  const std::string_view json = GltfJson(file);
+  if (json.find(kDracoExtension) == std::string_view::npos && json.find(kMeshoptExtension) == std::string_view::npos) {
+    return std::nullopt;
+  }
   ReadableGltf out;
-  if (bytes.size() == 20 && std::memcmp(bytes.data(), "glTF", 4) == 0) {
-    // Header (magic, version, length), then chunks of (length, type, data); the first is JSON.
-    // Only the JSON is read unless it names an extension.
-    constexpr uint32_t kJsonChunk = 0x4E4F534A;
-    const uint32_t json_length = ReadU32(&bytes[12]);
-    std::error_code error;
-    const uintmax_t file_size = std::filesystem::file_size(file, error);
-    // A chunk longer than the file: tinygltf says so; nothing is allocated for it here.
-    if (ReadU32(&bytes[16]) != kJsonChunk || error || json_length > file_size - 20) return std::nullopt;
-    std::string text(json_length, '\0');
-    in.read(text.data(), std::streamsize(json_length));
-    if (size_t(in.gcount()) != json_length || !mentions_compression(text)) return std::nullopt;
-    std::optional<std::string> rewritten = ReadableJson(text, &out.fallback_lengths);
-    if (!rewritten) return std::nullopt;
-    while (rewritten->size() % 4 != 0) rewritten->push_back(' ');  // chunks stay 4-byte aligned
-    out.bytes.assign(bytes.begin(), bytes.begin() + 8);
-    const std::vector<unsigned char> rest((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    AppendU32(out.bytes, uint32_t(12 + 8 + rewritten->size() + rest.size()));
-    AppendU32(out.bytes, uint32_t(rewritten->size()));
-    AppendU32(out.bytes, kJsonChunk);
-    out.bytes.insert(out.bytes.end(), rewritten->begin(), rewritten->end());
-    out.bytes.insert(out.bytes.end(), rest.begin(), rest.end());  // the binary chunk, unchanged
+  std::optional<std::string> rewritten = ReadableJson(std::string(json), &out.fallback_lengths);
+  if (!rewritten) return std::nullopt;
+  if (json.size() == file.size()) {  // .gltf
+    out.bytes.assign(rewritten->begin(), rewritten->end());
     return out;
   }
-  bytes.insert(bytes.end(), std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  const std::string text(bytes.begin(), bytes.end());
-  if (!mentions_compression(text)) return std::nullopt;
-  const std::optional<std::string> rewritten = ReadableJson(text, &out.fallback_lengths);
-  if (!rewritten) return std::nullopt;
-  out.bytes.assign(rewritten->begin(), rewritten->end());
+  while (rewritten->size() % 4 != 0) rewritten->push_back(' ');  // chunks stay 4-byte aligned
+  const size_t rest = 20 + json.size();                           // the binary chunk, unchanged
+  out.bytes.assign(file.begin(), file.begin() + 8);
+  AppendU32(out.bytes, uint32_t(12 + 8 + rewritten->size() + (file.size() - rest)));
+  AppendU32(out.bytes, uint32_t(rewritten->size()));
+  AppendU32(out.bytes, ReadU32(&file[16]));
+  out.bytes.insert(out.bytes.end(), rewritten->begin(), rewritten->end());
+  out.bytes.insert(out.bytes.end(), file.begin() + std::ptrdiff_t(rest), file.end());
   return out;
 }
 

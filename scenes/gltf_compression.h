@@ -9,7 +9,6 @@
 #pragma once
 
 #include <cstddef>
-#include <filesystem>
 #include <map>
 #include <optional>
 #include <string>
@@ -26,6 +25,10 @@ inline constexpr std::string_view kMeshoptExtension = "EXT_meshopt_compression";
 // How the loader's messages name a primitive: "mesh 3 'wheel' primitive 0".
 std::string PrimitiveLabel(size_t mesh, const std::string& mesh_name, size_t prim);
 
+// The JSON of a .gltf file (all of it) or of a .glb file (its first chunk; empty when the
+// header is malformed or the chunk runs past the end).
+std::string_view GltfJson(const std::vector<unsigned char>& file);
+
 // A .gltf or .glb file's bytes as tinygltf can load them (from memory, with the file's folder for
 // its external files): in the JSON, the index accessor of every Draco primitive that has no
 // buffer view points at the primitive's Draco buffer view (a placeholder: DecodeDracoPrimitives
@@ -36,9 +39,9 @@ struct ReadableGltf {
   std::map<int, size_t> fallback_lengths;  // buffer index -> byteLength in the file
 };
 // Nothing when the file names neither extension (or its JSON is unreadable: tinygltf then says
-// what is wrong); only a GLB's JSON chunk is read to find out. Throws std::invalid_argument naming
-// the primitive or buffer when an extension object cannot be made readable.
-std::optional<ReadableGltf> ReadableGltfOf(const std::filesystem::path& file);
+// what is wrong). Throws std::invalid_argument naming the primitive or buffer when an extension
+// object cannot be made readable.
+std::optional<ReadableGltf> ReadableGltfOf(const std::vector<unsigned char>& file);
 
 // Gives each fallback buffer its length back (at most `max_bytes` in all) and decodes into it
 // every buffer view compressed with EXT_meshopt_compression (attributes, triangles or indices,

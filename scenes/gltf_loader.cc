@@ -13,6 +13,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -251,25 +252,15 @@ std::string AbbreviateDataUris(std::string text) {
   return text;
 }
 
-// A glTF or GLB file's extensionsRequired and extensionsUsed, read without tinygltf (best effort:
-// empty when the JSON cannot be read). For files tinygltf refuses: a file that needs an extension
-// rigsim lacks should be refused for that, not for what tinygltf stumbles on first (Draco's
-// accessors without bufferViews, say).
+// A glTF file's extensionsRequired and extensionsUsed from its JSON, read without tinygltf (best
+// effort: empty when the JSON cannot be read). For files tinygltf refuses: a file that needs an
+// extension rigsim lacks should be refused for that, not for what tinygltf stumbles on first
+// (an index accessor without a bufferView, say).
 struct DeclaredExtensions {
   std::vector<std::string> required, used;
 };
 
-DeclaredExtensions ReadDeclaredExtensions(const std::filesystem::path& path, bool binary) {
-  std::ifstream in(path, std::ios::binary);
-  std::string text((std::istreambuf_iterator<char>(in)), {});
-  if (binary) {  // the JSON chunk: length at byte 12, type "JSON" at 16, data from 20
-    uint32_t length = 0, type = 0;
-    if (text.size() < 20) return {};
-    std::memcpy(&length, text.data() + 12, 4);
-    std::memcpy(&type, text.data() + 16, 4);
-    if (type != 0x4E4F534Au || length > text.size() - 20) return {};
-    text = text.substr(20, length);
-  }
+DeclaredExtensions ReadDeclaredExtensions(std::string_view text) {
   const nlohmann::json doc = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
   auto names = [&](const char* key) {
     std::vector<std::string> out;
@@ -339,36 +330,31 @@ class Loader {
   void Ignore(const std::string& what) { ++ignored_[what]; }
 
   void ReadModel() {
+    // Read once: the look for compressed meshes, tinygltf and the extension check share it.
     std::ifstream in(path_, std::ios::binary);
     if (!in) Fail("cannot open file");
-    char magic[4] = {0, 0, 0, 0};
-    in.read(magic, 4);
-    const bool binary = in.gcount() == 4 && std::memcmp(magic, "glTF", 4) == 0;
-    in.close();
+    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (in.bad()) Fail("cannot read file");
+    if (bytes.empty()) Fail("the file is empty");
+    const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
 
     // Compressed meshes: tinygltf reads a version it accepts (scenes/gltf_compression.h).
     std::optional<ReadableGltf> readable;
     try {
-      readable = ReadableGltfOf(path_);
+      readable = ReadableGltfOf(bytes);
     } catch (const std::invalid_argument& e) {
       Fail(e.what());
     }
+    const std::vector<unsigned char>& load = readable ? readable->bytes : bytes;
 
     tinygltf::TinyGLTF gltf;
     gltf.SetImageLoader(&LoadCheckedImage, const_cast<uint64_t*>(&options_.max_image_pixels));
     std::string err, warn;
-    bool ok = false;
-    if (!readable) {
-      ok = binary ? gltf.LoadBinaryFromFile(&model_, &err, &warn, path_.string())
-                  : gltf.LoadASCIIFromFile(&model_, &err, &warn, path_.string());
-    } else {
-      const std::string folder = path_.parent_path().string();  // for external buffers and images
-      const std::vector<unsigned char>& bytes = readable->bytes;
-      ok = binary ? gltf.LoadBinaryFromMemory(&model_, &err, &warn, bytes.data(), unsigned(bytes.size()), folder)
-                  : gltf.LoadASCIIFromString(&model_, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
-                                             unsigned(bytes.size()), folder);
-      readable->bytes = {};
-    }
+    const std::string folder = path_.parent_path().string();  // for external buffers and images
+    const bool ok = binary ? gltf.LoadBinaryFromMemory(&model_, &err, &warn, load.data(), unsigned(load.size()), folder)
+                           : gltf.LoadASCIIFromString(&model_, &err, &warn, reinterpret_cast<const char*>(load.data()),
+                                                      unsigned(load.size()), folder);
+    if (readable) readable->bytes = {};  // tinygltf keeps what it needs
     const int nodeless_channels = TakeErrorsGltfAllows(&err);
     err = AbbreviateDataUris(err);
     warn = AbbreviateDataUris(warn);
@@ -377,7 +363,7 @@ class Loader {
     };
     std::string unsupported_used;  // named when the file is refused anyway
     if (!ok || !err.empty() || missing_file(warn)) {
-      const DeclaredExtensions declared = ReadDeclaredExtensions(path_, binary);
+      const DeclaredExtensions declared = ReadDeclaredExtensions(GltfJson(bytes));
       for (const std::string& ext : declared.required) {
         if (!SupportedExtension(ext)) Fail("requires extension " + ext + ", which rigsim does not support");
       }
@@ -405,6 +391,7 @@ class Loader {
       Warn(std::to_string(nodeless_channels) + " animation channel(s) without a target node ignored (an extension " +
            "such as KHR_animation_pointer names what they animate)");
     }
+    bytes = {};  // what follows needs only the model
     try {
       if (readable) {
         // Decoded data is bounded like accessors: elements of at most 16 bytes (VEC4 float).
