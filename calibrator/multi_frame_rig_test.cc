@@ -130,7 +130,8 @@ ChainRing MakeChainRing(int frames, uint32_t seed) {
       TemporalPairEstimate t;
       t.camera = c;
       t.frame = k;
-      t.estimate = {c, c, tv.success, tv.rotation_only, tv.cam_b_from_cam_a, tv.num_inliers, tv.failure_reason};
+      t.estimate = {c, c, tv.success, tv.rotation_only, tv.cam_b_from_cam_a, tv.num_inliers, int(m.size()),
+                    tv.failure_reason};
       for (size_t i = 0; i < m.size() && tv.success; ++i) {
         if (tv.inlier_mask[i]) t.inliers.push_back(m[i]);
       }

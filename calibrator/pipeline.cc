@@ -92,9 +92,27 @@ std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path
   }
   const OpenCvSingleThread opencv_single_thread;
 
-  // 1. Features: one task per image; each image (and its labels) is read once for all kinds.
+  // 0. Every photo is there and has its camera's size, read from the file headers before any is
+  //    decoded: a missing or wrong photo stops the run at once, not after minutes of detection.
   const int num_images = num_cams * num_frames;
   auto image_index = [&](int cam, int frame) { return cam * num_frames + frame; };
+  std::vector<std::filesystem::path> image_paths(num_images);
+  for (int cam = 0; cam < num_cams; ++cam) {
+    const RigCamera& rc = rig.cameras[cam];
+    for (int frame = 0; frame < num_frames; ++frame) {
+      const std::filesystem::path path = layout.RequireImage(rc.name, frames_file.frames[frame].name);
+      const ImageSize size = ReadImageSize(path);
+      const int w = rc.camera.width(), h = rc.camera.height();
+      if (size.width != w || size.height != h) {
+        throw std::runtime_error(path.string() + ": image is " + std::to_string(size.width) + "x" +
+                                 std::to_string(size.height) + ", camera '" + rc.name + "' is " + std::to_string(w) +
+                                 "x" + std::to_string(h));
+      }
+      image_paths[image_index(cam, frame)] = path;
+    }
+  }
+
+  // 1. Features: one task per image; each image (and its labels) is read once for all kinds.
   std::vector<FeatureSet> features[2];
   std::vector<double> detect_time[2];
   for (int k = 0; k < 2; ++k) {
@@ -107,18 +125,8 @@ std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path
     const int cam = idx / num_frames, frame = idx % num_frames;
     const RigCamera& rc = rig.cameras[cam];
     const std::string& frame_name = frames_file.frames[frame].name;
-    const auto path = layout.FindImage(rc.name, frame_name);
-    if (!path) {
-      throw std::runtime_error(layout.Image(rc.name, frame_name).string() + ": image missing (camera '" + rc.name +
-                               "', frame '" + frame_name + "')");
-    }
-    const ImageU8 rgb = ReadImageU8(*path, 3);
+    const ImageU8 rgb = ReadImageU8(image_paths[idx], 3);
     const int w = rc.camera.width(), h = rc.camera.height();
-    if (!rgb.SameSize(w, h)) {
-      throw std::runtime_error(path->string() + ": image is " + std::to_string(rgb.width) + "x" +
-                               std::to_string(rgb.height) + ", camera '" + rc.name + "' is " + std::to_string(w) +
-                               "x" + std::to_string(h));
-    }
     ImageU8 labels;
     // Checks size and Cityscapes ids or colours; names the file.
     if (need_labels) labels = LoadLabels(options.labels, layout, rc.name, frame_name, w, h);

@@ -284,10 +284,49 @@ TEST_F(RigCalibrationTest, CameraZeroAloneCalibratesNothingElse) {
   }
 }
 
+TEST_F(RigCalibrationTest, CameraHeldByOneWeakPairIsWarnedAbout) {
+  RigObservations obs = *observations_;
+  int held = -1;  // cam1-cam2 is the only pair left to place cam2
+  for (size_t p = 0; p < obs.pairs.size(); ++p) {
+    PairEstimate& e = obs.pairs[p];
+    if (e.cam_a == 1 && e.cam_b == 2) {
+      held = static_cast<int>(p);
+    } else if (e.cam_a == 2 || e.cam_b == 2) {
+      e.success = false;
+      e.failure_reason = "too few matches";
+    }
+  }
+  ASSERT_GE(held, 0);
+  ASSERT_TRUE(obs.pairs[held].success);
+  auto warned = [](const RigCalibrationResult& r) {
+    for (const std::string& w : r.warnings) {
+      if (w.rfind("cam2 is placed by one pair only, cam1-cam2, whose fit explains ", 0) == 0) return true;
+    }
+    return false;
+  };
+  obs.pairs[held].num_matches = obs.pairs[held].num_inliers * 5 / 4;  // 80%: as genuine pairs do
+  const RigCalibrationResult strong = EstimateRig(obs, {});
+  ASSERT_TRUE(strong.rig.cameras[2].cam_from_rig.has_value()) << strong.camera_status[2];
+  EXPECT_FALSE(warned(strong));
+  obs.pairs[held].num_matches = obs.pairs[held].num_inliers * 6;  // 17%: a chance agreement looks so
+  const RigCalibrationResult weak = EstimateRig(obs, {});
+  EXPECT_TRUE(weak.rig.cameras[2].cam_from_rig.has_value());  // kept: the warning says what to check
+  EXPECT_TRUE(warned(weak));
+  const int other_warnings = static_cast<int>(weak.warnings.size()) - 1;
+  EXPECT_EQ(other_warnings, static_cast<int>(strong.warnings.size()));
+}
+
 TEST_F(RigCalibrationTest, BadOptionsThrow) {
   RigCalibrationOptions options;
   options.known_distance = KnownDistance{"cam0", "nope", 1.0};
-  EXPECT_THROW(EstimateRig(*observations_, options), std::invalid_argument);
+  try {
+    EstimateRig(*observations_, options);
+    FAIL() << "an unknown camera was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("camera 'nope', which is not in the rig (cam0, cam1, cam2, cam3, cam4, cam5, cam6)"),
+              std::string::npos)
+        << e.what();
+  }
   options.known_distance = KnownDistance{"cam0", "cam1", -1.0};
   EXPECT_THROW(options.Check(), std::invalid_argument);
 }

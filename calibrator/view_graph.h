@@ -29,6 +29,7 @@ struct PairEstimate {
   bool rotation_only = false;
   Rigid3d cam_b_from_cam_a;  // unit translation (zero when rotation_only)
   int num_inliers = 0;
+  int num_matches = 0;  // the correspondences the fit saw (0: not known)
   std::string failure_reason;  // of a failed pair
 };
 

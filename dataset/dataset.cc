@@ -88,12 +88,39 @@ fs::path DatasetLayout::Depth(const std::string& cam, const std::string& frame) 
   return root_ / "depth" / cam / (frame + ".exr");
 }
 
+namespace {
+
+// The extensions a photo in images/<cam>/ may have, in the order FindImage tries them.
+const std::vector<std::string>& PhotoExtensions() {
+  static const std::vector<std::string> extensions = {".png", ".jpg", ".jpeg", ".JPG", ".JPEG", ".PNG", ".tif", ".tiff", ".exr"};
+  return extensions;
+}
+
+std::string PhotoExtensionList() {
+  std::string list;
+  for (const std::string& ext : PhotoExtensions()) list += (list.empty() ? "" : " ") + ext;
+  return list;
+}
+
+}  // namespace
+
 std::optional<fs::path> DatasetLayout::FindImage(const std::string& cam, const std::string& frame) const {
-  for (const char* ext : {".png", ".jpg", ".jpeg", ".JPG", ".JPEG", ".PNG", ".tif", ".tiff", ".exr"}) {
+  for (const std::string& ext : PhotoExtensions()) {
     const fs::path p = root_ / "images" / cam / (frame + ext);
     if (fs::exists(p)) return p;
   }
   return std::nullopt;
+}
+
+fs::path DatasetLayout::RequireImage(const std::string& cam, const std::string& frame) const {
+  if (std::optional<fs::path> found = FindImage(cam, frame)) return *found;
+  throw std::runtime_error((root_ / "images" / cam / frame).string() + ".*: image missing (camera '" + cam + "', frame '" +
+                           frame + "'; tried " + PhotoExtensionList() + ")");
+}
+
+std::string DatasetLayout::ImageName(const std::string& cam, const std::string& frame) const {
+  const std::optional<fs::path> found = FindImage(cam, frame);
+  return cam + "/" + frame + (found ? found->extension().string() : std::string(".png"));
 }
 
 FramesFile DatasetLayout::ReadFramesOrScan(const std::string& first_camera) const {
@@ -103,12 +130,15 @@ FramesFile DatasetLayout::ReadFramesOrScan(const std::string& first_camera) cons
     throw std::runtime_error(dir.string() + ": no such folder (and no frames.json in " + root_.string() + ")");
   }
   std::vector<std::string> stems;
+  const std::vector<std::string>& extensions = PhotoExtensions();
   for (const auto& entry : fs::directory_iterator(dir)) {
-    if (entry.is_regular_file()) stems.push_back(entry.path().stem().string());
+    const fs::path& p = entry.path();
+    const bool photo = std::find(extensions.begin(), extensions.end(), p.extension().string()) != extensions.end();
+    if (entry.is_regular_file() && photo && p.filename().string()[0] != '.') stems.push_back(p.stem().string());
   }
   std::sort(stems.begin(), stems.end());
   stems.erase(std::unique(stems.begin(), stems.end()), stems.end());
-  if (stems.empty()) throw std::runtime_error(dir.string() + ": no images");
+  if (stems.empty()) throw std::runtime_error(dir.string() + ": no images (" + PhotoExtensionList() + ")");
   FramesFile out;
   for (const std::string& s : stems) out.frames.push_back(Frame{s, std::nullopt, 0.0});
   return out;

@@ -61,9 +61,16 @@ class DatasetLayout {
   std::filesystem::path Instance(const std::string& cam, const std::string& frame) const;
   std::filesystem::path Depth(const std::string& cam, const std::string& frame) const;
 
-  // Finds the image of a frame whatever its extension (.png, .jpg, ...); nullopt if absent.
+  // Finds the image of a frame whatever its extension (.png, .jpg, .jpeg, .tif, .tiff, .exr, and
+  // .PNG, .JPG, .JPEG); nullopt if absent.
   std::optional<std::filesystem::path> FindImage(const std::string& cam, const std::string& frame) const;
-  // Frames of a dataset: from frames.json when present, else the sorted image stems of `cam`.
+  // FindImage, or a std::runtime_error naming the camera, the frame and the extensions tried.
+  std::filesystem::path RequireImage(const std::string& cam, const std::string& frame) const;
+  // The image's name relative to images/, "<cam>/<frame><ext>" with the extension of the file
+  // found, ".png" (what render writes) when there is none: what COLMAP and nerfstudio exports name.
+  std::string ImageName(const std::string& cam, const std::string& frame) const;
+  // Frames of a dataset: from frames.json when present, else the sorted stems of the photos of
+  // `cam` (files with an extension FindImage takes; hidden files such as .DS_Store are not photos).
   FramesFile ReadFramesOrScan(const std::string& first_camera) const;
 
  private:

@@ -68,6 +68,50 @@ TEST(DatasetLayout, FramesAreScannedWhenThereIsNoFramesJson) {
   fs::remove_all(dir);
 }
 
+TEST(DatasetLayout, ScanningSkipsHiddenFilesAndFilesThatAreNoPhotos) {
+  const fs::path dir = FreshDir("scan_photos");
+  const fs::path cam = dir / "images" / "a";
+  fs::create_directories(cam / "sub.jpg");  // a folder, whatever its name
+  for (const char* name : {"0001.JPG", "0002.png", ".DS_Store", "._0001.JPG", "notes.txt", "0003.jpg.xmp", "Thumbs.db"}) {
+    std::ofstream(cam / name) << "x";
+  }
+  const FramesFile f = DatasetLayout(dir).ReadFramesOrScan("a");
+  ASSERT_EQ(f.frames.size(), 2u);
+  EXPECT_EQ(f.frames[0].name, "0001");
+  EXPECT_EQ(f.frames[1].name, "0002");
+  for (const char* name : {"0001.JPG", "0002.png"}) fs::remove(cam / name);
+  try {
+    DatasetLayout(dir).ReadFramesOrScan("a");
+    FAIL() << "a folder without photos scanned";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(cam.string() + ": no images (.png .jpg"), std::string::npos) << e.what();
+  }
+  fs::remove_all(dir);
+}
+
+TEST(DatasetLayout, ImagesAreNamedWithTheExtensionTheyHave) {
+  const fs::path dir = FreshDir("image_names");
+  fs::create_directories(dir / "images" / "front");
+  fs::create_directories(dir / "images" / "side");
+  std::ofstream(dir / "images" / "front" / "0001.JPG") << "x";
+  std::ofstream(dir / "images" / "side" / "0001.png") << "x";
+  const DatasetLayout layout(dir);
+  EXPECT_EQ(layout.ImageName("front", "0001"), "front/0001.JPG");
+  EXPECT_EQ(layout.ImageName("side", "0001"), "side/0001.png");
+  EXPECT_EQ(layout.ImageName("side", "0002"), "side/0002.png");  // none yet: what render writes
+  EXPECT_EQ(layout.RequireImage("front", "0001"), dir / "images" / "front" / "0001.JPG");
+  try {
+    layout.RequireImage("side", "0002");
+    FAIL() << "a missing image was found";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind((dir / "images" / "side" / "0002").string() + ".*: image missing (camera 'side', frame '0002'", 0), 0u)
+        << what;
+    EXPECT_NE(what.find("tried .png .jpg .jpeg .JPG .JPEG .PNG .tif .tiff .exr"), std::string::npos) << what;
+  }
+  fs::remove_all(dir);
+}
+
 TEST(StagedOutput, NothingAppearsUntilCommitAndFailuresLeaveNothing) {
   const fs::path dir = FreshDir("staged");
   const fs::path out = dir / "out";

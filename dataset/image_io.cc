@@ -1,5 +1,6 @@
 #include "dataset/image_io.h"
 
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -46,8 +47,8 @@ void WriteTyped(const fs::path& path, const Image<T>& image, OIIO::TypeDesc type
   fs::rename(tmp, path);
 }
 
-template <typename T>
-Image<T> ReadTyped(const fs::path& path, OIIO::TypeDesc type, int channels) {
+// Opens an image and checks its header, without decoding the pixels.
+std::unique_ptr<OIIO::ImageInput> OpenImage(const fs::path& path) {
   if (!fs::exists(path)) throw std::runtime_error(path.string() + ": no such file");
   auto in = OIIO::ImageInput::open(path.string());
   if (!in) throw std::runtime_error(path.string() + ": cannot read image: " + OIIO::geterror());
@@ -63,6 +64,14 @@ Image<T> ReadTyped(const fs::path& path, OIIO::TypeDesc type, int channels) {
                              std::to_string(spec.height) + "x" + std::to_string(file_channels) +
                              " exceeds the limit of " + std::to_string(kMaxCameraPixels / 1'000'000) + " megapixels");
   }
+  return in;
+}
+
+template <typename T>
+Image<T> ReadTyped(const fs::path& path, OIIO::TypeDesc type, int channels) {
+  const std::unique_ptr<OIIO::ImageInput> in = OpenImage(path);
+  const OIIO::ImageSpec& spec = in->spec();
+  const int file_channels = spec.nchannels;
   Image<T> file_image(spec.width, spec.height, file_channels);
   if (!in->read_image(0, 0, 0, file_channels, type, file_image.data.data())) {
     throw std::runtime_error(path.string() + ": cannot decode image: " + in->geterror());
@@ -90,6 +99,11 @@ Image<T> ReadTyped(const fs::path& path, OIIO::TypeDesc type, int channels) {
 void WriteImage(const fs::path& path, const ImageU8& image) { WriteTyped(path, image, OIIO::TypeDesc::UINT8); }
 void WriteImage(const fs::path& path, const ImageU16& image) { WriteTyped(path, image, OIIO::TypeDesc::UINT16); }
 void WriteImage(const fs::path& path, const ImageF& image) { WriteTyped(path, image, OIIO::TypeDesc::FLOAT); }
+
+ImageSize ReadImageSize(const fs::path& path) {
+  const std::unique_ptr<OIIO::ImageInput> in = OpenImage(path);
+  return {in->spec().width, in->spec().height};
+}
 
 ImageU8 ReadImageU8(const fs::path& path, int channels) { return ReadTyped<uint8_t>(path, OIIO::TypeDesc::UINT8, channels); }
 

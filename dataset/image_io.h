@@ -22,4 +22,11 @@ ImageU8 ReadImageU8(const std::filesystem::path& path, int channels = 0);
 ImageU16 ReadImageU16(const std::filesystem::path& path);
 ImageF ReadImageF(const std::filesystem::path& path);
 
+// The size in the file's header, without decoding the pixels (a whole dataset's photos are
+// checked in moments before any is decoded). Throws like the readers.
+struct ImageSize {
+  int width = 0, height = 0;
+};
+ImageSize ReadImageSize(const std::filesystem::path& path);
+
 }  // namespace rigsim

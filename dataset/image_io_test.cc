@@ -88,5 +88,24 @@ TEST_F(ImageIo, ErrorsNameTheFile) {
   EXPECT_FALSE(fs::exists(dir_ / "nodir"));
 }
 
+TEST_F(ImageIo, SizeComesFromTheHeaderWithTheReadersChecks) {
+  WriteImage(dir_ / "wide.png", ImageU8(37, 5, 3, 9));
+  WriteImage(dir_ / "range.exr", ImageF(4, 11, 1, 2.5f));
+  const ImageSize png = ReadImageSize(dir_ / "wide.png");
+  EXPECT_EQ(png.width, 37);
+  EXPECT_EQ(png.height, 5);
+  const ImageSize exr = ReadImageSize(dir_ / "range.exr");
+  EXPECT_EQ(exr.width, 4);
+  EXPECT_EQ(exr.height, 11);
+  std::ofstream(dir_ / "bad.png") << "not a png at all";
+  EXPECT_THROW(ReadImageSize(dir_ / "bad.png"), std::runtime_error);
+  try {
+    ReadImageSize(dir_ / "none.jpg");
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("none.jpg: no such file"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace rigsim

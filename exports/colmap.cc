@@ -9,14 +9,7 @@ namespace rigsim {
 
 using exports_internal::Num;
 
-void ColmapExportOptions::Check() const {
-  if (!image_extension.empty() && image_extension[0] != '.') {
-    throw std::invalid_argument("colmap export: image_extension must start with '.' (got '" + image_extension + "')");
-  }
-}
-
 ColmapModelText ColmapModel(const Rig& rig, const FramesFile& frames, const ColmapExportOptions& options) {
-  options.Check();
   exports_internal::RequireAllPoses(rig, "colmap");
   exports_internal::RequireFramePoses(frames, "colmap");
   ColmapModelText out;
@@ -46,8 +39,8 @@ ColmapModelText ColmapModel(const Rig& rig, const FramesFile& frames, const Colm
       if (q.w() < 0) q.coeffs() *= -1.0;  // one canonical sign
       const Eigen::Vector3d& t = cam_from_world.translation;
       out.images += std::to_string(image_id) + " " + Num(q.w()) + " " + Num(q.x()) + " " + Num(q.y()) + " " + Num(q.z()) +
-                    " " + Num(t.x()) + " " + Num(t.y()) + " " + Num(t.z()) + " " + std::to_string(c + 1) + " " + rc.name +
-                    "/" + f.name + options.image_extension + "\n\n";
+                    " " + Num(t.x()) + " " + Num(t.y()) + " " + Num(t.z()) + " " + std::to_string(c + 1) + " " +
+                    options.image_name(rc.name, f.name) + "\n\n";
     }
   }
   out.points3d = "# 3D point list with one line of data per point:\n"

@@ -16,14 +16,16 @@
 #include <string>
 
 #include "dataset/dataset.h"
+#include "exports/image_name.h"
 #include "geometry/rig.h"
 
 namespace rigsim {
 
 struct ColmapExportOptions {
-  // Extension of the image files named in images.txt (what render writes).
-  std::string image_extension = ".png";
-  void Check() const;  // throws std::invalid_argument
+  // Name in images.txt of camera `cam`'s image of frame `frame`, relative to the images folder;
+  // by default "<cam>/<frame>.png" (what render writes). DatasetLayout::ImageName gives the
+  // files a dataset has, whatever their extension.
+  ImageNameFn image_name = DefaultImageName;
 };
 
 struct ColmapModelText {

@@ -74,14 +74,29 @@ TEST(Colmap, ImagesProjectLikeRigsimShiftedByHalfAPixel) {
   EXPECT_EQ(DataLines(m.points3d).size(), 0u);
 }
 
+TEST(Colmap, ImagesAreNamedByTheGivenFunction) {
+  ColmapExportOptions o;
+  o.image_name = [](const std::string& cam, const std::string& frame) {
+    return cam + "/" + frame + (cam == "cam1" ? ".JPG" : ".png");
+  };
+  const ColmapModelText m = ColmapModel(test::MixedRig(), test::TwoFrames(), o);
+  std::vector<std::string> names;
+  for (const auto& line : DataLines(m.images)) {
+    if (line.size() == 10) names.push_back(line[9]);
+  }
+  ASSERT_EQ(names.size(), 2 * test::MixedRig().cameras.size());
+  EXPECT_EQ(names[1], "cam1/000000.JPG");
+  for (const std::string& name : names) {
+    EXPECT_EQ(name.substr(name.size() - 4), name.rfind("cam1/", 0) == 0 ? ".JPG" : ".png") << name;
+  }
+  EXPECT_EQ(DataLines(ColmapModel(test::MixedRig(), test::TwoFrames()).images)[1][9], "cam1/000000.png");  // default
+}
+
 TEST(Colmap, NeedsPoses) {
   Rig rig = test::MixedRig();
   FramesFile frames = test::TwoFrames();
   frames.frames[1].rig_from_world.reset();
   EXPECT_THROW(ColmapModel(rig, frames), std::invalid_argument);
-  ColmapExportOptions o;
-  o.image_extension = "jpg";
-  EXPECT_THROW(ColmapModel(rig, test::TwoFrames(), o), std::invalid_argument);
 }
 
 }  // namespace

@@ -22,7 +22,7 @@ Json FrameEntry(const RigCamera& rc, const Frame& f, const NerfstudioExportOptio
   Json tm = Json::array();
   for (int r = 0; r < 4; ++r) tm.push_back({m(r, 0), m(r, 1), m(r, 2), m(r, 3)});
   Json e;
-  e["file_path"] = o.image_prefix + "/" + rc.name + "/" + f.name + o.image_extension;
+  e["file_path"] = o.image_prefix + "/" + o.image_name(rc.name, f.name);
   e["transform_matrix"] = tm;
   e["fl_x"] = p[0];
   e["fl_y"] = p[1];
@@ -66,15 +66,8 @@ Json FrameEntry(const RigCamera& rc, const Frame& f, const NerfstudioExportOptio
 
 }  // namespace
 
-void NerfstudioExportOptions::Check() const {
-  if (!image_extension.empty() && image_extension[0] != '.') {
-    throw std::invalid_argument("nerfstudio export: image_extension must start with '.' (got '" + image_extension + "')");
-  }
-}
-
 std::vector<NerfstudioFile> NerfstudioTransforms(const Rig& rig, const FramesFile& frames,
                                                  const NerfstudioExportOptions& options) {
-  options.Check();
   exports_internal::RequireAllPoses(rig, "nerfstudio");
   exports_internal::RequireFramePoses(frames, "nerfstudio");
   Json groups[2];  // 0 = perspective, 1 = fisheye

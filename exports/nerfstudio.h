@@ -1,7 +1,7 @@
 // nerfstudio transforms.json export: one entry per frame x camera with its own intrinsics.
 //
 //   { "camera_model": "OPENCV" | "OPENCV_FISHEYE",
-//     "frames": [ { "file_path": "<prefix>/<cam>/<frame>.png",
+//     "frames": [ { "file_path": "<prefix>/<cam>/<frame>.png" (the extension of the file),
 //                   "transform_matrix": 4x4 world_from_cam in OpenGL camera axes,
 //                   "fl_x", "fl_y", "cx", "cy", "w", "h",
 //                   "k1", "k2", "p1", "p2" (OPENCV; "k3" for FULL_OPENCV) |
@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "dataset/dataset.h"
+#include "exports/image_name.h"
 #include "geometry/rig.h"
 
 namespace rigsim {
@@ -30,9 +31,8 @@ namespace rigsim {
 struct NerfstudioExportOptions {
   // Folder of the images relative to the folder holding transforms.json (e.g. "../DATASET/images").
   std::string image_prefix = "images";
-  // Extension of the image files.
-  std::string image_extension = ".png";
-  void Check() const;  // throws std::invalid_argument
+  // Name of camera `cam`'s image of frame `frame` under image_prefix (exports/image_name.h).
+  ImageNameFn image_name = DefaultImageName;
 };
 
 struct NerfstudioFile {

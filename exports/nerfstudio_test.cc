@@ -64,6 +64,10 @@ TEST(Nerfstudio, ProjectionMatchesRigsimAndMixedRigsSplit) {
   EXPECT_EQ(e["p1"].get<double>(), p[6]);
   EXPECT_EQ(e["p2"].get<double>(), p[7]);
   EXPECT_EQ(e["file_path"], "images/cam0/000000.png");
+  NerfstudioExportOptions named;
+  named.image_name = [](const std::string& cam, const std::string& frame) { return cam + "/" + frame + ".jpeg"; };
+  EXPECT_EQ(nlohmann::json::parse(NerfstudioTransforms(rig, frames, named)[1].text)["frames"][1]["file_path"],
+            "images/cam2/000001.jpeg");
   // Project a point the nerfstudio way (GL camera, pixel centres at +0.5) through cam1 (pinhole).
   const auto& e1 = persp["frames"][1];  // frame 0, cam1
   const Eigen::Matrix4d world_from_gl = ToMatrix(e1["transform_matrix"]);

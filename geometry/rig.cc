@@ -29,6 +29,14 @@ bool Rig::HasAllPoses() const {
   return !cameras.empty();
 }
 
+Rig Rig::PosedCameras() const {
+  Rig posed;
+  for (const RigCamera& c : cameras) {
+    if (c.cam_from_rig) posed.cameras.push_back(c);
+  }
+  return posed;
+}
+
 Rig RigFromJsonText(const std::string& text, const std::string& source) {
   const Json root = json_io::Parse(text, source);
   if (!root.is_object() || !root.contains("cameras") || !root["cameras"].is_array()) {

@@ -34,6 +34,8 @@ struct Rig {
   // Index of the camera with this name, or -1.
   int FindCamera(const std::string& name) const;
   bool HasAllPoses() const;
+  // The cameras that have a cam_from_rig, in order: what the exports can place.
+  Rig PosedCameras() const;
 };
 
 // Parse / serialise. Errors throw std::runtime_error whose message starts with `source`

@@ -270,7 +270,53 @@ TEST_F(RigsimCli, CalibrateMissingImage) {
   const fs::path dataset = CopyDataset();
   const fs::path image = DatasetLayout(dataset).Image("cam1", "000000");
   fs::remove(image);
-  ExpectCalibrateFails(dataset, "none", image, "missing");
+  ExpectCalibrateFails(dataset, "none", fs::path(image).replace_extension(".*"),
+                       "image missing (camera 'cam1', frame '000000'; tried .png .jpg");
+}
+
+// A camera name mistyped in --known-distance is reported before the photos are even looked at
+// (the missing photo here would fail the run otherwise), naming it and the rig's cameras.
+TEST_F(RigsimCli, CalibrateKnownDistanceNamingAnUnknownCameraFailsFirst) {
+  const fs::path dataset = CopyDataset();
+  fs::remove(DatasetLayout(dataset).Image("cam1", "000000"));
+  const CliResult r = Run({"calibrate", dataset.string(), "--semantics", "none", "--known-distance", "cam0", "cam9", "0.5"});
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("error: " + (dataset / "rig.json").string() +
+                       ": the known distance names camera 'cam9', which is not in the rig (cam0, cam1)"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dataset / "calibration"));
+}
+
+// Exports name each camera's photos as they are (mixed .png/.jpg across cameras), and leave out
+// the cameras an estimate has no pose for, as calibrate's own exports do.
+TEST_F(RigsimCli, ExportNamesEachCamerasPhotosAndLeavesOutCamerasWithoutAPose) {
+  const fs::path dataset = CopyDataset();
+  const DatasetLayout layout(dataset);
+  const fs::path png = layout.Image("cam1", "000000");
+  WriteImage(fs::path(png).replace_extension(".jpg"), ReadImageU8(png));
+  fs::remove(png);
+  const CliResult r = Run({"export", dataset.string(), "--format", "colmap,nerfstudio", "--out", (dir_ / "all").string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string images = ReadAll(dir_ / "all" / "colmap" / "images.txt");
+  EXPECT_NE(images.find(" cam0/000000.png\n"), std::string::npos) << images;
+  EXPECT_NE(images.find(" cam1/000000.jpg\n"), std::string::npos) << images;
+  const json transforms = json::parse(ReadAll(dir_ / "all" / "transforms.json"));
+  EXPECT_EQ(transforms["frames"][1]["file_path"].get<std::string>().substr(std::string("../").size()),
+            (fs::path("dataset") / "images" / "cam1" / "000000.jpg").string())
+      << transforms["frames"][1]["file_path"];
+
+  Rig estimate = ReadRig(layout.RigJson());
+  estimate.cameras[1].cam_from_rig.reset();  // not calibrated
+  WriteRig(estimate, dir_ / "estimate.json");
+  const CliResult e = Run({"export", dataset.string(), "--rig", (dir_ / "estimate.json").string(), "--format", "opencv,kalibr",
+                           "--out", (dir_ / "estimate").string()});
+  ASSERT_EQ(e.code, 0) << e.err;
+  EXPECT_NE(e.err.find("leaving out the cameras without cam_from_rig (not calibrated): cam1"), std::string::npos) << e.err;
+  const std::string yaml = ReadAll(dir_ / "estimate" / "opencv.yaml");
+  EXPECT_NE(yaml.find("num_cameras: 1"), std::string::npos) << yaml;
+  EXPECT_EQ(yaml.find("cam1"), std::string::npos) << yaml;
+  EXPECT_NE(ReadAll(dir_ / "estimate" / "camchain.yaml").find("cam0"), std::string::npos);
 }
 
 TEST_F(RigsimCli, CalibrateImageOfTheWrongSize) {

@@ -145,6 +145,21 @@ void CheckCalibrationInputs(const std::filesystem::path& dataset) {
   for (const std::string& w : CheckRigCoversImages(rig, layout.RigJson().string())) {
     std::fprintf(stderr, "warning: %s\n", w.c_str());
   }
+  const size_t posed = rig.PosedCameras().cameras.size();
+  if (posed > 0 && posed < rig.cameras.size()) {
+    std::fprintf(stderr,
+                 "warning: %s: cam_from_rig given for %zu of %zu cameras (not for %s): the estimate is not compared "
+                 "with the truth, which needs every camera's\n",
+                 layout.RigJson().string().c_str(), posed, rig.cameras.size(), CamerasWithoutPose(rig).c_str());
+  }
+}
+
+std::string CamerasWithoutPose(const Rig& rig) {
+  std::string names;
+  for (const RigCamera& rc : rig.cameras) {
+    if (!rc.cam_from_rig) names += (names.empty() ? "" : ", ") + rc.name;
+  }
+  return names;
 }
 
 namespace {
@@ -225,13 +240,12 @@ json_io::Json PairsJson(const json_io::Json& method, const std::string& mode, co
 // above. Returns the "outputs" record.
 json_io::Json WriteExports(const RigCalibrationResult& r, const std::optional<Rig>& truth, const DatasetLayout& layout,
                            const FramesFile& frames, const fs::path& dir) {
-  Rig calibrated;
+  const Rig calibrated = r.rig.PosedCameras();
   json_io::Json exported = json_io::Json::array(), omitted = json_io::Json::array(), notes = json_io::Json::array();
   json_io::Json colmap_frames = json_io::Json::array(), colmap_frames_omitted = json_io::Json::array();
   for (size_t c = 0; c < r.rig.cameras.size(); ++c) {
     const RigCamera& rc = r.rig.cameras[c];
     if (rc.cam_from_rig) {
-      calibrated.cameras.push_back(rc);
       exported.push_back(rc.name);
     } else {
       omitted.push_back({{"name", rc.name}, {"status", c < r.camera_status.size() ? r.camera_status[c] : ""}});
@@ -291,9 +305,7 @@ json_io::Json WriteExports(const RigCalibrationResult& r, const std::optional<Ri
       }
     }
     ColmapExportOptions colmap;
-    if (const auto image = layout.FindImage(calibrated.cameras[0].name, posed.frames[0].name)) {
-      colmap.image_extension = image->extension().string();
-    }
+    colmap.image_name = [&layout](const std::string& cam, const std::string& frame) { return layout.ImageName(cam, frame); };
     WriteColmapModel(calibrated, posed, dir / "colmap", colmap);
     for (const Frame& f : posed.frames) colmap_frames.push_back(f.name);
     files.push_back("colmap/cameras.txt");

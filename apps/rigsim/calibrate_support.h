@@ -52,7 +52,11 @@ void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& settings);
 
 // Checks what can be checked before a long run: rig.json parses and every camera covers its
 // image (geometry/camera_validation.h; warnings to stderr). Throws std::runtime_error naming the file.
+// Warns too when rig.json has the truth of some cameras only (no comparison is made).
 void CheckCalibrationInputs(const std::filesystem::path& dataset);
+
+// The names of the cameras without cam_from_rig, comma-separated.
+std::string CamerasWithoutPose(const Rig& rig);
 
 // Calibrates the rig of `dataset` in each semantic mode, prints the pair and camera tables and a
 // summary, and writes into `out_dir` (atomically; replaced only with `force`):

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/rigsim/calibrate_support.h"
 #include "apps/rigsim/commands.h"
 #include "dataset/dataset.h"
 #include "exports/colmap.h"
@@ -46,7 +47,15 @@ void AddExportCommand(CLI::App& app) {
     std::set<std::string> formats(args->formats.begin(), args->formats.end());
     if (formats.count("all")) formats = {"kalibr", "opencv", "colmap", "nerfstudio"};
     const DatasetLayout layout(args->dataset);
-    const Rig rig = ReadRig(args->rig.empty() ? layout.RigJson() : std::filesystem::path(args->rig));
+    const std::filesystem::path rig_json = args->rig.empty() ? layout.RigJson() : std::filesystem::path(args->rig);
+    Rig rig = ReadRig(rig_json);
+    // A calibration estimate may leave cameras without a pose: they are left out of every format,
+    // as calibrate's own exports do. A rig with no pose at all exports its intrinsics (opencv).
+    if (const Rig posed = rig.PosedCameras(); !posed.cameras.empty() && posed.cameras.size() < rig.cameras.size()) {
+      std::fprintf(stderr, "warning: %s: leaving out the cameras without cam_from_rig (not calibrated): %s\n",
+                   rig_json.string().c_str(), CamerasWithoutPose(rig).c_str());
+      rig = posed;
+    }
     FramesFile frames;
     if (formats.count("colmap") || formats.count("nerfstudio")) {
       if (!std::filesystem::exists(layout.FramesJson())) {
@@ -54,11 +63,10 @@ void AddExportCommand(CLI::App& app) {
       }
       frames = ReadFrames(layout.FramesJson());
     }
-    // Name images with the extension the dataset actually has.
-    std::string ext = ".png";
-    if (!frames.frames.empty() && !rig.cameras.empty()) {
-      if (auto image = layout.FindImage(rig.cameras[0].name, frames.frames[0].name)) ext = image->extension().string();
-    }
+    // Images are named as the dataset has them, whatever their extension.
+    const ImageNameFn image_name = [&layout](const std::string& cam, const std::string& frame) {
+      return layout.ImageName(cam, frame);
+    };
     StagedOutput staged(args->out, args->force);
     const std::filesystem::path& dir = staged.staging_dir();
     std::vector<std::string> written;
@@ -72,13 +80,13 @@ void AddExportCommand(CLI::App& app) {
     }
     if (formats.count("colmap")) {
       ColmapExportOptions o;
-      o.image_extension = ext;
+      o.image_name = image_name;
       WriteColmapModel(rig, frames, dir / "colmap", o);
       written.push_back("colmap/");
     }
     if (formats.count("nerfstudio")) {
       NerfstudioExportOptions o;
-      o.image_extension = ext;
+      o.image_name = image_name;
       const auto out_abs = std::filesystem::absolute(args->out).lexically_normal();
       const auto images_abs = std::filesystem::absolute(layout.root() / "images").lexically_normal();
       o.image_prefix = images_abs.lexically_relative(out_abs).generic_string();

@@ -103,8 +103,9 @@ std::string FormatSummary(const std::vector<CalibrationReport>& reports, const O
       if (p.rotation_error_deg) rot.push_back(*p.rotation_error_deg);
       if (p.translation_direction_error_deg) tdir.push_back(*p.translation_direction_error_deg);
     }
+    // Without overlap.json (photos) every pair counts: whether two views overlap is not known.
     out << r.semantic_mode << ": " << solved << "/" << neighbours
-        << " overlapping pairs solved, median rotation error " << Opt(Median(rot), "%.4f deg")
+        << (overlap.empty() ? " pairs solved" : " overlapping pairs solved") << ", median rotation error " << Opt(Median(rot), "%.4f deg")
         << ", median translation direction error " << Opt(Median(tdir), "%.2f deg") << ", median match precision "
         << Opt(Percent(Median(prec)), "%.1f%%") << "; "
         << Fmt("%.0f", r.mean_keypoints_per_image) << " keypoints/image; time detect "
