@@ -1170,6 +1170,10 @@ void Renderer::Impl::BuildGeometry(const std::vector<SceneMesh>& scene_meshes) {
 
   impl.scene = rtcNewScene(impl.device);
   impl.errors.ThrowIfAny(source + ": creating the Embree scene");
+  // Watertight traversal: without it a ray through the edge two triangles share can miss both
+  // and see what lies behind, a wrong label and depth in the ground truth (seen: 13 pixels of six
+  // split quads whose diagonals pass through pixel centres, and on a triangle strip).
+  rtcSetSceneFlags(impl.scene, RTC_SCENE_FLAG_ROBUST);
 
   for (size_t i = 0; i < scene_meshes.size(); ++i) {
     const SceneMesh& mesh = scene_meshes[i];
