@@ -164,27 +164,35 @@ std::optional<std::pair<uint64_t, uint64_t>> EncodedImageSize(const unsigned cha
   return std::nullopt;
 }
 
+// What LoadCheckedImage is given and what it leaves for the loader: why each image it did not
+// decode was refused. The loader fails on such an image only when a texture it uses samples it:
+// an optional extension's image (KTX2 for KHR_texture_basisu, say) whose texture falls back to its
+// PNG or JPEG `source` is skipped, as glTF asks of a client without the extension.
+struct ImageChecks {
+  uint64_t max_pixels = 0;
+  std::map<int, std::string> refused;  // image index -> why it was not decoded
+};
+
 // Decodes glTF images with OpenCV (libpng, libjpeg, libwebp) in place of tinygltf's stb_image,
 // after two checks on the encoded bytes: the image is a PNG or a JPEG, the formats glTF 2.0
 // allows, or a WebP (EXT_texture_webp) (stb would also take BMP, PSD, GIF, ...), and its header
-// asks for no more pixels than the limit in `user_data` (a uint64_t). stb inflated a PNG's compressed data into a buffer without bound: a
-// 1x1 PNG of a few hundred bytes (found by fuzzing) made it allocate 1.2 GB. libpng inflates row
-// by row into the image's own size.
-bool LoadCheckedImage(tinygltf::Image* image, const int index, std::string* err, std::string* /*warn*/,
+// asks for no more pixels than the limit. stb inflated a PNG's compressed data into a buffer
+// without bound: a 1x1 PNG of a few hundred bytes (found by fuzzing) made it allocate 1.2 GB.
+// libpng inflates row by row into the image's own size. An image that fails a check or does not
+// decode is left empty, its reason kept in the ImageChecks `user_data`, and tinygltf goes on.
+bool LoadCheckedImage(tinygltf::Image* image, const int index, std::string* /*err*/, std::string* /*warn*/,
                       int /*req_width*/, int /*req_height*/, const unsigned char* bytes, int size, void* user_data) {
-  const uint64_t max_pixels = *static_cast<const uint64_t*>(user_data);
+  ImageChecks& checks = *static_cast<ImageChecks*>(user_data);
+  auto refuse = [&](const std::string& why) {
+    checks.refused[index] = "image " + std::to_string(index) + why;
+    return true;
+  };
   const auto dims = EncodedImageSize(bytes, size_t(std::max(size, 0)));
-  if (!dims) {
-    if (err) *err += "image " + std::to_string(index) + " is not a PNG, JPEG or WebP image (the formats glTF 2.0 and EXT_texture_webp allow)\n";
-    return false;
-  }
-  if (dims->second != 0 && dims->first > max_pixels / dims->second) {  // width x height > max
-    if (err) {
-      *err += "image " + std::to_string(index) + " is " + std::to_string(dims->first) + "x" +
-              std::to_string(dims->second) + " pixels, more than the limit of " + std::to_string(max_pixels) +
-              " (GltfLoadOptions::max_image_pixels)\n";
-    }
-    return false;
+  if (!dims) return refuse(" is not a PNG, JPEG or WebP image (the formats glTF 2.0 and EXT_texture_webp allow)");
+  if (dims->second != 0 && dims->first > checks.max_pixels / dims->second) {  // width x height > max
+    return refuse(" is " + std::to_string(dims->first) + "x" + std::to_string(dims->second) +
+                  " pixels, more than the limit of " + std::to_string(checks.max_pixels) +
+                  " (GltfLoadOptions::max_image_pixels)");
   }
   cv::Mat decoded;
   try {
@@ -194,8 +202,7 @@ bool LoadCheckedImage(tinygltf::Image* image, const int index, std::string* err,
   }
   const int channels = decoded.empty() ? 0 : decoded.channels();
   if (decoded.empty() || (decoded.depth() != CV_8U && decoded.depth() != CV_16U) || channels > 4) {
-    if (err) *err += "image " + std::to_string(index) + ": cannot decode it\n";
-    return false;
+    return refuse(": cannot decode it");
   }
   if (channels == 3) cv::cvtColor(decoded, decoded, cv::COLOR_BGR2RGB);
   if (channels == 4) cv::cvtColor(decoded, decoded, cv::COLOR_BGRA2RGBA);
@@ -348,7 +355,8 @@ class Loader {
     const std::vector<unsigned char>& load = readable ? readable->bytes : bytes;
 
     tinygltf::TinyGLTF gltf;
-    gltf.SetImageLoader(&LoadCheckedImage, const_cast<uint64_t*>(&options_.max_image_pixels));
+    image_checks_.max_pixels = options_.max_image_pixels;
+    gltf.SetImageLoader(&LoadCheckedImage, &image_checks_);
     std::string err, warn;
     const std::string folder = path_.parent_path().string();  // for external buffers and images
     const bool ok = binary ? gltf.LoadBinaryFromMemory(&model_, &err, &warn, load.data(), unsigned(load.size()), folder)
@@ -490,6 +498,8 @@ class Loader {
       }
       scene_.materials.push_back(std::move(out));
     }
+    // ConvertTexture failed on every refused image a texture samples: the rest are used by none.
+    for (const auto& [index, why] : image_checks_.refused) Warn(why + "; no texture rigsim uses samples it, so it is skipped");
   }
 
   // JOINTS_0 (unsigned byte or short) and WEIGHTS_0 (float, or normalized unsigned byte or
@@ -653,6 +663,7 @@ class Loader {
       Warn("texture " + std::to_string(index) + " has no usable image source; texture ignored");
       return texture_map_[index] = -1;
     }
+    if (auto refused = image_checks_.refused.find(source); refused != image_checks_.refused.end()) Fail(refused->second);
     const tinygltf::Image& img = model_.images[source];
     const std::string image_label = "image " + std::to_string(source) + (img.uri.empty() ? "" : " " + Quote(img.uri));
     if (img.image.empty() || img.width <= 0 || img.height <= 0) {
@@ -1632,6 +1643,7 @@ class Loader {
   std::vector<ClassTag> node_class_, mesh_class_, material_class_;
   std::vector<MaterialUvs> material_uv_;  // per glTF material: its textures' coordinates
   std::map<int, int> texture_map_;  // glTF texture -> Scene::textures index
+  ImageChecks image_checks_;        // filled by LoadCheckedImage while tinygltf reads the file
   std::set<int> animated_nodes_;    // nodes targeted by a translation, rotation or scale channel
   std::set<int> morph_animated_nodes_;  // nodes whose morph weights a channel animates
   std::vector<bool> traversed_;                 // per glTF node: reached from the loaded scene's roots

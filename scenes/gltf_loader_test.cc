@@ -490,10 +490,12 @@ TEST(GltfLoader, ImagesAreCheckedBeforeDecoding) {
                         Case{&bmp, default_limit, "image 0 is not a PNG, JPEG or WebP image"},
                         Case{&widest_png, default_limit, "image 0 is 4294967295x4294967295 pixels, more than the limit"},
                         Case{&jpeg, 5, "image 0 is 3x2 pixels, more than the limit of 5"}, Case{&jpeg, default_limit, ""}}) {
-    TestGltf g;
+    TestGltf g;  // the image is the base colour of the triangle's material
     const int pos = g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
     g.doc["images"] = json::array({{{"uri", DataUri("image/png", *c.bytes)}}});
-    g.Mesh({{"POSITION", pos}});
+    g.doc["textures"] = json::array({{{"source", 0}}});
+    g.doc["materials"] = json::array({{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}});
+    g.Mesh({{"POSITION", pos}}, -1, 4, 0);
     g.Node({{"mesh", 0}});
     g.Scene({0});
     const auto path = g.Write(dir, "image");
@@ -512,6 +514,48 @@ TEST(GltfLoader, ImagesAreCheckedBeforeDecoding) {
       EXPECT_NE(what.find(path.string()), std::string::npos) << what;
     }
   }
+}
+
+// A texture whose optional extension (in extensionsUsed, not extensionsRequired) points at an
+// image rigsim cannot decode falls back to its PNG `source` (glTF 2.0, "Extensions"): the other
+// image is skipped with one warning naming it. An image no texture uses is skipped the same way
+// when it is too large; used, either is refused (ImagesAreCheckedBeforeDecoding).
+TEST(GltfLoader, ImagesNoUsedTextureSamplesAreSkippedWhenRigsimCannotDecodeThem) {
+  const auto dir = TempDir();
+  std::vector<uint8_t> ktx2 = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, '\r', '\n', 0x1A, '\n'};
+  ktx2.resize(80, 0);  // the KTX2 identifier and a (fake) header
+  std::vector<uint8_t> dds = {'D', 'D', 'S', ' ', 0x7C, 0, 0, 0};
+  dds.resize(128, 0);
+  for (const auto& [extension, bytes] : {std::pair{"KHR_texture_basisu", ktx2}, std::pair{"MSFT_texture_dds", dds}}) {
+    const std::string file = std::string(extension) + ".image";  // tinygltf takes only PNG and JPEG data URIs
+    std::ofstream(dir / file, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    TestGltf g;
+    const TestGltf::TwoSets quad = g.QuadWithTwoTexcoordSets();
+    g.doc["extensionsUsed"] = {extension};
+    g.doc["images"] = json::array({{{"uri", TinyPngUri()}}, {{"uri", file}}});
+    g.doc["textures"] = json::array({{{"source", 0}, {"extensions", {{extension, {{"source", 1}}}}}}});
+    g.doc["materials"] = json::array({{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}});
+    g.Node({{"mesh", g.Mesh({{"POSITION", quad.pos}, {"TEXCOORD_0", quad.uv0}}, -1, 6, 0)}});
+    g.Scene({0});
+    const Scene s = LoadGltf(g.Write(dir, extension));
+    ASSERT_EQ(s.textures.size(), 1u) << extension;
+    EXPECT_EQ(s.materials[0].base_color_texture, 0);
+    EXPECT_EQ(s.textures[0].width, 2);  // the PNG
+    EXPECT_EQ(std::count_if(s.warnings.begin(), s.warnings.end(),
+                            [](const std::string& w) { return w.find("image 1") != std::string::npos; }), 1) << extension;
+    EXPECT_TRUE(HasWarning(s, "image 1 is not a PNG, JPEG or WebP image (the formats glTF 2.0 and EXT_texture_webp allow); "
+                              "no texture rigsim uses samples it, so it is skipped")) << extension;
+  }
+  // An image over the pixel limit that no texture uses.
+  TestGltf g;
+  g.doc["images"] = json::array({{{"uri", TinyPngUri()}}});
+  g.Node({{"mesh", g.Mesh({{"POSITION", g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0})}})}});
+  g.Scene({0});
+  GltfLoadOptions small;
+  small.max_image_pixels = 3;
+  const Scene s = LoadGltf(g.Write(dir, "unused_large"), small);
+  EXPECT_TRUE(HasWarning(s, "image 0 is 2x2 pixels, more than the limit of 3 (GltfLoadOptions::max_image_pixels); "
+                            "no texture rigsim uses samples it"));
 }
 
 TEST(GltfLoader, UnlitMaterialsAreMarked) {
