@@ -1041,6 +1041,7 @@ class Loader {
     if (unreached_meshes > 0) {
       Warn(std::to_string(unreached_meshes) + " node(s) with a mesh are not part of the loaded scene and are ignored");
     }
+    scene_.skipped_camera_nodes += unreached_cameras;
     if (unreached_cameras > 0) {
       Warn(std::to_string(unreached_cameras) + " node(s) with a camera are not part of the loaded scene and are ignored");
     }
@@ -1060,6 +1061,10 @@ class Loader {
     const tinygltf::Camera& cam = model_.cameras[node.camera];
     const std::string where = "node " + std::to_string(node_index) + (node.name.empty() ? "" : " " + Quote(node.name)) +
                               " (camera " + std::to_string(node.camera) + (cam.name.empty() ? "" : " " + Quote(cam.name)) + ")";
+    auto skip = [&](const std::string& why) {
+      Warn(where + ": " + why + "; camera skipped");
+      ++scene_.skipped_camera_nodes;
+    };
     SceneCamera out;
     out.node = node_index;
     out.camera = node.camera;
@@ -1067,11 +1072,11 @@ class Loader {
     if (cam.type == "perspective") {
       const tinygltf::PerspectiveCamera& p = cam.perspective;
       if (!(p.yfov > 0.0 && p.yfov < std::numbers::pi)) {
-        Warn(where + ": yfov " + std::to_string(p.yfov) + " is not in (0, pi) radians; camera skipped");
+        skip("yfov " + std::to_string(p.yfov) + " is not in (0, pi) radians");
         return;
       }
       if (!(p.aspectRatio >= 0.0 && std::isfinite(p.aspectRatio))) {
-        Warn(where + ": aspectRatio " + std::to_string(p.aspectRatio) + " is not a positive number; camera skipped");
+        skip("aspectRatio " + std::to_string(p.aspectRatio) + " is not a positive number");
         return;
       }
       out.yfov_rad = p.yfov;
@@ -1083,12 +1088,12 @@ class Loader {
       out.znear_m = cam.orthographic.znear;
       out.zfar_m = cam.orthographic.zfar;
     } else {
-      Warn(where + ": camera type " + Quote(cam.type) + " is neither perspective nor orthographic; camera skipped");
+      skip("camera type " + Quote(cam.type) + " is neither perspective nor orthographic");
       return;
     }
     const Eigen::Matrix3d linear = world.topLeftCorner<3, 3>();
     if (!(linear.determinant() > 1e-12)) {
-      Warn(where + ": the node's transform mirrors or collapses space, which no camera pose can; camera skipped");
+      skip("the node's transform mirrors or collapses space, which no camera pose can");
       return;
     }
     Eigen::Matrix3d r = linear;

@@ -24,7 +24,8 @@
 //  - baseColorTexture may sample any TEXCOORD_n set and carry KHR_texture_transform (offset,
 //    rotation, scale, texCoord override); the transform is baked into SceneMesh::texcoords.
 //  - Cameras on nodes of the loaded scene become Scene::cameras (node order), posed at rest with
-//    their parents' transforms and converted to the OpenCV frame by CamFromWorldFromGltfCameraNode.
+//    their parents' transforms and converted to the OpenCV frame by CamFromWorldFromGltfCameraNode;
+//    the others are warned about and counted in Scene::skipped_camera_nodes.
 //  - Everything the loader cannot represent (extensions, extra attributes and textures, TANGENT
 //    morph displacements, points/lines) is named in Scene::warnings.
 //  - Malformed input (truncated file, out-of-range accessor, non-finite position, cyclic node graph)

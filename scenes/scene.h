@@ -177,6 +177,9 @@ struct Scene {
   std::vector<Texture> textures;
   std::vector<std::string> warnings;  // everything the loader skipped or guessed, human readable
   std::vector<SceneCamera> cameras;   // glTF cameras on nodes of the loaded scene, in node order
+  // Camera nodes not in `cameras`: outside the loaded scene, or not usable as a camera (mirrored,
+  // yfov out of range, ...); the warnings say which and why.
+  size_t skipped_camera_nodes = 0;
   std::vector<SceneSkin> skins;       // glTF skins (SceneMesh::skin)
   // Node animation (empty for a static scene): the node tree and the channels that move it.
   std::vector<SceneNode> nodes;

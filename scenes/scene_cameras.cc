@@ -41,9 +41,14 @@ SceneCameraRig RigFromSceneCameras(const Scene& scene, int width, int height) {
     }
   }
   if (perspective.empty()) {
-    throw std::runtime_error(scene.source + ": no perspective camera in the loaded scene" +
-                             (orthographic_names.empty() ? std::string(" (the file places no camera on its nodes)")
-                                                         : " (orthographic cameras cannot be rig cameras: " + orthographic_names + ")"));
+    std::string why;
+    if (!orthographic_names.empty()) why = "orthographic cameras cannot be rig cameras: " + orthographic_names;
+    if (scene.skipped_camera_nodes > 0) {
+      why += (why.empty() ? "" : "; ") + std::to_string(scene.skipped_camera_nodes) +
+             " camera node(s) skipped by the loader; its warnings say why";
+    }
+    throw std::runtime_error(scene.source + ": no perspective camera in the loaded scene (" +
+                             (why.empty() ? "the file places no camera on its nodes" : why) + ")");
   }
 
   const Rigid3d rig_from_world = perspective.front()->cam_from_world;

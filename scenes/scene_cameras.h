@@ -31,7 +31,8 @@ struct SceneCameraRig {
 };
 
 // Throws std::invalid_argument for an image size below 16x16 and std::runtime_error starting with
-// scene.source when the scene has no perspective camera (naming any orthographic ones).
+// scene.source when the scene has no perspective camera (naming any orthographic ones and counting
+// the camera nodes the loader skipped).
 SceneCameraRig RigFromSceneCameras(const Scene& scene, int width, int height);
 
 }  // namespace rigsim

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -17,6 +18,7 @@
 #include "geometry/rig.h"
 #include "scenes/gltf_loader.h"
 #include "scenes/scene_cameras.h"
+#include "tests/data_uri.h"
 #include "tests/rigsim_cli.h"
 
 namespace rigsim {
@@ -115,6 +117,56 @@ TEST_F(MakeRigFromGltf, AFileWithoutCamerasIsAnErrorNamingItAndWritesNothing) {
   EXPECT_NE(r.err.find(no_cameras_.string() + ": no perspective camera"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out));
   EXPECT_FALSE(HasStagingFolder(dir_));
+}
+
+// The loader's warnings are printed too: the cameras it skips (under a mirroring parent, yfov 0),
+// and those it keeps at their rest pose (animated) or approximates (sheared). When it skipped
+// every camera, the error says so instead of claiming the file has none.
+TEST_F(MakeRigFromGltf, TheLoadersWarningsArePrintedAndSkippedCamerasCounted) {
+  const json camera = {{"type", "perspective"}, {"perspective", {{"yfov", 1.0}, {"znear", 0.1}}}};
+  json zero_fov = camera;
+  zero_fov["perspective"]["yfov"] = 0.0;
+  json doc = {{"asset", {{"version", "2.0"}}},
+              {"cameras", {camera, zero_fov}},
+              {"nodes",
+               {{{"name", "mirror"}, {"scale", {1, 1, -1}}, {"children", {1}}},
+                {{"name", "mirrored"}, {"camera", 0}},
+                {{"name", "no_fov"}, {"camera", 1}},
+                {{"name", "shear"}, {"scale", {1, 3, 1}}, {"children", {4}}},
+                {{"name", "sheared"}, {"camera", 0}, {"rotation", {0, 0, std::sin(0.3), std::cos(0.3)}}},
+                {{"name", "moving"}, {"camera", 0}}}},
+              {"scenes", {{{"nodes", {0, 2, 3, 5}}}}},
+              {"scene", 0}};
+  const std::vector<float> times = {0, 1}, moves = {0, 0, 0, 1, 0, 0};
+  std::vector<uint8_t> bytes(32);
+  std::memcpy(bytes.data(), times.data(), 8);
+  std::memcpy(bytes.data() + 8, moves.data(), 24);
+  doc["buffers"] = {{{"byteLength", 32}, {"uri", DataUri("application/octet-stream", bytes)}}};
+  doc["bufferViews"] = {{{"buffer", 0}, {"byteLength", 8}}, {{"buffer", 0}, {"byteOffset", 8}, {"byteLength", 24}}};
+  doc["accessors"] = {{{"bufferView", 0}, {"componentType", 5126}, {"count", 2}, {"type", "SCALAR"}, {"min", {0}}, {"max", {1}}},
+                      {{"bufferView", 1}, {"componentType", 5126}, {"count", 2}, {"type", "VEC3"}}};
+  doc["animations"] = {{{"samplers", {{{"input", 0}, {"output", 1}}}}, {"channels", {{{"sampler", 0}, {"target", {{"node", 5}, {"path", "translation"}}}}}}}};
+  const fs::path mixed = dir_ / "mixed.gltf";
+  std::ofstream(mixed) << doc.dump(1);
+  const CliResult r = RunRigsim(dir_, {"make-rig", "--from-gltf", mixed.string(), "--out", (dir_ / "mixed").string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(ReadRig(dir_ / "mixed" / "rig.json").cameras.size(), 2u);
+  for (const char* warning : {"node 1 'mirrored' (camera 0): the node's transform mirrors", "node 2 'no_fov' (camera 1): yfov",
+                              "node 4 'sheared' (camera 0): the node's transform shears",
+                              "node 5 'moving' (camera 0): is animated; cameras are loaded at their rest pose"}) {
+    EXPECT_NE(r.err.find(warning), std::string::npos) << warning << " in:\n" << r.err;
+  }
+
+  doc["scenes"][0]["nodes"] = {0, 2};  // two unusable cameras; two more outside the loaded scene
+  const fs::path skipped = dir_ / "skipped.gltf";
+  std::ofstream(skipped) << doc.dump(1);
+  const CliResult none = RunRigsim(dir_, {"make-rig", "--from-gltf", skipped.string(), "--out", (dir_ / "skipped").string()});
+  EXPECT_NE(none.code, 0);
+  EXPECT_NE(none.err.find(skipped.string() + ": no perspective camera in the loaded scene (4 camera node(s) skipped by the loader; its warnings say why)"),
+            std::string::npos) << none.err;
+  EXPECT_EQ(none.err.find("places no camera"), std::string::npos) << none.err;
+  EXPECT_NE(none.err.find("'mirrored' (camera 0): the node's transform mirrors"), std::string::npos) << none.err;
+  EXPECT_FALSE(fs::exists(dir_ / "skipped"));
 }
 
 TEST_F(MakeRigFromGltf, ConflictingOrMissingOptionsAreRefused) {

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "apps/rigsim/commands.h"
+#include "apps/rigsim/render_support.h"
 #include "dataset/dataset.h"
 #include "geometry/rig.h"
 #include "scenes/gltf_loader.h"
@@ -146,7 +147,7 @@ void AddMakeRigCommand(CLI::App& app) {
     };
 
     if (!args->from_gltf.empty()) {
-      const Scene scene = LoadGltf(args->from_gltf);
+      const Scene scene = LoadSceneVerbose(args->from_gltf);  // its warnings name the cameras it skipped
       SceneCameraRig from_file = RigFromSceneCameras(scene, args->ring.width, args->ring.height);
       for (const std::string& w : from_file.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
       if (args->perturb.rotation_deg > 0 || args->perturb.translation_m > 0) PerturbRig(from_file.rig, args->perturb);
