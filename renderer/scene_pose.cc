@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <stdexcept>
 #include <string>
 
@@ -85,28 +84,34 @@ std::vector<Eigen::Matrix4d> NodeWorldTransformsAt(const Scene& scene, double ti
       case AnimationPath::kWeights: break;
     }
   }
-  std::vector<Eigen::Matrix4d> world(n);
-  std::vector<int> state(n, 0);  // 0 = todo, 1 = in progress, 2 = done
-  std::function<const Eigen::Matrix4d&(size_t)> resolve = [&](size_t i) -> const Eigen::Matrix4d& {
-    if (state[i] == 2) return world[i];
-    if (state[i] == 1) throw std::invalid_argument(scene.source + ": node " + std::to_string(i) + " is its own ancestor");
-    state[i] = 1;
-    Eigen::Matrix4d local;
-    if (scene.nodes[i].has_matrix && !animated[i]) {
-      local = scene.nodes[i].matrix;
-    } else {
-      Eigen::Affine3d t = Eigen::Affine3d::Identity();
-      t.translate(trs[i].translation);
-      t.rotate(trs[i].rotation);
-      t.scale(trs[i].scale);
-      local = t.matrix();
-    }
-    const int parent = scene.nodes[i].parent;
-    world[i] = parent >= 0 && size_t(parent) < n ? Eigen::Matrix4d(resolve(size_t(parent)) * local) : local;
-    state[i] = 2;
-    return world[i];
+  auto local = [&](size_t i) -> Eigen::Matrix4d {
+    if (scene.nodes[i].has_matrix && !animated[i]) return scene.nodes[i].matrix;
+    Eigen::Affine3d t = Eigen::Affine3d::Identity();
+    t.translate(trs[i].translation);
+    t.rotate(trs[i].rotation);
+    t.scale(trs[i].scale);
+    return t.matrix();
   };
-  for (size_t i = 0; i < n; ++i) resolve(i);
+  // Without recursion, as the loader traverses: a valid file may nest nodes 100,000 deep.
+  std::vector<Eigen::Matrix4d> world(n);
+  std::vector<int> state(n, 0);  // 0 = todo, 1 = on the path being resolved, 2 = done
+  std::vector<size_t> path;      // from a node up to the first ancestor that is done (or a root)
+  for (size_t start = 0; start < n; ++start) {
+    for (size_t i = start; state[i] != 2;) {
+      if (state[i] == 1) throw std::invalid_argument(scene.source + ": node " + std::to_string(i) + " is its own ancestor");
+      state[i] = 1;
+      path.push_back(i);
+      const int parent = scene.nodes[i].parent;
+      if (parent < 0 || size_t(parent) >= n) break;
+      i = size_t(parent);
+    }
+    for (; !path.empty(); path.pop_back()) {  // parents first
+      const size_t i = path.back();
+      const int parent = scene.nodes[i].parent;
+      world[i] = parent >= 0 && size_t(parent) < n ? Eigen::Matrix4d(world[parent] * local(i)) : local(i);
+      state[i] = 2;
+    }
+  }
   return world;
 }
 

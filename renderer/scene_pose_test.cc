@@ -208,6 +208,26 @@ TEST(ScenePoseTest, RotationSlerpsAndChildrenFollowTheirParent) {
   EXPECT_TRUE(MeshCentre(PoseMeshesAt(scene, 1.0)[0]).isApprox(expected, 1e-6));
 }
 
+// A valid file may nest nodes very deep (a chain of 100,000 here, each 1 mm along z below an
+// animated root): posing resolves parents without recursing, so it does not overflow the stack.
+TEST(ScenePoseTest, DeepNodeChainsArePosed) {
+  Scene scene = AnimatedBoxScene();  // node 0 moves from (-1, 0, 6) to (1, 0, 6)
+  constexpr int kDepth = 100000;
+  SceneNode link;
+  link.translation = Eigen::Vector3d(0, 0, 1e-3);
+  for (int i = 1; i < kDepth; ++i) {
+    link.parent = i - 1;
+    scene.nodes.push_back(link);
+  }
+  scene.meshes[0].node = kDepth - 1;
+  const std::vector<Eigen::Matrix4d> world = NodeWorldTransformsAt(scene, 0.5);
+  const Eigen::Vector3d leaf = world.back().topRightCorner<3, 1>();
+  EXPECT_TRUE(leaf.isApprox(Eigen::Vector3d(0, 0, 6 + (kDepth - 1) * 1e-3), 1e-9)) << leaf.transpose();
+  EXPECT_TRUE(MeshCentre(PoseMeshesAt(scene, 0.5)[0]).isApprox(leaf, 1e-6));
+  scene.nodes[0].parent = kDepth - 1;  // a cycle is still refused
+  EXPECT_THROW(NodeWorldTransformsAt(scene, 0.5), std::invalid_argument);
+}
+
 // EXT_mesh_gpu_instancing: three instances of the box on node 0, which moves along x and turns
 // 90 deg about y from t = 0 to 1. Each follows its node in the node's frame, world_from_node(t) *
 // node_from_instance: the instance 2 m along the node's z is at (-1, 0, 8) at t = 0 and at (1, 0,
