@@ -1,6 +1,7 @@
 #include "scenes/gltf_loader.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -280,6 +281,30 @@ DeclaredExtensions ReadDeclaredExtensions(std::string_view text) {
   return {names("extensionsRequired"), names("extensionsUsed")};
 }
 
+// "<major>.<minor>", the form glTF gives asset.version and asset.minVersion; nullopt otherwise.
+std::optional<std::pair<int, int>> ParseGltfVersion(const std::string& text) {
+  const char* end = text.data() + text.size();
+  int major = 0, minor = 0;
+  const auto [dot, major_error] = std::from_chars(text.data(), end, major);
+  if (major_error != std::errc() || dot == end || *dot != '.') return std::nullopt;
+  const auto [rest, minor_error] = std::from_chars(dot + 1, end, minor);
+  if (minor_error != std::errc() || rest != end) return std::nullopt;
+  return std::make_pair(major, minor);
+}
+
+// Why rigsim, a glTF 2.0 client, must refuse the file; empty when it may load it. glTF 2.0,
+// "Asset": a client first checks minVersion, when given, for a version it supports (rigsim: 2.0),
+// else that the major version is 2 (a later 2.x only adds what a 2.0 client may ignore).
+std::string UnsupportedVersion(const tinygltf::Asset& asset) {
+  const std::string& given = asset.minVersion.empty() ? asset.version : asset.minVersion;
+  const char* key = asset.minVersion.empty() ? "asset.version" : "asset.minVersion";
+  const auto version = ParseGltfVersion(given);
+  if (!version) return std::string(key) + " " + Quote(given) + " is not a glTF version (<major>.<minor>)";
+  if (asset.minVersion.empty()) return version->first == 2 ? "" : "asset.version is " + given + ": rigsim reads glTF 2.x";
+  if (*version == std::make_pair(2, 0)) return "";
+  return "asset.minVersion is " + given + ": the file needs a glTF " + given + " reader, and rigsim reads glTF 2.0";
+}
+
 constexpr const char* kGpuInstancing = "EXT_mesh_gpu_instancing";
 
 // Extensions whose content we fully honour; everything else in extensionsRequired is fatal.
@@ -363,6 +388,7 @@ class Loader {
                            : gltf.LoadASCIIFromString(&model_, &err, &warn, reinterpret_cast<const char*>(load.data()),
                                                       unsigned(load.size()), folder);
     if (readable) readable->bytes = {};  // tinygltf keeps what it needs
+    if (const std::string why = ok ? UnsupportedVersion(model_.asset) : ""; !why.empty()) Fail(why);
     const int nodeless_channels = TakeErrorsGltfAllows(&err);
     err = AbbreviateDataUris(err);
     warn = AbbreviateDataUris(warn);

@@ -29,7 +29,8 @@
 //  - Everything the loader cannot represent (extensions, extra attributes and textures, TANGENT
 //    morph displacements, points/lines) is named in Scene::warnings.
 //  - Malformed input (truncated file, out-of-range accessor, non-finite position, cyclic node graph)
-//    throws std::runtime_error whose message starts with the file name.
+//    and files for another glTF version (asset.version and minVersion, checked as glTF 2.0 asks)
+//    throw std::runtime_error whose message starts with the file name.
 #pragma once
 
 #include <cstddef>

@@ -881,6 +881,31 @@ TEST(GltfLoader, TruncatedGlbThrowsWithFileName) {
   ExpectThrowsWith(dir / "does_not_exist.glb", "cannot open");
 }
 
+// glTF 2.0, "Asset": a client refuses a file whose minVersion it does not support (rigsim: 2.0),
+// else one whose major version is not 2; a later 2.x minor version loads.
+TEST(GltfLoader, FilesForAnotherGltfVersionAreRefused) {
+  const auto dir = TempDir();
+  TestGltf g;
+  g.Node({{"mesh", g.Mesh({{"POSITION", g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0})}})}});
+  g.Scene({0});
+  for (const auto& [version, min_version, error] :
+       {std::tuple{"1.0", "", "asset.version is 1.0: rigsim reads glTF 2.x"},
+        std::tuple{"3.0", "", "asset.version is 3.0: rigsim reads glTF 2.x"},
+        std::tuple{"2.1", "2.1", "asset.minVersion is 2.1: the file needs a glTF 2.1 reader, and rigsim reads glTF 2.0"},
+        std::tuple{"2", "", "asset.version '2' is not a glTF version (<major>.<minor>)"},
+        std::tuple{"2.1", "", ""}, std::tuple{"3.0", "2.0", ""}, std::tuple{"2.0", "2.0", ""}}) {
+    g.doc["asset"] = {{"version", version}};
+    if (*min_version) g.doc["asset"]["minVersion"] = min_version;
+    const std::string name = std::string(version) + "_" + min_version;
+    if (*error) {
+      ExpectThrowsWith(g.Write(dir, name), error);
+      ExpectThrowsWith(g.WriteGlb(dir, name), error);
+    } else {
+      EXPECT_EQ(LoadGltf(g.WriteGlb(dir, name)).meshes.size(), 1u) << name;
+    }
+  }
+}
+
 // A file that requires an extension rigsim lacks is refused naming it, even when tinygltf would
 // stumble first on what the extension changes (here an index accessor without a bufferView, which
 // tinygltf refuses).
