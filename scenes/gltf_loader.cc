@@ -15,6 +15,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -103,6 +104,9 @@ double ReadComponent(const unsigned char* p, int component_type, bool normalized
     default: return 0.0;
   }
 }
+
+// A quaternion too short to normalise into a rotation (glTF stores unit ones; exporters round).
+bool IsZeroQuaternion(const Eigen::Vector4d& q) { return !(q.norm() > 1e-6); }
 
 Eigen::Matrix4d LocalTransform(const tinygltf::Node& node) {
   Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
@@ -342,6 +346,7 @@ class Loader {
     ReportFileLevelUnsupported();
     ParseClasses();
     ConvertMaterials();
+    CheckNodeTransforms();
     ParseAnimations();
     ParseSkins();
     Traverse();
@@ -874,6 +879,26 @@ class Loader {
     return model_.meshes[mesh].primitives[0].targets.size();
   }
 
+  // glTF: a node's matrix has 16 numbers, translation and scale 3, rotation 4 and not zero (a unit
+  // quaternion; LocalTransform normalises it, as exporters round). tinygltf takes any count, and
+  // LocalTransform would read a wrong one, or a zero quaternion, as identity.
+  void CheckNodeTransforms() const {
+    for (size_t i = 0; i < model_.nodes.size(); ++i) {
+      const tinygltf::Node& node = model_.nodes[i];
+      const std::tuple<const char*, const std::vector<double>&, size_t> properties[] = {
+          {"matrix", node.matrix, 16}, {"translation", node.translation, 3}, {"rotation", node.rotation, 4}, {"scale", node.scale, 3}};
+      for (const auto& [name, values, size] : properties) {
+        if (!values.empty() && values.size() != size) {
+          Fail(NodeLabel(int(i)) + ": " + name + " has " + std::to_string(values.size()) + " numbers, glTF requires " +
+               std::to_string(size));
+        }
+      }
+      if (node.rotation.size() == 4 && IsZeroQuaternion(Eigen::Map<const Eigen::Vector4d>(node.rotation.data()))) {
+        Fail(NodeLabel(int(i)) + ": rotation is a zero quaternion, which is no rotation");
+      }
+    }
+  }
+
   // Node animations: the node tree (rest transforms, parents) and every translation, rotation,
   // scale and morph-weights channel. CUBICSPLINE keys are sampled at their values and interpolated
   // linearly (warned).
@@ -1245,7 +1270,7 @@ class Loader {
         if (!std::isfinite(values[k][i])) Fail(label + ": instance " + std::to_string(i / ncomp) + " is not finite");
       }
       for (size_t i = 0; k == 1 && i < n; ++i) {
-        if (!(Eigen::Map<const Eigen::Vector4d>(&values[k][4 * i]).norm() > 1e-6)) {
+        if (IsZeroQuaternion(Eigen::Map<const Eigen::Vector4d>(&values[k][4 * i]))) {
           Fail(label + ": instance " + std::to_string(i) + " has a zero quaternion, which is no rotation");
         }
       }

@@ -187,6 +187,32 @@ TEST(GltfLoader, TrsEqualsMatrix) {
   }
 }
 
+// glTF: matrix has 16 numbers, translation and scale 3, rotation 4, and rotation is a unit
+// quaternion. tinygltf takes any count; a wrong one, or a zero quaternion, was read as identity.
+// A non-unit rotation is normalised (exporters round). (Non-finite numbers cannot get this far:
+// the JSON parser refuses 1e999, and the node's world transform is checked.)
+TEST(GltfLoader, InvalidNodeTransformsAreRefusedNamingTheNode) {
+  const auto dir = TempDir();
+  TestGltf g;
+  g.Node({{"name", "quad"}, {"mesh", g.Mesh({{"POSITION", g.Positions({1, 0, 0, 0, 1, 0, 0, 0, 1})}})}});
+  g.Scene({0});
+  const json identity15 = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0};
+  for (const auto& [property, value, error] :
+       {std::tuple{"matrix", identity15, "node 0 'quad': matrix has 15 numbers, glTF requires 16"},
+        std::tuple{"translation", json{1, 2}, "node 0 'quad': translation has 2 numbers, glTF requires 3"},
+        std::tuple{"rotation", json{0, 0, 0, 0}, "node 0 'quad': rotation is a zero quaternion, which is no rotation"},
+        std::tuple{"scale", json{1, 1, 1, 1}, "node 0 'quad': scale has 4 numbers, glTF requires 3"}}) {
+    TestGltf bad = g;
+    bad.doc["nodes"][0][property] = value;
+    ExpectThrowsWith(bad.Write(dir, property), error);
+  }
+  TestGltf turned = g;  // 90 degrees about +y, at twice unit length
+  turned.doc["nodes"][0]["rotation"] = {0, std::sqrt(2.0), 0, std::sqrt(2.0)};
+  const Scene s = LoadGltf(turned.Write(dir, "turned"));
+  ASSERT_EQ(s.meshes.size(), 1u);
+  EXPECT_TRUE(s.meshes[0].positions[0].isApprox(Eigen::Vector3f(0, 0, -1), 1e-6f)) << s.meshes[0].positions[0].transpose();
+}
+
 TEST(GltfLoader, NestedTransformsAccumulate) {
   const auto dir = TempDir();
   TestGltf g;
