@@ -272,8 +272,7 @@ struct DeclaredExtensions {
   std::vector<std::string> required, used;
 };
 
-DeclaredExtensions ReadDeclaredExtensions(std::string_view text) {
-  const nlohmann::json doc = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+DeclaredExtensions ReadDeclaredExtensions(const nlohmann::json& doc) {
   auto names = [&](const char* key) {
     std::vector<std::string> out;
     if (!doc.is_object() || !doc.contains(key) || !doc[key].is_array()) return out;
@@ -307,6 +306,33 @@ std::string UnsupportedVersion(const tinygltf::Asset& asset) {
   if (asset.minVersion.empty()) return version->first == 2 ? "" : "asset.version is " + given + ": rigsim reads glTF 2.x";
   if (*version == std::make_pair(2, 0)) return "";
   return "asset.minVersion is " + given + ": the file needs a glTF " + given + " reader, and rigsim reads glTF 2.0";
+}
+
+// tinygltf 2.7 refuses an index accessor without a bufferView, which glTF allows (zeros, with
+// sparse values), in words that name no primitive: "accessor[N] invalid bufferView". This names
+// the primitives whose indices are accessor N, from the file's JSON; "" for any other error.
+std::string IndexAccessorUsers(const nlohmann::json& doc, const std::string& err) {
+  constexpr std::string_view kBefore = "accessor[", kAfter = "] invalid bufferView";
+  const size_t after = err.find(kAfter);
+  const size_t before = after == std::string::npos ? std::string::npos : err.rfind(kBefore, after);
+  if (before == std::string::npos) return "";
+  const char* last = err.data() + after;
+  int accessor = -1;
+  const auto [end, error] = std::from_chars(err.data() + before + kBefore.size(), last, accessor);
+  if (error != std::errc() || end != last || !doc.is_object() || !doc.contains("meshes") || !doc["meshes"].is_array()) return "";
+  std::string users;
+  for (size_t m = 0; m < doc["meshes"].size(); ++m) {
+    const nlohmann::json& mesh = doc["meshes"][m];
+    if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+    const std::string name = mesh.contains("name") && mesh["name"].is_string() ? mesh["name"].get<std::string>() : "";
+    for (size_t p = 0; p < mesh["primitives"].size(); ++p) {
+      const nlohmann::json& prim = mesh["primitives"][p];
+      if (prim.is_object() && prim.contains("indices") && prim["indices"] == accessor) {
+        users += (users.empty() ? "" : ", ") + PrimitiveLabel(m, name, p);
+      }
+    }
+  }
+  return users;
 }
 
 constexpr const char* kGpuInstancing = "EXT_mesh_gpu_instancing";
@@ -400,15 +426,17 @@ class Loader {
     auto missing_file = [](const std::string& line) {
       return line.find("Failed to load external") != std::string::npos || line.find("File not found") != std::string::npos;
     };
-    std::string unsupported_used;  // named when the file is refused anyway
+    std::string unsupported_used, index_users;  // named when the file is refused anyway
     if (!ok || !err.empty() || missing_file(warn)) {
-      const DeclaredExtensions declared = ReadDeclaredExtensions(GltfJson(bytes));
+      const nlohmann::json doc = nlohmann::json::parse(GltfJson(bytes), nullptr, /*allow_exceptions=*/false);
+      const DeclaredExtensions declared = ReadDeclaredExtensions(doc);
       for (const std::string& ext : declared.required) {
         if (!SupportedExtension(ext)) Fail("requires extension " + ext + ", which rigsim does not support");
       }
       for (const std::string& ext : declared.used) {
         if (!SupportedExtension(ext)) unsupported_used += (unsupported_used.empty() ? "" : ", ") + ext;
       }
+      index_users = IndexAccessorUsers(doc, err);
     }
     // tinygltf reports a missing image as a warning; we turn it into an error naming the file.
     std::istringstream warn_lines(warn);
@@ -422,6 +450,10 @@ class Loader {
       // tinygltf's words for a buffer whose data URI is not base64 or not byteLength bytes long.
       if (err.find("Failed to decode 'uri' : ") == 0 && err.find(" in Buffer") != std::string::npos) {
         err += " (the data URI is not base64, or does not decode to the buffer's byteLength)";
+      }
+      if (!index_users.empty()) {
+        err += " (the indices of " + index_users + ": glTF allows an index accessor without a bufferView, its values " +
+               "all sparse, but tinygltf, which reads the file for rigsim, does not)";
       }
       if (!unsupported_used.empty()) err += " (the file also uses " + unsupported_used + ", which rigsim does not read)";
       Fail(std::string(binary ? "invalid .glb: " : "invalid .gltf: ") + (err.empty() ? "tinygltf failed" : err));
