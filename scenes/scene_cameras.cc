@@ -1,6 +1,7 @@
 #include "scenes/scene_cameras.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <set>
@@ -11,13 +12,22 @@ namespace {
 
 std::string Quote(const std::string& s) { return "'" + s + "'"; }
 
-// Camera names become folder names in a dataset (render refuses separators, "." and "..").
+// Camera names become folder names in a dataset (render refuses separators, "." and ".."; a
+// blank name makes a folder hard to see or type).
 std::string FileSafeName(const SceneCamera& c) {
   std::string name = c.name;
   for (char& ch : name) {
     if (ch == '/' || ch == '\\') ch = '_';
   }
-  if (name.empty() || name == "." || name == "..") name = "camera" + std::to_string(c.node);
+  const bool blank = name.find_first_not_of(" \t\n\v\f\r") == std::string::npos;
+  if (blank || name == "." || name == "..") name = "camera" + std::to_string(c.node);
+  return name;
+}
+
+// Names that differ only in letter case are one folder on case-insensitive file systems (macOS,
+// Windows by default), so they count as repeats.
+std::string FolderKey(std::string name) {
+  for (char& ch : name) ch = char(std::tolower(static_cast<unsigned char>(ch)));
   return name;
 }
 
@@ -54,15 +64,15 @@ SceneCameraRig RigFromSceneCameras(const Scene& scene, int width, int height) {
   const Rigid3d rig_from_world = perspective.front()->cam_from_world;
   const Rigid3d world_from_rig = rig_from_world.Inverse();
   const double image_aspect = double(width) / height;
-  std::set<std::string> used;
+  std::set<std::string> used;  // FolderKey of the names given so far
   for (const SceneCamera* c : perspective) {
-    std::string name = FileSafeName(*c);
-    if (!used.insert(name).second) {
-      const std::string renamed = name + "_" + std::to_string(c->node);
-      out.warnings.push_back("camera name " + Quote(name) + " repeats; the camera on node " + std::to_string(c->node) +
-                             " is called " + Quote(renamed));
-      name = renamed;
-      used.insert(name);
+    const std::string wanted = FileSafeName(*c);
+    std::string name = wanted;
+    // A repeat gets "_<node>", and again if that name is taken too.
+    while (!used.insert(FolderKey(name)).second) name.append("_").append(std::to_string(c->node));
+    if (name != wanted) {
+      out.warnings.push_back("camera name " + Quote(wanted) + " repeats (letter case aside, as folder names on macOS and "
+                             "Windows); the camera on node " + std::to_string(c->node) + " is called " + Quote(name));
     }
     const double tan_half = std::tan(0.5 * c->yfov_rad);
     const double aspect = c->aspect_ratio > 0 ? c->aspect_ratio : image_aspect;

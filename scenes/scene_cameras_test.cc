@@ -1,11 +1,13 @@
 #include "scenes/scene_cameras.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -210,6 +212,26 @@ TEST(SceneCameras, BadCamerasAreSkippedWithWarningsAndNamesAreMadeUsable) {
   ASSERT_EQ(r.rig.cameras.size(), 2u);
   EXPECT_EQ(r.rig.cameras[0].name, "a_b");    // separators replaced
   EXPECT_EQ(r.rig.cameras[1].name, "a_b_5");  // repeated name made unique
+}
+
+// Names become folder names: a blank one is replaced like an empty one, and names that differ only
+// in letter case (one folder on macOS and Windows) are made unique like repeated ones.
+TEST(SceneCameras, BlankNamesAndNamesDifferingInCaseAreMadeUsable) {
+  const auto dir = TempDir();
+  json doc = {{"asset", {{"version", "2.0"}}}, {"cameras", {Perspective(1.0)}}, {"nodes", json::array()}};
+  for (const char* name : {" \t", "Cam", "cam", "", "CAMERA0"}) {
+    doc["nodes"].push_back({{"name", name}, {"camera", 0}, {"translation", {double(doc["nodes"].size()), 0, 0}}});
+  }
+  const SceneCameraRig r = RigFromSceneCameras(LoadGltf(WriteGltf(dir, "names", doc)), 64, 48);
+  std::vector<std::string> names;
+  for (const RigCamera& c : r.rig.cameras) names.push_back(c.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"camera0", "Cam", "cam_2", "camera3", "CAMERA0_4"}));
+  EXPECT_EQ(std::count_if(r.warnings.begin(), r.warnings.end(), [](const std::string& w) { return w.find("repeats") != std::string::npos; }), 2);
+  // The made-up name may be taken already ("CAM_2" by "Cam_2", letter case aside): the suffix repeats.
+  doc["nodes"] = {{{"name", "Cam_2"}, {"camera", 0}}, {{"name", "cam"}, {"camera", 0}}, {{"name", "CAM"}, {"camera", 0}}};
+  names.clear();
+  for (const RigCamera& c : RigFromSceneCameras(LoadGltf(WriteGltf(dir, "taken", doc)), 64, 48).rig.cameras) names.push_back(c.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"Cam_2", "cam", "CAM_2_2"}));
 }
 
 }  // namespace
