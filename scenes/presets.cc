@@ -160,7 +160,8 @@ class PresetGenerator {
   }
 
   void Bus(const std::string& name, float x, float z, float yaw, int poster) {
-    const int paint = Material(name + "_paint", PaintPlain(rng_.Fork(), 128, 128, RandomColor(rng_, 0.5f, 0.95f), 0.05f, 10));
+    const Vector3f colour = RandomColor(rng_, 0.5f, 0.95f);  // before the fork, as GCC ordered the arguments
+    const int paint = Material(name + "_paint", PaintPlain(rng_.Fork(), 128, 128, colour, 0.05f, 10));
     const Eigen::Matrix4d place = Placement(x, z, yaw);
     const int node = b_.AddNode(name, "bus", BusParts(11.f, 2.5f, 3.1f, paint, poster), place);
     movers_.push_back({node, place, 6.f});
@@ -338,7 +339,10 @@ class ParkingGenerator : public PresetGenerator {
           for (float x = -27.5f; x < 27.5f; x += 2.5f) {
             Glyphs(c, marks, (x + 0.55f - x0) * ppm, (end_z - z0) * ppm, 0.5f * ppm, 2, Vector3f(0.9f, 0.9f, 0.86f));
             const float sx = (x + 1.25f + marks.Uniform(-0.5f, 0.5f) - x0) * ppm, sz = (row_z + marks.Uniform(-1.f, 1.f) - z0) * ppm;
-            FillEllipse(c, sx, sz, marks.Uniform(0.2f, 0.5f) * ppm, marks.Uniform(0.2f, 0.6f) * ppm, Vector3f(0.08f, 0.08f, 0.08f), 0.4f);
+            // Drawn one by one: two draws as arguments of one call come in an order the compiler
+            // picks (GCC's last argument first, which the shipped assets keep; clang's first).
+            const float ry = marks.Uniform(0.2f, 0.6f) * ppm, rx = marks.Uniform(0.2f, 0.5f) * ppm;
+            FillEllipse(c, sx, sz, rx, ry, Vector3f(0.08f, 0.08f, 0.08f), 0.4f);
           }
         }
         for (float x = -25.f; x < 30.f; x += 10.f) {

@@ -432,10 +432,16 @@ void PerturbRig(Rig& rig, const RigPerturbation& p) {
   Rng rng(p.seed);
   for (RigCamera& c : rig.cameras) {
     if (!c.cam_from_rig) continue;
-    Eigen::Vector3d axis(rng.Uniform(-1, 1), rng.Uniform(-1, 1), rng.Uniform(-1, 1));
+    // Draws one by one, z first: as constructor arguments their order was the compiler's choice
+    // (GCC's, last first, is the one kept: the same seed gives the rigs it gave).
+    auto draw_vector = [&rng] {
+      const double z = rng.Uniform(-1, 1), y = rng.Uniform(-1, 1), x = rng.Uniform(-1, 1);
+      return Eigen::Vector3d(x, y, z);
+    };
+    Eigen::Vector3d axis = draw_vector();
     if (axis.norm() < 1e-9) axis = Eigen::Vector3d::UnitX();
     const double angle = DegToRad(p.rotation_deg) * rng.Uniform();
-    Eigen::Vector3d dt(rng.Uniform(-1, 1), rng.Uniform(-1, 1), rng.Uniform(-1, 1));
+    Eigen::Vector3d dt = draw_vector();
     if (dt.norm() > 1) dt.normalize();
     const Rigid3d delta(Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized())), p.translation_m * dt);
     c.cam_from_rig = delta * *c.cam_from_rig;
