@@ -8,6 +8,10 @@
 #   bash scripts/fuzz.sh              # 10 s per target (what scripts/test.sh runs)
 #   bash scripts/fuzz.sh 3600         # an hour per target
 #   bash scripts/fuzz.sh 600 fuzz_gltf   # one target
+#
+# RIGSIM_FUZZ_ALSO_BUILD="geometry_test ..." builds those targets (unit tests) in the same build
+# before fuzzing: scripts/test.sh runs them under the same sanitizers, so that the libraries are
+# compiled with sanitizers once, not twice.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-${RIGSIM_FUZZ_SECONDS:-10}}
@@ -22,13 +26,17 @@ if [ ${#targets[@]} -eq 0 ]; then
   if [ -f scenes/label_rules.h ]; then targets+=(fuzz_label_rules); fi
 fi
 
+also=(${RIGSIM_FUZZ_ALSO_BUILD:-})
+with_tests=OFF
+if [ ${#also[@]} -gt 0 ]; then with_tests=ON; fi
+
 mkdir -p "$build_dir"
-# Only the libraries the readers need: no renderer, calibrator or CLI, no tests.
+# Only the libraries the readers need: no renderer, calibrator or CLI.
 CC=clang CXX=clang++ "${lock[@]}" cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DRIGSIM_FUZZ=ON \
-  -DRIGSIM_BUILD_TESTS=OFF -DRIGSIM_BUILD_BENCHMARKS=OFF \
+  -DRIGSIM_BUILD_TESTS=$with_tests -DRIGSIM_BUILD_BENCHMARKS=OFF \
   -DRIGSIM_SKIP_MODULES="exports;renderer;calibrator;apps/rigsim" > "$build_dir/configure.log" 2>&1 ||
   { cat "$build_dir/configure.log"; exit 1; }
-"${lock[@]}" cmake --build "$build_dir" --target "${targets[@]}" -j"$(nproc)"
+"${lock[@]}" cmake --build "$build_dir" --target "${targets[@]}" "${also[@]}" -j"$(nproc)"
 
 mkdir -p "$build_dir/artifacts"
 for t in "${targets[@]}"; do
