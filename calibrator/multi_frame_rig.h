@@ -155,6 +155,10 @@ struct MultiFrameBundleAdjustmentResult {
   double initial_rms_px = 0.0;
   double reprojection_rms_px = 0.0;
   int iterations = 0;
+  // Per camera: covariance of its centre in the rig (in the result's units, squared) at the
+  // solution, from the Jacobian and the reprojection RMS; nullopt for camera 0 and cameras not
+  // adjusted, or when it could not be computed.
+  std::vector<std::optional<Eigen::Matrix3d>> centre_covariance;
 };
 
 // Triangulates the tracks (world frame) over the posed views, then solves and filters

@@ -24,7 +24,8 @@ struct ChainRing {
   RigObservations observations;
 };
 
-ChainRing MakeChainRing(int frames, uint32_t seed) {
+// `radius`: of the ring (its mounting wobble scales with it); 0 puts every camera at one centre.
+ChainRing MakeChainRing(int frames, uint32_t seed, double radius = 0.3) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0, 1);
   std::normal_distribution<double> noise(0, 1);
@@ -37,8 +38,9 @@ ChainRing MakeChainRing(int frames, uint32_t seed) {
         (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()) *
          Eigen::AngleAxisd(DegToRad(3.0 * (u(rng) - 0.5)), Eigen::Vector3d::UnitX()))
             .toRotationMatrix();
-    const Eigen::Vector3d centre = 0.3 * Eigen::Vector3d(std::sin(yaw), 0, std::cos(yaw)) +
-                                   Eigen::Vector3d(0.02 * u(rng), 0.02 * u(rng), 0.02 * u(rng));
+    const double wobble_x = u(rng), wobble_y = u(rng), wobble_z = u(rng);
+    const Eigen::Vector3d centre = radius * Eigen::Vector3d(std::sin(yaw), 0, std::cos(yaw)) +
+                                   (radius / 15) * Eigen::Vector3d(wobble_x, wobble_y, wobble_z);
     const Eigen::Matrix3d r = rig_from_cam.transpose();
     s.truth.cameras.push_back({"cam" + std::to_string(i), pinhole, Rigid3d(r, -r * centre), 0.0});
   }
@@ -160,9 +162,15 @@ TEST(MultiFrameRig, ChainRingIsDeterminedByTheRigMotion) {
     EXPECT_LT(r.camera_stats[c].rotation_error_deg.value(), 0.05) << c;
     if (c > 0) {
       EXPECT_LT(r.camera_stats[c].translation_direction_error_deg.value(), 0.5) << c;
+      // The bundle adjustment's uncertainty says the position is well fixed, and the error agrees.
+      ASSERT_TRUE(r.camera_stats[c].direction_std_deg.has_value()) << c;
+      EXPECT_GT(*r.camera_stats[c].direction_std_deg, 0.0) << c;
+      EXPECT_LT(*r.camera_stats[c].direction_std_deg, 0.2) << c;
+      EXPECT_LT(*r.camera_stats[c].translation_direction_error_deg, 5 * *r.camera_stats[c].direction_std_deg) << c;
     }
-    std::printf("cam%d rot %.4f deg  dir %.4f deg  obs %d  %s\n", c, *r.camera_stats[c].rotation_error_deg,
-                r.camera_stats[c].translation_direction_error_deg.value_or(0.0), r.camera_stats[c].observations,
+    std::printf("cam%d rot %.4f deg  dir %.4f deg (std %.4f deg)  obs %d  %s\n", c, *r.camera_stats[c].rotation_error_deg,
+                r.camera_stats[c].translation_direction_error_deg.value_or(0.0),
+                r.camera_stats[c].direction_std_deg.value_or(0.0), r.camera_stats[c].observations,
                 r.camera_status[c].c_str());
   }
   // Unit scale on camera 1; the shape (centre ratios) matches the truth.
@@ -235,6 +243,28 @@ TEST(MultiFrameRig, OneFrameChainReportsPositionsNotObservable) {
   EXPECT_TRUE(cam["cam_from_rig"].is_null());
   EXPECT_FALSE(cam["position_known"].get<bool>());
   EXPECT_TRUE(cam["rotation_wxyz"].is_array());
+}
+
+// Cameras that share one centre: the rig's motion fixes each rotation, and the positions come out
+// of the adjustment as noise around camera 0's. The unit scale (|centre of cam1| = 1) blew that
+// noise up into made-up rigs reported "calibrated"; the covariance says the directions are not
+// determined, and no position is reported.
+TEST(MultiFrameRig, CoLocatedCamerasGetRotationsNotMadeUpPositions) {
+  const ChainRing s = MakeChainRing(4, 20240605u, 0.0);
+  RigCalibrationResult r = EstimateRig(s.observations, {});
+  EvaluateRigAgainstTruth(s.truth, &r);
+  EXPECT_EQ(r.camera_status[0], "calibrated (reference: rig frame)");
+  for (int c = 1; c < 4; ++c) {
+    EXPECT_FALSE(r.rig.cameras[c].cam_from_rig.has_value()) << c;
+    EXPECT_EQ(r.camera_status[c].rfind("rotation only: position not determined: the images fix its direction from cam0 "
+                                       "to +-", 0),
+              0u)
+        << r.camera_status[c];
+    ASSERT_TRUE(r.camera_stats[c].direction_std_deg.has_value()) << c;
+    EXPECT_GT(*r.camera_stats[c].direction_std_deg, RigCalibrationOptions{}.max_direction_std_deg) << c;
+    EXPECT_LT(r.camera_stats[c].rotation_error_deg.value(), 0.05) << c;  // the rotations are kept, and right
+  }
+  EXPECT_NE(r.scale.find("no scale"), std::string::npos) << r.scale;
 }
 
 TEST(MultiFrameRig, ViewTracksJoinFramesAndDropConflicts) {

@@ -7,6 +7,8 @@
 #include <tuple>
 #include <utility>
 
+#include <Eigen/Eigenvalues>
+
 #include "calibrator/evaluation.h"
 #include "dataset/dataset.h"
 
@@ -47,6 +49,17 @@ std::pair<int, int> KnownDistanceCameras(const KnownDistance& known, const std::
                                 list + ")");
   };
   return {index(known.cam_a), index(known.cam_b)};
+}
+
+// Standard deviation (deg) of the direction of `centre` (from camera 0 at the origin) under the
+// covariance `cov` of the centre: the largest spread across the direction, over the distance.
+double DirectionStdDeg(const Eigen::Vector3d& centre, const Eigen::Matrix3d& cov) {
+  const double d = centre.norm();
+  if (!(d > 0)) return 180.0;
+  const Eigen::Vector3d u = centre / d;
+  const Eigen::Matrix3d across = Eigen::Matrix3d::Identity() - u * u.transpose();
+  const double spread = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(across * cov * across).eigenvalues().maxCoeff();
+  return RadToDeg(std::atan2(std::sqrt(std::max(spread, 0.0)), d));
 }
 
 // A calibrated camera whose place rests on one pair only, a pair whose fit explains under a
@@ -142,6 +155,7 @@ void RigCalibrationOptions::Check() const {
       throw std::invalid_argument("RigCalibrationOptions: known_distance.metres must be > 0");
     }
   }
+  if (!(max_direction_std_deg > 0)) throw std::invalid_argument("RigCalibrationOptions: max_direction_std_deg must be > 0");
 }
 
 std::pair<PairEstimate, PairMatches> EstimatePairFromMatches(
@@ -313,8 +327,34 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
   result.num_observations = ba.num_observations;
   result.num_filtered_observations = ba.num_filtered_observations;
 
-  // 6. Scale.
+  // 6. Positions the data do not fix, then the scale.
   std::vector<std::optional<Rigid3d>> pose = ba.cam_from_rig;
+  std::vector<std::string> undetermined(n);  // why a camera's adjusted position is not reported
+  std::vector<std::optional<Eigen::Quaterniond>> undetermined_rotation(n);
+  for (int c = 1; c < n && c < static_cast<int>(ba.centre_covariance.size()); ++c) {
+    if (!pose[c] || !ba.centre_covariance[c]) continue;
+    const double std_deg = DirectionStdDeg(pose[c]->SourceOriginInTarget(), *ba.centre_covariance[c]);
+    result.camera_stats[c].direction_std_deg = std_deg;
+    if (std_deg > options.max_direction_std_deg) {
+      undetermined[c] = "not determined: the images fix its direction from " + obs.camera_names[0] + " to +-" +
+                        Fixed(std_deg, 1) + " deg only (cameras close together for the depth of the scene)";
+      undetermined_rotation[c] = pose[c]->rotation;
+      pose[c].reset();
+    }
+  }
+  if (scale_camera >= 0 && !pose[scale_camera]) {  // the unit was a camera without a position now
+    scale_camera = -1;
+    for (int c = 1; c < n && scale_camera < 0; ++c) {
+      if (pose[c] && pose[c]->translation.norm() > 1e-12) scale_camera = c;
+    }
+    const double unit = scale_camera >= 0 ? 1.0 / pose[scale_camera]->translation.norm() : 1.0;
+    for (auto& p : pose) {
+      if (p) p->translation *= unit;
+    }
+    for (auto& p : ba.rig_from_world) {
+      if (p) p->translation *= unit;
+    }
+  }
   if (positions.unique) result.rig_from_world = ba.rig_from_world;
   result.scale = scale_camera >= 0 ? "unit scale: |centre of " + obs.camera_names[scale_camera] + "| = 1"
                                    : "no scale (no camera with a position besides " + obs.camera_names[0] + ")";
@@ -356,6 +396,7 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
   result.cam_from_rig_rotation = rot.cam_from_rig;
   for (int c = 0; c < n; ++c) {
     if (pose[c]) result.cam_from_rig_rotation[c] = pose[c]->rotation;
+    if (undetermined_rotation[c]) result.cam_from_rig_rotation[c] = undetermined_rotation[c];
   }
   for (int c = 0; c < n; ++c) {
     result.camera_stats[c].observations = ba.observations_per_camera[c];
@@ -369,9 +410,10 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
     } else if (rotated[c]) {
       result.camera_status[c] =
           "rotation only: position " +
-          (!position_reason.empty() ? position_reason
-                                    : std::string("not observable: no track links its views to the calibrated "
-                                                  "cameras' (only rotation-only pairs or too little parallax)"));
+          (!undetermined[c].empty()   ? undetermined[c]
+           : !position_reason.empty() ? position_reason
+                                      : std::string("not observable: no track links its views to the calibrated "
+                                                    "cameras' (only rotation-only pairs or too little parallax)"));
     } else {
       result.camera_status[c] = NotConnectedReason(graph, c, rotated, obs.camera_names);
     }
@@ -477,6 +519,7 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
         j["centre_in_rig"] = nullptr;
       }
       j["observations"] = s.observations;
+      j["direction_std_deg"] = OptionalToJson(s.direction_std_deg);
       j["rotation_error_deg"] = OptionalToJson(s.rotation_error_deg);
       j["translation_direction_error_deg"] = OptionalToJson(s.translation_direction_error_deg);
       j["position_error_m"] = OptionalToJson(s.position_error_m);

@@ -59,6 +59,13 @@ struct RigCalibrationOptions {
   RigBundleAdjustmentOptions bundle_adjustment;
   // Metric scale; without it the result has unit scale.
   std::optional<KnownDistance> known_distance;
+  // A camera whose direction from camera 0 the bundle adjustment's covariance leaves more
+  // uncertain than this (standard deviation, deg) is reported "rotation only", not placed. The
+  // covariance is optimistic (errors of 1-20 times it on rendered rigs, from correlated feature
+  // errors), so 1 deg keeps every well-fixed camera of the test rigs (0.01-0.4 deg) and drops
+  // the ones whose cameras sit (next to) together: a co-located ring 7-32 deg, a ring of 3 cm
+  // radius 1.6-41 deg (errors 9-26 deg).
+  double max_direction_std_deg = 1.0;
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;
@@ -85,6 +92,9 @@ std::pair<PairEstimate, PairMatches> EstimatePairFromMatches(
 
 struct RigCameraStats {
   int observations = 0;  // bundle-adjustment observations kept
+  // Standard deviation of the direction of the camera's centre from camera 0's (deg), from the
+  // bundle adjustment's covariance: how well the images fix where the camera is, without truth.
+  std::optional<double> direction_std_deg;
   // Against the truth (with camera 0 as the rig frame), for calibrated cameras; the rotation
   // error also for "rotation only" cameras.
   std::optional<double> rotation_error_deg;

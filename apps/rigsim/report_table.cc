@@ -119,8 +119,8 @@ std::string FormatSummary(const std::vector<CalibrationReport>& reports, const O
 std::string FormatRigTable(const std::vector<RigCalibrationResult>& results) {
   std::ostringstream out;
   char line[512];
-  std::snprintf(line, sizeof(line), "%-10s %-10s %10s %10s %10s %8s  %s\n", "camera", "method", "rot_err", "t_dir_err",
-                "pos_err", "obs", "status");
+  std::snprintf(line, sizeof(line), "%-10s %-10s %10s %10s %10s %10s %8s  %s\n", "camera", "method", "rot_err",
+                "t_dir_err", "t_dir_std", "pos_err", "obs", "status");
   out << line;
   if (results.empty()) return out.str();
   for (size_t c = 0; c < results[0].rig.cameras.size(); ++c) {
@@ -129,10 +129,11 @@ std::string FormatRigTable(const std::vector<RigCalibrationResult>& results) {
       const RigCameraStats& st = r.camera_stats[c];
       std::string status = r.camera_status[c];
       if (status.size() > 70) status = status.substr(0, 67) + "...";
-      std::snprintf(line, sizeof(line), "%-10s %-10s %10s %10s %10s %8d  %s\n",
+      std::snprintf(line, sizeof(line), "%-10s %-10s %10s %10s %10s %10s %8d  %s\n",
                     m == 0 ? r.rig.cameras[c].name.c_str() : "", r.semantic_mode.c_str(),
                     Opt(st.rotation_error_deg, "%.3f deg").c_str(), Opt(st.translation_direction_error_deg, "%.2f deg").c_str(),
-                    Opt(st.position_error_m, "%.3f m").c_str(), st.observations, status.c_str());
+                    Opt(st.direction_std_deg, "%.3f deg").c_str(), Opt(st.position_error_m, "%.3f m").c_str(),
+                    st.observations, status.c_str());
       out << line;
     }
   }
@@ -144,12 +145,12 @@ std::string FormatRigSummary(const std::vector<RigCalibrationResult>& results) {
   for (const RigCalibrationResult& r : results) {
     int calibrated = 0;
     std::optional<double> worst_rot, worst_dir;
+    // Over every camera with an estimate, "rotation only" ones included, as evaluation.json's summary.
     for (size_t c = 0; c < r.camera_stats.size(); ++c) {
-      if (!r.rig.cameras[c].cam_from_rig) continue;
-      ++calibrated;
       const RigCameraStats& st = r.camera_stats[c];
       if (st.rotation_error_deg) worst_rot = std::max(worst_rot.value_or(0.0), *st.rotation_error_deg);
       if (st.translation_direction_error_deg) worst_dir = std::max(worst_dir.value_or(0.0), *st.translation_direction_error_deg);
+      calibrated += r.rig.cameras[c].cam_from_rig.has_value();
     }
     out << r.semantic_mode << ": " << calibrated << "/" << r.rig.cameras.size() << " cameras calibrated";
     if (r.evaluated) {
