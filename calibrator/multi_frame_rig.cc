@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -16,6 +17,12 @@
 
 namespace rigsim {
 namespace {
+
+std::string FormatRatio(double v) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.1f", v);
+  return text;
+}
 
 using MultiFrameCost = ceres::AutoDiffCostFunction<MultiFrameReprojectionResidual, 2, 4, 3, 4, 3, 3>;
 
@@ -382,8 +389,13 @@ RigPositions EstimateRigPositions(const std::vector<Camera>& cameras, const Fram
   if (!out.unique) {
     out.reason = l0_raw < -noise ? "the tracks leave the positions undetermined (the linear system is indefinite: "
                                    "smallest eigenvalue " + std::to_string(l0_raw) + ")"
-                                 : "the tracks leave the positions ambiguous (second smallest eigenvalue " +
-                                       std::to_string(out.eigenvalue_ratio) + " x the smallest)";
+                                 : !(l1 > 1e-12 * lmax)
+                                     ? "the tracks leave the positions ambiguous (the two smallest eigenvalues of "
+                                       "the linear system are both next to zero: more than one direction is free)"
+                                     : "the tracks leave the positions ambiguous (the second smallest eigenvalue of "
+                                       "the linear system is " + FormatRatio(out.eigenvalue_ratio) +
+                                           " times the smallest; determined positions need " +
+                                           FormatRatio(options.min_eigenvalue_ratio) + ")";
     return out;
   }
   double mean = 0.0;

@@ -383,7 +383,7 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
       }
     } else {
       result.warnings.push_back("known distance ignored: " + obs.camera_names[pose[known_a] ? known_b : known_a] +
-                                " is not calibrated; the result has unit scale");
+                                " has no position, so the result has no metric scale");
     }
   }
 

@@ -274,6 +274,21 @@ TEST_F(RigsimCli, CalibrateMissingImage) {
                        "image missing (camera 'cam1', frame '000000'; tried .png .jpg");
 }
 
+// A rig that calibrates only in part: the results are written (they say why), and the exit code
+// tells a script so.
+TEST_F(RigsimCli, CalibrateExitsWith3WhenACameraGetsNoPose) {
+  const fs::path dataset = CopyDataset();
+  const fs::path image = DatasetLayout(dataset).Image("cam1", "000000");
+  WriteImage(image, ImageU8(96, 64, 3, 128));  // featureless: cam1 cannot be placed
+  const fs::path out = dir_ / "calibration";
+  const CliResult r = Run({"calibrate", dataset.string(), "--semantics", "none", "--out", out.string()});
+  EXPECT_EQ(r.code, 3) << r.err;
+  EXPECT_NE(r.err.find("rigsim: not every camera was calibrated (none: cam1)"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(out / "evaluation.json"));
+  EXPECT_TRUE(fs::exists(out / "none" / "rig.json"));
+  EXPECT_NE(r.out.find("not connected"), std::string::npos) << r.out;
+}
+
 // A camera name mistyped in --known-distance is reported before the photos are even looked at
 // (the missing photo here would fail the run otherwise), naming it and the rig's cameras.
 TEST_F(RigsimCli, CalibrateKnownDistanceNamingAnUnknownCameraFailsFirst) {

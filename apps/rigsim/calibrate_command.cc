@@ -24,7 +24,9 @@ void AddCalibrateCommand(CLI::App& app) {
       "opencv.yaml, colmap/ (text model of every frame with a rig pose), pairs.json\n"
       "(per-pair statistics), rig_topdown.svg (the rig seen from above, over the truth when\n"
       "known) and matches/ (each solved pair's inliers drawn over its photos); the three exports\n"
-      "hold only the cameras with a full pose.");
+      "hold only the cameras with a full pose.\n"
+      "Exit code 0 when every camera got a full pose in every mode, 3 when some did not (the\n"
+      "results are written all the same), 1 on bad input (nothing written).");
   cmd->add_option("DATASET", args->dataset, "dataset folder (rig.json, images/, optional labels/ and depth/)")
       ->required()
       ->check(CLI::ExistingDirectory);
@@ -44,7 +46,7 @@ void AddCalibrateCommand(CLI::App& app) {
     args->settings.options.pairwise.features.type = FeatureTypeFromName(args->features);
     const std::filesystem::path out =
         args->out.empty() ? std::filesystem::path(args->dataset) / "calibration" : std::filesystem::path(args->out);
-    CalibrateAndReport(args->dataset, args->settings, out, args->force);
+    ThrowUnlessEveryCameraCalibrated(CalibrateAndReport(args->dataset, args->settings, out, args->force));
   });
 }
 

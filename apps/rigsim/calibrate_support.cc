@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "apps/rigsim/commands.h"
 #include "apps/rigsim/report_table.h"
 #include "calibrator/match_image.h"
 #include "dataset/dataset.h"
@@ -82,6 +83,9 @@ RigCalibrationOptions CalibrateSettings::ToOptions() const {
       metres = std::stod(known_distance[2]);
     } catch (const std::exception&) {
       throw std::invalid_argument("--known-distance: '" + known_distance[2] + "' is not a number of metres");
+    }
+    if (known_distance[0] == known_distance[1]) {
+      throw std::invalid_argument("--known-distance: give two different cameras (got '" + known_distance[0] + "' twice)");
     }
     o.known_distance = KnownDistance{known_distance[0], known_distance[1], metres};
   }
@@ -410,6 +414,19 @@ std::vector<RigCalibrationResult> CalibrateAndReport(const std::filesystem::path
               "  rig_topdown.svg (the rig seen from above%s), matches/ (each solved pair's inliers)\n",
               results.empty() || !truth ? "" : ", against the truth");
   return results;
+}
+
+void ThrowUnlessEveryCameraCalibrated(const std::vector<RigCalibrationResult>& results) {
+  std::string missing;
+  for (const RigCalibrationResult& r : results) {
+    if (const std::string names = CamerasWithoutPose(r.rig); !names.empty()) {
+      missing += (missing.empty() ? "" : "; ") + r.semantic_mode + ": " + names;
+    }
+  }
+  if (!missing.empty()) {
+    throw Unfinished(3, "not every camera was calibrated (" + missing +
+                            "); the results are written, the camera table above says why");
+  }
 }
 
 }  // namespace rigsim::cli

@@ -77,4 +77,8 @@ std::string CamerasWithoutPose(const Rig& rig);
 std::vector<RigCalibrationResult> CalibrateAndReport(const std::filesystem::path& dataset, const CalibrateSettings& settings,
                                                      const std::filesystem::path& out_dir, bool force);
 
+// Throws Unfinished (exit code 3) naming, per semantic mode, the cameras without a full pose, so
+// that a script sees a rig that was not (fully) calibrated; the results are written by then.
+void ThrowUnlessEveryCameraCalibrated(const std::vector<RigCalibrationResult>& results);
+
 }  // namespace rigsim::cli

@@ -52,12 +52,13 @@ void AddDemoCommand(CLI::App& app) {
     RenderAndReport(job, args->out, args->force);
 
     const std::filesystem::path calibration = std::filesystem::path(args->out) / "calibration";
-    CalibrateAndReport(args->out, args->calibrate, calibration, true);
+    const std::vector<RigCalibrationResult> results = CalibrateAndReport(args->out, args->calibrate, calibration, true);
     // The evaluation also beside the images, where the dataset's other ground truth is.
     std::filesystem::copy_file(calibration / "evaluation.json", DatasetLayout(args->out).EvaluationJson(),
                                std::filesystem::copy_options::overwrite_existing);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("demo finished in %.1f s\n", seconds);
+    ThrowUnlessEveryCameraCalibrated(results);
   });
 }
 

@@ -28,6 +28,9 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const rigsim::cli::Unfinished& e) {
+    std::fprintf(stderr, "rigsim: %s\n", e.what());
+    return e.code;
   } catch (const rigsim::cli::Interrupted& e) {
     std::fprintf(stderr, "rigsim: %s\n", e.what());
     return 128 + e.signal;
