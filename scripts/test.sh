@@ -4,8 +4,9 @@
 #   2. build the fuzz targets and the unit tests of geometry, labels, dataset and scenes and the
 #      bad-input test once, with clang, AddressSanitizer and UndefinedBehaviorSanitizer
 #      (build-fuzz/, RIGSIM_FUZZ), and fuzz each reader for a few seconds (scripts/fuzz.sh;
-#      RIGSIM_FUZZ_SECONDS, default 10);
-#   3. run those unit tests under the sanitizers.
+#      RIGSIM_FUZZ_SECONDS, default 5 here: a check that the seed corpora still pass and a short
+#      search, within the suite's 15 minutes; scripts/fuzz.sh alone runs longer);
+#   3. run those unit tests under the sanitizers, each split in two shards run side by side.
 # Exits non-zero when any step fails. RIGSIM_TEST_QUICK=1 runs step 1 only.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -25,7 +26,7 @@ step "2/3 clang build with AddressSanitizer + UndefinedBehaviorSanitizer (build-
 # compiled the same libraries a second time: about 3 of the suite's 15 minutes).
 sanitizer_tests=(geometry/geometry_test labels/labels_test dataset/dataset_test scenes/scenes_test tests/bad_input_test)
 fuzz_dir=${RIGSIM_FUZZ_BUILD_DIR:-build-fuzz}
-RIGSIM_FUZZ_ALSO_BUILD="${sanitizer_tests[*]##*/}" bash scripts/fuzz.sh "${RIGSIM_FUZZ_SECONDS:-10}"
+RIGSIM_FUZZ_ALSO_BUILD="${sanitizer_tests[*]##*/}" bash scripts/fuzz.sh "${RIGSIM_FUZZ_SECONDS:-5}"
 
 step "3/3 unit tests under AddressSanitizer + UndefinedBehaviorSanitizer"
 export ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1
@@ -40,9 +41,20 @@ asan_skip=(ScenePresets.AnimatedWritesTranslationChannelsAndKeepsTheGeometry Str
   RigPlacement.OnTheGroundOutsideGeometryAndClearOfWalls RingRig.TargetOverlapSetsTheSpacing
   ScenePresets.SeedChangesTheScene)
 skip_filter="-$(IFS=:; echo "${asan_skip[*]}")"
+# GoogleTest's sharding splits each test binary over the cores (scenes_test alone takes 30 s here).
+shards=$(nproc)
 for t in "${sanitizer_tests[@]}"; do
-  echo "sanitizers: $t"
-  "$fuzz_dir/$t" --gtest_brief=1 --gtest_filter="$skip_filter"
+  echo "sanitizers: $t ($shards shards)"
+  pids=()
+  for ((i = 0; i < shards; ++i)); do
+    GTEST_TOTAL_SHARDS=$shards GTEST_SHARD_INDEX=$i "$fuzz_dir/$t" --gtest_brief=1 --gtest_filter="$skip_filter" \
+      > "$fuzz_dir/${t##*/}.shard$i.log" 2>&1 &
+    pids+=($!)
+  done
+  for ((i = 0; i < shards; ++i)); do
+    wait "${pids[$i]}" || { cat "$fuzz_dir/${t##*/}.shard$i.log"; echo "sanitizers: $t shard $i FAILED"; exit 1; }
+    grep -E "^\[  (PASSED|FAILED) " "$fuzz_dir/${t##*/}.shard$i.log" || true
+  done
 done
 unset ASAN_OPTIONS UBSAN_OPTIONS LSAN_OPTIONS
 
