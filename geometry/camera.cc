@@ -21,8 +21,6 @@ struct Dual {
   Dual(double value, double a, double b) : v(value), d0(a), d1(b) {}
 };
 Dual operator+(const Dual& a, const Dual& b) { return {a.v + b.v, a.d0 + b.d0, a.d1 + b.d1}; }
-Dual operator-(const Dual& a, const Dual& b) { return {a.v - b.v, a.d0 - b.d0, a.d1 - b.d1}; }
-Dual operator-(const Dual& a) { return {-a.v, -a.d0, -a.d1}; }
 Dual operator*(const Dual& a, const Dual& b) { return {a.v * b.v, a.d0 * b.v + a.v * b.d0, a.d1 * b.v + a.v * b.d1}; }
 Dual operator/(const Dual& a, const Dual& b) {
   const double inv = 1.0 / b.v;
