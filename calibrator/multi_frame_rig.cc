@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -15,14 +14,10 @@
 #include <ceres/sphere_manifold.h>
 #include <glog/logging.h>
 
+#include "calibrator/format.h"
+
 namespace rigsim {
 namespace {
-
-std::string FormatRatio(double v) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.1f", v);
-  return text;
-}
 
 using MultiFrameCost = ceres::AutoDiffCostFunction<MultiFrameReprojectionResidual, 2, 4, 3, 4, 3, 3>;
 
@@ -393,9 +388,9 @@ RigPositions EstimateRigPositions(const std::vector<Camera>& cameras, const Fram
                                      ? "the tracks leave the positions ambiguous (the two smallest eigenvalues of "
                                        "the linear system are both next to zero: more than one direction is free)"
                                      : "the tracks leave the positions ambiguous (the second smallest eigenvalue of "
-                                       "the linear system is " + FormatRatio(out.eigenvalue_ratio) +
+                                       "the linear system is " + Fixed(out.eigenvalue_ratio, 1) +
                                            " times the smallest; determined positions need " +
-                                           FormatRatio(options.min_eigenvalue_ratio) + ")";
+                                           Fixed(options.min_eigenvalue_ratio, 1) + ")";
     return out;
   }
   double mean = 0.0;

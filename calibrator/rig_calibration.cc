@@ -2,7 +2,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 #include <tuple>
 #include <utility>
@@ -10,6 +9,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "calibrator/evaluation.h"
+#include "calibrator/format.h"
 #include "dataset/dataset.h"
 
 namespace rigsim {
@@ -17,14 +17,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double Seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
-
-std::string Fixed(double v, int digits) {
-  std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(digits);
-  s << v;
-  return s.str();
-}
 
 nlohmann::json OptionalToJson(const std::optional<double>& v) {
   return v && std::isfinite(*v) ? nlohmann::json(*v) : nlohmann::json(nullptr);
@@ -60,6 +52,16 @@ double DirectionStdDeg(const Eigen::Vector3d& centre, const Eigen::Matrix3d& cov
   const Eigen::Matrix3d across = Eigen::Matrix3d::Identity() - u * u.transpose();
   const double spread = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(across * cov * across).eigenvalues().maxCoeff();
   return RadToDeg(std::atan2(std::sqrt(std::max(spread, 0.0)), d));
+}
+
+// Changes the unit of length of a rig estimate: the cameras' and the frames' translations.
+void ScaleTranslations(double s, std::vector<std::optional<Rigid3d>>* cam_from_rig,
+                       std::vector<std::optional<Rigid3d>>* rig_from_world) {
+  for (auto* poses : {cam_from_rig, rig_from_world}) {
+    for (auto& p : *poses) {
+      if (p) p->translation *= s;
+    }
+  }
 }
 
 // A calibrated camera whose place rests on one pair only, a pair whose fit explains under a
@@ -330,7 +332,6 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
   // 6. Positions the data do not fix, then the scale.
   std::vector<std::optional<Rigid3d>> pose = ba.cam_from_rig;
   std::vector<std::string> undetermined(n);  // why a camera's adjusted position is not reported
-  std::vector<std::optional<Eigen::Quaterniond>> undetermined_rotation(n);
   for (int c = 1; c < n && c < static_cast<int>(ba.centre_covariance.size()); ++c) {
     if (!pose[c] || !ba.centre_covariance[c]) continue;
     const double std_deg = DirectionStdDeg(pose[c]->SourceOriginInTarget(), *ba.centre_covariance[c]);
@@ -338,8 +339,7 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
     if (std_deg > options.max_direction_std_deg) {
       undetermined[c] = "not determined: the images fix its direction from " + obs.camera_names[0] + " to +-" +
                         Fixed(std_deg, 1) + " deg only (cameras close together for the depth of the scene)";
-      undetermined_rotation[c] = pose[c]->rotation;
-      pose[c].reset();
+      pose[c].reset();  // its adjusted rotation is kept (below, from ba)
     }
   }
   if (scale_camera >= 0 && !pose[scale_camera]) {  // the unit was a camera without a position now
@@ -347,13 +347,7 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
     for (int c = 1; c < n && scale_camera < 0; ++c) {
       if (pose[c] && pose[c]->translation.norm() > 1e-12) scale_camera = c;
     }
-    const double unit = scale_camera >= 0 ? 1.0 / pose[scale_camera]->translation.norm() : 1.0;
-    for (auto& p : pose) {
-      if (p) p->translation *= unit;
-    }
-    for (auto& p : ba.rig_from_world) {
-      if (p) p->translation *= unit;
-    }
+    if (scale_camera >= 0) ScaleTranslations(1.0 / pose[scale_camera]->translation.norm(), &pose, &ba.rig_from_world);
   }
   if (positions.unique) result.rig_from_world = ba.rig_from_world;
   result.scale = scale_camera >= 0 ? "unit scale: |centre of " + obs.camera_names[scale_camera] + "| = 1"
@@ -368,13 +362,7 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
     if (pose[known_a] && pose[known_b]) {
       const double d = (pose[known_a]->SourceOriginInTarget() - pose[known_b]->SourceOriginInTarget()).norm();
       if (d > 1e-12) {
-        const double s = options.known_distance->metres / d;
-        for (auto& p : pose) {
-          if (p) p->translation *= s;
-        }
-        for (auto& p : result.rig_from_world) {
-          if (p) p->translation *= s;
-        }
+        ScaleTranslations(options.known_distance->metres / d, &pose, &result.rig_from_world);
         result.metric_scale = true;
         result.scale = "metric: |" + obs.camera_names[known_a] + " - " + obs.camera_names[known_b] +
                        "| = " + Fixed(options.known_distance->metres, 4) + " m";
@@ -394,9 +382,8 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
     rotated[c] = rot.cam_from_rig[c].has_value();
   }
   result.cam_from_rig_rotation = rot.cam_from_rig;
-  for (int c = 0; c < n; ++c) {
-    if (pose[c]) result.cam_from_rig_rotation[c] = pose[c]->rotation;
-    if (undetermined_rotation[c]) result.cam_from_rig_rotation[c] = undetermined_rotation[c];
+  for (int c = 0; c < n; ++c) {  // the adjusted rotation, also of a camera whose position is not determined
+    if (ba.cam_from_rig[c]) result.cam_from_rig_rotation[c] = ba.cam_from_rig[c]->rotation;
   }
   for (int c = 0; c < n; ++c) {
     result.camera_stats[c].observations = ba.observations_per_camera[c];
