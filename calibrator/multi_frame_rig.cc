@@ -1,6 +1,7 @@
 #include "calibrator/multi_frame_rig.h"
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -448,14 +449,20 @@ std::vector<std::optional<Eigen::Matrix3d>> CentreCovariances(ceres::Problem& pr
                                                               const std::vector<Eigen::Vector4d>& cq,
                                                               const std::vector<Eigen::Vector3d>& ct, double rms_px) {
   std::vector<std::optional<Eigen::Matrix3d>> out(ct.size());
-  // The adjusted pose blocks first, then the points (every other block), in Ceres' order.
+  // The adjusted pose blocks first, in `pose_blocks` order, then the points. Ceres lists its
+  // blocks in the order of their addresses, which differ from run to run: summed in that order
+  // the reduced system, and so the covariance, would change in its last bits between runs. The
+  // points live in one array, so their address order is their order there.
   std::vector<double*> all, poses, points;
   problem.GetParameterBlocks(&all);
+  for (double* block : pose_blocks) {
+    if (problem.HasParameterBlock(block) && !problem.IsParameterBlockConstant(block)) poses.push_back(block);
+  }
   for (double* block : all) {
     if (problem.IsParameterBlockConstant(block)) continue;
-    const bool is_pose = std::find(pose_blocks.begin(), pose_blocks.end(), block) != pose_blocks.end();
-    (is_pose ? poses : points).push_back(block);
+    if (std::find(pose_blocks.begin(), pose_blocks.end(), block) == pose_blocks.end()) points.push_back(block);
   }
+  std::sort(points.begin(), points.end(), std::less<double*>());
   std::map<const double*, int> offset;  // tangent column of each pose block
   int pose_dim = 0;
   for (double* block : poses) {
