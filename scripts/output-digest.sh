@@ -26,7 +26,8 @@ run_calibrate() { "$rigsim" "$@" > /dev/null 2>> log.txt || [ $? -eq 3 ] || { ec
 run generate-scene --preset plaza --seed 3 --out plaza3.glb
 run generate-scene --preset parking --seed 2 --animated --out parking2.glb
 run inspect plaza3.glb
-"$rigsim" inspect "$root/assets/scenes/parking.glb" > inspect_parking.txt 2>&1
+cp "$root/assets/scenes/parking.glb" parking.glb  # inspect prints the path it was given
+"$rigsim" inspect parking.glb > inspect_parking.txt 2>&1
 
 small=(--width 480 --height 270)
 run make-rig ring --cameras 4 --overlap 30 --scene "$root/assets/scenes/plaza.glb" --frames 3 "${small[@]}" --out ring
