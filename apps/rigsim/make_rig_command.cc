@@ -7,9 +7,11 @@
 #include "apps/rigsim/render_support.h"
 #include "dataset/dataset.h"
 #include "geometry/rig.h"
-#include "scenes/gltf_loader.h"
-#include "scenes/rig_generators.h"
-#include "scenes/scene_cameras.h"
+#include "gltf/gltf_loader.h"
+#include "gltf/scene_cameras.h"
+#include "rigs/placement.h"
+#include "rigs/rig_presets.h"
+#include "rigs/trajectories.h"
 
 namespace rigsim::cli {
 
