@@ -60,6 +60,85 @@ std::vector<uint8_t> EncodeImage(const std::string& name, int width, int height,
   return out;
 }
 
+// One primitive of a node's mesh: its vertex attributes and its indices (16-bit when they fit) as
+// accessors over new buffer views.
+json PrimitiveJson(const MeshPart& part, std::vector<uint8_t>* bin, json* views, json* accessors) {
+  const MeshData& m = part.mesh;
+  Eigen::Vector3f lo = m.positions[0], hi = m.positions[0];
+  for (const Eigen::Vector3f& p : m.positions) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  json attributes;
+  const size_t n = m.positions.size();
+  int view = AddView(bin, views, m.positions.data(), n * sizeof(Eigen::Vector3f), kArrayBuffer);
+  accessors->push_back({{"bufferView", view}, {"componentType", kFloat}, {"count", n}, {"type", "VEC3"},
+                        {"min", {lo[0], lo[1], lo[2]}}, {"max", {hi[0], hi[1], hi[2]}}});
+  attributes["POSITION"] = accessors->size() - 1;
+  if (!m.normals.empty()) {
+    view = AddView(bin, views, m.normals.data(), n * sizeof(Eigen::Vector3f), kArrayBuffer);
+    accessors->push_back({{"bufferView", view}, {"componentType", kFloat}, {"count", n}, {"type", "VEC3"}});
+    attributes["NORMAL"] = accessors->size() - 1;
+  }
+  if (!m.texcoords.empty()) {
+    view = AddView(bin, views, m.texcoords.data(), n * sizeof(Eigen::Vector2f), kArrayBuffer);
+    accessors->push_back({{"bufferView", view}, {"componentType", kFloat}, {"count", n}, {"type", "VEC2"}});
+    attributes["TEXCOORD_0"] = accessors->size() - 1;
+  }
+  if (n <= 65536) {  // 16-bit indices halve the index data of the many small meshes
+    std::vector<uint16_t> idx(m.indices.begin(), m.indices.end());
+    view = AddView(bin, views, idx.data(), idx.size() * 2, kElementArrayBuffer);
+    accessors->push_back({{"bufferView", view}, {"componentType", kUnsignedShort}, {"count", idx.size()}, {"type", "SCALAR"}});
+  } else {
+    view = AddView(bin, views, m.indices.data(), m.indices.size() * 4, kElementArrayBuffer);
+    accessors->push_back({{"bufferView", view}, {"componentType", kUnsignedInt}, {"count", m.indices.size()}, {"type", "SCALAR"}});
+  }
+  json prim = {{"attributes", attributes}, {"indices", accessors->size() - 1}, {"mode", 4}};
+  if (part.material >= 0) prim["material"] = part.material;
+  return prim;
+}
+
+// A node's placement: TRS when it is animated (glTF: animated nodes carry TRS, never a matrix;
+// placements are rigid), else its matrix, left out when it is the identity.
+void SetNodeTransform(const Eigen::Matrix4d& world_from_node, bool animated, json* node) {
+  if (animated) {
+    const Eigen::Matrix3d r = world_from_node.topLeftCorner<3, 3>();
+    const Eigen::Quaterniond q(r);
+    (*node)["rotation"] = {q.x(), q.y(), q.z(), q.w()};
+    (*node)["translation"] = {world_from_node(0, 3), world_from_node(1, 3), world_from_node(2, 3)};
+  } else if (!world_from_node.isIdentity(0.0)) {
+    json matrix = json::array();
+    for (int c = 0; c < 4; ++c) {
+      for (int r = 0; r < 4; ++r) matrix.push_back(world_from_node(r, c));  // glTF: column-major
+    }
+    (*node)["matrix"] = matrix;
+  }
+}
+
+// The .glb file: header, the JSON chunk (`text`, padded to 4 bytes) and the BIN chunk when `bin`
+// is not empty. Throws std::runtime_error beyond the format's 4 GB.
+std::vector<uint8_t> GlbFile(const std::string& text, const std::vector<uint8_t>& bin) {
+  std::vector<uint8_t> glb;
+  auto u32 = [&glb](uint32_t v) {
+    for (int k = 0; k < 4; ++k) glb.push_back(uint8_t(v >> (8 * k)));  // GLB is little-endian
+  };
+  const size_t total = 12 + 8 + text.size() + (bin.empty() ? 0 : 8 + bin.size());
+  if (total > 0xffffffffull) throw std::runtime_error("SceneBuilder: scene exceeds the 4 GB limit of .glb");
+  glb.reserve(total);
+  glb.insert(glb.end(), {'g', 'l', 'T', 'F'});
+  u32(2);
+  u32(uint32_t(total));
+  u32(uint32_t(text.size()));
+  glb.insert(glb.end(), {'J', 'S', 'O', 'N'});
+  glb.insert(glb.end(), text.begin(), text.end());
+  if (!bin.empty()) {
+    u32(uint32_t(bin.size()));
+    glb.insert(glb.end(), {'B', 'I', 'N', 0});
+    glb.insert(glb.end(), bin.begin(), bin.end());
+  }
+  return glb;
+}
+
 }  // namespace
 
 int SceneBuilder::AddTexture(const std::string& name, int width, int height, int channels, std::vector<uint8_t> pixels,
@@ -158,58 +237,13 @@ std::vector<uint8_t> SceneBuilder::ToGlb() const {
   for (size_t i = 0; i < nodes_.size(); ++i) {
     const NodeData& nd = nodes_[i];
     json prims = json::array();
-    for (const MeshPart& part : nd.parts) {
-      const MeshData& m = part.mesh;
-      Eigen::Vector3f lo = m.positions[0], hi = m.positions[0];
-      for (const Eigen::Vector3f& p : m.positions) {
-        lo = lo.cwiseMin(p);
-        hi = hi.cwiseMax(p);
-      }
-      json attributes;
-      const size_t n = m.positions.size();
-      int view = AddView(&bin, &views, m.positions.data(), n * sizeof(Eigen::Vector3f), kArrayBuffer);
-      accessors.push_back({{"bufferView", view}, {"componentType", kFloat}, {"count", n}, {"type", "VEC3"},
-                           {"min", {lo[0], lo[1], lo[2]}}, {"max", {hi[0], hi[1], hi[2]}}});
-      attributes["POSITION"] = accessors.size() - 1;
-      if (!m.normals.empty()) {
-        view = AddView(&bin, &views, m.normals.data(), n * sizeof(Eigen::Vector3f), kArrayBuffer);
-        accessors.push_back({{"bufferView", view}, {"componentType", kFloat}, {"count", n}, {"type", "VEC3"}});
-        attributes["NORMAL"] = accessors.size() - 1;
-      }
-      if (!m.texcoords.empty()) {
-        view = AddView(&bin, &views, m.texcoords.data(), n * sizeof(Eigen::Vector2f), kArrayBuffer);
-        accessors.push_back({{"bufferView", view}, {"componentType", kFloat}, {"count", n}, {"type", "VEC2"}});
-        attributes["TEXCOORD_0"] = accessors.size() - 1;
-      }
-      if (n <= 65536) {  // 16-bit indices halve the index data of the many small meshes
-        std::vector<uint16_t> idx(m.indices.begin(), m.indices.end());
-        view = AddView(&bin, &views, idx.data(), idx.size() * 2, kElementArrayBuffer);
-        accessors.push_back({{"bufferView", view}, {"componentType", kUnsignedShort}, {"count", idx.size()}, {"type", "SCALAR"}});
-      } else {
-        view = AddView(&bin, &views, m.indices.data(), m.indices.size() * 4, kElementArrayBuffer);
-        accessors.push_back({{"bufferView", view}, {"componentType", kUnsignedInt}, {"count", m.indices.size()}, {"type", "SCALAR"}});
-      }
-      json prim = {{"attributes", attributes}, {"indices", accessors.size() - 1}, {"mode", 4}};
-      if (part.material >= 0) prim["material"] = part.material;
-      prims.push_back(prim);
-    }
+    for (const MeshPart& part : nd.parts) prims.push_back(PrimitiveJson(part, &bin, &views, &accessors));
     meshes.push_back({{"name", nd.name}, {"primitives", prims}});
     json node = {{"name", nd.name}, {"mesh", i}};
     if (!nd.class_name.empty()) node["extras"] = {{"class", nd.class_name}};
     bool animated = false;
     for (const AnimationData& a : animations_) animated = animated || a.node == int(i);
-    if (animated) {  // glTF: animated nodes carry TRS, never a matrix (rigid placements only)
-      const Eigen::Matrix3d r = nd.world_from_node.topLeftCorner<3, 3>();
-      const Eigen::Quaterniond q(r);
-      node["rotation"] = {q.x(), q.y(), q.z(), q.w()};
-      node["translation"] = {nd.world_from_node(0, 3), nd.world_from_node(1, 3), nd.world_from_node(2, 3)};
-    } else if (!nd.world_from_node.isIdentity(0.0)) {
-      json matrix = json::array();
-      for (int c = 0; c < 4; ++c) {
-        for (int r = 0; r < 4; ++r) matrix.push_back(nd.world_from_node(r, c));  // glTF: column-major
-      }
-      node["matrix"] = matrix;
-    }
+    SetNodeTransform(nd.world_from_node, animated, &node);
     nodes.push_back(node);
     scene_nodes.push_back(i);
   }
@@ -247,25 +281,7 @@ std::vector<uint8_t> SceneBuilder::ToGlb() const {
   std::string text = doc.dump();
   while (text.size() % 4 != 0) text.push_back(' ');  // GLB pads the JSON chunk with spaces
 
-  std::vector<uint8_t> glb;
-  auto u32 = [&glb](uint32_t v) {
-    for (int k = 0; k < 4; ++k) glb.push_back(uint8_t(v >> (8 * k)));  // GLB is little-endian
-  };
-  const size_t total = 12 + 8 + text.size() + (bin.empty() ? 0 : 8 + bin.size());
-  if (total > 0xffffffffull) throw std::runtime_error("SceneBuilder: scene exceeds the 4 GB limit of .glb");
-  glb.reserve(total);
-  glb.insert(glb.end(), {'g', 'l', 'T', 'F'});
-  u32(2);
-  u32(uint32_t(total));
-  u32(uint32_t(text.size()));
-  glb.insert(glb.end(), {'J', 'S', 'O', 'N'});
-  glb.insert(glb.end(), text.begin(), text.end());
-  if (!bin.empty()) {
-    u32(uint32_t(bin.size()));
-    glb.insert(glb.end(), {'B', 'I', 'N', 0});
-    glb.insert(glb.end(), bin.begin(), bin.end());
-  }
-  return glb;
+  return GlbFile(text, bin);
 }
 
 void SceneBuilder::WriteGlb(const std::filesystem::path& path) const {
