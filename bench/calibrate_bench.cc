@@ -17,9 +17,10 @@
 
 #include "calibrator/rig_calibration.h"
 #include "geometry/json_io.h"
+#include "gltf/gltf_loader.h"
 #include "renderer/render_dataset.h"
-#include "scenes/gltf_loader.h"
-#include "scenes/rig_generators.h"
+#include "rigs/rig_presets.h"
+#include "rigs/trajectories.h"
 
 namespace rigsim {
 namespace {

@@ -17,9 +17,10 @@
 
 #include <benchmark/benchmark.h>
 
+#include "gltf/gltf_loader.h"
 #include "renderer/renderer.h"
-#include "scenes/gltf_loader.h"
-#include "scenes/rig_generators.h"
+#include "rigs/rig_presets.h"
+#include "rigs/trajectories.h"
 
 namespace rigsim {
 namespace {

@@ -1,4 +1,4 @@
-// Fuzzes the glTF loader (scenes/gltf_loader.h) with arbitrary .gltf / .glb bytes.
+// Fuzzes the glTF loader (gltf/gltf_loader.h) with arbitrary .gltf / .glb bytes.
 //
 // LoadGltf reads from a path, so each input is written to a file in a private, empty folder:
 // relative buffer and image URIs in the input then resolve to nothing, as for a lone file.
@@ -11,7 +11,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "scenes/gltf_loader.h"
+#include "gltf/gltf_loader.h"
 
 namespace {
 

@@ -1,9 +1,9 @@
-// Fuzzes the label-rules reader (scenes/label_rules.h) and matching with the rules it accepted.
+// Fuzzes the label-rules reader (gltf/label_rules.h) and matching with the rules it accepted.
 #include <cstdint>
 #include <stdexcept>
 #include <string>
 
-#include "scenes/label_rules.h"
+#include "gltf/label_rules.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);

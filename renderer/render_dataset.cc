@@ -16,7 +16,7 @@
 #include "dataset/image_io.h"
 #include "dataset/label_image.h"
 #include "geometry/json_io.h"
-#include "renderer/scene_pose.h"
+#include "scene/scene_pose.h"
 
 namespace rigsim {
 namespace fs = std::filesystem;

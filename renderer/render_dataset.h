@@ -7,7 +7,7 @@
 //
 // Time: each camera sees the scene at its own capture time, frame.timestamp_s + time_offset_s
 // (rig.json). An animated scene (Scene::IsAnimated) is posed at every distinct capture time
-// (renderer/scene_pose.h), so unsynchronised cameras see moving objects in different places; a
+// (scene/scene_pose.h), so unsynchronised cameras see moving objects in different places; a
 // static scene builds its acceleration structure once. overlap.json compares the ranges each
 // camera saw at its own time (moving objects count where each camera saw them).
 //
@@ -26,7 +26,7 @@
 #include "geometry/rig.h"
 #include "renderer/photometric.h"
 #include "renderer/renderer.h"
-#include "scenes/scene.h"
+#include "scene/scene.h"
 
 namespace rigsim {
 

@@ -27,7 +27,7 @@
 #include "dataset/image.h"
 #include "geometry/camera.h"
 #include "geometry/rigid3.h"
-#include "scenes/scene.h"
+#include "scene/scene.h"
 
 namespace rigsim {
 
@@ -82,7 +82,7 @@ class Renderer {
   Renderer& operator=(const Renderer&) = delete;
 
   // Replaces the geometry by `meshes` (same materials and textures as the scene; e.g.
-  // PoseMeshesAt of an animated scene at another time, renderer/scene_pose.h) and rebuilds the
+  // PoseMeshesAt of an animated scene at another time, scene/scene_pose.h) and rebuilds the
   // Embree scene; textures are kept. Not to be called while a Render runs. `meshes` must outlive
   // the renderer or the next SetMeshes. Throws like the constructor.
   void SetMeshes(const std::vector<SceneMesh>& meshes);

@@ -23,7 +23,7 @@ if [ -n "${RIGSIM_BUILD_LOCK:-}" ]; then lock=(flock "$RIGSIM_BUILD_LOCK"); fi
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
   targets=(fuzz_gltf fuzz_rig_json fuzz_frames_json)
-  if [ -f scenes/label_rules.h ]; then targets+=(fuzz_label_rules); fi
+  if [ -f gltf/label_rules.h ]; then targets+=(fuzz_label_rules); fi
 fi
 
 also=(${RIGSIM_FUZZ_ALSO_BUILD:-})

@@ -8,8 +8,8 @@ packages=(
   libembree-dev
   libopenimageio-dev openimageio-tools   # OIIO's CMake config needs the tools (see DESIGN.md)
   libtinygltf-dev
-  libdraco-dev                           # Draco-compressed glTF meshes (scenes/gltf_compression.h)
-  libmeshoptimizer-dev                   # meshopt-compressed glTF buffers (scenes/gltf_compression.h)
+  libdraco-dev                           # Draco-compressed glTF meshes (gltf/gltf_compression.h)
+  libmeshoptimizer-dev                   # meshopt-compressed glTF buffers (gltf/gltf_compression.h)
   libglm-dev
   libopencv-dev
   libeigen3-dev
@@ -17,7 +17,7 @@ packages=(
   nlohmann-json3-dev
   libcli11-dev
   libtbb-dev
-  libre2-dev                             # label-rule regexes in linear time (scenes/label_rules.h)
+  libre2-dev                             # label-rule regexes in linear time (gltf/label_rules.h)
   libgtest-dev libgmock-dev
   libbenchmark-dev
   clang libclang-rt-14-dev               # fuzzing: clang and libFuzzer (libclang_rt.fuzzer), scripts/fuzz.sh

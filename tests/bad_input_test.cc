@@ -25,8 +25,8 @@
 #include "dataset/label_image.h"
 #include "geometry/camera_validation.h"
 #include "geometry/rig.h"
-#include "scenes/gltf_loader.h"
-#include "scenes/label_rules.h"
+#include "gltf/gltf_loader.h"
+#include "gltf/label_rules.h"
 #include "tests/data_uri.h"
 
 namespace rigsim {

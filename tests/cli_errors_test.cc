@@ -23,10 +23,11 @@
 #include "dataset/dataset.h"
 #include "dataset/image_io.h"
 #include "geometry/rig.h"
-#include "scenes/rig_generators.h"
-#include "scenes/scene_builder.h"
-#include "tests/rigsim_cli.h"
+#include "gltf/scene_builder.h"
+#include "rigs/rig_presets.h"
+#include "rigs/trajectories.h"
 #include "tests/data_uri.h"
+#include "tests/rigsim_cli.h"
 
 namespace rigsim {
 namespace {

@@ -13,10 +13,11 @@
 #include "calibrator/rig_calibration.h"
 #include "dataset/dataset.h"
 #include "dataset/label_image.h"
+#include "gltf/gltf_loader.h"
 #include "labels/cityscapes.h"
 #include "renderer/render_dataset.h"
-#include "scenes/gltf_loader.h"
-#include "scenes/rig_generators.h"
+#include "rigs/rig_presets.h"
+#include "rigs/trajectories.h"
 
 namespace rigsim {
 namespace {

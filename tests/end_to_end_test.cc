@@ -12,10 +12,11 @@
 #include "dataset/dataset.h"
 #include "dataset/image_io.h"
 #include "geometry/json_io.h"
+#include "gltf/gltf_loader.h"
 #include "labels/cityscapes.h"
 #include "renderer/render_dataset.h"
-#include "scenes/gltf_loader.h"
-#include "scenes/rig_generators.h"
+#include "rigs/rig_presets.h"
+#include "rigs/trajectories.h"
 
 namespace rigsim {
 namespace {

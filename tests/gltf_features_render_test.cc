@@ -1,5 +1,5 @@
 // glTF features checked through the renderer, from a file on disk to pixels:
-//  - a glTF camera used as a rig camera (scenes/scene_cameras.h) sees the file's view: a target on
+//  - a glTF camera used as a rig camera (gltf/scene_cameras.h) sees the file's view: a target on
 //    the camera's view axis lands at the principal point, glTF "up" is image up;
 //  - KHR_texture_transform changes what part of the texture a surface shows;
 //  - vertex colours (COLOR_0) colour a surface without a material or texture;
@@ -20,11 +20,11 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "gltf/gltf_loader.h"
+#include "gltf/scene_cameras.h"
 #include "labels/cityscapes.h"
 #include "renderer/renderer.h"
 #include "renderer/srgb.h"
-#include "scenes/gltf_loader.h"
-#include "scenes/scene_cameras.h"
 #include "tests/data_uri.h"
 
 namespace rigsim {

@@ -16,8 +16,8 @@
 
 #include "dataset/dataset.h"
 #include "geometry/rig.h"
-#include "scenes/gltf_loader.h"
-#include "scenes/scene_cameras.h"
+#include "gltf/gltf_loader.h"
+#include "gltf/scene_cameras.h"
 #include "tests/data_uri.h"
 #include "tests/rigsim_cli.h"
 

@@ -14,16 +14,18 @@
 #include <opencv2/imgproc.hpp>
 
 #include "dataset/ground_truth.h"
+#include "gltf/gltf_loader.h"
 #include "labels/cityscapes.h"
+#include "procedural/presets.h"
 #include "renderer/renderer.h"
-#include "scenes/gltf_loader.h"
-#include "scenes/presets.h"
-#include "scenes/rig_generators.h"
+#include "rigs/placement.h"
+#include "rigs/rig_presets.h"
+#include "rigs/trajectories.h"
 
 namespace rigsim {
 namespace {
 
-// Shipped assets (tests run from the repository root); scenes_test checks they match the code.
+// Shipped assets (tests run from the repository root); procedural_test checks they match the code.
 std::string AssetOf(ScenePreset p) { return "assets/scenes/" + std::string(ScenePresetName(p)) + ".glb"; }
 
 const Scene& LoadedScene(ScenePreset p) {

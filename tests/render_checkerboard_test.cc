@@ -25,7 +25,7 @@
 #include "geometry/camera.h"
 #include "geometry/rigid3.h"
 #include "renderer/renderer.h"
-#include "scenes/scene.h"
+#include "scene/scene.h"
 
 namespace rigsim {
 namespace {

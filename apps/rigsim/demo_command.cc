@@ -6,7 +6,8 @@
 #include "apps/rigsim/render_support.h"
 #include "apps/rigsim/version.h"
 #include "dataset/dataset.h"
-#include "scenes/rig_generators.h"
+#include "rigs/rig_presets.h"
+#include "rigs/trajectories.h"
 
 namespace rigsim::cli {
 

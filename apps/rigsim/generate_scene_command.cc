@@ -4,7 +4,7 @@
 #include <string>
 
 #include "apps/rigsim/commands.h"
-#include "scenes/presets.h"
+#include "procedural/presets.h"
 
 namespace rigsim::cli {
 

@@ -8,10 +8,10 @@
 
 #include "apps/rigsim/commands.h"
 #include "apps/rigsim/render_support.h"
+#include "gltf/gltf_loader.h"
+#include "gltf/label_rules.h"
 #include "labels/cityscapes.h"
-#include "scenes/gltf_loader.h"
-#include "scenes/label_rules.h"
-#include "scenes/scene.h"
+#include "scene/scene.h"
 
 namespace rigsim::cli {
 namespace {

@@ -7,8 +7,8 @@
 #include "apps/rigsim/version.h"
 #include "geometry/camera_validation.h"
 #include "geometry/rig.h"
+#include "gltf/gltf_loader.h"
 #include "renderer/render_dataset.h"
-#include "scenes/gltf_loader.h"
 
 namespace rigsim::cli {
 

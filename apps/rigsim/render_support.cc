@@ -9,8 +9,8 @@
 #include "apps/rigsim/progress.h"
 #include "apps/rigsim/report_table.h"
 #include "dataset/dataset.h"
-#include "scenes/gltf_loader.h"
-#include "scenes/label_rules.h"
+#include "gltf/gltf_loader.h"
+#include "gltf/label_rules.h"
 
 namespace rigsim::cli {
 

@@ -1,0 +1,112 @@
+#include "gltf/scene_builder.h"
+
+#include <filesystem>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "gltf/gltf_loader.h"
+#include "labels/cityscapes.h"
+
+namespace rigsim {
+namespace {
+
+std::filesystem::path TempDir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("rigsim_scene_builder_test_" + name);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+MeshData Triangle() {
+  MeshData m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  m.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+  m.texcoords = {{0, 1}, {1, 1}, {0, 0}};
+  m.indices = {0, 1, 2};
+  return m;
+}
+
+TEST(SceneBuilder, RoundTripThroughLoader) {
+  SceneBuilder b;
+  std::vector<uint8_t> rgb(40 * 30 * 3);
+  for (size_t i = 0; i < rgb.size(); ++i) rgb[i] = uint8_t((i * 7) % 251);
+  const int tex_rgb = b.AddTexture("rgb", 40, 30, 3, rgb);
+  std::vector<uint8_t> rgba(8 * 4 * 4, 200);
+  rgba[3] = 10;  // not opaque: stored as PNG, alpha preserved exactly
+  const int tex_rgba = b.AddTexture("rgba", 8, 4, 4, rgba, /*nearest=*/true);
+  const int m0 = b.AddMaterial("paint", Eigen::Vector4f(1, 0.5f, 0.25f, 1), tex_rgb);
+  const int m1 = b.AddMaterial("glass", Eigen::Vector4f::Ones(), tex_rgba, /*double_sided=*/true);
+  b.AddNode("wall", "building", Triangle(), m0);
+  Eigen::Matrix4d shift = Eigen::Matrix4d::Identity();
+  shift(0, 3) = 10;
+  b.AddNode("car", "car", Triangle(), m1, shift);
+  std::vector<MeshPart> parts;
+  parts.push_back({Triangle(), m0});
+  parts.push_back({Triangle(), -1});
+  b.AddNode("two_parts", "", std::move(parts));
+
+  const auto path = TempDir("roundtrip") / "scene.glb";
+  b.WriteGlb(path);
+  const Scene s = LoadGltf(path);
+  ASSERT_EQ(s.meshes.size(), 4u);
+  EXPECT_EQ(s.NumTriangles(), 4u);
+  EXPECT_EQ(s.meshes[0].class_id, FindClassByName("building")->id);
+  EXPECT_EQ(s.meshes[1].class_id, FindClassByName("car")->id);
+  EXPECT_EQ(s.meshes[2].class_id, kUnlabeledId);
+  EXPECT_EQ(s.meshes[0].instance_id, 1);
+  EXPECT_EQ(s.meshes[1].instance_id, 2);
+  EXPECT_EQ(s.meshes[2].instance_id, 3);
+  EXPECT_EQ(s.meshes[3].instance_id, 3);  // both primitives of one node: one instance
+  EXPECT_TRUE(s.meshes[1].positions[1].isApprox(Eigen::Vector3f(11, 0, 0)));
+  EXPECT_TRUE(s.meshes[0].texcoords[2].isApprox(Eigen::Vector2f(0, 0)));
+  ASSERT_EQ(s.textures.size(), 2u);
+  EXPECT_EQ(s.textures[0].width, 40);
+  EXPECT_EQ(s.textures[0].height, 30);
+  EXPECT_EQ(s.textures[1].width, 8);
+  EXPECT_EQ(s.textures[1].rgba[3], 10);
+  EXPECT_TRUE(s.textures[1].nearest);
+  // JPEG is lossy but close at quality 90 on a smooth-ish pattern: compare the mean error.
+  double err = 0;
+  for (int i = 0; i < 40 * 30; ++i) {
+    for (int c = 0; c < 3; ++c) err += std::abs(int(s.textures[0].rgba[i * 4 + c]) - int(rgb[i * 3 + c]));
+  }
+  EXPECT_LT(err / (40 * 30 * 3), 40.0);
+  EXPECT_EQ(s.textures[0].rgba[3], 255);
+  ASSERT_EQ(s.materials.size(), 2u);
+  EXPECT_TRUE(s.materials[0].base_color_factor.isApprox(Eigen::Vector4f(1, 0.5f, 0.25f, 1)));
+  EXPECT_TRUE(s.materials[1].double_sided);
+  // Only the class-less node is reported, once.
+  int unlabeled_warnings = 0;
+  for (const std::string& w : s.warnings) unlabeled_warnings += w.find("no class") != std::string::npos;
+  EXPECT_EQ(unlabeled_warnings, 1);
+}
+
+TEST(SceneBuilder, SameCallsGiveSameBytes) {
+  auto make = [] {
+    SceneBuilder b;
+    std::vector<uint8_t> rgb(16 * 16 * 3);
+    for (size_t i = 0; i < rgb.size(); ++i) rgb[i] = uint8_t(i * 13);
+    b.AddMaterial("m", Eigen::Vector4f::Ones(), b.AddTexture("t", 16, 16, 3, rgb));
+    b.AddNode("n", "road", Triangle(), 0);
+    return b.ToGlb();
+  };
+  const std::vector<uint8_t> a = make();
+  EXPECT_EQ(a, make());
+  ASSERT_GE(a.size(), 12u);
+  EXPECT_EQ(std::string(a.begin(), a.begin() + 4), "glTF");
+  EXPECT_EQ(a.size() % 4, 0u);
+}
+
+TEST(SceneBuilder, RejectsBadInput) {
+  SceneBuilder b;
+  EXPECT_THROW(b.AddNode("x", "no such class", Triangle(), -1), std::invalid_argument);
+  EXPECT_THROW(b.AddNode("x", "road", Triangle(), 3), std::invalid_argument);
+  MeshData bad = Triangle();
+  bad.indices = {0, 1, 5};
+  EXPECT_THROW(b.AddNode("x", "road", bad, -1), std::invalid_argument);
+  EXPECT_THROW(b.AddTexture("t", 4, 4, 3, std::vector<uint8_t>(10)), std::invalid_argument);
+  EXPECT_THROW(b.WriteGlb("/nonexistent_dir_rigsim/x.glb"), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace rigsim
