@@ -1,6 +1,6 @@
 // Renderer speed against its lower bound: a labelled frame (RGB + label + instance + range) of
 // the built-in street at 1280x720 through the demo rig's first camera, and Embree alone tracing
-// exactly the same primary and shadow rays (Renderer::TraceOnlyForBenchmark).
+// exactly the same primary and shadow rays (TraceOnlyForBenchmark, renderer/trace_only_benchmark.h).
 //
 // Counters: ms_per_frame, Mrays_per_s (primary + shadow rays of the frame / wall time),
 // peak_rss_MB (getrusage ru_maxrss of the whole process so far: benchmarks run in the order they
@@ -19,6 +19,7 @@
 
 #include "gltf/gltf_loader.h"
 #include "renderer/renderer.h"
+#include "renderer/trace_only_benchmark.h"
 #include "rigs/rig_presets.h"
 #include "rigs/trajectories.h"
 
@@ -105,7 +106,7 @@ RenderOptions Options(int spp, int threads) {
 void RenderFrames(benchmark::State& state, const Renderer& renderer, const Camera& camera, const Rigid3d& pose,
                   const std::string& key) {
   const RenderOptions options = Options(int(state.range(0)), int(state.range(1)));
-  const TraceOnlyStats rays = renderer.TraceOnlyForBenchmark(camera, pose, options);  // ray counts only
+  const TraceOnlyStats rays = TraceOnlyForBenchmark(renderer, camera, pose, options);  // ray counts only
   double seconds = 0;
   for (auto _ : state) {
     const auto start = std::chrono::steady_clock::now();
@@ -128,7 +129,7 @@ void TraceOnly(benchmark::State& state, const Renderer& renderer, const Camera& 
   TraceOnlyStats rays;
   double seconds = 0;
   for (auto _ : state) {
-    rays = renderer.TraceOnlyForBenchmark(camera, pose, options);
+    rays = TraceOnlyForBenchmark(renderer, camera, pose, options);
     state.SetIterationTime(rays.seconds);
     seconds += rays.seconds;
   }

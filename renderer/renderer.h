@@ -31,6 +31,9 @@
 
 namespace rigsim {
 
+struct PreparedScene;   // renderer/prepared_scene.h
+struct TraceOnlyStats;  // renderer/trace_only_benchmark.h
+
 struct RenderOptions {
   // Rays averaged per pixel for the RGB image (>= 1). Square counts use a jittered
   // sqrt(n) x sqrt(n) grid, others n-rooks. With 1 the single ray goes through the pixel centre,
@@ -63,19 +66,13 @@ struct RenderedView {
   ImageF range;      // 1 channel, metres along the ray from the camera centre; 0 = no surface
 };
 
-// What TraceOnlyForBenchmark traced and how long Embree alone took.
-struct TraceOnlyStats {
-  double seconds = 0.0;       // wall time of the Embree calls only (rays prepared beforehand)
-  size_t primary_rays = 0;    // camera rays: what Render traces for the same view
-  size_t shadow_rays = 0;     // shadow rays: what Render casts for the same view
-};
-
 class Renderer {
  public:
   // Builds the acceleration structure and texture mip pyramids once. Throws
-  // std::invalid_argument naming scene.source and the mesh when the scene is inconsistent
-  // (index out of range, attribute counts, bad material/texture index) and std::runtime_error
-  // on an Embree failure. `scene` must outlive the Renderer (meshes are referenced, not copied).
+  // std::invalid_argument naming scene.source and the texture or mesh when the scene is
+  // inconsistent (ValidateScene, scene/scene_validation.h: texture size, index out of range,
+  // attribute counts, bad material/texture index) and std::runtime_error on an Embree failure.
+  // `scene` must outlive the Renderer (meshes are referenced, not copied).
   explicit Renderer(const Scene& scene);
   ~Renderer();
   Renderer(const Renderer&) = delete;
@@ -84,7 +81,8 @@ class Renderer {
   // Replaces the geometry by `meshes` (same materials and textures as the scene; e.g.
   // PoseMeshesAt of an animated scene at another time, scene/scene_pose.h) and rebuilds the
   // Embree scene; textures are kept. Not to be called while a Render runs. `meshes` must outlive
-  // the renderer or the next SetMeshes. Throws like the constructor.
+  // the renderer or the next SetMeshes. Throws like the constructor (ValidateMeshes), and leaves
+  // the renderer as it was when `meshes` are inconsistent.
   void SetMeshes(const std::vector<SceneMesh>& meshes);
 
   // Renders one view. Thread-safe (const): several views may render concurrently.
@@ -95,18 +93,12 @@ class Renderer {
   // every pixel of a rendered view (the ground-truth overlap) without undistorting each again.
   std::shared_ptr<const std::vector<Eigen::Vector3f>> PixelCentreBearings(const Camera& camera) const;
 
-  // For benchmarks only (bench/render_bench.cc): the lower bound Render is measured against.
-  // Generates exactly the rays Render would trace for this view (pixel centres, the jittered
-  // samples when samples_per_pixel > 1, and the shadow rays of the shaded samples), untimed, then
-  // times Embree alone tracing them as Render does (the same coherent streams of a batch's camera
-  // rays, then its shadow rays, over the same tiles on options.num_threads threads): no ray
-  // generation, shading, texturing or output.
-  TraceOnlyStats TraceOnlyForBenchmark(const Camera& camera, const Rigid3d& cam_from_world,
-                                       const RenderOptions& options) const;
-
  private:
-  struct Impl;  // Embree handles and per-mesh data stay out of this header
-  std::unique_ptr<Impl> impl_;
+  // Times Embree alone on the rays Render would trace (renderer/trace_only_benchmark.h).
+  friend TraceOnlyStats TraceOnlyForBenchmark(const Renderer& renderer, const Camera& camera,
+                                              const Rigid3d& cam_from_world, const RenderOptions& options);
+
+  std::unique_ptr<PreparedScene> prepared_;  // Embree handles and per-mesh data stay out of this header
 };
 
 }  // namespace rigsim

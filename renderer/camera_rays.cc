@@ -1,0 +1,139 @@
+#include "renderer/camera_rays.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include <tbb/parallel_for.h>
+
+#include "renderer/tiles.h"
+
+namespace rigsim {
+namespace {
+
+// Counter-based random numbers: a pure function of (seed, pixel, sample), so the image does not
+// depend on which thread renders which tile.
+
+uint64_t Mix64(uint64_t z) {
+  z += 0x9e3779b97f4a7c15ull;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+
+uint64_t HashSample(uint64_t seed, int x, int y, int sample, int stream) {
+  uint64_t h = Mix64(seed);
+  h = Mix64(h ^ (uint64_t(uint32_t(x)) << 32 | uint32_t(y)));
+  h = Mix64(h ^ (uint64_t(uint32_t(sample)) << 8 | uint32_t(stream)));
+  return h;
+}
+
+float UnitFloat(uint64_t h) { return float(h >> 40) * 0x1p-24f; }  // [0, 1)
+
+// Sub-pixel offset in [-0.5, 0.5)^2 of sample `s` of pixel (x, y).
+Eigen::Vector2d SampleOffset(uint64_t seed, int x, int y, int s, int spp, int grid, const std::vector<int>& rooks) {
+  const float jx = UnitFloat(HashSample(seed, x, y, s, 0));
+  const float jy = UnitFloat(HashSample(seed, x, y, s, 1));
+  if (grid > 0) {
+    return Eigen::Vector2d((s % grid + jx) / grid - 0.5, (s / grid + jy) / grid - 0.5);
+  }
+  return Eigen::Vector2d((s + jx) / spp - 0.5, (rooks[s] + jy) / spp - 0.5);
+}
+
+PixelCentreRays ComputePixelCentreRays(const Camera& camera) {
+  const int width = camera.width(), height = camera.height();
+  PixelCentreRays rays;
+  rays.width = width;
+  rays.bearings.assign(size_t(width) * height, Eigen::Vector3f::Zero());
+  rays.valid.assign(rays.bearings.size(), 0);
+  rays.angle.assign(rays.bearings.size(), 0.0f);
+  tbb::parallel_for(0, height, [&](int y) {
+    for (int x = 0; x < width; ++x) {
+      if (const auto b = camera.CamFromImg(Eigen::Vector2d(x, y))) {
+        rays.bearings[size_t(y) * width + x] = b->normalized().cast<float>();
+        rays.valid[size_t(y) * width + x] = 1;
+      }
+    }
+  });
+  const float fallback = float(1.0 / std::max(camera.fx(), camera.fy()));
+  tbb::parallel_for(0, height, [&](int y) {
+    for (int x = 0; x < width; ++x) {
+      const size_t idx = size_t(y) * width + x;
+      if (!rays.valid[idx]) continue;
+      float a = 0.0f;
+      auto neighbour = [&](int nx, int ny) {
+        if (nx < 0 || ny < 0 || nx >= width || ny >= height) return;
+        const size_t n = size_t(ny) * width + nx;
+        if (rays.valid[n]) a = std::max(a, float((rays.bearings[n] - rays.bearings[idx]).norm()));
+      };
+      neighbour(x + 1, y);
+      neighbour(x - 1, y);
+      neighbour(x, y + 1);
+      neighbour(x, y - 1);
+      rays.angle[idx] = a > 0.0f ? a : fallback;
+    }
+  });
+  return rays;
+}
+
+}  // namespace
+
+std::shared_ptr<const PixelCentreRays> PixelCentreRayCache::For(const Camera& camera) const {
+  std::vector<double> key = {double(int(camera.model())), double(camera.width()), double(camera.height())};
+  key.insert(key.end(), camera.params().begin(), camera.params().end());
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (auto it = rays_.find(key); it != rays_.end()) return it->second;
+  }
+  auto rays = std::make_shared<const PixelCentreRays>(ComputePixelCentreRays(camera));
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (rays_.size() >= kMaxCachedCameras) rays_.clear();
+  rays_.emplace(std::move(key), rays);
+  return rays;
+}
+
+CameraRays::CameraRays(const Camera& camera, const PixelCentreRays& centres, const Rigid3d& cam_from_world,
+                       const RenderOptions& options)
+    : camera_(camera),
+      centres_(centres),
+      world_from_cam_(cam_from_world.rotation.conjugate()),
+      world_from_cam_f_(world_from_cam_.toRotationMatrix().cast<float>()),
+      origin_(cam_from_world.SourceOriginInTarget().cast<float>()),
+      spp_(options.samples_per_pixel),
+      seed_(options.seed) {
+  grid_ = int(std::lround(std::sqrt(double(spp_))));
+  if (grid_ * grid_ != spp_) grid_ = 0;  // n-rooks
+  rooks_.resize(grid_ > 0 ? 0 : spp_);
+}
+
+void CameraRays::Batch(const Eigen::Vector2i& tile_corner, int y, int x_begin, int x_end, std::vector<RTCRayHit>* rays,
+                       std::vector<CameraRayInfo>* info) {
+  rays->clear();
+  info->clear();
+  const int width = centres_.width;
+  for (int x = x_begin; x < x_end; ++x) {
+    const size_t idx = size_t(y) * width + x;
+    if (!centres_.valid[idx]) continue;
+    const int pixel = (y - tile_corner.y()) * kTileSize + (x - tile_corner.x());
+    rays->push_back(CameraRay(origin_, world_from_cam_f_ * centres_.bearings[idx]));
+    info->push_back({pixel, centres_.angle[idx], true});
+    if (spp_ == 1) continue;
+    if (grid_ == 0) {  // n-rooks: a per-pixel random permutation of the y strata
+      for (int i = 0; i < spp_; ++i) rooks_[i] = i;
+      for (int i = spp_ - 1; i > 0; --i) {
+        const int j = int(HashSample(seed_, x, y, i, 2) % uint64_t(i + 1));
+        std::swap(rooks_[i], rooks_[j]);
+      }
+    }
+    const float sample_angle = centres_.angle[idx] / std::sqrt(float(spp_));
+    for (int s = 0; s < spp_; ++s) {
+      const Eigen::Vector2d offset = SampleOffset(seed_, x, y, s, spp_, grid_, rooks_);
+      const auto bearing = camera_.CamFromImg(Eigen::Vector2d(x, y) + offset);
+      if (!bearing) continue;  // part of the pixel lies outside the lens
+      rays->push_back(CameraRay(origin_, (world_from_cam_ * *bearing).cast<float>().normalized()));
+      info->push_back({pixel, sample_angle, false});
+    }
+  }
+}
+
+}  // namespace rigsim

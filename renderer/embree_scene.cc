@@ -1,0 +1,117 @@
+#include "renderer/embree_scene.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace rigsim {
+namespace {
+
+// Embree filter for MASK materials: rejecting a hit makes Embree continue the traversal beyond
+// it, so the cut-out holds for camera rays and shadow rays alike.
+void AlphaMaskFilter(const RTCFilterFunctionNArguments* args) {
+  const MeshShading& m = *static_cast<const MeshShading*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+    const float u = RTCHitN_u(args->hit, args->N, i);
+    const float v = RTCHitN_v(args->hit, args->N, i);
+    if (AlphaAt(m, prim, u, v) < m.alpha_cutoff) args->valid[i] = 0;
+  }
+}
+
+RTCIntersectContext CoherentContext() {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  return context;
+}
+
+}  // namespace
+
+void EmbreeErrors::Record(RTCError code, const char* message) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (first_.empty()) first_ = "Embree error " + std::to_string(int(code)) + ": " + (message ? message : "");
+}
+
+void EmbreeErrors::ThrowIfAny(const std::string& during) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!first_.empty()) throw std::runtime_error(during + ": " + first_);
+}
+
+EmbreeScene::EmbreeScene(const std::string& source) : source_(source) {
+  device_ = rtcNewDevice(nullptr);
+  if (device_ == nullptr) {
+    throw std::runtime_error(source_ + ": cannot create an Embree device (error " +
+                             std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
+  }
+  rtcSetDeviceErrorFunction(device_, &EmbreeErrors::Callback, &errors_);
+}
+
+EmbreeScene::~EmbreeScene() {
+  Release();
+  if (device_) rtcReleaseDevice(device_);
+}
+
+void EmbreeScene::Release() {
+  if (scene_) {
+    rtcReleaseScene(scene_);
+    scene_ = nullptr;
+  }
+}
+
+void EmbreeScene::Build(const std::vector<SceneMesh>& meshes, const std::vector<MeshShading>& shading) {
+  Release();
+  scene_ = rtcNewScene(device_);
+  errors_.ThrowIfAny(source_ + ": creating the Embree scene");
+  // Watertight traversal: without it a ray through the edge two triangles share can miss both
+  // and see what lies behind, a wrong label and depth in the ground truth (seen: 13 pixels of six
+  // split quads whose diagonals pass through pixel centres, and on a triangle strip).
+  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+
+  for (size_t i = 0; i < meshes.size(); ++i) {
+    const SceneMesh& mesh = meshes[i];
+    if (mesh.indices.empty()) continue;  // nothing to hit; geomIDs stay equal to mesh indices
+    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                                 3 * sizeof(float), mesh.positions.size()));
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                   3 * sizeof(unsigned), mesh.indices.size() / 3));
+    if (vertices == nullptr || indices == nullptr) {
+      rtcReleaseGeometry(geom);
+      errors_.ThrowIfAny(source_ + ": mesh '" + mesh.name + "'");
+      throw std::runtime_error(source_ + ": mesh '" + mesh.name + "': Embree could not allocate buffers");
+    }
+    for (size_t v = 0; v < mesh.positions.size(); ++v) {
+      vertices[3 * v] = mesh.positions[v].x();
+      vertices[3 * v + 1] = mesh.positions[v].y();
+      vertices[3 * v + 2] = mesh.positions[v].z();
+    }
+    std::copy(mesh.indices.begin(), mesh.indices.end(), indices);
+    if (shading[i].alpha_tested) {
+      // Embree takes a non-const user pointer; the filter only reads through it.
+      rtcSetGeometryUserData(geom, const_cast<MeshShading*>(&shading[i]));
+      rtcSetGeometryIntersectFilterFunction(geom, &AlphaMaskFilter);
+      rtcSetGeometryOccludedFilterFunction(geom, &AlphaMaskFilter);
+    }
+    rtcCommitGeometry(geom);
+    rtcAttachGeometryByID(scene_, geom, unsigned(i));
+    rtcReleaseGeometry(geom);  // the scene holds its own reference
+  }
+  rtcCommitScene(scene_);
+  errors_.ThrowIfAny(source_ + ": building the Embree scene");
+}
+
+void EmbreeScene::Intersect(std::vector<RTCRayHit>& rays) const {
+  if (rays.empty()) return;
+  RTCIntersectContext context = CoherentContext();
+  rtcIntersect1M(scene_, &context, rays.data(), unsigned(rays.size()), sizeof(RTCRayHit));
+}
+
+void EmbreeScene::Occlude(std::vector<RTCRay>& rays) const {
+  if (rays.empty()) return;
+  RTCIntersectContext context = CoherentContext();
+  rtcOccluded1M(scene_, &context, rays.data(), unsigned(rays.size()), sizeof(RTCRay));
+}
+
+}  // namespace rigsim
