@@ -92,18 +92,24 @@ std::shared_ptr<const PixelCentreRays> PixelCentreRayCache::For(const Camera& ca
   return rays;
 }
 
-CameraRays::CameraRays(const Camera& camera, const PixelCentreRays& centres, const Rigid3d& cam_from_world,
+ViewPoses ViewPoses::Still(const Rigid3d& cam_from_world) {
+  ViewPoses poses;
+  RowPose& row = poses.rows.emplace_back();
+  row.world_from_cam = cam_from_world.rotation.conjugate();
+  row.world_from_cam_f = row.world_from_cam.toRotationMatrix().cast<float>();
+  row.origin = cam_from_world.SourceOriginInTarget().cast<float>();
+  row.begin_rotation = row.end_rotation = row.world_from_cam.cast<float>();
+  row.begin_origin = row.end_origin = row.origin;
+  return poses;
+}
+
+CameraRays::CameraRays(const Camera& camera, const PixelCentreRays& centres, const ViewPoses& poses,
                        const RenderOptions& options)
-    : camera_(camera),
-      centres_(centres),
-      world_from_cam_(cam_from_world.rotation.conjugate()),
-      world_from_cam_f_(world_from_cam_.toRotationMatrix().cast<float>()),
-      origin_(cam_from_world.SourceOriginInTarget().cast<float>()),
-      spp_(options.samples_per_pixel),
-      seed_(options.seed) {
+    : camera_(camera), centres_(centres), poses_(poses), spp_(options.samples_per_pixel), seed_(options.seed) {
   grid_ = int(std::lround(std::sqrt(double(spp_))));
   if (grid_ * grid_ != spp_) grid_ = 0;  // n-rooks
   rooks_.resize(grid_ > 0 ? 0 : spp_);
+  if (poses_.exposure) time_strata_.resize(spp_);
 }
 
 void CameraRays::Batch(const Eigen::Vector2i& tile_corner, int y, int x_begin, int x_end, std::vector<RTCRayHit>* rays,
@@ -111,11 +117,13 @@ void CameraRays::Batch(const Eigen::Vector2i& tile_corner, int y, int x_begin, i
   rays->clear();
   info->clear();
   const int width = centres_.width;
+  const RowPose& pose = poses_.Row(y);
   for (int x = x_begin; x < x_end; ++x) {
     const size_t idx = size_t(y) * width + x;
     if (!centres_.valid[idx]) continue;
     const int pixel = (y - tile_corner.y()) * kTileSize + (x - tile_corner.x());
-    rays->push_back(CameraRay(origin_, world_from_cam_f_ * centres_.bearings[idx]));
+    rays->push_back(CameraRay(pose.origin, pose.world_from_cam_f * centres_.bearings[idx]));
+    rays->back().ray.time = pose.ray_time;
     info->push_back({pixel, centres_.angle[idx], true});
     if (spp_ == 1) continue;
     if (grid_ == 0) {  // n-rooks: a per-pixel random permutation of the y strata
@@ -125,12 +133,28 @@ void CameraRays::Batch(const Eigen::Vector2i& tile_corner, int y, int x_begin, i
         std::swap(rooks_[i], rooks_[j]);
       }
     }
+    if (poses_.exposure) {  // the samples' times: one per stratum of the exposure, strata shuffled per pixel
+      for (int i = 0; i < spp_; ++i) time_strata_[i] = i;
+      for (int i = spp_ - 1; i > 0; --i) {
+        const int j = int(HashSample(seed_, x, y, i, 3) % uint64_t(i + 1));
+        std::swap(time_strata_[i], time_strata_[j]);
+      }
+    }
     const float sample_angle = centres_.angle[idx] / std::sqrt(float(spp_));
     for (int s = 0; s < spp_; ++s) {
       const Eigen::Vector2d offset = SampleOffset(seed_, x, y, s, spp_, grid_, rooks_);
       const auto bearing = camera_.CamFromImg(Eigen::Vector2d(x, y) + offset);
       if (!bearing) continue;  // part of the pixel lies outside the lens
-      rays->push_back(CameraRay(origin_, (world_from_cam_ * *bearing).cast<float>().normalized()));
+      if (poses_.exposure) {
+        const float a = (float(time_strata_[s]) + UnitFloat(HashSample(seed_, x, y, s, 4))) / float(spp_);
+        const Eigen::Quaternionf rotation(Eigen::Vector4f((1 - a) * pose.begin_rotation.coeffs() + a * pose.end_rotation.coeffs()));
+        const Eigen::Vector3f origin = (1 - a) * pose.begin_origin + a * pose.end_origin;
+        rays->push_back(CameraRay(origin, (rotation.normalized() * bearing->cast<float>()).normalized()));
+        rays->back().ray.time = (1 - a) * pose.begin_ray_time + a * pose.end_ray_time;
+      } else {
+        rays->push_back(CameraRay(pose.origin, (pose.world_from_cam * *bearing).cast<float>().normalized()));
+        rays->back().ray.time = pose.ray_time;
+      }
       info->push_back({pixel, sample_angle, false});
     }
   }

@@ -159,6 +159,8 @@ struct Hit {
 struct SampleRecord {
   Hit hit;
   Eigen::Vector3f dir;    // world direction of the camera ray
+  Eigen::Vector3f origin; // world origin of the camera ray
+  float time = 0;         // the camera ray's Embree time, which its shadow ray shares
   float angle = 0;        // the ray's angular footprint (radians), for texture filtering
   int pixel = 0;          // in the tile
   Eigen::Vector3f albedo;
@@ -221,12 +223,10 @@ inline Eigen::Vector3f ShadowRayOrigin(const Hit& hit, const Eigen::Vector3f& or
 // What an emissive surface gives off towards the camera ray.
 [[gnu::noinline]] Eigen::Vector3f Emission(const MeshShading& m, const SampleRecord& r);
 
-// Everything about a camera ray's hit on mesh `m` except the sun's shadow ray; `origin` is the
-// camera ray's. Shading a batch of hits before tracing their shadow rays lets the CPU overlap the
+// Everything about a camera ray's hit on mesh `m` except the sun's shadow ray. Shading a batch of hits before tracing their shadow rays lets the CPU overlap the
 // hits' independent chains of loads and arithmetic instead of running each between two Embree
 // traversals.
-[[gnu::always_inline]] inline void ShadeWithoutShadow(const MeshShading& m, SampleRecord& r,
-                                                      const Eigen::Vector3f& origin, const ShadeParams& p) {
+[[gnu::always_inline]] inline void ShadeWithoutShadow(const MeshShading& m, SampleRecord& r, const ShadeParams& p) {
   const Hit& hit = r.hit;
   Eigen::Vector3f ng, n;
   SurfaceNormals(m, hit, r.dir, &ng, &n);
@@ -251,7 +251,7 @@ inline Eigen::Vector3f ShadowRayOrigin(const Hit& hit, const Eigen::Vector3f& or
   r.sun_ray = NeedsSunRay(ng, n, p);
   if (r.sun_ray) {
     r.sun_light = p.sun_intensity * n.dot(p.sun_dir);
-    r.shadow_origin = ShadowRayOrigin(hit, origin, r.dir, ng);
+    r.shadow_origin = ShadowRayOrigin(hit, r.origin, r.dir, ng);
   }
 }
 

@@ -31,10 +31,11 @@ std::vector<std::vector<TracedBatch>> GenerateRays(const PreparedScene& prepared
   const int width = camera.width(), height = camera.height();
   const int num_tiles = NumTiles(width, height);
   std::vector<std::vector<TracedBatch>> batches(num_tiles);
+  const ViewPoses poses = ViewPoses::Still(cam_from_world);
   arena.execute([&] {
     const std::shared_ptr<const PixelCentreRays> centres_ptr = prepared.centre_rays.For(camera);
     tbb::parallel_for(0, num_tiles, [&](int tile) {
-      CameraRays camera_rays(camera, *centres_ptr, cam_from_world, options);
+      CameraRays camera_rays(camera, *centres_ptr, poses, options);
       std::vector<RTCRayHit> rays;
       std::vector<CameraRayInfo> info;
       std::vector<SampleRecord> records;
@@ -47,7 +48,7 @@ std::vector<std::vector<TracedBatch>> GenerateRays(const PreparedScene& prepared
         prepared.embree.Intersect(rays);
         CollectRecords(rays, info, &records, [](const CameraRayInfo&, const RTCRayHit&) {});
         for (SampleRecord& r : records) {
-          if (r.hit.hit) ShadeWithoutShadow(prepared.meshes[r.hit.geom], r, camera_rays.origin(), shade);
+          if (r.hit.hit) ShadeWithoutShadow(prepared.meshes[r.hit.geom], r, shade);
         }
         CollectShadowRays(records, shade, &shadow);
         for (const RTCRay& ray : shadow) batch.shadow_origins.emplace_back(ray.org_x, ray.org_y, ray.org_z);
