@@ -410,7 +410,7 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
   const nlohmann::json overlap_json{{"frames", num_frames}, {"pairs", pairs}};
   json_io::WriteTextAtomic(layout.OverlapJson(), overlap_json.dump(2) + "\n");
   if (photometric) json_io::WriteTextAtomic(layout.PhotometricJson(), PhotometryJson(job, photometry).dump(2) + "\n");
-  if (clock.timed()) json_io::WriteTextAtomic(layout.PosesJson(), PosesJsonOf(job, poses_json).dump(1) + "\n");
+  if (clock.timed()) json_io::WriteTextAtomic(layout.PosesJson(), PosesJsonOf(job, poses_json).dump() + "\n");
   if (job.extras.coco) json_io::WriteTextAtomic(layout.CocoJson(), coco.ToJson().dump() + "\n");
 
   WriteRig(job.rig, layout.RigJson());

@@ -18,6 +18,7 @@ void AddRenderCommand(CLI::App& app) {
     RenderSettings settings;
     PhotometricSettings photometric;
     bool force = false;
+    ExtraOutputs extras;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
@@ -36,10 +37,19 @@ void AddRenderCommand(CLI::App& app) {
   cmd->add_flag("--force", args->force, "replace an existing output folder");
   AddRenderSettingsOptions(*cmd, args->settings);
   AddPhotometricOptions(*cmd, args->photometric);
+  const std::string group = "More ground truth (off unless asked for; README, 'Dataset layout')";
+  cmd->add_flag("--correspondence", args->extras.correspondence,
+                "correspondence/<a>/<b>/<frame>.exr for every camera pair that shares a view, flow/<cam>/<frame>.exr to "
+                "the next frame: where each pixel's surface lands in the other image (x, y) and whether it is visible there")
+      ->group(group);
+  cmd->add_flag("--normals", args->extras.normals, "normals/<cam>/<frame>.exr: surface normals in the camera frame")->group(group);
+  cmd->add_flag("--coco", args->extras.coco, "instances_coco.json: instance boxes and masks in the COCO format")->group(group);
+  cmd->add_flag("--previews", args->extras.previews, "depth_color/ and instances_color/ PNGs to look at")->group(group);
   cmd->callback([args] {
     // The small inputs first, so that their errors come before the scene's loading time.
     RenderJob job;
     job.options = args->settings.ToRenderOptions();
+    job.extras = args->extras;
     job.photometric = args->photometric.ToOptions(args->settings.seed);
     job.rig = ReadRig(args->rig);
     for (const std::string& w : CheckRigCoversImages(job.rig, args->rig)) std::fprintf(stderr, "warning: %s\n", w.c_str());
