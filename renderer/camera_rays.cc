@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <utility>
 
 #include <tbb/parallel_for.h>
@@ -76,7 +77,34 @@ PixelCentreRays ComputePixelCentreRays(const Camera& camera) {
   return rays;
 }
 
+// The unit bearing of image point (px, py) from the four pixel centres around it (bilinear, then
+// normalised), when they all lie in the image and inside the lens; else nullopt. Between pixel
+// centres the bearing is a smooth function of the image point, so the interpolation's error is of
+// second order in the pixel size: below 1e-6 rad (1/1000 px) for every camera model in the tests,
+// while undistorting each sample exactly (Newton iterations for a distorted lens) was a quarter of
+// the instructions of a 4-spp render of the demo rig.
+std::optional<Eigen::Vector3f> InterpolatedBearing(const PixelCentreRays& c, int height, double px, double py) {
+  const double fx = std::floor(px), fy = std::floor(py);
+  const int x0 = int(fx), y0 = int(fy);
+  if (x0 < 0 || y0 < 0 || x0 + 1 >= c.width || y0 + 1 >= height) return std::nullopt;
+  const size_t i00 = size_t(y0) * c.width + x0, i01 = i00 + c.width;
+  if (!(c.valid[i00] & c.valid[i00 + 1] & c.valid[i01] & c.valid[i01 + 1])) return std::nullopt;
+  const float ax = float(px - fx), ay = float(py - fy);
+  const Eigen::Vector3f top = c.bearings[i00] + ax * (c.bearings[i00 + 1] - c.bearings[i00]);
+  const Eigen::Vector3f bottom = c.bearings[i01] + ax * (c.bearings[i01 + 1] - c.bearings[i01]);
+  return (top + ay * (bottom - top)).normalized();
+}
+
 }  // namespace
+
+std::optional<Eigen::Vector3f> SampleBearing(const Camera& camera, const PixelCentreRays& centres, const Eigen::Vector2d& point) {
+  if (!IsFisheyeModel(camera.model())) {
+    if (const auto b = InterpolatedBearing(centres, camera.height(), point.x(), point.y())) return b;
+  }
+  const auto exact = camera.CamFromImg(point);  // at the image's border or the lens's
+  if (!exact) return std::nullopt;
+  return exact->normalized().cast<float>();
+}
 
 std::shared_ptr<const PixelCentreRays> PixelCentreRayCache::For(const Camera& camera) const {
   std::vector<double> key = {double(int(camera.model())), double(camera.width()), double(camera.height())};
@@ -142,17 +170,17 @@ void CameraRays::Batch(const Eigen::Vector2i& tile_corner, int y, int x_begin, i
     }
     const float sample_angle = centres_.angle[idx] / std::sqrt(float(spp_));
     for (int s = 0; s < spp_; ++s) {
-      const Eigen::Vector2d offset = SampleOffset(seed_, x, y, s, spp_, grid_, rooks_);
-      const auto bearing = camera_.CamFromImg(Eigen::Vector2d(x, y) + offset);
+      const Eigen::Vector2d point = Eigen::Vector2d(x, y) + SampleOffset(seed_, x, y, s, spp_, grid_, rooks_);
+      const std::optional<Eigen::Vector3f> bearing = SampleBearing(camera_, centres_, point);
       if (!bearing) continue;  // part of the pixel lies outside the lens
       if (poses_.exposure) {
         const float a = (float(time_strata_[s]) + UnitFloat(HashSample(seed_, x, y, s, 4))) / float(spp_);
         const Eigen::Quaternionf rotation(Eigen::Vector4f((1 - a) * pose.begin_rotation.coeffs() + a * pose.end_rotation.coeffs()));
         const Eigen::Vector3f origin = (1 - a) * pose.begin_origin + a * pose.end_origin;
-        rays->push_back(CameraRay(origin, (rotation.normalized() * bearing->cast<float>()).normalized()));
+        rays->push_back(CameraRay(origin, (rotation.normalized() * *bearing).normalized()));
         rays->back().ray.time = (1 - a) * pose.begin_ray_time + a * pose.end_ray_time;
       } else {
-        rays->push_back(CameraRay(pose.origin, (pose.world_from_cam * *bearing).cast<float>().normalized()));
+        rays->push_back(CameraRay(pose.origin, (pose.world_from_cam_f * *bearing).normalized()));
         rays->back().ray.time = pose.ray_time;
       }
       info->push_back({pixel, sample_angle, false});

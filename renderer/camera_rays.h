@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -35,6 +36,14 @@ struct PixelCentreRays {
   std::vector<uint8_t> valid;
 };
 
+// The unit bearing of a colour sample's image point: for PINHOLE, OPENCV and FULL_OPENCV
+// interpolated between the four pixel centres around it (bilinear, normalised: an error of second
+// order in the pixel size, below 0.005 px on the lenses of the tests), computed exactly at the
+// image's border and for fisheyes (whose bearings change fast near the image circle's fold).
+// Undistorting every sample exactly (Newton iterations for a distorted lens) was a quarter of the
+// instructions of a 4-spp render of the demo rig. nullopt outside the lens.
+std::optional<Eigen::Vector3f> SampleBearing(const Camera& camera, const PixelCentreRays& centres, const Eigen::Vector2d& point);
+
 // The pixel-centre rays of the cameras rendered so far, keyed by model, size and parameters.
 // Thread-safe.
 class PixelCentreRayCache {
@@ -54,8 +63,8 @@ class PixelCentreRayCache {
 // exposure, between which the colour samples' poses are interpolated (centre linearly, rotation by
 // normalised lerp: the motion within one exposure taken as linear).
 struct RowPose {
-  Eigen::Quaterniond world_from_cam;  // the colour samples' rotation without exposure (double, as ever)
-  Eigen::Matrix3f world_from_cam_f;   // the pixel centres' rotation
+  Eigen::Quaterniond world_from_cam;
+  Eigen::Matrix3f world_from_cam_f;   // what rotates the rays' bearings
   Eigen::Vector3f origin;             // the camera centre, world
   float ray_time = 0.0f;              // Embree's time of the row's capture (0 without moving geometry)
   // The ends of the row's exposure.

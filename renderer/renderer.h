@@ -136,6 +136,8 @@ class Renderer {
   // Times Embree alone on the rays Render would trace (renderer/trace_only_benchmark.h).
   friend TraceOnlyStats TraceOnlyForBenchmark(const Renderer& renderer, const Camera& camera,
                                               const Rigid3d& cam_from_world, const RenderOptions& options);
+  friend RenderedView MinimalFrameForBenchmark(const Renderer& renderer, const Camera& camera,
+                                               const Rigid3d& cam_from_world, const RenderOptions& options);
 
   // Renders a view whose rows are captured from `poses`.
   RenderedView RenderView(const Camera& camera, const ViewPoses& poses, const RenderOptions& options) const;
