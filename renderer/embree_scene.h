@@ -93,12 +93,12 @@ inline RTCRay ShadowRay(const Eigen::Vector3f& origin, const Eigen::Vector3f& di
 
 inline bool IsOccluded(const RTCRay& ray) { return ray.tfar == -std::numeric_limits<float>::infinity(); }
 
-// The shadow rays of a batch's shaded records, in record order.
+// The shadow rays of a batch's records lit by their own shading, in record order.
 inline void CollectShadowRays(const std::vector<SampleRecord>& records, const ShadeParams& p, std::vector<RTCRay>* shadow) {
   shadow->clear();
   if (!p.shadows) return;
   for (const SampleRecord& r : records) {
-    if (r.hit.hit && r.sun_ray) {
+    if (r.hit.hit && r.lit_by < 0 && r.sun_ray) {
       shadow->push_back(ShadowRay(r.shadow_origin, p.sun_dir));
       shadow->back().time = r.time;
     }

@@ -199,9 +199,16 @@ RenderedView Renderer::RenderView(const Camera& camera, const ViewPoses& poses, 
               for (int c = 0; c < 3; ++c) view.normal.at(x, y, c) = n[c];
             }
           });
-          // 2. Shading without the sun: no rays traced, so the hits' work can overlap.
+          // 2. Shading without the sun: no rays traced, so the hits' work can overlap. A pixel's
+          // samples on one triangle share one lighting.
+          if (options.samples_per_pixel > 1) ShareShadingWithinPixels(records);
           for (SampleRecord& r : records) {
-            if (r.hit.hit) ShadeWithoutShadow(meshes[r.hit.geom], r, shade);
+            if (!r.hit.hit) continue;
+            if (r.lit_by < 0) {
+              ShadeWithoutShadow(meshes[r.hit.geom], r, shade);
+            } else {
+              AlbedoOnly(meshes[r.hit.geom], r);
+            }
           }
           // 3. Shadow rays, traced together, then each pixel's colour: the mean of its samples.
           CollectShadowRays(records, shade, &shadow);
@@ -215,6 +222,10 @@ RenderedView Renderer::RenderView(const Camera& camera, const ViewPoses& poses, 
               SampleRecord& r = records[i];
               if (!r.hit.hit) {
                 radiance += SkyRadiance(r.dir, shade);
+                continue;
+              }
+              if (r.lit_by >= 0) {  // lit as an earlier sample on the same triangle, finished before it
+                radiance += LitAs(meshes[r.hit.geom], r, records[size_t(r.lit_by)]);
                 continue;
               }
               const bool sun_visible = !(shade.shadows && r.sun_ray) || !IsOccluded(shadow[next_shadow++]);

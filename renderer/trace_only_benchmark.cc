@@ -50,8 +50,9 @@ std::vector<std::vector<TracedBatch>> GenerateRays(const PreparedScene& prepared
         for (const RTCRayHit& rh : rays) batch.camera_dirs.emplace_back(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
         prepared.embree.Intersect(rays);
         CollectRecords(rays, info, &records, [](const CameraRayInfo&, const RTCRayHit&) {});
+        if (options.samples_per_pixel > 1) ShareShadingWithinPixels(records);
         for (SampleRecord& r : records) {
-          if (r.hit.hit) ShadeWithoutShadow(prepared.meshes[r.hit.geom], r, shade);
+          if (r.hit.hit && r.lit_by < 0) ShadeWithoutShadow(prepared.meshes[r.hit.geom], r, shade);
         }
         CollectShadowRays(records, shade, &shadow);
         for (const RTCRay& ray : shadow) batch.shadow_origins.emplace_back(ray.org_x, ray.org_y, ray.org_z);
