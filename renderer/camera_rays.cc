@@ -22,19 +22,21 @@ uint64_t Mix64(uint64_t z) {
   return z ^ (z >> 31);
 }
 
-uint64_t HashSample(uint64_t seed, int x, int y, int sample, int stream) {
-  uint64_t h = Mix64(seed);
-  h = Mix64(h ^ (uint64_t(uint32_t(x)) << 32 | uint32_t(y)));
-  h = Mix64(h ^ (uint64_t(uint32_t(sample)) << 8 | uint32_t(stream)));
-  return h;
+// The hash of (seed, x, y), from which each sample's numbers are one more mix.
+uint64_t PixelHash(uint64_t seed, int x, int y) { return Mix64(Mix64(seed) ^ (uint64_t(uint32_t(x)) << 32 | uint32_t(y))); }
+
+uint64_t SampleHash(uint64_t pixel_hash, int sample, int stream) {
+  return Mix64(pixel_hash ^ (uint64_t(uint32_t(sample)) << 8 | uint32_t(stream)));
 }
 
 float UnitFloat(uint64_t h) { return float(h >> 40) * 0x1p-24f; }  // [0, 1)
 
-// Sub-pixel offset in [-0.5, 0.5)^2 of sample `s` of pixel (x, y).
-Eigen::Vector2d SampleOffset(uint64_t seed, int x, int y, int s, int spp, int grid, const std::vector<int>& rooks) {
-  const float jx = UnitFloat(HashSample(seed, x, y, s, 0));
-  const float jy = UnitFloat(HashSample(seed, x, y, s, 1));
+// Sub-pixel offset in [-0.5, 0.5)^2 of sample `s` of the pixel with hash `pixel_hash`: both
+// jitters from one 64-bit hash (its top and middle 24 bits).
+Eigen::Vector2d SampleOffset(uint64_t pixel_hash, int s, int spp, int grid, const std::vector<int>& rooks) {
+  const uint64_t h = SampleHash(pixel_hash, s, 0);
+  const float jx = UnitFloat(h);
+  const float jy = float((h >> 16) & 0xFFFFFF) * 0x1p-24f;
   if (grid > 0) {
     return Eigen::Vector2d((s % grid + jx) / grid - 0.5, (s / grid + jy) / grid - 0.5);
   }
@@ -45,6 +47,7 @@ PixelCentreRays ComputePixelCentreRays(const Camera& camera) {
   const int width = camera.width(), height = camera.height();
   PixelCentreRays rays;
   rays.width = width;
+  rays.interpolate_samples = !IsFisheyeModel(camera.model());
   rays.bearings.assign(size_t(width) * height, Eigen::Vector3f::Zero());
   rays.valid.assign(rays.bearings.size(), 0);
   rays.angle.assign(rays.bearings.size(), 0.0f);
@@ -83,10 +86,12 @@ PixelCentreRays ComputePixelCentreRays(const Camera& camera) {
 // second order in the pixel size: below 1e-6 rad (1/1000 px) for every camera model in the tests,
 // while undistorting each sample exactly (Newton iterations for a distorted lens) was a quarter of
 // the instructions of a 4-spp render of the demo rig.
-std::optional<Eigen::Vector3f> InterpolatedBearing(const PixelCentreRays& c, int height, double px, double py) {
-  const double fx = std::floor(px), fy = std::floor(py);
-  const int x0 = int(fx), y0 = int(fy);
-  if (x0 < 0 || y0 < 0 || x0 + 1 >= c.width || y0 + 1 >= height) return std::nullopt;
+[[gnu::always_inline]] inline std::optional<Eigen::Vector3f> InterpolatedBearing(const PixelCentreRays& c, int height,
+                                                                                double px, double py) {
+  if (!(px >= 0.0 && py >= 0.0)) return std::nullopt;  // (also NaN) the top-left pixel's centre is (0, 0)
+  const int x0 = int(px), y0 = int(py);                  // floor, as px, py >= 0
+  const double fx = x0, fy = y0;
+  if (x0 + 1 >= c.width || y0 + 1 >= height) return std::nullopt;
   const size_t i00 = size_t(y0) * c.width + x0, i01 = i00 + c.width;
   if (!(c.valid[i00] & c.valid[i00 + 1] & c.valid[i01] & c.valid[i01 + 1])) return std::nullopt;
   const float ax = float(px - fx), ay = float(py - fy);
@@ -98,7 +103,7 @@ std::optional<Eigen::Vector3f> InterpolatedBearing(const PixelCentreRays& c, int
 }  // namespace
 
 std::optional<Eigen::Vector3f> SampleBearing(const Camera& camera, const PixelCentreRays& centres, const Eigen::Vector2d& point) {
-  if (!IsFisheyeModel(camera.model())) {
+  if (centres.interpolate_samples) {
     if (const auto b = InterpolatedBearing(centres, camera.height(), point.x(), point.y())) return b;
   }
   const auto exact = camera.CamFromImg(point);  // at the image's border or the lens's
@@ -154,27 +159,28 @@ void CameraRays::Batch(const Eigen::Vector2i& tile_corner, int y, int x_begin, i
     rays->back().ray.time = pose.ray_time;
     info->push_back({pixel, centres_.angle[idx], true});
     if (spp_ == 1) continue;
+    const uint64_t pixel_hash = PixelHash(seed_, x, y);
     if (grid_ == 0) {  // n-rooks: a per-pixel random permutation of the y strata
       for (int i = 0; i < spp_; ++i) rooks_[i] = i;
       for (int i = spp_ - 1; i > 0; --i) {
-        const int j = int(HashSample(seed_, x, y, i, 2) % uint64_t(i + 1));
+        const int j = int(SampleHash(pixel_hash, i, 2) % uint64_t(i + 1));
         std::swap(rooks_[i], rooks_[j]);
       }
     }
     if (poses_.exposure) {  // the samples' times: one per stratum of the exposure, strata shuffled per pixel
       for (int i = 0; i < spp_; ++i) time_strata_[i] = i;
       for (int i = spp_ - 1; i > 0; --i) {
-        const int j = int(HashSample(seed_, x, y, i, 3) % uint64_t(i + 1));
+        const int j = int(SampleHash(pixel_hash, i, 3) % uint64_t(i + 1));
         std::swap(time_strata_[i], time_strata_[j]);
       }
     }
     const float sample_angle = centres_.angle[idx] / std::sqrt(float(spp_));
     for (int s = 0; s < spp_; ++s) {
-      const Eigen::Vector2d point = Eigen::Vector2d(x, y) + SampleOffset(seed_, x, y, s, spp_, grid_, rooks_);
+      const Eigen::Vector2d point = Eigen::Vector2d(x, y) + SampleOffset(pixel_hash, s, spp_, grid_, rooks_);
       const std::optional<Eigen::Vector3f> bearing = SampleBearing(camera_, centres_, point);
       if (!bearing) continue;  // part of the pixel lies outside the lens
       if (poses_.exposure) {
-        const float a = (float(time_strata_[s]) + UnitFloat(HashSample(seed_, x, y, s, 4))) / float(spp_);
+        const float a = (float(time_strata_[s]) + UnitFloat(SampleHash(pixel_hash, s, 4))) / float(spp_);
         const Eigen::Quaternionf rotation(Eigen::Vector4f((1 - a) * pose.begin_rotation.coeffs() + a * pose.end_rotation.coeffs()));
         const Eigen::Vector3f origin = (1 - a) * pose.begin_origin + a * pose.end_origin;
         rays->push_back(CameraRay(origin, (rotation.normalized() * *bearing).normalized()));

@@ -34,6 +34,7 @@ struct PixelCentreRays {
   std::vector<Eigen::Vector3f> bearings;  // float: half the memory traffic of the per-pixel read
   std::vector<float> angle;     // max angle to a valid neighbour's bearing (radians)
   std::vector<uint8_t> valid;
+  bool interpolate_samples = false;  // SampleBearing interpolates (not for fisheyes)
 };
 
 // The unit bearing of a colour sample's image point: for PINHOLE, OPENCV and FULL_OPENCV
