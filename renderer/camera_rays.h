@@ -131,7 +131,7 @@ void CollectRecords(const std::vector<RTCRayHit>& rays, const std::vector<Camera
     r.hit.v = rh.hit.v;
     r.hit.t = rh.ray.tfar;
     r.dir = Eigen::Vector3f(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
-    r.origin = Eigen::Vector3f(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z);
+    r.shadow_origin = Eigen::Vector3f(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z) + r.hit.t * r.dir;  // the hit point
     r.time = rh.ray.time;
     r.angle = info[i].angle;
     r.pixel = info[i].pixel;

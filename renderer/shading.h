@@ -159,7 +159,6 @@ struct Hit {
 struct SampleRecord {
   Hit hit;
   Eigen::Vector3f dir;    // world direction of the camera ray
-  Eigen::Vector3f origin; // world origin of the camera ray
   float time = 0;         // the camera ray's Embree time, which its shadow ray shares
   float angle = 0;        // the ray's angular footprint (radians), for texture filtering
   int pixel = 0;          // in the tile
@@ -167,6 +166,7 @@ struct SampleRecord {
   float light = 0;        // without the sun
   float sun_light = 0;    // what the sun adds when the shadow ray is clear
   bool sun_ray = false;   // the sun lights this side: a shadow ray is due
+  // The hit point (world) when collected (CollectRecords), then the shadow ray's origin.
   Eigen::Vector3f shadow_origin;
   // ShareShadingWithinPixels: -1 when this record is lit by its own shading, else the index (in
   // the batch's records) of the earlier sample on the same triangle whose light it shares.
@@ -232,13 +232,16 @@ inline bool NeedsSunRay(const Eigen::Vector3f& ng, const Eigen::Vector3f& n, con
   return n.dot(p.sun_dir) > 0 && ng.dot(p.sun_dir) > 0;
 }
 
-// Start of the shadow ray: the hit point offset along the geometric normal, scaled with float
+// Start of the shadow ray: the hit `point` offset along the geometric normal, scaled with float
 // precision at this distance.
-inline Eigen::Vector3f ShadowRayOrigin(const Hit& hit, const Eigen::Vector3f& origin, const Eigen::Vector3f& dir,
-                                       const Eigen::Vector3f& ng) {
-  const Eigen::Vector3f point = origin + hit.t * dir;
+inline Eigen::Vector3f ShadowRayOriginAt(const Hit& hit, const Eigen::Vector3f& point, const Eigen::Vector3f& ng) {
   const float eps = 1e-4f * (1.0f + std::max(point.cwiseAbs().maxCoeff(), hit.t));
   return point + eps * ng;
+}
+
+inline Eigen::Vector3f ShadowRayOrigin(const Hit& hit, const Eigen::Vector3f& origin, const Eigen::Vector3f& dir,
+                                       const Eigen::Vector3f& ng) {
+  return ShadowRayOriginAt(hit, origin + hit.t * dir, ng);
 }
 
 // The shading normal `n` (facing the ray) turned by the mesh's normal map. The map's axes are
@@ -281,7 +284,7 @@ inline Eigen::Vector3f ShadowRayOrigin(const Hit& hit, const Eigen::Vector3f& or
   r.sun_ray = NeedsSunRay(ng, n, p);
   if (r.sun_ray) {
     r.sun_light = p.sun_intensity * n.dot(p.sun_dir);
-    r.shadow_origin = ShadowRayOrigin(hit, r.origin, r.dir, ng);
+    r.shadow_origin = ShadowRayOriginAt(hit, r.shadow_origin, ng);
   }
 }
 
