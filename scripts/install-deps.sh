@@ -15,6 +15,8 @@ packages=(
   libeigen3-dev
   libceres-dev
   nlohmann-json3-dev
+  libyaml-cpp-dev                        # sweep configs in YAML (sweep/sweep_config.h)
+  gnuplot-nox                            # sweep plots (sweep/sweep_plots.h)
   libcli11-dev
   libtbb-dev
   libre2-dev                             # label-rule regexes in linear time (gltf/label_rules.h)
