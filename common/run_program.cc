@@ -6,6 +6,7 @@
 #include <fcntl.h>
 #include <spawn.h>
 #include <sstream>
+#include <string_view>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -28,7 +29,8 @@ std::string FindProgram(const std::string& name) {
   return {};
 }
 
-ProgramRun RunProgram(const std::vector<std::string>& argv, const fs::path& log_file, const fs::path& working_dir) {
+ProgramRun RunProgram(const std::vector<std::string>& argv, const fs::path& log_file, const fs::path& working_dir,
+                      const std::vector<std::string>& environment) {
   ProgramRun run;
   if (argv.empty()) {
     run.error = "no program given";
@@ -48,8 +50,18 @@ ProgramRun RunProgram(const std::vector<std::string>& argv, const fs::path& log_
   std::vector<char*> args;
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
+  std::vector<char*> env;
+  for (const std::string& e : environment) env.push_back(const_cast<char*>(e.c_str()));
+  for (char** e = environ; *e; ++e) {
+    const std::string_view entry(*e);
+    const std::string_view name = entry.substr(0, entry.find('='));
+    bool overridden = false;
+    for (const std::string& o : environment) overridden = overridden || o.substr(0, o.find('=')) == name;
+    if (!overridden) env.push_back(*e);
+  }
+  env.push_back(nullptr);
   pid_t pid = 0;
-  const int rc = posix_spawn(&pid, program.c_str(), &actions, nullptr, args.data(), environ);
+  const int rc = posix_spawn(&pid, program.c_str(), &actions, nullptr, args.data(), env.data());
   posix_spawn_file_actions_destroy(&actions);
   if (rc != 0) {
     run.error = "cannot start " + program + ": " + std::strerror(rc);

@@ -18,8 +18,9 @@ struct ProgramRun {
 };
 
 // Runs argv[0] with its arguments in `working_dir` (the current folder when empty), standard
-// output and error appended to `log_file` (discarded when empty), and waits for it.
+// output and error appended to `log_file` (discarded when empty), with this process's environment
+// plus `environment` ("NAME=value" entries, which win), and waits for it.
 ProgramRun RunProgram(const std::vector<std::string>& argv, const std::filesystem::path& log_file = {},
-                      const std::filesystem::path& working_dir = {});
+                      const std::filesystem::path& working_dir = {}, const std::vector<std::string>& environment = {});
 
 }  // namespace rigsim

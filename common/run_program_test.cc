@@ -36,6 +36,16 @@ TEST(RunProgram, PassesArgumentsAsTheyAreAndCapturesOutput) {
   fs::remove_all(dir);
 }
 
+TEST(RunProgram, AddsAndOverridesEnvironmentVariables) {
+  const fs::path dir = TempDir("run_program_env");
+  setenv("RIGSIM_TEST_A", "parent", 1);
+  const ProgramRun run = RunProgram({"sh", "-c", "printf '%s %s' \"$RIGSIM_TEST_A\" \"$RIGSIM_TEST_B\""}, dir / "log.txt", {},
+                                    {"RIGSIM_TEST_A=child", "RIGSIM_TEST_B=new"});
+  EXPECT_EQ(run.exit_code, 0);
+  EXPECT_EQ(Read(dir / "log.txt"), "child new");
+  fs::remove_all(dir);
+}
+
 TEST(RunProgram, ReportsExitCodesAndMissingPrograms) {
   EXPECT_EQ(RunProgram({"sh", "-c", "exit 7"}).exit_code, 7);
   const ProgramRun missing = RunProgram({"rigsim-no-such-program"});

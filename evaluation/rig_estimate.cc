@@ -100,6 +100,8 @@ RigEstimate FromKalibr(const fs::path& path, const Rig& truth) {
   const std::vector<KalibrCamera> cams = ReadKalibrCamchain(path);
   RigEstimate e = Empty("kalibr", truth.cameras.size());
   e.metric = true;
+  e.notes.push_back("a Kalibr camchain is taken as metric: positions are compared in metres (--scale fit fits the "
+                    "scale instead)");
   const bool named = std::all_of(cams.begin(), cams.end(), [](const KalibrCamera& c) { return !c.name.empty(); });
   if (!named && cams.size() != truth.cameras.size()) {
     throw std::runtime_error(path.string() + ": " + std::to_string(cams.size()) + " cameras without rostopic names, " +

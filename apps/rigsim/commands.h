@@ -23,5 +23,6 @@ void AddCalibrateCommand(CLI::App& app);
 void AddInspectCommand(CLI::App& app);
 void AddGenerateSceneCommand(CLI::App& app);
 void AddExportCommand(CLI::App& app);
+void AddEvaluateCommand(CLI::App& app);
 
 }  // namespace rigsim::cli

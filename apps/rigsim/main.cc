@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   rigsim::cli::AddInspectCommand(app);
   rigsim::cli::AddGenerateSceneCommand(app);
   rigsim::cli::AddExportCommand(app);
+  rigsim::cli::AddEvaluateCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
