@@ -52,7 +52,7 @@ void CheckOutputFolder(const fs::path& out) {
 
 // What a sweep writes into its folder, and nothing else: --force removes only these.
 void RemoveSweepOutputs(const fs::path& out) {
-  for (const char* name : {"cells", "work", "datasets", "plots", "results.csv", "results.jsonl", "summary.csv",
+  for (const char* name : {"cells", "work", "datasets", "scenes", "plots", "results.csv", "results.jsonl", "summary.csv",
                            "summary.json", "report.md", "sweep.json"}) {
     fs::remove_all(out / name);
   }

@@ -24,5 +24,6 @@ void AddInspectCommand(CLI::App& app);
 void AddGenerateSceneCommand(CLI::App& app);
 void AddExportCommand(CLI::App& app);
 void AddEvaluateCommand(CLI::App& app);
+void AddSweepCommand(CLI::App& app);
 
 }  // namespace rigsim::cli

@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   rigsim::cli::AddGenerateSceneCommand(app);
   rigsim::cli::AddExportCommand(app);
   rigsim::cli::AddEvaluateCommand(app);
+  rigsim::cli::AddSweepCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,151 @@
+// rigsim sweep CONFIG | --suite NAME: renders and calibrates every cell of a sweep and summarises
+// where calibration works and where it breaks.
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include <unistd.h>
+
+#include "apps/rigsim/commands.h"
+#include "apps/rigsim/interrupt.h"
+#include "sweep/cell_runner.h"
+#include "sweep/suites.h"
+#include "sweep/sweep_config.h"
+#include "sweep/sweep_runner.h"
+
+namespace rigsim::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string Duration(double s) {
+  char buf[32];
+  if (s < 90) {
+    std::snprintf(buf, sizeof buf, "%.0f s", s);
+  } else if (s < 5400) {
+    std::snprintf(buf, sizeof buf, "%.0f min", s / 60);
+  } else {
+    std::snprintf(buf, sizeof buf, "%.1f h", s / 3600);
+  }
+  return buf;
+}
+
+// One line on stderr, rewritten in place on a terminal; a line per finished cell otherwise.
+class SweepProgressLine {
+ public:
+  SweepProgressLine() : tty_(::isatty(2)) {}
+  void operator()(const SweepProgress& p) {
+    std::string line = "sweep: " + std::to_string(p.done) + "/" + std::to_string(p.total) + " cells";
+    if (p.resumed > 0) line += " (" + std::to_string(p.resumed) + " from an earlier run)";
+    if (p.failed_rows > 0) line += ", " + std::to_string(p.failed_rows) + " failed runs";
+    line += p.eta_s >= 0 ? ", about " + Duration(p.eta_s) + " left" : "";
+    if (tty_) {
+      std::string full = line + "  [" + p.current + "]";
+      if (full.size() > 150) full = full.substr(0, 147) + "...";
+      std::fprintf(stderr, "\r\033[K%s", full.c_str());
+    } else if (p.done != last_done_) {
+      std::fprintf(stderr, "%s\n", line.c_str());
+    }
+    last_done_ = p.done;
+    std::fflush(stderr);
+  }
+  ~SweepProgressLine() {
+    if (tty_) std::fprintf(stderr, "\n");
+  }
+
+ private:
+  bool tty_;
+  int last_done_ = -1;
+};
+
+void ListParams() {
+  std::printf("Cell parameters (a config's base, set, grid and zip):\n\n");
+  for (const ParamSpec& p : CellParamSpecs()) {
+    std::string def = p.default_value.is_null() ? "unset" : FormatParamValue(p.default_value);
+    std::printf("  %-16s default %-8s %s\n", p.name.c_str(), def.c_str(), p.help.c_str());
+  }
+  std::printf("\nMethods: semantics none, mask, gated, mask+gated; features sift, rootsift, orb, akaze; peers colmap\n");
+}
+
+}  // namespace
+
+void AddSweepCommand(CLI::App& app) {
+  struct Args {
+    std::string config, suite, size = "small", out;
+    bool keep_datasets = false, force = false, list_params = false, dry_run = false;
+    int threads = 0;
+  };
+  auto args = std::make_shared<Args>();
+  CLI::App* cmd = app.add_subcommand(
+      "sweep",
+      "Map where calibration works: vary what makes it hard (overlap, baseline, lens, label noise, scene,\n"
+      "...) over seeds, render every cell once, calibrate it by every method (rigsim's semantic modes and\n"
+      "feature types, COLMAP) and score each against the truth.\n"
+      "CONFIG is a .json or .yaml file (see README, \"Sweeps\"; --list-params lists the parameters), or\n"
+      "--suite thesis runs the built-in test of the thesis's four claims (--size small: minutes; full).\n"
+      "Writes OUT/results.csv and results.jsonl (a row per cell and method), summary.csv, plots/ (PNG\n"
+      "and SVG, by gnuplot) and report.md. Finished cells are kept in OUT/cells/: running the same\n"
+      "command again resumes, and Ctrl-C loses only the cell in progress. Exit code 0 when the sweep\n"
+      "ran (whatever the calibrations gave), 1 on bad input, 130 when interrupted.");
+  CLI::Option* config = cmd->add_option("CONFIG", args->config, "sweep config (.json, .yaml)")->check(CLI::ExistingFile);
+  CLI::Option* suite = cmd->add_option("--suite", args->suite, "a built-in sweep instead of CONFIG: thesis")->excludes(config);
+  cmd->add_option("--size", args->size, "with --suite: small (1 seed, two values per study) or full")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"small", "full"}));
+  cmd->add_option("--out", args->out, "output folder (default out/sweep/<config name>)");
+  cmd->add_flag("--keep-datasets", args->keep_datasets,
+                "keep every cell's rendered dataset in OUT/datasets/<key> (they are deleted after their cell "
+                "otherwise, so that a large sweep does not fill the disk)");
+  cmd->add_flag("--force", args->force, "start over: remove OUT's earlier sweep results (only what a sweep writes)");
+  cmd->add_option("--threads", args->threads, "worker threads, 0 = all cores")->capture_default_str()->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--list-params", args->list_params, "list the cell parameters and methods, and exit");
+  cmd->add_flag("--dry-run", args->dry_run, "list the cells and exit");
+  cmd->callback([args, config, suite] {
+    if (args->list_params) {
+      ListParams();
+      return;
+    }
+    if (config->count() == 0 && suite->count() == 0) throw CLI::ValidationError("sweep", "give CONFIG or --suite thesis");
+    SweepConfig sweep;
+    fs::path config_dir = fs::current_path();
+    std::string command = "rigsim sweep ";
+    if (!args->suite.empty()) {
+      sweep = ParseSweepConfig(SuiteConfig(args->suite, args->size), "--suite " + args->suite);
+      command += "--suite " + args->suite + " --size " + args->size;
+    } else {
+      sweep = ReadSweepConfig(args->config);
+      config_dir = fs::absolute(args->config).parent_path();
+      command += args->config;
+    }
+    const fs::path out = args->out.empty() ? fs::path("out") / "sweep" / sweep.name : fs::path(args->out);
+    command += " --out " + out.string();
+    const std::vector<SweepCell> cells = ExpandCells(sweep);
+    std::fprintf(stderr, "sweep %s: %zu cells x %zu methods into %s\n", sweep.name.c_str(), cells.size(),
+                 sweep.methods.size(), out.string().c_str());
+    if (args->dry_run) {
+      for (const SweepCell& c : cells) std::printf("cell %d %s %s\n", c.index, c.key.c_str(), c.params.dump().c_str());
+      return;
+    }
+    CellRunnerOptions runner;
+    runner.config_dir = config_dir;
+    runner.scene_dir = out / "scenes";
+    runner.num_threads = args->threads;
+    SweepRunOptions options;
+    options.out_dir = out;
+    options.keep_datasets = args->keep_datasets;
+    options.restart = args->force;
+    options.command = command;
+    InterruptScope interrupt;
+    options.check_interrupt = [] { InterruptScope::ThrowIfRequested(); };
+    SweepProgressLine progress;
+    options.progress = [&progress](const SweepProgress& p) { progress(p); };
+    const SweepOutcome outcome = RunSweep(sweep, options, MakeCellRunner(sweep, runner));
+    for (const std::string& w : outcome.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    std::printf("sweep %s: %d cells (%d run now, %d from an earlier run), %d failed runs\n", sweep.name.c_str(),
+                outcome.cells, outcome.ran, outcome.resumed, outcome.failed_rows);
+    std::printf("results in %s: report.md, results.csv, results.jsonl, summary.csv, plots/\n", out.string().c_str());
+  });
+}
+
+}  // namespace rigsim::cli
