@@ -122,7 +122,7 @@ std::vector<ViewTrack> BuildViewTracks(int num_cameras, int num_frames, const st
     }
   }
   for (const TemporalPairEstimate& t : temporal) {
-    if (!t.estimate.success) continue;
+    if (!t.two_view.success) continue;
     for (const auto& [ka, kb] : t.inliers) uf.Join(node(t.camera, t.frame, ka), node(t.camera, t.frame + 1, kb));
   }
   // Nodes are ids in creation order; group by root, observations sorted by (frame, camera, kp).
@@ -154,12 +154,12 @@ std::vector<std::optional<Eigen::Quaterniond>> EstimateRigRotations(
   for (int k = 0; k + 1 < num_frames; ++k) {
     std::vector<Eigen::Matrix3d> motions;  // R_{k+1} R_k^T seen by each camera
     for (const TemporalPairEstimate& t : temporal) {
-      if (t.frame != k || !t.estimate.success || t.camera < 0 || t.camera >= static_cast<int>(cam_from_rig.size()) ||
+      if (t.frame != k || !t.two_view.success || t.camera < 0 || t.camera >= static_cast<int>(cam_from_rig.size()) ||
           !cam_from_rig[t.camera]) {
         continue;
       }
       const Eigen::Matrix3d q = cam_from_rig[t.camera]->toRotationMatrix();
-      motions.push_back(q.transpose() * t.estimate.cam_b_from_cam_a.RotationMatrix() * q);
+      motions.push_back(q.transpose() * t.two_view.cam_b_from_cam_a.RotationMatrix() * q);
     }
     if (motions.empty()) break;  // frame k+1 and after: not chained
     // Robust: the motion closest to all others (sum of angles), then the chordal mean of those

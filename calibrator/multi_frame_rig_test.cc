@@ -132,8 +132,7 @@ ChainRing MakeChainRing(int frames, uint32_t seed, double radius = 0.3) {
       TemporalPairEstimate t;
       t.camera = c;
       t.frame = k;
-      t.estimate = {c, c, tv.success, tv.rotation_only, tv.cam_b_from_cam_a, tv.num_inliers, int(m.size()),
-                    tv.failure_reason};
+      t.two_view = ToEstimate(tv, int(m.size()));
       for (size_t i = 0; i < m.size() && tv.success; ++i) {
         if (tv.inlier_mask[i]) t.inliers.push_back(m[i]);
       }
@@ -148,7 +147,7 @@ TEST(MultiFrameRig, ChainRingIsDeterminedByTheRigMotion) {
   // The ring really is a chain: no pair of opposite cameras has a pose.
   for (const PairEstimate& p : s.observations.pairs) {
     if (p.cam_b - p.cam_a == 2) {
-      EXPECT_TRUE(!p.success || p.num_inliers < 30) << p.cam_a << "-" << p.cam_b;
+      EXPECT_TRUE(!p.two_view.success || p.two_view.num_inliers < 30) << p.cam_a << "-" << p.cam_b;
     }
   }
   RigCalibrationResult r = EstimateRig(s.observations, {});
@@ -273,7 +272,7 @@ TEST(MultiFrameRig, ViewTracksJoinFramesAndDropConflicts) {
   TemporalPairEstimate t;
   t.camera = 0;
   t.frame = 0;
-  t.estimate.success = true;
+  t.two_view.success = true;
   t.inliers = {{0, 7}, {1, 8}};
   int conflicting = -1;
   std::vector<ViewTrack> tracks = BuildViewTracks(2, 2, {pair}, {t}, &conflicting);

@@ -23,10 +23,10 @@ ViewGraph GraphFromTruth(const std::vector<Rigid3d>& cam_from_rig, const std::ve
     PairEstimate p;
     p.cam_a = a;
     p.cam_b = b;
-    p.success = true;
-    p.num_inliers = 100;
+    p.two_view.success = true;
+    p.two_view.num_inliers = 100;
     const Rigid3d rel = cam_from_rig[b] * cam_from_rig[a].Inverse();
-    p.cam_b_from_cam_a = Rigid3d(rel.rotation, rel.translation.normalized());
+    p.two_view.cam_b_from_cam_a = Rigid3d(rel.rotation, rel.translation.normalized());
     estimates.push_back(p);
   }
   return BuildViewGraph(static_cast<int>(cam_from_rig.size()), estimates, {});

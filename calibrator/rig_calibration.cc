@@ -84,17 +84,18 @@ void WarnAboutCamerasHeldByOneWeakPair(const ViewGraph& graph, const RigObservat
     }
     if (held_by.size() != 1) continue;
     const PairEstimate& p = obs.pairs[held_by[0]];
-    if (p.num_matches <= 0 || p.num_inliers >= kWeakPairInlierRatio * p.num_matches) continue;
+    const TwoViewEstimate& tv = p.two_view;
+    if (tv.num_matches <= 0 || tv.num_inliers >= kWeakPairInlierRatio * tv.num_matches) continue;
     const std::string pair = obs.camera_names[p.cam_a] + "-" + obs.camera_names[p.cam_b];
     warnings->push_back(obs.camera_names[c] + " is placed by one pair only, " + pair + ", whose fit explains " +
-                        std::to_string(p.num_inliers) + " of its " + std::to_string(p.num_matches) + " matches (" +
-                        Fixed(100.0 * p.num_inliers / p.num_matches, 0) +
+                        std::to_string(tv.num_inliers) + " of its " + std::to_string(tv.num_matches) + " matches (" +
+                        Fixed(100.0 * tv.num_inliers / tv.num_matches, 0) +
                         "%): unrelated or mirrored views can agree with a pose by chance; check the pair's match "
                         "image");
   }
 }
 
-// Observations of one dataset mode, from the pipeline's report and match data.
+// Observations of one dataset mode, from the pairwise report and match data.
 RigObservations ObservationsFromPipeline(const Rig& rig, const CalibrationReport& report,
                                          const PairwiseMatchData& data) {
   RigObservations obs;
@@ -105,15 +106,7 @@ RigObservations ObservationsFromPipeline(const Rig& rig, const CalibrationReport
   obs.keypoints = data.keypoints;
   for (size_t p = 0; p < report.pairs.size(); ++p) {
     const PairResult& pr = report.pairs[p];
-    PairEstimate e;
-    e.cam_a = rig.FindCamera(pr.cam_a);
-    e.cam_b = rig.FindCamera(pr.cam_b);
-    e.success = pr.success;
-    e.rotation_only = pr.rotation_only;
-    e.cam_b_from_cam_a = pr.cam_b_from_cam_a;
-    e.num_inliers = pr.inliers;
-    e.num_matches = pr.matches;
-    e.failure_reason = pr.failure_reason;
+    const PairEstimate e{rig.FindCamera(pr.cam_a), rig.FindCamera(pr.cam_b), pr.two_view};
     obs.pairs.push_back(e);
     obs.inliers.push_back({e.cam_a, e.cam_b, data.inliers[p]});
   }
@@ -171,15 +164,7 @@ std::pair<PairEstimate, PairMatches> EstimatePairFromMatches(
     }
   }
   const TwoViewResult tv = EstimateRelativePose(cameras.at(cam_a), px_a, cameras.at(cam_b), px_b, options);
-  PairEstimate e;
-  e.cam_a = cam_a;
-  e.cam_b = cam_b;
-  e.success = tv.success;
-  e.rotation_only = tv.rotation_only;
-  e.cam_b_from_cam_a = tv.cam_b_from_cam_a;
-  e.num_inliers = tv.num_inliers;
-  e.num_matches = static_cast<int>(px_a.size());
-  e.failure_reason = tv.failure_reason;
+  const PairEstimate e{cam_a, cam_b, ToEstimate(tv, static_cast<int>(px_a.size()))};
   PairMatches inl{cam_a, cam_b, std::vector<std::vector<std::pair<int, int>>>(matches_per_frame.size())};
   if (tv.success) {
     size_t i = 0;
@@ -238,7 +223,7 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
       if (t.camera < 0 || t.camera >= n || t.frame < 0 || t.frame + 1 >= num_frames) {
         throw std::invalid_argument("EstimateRig: temporal pair out of range");
       }
-      if (t.estimate.success && rot.cam_from_rig[t.camera]) ++result.num_temporal_pairs_used;
+      if (t.two_view.success && rot.cam_from_rig[t.camera]) ++result.num_temporal_pairs_used;
     }
   }
 
@@ -255,7 +240,7 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
   std::vector<TemporalPairEstimate> temporal_used;
   if (moving) {
     for (const TemporalPairEstimate& t : obs.temporal) {
-      if (t.estimate.success && rot.cam_from_rig[t.camera]) temporal_used.push_back(t);
+      if (t.two_view.success && rot.cam_from_rig[t.camera]) temporal_used.push_back(t);
     }
   }
   const std::vector<ViewTrack> tracks =

@@ -190,6 +190,20 @@ std::string_view PairTypeName(PairType type) {
   throw std::invalid_argument("PairTypeName: invalid pair type " + std::to_string(static_cast<int>(type)));
 }
 
+TwoViewEstimate ToEstimate(const TwoViewResult& result, int num_matches) {
+  TwoViewEstimate e;
+  e.success = result.success;
+  e.rotation_only = result.rotation_only;
+  e.pair_type = result.pair_type;
+  e.cam_b_from_cam_a = result.cam_b_from_cam_a;
+  e.num_matches = num_matches;
+  e.num_inliers = result.num_inliers;
+  e.num_homography_inliers = result.num_homography_inliers;
+  e.median_residual_deg = result.median_residual_deg;
+  e.failure_reason = result.failure_reason;
+  return e;
+}
+
 void TwoViewOptions::Check() const {
   auto fail = [](const std::string& why) { throw std::invalid_argument("TwoViewOptions: " + why); };
   if (min_matches < 5) fail("min_matches must be >= 5 (the essential matrix needs 5)");

@@ -22,7 +22,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 
-#include "calibrator/pipeline.h"
+#include "calibrator/pairwise.h"
 #include "dataset/dataset.h"
 #include "dataset/image_io.h"
 #include "dataset/label_image.h"

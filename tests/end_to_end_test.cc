@@ -81,16 +81,16 @@ TEST_F(StreetEndToEnd, DemoRigCalibratesAccuratelyInEverySemanticMode) {
       SCOPED_TRACE(pair.cam_a + "-" + pair.cam_b);
       const bool neighbours = pair.cam_a.back() + 1 == pair.cam_b.back();
       if (!neighbours) {
-        EXPECT_FALSE(pair.success) << "these cameras share nothing";
+        EXPECT_FALSE(pair.two_view.success) << "these cameras share nothing";
         continue;
       }
-      ASSERT_TRUE(pair.success) << pair.failure_reason;
+      ASSERT_TRUE(pair.two_view.success) << pair.two_view.failure_reason;
       ASSERT_TRUE(pair.rotation_error_deg.has_value());
       rotation.push_back(*pair.rotation_error_deg);
       // Ground-truth precision of the ratio-tested matches: about 55-70% in these overlaps.
       ASSERT_TRUE(pair.match_precision.has_value());
       EXPECT_GT(*pair.match_precision, 0.4);
-      EXPECT_GT(pair.inliers, 500);
+      EXPECT_GT(pair.two_view.num_inliers, 500);
     }
     ASSERT_EQ(rotation.size(), 3u);
     std::sort(rotation.begin(), rotation.end());

@@ -7,7 +7,7 @@
 
 #include "apps/rigsim/interrupt.h"
 #include "apps/rigsim/progress.h"
-#include "apps/rigsim/report_table.h"
+#include "pipeline/report_table.h"
 #include "dataset/dataset.h"
 #include "scenes/gltf_loader.h"
 #include "scenes/label_rules.h"

@@ -72,18 +72,13 @@ struct CalibrationOptions {
   void Check() const;
 };
 
+// One camera pair in the pairwise report: its two-view outcome, errors against the truth and cost.
 struct PairResult {
   std::string cam_a, cam_b;
-  int frames = 0;   // frames pooled
-  int matches = 0;  // pooled over frames
-  int inliers = 0;
-  bool success = false;
-  bool rotation_only = false;  // translation unobservable; its direction is not reported
-  PairType pair_type = PairType::kGeneral;  // two_view.h; meaningful on success
-  int homography_inliers = 0;               // of the homography the planar test fits
-  std::string failure_reason;
-  Rigid3d cam_b_from_cam_a;  // unit translation (zero when rotation_only)
-  double median_residual_deg = 0.0;
+  int frames = 0;  // frames pooled
+  // Matches pooled over the frames (two_view.num_matches), the estimate and its inliers; a pair
+  // screened out (CalibrationOptions::screen_features) has failure_reason set and no matches.
+  TwoViewEstimate two_view;
 
   // Ground truth, when rig.json has the poses.
   std::optional<Rigid3d> cam_b_from_cam_a_gt;  // metric
@@ -147,6 +142,9 @@ std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path
                                                      const CalibrationOptions& options,
                                                      const std::vector<SemanticMode>& modes,
                                                      std::vector<PairwiseMatchData>* match_data = nullptr);
+
+// One pair's entry of ReportToJson below.
+nlohmann::json PairResultToJson(const PairResult& pair);
 
 // evaluation.json: {"methods": {"<mode>": {"summary": {...}, "timing": {...}, "pairs": [{...}]}}}.
 // Per pair: cam_a, cam_b, success, rotation_only, pair_type ("general", "planar",
