@@ -32,7 +32,7 @@
 
 #include "calibrator/multi_frame_rig.h"
 #include "calibrator/pairwise.h"
-#include "calibrator/rig_bundle_adjustment.h"
+#include "calibrator/correspondences.h"
 #include "calibrator/rotation_averaging.h"
 #include "calibrator/view_graph.h"
 #include "geometry/rig.h"
