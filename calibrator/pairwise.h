@@ -5,6 +5,11 @@
 // Several semantic modes can run on the same images in one call: features are detected once
 // per image and kind (unmasked for none/gated, masked for mask/mask+gated) and shared.
 //
+// Stages (pairwise.cc, each a function of its inputs and the options): check the inputs (every
+// photo there and of its camera's size), detect features, screen the pairs, match them per
+// frame, pool the frames and estimate each pair, match each camera between consecutive frames
+// (temporal pairs), and compare with the truth (pose errors, match precision).
+//
 // Reads (dataset/dataset.h): rig.json (intrinsics; cam_from_rig optional), frames.json or the
 // image stems of the first camera, images/<cam>/<frame>.*, labels when a mode needs them
 // (labels/<cam>/<frame>.png or CalibrationOptions::labels), depth/<cam>/<frame>.exr when present

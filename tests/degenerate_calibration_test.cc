@@ -204,8 +204,8 @@ TEST_F(Degenerate, PlanarSceneIsSolvedOrDiagnosedNeverWrong) {
 TEST_F(Degenerate, WeakRigMotionGivesRotationsNotWrongPositions) {
   // The demo ring at 640x360, driven 3 frames straight ahead: few features, and a motion without a
   // turn, which barely links the cameras' positions. Each render seed lands elsewhere on that edge;
-  // measured with the observability test as it was (eigenvalue ratio >= 20, the smallest clamped
-  // at 0), every camera was reported "calibrated" with a wrong position:
+  // a weaker observability test (eigenvalue ratio >= 20, the smallest clamped at 0) reports every
+  // camera "calibrated" with a wrong position:
   //   seed 2: ratio 26.4, positions 29-89 deg wrong;
   //   seed 6: smallest eigenvalue -0.009 (clamped: ratio infinite), positions 57-117 deg wrong.
   const Scene street = LoadGltf("assets/scenes/street.glb");

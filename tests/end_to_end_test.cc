@@ -65,9 +65,8 @@ class StreetFirstFrame : public testing::Test {
 };
 fs::path* StreetFirstFrame::dir_ = nullptr;
 
-// Issue 2's promise: neighbouring pairs have a median rotation error below 0.1 deg. Issue 5's:
-// every camera of the ring within 0.05 deg in rotation and 0.5 deg in translation direction, in
-// every semantic mode.
+// Neighbouring pairs have a median rotation error below 0.1 deg, and every camera of the ring is
+// within 0.05 deg in rotation and 0.5 deg in translation direction, in every semantic mode.
 TEST_F(StreetEndToEnd, DemoRigCalibratesAccuratelyInEverySemanticMode) {
   const std::vector<SemanticMode> modes(std::begin(kAllSemanticModes), std::end(kAllSemanticModes));
   const auto results = CalibrateRig(*dir_, RigCalibrationOptions{}, modes);
@@ -145,7 +144,7 @@ TEST_F(StreetFirstFrame, OverlapOfNeighboursIsInTheDesignedRange) {
   }
 }
 
-// Issue 5: a vehicle-like surround rig whose side cameras are 190-degree fisheyes (neighbours
+// A vehicle-like surround rig whose side cameras are 190-degree fisheyes (neighbours
 // share 12-14% of their views) calibrates to within 0.1 deg for every camera.
 TEST(SurroundEndToEnd, RigWithTwoFisheyesCalibratesWithinATenthOfADegree) {
   const fs::path dir = fs::temp_directory_path() / ("rigsim_surround_" + std::to_string(::getpid()));
