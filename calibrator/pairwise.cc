@@ -14,6 +14,7 @@
 #include "dataset/dataset.h"
 #include "dataset/image_io.h"
 #include "dataset/label_image.h"
+#include "geometry/json_io.h"
 #include "geometry/rig.h"
 
 namespace rigsim {
@@ -529,14 +530,6 @@ std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path
   return reports;
 }
 
-namespace {
-
-nlohmann::json OptionalToJson(const std::optional<double>& v) {
-  return v && std::isfinite(*v) ? nlohmann::json(*v) : nlohmann::json(nullptr);
-}
-
-}  // namespace
-
 nlohmann::json PairResultToJson(const PairResult& pr) {
   const TwoViewEstimate& tv = pr.two_view;
   nlohmann::json j;
@@ -552,25 +545,19 @@ nlohmann::json PairResultToJson(const PairResult& pr) {
   j["homography_inliers"] = tv.num_homography_inliers;
   j["inlier_ratio"] = tv.num_matches > 0 ? nlohmann::json(double(tv.num_inliers) / tv.num_matches) : nlohmann::json(nullptr);
   j["median_residual_deg"] = tv.success ? nlohmann::json(tv.median_residual_deg) : nlohmann::json(nullptr);
-  j["rotation_error_deg"] = OptionalToJson(pr.rotation_error_deg);
-  j["translation_direction_error_deg"] = OptionalToJson(pr.translation_direction_error_deg);
-  j["match_precision"] = OptionalToJson(pr.match_precision);
+  j["rotation_error_deg"] = json_io::OptionalNumber(pr.rotation_error_deg);
+  j["translation_direction_error_deg"] = json_io::OptionalNumber(pr.translation_direction_error_deg);
+  j["match_precision"] = json_io::OptionalNumber(pr.match_precision);
   j["matches_evaluated"] = pr.matches_evaluated;
   j["matches_correct"] = pr.matches_correct;
   j["matches_at_infinity"] = pr.matches_at_infinity;
-  j["inlier_precision"] = OptionalToJson(pr.inlier_precision);
+  j["inlier_precision"] = json_io::OptionalNumber(pr.inlier_precision);
   j["inliers_evaluated"] = pr.inliers_evaluated;
   j["inliers_correct"] = pr.inliers_correct;
   j["distance_evaluations"] = pr.distance_evaluations;
   j["match_time_s"] = pr.match_time_s;
   j["pose_time_s"] = pr.pose_time_s;
-  if (tv.success) {
-    const Rigid3d& e = tv.cam_b_from_cam_a;
-    j["cam_b_from_cam_a"] = {{"rotation_wxyz", {e.rotation.w(), e.rotation.x(), e.rotation.y(), e.rotation.z()}},
-                             {"translation", {e.translation.x(), e.translation.y(), e.translation.z()}}};
-  } else {
-    j["cam_b_from_cam_a"] = nullptr;
-  }
+  j["cam_b_from_cam_a"] = tv.success ? json_io::PoseToJson(tv.cam_b_from_cam_a) : nlohmann::json(nullptr);
   return j;
 }
 

@@ -12,21 +12,13 @@
 #include "calibrator/evaluation.h"
 #include "calibrator/format.h"
 #include "dataset/dataset.h"
+#include "geometry/json_io.h"
 
 namespace rigsim {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 double Seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
-
-nlohmann::json OptionalToJson(const std::optional<double>& v) {
-  return v && std::isfinite(*v) ? nlohmann::json(*v) : nlohmann::json(nullptr);
-}
-
-nlohmann::json PoseToJson(const Rigid3d& p) {
-  return {{"rotation_wxyz", {p.rotation.w(), p.rotation.x(), p.rotation.y(), p.rotation.z()}},
-          {"translation", {p.translation.x(), p.translation.y(), p.translation.z()}}};
-}
 
 // Index of each known-distance camera in `names`; throws std::invalid_argument naming a camera
 // that is not there, and the cameras that are.
@@ -577,7 +569,7 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
       j["position_known"] = pose.has_value();
       const auto& rq = c < r.cam_from_rig_rotation.size() ? r.cam_from_rig_rotation[c] : std::nullopt;
       j["rotation_wxyz"] = rq ? nlohmann::json({rq->w(), rq->x(), rq->y(), rq->z()}) : nlohmann::json(nullptr);
-      j["cam_from_rig"] = pose ? PoseToJson(*pose) : nlohmann::json(nullptr);
+      j["cam_from_rig"] = pose ? json_io::PoseToJson(*pose) : nlohmann::json(nullptr);
       if (pose) {
         const Eigen::Vector3d centre = pose->SourceOriginInTarget();
         j["centre_in_rig"] = {centre.x(), centre.y(), centre.z()};
@@ -585,10 +577,10 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
         j["centre_in_rig"] = nullptr;
       }
       j["observations"] = s.observations;
-      j["direction_std_deg"] = OptionalToJson(s.direction_std_deg);
-      j["rotation_error_deg"] = OptionalToJson(s.rotation_error_deg);
-      j["translation_direction_error_deg"] = OptionalToJson(s.translation_direction_error_deg);
-      j["position_error_m"] = OptionalToJson(s.position_error_m);
+      j["direction_std_deg"] = json_io::OptionalNumber(s.direction_std_deg);
+      j["rotation_error_deg"] = json_io::OptionalNumber(s.rotation_error_deg);
+      j["translation_direction_error_deg"] = json_io::OptionalNumber(s.translation_direction_error_deg);
+      j["position_error_m"] = json_io::OptionalNumber(s.position_error_m);
       cams.push_back(j);
     }
     nlohmann::json edges = nlohmann::json::array();
@@ -599,7 +591,7 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
                        {"used", e.used},
                        {"rotation_only", e.rotation_only},
                        {"rotation_outlier", e.rotation_outlier},
-                       {"rotation_residual_deg", OptionalToJson(e.rotation_residual_deg)},
+                       {"rotation_residual_deg", json_io::OptionalNumber(e.rotation_residual_deg)},
                        {"status", e.status}});
     }
     nlohmann::json summary = {{"cameras", r.rig.cameras.size()},
@@ -636,7 +628,7 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
                    {"bundle_adjustment_time_s", r.bundle_adjustment_time_s}};
     m["cameras"] = cams;
     nlohmann::json frames = nlohmann::json::array();  // per frame index: the rig's pose, or null
-    for (const auto& p : r.rig_from_world) frames.push_back(p ? PoseToJson(*p) : nlohmann::json(nullptr));
+    for (const auto& p : r.rig_from_world) frames.push_back(p ? json_io::PoseToJson(*p) : nlohmann::json(nullptr));
     m["rig_from_world_per_frame"] = frames;
     m["edges"] = edges;
     m["warnings"] = r.warnings;

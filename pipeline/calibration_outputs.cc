@@ -1,6 +1,5 @@
 #include "pipeline/calibration_outputs.h"
 
-#include <cmath>
 #include <optional>
 #include <stdexcept>
 
@@ -20,8 +19,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
-
-Json OptionalToJson(const std::optional<double>& v) { return v && std::isfinite(*v) ? Json(*v) : Json(nullptr); }
 
 // rig_topdown.svg: the estimate over the truth (when known), seen from above.
 RigPlotInput TopDownPlot(const RigCalibrationResult& r, const std::optional<Rig>& truth, size_t cameras_exported) {
@@ -184,7 +181,7 @@ Json PairsJson(const RigCalibrationResult& result, const Json& label_source, con
       pair["rig_edge"] = {{"used", e->used},
                           {"status", e->status},
                           {"rotation_outlier", e->rotation_outlier},
-                          {"rotation_residual_deg", OptionalToJson(e->rotation_residual_deg)}};
+                          {"rotation_residual_deg", json_io::OptionalNumber(e->rotation_residual_deg)}};
     }
     pairs.push_back(std::move(pair));
   }
