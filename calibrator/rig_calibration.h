@@ -1,6 +1,6 @@
 // Targetless rig calibration: from a dataset's images to every camera's cam_from_rig.
 //
-// Stages: the pairwise pipeline (pipeline.h: features, matches per frame, one two-view estimate
+// Stages: the pairwise stage (pairwise.h: features, matches per frame, one two-view estimate
 // per pair over pooled frames, and each camera matched with itself between consecutive frames)
 // -> view graph (view_graph.h) -> robust rotation averaging (rotation_averaging.h) -> rig
 // rotation per frame from the temporal pairs -> tracks over all views (camera, frame) -> camera
@@ -31,8 +31,8 @@
 #include <nlohmann/json.hpp>
 
 #include "calibrator/multi_frame_rig.h"
-#include "calibrator/pipeline.h"
-#include "calibrator/rig_bundle_adjustment.h"
+#include "calibrator/pairwise.h"
+#include "calibrator/correspondences.h"
 #include "calibrator/rotation_averaging.h"
 #include "calibrator/view_graph.h"
 #include "geometry/rig.h"
@@ -78,13 +78,13 @@ struct RigObservations {
   FrameKeypoints keypoints;          // [frame][camera][keypoint]
   std::vector<PairEstimate> pairs;   // one per camera pair
   std::vector<PairMatches> inliers;  // the same pairs' two-view inliers per frame (empty when failed)
-  // Each camera between consecutive frames (pipeline.h PairwiseMatchData::temporal). Empty: the
+  // Each camera between consecutive frames (pairwise.h PairwiseMatchData::temporal). Empty: the
   // frames are independent captures of a static rig (no rig motion is estimated).
   std::vector<TemporalPairEstimate> temporal;
 };
 
 // Pools one pair's matches over the frames, estimates the relative pose (two_view.h) and keeps
-// its inliers per frame: the pairwise pipeline's step for one pair, for callers that bring
+// its inliers per frame: the pairwise stage's step for one pair, for callers that bring
 // their own correspondences.
 std::pair<PairEstimate, PairMatches> EstimatePairFromMatches(
     const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, int cam_a, int cam_b,
@@ -117,7 +117,7 @@ struct RigEdgeStats {
 // person looks at to judge a pair (calibrator/match_image.h draws them).
 struct PairInlierSample {
   std::string cam_a, cam_b;
-  int frame = -1;  // index into the dataset's frames, in the order the pipeline read them
+  int frame = -1;  // index into the dataset's frames, in the order the pairwise stage read them
   std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> points;  // (in cam_a, in cam_b)
 };
 

@@ -256,9 +256,9 @@ TEST_F(RigCalibrationTest, RotationOutlierEdgeIsDroppedWithItsReason) {
     if (obs.pairs[p].cam_a == 1 && obs.pairs[p].cam_b == 3) e = static_cast<int>(p);
   }
   ASSERT_GE(e, 0);
-  ASSERT_TRUE(obs.pairs[e].success);
-  obs.pairs[e].cam_b_from_cam_a.rotation =
-      Eigen::Quaterniond(Eigen::AngleAxisd(DegToRad(20), Eigen::Vector3d::UnitX())) * obs.pairs[e].cam_b_from_cam_a.rotation;
+  ASSERT_TRUE(obs.pairs[e].two_view.success);
+  obs.pairs[e].two_view.cam_b_from_cam_a.rotation =
+      Eigen::Quaterniond(Eigen::AngleAxisd(DegToRad(20), Eigen::Vector3d::UnitX())) * obs.pairs[e].two_view.cam_b_from_cam_a.rotation;
   RigCalibrationResult r = EstimateRig(obs, {});
   EvaluateRigAgainstTruth(synthetic_->truth, &r);
   EXPECT_TRUE(r.edges[e].rotation_outlier);
@@ -272,8 +272,8 @@ TEST_F(RigCalibrationTest, CameraZeroAloneCalibratesNothingElse) {
   RigObservations obs = *observations_;
   for (PairEstimate& p : obs.pairs) {
     if (p.cam_a == 0) {
-      p.success = false;
-      p.failure_reason = "too few matches";
+      p.two_view.success = false;
+      p.two_view.failure_reason = "too few matches";
     }
   }
   const RigCalibrationResult r = EstimateRig(obs, {});
@@ -292,23 +292,23 @@ TEST_F(RigCalibrationTest, CameraHeldByOneWeakPairIsWarnedAbout) {
     if (e.cam_a == 1 && e.cam_b == 2) {
       held = static_cast<int>(p);
     } else if (e.cam_a == 2 || e.cam_b == 2) {
-      e.success = false;
-      e.failure_reason = "too few matches";
+      e.two_view.success = false;
+      e.two_view.failure_reason = "too few matches";
     }
   }
   ASSERT_GE(held, 0);
-  ASSERT_TRUE(obs.pairs[held].success);
+  ASSERT_TRUE(obs.pairs[held].two_view.success);
   auto warned = [](const RigCalibrationResult& r) {
     for (const std::string& w : r.warnings) {
       if (w.rfind("cam2 is placed by one pair only, cam1-cam2, whose fit explains ", 0) == 0) return true;
     }
     return false;
   };
-  obs.pairs[held].num_matches = obs.pairs[held].num_inliers * 5 / 4;  // 80%: as genuine pairs do
+  obs.pairs[held].two_view.num_matches = obs.pairs[held].two_view.num_inliers * 5 / 4;  // 80%: as genuine pairs do
   const RigCalibrationResult strong = EstimateRig(obs, {});
   ASSERT_TRUE(strong.rig.cameras[2].cam_from_rig.has_value()) << strong.camera_status[2];
   EXPECT_FALSE(warned(strong));
-  obs.pairs[held].num_matches = obs.pairs[held].num_inliers * 6;  // 17%: a chance agreement looks so
+  obs.pairs[held].two_view.num_matches = obs.pairs[held].two_view.num_inliers * 6;  // 17%: a chance agreement looks so
   const RigCalibrationResult weak = EstimateRig(obs, {});
   EXPECT_TRUE(weak.rig.cameras[2].cam_from_rig.has_value());  // kept: the warning says what to check
   EXPECT_TRUE(warned(weak));

@@ -50,19 +50,19 @@ SyntheticGraph MakeGraph(std::mt19937& rng, int n, double noise_deg, double outl
       PairEstimate p;
       p.cam_a = a;
       p.cam_b = b;
-      p.success = true;
-      p.rotation_only = true;
+      p.two_view.success = true;
+      p.two_view.rotation_only = true;
       Eigen::Quaterniond r = s.truth[b] * s.truth[a].conjugate();
       // Noise falls as 1/sqrt(inliers), as for a real pair (the weighting assumes it).
-      p.num_inliers = 100 + static_cast<int>(200 * u(rng));
-      const Eigen::Vector3d e = std::sqrt(200.0 / p.num_inliers) * Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+      p.two_view.num_inliers = 100 + static_cast<int>(200 * u(rng));
+      const Eigen::Vector3d e = std::sqrt(200.0 / p.two_view.num_inliers) * Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
       r = Eigen::Quaterniond(Eigen::AngleAxisd(e.norm(), e.normalized())) * r;
       if (u(rng) < outlier_fraction) {
         r = Perturbation(rng, 30.0 + 60.0 * u(rng)) * r;
         s.perturbed.insert(static_cast<int>(pairs.size()));
-        p.num_inliers = 400 + static_cast<int>(200 * u(rng));
+        p.two_view.num_inliers = 400 + static_cast<int>(200 * u(rng));
       }
-      p.cam_b_from_cam_a = Rigid3d(r, Eigen::Vector3d::Zero());
+      p.two_view.cam_b_from_cam_a = Rigid3d(r, Eigen::Vector3d::Zero());
       pairs.push_back(p);
     }
   }
@@ -156,9 +156,9 @@ TEST(RotationAveraging, ChainWithoutLoopsFollowsTheEdges) {
     PairEstimate p;
     p.cam_a = a;
     p.cam_b = a + 1;
-    p.success = true;
-    p.num_inliers = 100;
-    p.cam_b_from_cam_a = Rigid3d(truth[a + 1] * truth[a].conjugate(), Eigen::Vector3d(1, 0, 0));
+    p.two_view.success = true;
+    p.two_view.num_inliers = 100;
+    p.two_view.cam_b_from_cam_a = Rigid3d(truth[a + 1] * truth[a].conjugate(), Eigen::Vector3d(1, 0, 0));
     pairs.push_back(p);
   }
   const RotationAveragingResult r = AverageRotations(BuildViewGraph(3, pairs, {}), 0, {});

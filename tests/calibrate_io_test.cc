@@ -1,4 +1,4 @@
-// `rigsim calibrate` inputs and outputs through the built binary (issue 5): the label sources
+// `rigsim calibrate` inputs and outputs through the built binary: the label sources
 // (truth, a user folder in Cityscapes ids or colours, the segmentation-noise model) and the
 // files written per semantic mode (rig.json, Kalibr camchain.yaml, OpenCV YAML, COLMAP text
 // model, pairs.json), read back with their consumers' conventions.
@@ -22,7 +22,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 
-#include "calibrator/pipeline.h"
+#include "calibrator/pairwise.h"
 #include "dataset/dataset.h"
 #include "dataset/image_io.h"
 #include "dataset/label_image.h"

@@ -1,9 +1,8 @@
-#include "calibrator/rig_bundle_adjustment.h"
+#include "calibrator/camera_centres.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-#include <stdexcept>
 
 #include <Eigen/SVD>
 
@@ -103,17 +102,6 @@ CameraCentres EstimateCameraCentres(const ViewGraph& graph,
   const double scale = mean_length > 0 ? 1.0 / mean_length : 1.0;
   for (int c : cams) out.centre_in_rig[c] = scale * x.segment<3>(3 * unknown_of[c]);
   return out;
-}
-
-void RigBundleAdjustmentOptions::Check() const {
-  auto fail = [](const std::string& why) { throw std::invalid_argument("RigBundleAdjustmentOptions: " + why); };
-  if (!(min_triangulation_angle_deg >= 0)) fail("min_triangulation_angle_deg must be >= 0");
-  if (!(loss_scale_px > 0)) fail("loss_scale_px must be > 0");
-  if (!(max_reprojection_error_px > 0)) fail("max_reprojection_error_px must be > 0");
-  if (filter_rounds < 0) fail("filter_rounds must be >= 0");
-  if (coarse_points < 0) fail("coarse_points must be >= 0");
-  if (max_iterations < 1) fail("max_iterations must be >= 1");
-  if (num_threads < 1) fail("num_threads must be >= 1");
 }
 
 }  // namespace rigsim

@@ -1,4 +1,4 @@
-#include "apps/rigsim/report_table.h"
+#include "pipeline/report_table.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 
 #include "geometry/json_io.h"
 
-namespace rigsim::cli {
+namespace rigsim {
 namespace {
 
 std::string Fmt(const char* fmt, double v) {
@@ -74,14 +74,15 @@ std::string FormatPairTable(const std::vector<CalibrationReport>& reports, const
       const std::string pair = m == 0 ? p.cam_a + "-" + p.cam_b : "";
       const std::string ov = m == 0 ? Opt(Percent(OverlapOf(overlap, p)), "%.0f%%") : "";
       // Type: what the matches determine (two_view.h: general, planar, rotation-only).
-      const std::string type = p.success ? std::string(PairTypeName(p.pair_type)) : "-";
-      std::string status = p.success ? "ok" : p.failure_reason;
+      const TwoViewEstimate& tv = p.two_view;
+      const std::string type = tv.success ? std::string(PairTypeName(tv.pair_type)) : "-";
+      std::string status = tv.success ? "ok" : tv.failure_reason;
       if (status.size() > 48) status = status.substr(0, 45) + "...";
       std::snprintf(line, sizeof(line), "%-14s %7s  %-10s %8d %8d %9s %10s %10s  %-13s  %s\n", pair.c_str(), ov.c_str(),
-                    reports[m].semantic_mode.c_str(), p.matches, p.inliers,
+                    reports[m].semantic_mode.c_str(), tv.num_matches, tv.num_inliers,
                     Opt(Percent(p.match_precision), "%.1f%%").c_str(),
-                    p.success ? Opt(p.rotation_error_deg, "%.3f deg").c_str() : "-",
-                    p.success ? Opt(p.translation_direction_error_deg, "%.2f deg").c_str() : "-", type.c_str(),
+                    tv.success ? Opt(p.rotation_error_deg, "%.3f deg").c_str() : "-",
+                    tv.success ? Opt(p.translation_direction_error_deg, "%.2f deg").c_str() : "-", type.c_str(),
                     status.c_str());
       out << line;
     }
@@ -98,7 +99,7 @@ std::string FormatSummary(const std::vector<CalibrationReport>& reports, const O
       if (!IsNeighbour(overlap, p)) continue;
       ++neighbours;
       if (p.match_precision) prec.push_back(*p.match_precision);
-      if (!p.success) continue;
+      if (!p.two_view.success) continue;
       ++solved;
       if (p.rotation_error_deg) rot.push_back(*p.rotation_error_deg);
       if (p.translation_direction_error_deg) tdir.push_back(*p.translation_direction_error_deg);
@@ -164,4 +165,4 @@ std::string FormatRigSummary(const std::vector<RigCalibrationResult>& results) {
   return out.str();
 }
 
-}  // namespace rigsim::cli
+}  // namespace rigsim

@@ -5,6 +5,11 @@
 // Several semantic modes can run on the same images in one call: features are detected once
 // per image and kind (unmasked for none/gated, masked for mask/mask+gated) and shared.
 //
+// Stages (pairwise.cc, each a function of its inputs and the options): check the inputs (every
+// photo there and of its camera's size), detect features, screen the pairs, match them per
+// frame, pool the frames and estimate each pair, match each camera between consecutive frames
+// (temporal pairs), and compare with the truth (pose errors, match precision).
+//
 // Reads (dataset/dataset.h): rig.json (intrinsics; cam_from_rig optional), frames.json or the
 // image stems of the first camera, images/<cam>/<frame>.*, labels when a mode needs them
 // (labels/<cam>/<frame>.png or CalibrationOptions::labels), depth/<cam>/<frame>.exr when present
@@ -72,18 +77,13 @@ struct CalibrationOptions {
   void Check() const;
 };
 
+// One camera pair in the pairwise report: its two-view outcome, errors against the truth and cost.
 struct PairResult {
   std::string cam_a, cam_b;
-  int frames = 0;   // frames pooled
-  int matches = 0;  // pooled over frames
-  int inliers = 0;
-  bool success = false;
-  bool rotation_only = false;  // translation unobservable; its direction is not reported
-  PairType pair_type = PairType::kGeneral;  // two_view.h; meaningful on success
-  int homography_inliers = 0;               // of the homography the planar test fits
-  std::string failure_reason;
-  Rigid3d cam_b_from_cam_a;  // unit translation (zero when rotation_only)
-  double median_residual_deg = 0.0;
+  int frames = 0;  // frames pooled
+  // Matches pooled over the frames (two_view.num_matches), the estimate and its inliers; a pair
+  // screened out (CalibrationOptions::screen_features) has failure_reason set and no matches.
+  TwoViewEstimate two_view;
 
   // Ground truth, when rig.json has the poses.
   std::optional<Rigid3d> cam_b_from_cam_a_gt;  // metric
@@ -147,6 +147,9 @@ std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path
                                                      const CalibrationOptions& options,
                                                      const std::vector<SemanticMode>& modes,
                                                      std::vector<PairwiseMatchData>* match_data = nullptr);
+
+// One pair's entry of ReportToJson below.
+nlohmann::json PairResultToJson(const PairResult& pair);
 
 // evaluation.json: {"methods": {"<mode>": {"summary": {...}, "timing": {...}, "pairs": [{...}]}}}.
 // Per pair: cam_a, cam_b, success, rotation_only, pair_type ("general", "planar",

@@ -1,4 +1,4 @@
-#include "calibrator/pipeline.h"
+#include "calibrator/pairwise.h"
 
 #include <cmath>
 #include <cstdio>
@@ -88,7 +88,7 @@ void WriteDataset(const fs::path& dir) {
   rig.cameras.push_back({"cam1", Camera(CameraModelId::kOpenCV, 320, 240, {210, 211, 161, 118, -0.08, 0.01, 0, 0}),
                          CamFromRig(20, Eigen::Vector3d(0.6, 0.05, 0.1)), 0.0});
   FramesFile frames;
-  frames.scene = "pipeline_test yard";
+  frames.scene = "pairwise_test yard";
   for (int f = 0; f < 2; ++f) {
     Frame fr;
     fr.name = "00000" + std::to_string(f);
@@ -135,7 +135,7 @@ void WriteDataset(const fs::path& dir) {
 class PipelineTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = fs::temp_directory_path() / ("rigsim_pipeline_test_" + std::to_string(::getpid()));
+    dir_ = fs::temp_directory_path() / ("rigsim_pairwise_test_" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     WriteDataset(dir_);
   }
@@ -156,14 +156,14 @@ TEST_F(PipelineTest, AllModesRecoverThePoseAndReportTruth) {
     EXPECT_EQ(pr.cam_a, "cam0");
     EXPECT_EQ(pr.cam_b, "cam1");
     EXPECT_EQ(pr.frames, 2);
-    ASSERT_TRUE(pr.success) << pr.failure_reason;
-    EXPECT_FALSE(pr.rotation_only);
-    EXPECT_GT(pr.matches, 50);
+    ASSERT_TRUE(pr.two_view.success) << pr.two_view.failure_reason;
+    EXPECT_FALSE(pr.two_view.rotation_only);
+    EXPECT_GT(pr.two_view.num_matches, 50);
     ASSERT_TRUE(pr.rotation_error_deg && pr.translation_direction_error_deg);
     EXPECT_LT(*pr.rotation_error_deg, 0.3);
     EXPECT_LT(*pr.translation_direction_error_deg, 5.0);
     ASSERT_TRUE(pr.match_precision.has_value());
-    EXPECT_EQ(pr.matches_evaluated, pr.matches);
+    EXPECT_EQ(pr.matches_evaluated, pr.two_view.num_matches);
     EXPECT_GT(*pr.match_precision, 0.7);
     EXPECT_GT(pr.inlier_precision.value(), *pr.match_precision - 1e-9);
     EXPECT_GT(rep.detect_time_s, 0.0);
@@ -176,7 +176,7 @@ TEST_F(PipelineTest, AllModesRecoverThePoseAndReportTruth) {
   const nlohmann::json j = ReportToJson(reports);
   ASSERT_TRUE(j["methods"].contains("mask+gated"));
   const auto& pair = j["methods"]["none"]["pairs"][0];
-  EXPECT_EQ(pair["matches"].get<int>(), reports[0].pairs[0].matches);
+  EXPECT_EQ(pair["matches"].get<int>(), reports[0].pairs[0].two_view.num_matches);
   EXPECT_TRUE(pair["rotation_error_deg"].is_number());
   EXPECT_TRUE(pair["match_precision"].is_number());
   EXPECT_TRUE(j["methods"]["none"]["summary"]["pose_auc"]["5"].is_number());
@@ -189,9 +189,9 @@ TEST_F(PipelineTest, ThreadCountDoesNotChangeResults) {
   one.semantic_mode = two.semantic_mode = SemanticMode::kGated;
   const CalibrationReport a = CalibrateDatasetPairs(dir_, one);
   const CalibrationReport b = CalibrateDatasetPairs(dir_, two);
-  EXPECT_EQ(a.pairs[0].matches, b.pairs[0].matches);
-  EXPECT_EQ(a.pairs[0].inliers, b.pairs[0].inliers);
-  EXPECT_EQ(a.pairs[0].cam_b_from_cam_a.rotation.coeffs(), b.pairs[0].cam_b_from_cam_a.rotation.coeffs());
+  EXPECT_EQ(a.pairs[0].two_view.num_matches, b.pairs[0].two_view.num_matches);
+  EXPECT_EQ(a.pairs[0].two_view.num_inliers, b.pairs[0].two_view.num_inliers);
+  EXPECT_EQ(a.pairs[0].two_view.cam_b_from_cam_a.rotation.coeffs(), b.pairs[0].two_view.cam_b_from_cam_a.rotation.coeffs());
 }
 
 TEST_F(PipelineTest, MatchDataHoldsTheInliersPerFrame) {
@@ -212,7 +212,7 @@ TEST_F(PipelineTest, MatchDataHoldsTheInliersPerFrame) {
       }
       inliers += data[m].inliers[0][f].size();
     }
-    EXPECT_EQ(static_cast<int>(inliers), reports[m].pairs[0].inliers);
+    EXPECT_EQ(static_cast<int>(inliers), reports[m].pairs[0].two_view.num_inliers);
   }
   // The masked mode has its own (fewer) keypoints.
   EXPECT_LT(data[1].keypoints[0][0].size(), data[0].keypoints[0][0].size());
@@ -285,18 +285,18 @@ TEST_F(PipelineTest, ScreeningKeepsAnOverlappingPairUnchangedAndReportsOneItDrop
   starved.screen_features = 12;  // too few keypoints for any two-view fit
   const CalibrationReport a = CalibrateDatasetPairs(dir_, screened);
   const CalibrationReport b = CalibrateDatasetPairs(dir_, full);
-  ASSERT_TRUE(a.pairs[0].success) << a.pairs[0].failure_reason;
-  EXPECT_EQ(a.pairs[0].matches, b.pairs[0].matches);
-  EXPECT_EQ(a.pairs[0].inliers, b.pairs[0].inliers);
-  EXPECT_EQ(a.pairs[0].cam_b_from_cam_a.rotation.coeffs(), b.pairs[0].cam_b_from_cam_a.rotation.coeffs());
+  ASSERT_TRUE(a.pairs[0].two_view.success) << a.pairs[0].two_view.failure_reason;
+  EXPECT_EQ(a.pairs[0].two_view.num_matches, b.pairs[0].two_view.num_matches);
+  EXPECT_EQ(a.pairs[0].two_view.num_inliers, b.pairs[0].two_view.num_inliers);
+  EXPECT_EQ(a.pairs[0].two_view.cam_b_from_cam_a.rotation.coeffs(), b.pairs[0].two_view.cam_b_from_cam_a.rotation.coeffs());
   EXPECT_GT(a.screen_time_s, 0.0);
   EXPECT_EQ(b.screen_time_s, 0.0);
 
   const CalibrationReport c = CalibrateDatasetPairs(dir_, starved);
-  EXPECT_FALSE(c.pairs[0].success);
-  EXPECT_EQ(c.pairs[0].matches, 0);
+  EXPECT_FALSE(c.pairs[0].two_view.success);
+  EXPECT_EQ(c.pairs[0].two_view.num_matches, 0);
   EXPECT_EQ(c.pairs[0].distance_evaluations, 0);
-  EXPECT_NE(c.pairs[0].failure_reason.find("screened out"), std::string::npos) << c.pairs[0].failure_reason;
+  EXPECT_NE(c.pairs[0].two_view.failure_reason.find("screened out"), std::string::npos) << c.pairs[0].two_view.failure_reason;
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
-// Human-readable tables of calibration results, one row per camera pair and method.
+// Human-readable tables of calibration results: one row per camera pair and method, one per
+// camera and method, and a summary line per method. What `rigsim calibrate` and `demo` print.
 #pragma once
 
 #include <filesystem>
@@ -7,10 +8,10 @@
 #include <utility>
 #include <vector>
 
-#include "calibrator/pipeline.h"
+#include "calibrator/pairwise.h"
 #include "calibrator/rig_calibration.h"
 
-namespace rigsim::cli {
+namespace rigsim {
 
 // Ground-truth overlap per unordered camera pair from overlap.json (empty when the file is
 // absent): min of the two directions, i.e. the fraction that both cameras share.
@@ -29,4 +30,4 @@ std::string FormatRigTable(const std::vector<RigCalibrationResult>& results);
 // One line per method: cameras calibrated, worst errors, reprojection RMS, scale.
 std::string FormatRigSummary(const std::vector<RigCalibrationResult>& results);
 
-}  // namespace rigsim::cli
+}  // namespace rigsim
