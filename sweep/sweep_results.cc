@@ -172,10 +172,16 @@ std::string CsvField(const Json& v) {
 std::string ResultsCsv(const std::vector<Json>& rows) {
   const std::vector<std::string> columns = Columns();
   std::string out;
-  for (size_t i = 0; i < columns.size(); ++i) out += (i ? "," : "") + columns[i];
+  for (size_t i = 0; i < columns.size(); ++i) {
+    if (i) out += ',';
+    out += columns[i];
+  }
   out += "\n";
   for (const Json& r : rows) {
-    for (size_t i = 0; i < columns.size(); ++i) out += (i ? "," : "") + CsvField(r.value(columns[i], Json(nullptr)));
+    for (size_t i = 0; i < columns.size(); ++i) {
+      if (i) out += ',';
+      out += CsvField(r.value(columns[i], Json(nullptr)));
+    }
     out += "\n";
   }
   return out;
