@@ -3,17 +3,19 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <numbers>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "gltf/gltf_loader.h"
+#include "testing/expect_error.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
@@ -21,17 +23,9 @@ namespace {
 using nlohmann::json;
 namespace fs = std::filesystem;
 
-fs::path TempDir() {
-  const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-  const auto dir = fs::temp_directory_path() / "rigsim_scene_cameras_test" / info->name();
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
 fs::path WriteGltf(const fs::path& dir, const std::string& name, const json& doc) {
   const fs::path path = dir / (name + ".gltf");
-  std::ofstream(path) << doc.dump(1);
+  WriteFile(path, doc.dump(1));
   return path;
 }
 
@@ -163,37 +157,25 @@ TEST(SceneCameras, ViewCentreLandsAtThePrincipalPointAndGltfUpIsImageUp) {
 }
 
 TEST(SceneCameras, NoPerspectiveCameraIsAnErrorNamingTheFile) {
-  const auto dir = TempDir();
+  const TempDir dir;
   json doc = TwoCameraDoc();
   doc.erase("cameras");
   for (json& n : doc["nodes"]) n.erase("camera");
   const fs::path none = WriteGltf(dir, "no_cameras", doc);
-  try {
-    RigFromSceneCameras(LoadGltf(none), 640, 480);
-    ADD_FAILURE() << "no exception";
-  } catch (const std::runtime_error& e) {
-    const std::string msg = e.what();
-    EXPECT_EQ(msg.rfind(none.string(), 0), 0u) << msg;
-    EXPECT_NE(msg.find("no perspective camera"), std::string::npos) << msg;
-  }
+  EXPECT_THAT([&] { RigFromSceneCameras(LoadGltf(none), 640, 480); },
+              ThrowsNaming<std::runtime_error>(none, "no perspective camera"));
   // Only an orthographic camera: the message names it.
   doc = TwoCameraDoc();
   doc["nodes"][0].erase("camera");
   doc["nodes"][2].erase("camera");
   const fs::path ortho = WriteGltf(dir, "ortho", doc);
-  try {
-    RigFromSceneCameras(LoadGltf(ortho), 640, 480);
-    ADD_FAILURE() << "no exception";
-  } catch (const std::runtime_error& e) {
-    const std::string msg = e.what();
-    EXPECT_EQ(msg.rfind(ortho.string(), 0), 0u) << msg;
-    EXPECT_NE(msg.find("orthographic cameras cannot be rig cameras: 'top'"), std::string::npos) << msg;
-  }
+  EXPECT_THAT([&] { RigFromSceneCameras(LoadGltf(ortho), 640, 480); },
+              ThrowsNaming<std::runtime_error>(ortho, "orthographic cameras cannot be rig cameras: 'top'"));
   EXPECT_THROW(RigFromSceneCameras(LoadGltf(WriteGltf(dir, "two", TwoCameraDoc())), 8, 480), std::invalid_argument);
 }
 
 TEST(SceneCameras, BadCamerasAreSkippedWithWarningsAndNamesAreMadeUsable) {
-  const auto dir = TempDir();
+  const TempDir dir;
   json doc = TwoCameraDoc();
   doc["cameras"][1]["perspective"]["yfov"] = 4.0;  // > pi
   doc["nodes"][0]["name"] = "a/b";
@@ -217,7 +199,7 @@ TEST(SceneCameras, BadCamerasAreSkippedWithWarningsAndNamesAreMadeUsable) {
 // Names become folder names: a blank one is replaced like an empty one, and names that differ only
 // in letter case (one folder on macOS and Windows) are made unique like repeated ones.
 TEST(SceneCameras, BlankNamesAndNamesDifferingInCaseAreMadeUsable) {
-  const auto dir = TempDir();
+  const TempDir dir;
   json doc = {{"asset", {{"version", "2.0"}}}, {"cameras", {Perspective(1.0)}}, {"nodes", json::array()}};
   for (const char* name : {" \t", "Cam", "cam", "", "CAMERA0"}) {
     doc["nodes"].push_back({{"name", name}, {"camera", 0}, {"translation", {double(doc["nodes"].size()), 0, 0}}});
