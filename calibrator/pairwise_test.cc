@@ -5,12 +5,15 @@
 #include <filesystem>
 #include <random>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "calibrator/rig_calibration.h"
 #include "dataset/dataset.h"
 #include "dataset/image_io.h"
 #include "geometry/rig.h"
+#include "testing/expect_error.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
@@ -135,13 +138,15 @@ void WriteDataset(const fs::path& dir) {
 class PipelineTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = fs::temp_directory_path() / ("rigsim_pairwise_test_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
+    scratch_ = new TempDir();
+    dir_ = *scratch_ / "dataset";
     WriteDataset(dir_);
   }
-  static void TearDownTestSuite() { fs::remove_all(dir_); }
-  static fs::path dir_;
+  static void TearDownTestSuite() { delete scratch_; }
+  static TempDir* scratch_;
+  static fs::path dir_;  // the dataset
 };
+TempDir* PipelineTest::scratch_ = nullptr;
 fs::path PipelineTest::dir_;
 
 TEST_F(PipelineTest, AllModesRecoverThePoseAndReportTruth) {
@@ -245,30 +250,18 @@ TEST_F(PipelineTest, CalibrateRigOnRenderedImages) {
 }
 
 TEST_F(PipelineTest, MissingInputsAreNamed) {
-  const fs::path copy = dir_.string() + "_copy";
-  fs::remove_all(copy);
+  const TempDir scratch;
+  const fs::path copy = scratch / "dataset";
   fs::copy(dir_, copy, fs::copy_options::recursive);
   const DatasetLayout layout(copy);
   fs::remove_all(copy / "labels");
   CalibrationOptions options;
   options.semantic_mode = SemanticMode::kMask;
-  try {
-    CalibrateDatasetPairs(copy, options);
-    ADD_FAILURE() << "no error for missing labels";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find(layout.Label("cam0", "000000").filename().string()), std::string::npos)
-        << e.what();
-  }
+  EXPECT_THAT([&] { CalibrateDatasetPairs(copy, options); },
+              ThrowsWith<std::runtime_error>(layout.Label("cam0", "000000").filename().string()));
   fs::remove(*layout.FindImage("cam1", "000001"));
   options.semantic_mode = SemanticMode::kNone;
-  try {
-    CalibrateDatasetPairs(copy, options);
-    ADD_FAILURE() << "no error for a missing image";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("cam1"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("000001"), std::string::npos) << e.what();
-  }
-  fs::remove_all(copy);
+  EXPECT_THAT([&] { CalibrateDatasetPairs(copy, options); }, ThrowsWith<std::runtime_error>("cam1", "000001"));
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // built on GoogleMock's exception matchers:
 //
 //   EXPECT_THAT([&] { ReadRig(path); }, ThrowsWith<std::runtime_error>("invalid JSON"));
+//   EXPECT_THAT([&] { Match(a, b); }, ThrowsWith<std::invalid_argument>("cam1", "000001"));  // both
 //   EXPECT_THAT([&] { ValidateScene(s); }, ThrowsExactly<std::invalid_argument>("x.glb: mesh 0: ..."));
 //   EXPECT_THAT([&] { LoadGltf(path); }, ThrowsNaming<std::runtime_error>(path, "vertex 2 is not finite"));
 //
@@ -17,10 +18,10 @@
 
 namespace rigsim {
 
-// Throws E with `part` somewhere in its message.
-template <typename E = std::exception>
-auto ThrowsWith(const std::string& part) {
-  return ::testing::ThrowsMessage<E>(::testing::HasSubstr(part));
+// Throws E with `part` (and each of `more`) somewhere in its message.
+template <typename E = std::exception, typename... More>
+auto ThrowsWith(const std::string& part, const More&... more) {
+  return ::testing::ThrowsMessage<E>(::testing::AllOf(::testing::HasSubstr(part), ::testing::HasSubstr(std::string(more))...));
 }
 
 // Throws E with exactly `message`.
