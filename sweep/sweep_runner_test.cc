@@ -5,29 +5,18 @@
 #include <fstream>
 #include <sstream>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include "common/run_program.h"
+#include "testing/expect_error.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
-
-fs::path TempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("rigsim_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  return dir;
-}
-
-std::string Read(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 SweepConfig Config() {
   return ParseSweepConfig(Json::parse(R"({"name": "fake", "seeds": [1, 2], "grid": {"frames": [2, 3, 4]}})"),
@@ -60,7 +49,8 @@ struct FakeRunner {
 };
 
 TEST(SweepRunner, RunsEveryCellOnceAndWritesTheResults) {
-  const fs::path out = TempDir("sweep_run");
+  const TempDir scratch;
+  const fs::path out = scratch / "out";
   FakeRunner fake;
   SweepRunOptions options;
   options.out_dir = out;
@@ -75,14 +65,14 @@ TEST(SweepRunner, RunsEveryCellOnceAndWritesTheResults) {
   EXPECT_EQ(seen.back().total, 6);
   EXPECT_NE(seen.front().current.find("cell 0 (frames=2, seed=1): rendering"), std::string::npos) << seen.front().current;
   // 1 header + 6 cells x 2 methods.
-  const std::string csv = Read(out / "results.csv");
+  const std::string csv = ReadFile(out / "results.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 13);
   EXPECT_TRUE(fs::exists(out / "results.jsonl"));
   EXPECT_TRUE(fs::exists(out / "summary.csv"));
   EXPECT_TRUE(fs::exists(out / "sweep.json"));
   EXPECT_FALSE(fs::exists(out / "work"));
   EXPECT_FALSE(fs::exists(out / "datasets"));
-  const std::string report = Read(out / "report.md");
+  const std::string report = ReadFile(out / "report.md");
   EXPECT_NE(report.find("# Sweep: fake"), std::string::npos);
   EXPECT_NE(report.find("| frames=2 | none | 2 | 0 | 0% | 0% |"), std::string::npos) << report;
   EXPECT_NE(report.find("| frames=3 | mask | 2 | 0 | 0% | 100% |"), std::string::npos);
@@ -92,16 +82,16 @@ TEST(SweepRunner, RunsEveryCellOnceAndWritesTheResults) {
     EXPECT_NE(report.find("![plots/fake_success.png](plots/fake_success.png)"), std::string::npos);
   }
   // A second run finds every cell finished and writes the same results.
-  const std::string jsonl = Read(out / "results.jsonl");
+  const std::string jsonl = ReadFile(out / "results.jsonl");
   FakeRunner again;
   EXPECT_EQ(RunSweep(Config(), options, again.Get()).resumed, 6);
   EXPECT_EQ(again.calls, 0);
-  EXPECT_EQ(Read(out / "results.jsonl"), jsonl);
-  fs::remove_all(out);
+  EXPECT_EQ(ReadFile(out / "results.jsonl"), jsonl);
 }
 
 TEST(SweepRunner, AnInterruptedCellLeavesNothingAndTheNextRunResumesThere) {
-  const fs::path out = TempDir("sweep_interrupt");
+  const TempDir scratch;
+  const fs::path out = scratch / "out";
   FakeRunner fake;
   fake.throw_at_call = 3;
   SweepRunOptions options;
@@ -118,46 +108,41 @@ TEST(SweepRunner, AnInterruptedCellLeavesNothingAndTheNextRunResumesThere) {
   const SweepOutcome outcome = RunSweep(Config(), options, rest.Get());
   EXPECT_EQ(outcome.resumed, 2);
   EXPECT_EQ(rest.calls, 4);
-  fs::remove_all(out);
 }
 
 TEST(SweepRunner, NeverWritesIntoAFolderOfOtherFiles) {
-  const fs::path out = TempDir("sweep_foreign");
+  const TempDir scratch;
+  const fs::path out = scratch / "out";
   fs::create_directories(out);
-  std::ofstream(out / "thesis.tex") << "mine";
+  WriteFile(out / "thesis.tex", "mine");
   FakeRunner fake;
   SweepRunOptions options;
   options.out_dir = out;
   options.restart = true;
-  try {
-    RunSweep(Config(), options, fake.Get());
-    FAIL() << "wrote into a folder of other files";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("holds files that are not a sweep's results"), std::string::npos);
-  }
+  EXPECT_THAT([&] { RunSweep(Config(), options, fake.Get()); },
+              ThrowsWith<std::runtime_error>("holds files that are not a sweep's results"));
   EXPECT_EQ(fake.calls, 0);
-  EXPECT_EQ(Read(out / "thesis.tex"), "mine");
+  EXPECT_EQ(ReadFile(out / "thesis.tex"), "mine");
   EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 1);
-  fs::remove_all(out);
 }
 
 TEST(SweepRunner, RestartRemovesOnlyWhatASweepWrites) {
-  const fs::path out = TempDir("sweep_restart");
+  const TempDir scratch;
+  const fs::path out = scratch / "out";
   FakeRunner fake;
   SweepRunOptions options;
   options.out_dir = out;
   options.keep_datasets = true;
   RunSweep(Config(), options, fake.Get());
-  EXPECT_EQ(Read(out / "datasets" / ExpandCells(Config())[0].key / "image.png"), "pixels");
-  std::ofstream(out / "notes.txt") << "mine";
+  EXPECT_EQ(ReadFile(out / "datasets" / ExpandCells(Config())[0].key / "image.png"), "pixels");
+  WriteFile(out / "notes.txt", "mine");
   options.restart = true;
   options.keep_datasets = false;
   FakeRunner again;
   RunSweep(Config(), options, again.Get());
   EXPECT_EQ(again.calls, 6);  // started over
   EXPECT_FALSE(fs::exists(out / "datasets"));
-  EXPECT_EQ(Read(out / "notes.txt"), "mine");
-  fs::remove_all(out);
+  EXPECT_EQ(ReadFile(out / "notes.txt"), "mine");
 }
 
 TEST(SweepShards, EveryCellInExactlyOneShardAndTheShardsBalanced) {

@@ -11,7 +11,6 @@
 // the call inside the lambda: the matcher runs it once.
 #pragma once
 
-#include <filesystem>
 #include <string>
 
 #include <gmock/gmock.h>
@@ -31,10 +30,10 @@ auto ThrowsExactly(const std::string& message) {
 }
 
 // Throws E whose message starts with the file (the rule for errors at I/O boundaries: the file,
-// then the reason) and contains `part`.
+// then the reason; a std::filesystem::path converts) and contains `part`.
 template <typename E = std::exception>
-auto ThrowsNaming(const std::filesystem::path& file, const std::string& part) {
-  return ::testing::ThrowsMessage<E>(::testing::AllOf(::testing::StartsWith(file.string()), ::testing::HasSubstr(part)));
+auto ThrowsNaming(const std::string& file, const std::string& part) {
+  return ::testing::ThrowsMessage<E>(::testing::AllOf(::testing::StartsWith(file), ::testing::HasSubstr(part)));
 }
 
 // The message of the E that `call` throws, or "" when it returns; for tests that look at one
