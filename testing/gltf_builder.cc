@@ -1,6 +1,8 @@
 #include "testing/gltf_builder.h"
 
+#include <cmath>
 #include <fstream>
+#include <numbers>
 #include <stdexcept>
 
 #include <opencv2/core.hpp>
@@ -48,6 +50,27 @@ std::string TinyPngUri() {
   std::vector<uint8_t> png;
   cv::imencode(".png", bgr, png);
   return DataUri("image/png", png);
+}
+
+json GltfCamerasDocument() {
+  const double h = std::sqrt(0.5);
+  auto perspective = [](double aspect) {
+    json p = {{"yfov", std::numbers::pi / 3}, {"znear", 0.1}};
+    if (aspect > 0) p["aspectRatio"] = aspect;
+    return json{{"type", "perspective"}, {"perspective", p}};
+  };
+  const json orthographic = {{"type", "orthographic"},
+                             {"name", "plan"},
+                             {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0.1}, {"zfar", 100}}}};
+  return {{"asset", {{"version", "2.0"}}},
+          {"cameras", {perspective(0.0), perspective(2.0), orthographic}},
+          {"nodes",
+           {{{"name", "front"}, {"camera", 0}, {"translation", {1, 2, 3}}, {"rotation", {0, h, 0, h}}},
+            {{"name", "mount"}, {"translation", {0, 0, -10}}, {"rotation", {0, 1, 0, 0}}, {"scale", {2, 2, 2}}, {"children", {2}}},
+            {{"name", "back"}, {"camera", 1}, {"translation", {2, 0, 0}}},
+            {{"name", "top"}, {"camera", 2}, {"translation", {0, 50, 0}}}}},
+          {"scenes", {{{"nodes", {1, 0, 3}}}}},
+          {"scene", 0}};
 }
 
 size_t GltfBuilder::AppendToBin(const void* data, size_t bytes) {

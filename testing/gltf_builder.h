@@ -39,6 +39,14 @@ std::string DataUri(std::string_view mime_type, const std::vector<uint8_t>& data
 // A 2x2 PNG as a data URI, for materials whose texture content does not matter.
 std::string TinyPngUri();
 
+// A document of glTF cameras only, for the tests of glTF cameras as a rig:
+//  - node 0 "front": perspective (yfov 60 deg), at (1, 2, 3), turned +90 deg about +Y;
+//  - node 2 "back": perspective (yfov 60 deg, aspectRatio 2), at local (2, 0, 0) on node 1 "mount"
+//    (translation (0, 0, -10), 180 deg about +Y, scale 2);
+//  - node 3 "top": orthographic (camera 2 "plan"), at (0, 50, 0).
+// The scene lists nodes 1, 0, 3: traversal meets "back" before "front".
+nlohmann::json GltfCamerasDocument();
+
 class GltfBuilder {
  public:
   using json = nlohmann::json;

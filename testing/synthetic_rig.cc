@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include <gtest/gtest.h>
+#include "testing/test_name.h"
 
 namespace rigsim {
 namespace {
@@ -193,17 +193,8 @@ std::vector<std::pair<int, int>> SyntheticRig::CandidateMatches(SyntheticView a,
 }
 
 uint32_t TestSeed() {
-  const ::testing::UnitTest& unit = *::testing::UnitTest::GetInstance();
-  std::string name;
-  if (const ::testing::TestInfo* test = unit.current_test_info()) {
-    name = std::string(test->test_suite_name()) + "." + test->name();
-  } else if (const ::testing::TestSuite* suite = unit.current_test_suite()) {
-    name = suite->name();
-  } else {
-    throw std::logic_error("TestSeed: called outside a test and outside SetUpTestSuite");
-  }
   uint32_t h = 2166136261u;  // FNV-1a
-  for (char c : name) h = (h ^ static_cast<uint8_t>(c)) * 16777619u;
+  for (char c : CurrentTest().name) h = (h ^ static_cast<uint8_t>(c)) * 16777619u;
   return h;
 }
 

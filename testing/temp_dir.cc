@@ -12,30 +12,14 @@
 
 #include <gtest/gtest.h>
 
+#include "testing/test_name.h"
+
 namespace rigsim {
 namespace {
 
 // The folders of the TempDirs alive in this process: a second one in the same test gets a suffix.
 std::mutex live_mutex;
 std::set<std::filesystem::path> live;
-
-// "Suite.Name" of the running test, or "Suite" inside SetUpTestSuite; '/' of parameterised names
-// made '_'. Throws outside a test.
-std::string RunningTestName(bool* suite_level) {
-  const ::testing::UnitTest& unit = *::testing::UnitTest::GetInstance();
-  std::string name;
-  if (const ::testing::TestInfo* test = unit.current_test_info()) {
-    name = std::string(test->test_suite_name()) + "." + test->name();
-    *suite_level = false;
-  } else if (const ::testing::TestSuite* suite = unit.current_test_suite()) {
-    name = suite->name();
-    *suite_level = true;
-  } else {
-    throw std::logic_error("TempDir: made outside a test and outside SetUpTestSuite");
-  }
-  std::replace(name.begin(), name.end(), '/', '_');
-  return name;
-}
 
 bool RunningTestFailed(bool suite_level) {
   const ::testing::UnitTest& unit = *::testing::UnitTest::GetInstance();
@@ -47,9 +31,11 @@ bool RunningTestFailed(bool suite_level) {
 }  // namespace
 
 TempDir::TempDir() {
-  const std::string base = (std::filesystem::temp_directory_path() /
-                            ("rigsim_" + RunningTestName(&suite_level_) + "_" + std::to_string(::getpid())))
-                               .string();
+  RunningTest test = CurrentTest();
+  suite_level_ = test.whole_suite;
+  std::replace(test.name.begin(), test.name.end(), '/', '_');  // parameterised tests' names
+  const std::string base =
+      (std::filesystem::temp_directory_path() / ("rigsim_" + test.name + "_" + std::to_string(::getpid()))).string();
   {
     std::lock_guard<std::mutex> lock(live_mutex);
     path_ = base;

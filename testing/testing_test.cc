@@ -14,6 +14,7 @@
 #include "testing/gltf_builder.h"
 #include "testing/synthetic_rig.h"
 #include "testing/temp_dir.h"
+#include "testing/test_name.h"
 
 namespace rigsim {
 namespace {
@@ -43,7 +44,11 @@ TEST(TempDir, IsFreshNamedAfterTheTestAndTheProcessAndGoneAfterAPassingTest) {
 
 class TempDirOfASuite : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() { shared_ = new TempDir(); }
+  static void SetUpTestSuite() {
+    EXPECT_EQ(CurrentTest().name, "TempDirOfASuite");
+    EXPECT_TRUE(CurrentTest().whole_suite);
+    shared_ = new TempDir();
+  }
   static void TearDownTestSuite() {
     const fs::path path = shared_->path();
     delete shared_;
@@ -54,6 +59,8 @@ class TempDirOfASuite : public ::testing::Test {
 TempDir* TempDirOfASuite::shared_ = nullptr;
 
 TEST_F(TempDirOfASuite, IsNamedAfterTheSuite) {
+  EXPECT_EQ(CurrentTest().name, "TempDirOfASuite.IsNamedAfterTheSuite");
+  EXPECT_FALSE(CurrentTest().whole_suite);
   EXPECT_EQ(shared_->path().filename().string(), "rigsim_TempDirOfASuite_" + std::to_string(::getpid()));
   EXPECT_TRUE(fs::is_directory(*shared_));
 }

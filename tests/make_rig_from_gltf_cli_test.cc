@@ -7,7 +7,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <numbers>
 #include <sstream>
 #include <string>
 
@@ -40,21 +39,9 @@ bool HasStagingFolder(const fs::path& dir) {
 class MakeRigFromGltf : public testing::Test {
  protected:
   void SetUp() override {
-    // Two perspective cameras (the second on a turned, scaled parent) and an orthographic one.
-    const double h = std::sqrt(0.5);
-    const json doc = {
-        {"asset", {{"version", "2.0"}}},
-        {"cameras",
-         {{{"type", "perspective"}, {"perspective", {{"yfov", std::numbers::pi / 3}, {"znear", 0.1}}}},
-          {{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"aspectRatio", 2.0}, {"znear", 0.1}}}},
-          {{"type", "orthographic"}, {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0.1}, {"zfar", 100}}}}}},
-        {"nodes",
-         {{{"name", "front"}, {"camera", 0}, {"translation", {1, 2, 3}}, {"rotation", {0, h, 0, h}}},
-          {{"name", "mount"}, {"translation", {0, 0, -10}}, {"rotation", {0, 1, 0, 0}}, {"scale", {2, 2, 2}}, {"children", {2}}},
-          {{"name", "back"}, {"camera", 1}, {"translation", {2, 0, 0}}},
-          {{"name", "top"}, {"camera", 2}, {"translation", {0, 50, 0}}}}},
-        {"scenes", {{{"nodes", {1, 0, 3}}}}},
-        {"scene", 0}};
+    // Two perspective cameras (the second on a turned, scaled parent, aspect ratio 2) and an
+    // orthographic one.
+    const json doc = GltfCamerasDocument();
     scene_ = dir_ / "cameras.gltf";
     WriteFile(scene_, doc.dump(1));
     json none = doc;
