@@ -306,9 +306,36 @@ std::vector<CalibrationReport> BuildReports(const PairwiseJob& job, const Detect
   return reports;
 }
 
+// CalibrationOptions::keep_match_details: every match of mode m with its inlier flag, and the
+// keypoints' classes (the ground-truth flags come with the match precision, AddMatchPrecision).
+void KeepMatchDetails(const PairwiseJob& job, const std::vector<FeatureSet>& feats, const FrameMatches& matches,
+                      const PairFits& fits, int m, PairwiseMatchData* md) {
+  md->keypoint_classes.assign(job.num_frames, std::vector<std::vector<uint8_t>>(job.num_cams));
+  for (int f = 0; f < job.num_frames; ++f) {
+    for (int c = 0; c < job.num_cams; ++c) {
+      for (const Keypoint& kp : feats[job.Image(c, f)].keypoints) md->keypoint_classes[f][c].push_back(kp.class_id);
+    }
+  }
+  md->matches.assign(job.num_pairs, std::vector<std::vector<std::pair<int, int>>>(job.num_frames));
+  md->match_inlier.assign(job.num_pairs, std::vector<std::vector<char>>(job.num_frames));
+  md->match_correct.assign(job.num_pairs, std::vector<std::vector<char>>(job.num_frames));
+  for (int p = 0; p < job.num_pairs; ++p) {
+    const int mp = job.ModePair(m, p);
+    const TwoViewResult& tv = fits.two_view[mp];
+    for (int f = 0; f < job.num_frames; ++f) {
+      const int begin = fits.pooled[mp].frame_begin[f];
+      for (const Match& mt : matches.matches[job.ModePairFrame(m, p, f)]) md->matches[p][f].push_back({mt.a, mt.b});
+      for (size_t i = 0; i < md->matches[p][f].size(); ++i) {
+        md->match_inlier[p][f].push_back(tv.success && tv.inlier_mask[begin + i] ? 1 : 0);
+      }
+    }
+  }
+}
+
 // 4. What the rig stage needs of each mode: keypoints and per pair and frame the two-view inliers.
 std::vector<PairwiseMatchData> CollectMatchData(const PairwiseJob& job, const DetectedFeatures& features,
-                                                const FrameMatches& matches, const PairFits& fits) {
+                                                const FrameMatches& matches, const PairFits& fits,
+                                                const CalibrationOptions& options) {
   std::vector<PairwiseMatchData> out(job.num_modes);
   for (int m = 0; m < job.num_modes; ++m) {
     PairwiseMatchData& md = out[m];
@@ -331,6 +358,7 @@ std::vector<PairwiseMatchData> CollectMatchData(const PairwiseJob& job, const De
         }
       }
     }
+    if (options.keep_match_details) KeepMatchDetails(job, feats, matches, fits, m, &md);
   }
   return out;
 }
@@ -395,9 +423,10 @@ void AddPoseErrors(const PairwiseJob& job, std::vector<CalibrationReport>* repor
 
 // 5b. Match precision per pair against the ground-truth range images, where depth/ has them:
 //     per frame, each camera's range image is read once for every mode and pair of that frame.
-//     Needs the truth's relative poses (AddPoseErrors).
+//     Needs the truth's relative poses (AddPoseErrors). With keep_match_details, each match's flag
+//     goes to `match_data` too.
 void AddMatchPrecision(const PairwiseJob& job, const CalibrationOptions& options, const PairFits& fits,
-                       std::vector<CalibrationReport>* reports) {
+                       std::vector<CalibrationReport>* reports, std::vector<PairwiseMatchData>* match_data) {
   std::vector<char> have_depth(job.NumImages(), 0);
   for (int c = 0; c < job.num_cams; ++c) {
     for (int f = 0; f < job.num_frames; ++f) {
@@ -438,6 +467,7 @@ void AddMatchPrecision(const PairwiseJob& job, const CalibrationOptions& options
         const std::vector<char> ok =
             CheckMatches(pa, pb, job.rig.cameras[a].camera, range[a], job.rig.cameras[b].camera, range[b],
                          *(*reports)[m].pairs[p].cam_b_from_cam_a_gt, options.precision, &at_infinity);
+        if (match_data && options.keep_match_details) (*match_data)[m].match_correct[p][f] = ok;
         cnt.evaluated = true;
         cnt.all.evaluated = end - begin;
         cnt.all.at_infinity = at_infinity;
@@ -510,7 +540,7 @@ std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path
   const PairFits fits = PoolAndEstimatePairs(job, features, matches, screening, options);
   std::vector<CalibrationReport> reports = BuildReports(job, features, matches, screening, fits);
   if (match_data) {
-    *match_data = CollectMatchData(job, features, matches, fits);
+    *match_data = CollectMatchData(job, features, matches, fits, options);
     if (options.temporal_matches && job.num_frames >= 2) {
       TemporalFits temporal = EstimateTemporalPairs(job, features, options);
       const int per_mode = job.num_cams * (job.num_frames - 1);
@@ -526,7 +556,7 @@ std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path
   }
   if (!options.evaluate || !job.rig.HasAllPoses()) return reports;
   AddPoseErrors(job, &reports);
-  AddMatchPrecision(job, options, fits, &reports);
+  AddMatchPrecision(job, options, fits, &reports, match_data);
   return reports;
 }
 

@@ -72,6 +72,9 @@ struct CalibrationOptions {
   // Worker threads (TBB); 0 = all cores. OpenCV's own threading is switched off meanwhile so the
   // two do not oversubscribe the machine.
   int num_threads = 0;
+  // Keep, in PairwiseMatchData, every match with its inlier and ground-truth flags and every
+  // keypoint's class: what a report shows of the matching (pipeline/, report/). Costs memory only.
+  bool keep_match_details = false;
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;
@@ -139,6 +142,18 @@ struct PairwiseMatchData {
   // Per camera and frame step (camera-major: camera * (frames - 1) + k), the camera between frames
   // k and k+1: its two-view estimate and inliers. Empty with one frame or temporal_matches off.
   std::vector<TemporalPairEstimate> temporal;
+
+  // With CalibrationOptions::keep_match_details only (empty otherwise):
+  // [frame][camera][keypoint]: the class at the keypoint (kUnlabeledId without labels).
+  std::vector<std::vector<std::vector<uint8_t>>> keypoint_classes;
+  // [pair][frame]: every match after the ratio test and mutual check (keypoint index in cam_a, in
+  // cam_b), in the order the two-view estimate saw them; empty for a pair screened out.
+  std::vector<std::vector<std::vector<std::pair<int, int>>>> matches;
+  // [pair][frame][match]: 1 when the two-view estimate kept the match as an inlier.
+  std::vector<std::vector<std::vector<char>>> match_inlier;
+  // [pair][frame][match]: 1 when the match is correct by the ground truth (evaluation.h
+  // CheckMatches, as in the match precision); empty where it was not checked (no truth or depth).
+  std::vector<std::vector<std::vector<char>>> match_correct;
 };
 
 // Runs several modes on the same images, sharing the detected features. Reports in `modes` order.
