@@ -49,6 +49,30 @@ TEST(MatchImage, ScaledDownToTheWidthWithPixelCentresKept) {
   EXPECT_TRUE(Is(out, 600, 210, 255, 255, 255));
 }
 
+TEST(MatchImage, RightAndWrongMatchesInTheirColoursWithNamesAndLegend) {
+  const ImageU8 grey = Plain(400, 300, 128, 128, 128);
+  MatchAnnotation note{"camA", "camB", {1, 0}};
+  // A right match along y = 100, a wrong one along y = 200.
+  const ImageU8 out = DrawMatches(grey, grey,
+                                  {{Eigen::Vector2d(50, 100), Eigen::Vector2d(350, 100)},
+                                   {Eigen::Vector2d(50, 200), Eigen::Vector2d(350, 200)}},
+                                  {}, note);
+  EXPECT_TRUE(Is(out, 400, 100, 60, 230, 60)) << "right: green";
+  EXPECT_TRUE(Is(out, 400, 200, 255, 50, 50)) << "wrong: red";
+  int changed_top_left = 0;  // the name "camA" written over the first photo
+  for (int y = 0; y < 20; ++y) {
+    for (int x = 0; x < 60; ++x) changed_top_left += !Is(out, x, y, 128, 128, 128);
+  }
+  EXPECT_GT(changed_top_left, 30);
+  int changed_bottom = 0;  // the legend
+  for (int y = 250; y < 300; ++y) {
+    for (int x = 0; x < 200; ++x) changed_bottom += !Is(out, x, y, 128, 128, 128);
+  }
+  EXPECT_GT(changed_bottom, 100);
+  EXPECT_THROW(DrawMatches(grey, grey, {{Eigen::Vector2d(1, 1), Eigen::Vector2d(2, 2)}}, {}, MatchAnnotation{"a", "b", {1, 0}}),
+               std::invalid_argument);
+}
+
 TEST(MatchImage, RefusesImagesThatAreNotRgb) {
   EXPECT_THROW(DrawMatches(ImageU8(10, 10, 1), Plain(10, 10, 0, 0, 0), {}), std::invalid_argument);
   EXPECT_THROW(DrawMatches(Plain(10, 10, 0, 0, 0), ImageU8(), {}), std::invalid_argument);
