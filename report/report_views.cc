@@ -16,7 +16,14 @@ using Json = nlohmann::json;
 
 namespace {
 
-std::string ViewStem(int c, int f) { return "c" + std::to_string(c) + "_f" + std::to_string(f); }
+// Built by appending: GCC 12 warns falsely (-Wrestrict) on "c" + std::to_string(c) + ....
+std::string ViewStem(int c, int f) {
+  std::string stem = "c";
+  stem += std::to_string(c);
+  stem += "_f";
+  stem += std::to_string(f);
+  return stem;
+}
 
 // The labels the run's mask modes saw (its label source), or the rendered truth when no mode
 // used labels; empty when there are none.

@@ -1,11 +1,12 @@
 // The teaching report in a real browser: `rigsim demo` at a classroom size writes a dataset, its
-// calibration and the report; headless Chromium (Debian's chromium, SwiftShader for WebGL) opens
+// calibration and the report (and `rigsim report` the same again); headless Chromium (Debian's chromium, SwiftShader for WebGL) opens
 // index.html from disk. The page's self-test (?selftest=1) recomputes, with the page's own code
 // and through the pair view's click path, the epipolar curves and the true correspondence that
 // the C++ wrote into the report, checks that the 3D view drew, and lists every error; a screenshot
 // shows the 3D view is not blank. Skipped when chromium is not installed.
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -131,13 +132,44 @@ void SceneViewIsNotBlank(const DemoReport& d, const std::string& chromium) {
   EXPECT_GT(stddev, 20.0) << "the 3D view looks blank: " << png;
 }
 
-TEST(ReportInBrowser, DemoReportOpensFromDiskAndAgreesWithTheCpp) {
-  const std::string chromium = Chromium();
-  if (chromium.empty()) GTEST_SKIP() << "chromium is not installed (scripts/install-deps.sh installs it)";
+// `rigsim report` on the demo's dataset with its calibration folder: the same modes and labels
+// give the same rig (no warning that it differs), and a sweep's files are copied in.
+void ReportCommandReproducesTheCalibrationAndTakesASweep(const DemoReport& d) {
+  const fs::path sweep = d.dir / "sweep";
+  fs::create_directories(sweep / "plots");
+  std::ofstream(sweep / "report.md") << "# a sweep\n";
+  std::ofstream(sweep / "summary.json") << "{\"studies\": []}\n";
+  fs::copy_file(d.dir / "demo" / "report" / "img" / "c0_f0_labels.png", sweep / "plots" / "ring_success.png");
+  const fs::path out = d.dir / "report2";
+  const CliResult r = RunRigsim({"report", (d.dir / "demo").string(), "--calibration", (d.dir / "demo" / "calibration").string(),
+                                 "--sweep", sweep.string(), "--out", out.string()},
+                                d.dir / "report2", std::chrono::seconds(240));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err.find("differs"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("report: " + fs::absolute(out / "index.html").lexically_normal().string()), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(out / "sweep" / "plots" / "ring_success.png"));
+  const std::string data = ReadAll(out / "data" / "report.js");
+  EXPECT_NE(data.find("# a sweep"), std::string::npos);
+  EXPECT_TRUE(StagingFolders(out).empty());
+  // The same dataset and options give the same report data, whichever command wrote it (the
+  // command line aside).
+  std::string demo_data = ReadAll(d.dir / "demo" / "report" / "data" / "view_c1_f0.js");
+  EXPECT_EQ(demo_data, ReadAll(out / "data" / "view_c1_f0.js"));
+  EXPECT_EQ(ReadAll(d.dir / "demo" / "report" / "data" / "pair_c1_c2.js"), ReadAll(out / "data" / "pair_c1_c2.js"));
+  // Refused without --force, before calibrating.
+  const CliResult again = RunRigsim({"report", (d.dir / "demo").string(), "--out", out.string()}, d.dir / "report3");
+  EXPECT_EQ(again.code, 1);
+  EXPECT_NE(again.err.find("--force"), std::string::npos) << again.err;
+}
+
+TEST(TeachingReport, DemoWritesItAndItWorksInChromium) {
   const DemoReport d = MakeDemoReport();
   ASSERT_TRUE(d.code == 0 || d.code == 3) << d.out;
   ASSERT_TRUE(fs::exists(d.Index())) << d.out;
   DemoPrintsWhereTheReportIs(d);
+  ReportCommandReproducesTheCalibrationAndTakesASweep(d);
+  const std::string chromium = Chromium();
+  if (chromium.empty()) GTEST_SKIP() << "chromium is not installed (scripts/install-deps.sh installs it)";
   SelfTestAgreesWithTheCpp(d, chromium);
   SceneViewIsNotBlank(d, chromium);
 }

@@ -360,7 +360,7 @@ var RIGSIM = (function () {
             obj.matrixAutoUpdate = false;
             obj.matrix.copy(worldFromCamMatrix(pose(p)));
             groups.truth.add(obj);
-            var ball = new THREE.Mesh(new THREE.SphereGeometry(s * 0.08, 12, 8), new THREE.MeshBasicMaterial({color: 0xffffff}));
+            var ball = new THREE.Mesh(new THREE.SphereGeometry(s * 0.05, 12, 8), new THREE.MeshBasicMaterial({color: 0xffffff}));
             var cc = centre(pose(p));
             ball.position.set(cc[0], cc[1], cc[2]);
             ball.userData = {camera: c, frame: f};
@@ -834,12 +834,13 @@ var RIGSIM = (function () {
       var a = -Math.PI / 2 + 2 * Math.PI * i / n;
       return [W / 2 + 0.38 * W * Math.cos(a), H / 2 + 0.38 * H * Math.sin(a)];
     });
+    // Used edges green (thicker with more inliers), rejected poses red dashed, pairs without a
+    // pose faint grey dotted; hover for the reason.
     P.edges.forEach(function (e) {
       var used = e.used, rejectedPose = !used && e.inliers > 0;
-      if (!used && !rejectedPose) return;
       var line = svg('line', {x1: pos[e.a][0], y1: pos[e.a][1], x2: pos[e.b][0], y2: pos[e.b][1],
-        stroke: used ? '#39ff6a' : '#ff4d4d', 'stroke-width': used ? 1 + Math.log10(1 + e.inliers) : 1.5,
-        'stroke-dasharray': used ? '' : '6,4'});
+        stroke: used ? '#39ff6a' : rejectedPose ? '#ff4d4d' : '#555', 'stroke-width': used ? 1 + Math.log10(1 + e.inliers) : 1.5,
+        'stroke-dasharray': used ? '' : rejectedPose ? '6,4' : '2,4'});
       var title = svg('title', {});
       title.textContent = camName(e.a) + '-' + camName(e.b) + ': ' + e.status + ' (' + e.inliers + ' inliers)';
       line.appendChild(title);
@@ -852,6 +853,7 @@ var RIGSIM = (function () {
       g.appendChild(t);
     });
     s3.appendChild(g);
+    s3.appendChild(el('p', {class: 'note'}, 'green: used (thicker: more inliers); red dashed: a pose the rig stage rejected; grey dotted: no pose (the pair failed). Hover an edge for why.'));
     s3.appendChild(table(['edge', 'inliers', 'rotation residual', 'status'], P.edges.map(function (e) {
       var st = el('span', {class: e.used ? 'good' : 'bad'}, e.status);
       return [camName(e.a) + '-' + camName(e.b), e.inliers, fmt(e.rotation_residual_deg, 3, ' deg'), st];
@@ -905,8 +907,8 @@ var RIGSIM = (function () {
     label.textContent = 'reprojection error (px, log scale)';
     g.appendChild(label);
     names.forEach(function (nm, k) {
-      g.appendChild(svg('rect', {x: W - 190, y: 8 + 16 * k, width: 10, height: 10, fill: colours[k]}));
-      var t = svg('text', {x: W - 175, y: 17 + 16 * k, fill: '#ddd', 'font-size': 11});
+      g.appendChild(svg('rect', {x: W - 290, y: 8 + 16 * k, width: 10, height: 10, fill: colours[k]}));
+      var t = svg('text', {x: W - 275, y: 17 + 16 * k, fill: '#ddd', 'font-size': 11});
       t.textContent = nm + ' (' + series[k].total + ' observations)';
       g.appendChild(t);
     });
