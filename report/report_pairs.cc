@@ -65,6 +65,81 @@ bool SmoothRange(const ImageF& range, const Eigen::Vector2d& px) {
   return lo > 0 && hi < lo * 1.01f;
 }
 
+// The self-test's reference values (report_writer.h): a correct inlier of pair p on a smooth
+// surface (else any inlier), its epipolar curves under the truth and the first mode's estimate,
+// its true correspondence from the full-size depth; null when the pair has no inlier.
+Json SelfTestReference(const ReportContext& ctx, size_t p, int f, int a, int b, const Rigid3d& true_b_from_a,
+                       const std::vector<ImageF>& ranges) {
+  const Rig& rig = ctx.run.inputs.rig;
+  const Camera& cam_a = rig.cameras[a].camera;
+  const Camera& cam_b = rig.cameras[b].camera;
+  const PairwiseMatchData& md = ctx.Details(0)->matches;
+  std::optional<Eigen::Vector2d> px;
+  for (int pass = 0; pass < 2 && !px; ++pass) {
+    for (size_t i = 0; i < md.matches[p][f].size() && !px; ++i) {
+      if (!md.match_inlier[p][f][i]) continue;
+      const Eigen::Vector2d& pa = md.keypoints[f][a][md.matches[p][f][i].first];
+      const bool correct = i < md.match_correct[p][f].size() && md.match_correct[p][f][i];
+      if (pass == 1 || (correct && !ranges[a].empty() && SmoothRange(ranges[a], pa))) px = pa;
+    }
+  }
+  if (!px) return nullptr;
+  const AlignedEstimate& al = ctx.aligned[0];
+  const std::vector<double> depths = EpipolarDepths(0.1, 1000.0, 24);
+  Json st = {{"pair", p}, {"frame", f}, {"mode", ctx.run.results[0].semantic_mode}, {"px", {px->x(), px->y()}},
+             {"depths", depths}};
+  st["curve_truth"] = Curve(EpipolarCurve(cam_a, *px, cam_b, true_b_from_a, depths));
+  const bool full_poses = al.cam_from_cam0[a] && al.cam_from_cam0[b] && !al.rotation_only[a] && !al.rotation_only[b];
+  st["curve_estimate"] =
+      full_poses ? Curve(EpipolarCurve(cam_a, *px, cam_b, *al.cam_from_cam0[b] * al.cam_from_cam0[a]->Inverse(), depths))
+                 : Json(nullptr);
+  const auto tp = ranges[a].empty() || ranges[b].empty()
+                      ? std::nullopt
+                      : TransferPixel(*px, cam_a, ranges[a], cam_b, ranges[b], true_b_from_a);
+  st["true_point"] = tp ? Json({tp->x(), tp->y()}) : Json(nullptr);
+  return st;
+}
+
+// One pair's entry of "pairs": its cameras, the true overlap and pose, and per mode the two-view
+// outcome and the rig estimate's relative pose (aligned to the truth when it is known).
+Json PairEntry(const ReportContext& ctx, size_t p, int a, int b, const std::optional<Rigid3d>& true_b_from_a,
+               const std::string& data_file) {
+  const CalibrationRun& run = ctx.run;
+  const PairResult& first = run.results[0].pairwise.pairs.at(p);
+  Json entry = {{"a", a}, {"b", b}, {"data", data_file}};
+  const auto overlap = run.inputs.overlap.find({first.cam_a, first.cam_b});
+  entry["overlap"] = overlap == run.inputs.overlap.end() ? Json(nullptr) : Json(overlap->second);
+  entry["b_from_a_truth"] = true_b_from_a ? Pose(*true_b_from_a) : Json(nullptr);
+  Json est = Json::object();
+  for (size_t m = 0; m < run.modes.size(); ++m) {
+    const PairResult& pr = run.results[m].pairwise.pairs.at(p);
+    Json mode = {{"matches", pr.two_view.num_matches},
+                 {"inliers", pr.two_view.num_inliers},
+                 {"success", pr.two_view.success},
+                 {"pair_type", pr.two_view.success ? Json(std::string(PairTypeName(pr.two_view.pair_type))) : Json(nullptr)},
+                 {"failure_reason", pr.two_view.failure_reason},
+                 {"matches_correct", pr.matches_correct},
+                 {"matches_evaluated", pr.matches_evaluated},
+                 {"inliers_correct", pr.inliers_correct},
+                 {"inliers_evaluated", pr.inliers_evaluated},
+                 {"rotation_error_deg", json_io::OptionalNumber(pr.rotation_error_deg)},
+                 {"translation_direction_error_deg", json_io::OptionalNumber(pr.translation_direction_error_deg)}};
+    Json rig_pose = nullptr;
+    if (ctx.HasTruth()) {
+      const AlignedEstimate& al = ctx.aligned[m];
+      if (al.cam_from_cam0[a] && al.cam_from_cam0[b] && !al.rotation_only[a] && !al.rotation_only[b]) {
+        rig_pose = Pose(*al.cam_from_cam0[b] * al.cam_from_cam0[a]->Inverse());
+      }
+    } else if (const auto& pa = run.results[m].rig.cameras[a].cam_from_rig) {
+      if (const auto& pb = run.results[m].rig.cameras[b].cam_from_rig) rig_pose = Pose(*pb * pa->Inverse());
+    }
+    mode["b_from_a_rig"] = rig_pose;
+    est[run.results[m].semantic_mode] = mode;
+  }
+  entry["modes"] = est;
+  return entry;
+}
+
 }  // namespace
 
 Json WritePairs(ReportContext& ctx, Json* selftest) {
@@ -151,33 +226,7 @@ Json WritePairs(ReportContext& ctx, Json* selftest) {
       pair_frames[p].push_back(frame);
 
       if (int(p) == test_pair && f == test_frame && selftest) {
-        // A correct inlier on a smooth surface, else any inlier.
-        const PairwiseMatchData& md = d0->matches;
-        std::optional<Eigen::Vector2d> px;
-        for (int pass = 0; pass < 2 && !px; ++pass) {
-          for (size_t i = 0; i < md.matches[p][f].size() && !px; ++i) {
-            if (!md.match_inlier[p][f][i]) continue;
-            const Eigen::Vector2d& pa = md.keypoints[f][a][md.matches[p][f][i].first];
-            const bool correct = i < md.match_correct[p][f].size() && md.match_correct[p][f][i];
-            if (pass == 1 || (correct && !ranges[a].empty() && SmoothRange(ranges[a], pa))) px = pa;
-          }
-        }
-        const std::optional<Rigid3d>& est_a = ctx.aligned[0].cam_from_cam0[a];
-        const std::optional<Rigid3d>& est_b = ctx.aligned[0].cam_from_cam0[b];
-        if (px) {
-          const std::vector<double> depths = EpipolarDepths(0.1, 1000.0, 24);
-          Json st = {{"pair", p}, {"frame", f}, {"mode", run.results[0].semantic_mode}, {"px", {px->x(), px->y()}},
-                     {"depths", depths}};
-          st["curve_truth"] = Curve(EpipolarCurve(cam_a, *px, cam_b, true_b_from_a[p], depths));
-          st["curve_estimate"] = est_a && est_b && !ctx.aligned[0].rotation_only[a] && !ctx.aligned[0].rotation_only[b]
-                                     ? Curve(EpipolarCurve(cam_a, *px, cam_b, *est_b * est_a->Inverse(), depths))
-                                     : Json(nullptr);
-          const auto tp = ranges[a].empty() || ranges[b].empty()
-                              ? std::nullopt
-                              : TransferPixel(*px, cam_a, ranges[a], cam_b, ranges[b], true_b_from_a[p]);
-          st["true_point"] = tp ? Json({tp->x(), tp->y()}) : Json(nullptr);
-          *selftest = st;
-        }
+        *selftest = SelfTestReference(ctx, p, f, a, b, true_b_from_a[p], ranges);
       }
     }
   }
@@ -186,39 +235,8 @@ Json WritePairs(ReportContext& ctx, Json* selftest) {
     const int a = rig.FindCamera(first.pairs[p].cam_a), b = rig.FindCamera(first.pairs[p].cam_b);
     const std::string stem = "pair_c" + std::to_string(a) + "_c" + std::to_string(b);
     WriteDataScript(ctx.dir / "data" / (stem + ".js"), "pair/" + std::to_string(p), {{"frames", pair_frames[p]}});
-    Json entry = {{"a", a}, {"b", b}, {"data", "data/" + stem + ".js"}};
-    const auto overlap = run.inputs.overlap.find({first.pairs[p].cam_a, first.pairs[p].cam_b});
-    entry["overlap"] = overlap == run.inputs.overlap.end() ? Json(nullptr) : Json(overlap->second);
-    entry["b_from_a_truth"] = ctx.run.inputs.truth ? Pose(true_b_from_a[p]) : Json(nullptr);
-    Json est = Json::object();
-    for (size_t m = 0; m < run.modes.size(); ++m) {
-      const PairResult& pr = run.results[m].pairwise.pairs.at(p);
-      Json mode = {{"matches", pr.two_view.num_matches},
-                   {"inliers", pr.two_view.num_inliers},
-                   {"success", pr.two_view.success},
-                   {"pair_type", pr.two_view.success ? Json(std::string(PairTypeName(pr.two_view.pair_type))) : Json(nullptr)},
-                   {"failure_reason", pr.two_view.failure_reason},
-                   {"matches_correct", pr.matches_correct},
-                   {"matches_evaluated", pr.matches_evaluated},
-                   {"inliers_correct", pr.inliers_correct},
-                   {"inliers_evaluated", pr.inliers_evaluated},
-                   {"rotation_error_deg", json_io::OptionalNumber(pr.rotation_error_deg)},
-                   {"translation_direction_error_deg", json_io::OptionalNumber(pr.translation_direction_error_deg)}};
-      // The rig's estimate of cam_b_from_cam_a, aligned to the truth (a full pose of both cameras).
-      Json rig_pose = nullptr;
-      if (ctx.HasTruth()) {
-        const AlignedEstimate& al = ctx.aligned[m];
-        if (al.cam_from_cam0[a] && al.cam_from_cam0[b] && !al.rotation_only[a] && !al.rotation_only[b]) {
-          rig_pose = Pose(*al.cam_from_cam0[b] * al.cam_from_cam0[a]->Inverse());
-        }
-      } else if (const auto& pa = run.results[m].rig.cameras[a].cam_from_rig) {
-        if (const auto& pb = run.results[m].rig.cameras[b].cam_from_rig) rig_pose = Pose(*pb * pa->Inverse());
-      }
-      mode["b_from_a_rig"] = rig_pose;
-      est[run.results[m].semantic_mode] = mode;
-    }
-    entry["modes"] = est;
-    pairs.push_back(entry);
+    pairs.push_back(PairEntry(ctx, p, a, b, ctx.run.inputs.truth ? std::optional<Rigid3d>(true_b_from_a[p]) : std::nullopt,
+                              "data/" + stem + ".js"));
   }
   return pairs;
 }

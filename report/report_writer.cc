@@ -1,5 +1,6 @@
 #include "report/report_writer.h"
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -76,8 +77,12 @@ Json CopySweep(const fs::path& sweep, const fs::path& dir) {
   Json plots = Json::array();
   if (fs::is_directory(sweep / "plots")) {
     std::vector<fs::path> files;
+    // Each plot once: its PNG, else its SVG (an <img> shows either).
     for (const auto& entry : fs::directory_iterator(sweep / "plots")) {
-      if (entry.path().extension() == ".png") files.push_back(entry.path());
+      const fs::path& f = entry.path();
+      if (f.extension() == ".png" || (f.extension() == ".svg" && !fs::exists(fs::path(f).replace_extension(".png")))) {
+        files.push_back(f);
+      }
     }
     std::sort(files.begin(), files.end());
     for (const fs::path& f : files) {

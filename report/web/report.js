@@ -437,7 +437,7 @@ var RIGSIM = (function () {
       var c0 = centre(pose(frame0[0]));
       frame0.forEach(function (p) { var c = centre(pose(p)); rigExtent = Math.max(rigExtent, Math.hypot(c[0] - c0[0], c[1] - c0[1], c[2] - c0[2])); });
     }
-    size.value = String(Math.min(5, Math.max(0.1, 1.2 * (rigExtent || 1))));
+    size.value = String(Math.min(2, Math.max(0.3, 0.9 * (rigExtent || 1))));
     // From behind camera 0 and above, looking down the rig's way.
     var forward = frame0 ? quatRotate(inverse(pose(frame0[0])).q, [0, 0, 1]) : [0, 0, 1];
     var dist = Math.max(3, 1.2 * extent + 3 * (rigExtent || 1));
@@ -810,6 +810,9 @@ var RIGSIM = (function () {
       });
       return [name, bars];
     });
+    if (Object.keys(perClass).length === 1 && perClass[0]) {
+      s1.appendChild(el('p', {class: 'note'}, 'No method of this run used labels, so the keypoints have no class here (calibrate with --semantics none,mask to compare).'));
+    }
     s1.appendChild(table(['class', 'keypoints'], rows));
     s1.appendChild(el('p', {}, R.pipeline.modes.map(function (m) { return m.name + ': ' + m.keypoints + ' keypoints (' + m.mean_keypoints_per_image.toFixed(0) + ' per image)'; }).join('; ')));
 
