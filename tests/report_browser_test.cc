@@ -88,6 +88,9 @@ void SelfTestAgreesWithTheCpp(const DemoReport& d, const std::string& chromium) 
   EXPECT_FALSE(st.contains("exception"));
   EXPECT_TRUE(st["errors"].empty()) << "errors in the page";
   EXPECT_EQ(out.find("Uncaught"), std::string::npos) << "an uncaught error in the console";
+  // Every camera's view under each base image, and each step of the pipeline.
+  EXPECT_EQ(st["views_drawn"].get<int>(), 4 * 3);
+  EXPECT_EQ(st["pipeline_steps"].get<int>(), 6);
   // The 3D view drew the scene and the rig over most of its canvas.
   EXPECT_GT(st["webgl"]["width"].get<int>(), 100);
   EXPECT_GT(st["webgl"]["drawn_fraction"].get<double>(), 0.3);

@@ -131,8 +131,9 @@ void AddReportCommand(CLI::App& app) {
     }
     args->report.scene = args->scene.empty() ? FindSceneOf(dataset, inputs.frames) : fs::path(args->scene);
     if (args->report.scene.empty()) {
-      std::fprintf(stderr, "warning: the scene '%s' of frames.json was not found: the 3D view shows the rig alone "
-                   "(give --scene FILE.glb)\n", inputs.frames.scene.c_str());
+      const std::string which =
+          inputs.frames.scene.empty() ? "frames.json names no scene" : "the scene '" + inputs.frames.scene + "' of frames.json was not found";
+      std::fprintf(stderr, "warning: %s: the 3D view shows the rig alone (give --scene FILE.glb)\n", which.c_str());
     }
     args->report.sweep_dir = args->sweep;
     args->report.tool_version = RIGSIM_VERSION_STRING;

@@ -331,7 +331,7 @@ var RIGSIM = (function () {
       // The image's top edge marked: which way is up in the photo.
       pts.push(0, 0, 0, 0, -0.35 * size, 0);
       var g = new THREE.BufferGeometry();
-      g.addAttribute('position', new THREE.Float32BufferAttribute(pts, 3));
+      g.setAttribute('position', new THREE.Float32BufferAttribute(pts, 3));
       var mat = dashed ? new THREE.LineDashedMaterial({color: colour, dashSize: size * 0.08, gapSize: size * 0.06})
                        : new THREE.LineBasicMaterial({color: colour});
       var lines = new THREE.LineSegments(g, mat);
@@ -394,7 +394,7 @@ var RIGSIM = (function () {
       var xyz = floats(M.points);
       if (xyz.length) {
         var g = new THREE.BufferGeometry();
-        g.addAttribute('position', new THREE.BufferAttribute(xyz, 3));
+        g.setAttribute('position', new THREE.BufferAttribute(xyz, 3));
         groups.points.add(new THREE.Points(g, new THREE.PointsMaterial({color: modeColour(M.name), size: 2, sizeAttenuation: false})));
       }
       visibility();
@@ -403,7 +403,7 @@ var RIGSIM = (function () {
       var g = new THREE.BufferGeometry();
       var flat = [];
       points.forEach(function (p) { flat.push(p[0], p[1], p[2]); });
-      g.addAttribute('position', new THREE.Float32BufferAttribute(flat, 3));
+      g.setAttribute('position', new THREE.Float32BufferAttribute(flat, 3));
       return new THREE.Line(g, new THREE.LineBasicMaterial({color: colour}));
     }
     function visibility() {
@@ -956,6 +956,7 @@ var RIGSIM = (function () {
   // pair view's click path, checks that the 3D view drew, and writes the results into #selftest.
   function selftest() {
     var out = {done: false};
+    var drawnViews = 0;
     var ref = R.selftest;
     var wait = scene3d.ready || Promise.resolve();
     return wait.then(function () {
@@ -1019,6 +1020,23 @@ var RIGSIM = (function () {
         out.true_point = tp;
         out.true_point_px = ref.true_point && tp ? Math.hypot(tp[0] - ref.true_point[0], tp[1] - ref.true_point[1]) : null;
         out.true_point_expected = ref.true_point;
+      });
+    }).then(function () {
+      // Every camera's first view under each base image, and the pipeline of every method: no error.
+      drawnViews = 0;
+      var chain = Promise.resolve();
+      R.cameras.forEach(function (_, c) {
+        ['rgb', 'depth', 'instances'].forEach(function (base) {
+          chain = chain.then(function () {
+            $('view-camera').value = String(c); $('view-frame').value = '0'; $('view-base').value = base;
+            return drawView().then(function () { drawnViews++; });
+          });
+        });
+      });
+      return chain.then(function () {
+        out.views_drawn = drawnViews;
+        R.modes.forEach(function (_, m) { $('pipeline-mode').value = String(m); drawPipeline(); });
+        out.pipeline_steps = document.querySelectorAll('#pipeline-body .step').length;
       });
     }).catch(function (e) { out.exception = String(e && e.stack || e); }).then(function () {
       out.errors = window.RIGSIM_ERRORS.slice();
