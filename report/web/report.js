@@ -521,6 +521,7 @@ var RIGSIM = (function () {
       var canvas = $('view-canvas');
       canvas.width = v.width; canvas.height = v.height;
       var ctx = canvas.getContext('2d');
+      var u = Math.max(1, v.width / 1000);  // marks in screen pixels
       ctx.drawImage(got[0], 0, 0, v.width, v.height);
       if (got[1] && opacity > 0) { ctx.globalAlpha = opacity; ctx.drawImage(got[1], 0, 0, v.width, v.height); ctx.globalAlpha = 1; }
       var data = got[2], mode = $('view-mode').value;
@@ -535,7 +536,7 @@ var RIGSIM = (function () {
           var keep = usesMask || !inMask || inMask[i];
           kept += keep ? 1 : 0;
           ctx.fillStyle = keep ? '#39ff6a' : '#ff3b3b';
-          ctx.fillRect((xy[2 * i] + 0.5) * data.scale - 1.5, (xy[2 * i + 1] + 0.5) * data.scale - 1.5, 3, 3);
+          ctx.fillRect((xy[2 * i] + 0.5) * data.scale - 1.5 * u, (xy[2 * i + 1] + 0.5) * data.scale - 1.5 * u, 3 * u, 3 * u);
         }
         var lines = usesMask
             ? [['#39ff6a', kp.count + ' keypoints detected inside the reliable-class mask (' + mode + ')']]
@@ -652,6 +653,8 @@ var RIGSIM = (function () {
       var lay = {scaleA: wa / a.width, scaleB: wb / b.width, offsetB: wa + gap};
       pairState.layout = lay;
       var ctx = canvas.getContext('2d');
+      // Marks, lines and text in screen pixels: the canvas is shown scaled to the page's width.
+      var u = Math.max(1, canvas.width / 1300);
       ctx.fillStyle = '#000'; ctx.fillRect(0, 0, canvas.width, canvas.height);
       ctx.drawImage(I.ia, 0, 0, wa, ha);
       ctx.drawImage(I.ib, lay.offsetB, 0, wb, hb);
@@ -660,10 +663,12 @@ var RIGSIM = (function () {
         shade(ctx, frame.overlap.a, 0, wa, ha);
         shade(ctx, frame.overlap.b, lay.offsetB, wb, hb);
       }
-      ctx.font = 'bold 14px system-ui, sans-serif';
+      ctx.font = 'bold ' + Math.round(15 * u) + 'px system-ui, sans-serif';
       ctx.fillStyle = '#fff';
-      ctx.fillText(a.name, 6, 18);
-      ctx.fillText(b.name, lay.offsetB + 6, 18);
+      ctx.strokeStyle = '#000'; ctx.lineWidth = 3 * u;
+      [[a.name, 6 * u], [b.name, lay.offsetB + 6 * u]].forEach(function (t) {
+        ctx.strokeText(t[0], t[1], 20 * u); ctx.fillText(t[0], t[1], 20 * u);
+      });
       var pa = function (x, y) { return [(x + 0.5) * lay.scaleA, (y + 0.5) * lay.scaleA]; };
       var pb = function (x, y) { return [lay.offsetB + (x + 0.5) * lay.scaleB, (y + 0.5) * lay.scaleB]; };
       var M = frame.modes[mode];
@@ -681,10 +686,11 @@ var RIGSIM = (function () {
           var qa = pa(xa[2 * i], xa[2 * i + 1]), qb = pb(xb[2 * i], xb[2 * i + 1]);
           ctx.strokeStyle = cat.colour; ctx.fillStyle = cat.colour;
           // Every match's two ends; a line for an even subset (all lines hide the images).
-          ctx.fillRect(qa[0] - 1.5, qa[1] - 1.5, 3, 3);
-          ctx.fillRect(qb[0] - 1.5, qb[1] - 1.5, 3, 3);
+          ctx.fillRect(qa[0] - 1.5 * u, qa[1] - 1.5 * u, 3 * u, 3 * u);
+          ctx.fillRect(qb[0] - 1.5 * u, qb[1] - 1.5 * u, 3 * u, 3 * u);
           if (lines && (shown++ % Math.max(1, Math.ceil(M.count / 250)) === 0)) {
             ctx.globalAlpha = 0.55;
+            ctx.lineWidth = u;
             ctx.beginPath(); ctx.moveTo(qa[0], qa[1]); ctx.lineTo(qb[0], qb[1]); ctx.stroke();
             ctx.globalAlpha = 1;
           }
@@ -705,7 +711,7 @@ var RIGSIM = (function () {
           var region = pairState.click.side === 'a' ? [lay.offsetB, 0, wb, hb] : [0, 0, wa, ha];
           ctx.rect(region[0], region[1], region[2], region[3]);
           ctx.clip();
-          ctx.strokeStyle = colour; ctx.lineWidth = 2; ctx.setLineDash(dash);
+          ctx.strokeStyle = colour; ctx.lineWidth = 2.5 * u; ctx.setLineDash(dash.map(function (d) { return d * u; }));
           ctx.beginPath();
           var pen = false;
           points.forEach(function (p) {
@@ -720,15 +726,16 @@ var RIGSIM = (function () {
         if (g.truth) curve(g.truth, '#ffe600', []);
         if (g.estimate) curve(g.estimate, modeColour(mode) === '#ffe14d' ? '#ff66cc' : modeColour(mode), [8, 5]);
         var c0 = from(pairState.click.px[0], pairState.click.px[1]);
-        ctx.strokeStyle = '#fff'; ctx.lineWidth = 2;
-        ctx.beginPath(); ctx.moveTo(c0[0] - 7, c0[1]); ctx.lineTo(c0[0] + 7, c0[1]); ctx.moveTo(c0[0], c0[1] - 7); ctx.lineTo(c0[0], c0[1] + 7); ctx.stroke();
+        ctx.strokeStyle = '#fff'; ctx.lineWidth = 2 * u;
+        var k = 9 * u;
+        ctx.beginPath(); ctx.moveTo(c0[0] - k, c0[1]); ctx.lineTo(c0[0] + k, c0[1]); ctx.moveTo(c0[0], c0[1] - k); ctx.lineTo(c0[0], c0[1] + k); ctx.stroke();
         var text = 'Clicked (' + pairState.click.px[0].toFixed(1) + ', ' + pairState.click.px[1].toFixed(1) + ') in ' +
                    (pairState.click.side === 'a' ? a.name : b.name) + '. Yellow: its epipolar curve under the truth; dashed: under the estimate (' + mode + ')' +
                    (g.estimate ? '' : ', none: this method gave no full pose of both cameras') + '. ';
         if (g.transfer && g.transfer.point) {
           var t = to(g.transfer.point[0], g.transfer.point[1]);
-          ctx.strokeStyle = '#000'; ctx.lineWidth = 4; ctx.beginPath(); ctx.arc(t[0], t[1], 7, 0, 2 * Math.PI); ctx.stroke();
-          ctx.strokeStyle = '#fff'; ctx.lineWidth = 2; ctx.beginPath(); ctx.arc(t[0], t[1], 7, 0, 2 * Math.PI); ctx.stroke();
+          ctx.strokeStyle = '#000'; ctx.lineWidth = 4 * u; ctx.beginPath(); ctx.arc(t[0], t[1], 8 * u, 0, 2 * Math.PI); ctx.stroke();
+          ctx.strokeStyle = '#fff'; ctx.lineWidth = 2 * u; ctx.beginPath(); ctx.arc(t[0], t[1], 8 * u, 0, 2 * Math.PI); ctx.stroke();
           text += 'White ring: where the point really is (from the rendered depth): (' + g.transfer.point[0].toFixed(1) + ', ' + g.transfer.point[1].toFixed(1) + ').';
         } else if (g.transfer) {
           text += 'No true correspondence: ' + g.transfer.why + '.';
@@ -746,6 +753,14 @@ var RIGSIM = (function () {
       stats.appendChild(el('h3', {}, 'This pair over all frames (the two-view estimate pools them)'));
       stats.appendChild(table(['method', 'matches', 'right', 'inliers', 'inliers right', 'outcome', 'rotation error', 'direction error'], rows));
     });
+  }
+  // Shows pair p at frame f for `mode` as if pixel px of camera a or b ('a', 'b') had been clicked.
+  function clickPair(p, f, mode, side, px) {
+    $('pair-select').value = String(p);
+    $('pair-frame').value = String(f);
+    $('pair-mode').value = mode;
+    pairState.click = {side: side, px: px};
+    return drawPair();
   }
   // Shades the cells of an overlap grid (1 = seen by the other camera): one pixel per cell on a
   // small canvas, scaled up smoothly over the photo.
@@ -989,11 +1004,7 @@ var RIGSIM = (function () {
       var m = P.modes[ref.mode];
       out.curve_estimate_max_px = m.b_from_a_rig ? maxDiff(epipolarCurve(a, ref.px, b, pose(m.b_from_a_rig), ref.depths), ref.curve_estimate) : null;
       // The same click through the pair view.
-      $('pair-select').value = String(ref.pair);
-      $('pair-frame').value = String(ref.frame);
-      $('pair-mode').value = ref.mode;
-      pairState.click = {side: 'a', px: ref.px};
-      return drawPair().then(function () {
+      return clickPair(ref.pair, ref.frame, ref.mode, 'a', ref.px).then(function () {
         var g = pairState.last;
         // The view's dense curve passes through the C++'s points: each reference point lies within
         // a fraction of a pixel of the drawn polyline.
@@ -1065,6 +1076,6 @@ var RIGSIM = (function () {
     if (/[?&]selftest=1/.test(location.search)) selftest();
   }
 
-  return {put: put, load: load, start: start,
+  return {put: put, load: load, start: start, clickPair: clickPair, openView: openView,
           geometry: {imgFromCam: imgFromCam, camFromImg: camFromImg, epipolarCurve: epipolarCurve}};
 })();
