@@ -439,11 +439,13 @@ void AddMatchPrecision(const PairwiseJob& job, const CalibrationOptions& options
   struct Counts {
     MatchPrecisionCounts all, inliers;
     bool evaluated = false;
+    bool labelled = false;  // both label images known
   };
   const int num_mp = job.num_modes * job.num_pairs;
   std::vector<Counts> counts(job.num_frames * num_mp);
   tbb::parallel_for(0, job.num_frames, [&](int f) {
     std::vector<ImageF> range(job.num_cams);
+    std::vector<ImageU8> labels(job.num_cams);  // the true labels: what a cross-class match is
     for (int c = 0; c < job.num_cams; ++c) {
       if (!have_depth[job.Image(c, f)]) continue;
       const Camera& camera = job.rig.cameras[c].camera;
@@ -452,6 +454,8 @@ void AddMatchPrecision(const PairwiseJob& job, const CalibrationOptions& options
       if (!range[c].SameSize(camera.width(), camera.height()) || range[c].channels != 1) {
         throw std::runtime_error(path.string() + ": range image must be 1 channel of the camera's size");
       }
+      const auto label_path = job.layout.Label(job.rig.cameras[c].name, job.frames.frames[f].name);
+      if (std::filesystem::exists(label_path)) labels[c] = ReadLabelImage(label_path, camera.width(), camera.height());
     }
     for (int m = 0; m < job.num_modes; ++m) {
       for (int p = 0; p < job.num_pairs; ++p) {
@@ -471,9 +475,14 @@ void AddMatchPrecision(const PairwiseJob& job, const CalibrationOptions& options
         cnt.evaluated = true;
         cnt.all.evaluated = end - begin;
         cnt.all.at_infinity = at_infinity;
+        cnt.labelled = !labels[a].empty() && !labels[b].empty();
+        const std::vector<char> cross =
+            cnt.labelled ? CrossClassMatches(pa, pb, labels[a], labels[b]) : std::vector<char>(end - begin, 0);
         const TwoViewResult& tv = fits.two_view[mp];
         for (int i = 0; i < end - begin; ++i) {
           cnt.all.correct += ok[i];
+          cnt.all.cross_class += cross[i];
+          cnt.all.cross_class_correct += cross[i] && ok[i];
           if (tv.success && tv.inlier_mask[begin + i]) {
             ++cnt.inliers.evaluated;
             cnt.inliers.correct += ok[i];
@@ -485,10 +494,11 @@ void AddMatchPrecision(const PairwiseJob& job, const CalibrationOptions& options
   for (int m = 0; m < job.num_modes; ++m) {
     for (int p = 0; p < job.num_pairs; ++p) {
       MatchPrecisionCounts all, inl;
-      bool any = false;
+      bool any = false, labelled = true;
       for (int f = 0; f < job.num_frames; ++f) {
         const Counts& cnt = counts[f * num_mp + job.ModePair(m, p)];
         any = any || cnt.evaluated;
+        labelled = labelled && (!cnt.evaluated || cnt.labelled);
         all += cnt.all;
         inl += cnt.inliers;
       }
@@ -497,6 +507,10 @@ void AddMatchPrecision(const PairwiseJob& job, const CalibrationOptions& options
       pr.matches_evaluated = all.evaluated;
       pr.matches_correct = all.correct;
       pr.matches_at_infinity = all.at_infinity;
+      if (labelled) {
+        pr.cross_class_matches = all.cross_class;
+        pr.cross_class_correct = all.cross_class_correct;
+      }
       if (all.evaluated > 0) pr.match_precision = all.Precision();
       pr.inliers_evaluated = inl.evaluated;
       pr.inliers_correct = inl.correct;
@@ -581,6 +595,9 @@ nlohmann::json PairResultToJson(const PairResult& pr) {
   j["matches_evaluated"] = pr.matches_evaluated;
   j["matches_correct"] = pr.matches_correct;
   j["matches_at_infinity"] = pr.matches_at_infinity;
+  j["cross_class_matches"] = pr.cross_class_matches ? nlohmann::json(*pr.cross_class_matches) : nlohmann::json(nullptr);
+  j["cross_class_wrong"] =
+      pr.cross_class_matches ? nlohmann::json(*pr.cross_class_matches - pr.cross_class_correct) : nlohmann::json(nullptr);
   j["inlier_precision"] = json_io::OptionalNumber(pr.inlier_precision);
   j["inliers_evaluated"] = pr.inliers_evaluated;
   j["inliers_correct"] = pr.inliers_correct;
@@ -613,10 +630,15 @@ nlohmann::json ReportToJson(const std::vector<CalibrationReport>& reports) {
     nlohmann::json pairs = nlohmann::json::array();
     std::vector<double> pose_errors, rotation_errors;
     int succeeded = 0, rotation_only = 0, planar = 0;
-    int64_t matches = 0, inliers = 0, evaluated = 0, correct = 0;
-    bool has_truth = false;
+    int64_t matches = 0, inliers = 0, evaluated = 0, correct = 0, cross = 0, cross_correct = 0;
+    bool has_truth = false, has_cross = false;
     for (const PairResult& pr : rep.pairs) {
       pairs.push_back(PairResultToJson(pr));
+      if (pr.cross_class_matches) {
+        has_cross = true;
+        cross += *pr.cross_class_matches;
+        cross_correct += pr.cross_class_correct;
+      }
       succeeded += pr.two_view.success;
       rotation_only += pr.two_view.rotation_only;
       planar += pr.two_view.success && pr.two_view.pair_type == PairType::kPlanar;
@@ -639,6 +661,8 @@ nlohmann::json ReportToJson(const std::vector<CalibrationReport>& reports) {
     summary["inliers"] = inliers;
     summary["mean_keypoints_per_image"] = rep.mean_keypoints_per_image;
     summary["match_precision"] = evaluated > 0 ? nlohmann::json(double(correct) / evaluated) : nlohmann::json(nullptr);
+    summary["cross_class_matches"] = has_cross ? nlohmann::json(cross) : nlohmann::json(nullptr);
+    summary["cross_class_wrong"] = has_cross ? nlohmann::json(cross - cross_correct) : nlohmann::json(nullptr);
     if (has_truth) {
       for (double t : {1.0, 2.0, 5.0, 10.0}) {
         const std::string key = std::to_string(static_cast<int>(t));

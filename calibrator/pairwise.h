@@ -97,6 +97,10 @@ struct PairResult {
   int matches_evaluated = 0;
   int matches_correct = 0;
   int matches_at_infinity = 0;
+  // Of the evaluated matches, those joining two different true classes (labels/ of the dataset),
+  // and of those the correct ones; nullopt without label images.
+  std::optional<int> cross_class_matches;
+  int cross_class_correct = 0;
   std::optional<double> inlier_precision;  // precision of the two-view inliers only
   int inliers_evaluated = 0;
   int inliers_correct = 0;

@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   rigsim::cli::AddExportCommand(app);
   rigsim::cli::AddEvaluateCommand(app);
   rigsim::cli::AddSweepCommand(app);
+  rigsim::cli::AddSweepMergeCommand(app);
   rigsim::cli::AddReportCommand(app);
   try {
     app.parse(argc, argv);
