@@ -87,6 +87,29 @@ TEST(SweepConfig, HashesDependOnWhatIsComputedOnly) {
   EXPECT_EQ(StableHash("a"), "af63dc4c8601ec8c");
 }
 
+TEST(SweepConfig, ItsJsonReadsBackAsTheSameSweep) {
+  const SweepConfig c = ParseSweepConfig(Json::parse(R"({
+    "name": "round", "seeds": [4, 2], "base": {"width": 320},
+    "methods": {"semantics": ["mask", "none"], "features": ["orb", "sift"], "peers": ["colmap"]},
+    "studies": [{"name": "a", "set": {"rig": "stereo"}, "grid": {"baseline": [0.2, 0.4]}},
+                {"name": "b", "zip": {"lens": ["pinhole", "fisheye"], "fisheye_fov": [190, 150]}}]})"),
+                                         "round.json");
+  const SweepConfig back = ParseSweepConfig(SweepConfigToJson(c), "sweep.json");
+  EXPECT_EQ(SweepHash(back), SweepHash(c));
+  EXPECT_EQ(back.name, "round");
+  ASSERT_EQ(back.methods.size(), c.methods.size());
+  for (size_t i = 0; i < c.methods.size(); ++i) EXPECT_EQ(back.methods[i].name, c.methods[i].name);
+  const std::vector<SweepCell> a = ExpandCells(c), b = ExpandCells(back);
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].key, b[i].key);
+    EXPECT_EQ(a[i].studies, b[i].studies);
+  }
+  // A single top-level study keeps its name (the config's).
+  const SweepConfig one = ParseSweepConfig(Json::parse(R"({"name": "solo", "grid": {"frames": [2, 3]}})"), "s.json");
+  EXPECT_EQ(ParseSweepConfig(SweepConfigToJson(one), "sweep.json").studies[0].name, "solo");
+}
+
 TEST(SweepConfig, ErrorsNameTheFileTheKeyAndSuggestAFix) {
   using E = std::runtime_error;
   EXPECT_THAT(Parsing(R"({"grid": {"overlpa": [10]}})"),
@@ -113,6 +136,10 @@ TEST(SweepConfig, ErrorsNameTheFileTheKeyAndSuggestAFix) {
               ThrowsExactly<E>("sweep.json: grid.frames: value 2 is listed twice"));
   EXPECT_THAT(Parsing(R"({"base": {"seed": 3}})"),
               ThrowsExactly<E>("sweep.json: base.seed: give seeds with the top-level 'seeds' list, not as a parameter"));
+  // A zipped axis may repeat a value; the same combination twice is refused.
+  EXPECT_NO_THROW(Parsing(R"({"zip": {"lens": ["pinhole", "fisheye"], "fisheye_fov": [190, 190]}})")());
+  EXPECT_THAT(Parsing(R"({"zip": {"lens": ["fisheye", "fisheye"], "fisheye_fov": [190, 190]}})"),
+              ThrowsExactly<E>("sweep.json: zip: values [\"fisheye\",190.0] are listed twice"));
 }
 
 TEST(SweepConfig, YamlReadsLikeJson) {

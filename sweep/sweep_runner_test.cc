@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 #include <fstream>
 #include <sstream>
 
@@ -143,6 +144,65 @@ TEST(SweepRunner, RestartRemovesOnlyWhatASweepWrites) {
   EXPECT_EQ(again.calls, 6);  // started over
   EXPECT_FALSE(fs::exists(out / "datasets"));
   EXPECT_EQ(ReadFile(out / "notes.txt"), "mine");
+}
+
+// Every file of a sweep folder's results, by relative path (cells/ and sweep.json aside).
+std::map<std::string, std::string> ResultFiles(const fs::path& out) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::recursive_directory_iterator(out)) {
+    const std::string rel = fs::relative(e.path(), out).string();
+    if (!e.is_regular_file() || rel.rfind("cells", 0) == 0 || rel == "sweep.json") continue;
+    files[rel] = Read(e.path());
+  }
+  return files;
+}
+
+TEST(SweepShards, MergedShardsWriteWhatASingleRunWrites) {
+  const fs::path base = TempDir("sweep_shards");
+  FakeRunner single;
+  SweepRunOptions options;
+  options.command = "rigsim sweep fake.json";
+  options.out_dir = base / "single";
+  RunSweep(Config(), options, single.Get());
+  std::vector<fs::path> shards;
+  int calls = 0;
+  for (int i = 0; i < 3; ++i) {
+    FakeRunner part;
+    options.out_dir = base / ("shard" + std::to_string(i));
+    options.shard_index = i;
+    options.num_shards = 3;
+    const SweepOutcome o = RunSweep(Config(), options, part.Get());
+    EXPECT_FALSE(fs::exists(options.out_dir / "results.csv"));  // a shard writes its cells only
+    calls += part.calls;
+    shards.push_back(options.out_dir);
+  }
+  EXPECT_EQ(calls, 6);  // every cell in exactly one shard
+  const MergeOutcome merged = MergeSweepShards(base / "merged", shards);
+  EXPECT_EQ(merged.merged, 6);
+  EXPECT_TRUE(merged.missing.empty());
+  const auto a = ResultFiles(base / "single"), b = ResultFiles(base / "merged");
+  EXPECT_GE(a.size(), 5u);
+  ASSERT_EQ(a.size(), b.size());
+  for (const auto& [name, bytes] : a) EXPECT_TRUE(b.count(name) && b.at(name) == bytes) << name << " differs";
+
+  // A shard missing: its cells are named. A shard of another sweep is refused.
+  const MergeOutcome partial = MergeSweepShards(base / "partial", {shards[0], shards[2]});
+  EXPECT_EQ(partial.merged + static_cast<int>(partial.missing.size()), 6);
+  EXPECT_FALSE(partial.missing.empty());
+  EXPECT_EQ(partial.missing[0].rfind("cell ", 0), 0u);
+  SweepConfig other = Config();
+  other.seeds = {7};
+  SweepRunOptions other_options;
+  other_options.out_dir = base / "other";
+  FakeRunner third;
+  RunSweep(other, other_options, third.Get());
+  try {
+    MergeSweepShards(base / "mixed", {shards[0], base / "other"});
+    FAIL() << "merged shards of two sweeps";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("a shard of another sweep"), std::string::npos) << e.what();
+  }
+  fs::remove_all(base);
 }
 
 TEST(SweepShards, EveryCellInExactlyOneShardAndTheShardsBalanced) {

@@ -54,6 +54,8 @@ TEST(SweepCli, ATinySweepRunsEndToEndAndResumes) {
     EXPECT_TRUE(row["overlap_pct"].is_number()) << line;
     EXPECT_TRUE(row["auc_pairs_5deg"].is_number()) << line;
     EXPECT_TRUE(row["time_total_s"].is_number()) << line;
+    EXPECT_TRUE(row["cross_class_matches"].is_number()) << line;  // the dataset has true labels
+    EXPECT_LE(row["cross_class_wrong"].get<int>(), row["cross_class_matches"].get<int>());
     ++rows;
   }
   EXPECT_EQ(rows, 4);
