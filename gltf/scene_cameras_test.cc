@@ -15,6 +15,7 @@
 
 #include "gltf/gltf_loader.h"
 #include "testing/expect_error.h"
+#include "testing/gltf_builder.h"
 #include "testing/temp_dir.h"
 
 namespace rigsim {

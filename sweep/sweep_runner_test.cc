@@ -152,13 +152,13 @@ std::map<std::string, std::string> ResultFiles(const fs::path& out) {
   for (const auto& e : fs::recursive_directory_iterator(out)) {
     const std::string rel = fs::relative(e.path(), out).string();
     if (!e.is_regular_file() || rel.rfind("cells", 0) == 0 || rel == "sweep.json") continue;
-    files[rel] = Read(e.path());
+    files[rel] = ReadFile(e.path());
   }
   return files;
 }
 
 TEST(SweepShards, MergedShardsWriteWhatASingleRunWrites) {
-  const fs::path base = TempDir("sweep_shards");
+  const TempDir base;
   FakeRunner single;
   SweepRunOptions options;
   options.command = "rigsim sweep fake.json";
@@ -202,7 +202,6 @@ TEST(SweepShards, MergedShardsWriteWhatASingleRunWrites) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("a shard of another sweep"), std::string::npos) << e.what();
   }
-  fs::remove_all(base);
 }
 
 TEST(SweepShards, EveryCellInExactlyOneShardAndTheShardsBalanced) {

@@ -14,6 +14,7 @@
 
 #include "common/run_program.h"
 #include "dataset/image_io.h"
+#include "testing/temp_dir.h"
 #include "tests/rigsim_cli.h"
 
 namespace rigsim {
@@ -53,9 +54,9 @@ struct DemoReport {
   std::string Url(const std::string& suffix = "") const { return "file://" + Index().string() + suffix; }
 };
 
-DemoReport MakeDemoReport() {
+DemoReport MakeDemoReport(const fs::path& dir) {
   DemoReport d;
-  d.dir = FreshTestDir("report_browser_test");
+  d.dir = dir;
   // Classroom size: 4 cameras at 640x360, 3 frames, 1 sample per pixel (every camera calibrated).
   const CliResult demo = RunRigsim({"demo", "--out", (d.dir / "demo").string(), "--width", "640", "--height", "360",
                                     "--frames", "3", "--spp", "1"},
@@ -77,7 +78,7 @@ void SelfTestAgreesWithTheCpp(const DemoReport& d, const std::string& chromium) 
   std::vector<std::string> args = ChromiumArgs(chromium, d.dir / "profile-selftest");
   args.insert(args.end(), {"--enable-logging=stderr", "--v=0", "--dump-dom", d.Url("?selftest=1")});
   const ProgramRun run = RunProgram(args, log);
-  const std::string out = ReadAll(log);
+  const std::string out = ReadFile(log);
   ASSERT_EQ(run.exit_code, 0) << out.substr(0, 4000);
   const size_t begin = out.find("<pre id=\"selftest\">");
   ASSERT_NE(begin, std::string::npos) << out.substr(0, 4000);
@@ -116,7 +117,7 @@ void SceneViewIsNotBlank(const DemoReport& d, const std::string& chromium) {
   std::vector<std::string> args = ChromiumArgs(chromium, d.dir / "profile-screenshot");
   args.insert(args.end(), {"--screenshot=" + png.string(), d.Url("#scene")});
   const ProgramRun run = RunProgram(args, d.dir / "screenshot.log");
-  ASSERT_EQ(run.exit_code, 0) << ReadAll(d.dir / "screenshot.log");
+  ASSERT_EQ(run.exit_code, 0) << ReadFile(d.dir / "screenshot.log");
   const ImageU8 shot = ReadImageU8(png, 3);
   ASSERT_EQ(shot.width, 1280);
   // The 3D viewport fills the left of the page below the header: many distinct colours there
@@ -151,14 +152,14 @@ void ReportCommandReproducesTheCalibrationAndTakesASweep(const DemoReport& d) {
   EXPECT_EQ(r.err.find("differs"), std::string::npos) << r.err;
   EXPECT_NE(r.out.find("report: " + fs::absolute(out / "index.html").lexically_normal().string()), std::string::npos) << r.out;
   EXPECT_TRUE(fs::exists(out / "sweep" / "plots" / "ring_success.png"));
-  const std::string data = ReadAll(out / "data" / "report.js");
+  const std::string data = ReadFile(out / "data" / "report.js");
   EXPECT_NE(data.find("# a sweep"), std::string::npos);
   EXPECT_TRUE(StagingFolders(out).empty());
   // The same dataset and options give the same report data, whichever command wrote it (the
   // command line aside).
-  std::string demo_data = ReadAll(d.dir / "demo" / "report" / "data" / "view_c1_f0.js");
-  EXPECT_EQ(demo_data, ReadAll(out / "data" / "view_c1_f0.js"));
-  EXPECT_EQ(ReadAll(d.dir / "demo" / "report" / "data" / "pair_c1_c2.js"), ReadAll(out / "data" / "pair_c1_c2.js"));
+  std::string demo_data = ReadFile(d.dir / "demo" / "report" / "data" / "view_c1_f0.js");
+  EXPECT_EQ(demo_data, ReadFile(out / "data" / "view_c1_f0.js"));
+  EXPECT_EQ(ReadFile(d.dir / "demo" / "report" / "data" / "pair_c1_c2.js"), ReadFile(out / "data" / "pair_c1_c2.js"));
   // Refused without --force, before calibrating.
   const CliResult again = RunRigsim({"report", (d.dir / "demo").string(), "--out", out.string()}, d.dir / "report3");
   EXPECT_EQ(again.code, 1);
@@ -166,7 +167,8 @@ void ReportCommandReproducesTheCalibrationAndTakesASweep(const DemoReport& d) {
 }
 
 TEST(TeachingReport, DemoWritesItAndItWorksInChromium) {
-  const DemoReport d = MakeDemoReport();
+  const TempDir dir;
+  const DemoReport d = MakeDemoReport(dir);
   ASSERT_TRUE(d.code == 0 || d.code == 3) << d.out;
   ASSERT_TRUE(fs::exists(d.Index())) << d.out;
   DemoPrintsWhereTheReportIs(d);
