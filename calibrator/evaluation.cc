@@ -7,35 +7,6 @@
 
 namespace rigsim {
 
-double RotationErrorDeg(const Rigid3d& est, const Rigid3d& gt) { return RotationDifferenceDeg(est.rotation, gt.rotation); }
-
-std::optional<double> TranslationDirectionErrorDeg(const Rigid3d& est, const Rigid3d& gt, double min_norm) {
-  if (est.translation.norm() <= min_norm || gt.translation.norm() <= min_norm) return std::nullopt;
-  const Eigen::Vector3d a = est.translation.normalized();
-  const Eigen::Vector3d b = gt.translation.normalized();
-  // atan2 keeps precision near 0 and 180 degrees, where acos of the dot product does not.
-  return RadToDeg(std::atan2(a.cross(b).norm(), a.dot(b)));
-}
-
-double PoseAuc(const std::vector<double>& errors_deg, double threshold_deg) {
-  if (errors_deg.empty() || !(threshold_deg > 0)) return 0.0;
-  std::vector<double> e;
-  for (double x : errors_deg) e.push_back(std::isnan(x) ? std::numeric_limits<double>::infinity() : x);
-  std::sort(e.begin(), e.end());
-  const double n = static_cast<double>(e.size());
-  // Recall curve through (0, 0), (e_i, i/n) for the errors below the threshold, then flat to the
-  // threshold; trapezoidal area, as SuperGlue's pose_auc computes it.
-  double area = 0.0, prev_e = 0.0, prev_r = 0.0;
-  for (size_t i = 0; i < e.size() && e[i] < threshold_deg; ++i) {
-    const double r = (i + 1) / n;
-    area += 0.5 * (prev_r + r) * (e[i] - prev_e);
-    prev_e = e[i];
-    prev_r = r;
-  }
-  area += prev_r * (threshold_deg - prev_e);
-  return area / threshold_deg;
-}
-
 void MatchPrecisionOptions::Check() const {
   if (!(max_error_px > 0)) throw std::invalid_argument("MatchPrecisionOptions: max_error_px must be > 0");
   if (transfer.abs_tolerance_m < 0 || transfer.rel_tolerance < 0) {
@@ -51,7 +22,21 @@ MatchPrecisionCounts& MatchPrecisionCounts::operator+=(const MatchPrecisionCount
   evaluated += o.evaluated;
   correct += o.correct;
   at_infinity += o.at_infinity;
+  cross_class += o.cross_class;
+  cross_class_correct += o.cross_class_correct;
   return *this;
+}
+
+std::vector<char> CrossClassMatches(const std::vector<Eigen::Vector2d>& px_a, const std::vector<Eigen::Vector2d>& px_b,
+                                    const ImageU8& labels_a, const ImageU8& labels_b) {
+  const auto label_at = [](const ImageU8& labels, const Eigen::Vector2d& px) -> int {
+    const int x = static_cast<int>(std::lround(px.x())), y = static_cast<int>(std::lround(px.y()));
+    if (x < 0 || y < 0 || x >= labels.width || y >= labels.height) return -1;
+    return labels.at(x, y);
+  };
+  std::vector<char> cross(px_a.size(), 0);
+  for (size_t i = 0; i < px_a.size(); ++i) cross[i] = label_at(labels_a, px_a[i]) != label_at(labels_b, px_b[i]);
+  return cross;
 }
 
 std::vector<char> CheckMatches(const std::vector<Eigen::Vector2d>& px_a, const std::vector<Eigen::Vector2d>& px_b,

@@ -19,22 +19,12 @@
 #include <Eigen/Core>
 
 #include "dataset/ground_truth.h"
+#include "evaluation/pose_errors.h"
 #include "dataset/image.h"
 #include "geometry/camera.h"
 #include "geometry/rigid3.h"
 
 namespace rigsim {
-
-// Angle of R_est * R_gt^T, degrees.
-double RotationErrorDeg(const Rigid3d& est, const Rigid3d& gt);
-
-// Angle between the translation directions, degrees; nullopt when either translation is (near)
-// zero (true rig with co-located cameras, or an estimate flagged rotation-only).
-std::optional<double> TranslationDirectionErrorDeg(const Rigid3d& est, const Rigid3d& gt, double min_norm = 1e-9);
-
-// Area under the recall curve of errors up to `threshold_deg` (0..1), as in SuperGlue/LoFTR;
-// failures enter as +inf (or NaN) and only lower the curve.
-double PoseAuc(const std::vector<double>& errors_deg, double threshold_deg);
 
 struct MatchPrecisionOptions {
   // A transferred keypoint within this distance (px) of its partner is correct.
@@ -50,10 +40,19 @@ struct MatchPrecisionCounts {
   int evaluated = 0;    // matches checked
   int correct = 0;      // of those, correct
   int at_infinity = 0;  // of the evaluated, A's pixel had no surface (checked as a point at infinity)
+  // Of the evaluated, matches whose two keypoints lie on different true classes (the thesis's
+  // "cross-class matches"), and of those the correct ones (a class boundary, not an error).
+  // Counted only when both label images are known.
+  int cross_class = 0;
+  int cross_class_correct = 0;
 
   double Precision() const;  // NaN when nothing was evaluated
   MatchPrecisionCounts& operator+=(const MatchPrecisionCounts& o);
 };
+
+// The true class under each keypoint (nearest pixel) differs between A and B: one flag per match.
+std::vector<char> CrossClassMatches(const std::vector<Eigen::Vector2d>& px_a, const std::vector<Eigen::Vector2d>& px_b,
+                                    const ImageU8& labels_a, const ImageU8& labels_b);
 
 // One flag per match (1 = correct). `range_a`, `range_b`: the true range images of A and B;
 // `cam_b_from_cam_a`: the true relative pose (metric).

@@ -8,27 +8,6 @@
 namespace rigsim {
 namespace {
 
-TEST(PoseErrors, KnownOffsets) {
-  const Rigid3d gt(Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized())),
-                   Eigen::Vector3d(0.5, -0.1, 0.2));
-  const Rigid3d off(Eigen::AngleAxisd(DegToRad(1.0), Eigen::Vector3d(0, 1, 1).normalized()) * gt.rotation,
-                    gt.translation);
-  EXPECT_NEAR(RotationErrorDeg(off, gt), 1.0, 1e-9);
-  EXPECT_NEAR(RotationErrorDeg(gt, gt), 0.0, 1e-6);
-  const Rigid3d flipped(gt.rotation, -3.0 * gt.translation);
-  EXPECT_NEAR(TranslationDirectionErrorDeg(flipped, gt).value(), 180.0, 1e-9);
-  EXPECT_NEAR(TranslationDirectionErrorDeg(Rigid3d(gt.rotation, 7.0 * gt.translation), gt).value(), 0.0, 1e-9);
-  EXPECT_FALSE(TranslationDirectionErrorDeg(gt, Rigid3d(gt.rotation, Eigen::Vector3d::Zero())).has_value());
-}
-
-TEST(PoseAuc, RecallCurveArea) {
-  const double inf = std::numeric_limits<double>::infinity();
-  EXPECT_NEAR(PoseAuc({0.0, 0.0}, 5.0), 1.0, 1e-12);
-  EXPECT_NEAR(PoseAuc({inf, std::nan("")}, 5.0), 0.0, 1e-12);
-  // (0,0) -> (0.5, 0.5) -> flat to 1: 0.125 + 0.25.
-  EXPECT_NEAR(PoseAuc({0.5, inf}, 1.0), 0.375, 1e-12);
-}
-
 // Two pinhole cameras 0.5 m apart looking at a wall 4 m away; the top rows of both see no
 // surface (sky).
 struct PlaneScene {
@@ -48,6 +27,22 @@ struct PlaneScene {
   }
   PlaneScene() : range_a(Range(cam)), range_b(Range(cam)) {}
 };
+
+TEST(CrossClassMatches, ComparesTheTrueClassUnderEachKeypoint) {
+  // A: left half road (7), right half building (11); B: everything building.
+  ImageU8 a(4, 2, 1, 7), b(4, 2, 1, 11);
+  for (int y = 0; y < 2; ++y) {
+    for (int x = 2; x < 4; ++x) a.at(x, y) = 11;
+  }
+  const std::vector<Eigen::Vector2d> pa = {{0.2, 0.4}, {2.6, 1.0}, {1.49, 0.0}, {1.51, 0.0}, {-0.6, 0.0}};
+  const std::vector<Eigen::Vector2d> pb = {{1.0, 1.0}, {0.0, 0.0}, {3.0, 1.0}, {3.0, 1.0}, {0.0, 0.0}};
+  // road-building, building-building, road (x rounds to 1), building (rounds to 2), outside A.
+  EXPECT_EQ(CrossClassMatches(pa, pb, a, b), (std::vector<char>{1, 0, 1, 0, 1}));
+  MatchPrecisionCounts sum{10, 6, 1, 4, 1};
+  sum += MatchPrecisionCounts{5, 5, 0, 2, 2};
+  EXPECT_EQ(sum.cross_class, 6);
+  EXPECT_EQ(sum.cross_class_correct, 3);
+}
 
 TEST(MatchPrecision, PlaneCorrectAndShiftedMatches) {
   const PlaneScene s;

@@ -20,7 +20,7 @@ struct MatchOptions {
   double ratio = 0.8;
   // Keep a -> b only when a is also b's nearest neighbour among A's candidates.
   bool mutual = true;
-  // Match only keypoints of the same class_id (the "gated" semantic modes; the pipeline sets it).
+  // Match only keypoints of the same class_id (the "gated" semantic modes; the pairwise stage sets it).
   bool gate_by_class = false;
   // Rows of A per block of the distance computation; bounds memory to block_rows * |B| floats
   // (L2). The Hamming path streams B once per block.

@@ -16,7 +16,8 @@
 //     centre(c, k) = C_k + R_k^T o_c. Each track's point is eliminated in closed form from the
 //     ray constraints (I - f f^T)(X - centre) = 0, leaving a quadratic form in x; the smallest
 //     eigenvector is the solution (up to scale), re-weighted by depth and robustly.
-//  4. Bundle adjustment (MultiFrameRigBundleAdjust, Ceres, the templated camera model).
+//  4. Bundle adjustment (MultiFrameRigBundleAdjust, Ceres; its cost is calibrator/cost_functions.h
+//     RigReprojectionCost, the templated camera model with the intrinsics held constant).
 //
 // Gauge: camera 0 in the rig, frame 0's rig in the world; the scale camera's translation is held
 // on a sphere (|its centre| fixed), the caller picks the radius.
@@ -29,7 +30,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "calibrator/rig_bundle_adjustment.h"
+#include "calibrator/correspondences.h"
 #include "calibrator/view_graph.h"
 #include "geometry/camera.h"
 #include "geometry/rigid3.h"
@@ -110,39 +111,31 @@ RigPositions EstimateRigPositions(const std::vector<Camera>& cameras, const Fram
                                   const std::vector<std::optional<Eigen::Quaterniond>>& rig_from_world,
                                   const RigPositionOptions& options, bool static_rig = false);
 
-// Residual of one observation for the multi-frame bundle adjustment (pixels, projected minus
-// observed): X_cam = cam_from_rig * (rig_from_world * X_world), through ImgFromCam.
-// Parameters: cam_from_rig quaternion (x, y, z, w) and translation, rig_from_world quaternion and
-// translation, the point in the world.
-struct MultiFrameReprojectionResidual {
-  MultiFrameReprojectionResidual(const Camera& camera, const Eigen::Vector2d& observed);
+struct RigBundleAdjustmentOptions {
+  // Tracks whose rays meet at less than this angle (deg) are not triangulated: their depth is
+  // undetermined, and they only slow the solver.
+  double min_triangulation_angle_deg = 0.25;
+  // Scale (px) of the Huber loss: quadratic for inliers, linear beyond, so the few wrong matches
+  // that survived two-view pull little.
+  double loss_scale_px = 1.0;
+  // After each solve, observations reprojecting farther than this (px), or behind their camera,
+  // are removed and the problem is solved again; points left with one observation go.
+  double max_reprojection_error_px = 3.0;
+  // Solve-and-filter rounds after the first solve.
+  int filter_rounds = 2;
+  // Points in the coarse first solve of the multi-frame adjustment (an even subsample of the
+  // tracks), skipped when there are fewer than twice as many; 0 = no coarse solve.
+  int coarse_points = 2000;
+  // Ceres iterations per solve.
+  int max_iterations = 100;
+  // Ceres threads.
+  int num_threads = 1;
+  // Keep the points and every observation's reprojection error in the result (for a report).
+  bool keep_points = false;
 
-  template <typename T>
-  bool operator()(const T* cam_q, const T* cam_t, const T* rig_q, const T* rig_t, const T* point, T* residual) const {
-    const Eigen::Map<const Eigen::Quaternion<T>> qc(cam_q), qr(rig_q);
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> tc(cam_t), tr(rig_t), x(point);
-    const Eigen::Matrix<T, 3, 1> x_in_cam = qc * (qr * x + tr) + tc;
-    T params[12];
-    for (int i = 0; i < num_params; ++i) params[i] = T(params_[i]);
-    T px[2];
-    if (!ImgFromCam(model, params, x_in_cam.data(), px)) return false;
-    residual[0] = px[0] - T(observed.x());
-    residual[1] = px[1] - T(observed.y());
-    return true;
-  }
-
-  CameraModelId model;
-  int num_params;
-  double params_[12];
-  Eigen::Vector2d observed;
+  // Throws std::invalid_argument naming the first bad field.
+  void Check() const;
 };
-
-// The residual and its Jacobians through the bundle adjustment's own Ceres cost (autodiff):
-// `params` stacks cam_from_rig (quaternion x, y, z, w; translation), rig_from_world (the same)
-// and the point in world coordinates: 4 + 3 + 4 + 3 + 3. False where it does not project.
-bool EvaluateMultiFrameReprojection(const Camera& camera, const Eigen::Vector2d& observed,
-                                    const Eigen::Matrix<double, 17, 1>& params, Eigen::Vector2d* residual,
-                                    Eigen::Matrix<double, 2, 17>* jacobian);
 
 struct MultiFrameBundleAdjustmentResult {
   std::vector<std::optional<Rigid3d>> cam_from_rig;    // refined; nullopt where not given
@@ -159,6 +152,12 @@ struct MultiFrameBundleAdjustmentResult {
   // solution, from the Jacobian and the reprojection RMS; nullopt for camera 0 and cameras not
   // adjusted, or when it could not be computed.
   std::vector<std::optional<Eigen::Matrix3d>> centre_covariance;
+  // With RigBundleAdjustmentOptions::keep_points only: the final solve's points (world frame) and
+  // how many views see each, and the reprojection error (px) of every observation triangulated
+  // from the initial poses (before any solve) and of every observation kept at the end.
+  std::vector<Eigen::Vector3d> points;
+  std::vector<int> point_observations;
+  std::vector<double> initial_residuals_px, final_residuals_px;
 };
 
 // Triangulates the tracks (world frame) over the posed views, then solves and filters

@@ -8,24 +8,17 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "calibrator/camera_centres.h"
 #include "calibrator/evaluation.h"
 #include "calibrator/format.h"
 #include "dataset/dataset.h"
+#include "geometry/json_io.h"
 
 namespace rigsim {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 double Seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
-
-nlohmann::json OptionalToJson(const std::optional<double>& v) {
-  return v && std::isfinite(*v) ? nlohmann::json(*v) : nlohmann::json(nullptr);
-}
-
-nlohmann::json PoseToJson(const Rigid3d& p) {
-  return {{"rotation_wxyz", {p.rotation.w(), p.rotation.x(), p.rotation.y(), p.rotation.z()}},
-          {"translation", {p.translation.x(), p.translation.y(), p.translation.z()}}};
-}
 
 // Index of each known-distance camera in `names`; throws std::invalid_argument naming a camera
 // that is not there, and the cameras that are.
@@ -84,17 +77,18 @@ void WarnAboutCamerasHeldByOneWeakPair(const ViewGraph& graph, const RigObservat
     }
     if (held_by.size() != 1) continue;
     const PairEstimate& p = obs.pairs[held_by[0]];
-    if (p.num_matches <= 0 || p.num_inliers >= kWeakPairInlierRatio * p.num_matches) continue;
+    const TwoViewEstimate& tv = p.two_view;
+    if (tv.num_matches <= 0 || tv.num_inliers >= kWeakPairInlierRatio * tv.num_matches) continue;
     const std::string pair = obs.camera_names[p.cam_a] + "-" + obs.camera_names[p.cam_b];
     warnings->push_back(obs.camera_names[c] + " is placed by one pair only, " + pair + ", whose fit explains " +
-                        std::to_string(p.num_inliers) + " of its " + std::to_string(p.num_matches) + " matches (" +
-                        Fixed(100.0 * p.num_inliers / p.num_matches, 0) +
+                        std::to_string(tv.num_inliers) + " of its " + std::to_string(tv.num_matches) + " matches (" +
+                        Fixed(100.0 * tv.num_inliers / tv.num_matches, 0) +
                         "%): unrelated or mirrored views can agree with a pose by chance; check the pair's match "
                         "image");
   }
 }
 
-// Observations of one dataset mode, from the pipeline's report and match data.
+// Observations of one dataset mode, from the pairwise report and match data.
 RigObservations ObservationsFromPipeline(const Rig& rig, const CalibrationReport& report,
                                          const PairwiseMatchData& data) {
   RigObservations obs;
@@ -105,15 +99,7 @@ RigObservations ObservationsFromPipeline(const Rig& rig, const CalibrationReport
   obs.keypoints = data.keypoints;
   for (size_t p = 0; p < report.pairs.size(); ++p) {
     const PairResult& pr = report.pairs[p];
-    PairEstimate e;
-    e.cam_a = rig.FindCamera(pr.cam_a);
-    e.cam_b = rig.FindCamera(pr.cam_b);
-    e.success = pr.success;
-    e.rotation_only = pr.rotation_only;
-    e.cam_b_from_cam_a = pr.cam_b_from_cam_a;
-    e.num_inliers = pr.inliers;
-    e.num_matches = pr.matches;
-    e.failure_reason = pr.failure_reason;
+    const PairEstimate e{rig.FindCamera(pr.cam_a), rig.FindCamera(pr.cam_b), pr.two_view};
     obs.pairs.push_back(e);
     obs.inliers.push_back({e.cam_a, e.cam_b, data.inliers[p]});
   }
@@ -171,15 +157,7 @@ std::pair<PairEstimate, PairMatches> EstimatePairFromMatches(
     }
   }
   const TwoViewResult tv = EstimateRelativePose(cameras.at(cam_a), px_a, cameras.at(cam_b), px_b, options);
-  PairEstimate e;
-  e.cam_a = cam_a;
-  e.cam_b = cam_b;
-  e.success = tv.success;
-  e.rotation_only = tv.rotation_only;
-  e.cam_b_from_cam_a = tv.cam_b_from_cam_a;
-  e.num_inliers = tv.num_inliers;
-  e.num_matches = static_cast<int>(px_a.size());
-  e.failure_reason = tv.failure_reason;
+  const PairEstimate e{cam_a, cam_b, ToEstimate(tv, static_cast<int>(px_a.size()))};
   PairMatches inl{cam_a, cam_b, std::vector<std::vector<std::pair<int, int>>>(matches_per_frame.size())};
   if (tv.success) {
     size_t i = 0;
@@ -191,6 +169,259 @@ std::pair<PairEstimate, PairMatches> EstimatePairFromMatches(
   }
   return {e, inl};
 }
+
+namespace {
+
+// Step 1: the view graph of the pairs and robust rotation averaging over it; the edges found to
+// be rotation outliers are deactivated with the reason.
+struct RotationStage {
+  ViewGraph graph;
+  RotationAveragingResult rot;
+};
+
+RotationStage AverageCameraRotations(const RigObservations& obs, const RigCalibrationOptions& options) {
+  RotationStage s;
+  s.graph = BuildViewGraph(static_cast<int>(obs.cameras.size()), obs.pairs, options.view_graph);
+  s.rot = AverageRotations(s.graph, 0, options.rotation_averaging);
+  for (int e = 0; e < static_cast<int>(s.graph.edges.size()); ++e) {
+    if (s.rot.outlier[e]) {
+      s.graph.Deactivate(e, "rotation outlier (residual " + Fixed(s.rot.residual_deg[e], 1) + " deg > " +
+                                Fixed(options.rotation_averaging.outlier_threshold_deg, 1) + ")");
+    }
+  }
+  return s;
+}
+
+// Step 2: the rig's rotation per frame from the temporal pairs, or a static rig (identity in every
+// frame) without them.
+struct RigMotion {
+  bool moving = false;
+  std::vector<std::optional<Eigen::Quaterniond>> rig_rotation;
+  int temporal_pairs_used = 0;  // successful temporal pairs of cameras with a rotation
+};
+
+RigMotion EstimateRigMotion(const RigObservations& obs, const RotationAveragingResult& rot, int num_frames) {
+  const int n = static_cast<int>(obs.cameras.size());
+  RigMotion m;
+  m.moving = num_frames >= 2 && !obs.temporal.empty();
+  m.rig_rotation.assign(num_frames, Eigen::Quaterniond::Identity());
+  if (!m.moving) return m;
+  m.rig_rotation = EstimateRigRotations(num_frames, rot.cam_from_rig, obs.temporal);
+  for (const TemporalPairEstimate& t : obs.temporal) {
+    if (t.camera < 0 || t.camera >= n || t.frame < 0 || t.frame + 1 >= num_frames) {
+      throw std::invalid_argument("EstimateRig: temporal pair out of range");
+    }
+    if (t.two_view.success && rot.cam_from_rig[t.camera]) ++m.temporal_pairs_used;
+  }
+  return m;
+}
+
+// Step 3: tracks over all views from the inliers of the edges still in use (between cameras with
+// a rotation) and of the temporal pairs.
+std::vector<ViewTrack> TracksOfUsedPairs(const RigObservations& obs, const RotationStage& rs, const RigMotion& motion,
+                                         int num_frames, int* num_conflicting) {
+  std::vector<PairMatches> used;
+  for (size_t p = 0; p < obs.pairs.size(); ++p) {
+    const ViewGraphEdge& g = rs.graph.edges[p];
+    if (!g.active || !rs.rot.cam_from_rig[g.cam_a] || !rs.rot.cam_from_rig[g.cam_b]) continue;
+    if (static_cast<int>(obs.inliers[p].per_frame.size()) != num_frames) {
+      throw std::invalid_argument("EstimateRig: inliers of a pair do not have one entry per frame");
+    }
+    used.push_back(obs.inliers[p]);
+  }
+  std::vector<TemporalPairEstimate> temporal_used;
+  if (motion.moving) {
+    for (const TemporalPairEstimate& t : obs.temporal) {
+      if (t.two_view.success && rs.rot.cam_from_rig[t.camera]) temporal_used.push_back(t);
+    }
+  }
+  return BuildViewTracks(static_cast<int>(obs.cameras.size()), num_frames, used, temporal_used, num_conflicting);
+}
+
+// Step 4: positions (linear, up to scale) of the cameras in the rig and of the rig per frame,
+// turned into the bundle adjustment's initial poses.
+struct PositionStage {
+  RigPositions positions;           // after the static-rig check
+  double eigenvalue_ratio = 0.0;    // of the linear solve, before that check
+  std::string position_reason;      // why positions are not observable; empty when they are
+  std::vector<std::optional<Rigid3d>> initial_cam_from_rig, initial_rig_from_world;
+  int scale_camera = -1;            // the camera at distance 1 from camera 0; -1: none
+};
+
+PositionStage EstimateInitialPoses(const RigObservations& obs, const RotationStage& rs, const RigMotion& motion,
+                                   const std::vector<ViewTrack>& tracks, const RigCalibrationOptions& options) {
+  const int n = static_cast<int>(obs.cameras.size());
+  const int num_frames = static_cast<int>(obs.keypoints.size());
+  PositionStage s;
+  const RigPositions positions_raw = EstimateRigPositions(obs.cameras, obs.keypoints, tracks, rs.rot.cam_from_rig,
+                                                          motion.rig_rotation, options.positions, !motion.moving);
+  s.positions = positions_raw;
+  if (!motion.moving && positions_raw.unique) {
+    // Static rig: the pairs' scales are linked only by a parallel-rigid graph or by points seen by
+    // three or more cameras; the eigenvalue test alone is too weak against noise here.
+    int multi_view_tracks = 0;
+    for (const ViewTrack& t : tracks) multi_view_tracks += t.observations.size() >= 3;
+    if (!EstimateCameraCentres(rs.graph, rs.rot.cam_from_rig, 0).unique && multi_view_tracks < 10) {
+      s.positions = RigPositions{};
+      s.positions.centre_in_rig.assign(n, std::nullopt);
+      s.positions.rig_centre_in_world.assign(num_frames, std::nullopt);
+      s.positions.reason = "only " + std::to_string(multi_view_tracks) + " points seen by three or more cameras";
+    }
+  }
+  s.eigenvalue_ratio = positions_raw.eigenvalue_ratio;
+  const RigPositions& positions = s.positions;
+  if (!positions.unique) {
+    s.position_reason = motion.moving ? "not observable: " + positions.reason
+                                      : "not observable: the view graph is not parallel rigid and there is no rig "
+                                        "motion (one frame or no temporal matches) to link the pairs' scales (" +
+                                            positions.reason + ")";
+  }
+  s.initial_cam_from_rig.assign(n, std::nullopt);
+  s.initial_rig_from_world.assign(num_frames, std::nullopt);
+  if (positions.unique) {
+    for (int c = 1; c < n && s.scale_camera < 0; ++c) {
+      if (positions.centre_in_rig[c] && positions.centre_in_rig[c]->norm() > 1e-9) s.scale_camera = c;
+    }
+    const double unit = s.scale_camera >= 0 ? 1.0 / positions.centre_in_rig[s.scale_camera]->norm() : 1.0;
+    for (int c = 0; c < n; ++c) {
+      if (!positions.centre_in_rig[c] || !rs.rot.cam_from_rig[c]) continue;
+      const Eigen::Quaterniond r = *rs.rot.cam_from_rig[c];
+      s.initial_cam_from_rig[c] = Rigid3d(r, -(r * (unit * *positions.centre_in_rig[c])));
+    }
+    for (int k = 0; k < num_frames; ++k) {
+      if (!positions.rig_centre_in_world[k] || !motion.rig_rotation[k]) continue;
+      const Eigen::Quaterniond r = *motion.rig_rotation[k];
+      s.initial_rig_from_world[k] = Rigid3d(r, -(r * (unit * *positions.rig_centre_in_world[k])));
+    }
+  } else {
+    s.initial_cam_from_rig[0] = Rigid3d();
+    s.initial_rig_from_world[0] = Rigid3d();
+  }
+  return s;
+}
+
+// Step 6: the positions the bundle adjustment's covariance leaves undetermined are dropped
+// (max_direction_std_deg), the unit scale is moved to a camera that kept its position, and a
+// known distance makes the result metric.
+struct ScaledPoses {
+  std::vector<std::optional<Rigid3d>> cam_from_rig;  // nullopt: no position
+  std::vector<std::string> undetermined;             // why a camera's adjusted position is dropped
+  std::vector<std::optional<double>> direction_std_deg;
+  std::vector<std::optional<Rigid3d>> rig_from_world;  // empty when positions are not observable
+  double length_scale = 1.0;  // the bundle adjustment's unit of length in the result's
+  bool metric_scale = false;
+  std::string scale;
+  std::vector<std::string> warnings;
+};
+
+ScaledPoses DropUndeterminedAndScale(const RigObservations& obs, MultiFrameBundleAdjustmentResult& ba,
+                                     const PositionStage& ps, const RigCalibrationOptions& options, int known_a,
+                                     int known_b) {
+  const int n = static_cast<int>(obs.cameras.size());
+  ScaledPoses out;
+  out.cam_from_rig = ba.cam_from_rig;
+  out.undetermined.assign(n, "");
+  out.direction_std_deg.assign(n, std::nullopt);
+  std::vector<std::optional<Rigid3d>>& pose = out.cam_from_rig;
+  for (int c = 1; c < n && c < static_cast<int>(ba.centre_covariance.size()); ++c) {
+    if (!pose[c] || !ba.centre_covariance[c]) continue;
+    const double std_deg = DirectionStdDeg(pose[c]->SourceOriginInTarget(), *ba.centre_covariance[c]);
+    out.direction_std_deg[c] = std_deg;
+    if (std_deg > options.max_direction_std_deg) {
+      out.undetermined[c] = "not determined: the images fix its direction from " + obs.camera_names[0] + " to +-" +
+                            Fixed(std_deg, 1) + " deg only (cameras close together for the depth of the scene)";
+      pose[c].reset();  // its adjusted rotation is kept (from ba)
+    }
+  }
+  int scale_camera = ps.scale_camera;
+  if (scale_camera >= 0 && !pose[scale_camera]) {  // the unit was a camera without a position now
+    scale_camera = -1;
+    for (int c = 1; c < n && scale_camera < 0; ++c) {
+      if (pose[c] && pose[c]->translation.norm() > 1e-12) scale_camera = c;
+    }
+    if (scale_camera >= 0) {
+      out.length_scale = 1.0 / pose[scale_camera]->translation.norm();
+      ScaleTranslations(out.length_scale, &pose, &ba.rig_from_world);
+    }
+  }
+  if (ps.positions.unique) out.rig_from_world = ba.rig_from_world;
+  out.scale = scale_camera >= 0 ? "unit scale: |centre of " + obs.camera_names[scale_camera] + "| = 1"
+                                : "no scale (no camera with a position besides " + obs.camera_names[0] + ")";
+  if (!options.known_distance) return out;
+  if (pose[known_a] && pose[known_b]) {
+    const double d = (pose[known_a]->SourceOriginInTarget() - pose[known_b]->SourceOriginInTarget()).norm();
+    if (d > 1e-12) {
+      out.length_scale *= options.known_distance->metres / d;
+      ScaleTranslations(options.known_distance->metres / d, &pose, &out.rig_from_world);
+      out.metric_scale = true;
+      out.scale = "metric: |" + obs.camera_names[known_a] + " - " + obs.camera_names[known_b] +
+                  "| = " + Fixed(options.known_distance->metres, 4) + " m";
+    } else {
+      out.warnings.push_back("known distance ignored: the two cameras' estimated centres coincide");
+    }
+  } else {
+    out.warnings.push_back("known distance ignored: " + obs.camera_names[pose[known_a] ? known_b : known_a] +
+                           " has no position, so the result has no metric scale");
+  }
+  return out;
+}
+
+// Step 7: status per camera (calibrated, rotation only and why, not connected and why) and per
+// edge (used or why not), into `result`.
+void SetCameraAndEdgeStatus(const RigObservations& obs, const RotationStage& rs,
+                            const MultiFrameBundleAdjustmentResult& ba, const ScaledPoses& poses,
+                            const std::string& position_reason, RigCalibrationResult* result) {
+  const int n = static_cast<int>(obs.cameras.size());
+  const ViewGraph& graph = rs.graph;
+  const RotationAveragingResult& rot = rs.rot;
+  std::vector<char> reached(n, 0), rotated(n, 0);
+  for (int c = 0; c < n; ++c) {
+    reached[c] = poses.cam_from_rig[c].has_value();
+    rotated[c] = rot.cam_from_rig[c].has_value();
+  }
+  result->cam_from_rig_rotation = rot.cam_from_rig;
+  for (int c = 0; c < n; ++c) {  // the adjusted rotation, also of a camera whose position is not determined
+    if (ba.cam_from_rig[c]) result->cam_from_rig_rotation[c] = ba.cam_from_rig[c]->rotation;
+  }
+  for (int c = 0; c < n; ++c) {
+    result->camera_stats[c].observations = ba.observations_per_camera[c];
+    if (poses.cam_from_rig[c]) {
+      result->rig.cameras[c].cam_from_rig = poses.cam_from_rig[c];
+      result->camera_status[c] = c == 0 ? "calibrated (reference: rig frame)" : "calibrated";
+      if (c != 0 && ba.observations_per_camera[c] == 0) {
+        result->warnings.push_back(obs.camera_names[c] + " has no bundle-adjustment observation: its pose comes "
+                                   "from the view graph alone");
+      }
+    } else if (rotated[c]) {
+      result->camera_status[c] =
+          "rotation only: position " +
+          (!poses.undetermined[c].empty() ? poses.undetermined[c]
+           : !position_reason.empty()     ? position_reason
+                                          : std::string("not observable: no track links its views to the "
+                                                        "calibrated cameras' (only rotation-only pairs or too "
+                                                        "little parallax)"));
+    } else {
+      result->camera_status[c] = NotConnectedReason(graph, c, rotated, obs.camera_names);
+    }
+  }
+  WarnAboutCamerasHeldByOneWeakPair(graph, obs, rotated, reached, &result->warnings);
+  for (int e = 0; e < static_cast<int>(graph.edges.size()); ++e) {
+    const ViewGraphEdge& g = graph.edges[e];
+    RigEdgeStats s;
+    s.cam_a = obs.camera_names[g.cam_a];
+    s.cam_b = obs.camera_names[g.cam_b];
+    s.inliers = g.weight;
+    s.used = g.active && rotated[g.cam_a] && rotated[g.cam_b];
+    s.rotation_only = g.rotation_only;
+    s.rotation_outlier = rot.outlier[e];
+    if (std::isfinite(rot.residual_deg[e])) s.rotation_residual_deg = rot.residual_deg[e];
+    s.status = s.used ? (reached[g.cam_a] && reached[g.cam_b] ? "used" : "used (rotation only)")
+                      : g.active ? "not used: camera not calibrated" : g.inactive_reason;
+    result->edges.push_back(s);
+  }
+}
+
+}  // namespace
 
 RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibrationOptions& options) {
   options.Check();
@@ -213,113 +444,37 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
   result.camera_stats.assign(n, {});
   result.camera_status.assign(n, "");
 
-  // 1. View graph and rotations.
   auto start = Clock::now();
-  ViewGraph graph = BuildViewGraph(n, obs.pairs, options.view_graph);
-  const RotationAveragingResult rot = AverageRotations(graph, 0, options.rotation_averaging);
-  for (int e = 0; e < static_cast<int>(graph.edges.size()); ++e) {
-    if (rot.outlier[e]) {
-      graph.Deactivate(e, "rotation outlier (residual " + Fixed(rot.residual_deg[e], 1) + " deg > " +
-                              Fixed(options.rotation_averaging.outlier_threshold_deg, 1) + ")");
-    }
-  }
-  result.num_rotation_outliers = rot.num_outliers;
+  const RotationStage rotations = AverageCameraRotations(obs, options);
+  result.num_rotation_outliers = rotations.rot.num_outliers;
   result.rotation_averaging_time_s = Seconds(start);
 
-  // 2. Rig rotation per frame: from the temporal pairs, or a static rig without them.
   start = Clock::now();
-  const bool moving = num_frames >= 2 && !obs.temporal.empty();
+  const RigMotion motion = EstimateRigMotion(obs, rotations.rot, num_frames);
   result.num_frames = num_frames;
-  result.rig_motion_estimated = moving;
-  std::vector<std::optional<Eigen::Quaterniond>> rig_rotation(num_frames, Eigen::Quaterniond::Identity());
-  if (moving) {
-    rig_rotation = EstimateRigRotations(num_frames, rot.cam_from_rig, obs.temporal);
-    for (const TemporalPairEstimate& t : obs.temporal) {
-      if (t.camera < 0 || t.camera >= n || t.frame < 0 || t.frame + 1 >= num_frames) {
-        throw std::invalid_argument("EstimateRig: temporal pair out of range");
-      }
-      if (t.estimate.success && rot.cam_from_rig[t.camera]) ++result.num_temporal_pairs_used;
-    }
-  }
-
-  // 3. Tracks over all views from the inliers of the edges still in use and the temporal pairs.
-  std::vector<PairMatches> used;
-  for (size_t p = 0; p < obs.pairs.size(); ++p) {
-    const ViewGraphEdge& g = graph.edges[p];
-    if (!g.active || !rot.cam_from_rig[g.cam_a] || !rot.cam_from_rig[g.cam_b]) continue;
-    if (static_cast<int>(obs.inliers[p].per_frame.size()) != num_frames) {
-      throw std::invalid_argument("EstimateRig: inliers of a pair do not have one entry per frame");
-    }
-    used.push_back(obs.inliers[p]);
-  }
-  std::vector<TemporalPairEstimate> temporal_used;
-  if (moving) {
-    for (const TemporalPairEstimate& t : obs.temporal) {
-      if (t.estimate.success && rot.cam_from_rig[t.camera]) temporal_used.push_back(t);
-    }
-  }
+  result.rig_motion_estimated = motion.moving;
+  result.num_temporal_pairs_used = motion.temporal_pairs_used;
   const std::vector<ViewTrack> tracks =
-      BuildViewTracks(n, num_frames, used, temporal_used, &result.num_conflicting_tracks);
+      TracksOfUsedPairs(obs, rotations, motion, num_frames, &result.num_conflicting_tracks);
   result.num_tracks = static_cast<int>(tracks.size());
   result.tracks_time_s = Seconds(start);
 
-  // 4. Positions (linear, up to scale) of the cameras in the rig and of the rig per frame.
   start = Clock::now();
-  const RigPositions positions_raw =
-      EstimateRigPositions(obs.cameras, obs.keypoints, tracks, rot.cam_from_rig, rig_rotation, options.positions, !moving);
-  RigPositions positions_checked = positions_raw;
-  if (!moving && positions_raw.unique) {
-    // Static rig: the pairs' scales are linked only by a parallel-rigid graph or by points seen by
-    // three or more cameras; the eigenvalue test alone is too weak against noise here.
-    int multi_view_tracks = 0;
-    for (const ViewTrack& t : tracks) multi_view_tracks += t.observations.size() >= 3;
-    if (!EstimateCameraCentres(graph, rot.cam_from_rig, 0).unique && multi_view_tracks < 10) {
-      positions_checked = RigPositions{};
-      positions_checked.centre_in_rig.assign(n, std::nullopt);
-      positions_checked.rig_centre_in_world.assign(num_frames, std::nullopt);
-      positions_checked.reason = "only " + std::to_string(multi_view_tracks) + " points seen by three or more cameras";
-    }
-  }
-  result.position_eigenvalue_ratio = positions_raw.eigenvalue_ratio;
-  const RigPositions& positions = positions_checked;
-  std::string position_reason;
-  if (!positions.unique) {
-    position_reason = moving ? "not observable: " + positions.reason
-                             : "not observable: the view graph is not parallel rigid and there is no rig motion "
-                               "(one frame or no temporal matches) to link the pairs' scales (" + positions.reason + ")";
-  }
-  std::vector<std::optional<Rigid3d>> initial(n), initial_rig(num_frames);
-  int scale_camera = -1;
-  if (positions.unique) {
-    for (int c = 1; c < n && scale_camera < 0; ++c) {
-      if (positions.centre_in_rig[c] && positions.centre_in_rig[c]->norm() > 1e-9) scale_camera = c;
-    }
-    const double unit = scale_camera >= 0 ? 1.0 / positions.centre_in_rig[scale_camera]->norm() : 1.0;
-    for (int c = 0; c < n; ++c) {
-      if (!positions.centre_in_rig[c] || !rot.cam_from_rig[c]) continue;
-      const Eigen::Quaterniond r = *rot.cam_from_rig[c];
-      initial[c] = Rigid3d(r, -(r * (unit * *positions.centre_in_rig[c])));
-    }
-    for (int k = 0; k < num_frames; ++k) {
-      if (!positions.rig_centre_in_world[k] || !rig_rotation[k]) continue;
-      const Eigen::Quaterniond r = *rig_rotation[k];
-      initial_rig[k] = Rigid3d(r, -(r * (unit * *positions.rig_centre_in_world[k])));
-    }
-  } else {
-    initial[0] = Rigid3d();
-    initial_rig[0] = Rigid3d();
-  }
-  for (int k = 0; k < num_frames; ++k) result.num_frames_posed += rig_rotation[k].has_value();
+  const PositionStage initial = EstimateInitialPoses(obs, rotations, motion, tracks, options);
+  result.position_eigenvalue_ratio = initial.eigenvalue_ratio;
+  for (int k = 0; k < num_frames; ++k) result.num_frames_posed += motion.rig_rotation[k].has_value();
   result.positions_time_s = Seconds(start);
 
-  // 5. Bundle adjustment over all posed views.
+  // Step 5: bundle adjustment over all posed views.
   start = Clock::now();
   MultiFrameBundleAdjustmentResult ba;
-  if (positions.unique) {
-    ba = MultiFrameRigBundleAdjust(obs.cameras, obs.keypoints, tracks, initial, initial_rig, scale_camera,
-                                   options.bundle_adjustment, !moving);
+  if (initial.positions.unique) {
+    RigBundleAdjustmentOptions ba_options = options.bundle_adjustment;
+    ba_options.keep_points = ba_options.keep_points || options.keep_details;
+    ba = MultiFrameRigBundleAdjust(obs.cameras, obs.keypoints, tracks, initial.initial_cam_from_rig,
+                                   initial.initial_rig_from_world, initial.scale_camera, ba_options, !motion.moving);
   } else {
-    ba.cam_from_rig = initial;
+    ba.cam_from_rig = initial.initial_cam_from_rig;
     ba.observations_per_camera.assign(n, 0);
   }
   result.bundle_adjustment_time_s = Seconds(start);
@@ -329,96 +484,27 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
   result.num_observations = ba.num_observations;
   result.num_filtered_observations = ba.num_filtered_observations;
 
-  // 6. Positions the data do not fix, then the scale.
-  std::vector<std::optional<Rigid3d>> pose = ba.cam_from_rig;
-  std::vector<std::string> undetermined(n);  // why a camera's adjusted position is not reported
-  for (int c = 1; c < n && c < static_cast<int>(ba.centre_covariance.size()); ++c) {
-    if (!pose[c] || !ba.centre_covariance[c]) continue;
-    const double std_deg = DirectionStdDeg(pose[c]->SourceOriginInTarget(), *ba.centre_covariance[c]);
-    result.camera_stats[c].direction_std_deg = std_deg;
-    if (std_deg > options.max_direction_std_deg) {
-      undetermined[c] = "not determined: the images fix its direction from " + obs.camera_names[0] + " to +-" +
-                        Fixed(std_deg, 1) + " deg only (cameras close together for the depth of the scene)";
-      pose[c].reset();  // its adjusted rotation is kept (below, from ba)
-    }
-  }
-  if (scale_camera >= 0 && !pose[scale_camera]) {  // the unit was a camera without a position now
-    scale_camera = -1;
-    for (int c = 1; c < n && scale_camera < 0; ++c) {
-      if (pose[c] && pose[c]->translation.norm() > 1e-12) scale_camera = c;
-    }
-    if (scale_camera >= 0) ScaleTranslations(1.0 / pose[scale_camera]->translation.norm(), &pose, &ba.rig_from_world);
-  }
-  if (positions.unique) result.rig_from_world = ba.rig_from_world;
-  result.scale = scale_camera >= 0 ? "unit scale: |centre of " + obs.camera_names[scale_camera] + "| = 1"
-                                   : "no scale (no camera with a position besides " + obs.camera_names[0] + ")";
-  if (moving && result.num_frames_posed < num_frames) {
+  const ScaledPoses poses = DropUndeterminedAndScale(obs, ba, initial, options, known_a, known_b);
+  for (int c = 0; c < n; ++c) result.camera_stats[c].direction_std_deg = poses.direction_std_deg[c];
+  result.rig_from_world = poses.rig_from_world;
+  result.scale = poses.scale;
+  result.metric_scale = poses.metric_scale;
+  if (motion.moving && result.num_frames_posed < num_frames) {
     result.warnings.push_back(std::to_string(num_frames - result.num_frames_posed) + " of " +
                               std::to_string(num_frames) +
                               " frames have no rig pose (no temporal pair chains them to frame 0); their views "
                               "are not used");
   }
-  if (options.known_distance) {
-    if (pose[known_a] && pose[known_b]) {
-      const double d = (pose[known_a]->SourceOriginInTarget() - pose[known_b]->SourceOriginInTarget()).norm();
-      if (d > 1e-12) {
-        ScaleTranslations(options.known_distance->metres / d, &pose, &result.rig_from_world);
-        result.metric_scale = true;
-        result.scale = "metric: |" + obs.camera_names[known_a] + " - " + obs.camera_names[known_b] +
-                       "| = " + Fixed(options.known_distance->metres, 4) + " m";
-      } else {
-        result.warnings.push_back("known distance ignored: the two cameras' estimated centres coincide");
-      }
-    } else {
-      result.warnings.push_back("known distance ignored: " + obs.camera_names[pose[known_a] ? known_b : known_a] +
-                                " has no position, so the result has no metric scale");
-    }
-  }
-
-  // 7. Status per camera and per edge.
-  std::vector<char> reached(n, 0), rotated(n, 0);
-  for (int c = 0; c < n; ++c) {
-    reached[c] = pose[c].has_value();
-    rotated[c] = rot.cam_from_rig[c].has_value();
-  }
-  result.cam_from_rig_rotation = rot.cam_from_rig;
-  for (int c = 0; c < n; ++c) {  // the adjusted rotation, also of a camera whose position is not determined
-    if (ba.cam_from_rig[c]) result.cam_from_rig_rotation[c] = ba.cam_from_rig[c]->rotation;
-  }
-  for (int c = 0; c < n; ++c) {
-    result.camera_stats[c].observations = ba.observations_per_camera[c];
-    if (pose[c]) {
-      result.rig.cameras[c].cam_from_rig = pose[c];
-      result.camera_status[c] = c == 0 ? "calibrated (reference: rig frame)" : "calibrated";
-      if (c != 0 && ba.observations_per_camera[c] == 0) {
-        result.warnings.push_back(obs.camera_names[c] + " has no bundle-adjustment observation: its pose comes "
-                                  "from the view graph alone");
-      }
-    } else if (rotated[c]) {
-      result.camera_status[c] =
-          "rotation only: position " +
-          (!undetermined[c].empty()   ? undetermined[c]
-           : !position_reason.empty() ? position_reason
-                                      : std::string("not observable: no track links its views to the calibrated "
-                                                    "cameras' (only rotation-only pairs or too little parallax)"));
-    } else {
-      result.camera_status[c] = NotConnectedReason(graph, c, rotated, obs.camera_names);
-    }
-  }
-  WarnAboutCamerasHeldByOneWeakPair(graph, obs, rotated, reached, &result.warnings);
-  for (int e = 0; e < static_cast<int>(graph.edges.size()); ++e) {
-    const ViewGraphEdge& g = graph.edges[e];
-    RigEdgeStats s;
-    s.cam_a = obs.camera_names[g.cam_a];
-    s.cam_b = obs.camera_names[g.cam_b];
-    s.inliers = g.weight;
-    s.used = g.active && rotated[g.cam_a] && rotated[g.cam_b];
-    s.rotation_only = g.rotation_only;
-    s.rotation_outlier = rot.outlier[e];
-    if (std::isfinite(rot.residual_deg[e])) s.rotation_residual_deg = rot.residual_deg[e];
-    s.status = s.used ? (reached[g.cam_a] && reached[g.cam_b] ? "used" : "used (rotation only)")
-                      : g.active ? "not used: camera not calibrated" : g.inactive_reason;
-    result.edges.push_back(s);
+  result.warnings.insert(result.warnings.end(), poses.warnings.begin(), poses.warnings.end());
+  SetCameraAndEdgeStatus(obs, rotations, ba, poses, initial.position_reason, &result);
+  if (options.keep_details) {
+    result.details = std::make_shared<RigCalibrationDetails>();
+    RigCalibrationDetails& d = *result.details;
+    d.rotation_averaging = rotations.rot.cam_from_rig;
+    for (const Eigen::Vector3d& x : ba.points) d.points.push_back(poses.length_scale * x);
+    d.point_observations = ba.point_observations;
+    d.initial_residuals_px = ba.initial_residuals_px;
+    d.final_residuals_px = ba.final_residuals_px;
   }
   return result;
 }
@@ -462,7 +548,9 @@ std::vector<RigCalibrationResult> CalibrateRig(const std::filesystem::path& data
     KnownDistanceCameras(*options.known_distance, names, rig_json.string());
   }
   std::vector<PairwiseMatchData> data;
-  const std::vector<CalibrationReport> reports = CalibrateDatasetPairs(dataset_dir, options.pairwise, modes, &data);
+  CalibrationOptions pairwise = options.pairwise;
+  pairwise.keep_match_details = pairwise.keep_match_details || options.keep_details;
+  const std::vector<CalibrationReport> reports = CalibrateDatasetPairs(dataset_dir, pairwise, modes, &data);
   std::vector<RigCalibrationResult> results;
   for (size_t m = 0; m < modes.size(); ++m) {
     RigCalibrationResult r = EstimateRig(ObservationsFromPipeline(truth, reports[m], data[m]), options);
@@ -471,6 +559,7 @@ std::vector<RigCalibrationResult> CalibrateRig(const std::filesystem::path& data
     r.pairwise = reports[m];
     r.inlier_samples = InlierSamples(truth, reports[m], data[m]);
     if (options.pairwise.evaluate) EvaluateRigAgainstTruth(truth, &r);
+    if (r.details) r.details->matches = std::move(data[m]);
     results.push_back(std::move(r));
   }
   return results;
@@ -498,7 +587,7 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
       j["position_known"] = pose.has_value();
       const auto& rq = c < r.cam_from_rig_rotation.size() ? r.cam_from_rig_rotation[c] : std::nullopt;
       j["rotation_wxyz"] = rq ? nlohmann::json({rq->w(), rq->x(), rq->y(), rq->z()}) : nlohmann::json(nullptr);
-      j["cam_from_rig"] = pose ? PoseToJson(*pose) : nlohmann::json(nullptr);
+      j["cam_from_rig"] = pose ? json_io::PoseToJson(*pose) : nlohmann::json(nullptr);
       if (pose) {
         const Eigen::Vector3d centre = pose->SourceOriginInTarget();
         j["centre_in_rig"] = {centre.x(), centre.y(), centre.z()};
@@ -506,10 +595,10 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
         j["centre_in_rig"] = nullptr;
       }
       j["observations"] = s.observations;
-      j["direction_std_deg"] = OptionalToJson(s.direction_std_deg);
-      j["rotation_error_deg"] = OptionalToJson(s.rotation_error_deg);
-      j["translation_direction_error_deg"] = OptionalToJson(s.translation_direction_error_deg);
-      j["position_error_m"] = OptionalToJson(s.position_error_m);
+      j["direction_std_deg"] = json_io::OptionalNumber(s.direction_std_deg);
+      j["rotation_error_deg"] = json_io::OptionalNumber(s.rotation_error_deg);
+      j["translation_direction_error_deg"] = json_io::OptionalNumber(s.translation_direction_error_deg);
+      j["position_error_m"] = json_io::OptionalNumber(s.position_error_m);
       cams.push_back(j);
     }
     nlohmann::json edges = nlohmann::json::array();
@@ -520,7 +609,7 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
                        {"used", e.used},
                        {"rotation_only", e.rotation_only},
                        {"rotation_outlier", e.rotation_outlier},
-                       {"rotation_residual_deg", OptionalToJson(e.rotation_residual_deg)},
+                       {"rotation_residual_deg", json_io::OptionalNumber(e.rotation_residual_deg)},
                        {"status", e.status}});
     }
     nlohmann::json summary = {{"cameras", r.rig.cameras.size()},
@@ -557,7 +646,7 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
                    {"bundle_adjustment_time_s", r.bundle_adjustment_time_s}};
     m["cameras"] = cams;
     nlohmann::json frames = nlohmann::json::array();  // per frame index: the rig's pose, or null
-    for (const auto& p : r.rig_from_world) frames.push_back(p ? PoseToJson(*p) : nlohmann::json(nullptr));
+    for (const auto& p : r.rig_from_world) frames.push_back(p ? json_io::PoseToJson(*p) : nlohmann::json(nullptr));
     m["rig_from_world_per_frame"] = frames;
     m["edges"] = edges;
     m["warnings"] = r.warnings;

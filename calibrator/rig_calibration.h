@@ -1,6 +1,6 @@
 // Targetless rig calibration: from a dataset's images to every camera's cam_from_rig.
 //
-// Stages: the pairwise pipeline (pipeline.h: features, matches per frame, one two-view estimate
+// Stages: the pairwise stage (pairwise.h: features, matches per frame, one two-view estimate
 // per pair over pooled frames, and each camera matched with itself between consecutive frames)
 // -> view graph (view_graph.h) -> robust rotation averaging (rotation_averaging.h) -> rig
 // rotation per frame from the temporal pairs -> tracks over all views (camera, frame) -> camera
@@ -23,6 +23,7 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -31,8 +32,8 @@
 #include <nlohmann/json.hpp>
 
 #include "calibrator/multi_frame_rig.h"
-#include "calibrator/pipeline.h"
-#include "calibrator/rig_bundle_adjustment.h"
+#include "calibrator/pairwise.h"
+#include "calibrator/correspondences.h"
 #include "calibrator/rotation_averaging.h"
 #include "calibrator/view_graph.h"
 #include "geometry/rig.h"
@@ -66,6 +67,9 @@ struct RigCalibrationOptions {
   // the ones whose cameras sit (next to) together: a co-located ring 7-32 deg, a ring of 3 cm
   // radius 1.6-41 deg (errors 9-26 deg).
   double max_direction_std_deg = 1.0;
+  // Keep what a report shows of every stage in RigCalibrationResult::details (matches with their
+  // flags, rotations after rotation averaging, points, reprojection errors). Costs memory only.
+  bool keep_details = false;
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;
@@ -78,13 +82,13 @@ struct RigObservations {
   FrameKeypoints keypoints;          // [frame][camera][keypoint]
   std::vector<PairEstimate> pairs;   // one per camera pair
   std::vector<PairMatches> inliers;  // the same pairs' two-view inliers per frame (empty when failed)
-  // Each camera between consecutive frames (pipeline.h PairwiseMatchData::temporal). Empty: the
+  // Each camera between consecutive frames (pairwise.h PairwiseMatchData::temporal). Empty: the
   // frames are independent captures of a static rig (no rig motion is estimated).
   std::vector<TemporalPairEstimate> temporal;
 };
 
 // Pools one pair's matches over the frames, estimates the relative pose (two_view.h) and keeps
-// its inliers per frame: the pairwise pipeline's step for one pair, for callers that bring
+// its inliers per frame: the pairwise stage's step for one pair, for callers that bring
 // their own correspondences.
 std::pair<PairEstimate, PairMatches> EstimatePairFromMatches(
     const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, int cam_a, int cam_b,
@@ -117,8 +121,23 @@ struct RigEdgeStats {
 // person looks at to judge a pair (calibrator/match_image.h draws them).
 struct PairInlierSample {
   std::string cam_a, cam_b;
-  int frame = -1;  // index into the dataset's frames, in the order the pipeline read them
+  int frame = -1;  // index into the dataset's frames, in the order the pairwise stage read them
   std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> points;  // (in cam_a, in cam_b)
+};
+
+// The stages of one calibration as a report shows them (RigCalibrationOptions::keep_details).
+struct RigCalibrationDetails {
+  // The pairwise stage's keypoints, every match with its inlier and ground-truth flags (pairwise.h,
+  // kept with CalibrationOptions::keep_match_details); empty for EstimateRig on given observations.
+  PairwiseMatchData matches;
+  // Per camera: cam_from_rig's rotation after rotation averaging, before the bundle adjustment.
+  std::vector<std::optional<Eigen::Quaterniond>> rotation_averaging;
+  // The bundle adjustment's points in the result's world (frame 0's rig frame, the result's
+  // scale), how many views see each, and the reprojection errors (px) of every observation at
+  // the initial poses and at the end (multi_frame_rig.h).
+  std::vector<Eigen::Vector3d> points;
+  std::vector<int> point_observations;
+  std::vector<double> initial_residuals_px, final_residuals_px;
 };
 
 struct RigCalibrationResult {
@@ -166,6 +185,8 @@ struct RigCalibrationResult {
   double positions_time_s = 0.0;
   double tracks_time_s = 0.0;
   double bundle_adjustment_time_s = 0.0;
+  // With RigCalibrationOptions::keep_details only; shared, so copies of a result stay cheap.
+  std::shared_ptr<RigCalibrationDetails> details;
 };
 
 // The rig stages on given observations (no truth, no pairwise report). Throws

@@ -11,30 +11,14 @@
 #include <ceres/manifold.h>
 #include <ceres/rotation.h>
 
+#include "calibrator/cost_functions.h"
+
 namespace rigsim {
 namespace {
 
 double AngleDeg(const Eigen::Quaterniond& q) {
   return RadToDeg(2.0 * std::atan2(q.vec().norm(), std::abs(q.w())));
 }
-
-// Residual of R_ab against R_b R_a^T as an angle-axis vector, scaled by the edge weight.
-struct RelativeRotationCost {
-  RelativeRotationCost(const Eigen::Quaterniond& r_ab, double weight) : r_ab_inv_(r_ab.conjugate()), weight_(weight) {}
-
-  template <typename T>
-  bool operator()(const T* qa, const T* qb, T* residual) const {
-    const Eigen::Map<const Eigen::Quaternion<T>> ra(qa), rb(qb);
-    const Eigen::Quaternion<T> e = r_ab_inv_.cast<T>() * rb * ra.conjugate();
-    const T wxyz[4] = {e.w(), e.x(), e.y(), e.z()};
-    ceres::QuaternionToAngleAxis(wxyz, residual);
-    for (int i = 0; i < 3; ++i) residual[i] *= T(weight_);
-    return true;
-  }
-
-  Eigen::Quaterniond r_ab_inv_;
-  double weight_;
-};
 
 // Edges of `graph` usable in this round: active and not yet rejected.
 std::vector<int> UsableEdges(const ViewGraph& graph, const std::vector<char>& outlier) {
@@ -150,9 +134,8 @@ RotationAveragingResult AverageRotations(const ViewGraph& graph, int reference_c
       for (int e : inside) {
         const ViewGraphEdge& g = graph.edges[e];
         const double w = std::sqrt(std::max(1, g.weight) / median_weight);
-        problem.AddResidualBlock(
-            new ceres::AutoDiffCostFunction<RelativeRotationCost, 3, 4, 4>(new RelativeRotationCost(g.rotation, w)),
-            loss, q[g.cam_a].coeffs().data(), q[g.cam_b].coeffs().data());
+        problem.AddResidualBlock(RelativeRotationCost::Create(g.rotation, w), loss, q[g.cam_a].coeffs().data(),
+                                 q[g.cam_b].coeffs().data());
       }
       for (int c = 0; c < graph.num_cameras; ++c) {
         if (rot[c] && problem.HasParameterBlock(q[c].coeffs().data())) {

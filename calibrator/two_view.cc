@@ -14,6 +14,8 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 
+#include "calibrator/cost_functions.h"
+
 namespace rigsim {
 namespace {
 
@@ -152,27 +154,6 @@ HomographyFit FitHomography(const std::vector<cv::Point2d>& pa, const std::vecto
   return fit;
 }
 
-struct EpipolarCost {
-  EpipolarCost(const Eigen::Vector3d& fa, const Eigen::Vector3d& fb) : fa_(fa), fb_(fb) {}
-
-  template <typename T>
-  bool operator()(const T* q, const T* t, T* residual) const {
-    const Eigen::Map<const Eigen::Quaternion<T>> rot(q);
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> tr(t);
-    const Eigen::Matrix<T, 3, 1> fa = fa_.cast<T>();
-    const Eigen::Matrix<T, 3, 1> fb = fb_.cast<T>();
-    // Normal of the epipolar plane through bearing a, in B; and through bearing b, in A.
-    const Eigen::Matrix<T, 3, 1> nb = tr.cross(rot * fa);
-    const Eigen::Matrix<T, 3, 1> na = rot.conjugate() * tr.cross(fb);
-    // The tiny constant keeps the derivative finite when a bearing points at the epipole.
-    residual[0] = nb.dot(fb) / sqrt(nb.squaredNorm() + T(1e-20));
-    residual[1] = na.dot(fa) / sqrt(na.squaredNorm() + T(1e-20));
-    return true;
-  }
-
-  Eigen::Vector3d fa_, fb_;
-};
-
 TwoViewResult Fail(TwoViewResult r, const std::string& why) {
   r.success = false;
   r.failure_reason = why;
@@ -188,6 +169,20 @@ std::string_view PairTypeName(PairType type) {
     case PairType::kRotationOnly: return "rotation-only";
   }
   throw std::invalid_argument("PairTypeName: invalid pair type " + std::to_string(static_cast<int>(type)));
+}
+
+TwoViewEstimate ToEstimate(const TwoViewResult& result, int num_matches) {
+  TwoViewEstimate e;
+  e.success = result.success;
+  e.rotation_only = result.rotation_only;
+  e.pair_type = result.pair_type;
+  e.cam_b_from_cam_a = result.cam_b_from_cam_a;
+  e.num_matches = num_matches;
+  e.num_inliers = result.num_inliers;
+  e.num_homography_inliers = result.num_homography_inliers;
+  e.median_residual_deg = result.median_residual_deg;
+  e.failure_reason = result.failure_reason;
+  return e;
 }
 
 void TwoViewOptions::Check() const {
@@ -207,7 +202,7 @@ void TwoViewOptions::Check() const {
 
 Eigen::Vector2d EpipolarAngularResidual(const Rigid3d& cam_b_from_cam_a, const Eigen::Vector3d& bearing_a,
                                         const Eigen::Vector3d& bearing_b) {
-  const EpipolarCost cost(bearing_a, bearing_b);
+  const EpipolarAngularCost cost(bearing_a, bearing_b);
   const Eigen::Vector3d t = cam_b_from_cam_a.translation.normalized();
   Eigen::Vector2d r;
   cost(cam_b_from_cam_a.rotation.coeffs().data(), t.data(), r.data());
@@ -230,8 +225,7 @@ Rigid3d RefineRelativePose(const std::vector<Eigen::Vector3d>& bearings_a,
   ceres::Problem problem(problem_options);
   ceres::LossFunction* loss = new ceres::CauchyLoss(loss_scale_rad);
   for (size_t i = 0; i < bearings_a.size(); ++i) {
-    auto* cost = new ceres::AutoDiffCostFunction<EpipolarCost, 2, 4, 3>(new EpipolarCost(bearings_a[i], bearings_b[i]));
-    problem.AddResidualBlock(cost, loss, q.coeffs().data(), t.data());
+    problem.AddResidualBlock(EpipolarAngularCost::Create(bearings_a[i], bearings_b[i]), loss, q.coeffs().data(), t.data());
   }
   problem.SetManifold(q.coeffs().data(), new ceres::EigenQuaternionManifold);
   problem.SetManifold(t.data(), new ceres::SphereManifold<3>);

@@ -80,6 +80,21 @@ struct TwoViewOptions {
   void Check() const;
 };
 
+// One camera pair's two-view outcome: what the pairwise report, the view graph and the rig stages
+// keep of an estimate (TwoViewResult below is the estimator's raw output, with its inlier mask).
+struct TwoViewEstimate {
+  bool success = false;
+  // The translation is unobservable; the rotation is still reported, the translation is zero.
+  bool rotation_only = false;
+  PairType pair_type = PairType::kGeneral;  // meaningful on success
+  Rigid3d cam_b_from_cam_a;                 // unit translation (zero when rotation_only)
+  int num_matches = 0;                      // the correspondences the fit saw
+  int num_inliers = 0;                      // of the reported model
+  int num_homography_inliers = 0;           // of the homography the planar test fits
+  double median_residual_deg = 0.0;         // median angular residual of the inliers
+  std::string failure_reason;               // empty on success
+};
+
 struct TwoViewResult {
   bool success = false;
   // The translation is unobservable (pure rotation or parallax below the noise). The rotation
@@ -98,6 +113,9 @@ struct TwoViewResult {
   double median_residual_deg = 0.0;  // median angular residual of the inliers
   std::string failure_reason;        // empty on success
 };
+
+// The outcome of `result`, a fit of `num_matches` correspondences.
+TwoViewEstimate ToEstimate(const TwoViewResult& result, int num_matches);
 
 // From pixel correspondences (px_a[i] <-> px_b[i]).
 TwoViewResult EstimateRelativePose(const Camera& cam_a, const std::vector<Eigen::Vector2d>& px_a,

@@ -33,24 +33,25 @@ ViewGraph BuildViewGraph(int num_cameras, const std::vector<PairEstimate>& pairs
       throw std::invalid_argument("BuildViewGraph: pair (" + std::to_string(p.cam_a) + ", " + std::to_string(p.cam_b) +
                                   ") is not a pair of distinct cameras among " + std::to_string(num_cameras));
     }
+    const TwoViewEstimate& tv = p.two_view;
     ViewGraphEdge e;
     // Store with cam_a < cam_b whatever the input order.
-    const Rigid3d pose = p.cam_a < p.cam_b ? p.cam_b_from_cam_a : p.cam_b_from_cam_a.Inverse();
+    const Rigid3d pose = p.cam_a < p.cam_b ? tv.cam_b_from_cam_a : tv.cam_b_from_cam_a.Inverse();
     e.cam_a = std::min(p.cam_a, p.cam_b);
     e.cam_b = std::max(p.cam_a, p.cam_b);
     e.rotation = pose.rotation;
-    e.rotation_only = p.rotation_only;
-    if (!p.rotation_only && pose.translation.norm() > 1e-12) {
+    e.rotation_only = tv.rotation_only;
+    if (!tv.rotation_only && pose.translation.norm() > 1e-12) {
       e.direction = pose.translation.normalized();
     } else {
       e.rotation_only = true;
     }
-    e.weight = p.num_inliers;
-    if (!p.success) {
-      e.inactive_reason = "two-view failed: " + (p.failure_reason.empty() ? std::string("unknown") : p.failure_reason);
-    } else if (p.num_inliers < options.min_inliers) {
+    e.weight = tv.num_inliers;
+    if (!tv.success) {
+      e.inactive_reason = "two-view failed: " + (tv.failure_reason.empty() ? std::string("unknown") : tv.failure_reason);
+    } else if (tv.num_inliers < options.min_inliers) {
       e.inactive_reason =
-          "too few inliers (" + std::to_string(p.num_inliers) + " < " + std::to_string(options.min_inliers) + ")";
+          "too few inliers (" + std::to_string(tv.num_inliers) + " < " + std::to_string(options.min_inliers) + ")";
     } else {
       e.active = true;
     }

@@ -17,29 +17,25 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "calibrator/two_view.h"
 #include "geometry/rigid3.h"
 
 namespace rigsim {
 
-// One pair's two-view outcome, as the pairwise pipeline reports it.
+// One camera pair and its two-view outcome (two_view.h), cameras by index.
 struct PairEstimate {
   int cam_a = -1;
   int cam_b = -1;
-  bool success = false;
-  bool rotation_only = false;
-  Rigid3d cam_b_from_cam_a;  // unit translation (zero when rotation_only)
-  int num_inliers = 0;
-  int num_matches = 0;  // the correspondences the fit saw (0: not known)
-  std::string failure_reason;  // of a failed pair
+  TwoViewEstimate two_view;
 };
 
 // One camera's two-view outcome between consecutive frames k and k+1: the rig's motion seen by
-// that camera. `estimate` has cam_a = cam_b = camera and cam_b_from_cam_a = the camera at frame
-// k+1 from the camera at frame k (unit translation, zero when rotation-only).
+// that camera. `two_view.cam_b_from_cam_a` is the camera at frame k+1 from the camera at frame k
+// (unit translation, zero when rotation-only).
 struct TemporalPairEstimate {
   int camera = -1;
   int frame = -1;  // k; the pair is (k, k+1)
-  PairEstimate estimate;
+  TwoViewEstimate two_view;
   // Two-view inliers: (keypoint index in frame k, in frame k+1); empty when the estimate failed.
   std::vector<std::pair<int, int>> inliers;
 };

@@ -9,11 +9,11 @@ PairEstimate Pair(int a, int b, bool success, int inliers, bool rotation_only = 
   PairEstimate p;
   p.cam_a = a;
   p.cam_b = b;
-  p.success = success;
-  p.num_inliers = inliers;
-  p.rotation_only = rotation_only;
-  p.failure_reason = std::move(why);
-  p.cam_b_from_cam_a = Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY())),
+  p.two_view.success = success;
+  p.two_view.num_inliers = inliers;
+  p.two_view.rotation_only = rotation_only;
+  p.two_view.failure_reason = std::move(why);
+  p.two_view.cam_b_from_cam_a = Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY())),
                                rotation_only ? Eigen::Vector3d::Zero() : Eigen::Vector3d(2, 0, 0));
   return p;
 }
@@ -47,7 +47,7 @@ TEST(ViewGraph, ReversedPairsAreStoredLowToHigh) {
   ASSERT_EQ(g.edges.size(), 1u);
   EXPECT_EQ(g.edges[0].cam_a, 0);
   EXPECT_EQ(g.edges[0].cam_b, 2);
-  const Rigid3d inv = p.cam_b_from_cam_a.Inverse();
+  const Rigid3d inv = p.two_view.cam_b_from_cam_a.Inverse();
   EXPECT_LT(RotationDifferenceDeg(g.edges[0].rotation, inv.rotation), 1e-9);
   EXPECT_LT((g.edges[0].direction - inv.translation.normalized()).norm(), 1e-12);
 }

@@ -1,5 +1,8 @@
 #include "exports/colmap.h"
 
+#include <algorithm>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 #include "exports/export_common.h"
@@ -58,6 +61,68 @@ void WriteColmapModel(const Rig& rig, const FramesFile& frames, const std::files
   json_io::WriteTextAtomic(dir / "cameras.txt", text.cameras);
   json_io::WriteTextAtomic(dir / "images.txt", text.images);
   json_io::WriteTextAtomic(dir / "points3D.txt", text.points3d);
+}
+
+std::vector<ColmapImage> ReadColmapImages(const std::filesystem::path& images_txt) {
+  std::ifstream in(images_txt);
+  if (!in) throw std::runtime_error(images_txt.string() + ": cannot read the COLMAP model's images");
+  std::vector<ColmapImage> images;
+  std::string line;
+  int line_number = 0;
+  bool pose_line = true;  // pose and points lines alternate; comments do not count
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (!line.empty() && line[0] == '#') continue;
+    if (!pose_line) {
+      pose_line = true;
+      continue;
+    }
+    if (line.find_first_not_of(" \t") == std::string::npos) continue;  // trailing blank lines
+    std::istringstream fields(line);
+    ColmapImage image;
+    double qw, qx, qy, qz, tx, ty, tz;
+    if (!(fields >> image.image_id >> qw >> qx >> qy >> qz >> tx >> ty >> tz >> image.camera_id) ||
+        !std::getline(fields >> std::ws, image.name) || image.name.empty()) {
+      throw std::runtime_error(images_txt.string() + ":" + std::to_string(line_number) +
+                               ": not an image line (IMAGE_ID QW QX QY QZ TX TY TZ CAMERA_ID NAME)");
+    }
+    const Eigen::Quaterniond q(qw, qx, qy, qz);
+    if (!(q.norm() > 0.5 && q.norm() < 2.0)) {
+      throw std::runtime_error(images_txt.string() + ":" + std::to_string(line_number) + ": the rotation is not a unit quaternion");
+    }
+    image.cam_from_world = Rigid3d(q, Eigen::Vector3d(tx, ty, tz));
+    images.push_back(std::move(image));
+    pose_line = false;
+  }
+  return images;
+}
+
+std::filesystem::path FindColmapTextModel(const std::filesystem::path& path) {
+  namespace fs = std::filesystem;
+  if (fs::is_regular_file(path) && path.filename() == "images.txt") return path.parent_path();
+  if (!fs::is_directory(path)) throw std::runtime_error(path.string() + ": not a COLMAP model folder");
+  if (fs::exists(path / "images.txt")) return path;
+  if (fs::exists(path / "images.bin")) {
+    throw std::runtime_error(path.string() + ": a binary COLMAP model; convert it first: colmap model_converter " +
+                             "--input_path " + path.string() + " --output_path " + path.string() + " --output_type TXT");
+  }
+  // The mapper's sub-models: take the one with the most images.
+  fs::path best;
+  size_t best_images = 0;
+  std::vector<fs::path> subs;
+  for (const auto& e : fs::directory_iterator(path)) subs.push_back(e.path());
+  std::sort(subs.begin(), subs.end());
+  for (const fs::path& sub : subs) {
+    if (!fs::exists(sub / "images.txt")) continue;
+    const size_t n = ReadColmapImages(sub / "images.txt").size();
+    if (best.empty() || n > best_images) {
+      best = sub;
+      best_images = n;
+    }
+  }
+  if (best.empty()) throw std::runtime_error(path.string() + ": no images.txt here or in a sub-model folder (0, 1, ...)");
+  return best;
 }
 
 }  // namespace rigsim

@@ -14,6 +14,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "dataset/dataset.h"
 #include "exports/image_name.h"
@@ -37,5 +38,28 @@ ColmapModelText ColmapModel(const Rig& rig, const FramesFile& frames, const Colm
 // Writes cameras.txt, images.txt and points3D.txt into `dir` (created if needed).
 void WriteColmapModel(const Rig& rig, const FramesFile& frames, const std::filesystem::path& dir,
                       const ColmapExportOptions& options = {});
+
+}  // namespace rigsim
+
+namespace rigsim {
+
+// One registered image of a COLMAP text model.
+struct ColmapImage {
+  int image_id = 0;
+  int camera_id = 0;
+  std::string name;  // as in images.txt, e.g. "cam1/000000.png"
+  Rigid3d cam_from_world;
+};
+
+// The images of a model's images.txt (two lines per image: the pose line, then the points line,
+// which may be empty; '#' lines are comments). Throws std::runtime_error naming the file and the
+// line when a pose line does not parse.
+std::vector<ColmapImage> ReadColmapImages(const std::filesystem::path& images_txt);
+
+// The model folder to read in `path`: `path` itself when it holds images.txt; else, among its
+// numbered sub-models (COLMAP's mapper writes sparse/0, sparse/1, ...), the one with the most
+// images. Throws std::runtime_error saying what was found instead (a binary model needs
+// `colmap model_converter --output_type TXT`).
+std::filesystem::path FindColmapTextModel(const std::filesystem::path& path);
 
 }  // namespace rigsim

@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include <yaml-cpp/yaml.h>
+
 #include "exports/export_common.h"
 #include "geometry/json_io.h"
 
@@ -55,6 +57,63 @@ std::string KalibrCamchainYaml(const Rig& rig) {
 
 void WriteKalibrCamchain(const Rig& rig, const std::filesystem::path& path) {
   json_io::WriteTextAtomic(path, KalibrCamchainYaml(rig));
+}
+
+std::vector<KalibrCamera> ReadKalibrCamchain(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(file);
+  } catch (const YAML::BadFile&) {
+    throw std::runtime_error(file + ": cannot read the Kalibr camchain");
+  } catch (const YAML::Exception& e) {
+    throw std::runtime_error(file + ":" + std::to_string(e.mark.line + 1) + ": invalid YAML: " + e.msg);
+  }
+  if (!root.IsMap() || !root["cam0"]) throw std::runtime_error(file + ": not a Kalibr camchain (no cam0)");
+  std::vector<KalibrCamera> cameras;
+  Rigid3d previous_from_cam0;
+  for (int i = 0;; ++i) {
+    const std::string key = "cam" + std::to_string(i);
+    const YAML::Node node = root[key];
+    if (!node) break;
+    const auto fail = [&](const std::string& what) { return std::runtime_error(file + ": " + key + ": " + what); };
+    KalibrCamera cam;
+    cam.key = key;
+    try {
+      if (const YAML::Node topic = node["rostopic"]) {
+        const std::string t = topic.as<std::string>();  // "/<name>/image_raw"
+        const size_t begin = t.find_first_not_of('/');
+        const size_t end = t.find('/', begin);
+        if (begin != std::string::npos) cam.name = t.substr(begin, end == std::string::npos ? end : end - begin);
+      }
+      if (const YAML::Node res = node["resolution"]) {
+        cam.width = res[0].as<int>();
+        cam.height = res[1].as<int>();
+      }
+      Rigid3d cam_from_previous;
+      if (i > 0) {
+        const YAML::Node t = node["T_cn_cnm1"];
+        if (!t || !t.IsSequence() || t.size() != 4) throw fail("T_cn_cnm1 must be a 4x4 matrix (4 rows)");
+        Eigen::Matrix3d r;
+        Eigen::Vector3d tr;
+        for (int row = 0; row < 3; ++row) {
+          if (!t[row].IsSequence() || t[row].size() != 4) throw fail("T_cn_cnm1 row " + std::to_string(row) + " must have 4 numbers");
+          for (int col = 0; col < 3; ++col) r(row, col) = t[row][col].as<double>();
+          tr[row] = t[row][3].as<double>();
+        }
+        if (!((r.transpose() * r - Eigen::Matrix3d::Identity()).norm() < 1e-3 && r.determinant() > 0)) {
+          throw fail("T_cn_cnm1's top-left 3x3 is not a rotation");
+        }
+        cam_from_previous = Rigid3d(r, tr);
+      }
+      cam.cam_from_cam0 = cam_from_previous * previous_from_cam0;
+    } catch (const YAML::Exception& e) {
+      throw fail(std::string("unexpected value: ") + e.msg);
+    }
+    previous_from_cam0 = cam.cam_from_cam0;
+    cameras.push_back(std::move(cam));
+  }
+  return cameras;
 }
 
 }  // namespace rigsim

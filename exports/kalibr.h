@@ -20,7 +20,9 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "geometry/rig.h"
 
@@ -30,5 +32,20 @@ namespace rigsim {
 std::string KalibrCamchainYaml(const Rig& rig);
 // Writes KalibrCamchainYaml to `path` atomically.
 void WriteKalibrCamchain(const Rig& rig, const std::filesystem::path& path);
+
+// One camera of a camchain.yaml as read back: its key (cam0, cam1, ...), its name (from
+// `rostopic` /<name>/image_raw, else empty), its resolution, and cam_from_cam0 (the chain of
+// T_cn_cnm1 multiplied out; cam0 is the identity).
+struct KalibrCamera {
+  std::string key;
+  std::string name;
+  int width = 0, height = 0;
+  Rigid3d cam_from_cam0;
+};
+
+// Reads the cameras of a camchain.yaml in order cam0, cam1, ... Throws std::runtime_error naming
+// the file and the key when the chain is broken (a camera without T_cn_cnm1, a matrix that is not
+// 4x4 with a rotation in its top-left 3x3).
+std::vector<KalibrCamera> ReadKalibrCamchain(const std::filesystem::path& path);
 
 }  // namespace rigsim

@@ -34,6 +34,10 @@ Json PoseToJson(const Rigid3d& pose) {
               {"translation", {pose.translation.x(), pose.translation.y(), pose.translation.z()}}};
 }
 
+Json OptionalNumber(const std::optional<double>& value) {
+  return value && std::isfinite(*value) ? Json(*value) : Json(nullptr);
+}
+
 Rigid3d PoseFromJson(const Json& j, const std::string& source, const std::string& where) {
   const auto q = Get<std::vector<double>>(j, "rotation_wxyz", source, where);
   const auto t = Get<std::vector<double>>(j, "translation", source, where);

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -58,6 +59,8 @@ T Get(const Json& j, const char* key, const std::string& source, const std::stri
 
 // {"rotation_wxyz": [w,x,y,z], "translation": [x,y,z]}
 Json PoseToJson(const Rigid3d& pose);
+// The number, or null when it is unknown (nullopt) or not finite: JSON has no infinity or NaN.
+Json OptionalNumber(const std::optional<double>& value);
 Rigid3d PoseFromJson(const Json& j, const std::string& source, const std::string& where);
 
 // Writes text to `path` through a temporary file in the same folder and a rename, so a reader

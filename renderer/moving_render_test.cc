@@ -21,6 +21,7 @@
 #include "rigs/trajectories.h"
 #include "scene/scene_pose.h"
 #include "scene/test_scenes.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
@@ -122,18 +123,6 @@ TEST(MovingRenderTest, ExposureBlursTheColourNotTheGroundTruth) {
   EXPECT_LE(mixed_columns(b), 5);
 }
 
-std::filesystem::path TempDir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / "rigsim_moving_render_test" / name;
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir.parent_path());
-  return dir;
-}
-
-std::string FileBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 // A rig turning and moving through the animated box scene, 0.1 s between frames.
 FramesFile TurningFrames() {
   FramesFile frames;
@@ -154,7 +143,7 @@ TEST(MovingRenderTest, ATimeOffsetRendersWhatASynchronisedCameraAtTheInterpolate
   job.rig.cameras.push_back({"late", Camera(CameraModelId::kPinhole, 96, 64, {60, 60, 47.5, 31.5}), cam_from_rig, 0.037});
   job.frames = TurningFrames();
   job.options.samples_per_pixel = 4;
-  const auto dir = TempDir("offset");
+  const TempDir dir;
   RenderDataset(job, dir, true);
   const DatasetLayout layout(dir);
 
@@ -174,7 +163,7 @@ TEST(MovingRenderTest, ATimeOffsetRendersWhatASynchronisedCameraAtTheInterpolate
     EXPECT_NE(at_frame.range.data, expected.range.data);
   }
   // poses.json records the pose the camera was rendered from.
-  const nlohmann::json poses = nlohmann::json::parse(FileBytes(layout.PosesJson()));
+  const nlohmann::json poses = nlohmann::json::parse(ReadFile(layout.PosesJson()));
   const nlohmann::json& f1 = poses["cameras"][0]["frames"][1];
   EXPECT_DOUBLE_EQ(f1["capture_time_s"].get<double>(), 0.137);
   const Rigid3d recorded(Eigen::Quaterniond(f1["cam_from_world"]["rotation_wxyz"][0], f1["cam_from_world"]["rotation_wxyz"][1],
@@ -195,7 +184,7 @@ TEST(MovingRenderTest, AMovingObjectUnderARollingShutterSlantsByItsOwnSpeed) {
   cam.readout_s = 0.9;  // the box moves 1.8 m during the readout
   job.rig.cameras.push_back(cam);
   job.frames.frames = {{"000000", Rigid3d(), 0.0}, {"000001", Rigid3d(), 0.5}};
-  const auto dir = TempDir("rolling_box");
+  const TempDir dir;
   RenderDataset(job, dir, true);
   const ImageU16 instance = ReadImageU16(DatasetLayout(dir).Instance("rs", "000000"));
   // The box's left edge (x = centre - 0.5 at depth 5.5) in rows of its image (rows 51 to 68).
@@ -252,7 +241,8 @@ TEST(MovingRenderTest, CorrespondenceMapsAgreeWithLiftAndProjectAndWithTheOverla
     job.frames = SlidingFrames(10.0);
     job.frames.frames[1].timestamp_s = 0.1;
     job.extras.correspondence = true;
-    const auto dir = TempDir("correspondence" + std::to_string(readout));
+    const TempDir tmp;
+    const std::filesystem::path dir = tmp / ("readout" + std::to_string(readout));
     RenderDataset(job, dir, true);
     const DatasetLayout layout(dir);
     const RigTrajectory trajectory(job.frames);
@@ -268,7 +258,7 @@ TEST(MovingRenderTest, CorrespondenceMapsAgreeWithLiftAndProjectAndWithTheOverla
     int visible = 0;
     ExpectMapMatchesLiftAndProject(ReadImageFChannels(layout.Correspondence("a", "b", "000000")), camera, depth_a,
                                    pose_of(a, 0.0), camera, pose_of(b, 0.0), &visible);
-    const nlohmann::json overlap = nlohmann::json::parse(FileBytes(layout.OverlapJson()));
+    const nlohmann::json overlap = nlohmann::json::parse(ReadFile(layout.OverlapJson()));
     const ImageF ab1 = ReadImageFChannels(layout.Correspondence("a", "b", "000001"));
     int visible1 = 0, surface1 = 0;
     for (int i = 0; i < 96 * 64; ++i) visible1 += ab1.data[3 * i + 2] == 1.0f;

@@ -16,7 +16,7 @@
 namespace rigsim {
 namespace {
 
-void Fail(const std::string& what, const std::string& why) { throw std::invalid_argument(what + ": " + why); }
+[[noreturn]] void Fail(const std::string& what, const std::string& why) { throw std::invalid_argument(what + ": " + why); }
 
 void CheckImage(const std::string& what, int width, int height) {
   if (width < 16 || height < 16) Fail(what, "image size must be at least 16x16");
@@ -58,6 +58,48 @@ void AddCamera(Rig& rig, const std::string& name, const Camera& cam, const Rigid
 
 }  // namespace
 
+// ---- Lenses --------------------------------------------------------------------------------------
+
+void LensOptions::Check() const {
+  if (!(k1 > -1 && k1 < 1)) Fail("lens", "k1 must be in (-1, 1)");
+  if (!(fisheye_fov_deg > 10 && fisheye_fov_deg <= 240)) Fail("lens", "fisheye_fov_deg must be in (10, 240]");
+}
+
+std::string_view LensKindName(LensOptions::Kind kind) {
+  switch (kind) {
+    case LensOptions::Kind::kPreset: return "preset";
+    case LensOptions::Kind::kPinhole: return "pinhole";
+    case LensOptions::Kind::kOpenCV: return "opencv";
+    case LensOptions::Kind::kFisheye: return "fisheye";
+  }
+  return "preset";
+}
+
+LensOptions::Kind LensKindFromName(std::string_view name) {
+  for (auto k : {LensOptions::Kind::kPreset, LensOptions::Kind::kPinhole, LensOptions::Kind::kOpenCV,
+                 LensOptions::Kind::kFisheye}) {
+    if (LensKindName(k) == name) return k;
+  }
+  throw std::invalid_argument("unknown lens '" + std::string(name) + "': give preset, pinhole, opencv or fisheye");
+}
+
+Camera LensCamera(const LensOptions& lens, int width, int height, double hfov_deg) {
+  lens.Check();
+  switch (lens.kind) {
+    case LensOptions::Kind::kPinhole: return PerspectiveCamera("lens", width, height, hfov_deg);
+    case LensOptions::Kind::kOpenCV: return PerspectiveCamera("lens", width, height, hfov_deg, lens.k1, -0.24 * lens.k1);
+    case LensOptions::Kind::kFisheye: {
+      const Camera cam = FisheyeCamera(width, height, lens.fisheye_fov_deg);
+      if (cam.max_valid_angle() < DegToRad(0.5 * lens.fisheye_fov_deg) - 1e-9) {
+        Fail("lens", "the fisheye lens cannot image " + std::to_string(lens.fisheye_fov_deg) + " deg");
+      }
+      return cam;
+    }
+    case LensOptions::Kind::kPreset: break;
+  }
+  Fail("lens", "the preset lens is the rig type's own: no single camera");
+}
+
 // ---- Ring ---------------------------------------------------------------------------------------
 
 void RingRigOptions::Check() const {
@@ -83,8 +125,9 @@ Rig MakeRingRig(const RingRigOptions& o) {
   Rig rig;
   for (int i = 0; i < o.num_cameras; ++i) {
     const double yaw_deg = (i - 0.5 * (o.num_cameras - 1)) * spacing;
-    const Camera cam = i == o.distorted_camera ? PerspectiveCamera("ring rig", o.width, o.height, o.hfov_deg, o.k1, o.k2)
-                                               : PerspectiveCamera("ring rig", o.width, o.height, o.hfov_deg);
+    const Camera cam = o.lens.kind != LensOptions::Kind::kPreset ? LensCamera(o.lens, o.width, o.height, o.hfov_deg)
+                       : i == o.distorted_camera ? PerspectiveCamera("ring rig", o.width, o.height, o.hfov_deg, o.k1, o.k2)
+                                                 : PerspectiveCamera("ring rig", o.width, o.height, o.hfov_deg);
     char name[32];
     std::snprintf(name, sizeof(name), "cam%d", i);
     AddCamera(rig, name, cam, RingCamFromRig(o.radius_m, yaw_deg));
@@ -126,7 +169,8 @@ double RingSpacingForOverlap(const RingRigOptions& options, double overlap) {
     }
     return sum / n;
   };
-  double lo = 0.0, hi = std::min(179.0, o.hfov_deg * 1.5);
+  const double fov = o.lens.kind == LensOptions::Kind::kFisheye ? o.lens.fisheye_fov_deg : o.hfov_deg;
+  double lo = 0.0, hi = std::min(179.0, fov * 1.5);
   if (mean_overlap(hi) > overlap) Fail("ring rig", "target overlap is below what a spacing of " + std::to_string(hi) + " deg gives");
   if (mean_overlap(lo) < overlap) Fail("ring rig", "target overlap is not reachable");
   for (int it = 0; it < 24; ++it) {
@@ -147,7 +191,8 @@ void StereoRigOptions::Check() const {
 Rig MakeStereoRig(const StereoRigOptions& o) {
   o.Check();
   Rig rig;
-  const Camera cam = PerspectiveCamera("stereo rig", o.width, o.height, o.hfov_deg);
+  const Camera cam = o.lens.kind != LensOptions::Kind::kPreset ? LensCamera(o.lens, o.width, o.height, o.hfov_deg)
+                                                                : PerspectiveCamera("stereo rig", o.width, o.height, o.hfov_deg);
   AddCamera(rig, "left", cam, RigFromCam(Eigen::Vector3d(-0.5 * o.baseline_m, 0, 0), 0.0).Inverse());
   AddCamera(rig, "right", cam, RigFromCam(Eigen::Vector3d(0.5 * o.baseline_m, 0, 0), 0.0).Inverse());
   return rig;
@@ -166,6 +211,14 @@ void SurroundRigOptions::Check() const {
 Rig MakeSurroundRig(const SurroundRigOptions& o) {
   o.Check();
   Rig rig;
+  if (o.lens.kind != LensOptions::Kind::kPreset) {
+    const Camera cam = LensCamera(o.lens, o.width, o.height, o.front_hfov_deg);
+    AddCamera(rig, "front", cam, RigFromCam(Eigen::Vector3d(0, 0, 0.5 * o.length_m), 0.0).Inverse());
+    AddCamera(rig, "right", cam, RigFromCam(Eigen::Vector3d(0.5 * o.width_m, 0, 0), 90.0, o.side_pitch_deg).Inverse());
+    AddCamera(rig, "back", cam, RigFromCam(Eigen::Vector3d(0, 0, -0.5 * o.length_m), 180.0).Inverse());
+    AddCamera(rig, "left", cam, RigFromCam(Eigen::Vector3d(-0.5 * o.width_m, 0, 0), -90.0, o.side_pitch_deg).Inverse());
+    return rig;
+  }
   const Camera fisheye = FisheyeCamera(o.width, o.height, o.side_fov_deg);
   if (fisheye.max_valid_angle() < DegToRad(0.5 * o.side_fov_deg) - 1e-9) {
     Fail("surround rig", "the fisheye lens cannot image " + std::to_string(o.side_fov_deg) + " deg");
@@ -189,7 +242,9 @@ void WideBaselineRigOptions::Check() const {
 Rig MakeWideBaselineRig(const WideBaselineRigOptions& o) {
   o.Check();
   Rig rig;
-  const Camera cam = PerspectiveCamera("wide-baseline rig", o.width, o.height, o.hfov_deg);
+  const Camera cam = o.lens.kind != LensOptions::Kind::kPreset
+                         ? LensCamera(o.lens, o.width, o.height, o.hfov_deg)
+                         : PerspectiveCamera("wide-baseline rig", o.width, o.height, o.hfov_deg);
   AddCamera(rig, "cam0", cam, RigFromCam(Eigen::Vector3d(-0.5 * o.baseline_m, 0, 0), 0.5 * o.convergence_deg).Inverse());
   AddCamera(rig, "cam1", cam, RigFromCam(Eigen::Vector3d(0.5 * o.baseline_m, 0, 0), -0.5 * o.convergence_deg).Inverse());
   return rig;

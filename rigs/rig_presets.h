@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string_view>
 
 #include <Eigen/Core>
 
@@ -14,6 +15,24 @@
 #include "geometry/rigid3.h"
 
 namespace rigsim {
+
+// A lens for every camera of a rig, in place of its type's own (ring: pinhole with one camera
+// barrel-distorted; surround: OPENCV front, fisheye sides, pinhole back). Perspective lenses take
+// the rig's horizontal field of view; the fisheye its own.
+struct LensOptions {
+  enum class Kind { kPreset, kPinhole, kOpenCV, kFisheye };
+  Kind kind = Kind::kPreset;
+  double k1 = -0.25;               // kOpenCV: k1, and k2 = -0.24 k1 (the ring's distorted camera's shape)
+  double fisheye_fov_deg = 190.0;  // kFisheye: horizontal field of view (Kannala-Brandt, > 180 ok)
+  void Check() const;              // throws std::invalid_argument
+};
+// "preset", "pinhole", "opencv", "fisheye".
+std::string_view LensKindName(LensOptions::Kind kind);
+// Throws std::invalid_argument naming the kinds when `name` is none of them.
+LensOptions::Kind LensKindFromName(std::string_view name);
+// The camera of `lens` (not kPreset) at this image size; perspective lenses see `hfov_deg`
+// between the image's side edges, the fisheye `lens.fisheye_fov_deg`.
+Camera LensCamera(const LensOptions& lens, int width, int height, double hfov_deg);
 
 struct RingRigOptions {
   int num_cameras = 4;           // cameras on the ring, named cam0..cam{N-1} from left to right
@@ -28,6 +47,7 @@ struct RingRigOptions {
   // When in (0, 1): choose the yaw spacing so that neighbours share this fraction of their image
   // (overrides yaw_spacing_deg; see RingSpacingForOverlap). <= 0: use yaw_spacing_deg.
   double target_overlap = 0.0;
+  LensOptions lens;              // every camera's, instead of pinhole and distorted_camera
   void Check() const;            // throws std::invalid_argument
 };
 
@@ -51,6 +71,7 @@ struct StereoRigOptions {
   double hfov_deg = 80.0;    // horizontal field of view (pinhole)
   int width = 1280;
   int height = 720;
+  LensOptions lens;          // both cameras', instead of pinhole
   void Check() const;
 };
 // "left" and "right", parallel optical axes along the rig's +z, centres at x = -+baseline/2.
@@ -65,6 +86,7 @@ struct SurroundRigOptions {
   double side_pitch_deg = 0.0;   // side cameras look down by this much (positive = down)
   int width = 1280;
   int height = 720;
+  LensOptions lens;              // every camera's (perspective ones at front_hfov_deg), instead of the mix
   void Check() const;
 };
 // "front" (OPENCV), "right" (OPENCV_FISHEYE), "back" (PINHOLE), "left" (OPENCV_FISHEYE).
@@ -76,6 +98,7 @@ struct WideBaselineRigOptions {
   double hfov_deg = 70.0;        // horizontal field of view (pinhole)
   int width = 1280;
   int height = 720;
+  LensOptions lens;              // both cameras', instead of pinhole
   void Check() const;
 };
 // "cam0" at x = -baseline/2 and "cam1" at +baseline/2, both turned towards the rig's +z axis.

@@ -34,7 +34,7 @@ mkdir -p "$build_dir"
 # Only the libraries the readers need: no renderer, calibrator or CLI.
 CC=clang CXX=clang++ "${lock[@]}" cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DRIGSIM_FUZZ=ON \
   -DRIGSIM_BUILD_TESTS=$with_tests -DRIGSIM_BUILD_BENCHMARKS=OFF \
-  -DRIGSIM_SKIP_MODULES="exports;renderer;calibrator;apps/rigsim" > "$build_dir/configure.log" 2>&1 ||
+  -DRIGSIM_SKIP_MODULES="exports;renderer;calibrator;pipeline;apps/rigsim" > "$build_dir/configure.log" 2>&1 ||
   { cat "$build_dir/configure.log"; exit 1; }
 "${lock[@]}" cmake --build "$build_dir" --target "${targets[@]}" "${also[@]}" -j"$(nproc)"
 

@@ -1,5 +1,5 @@
 // What the calibrate and demo commands share: calibration options on the command line, and
-// running the rig calibration with its tables printed and its results written.
+// running the calibration library (pipeline/) with its tables printed and its results committed.
 #pragma once
 
 #include <filesystem>
@@ -10,6 +10,7 @@
 
 #include "calibrator/rig_calibration.h"
 #include "dataset/label_source.h"
+#include "pipeline/calibration_run.h"
 
 namespace rigsim::cli {
 
@@ -50,32 +51,12 @@ struct CalibrateSettings {
 
 void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& settings);
 
-// Checks what can be checked before a long run: rig.json parses and every camera covers its
-// image (geometry/camera_validation.h; warnings to stderr). Throws std::runtime_error naming the file.
-// Warns too when rig.json has the truth of some cameras only (no comparison is made).
-void CheckCalibrationInputs(const std::filesystem::path& dataset);
-
-// The names of the cameras without cam_from_rig, comma-separated.
-std::string CamerasWithoutPose(const Rig& rig);
-
-// Calibrates the rig of `dataset` in each semantic mode, prints the pair and camera tables and a
-// summary, and writes into `out_dir` (atomically; replaced only with `force`):
-//   evaluation.json        "label_source" (kind, folder or noise, whether a mode used labels) and
-//                          per method: pairwise summary and pairs, the rig result ("rig") and
-//                          "outputs" (files written, cameras exported and omitted, notes)
-//   <mode>/rig.json        the estimated rig: every camera, cam_from_rig only for calibrated ones
-//   <mode>/camchain.yaml   Kalibr; <mode>/opencv.yaml  cv::FileStorage; <mode>/colmap/  COLMAP text
-//                          model of every frame with a rig pose (the calibration's world is the
-//                          rig frame at frame 0). The writers of `rigsim export` (exports/),
-//                          given only the cameras with a full pose: a camera "not connected" or
-//                          "rotation only" is left out with a warning and listed in
-//                          evaluation.json. A model Kalibr cannot express skips camchain.yaml
-//                          with a note, not the run.
-//   <mode>/pairs.json      per camera pair: pair_type (general, planar, rotation-only, failed),
-//                          matches, inliers, median residual (deg), errors against the truth when
-//                          rig.json has it, ground-truth overlap, and the rig stage's use of it
-std::vector<RigCalibrationResult> CalibrateAndReport(const std::filesystem::path& dataset, const CalibrateSettings& settings,
-                                                     const std::filesystem::path& out_dir, bool force);
+// Calibrates the rig of `dataset` in each semantic mode (pipeline/calibration_run.h), writes the
+// results into `out_dir` (pipeline/calibration_outputs.h; atomically, replaced only with `force`)
+// and prints the pair and camera tables and a summary, warnings to stderr. Returns the run (with
+// each stage's details when settings.options.keep_details, for a report).
+CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const CalibrateSettings& settings,
+                                  const std::filesystem::path& out_dir, bool force);
 
 // Throws Unfinished (exit code 3) naming, per semantic mode, the cameras without a full pose, so
 // that a script sees a rig that was not (fully) calibrated; the results are written by then.

@@ -23,5 +23,9 @@ void AddCalibrateCommand(CLI::App& app);
 void AddInspectCommand(CLI::App& app);
 void AddGenerateSceneCommand(CLI::App& app);
 void AddExportCommand(CLI::App& app);
+void AddEvaluateCommand(CLI::App& app);
+void AddSweepCommand(CLI::App& app);
+void AddSweepMergeCommand(CLI::App& app);
+void AddReportCommand(CLI::App& app);
 
 }  // namespace rigsim::cli

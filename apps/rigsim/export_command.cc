@@ -13,6 +13,7 @@
 #include "exports/nerfstudio.h"
 #include "exports/opencv_yaml.h"
 #include "geometry/rig.h"
+#include "pipeline/calibration_run.h"
 
 namespace rigsim::cli {
 

@@ -24,6 +24,10 @@ int main(int argc, char** argv) {
   rigsim::cli::AddInspectCommand(app);
   rigsim::cli::AddGenerateSceneCommand(app);
   rigsim::cli::AddExportCommand(app);
+  rigsim::cli::AddEvaluateCommand(app);
+  rigsim::cli::AddSweepCommand(app);
+  rigsim::cli::AddSweepMergeCommand(app);
+  rigsim::cli::AddReportCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

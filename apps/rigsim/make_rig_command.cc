@@ -15,9 +15,7 @@
 #include "geometry/rig.h"
 #include "gltf/gltf_loader.h"
 #include "gltf/scene_cameras.h"
-#include "rigs/placement.h"
-#include "rigs/rig_presets.h"
-#include "rigs/trajectories.h"
+#include "rigs/rig_spec.h"
 
 namespace rigsim::cli {
 namespace {
@@ -40,6 +38,9 @@ struct MakeRigArgs {
   double step_m = 2.0;
   std::string scene;
   PlacementOptions placement;
+  std::string lens = "preset";
+  double lens_k1 = -0.25;
+  double fisheye_fov_deg = 190.0;
   std::string from_gltf;
   std::string rig_out, frames_out, out;
   bool force = false;
@@ -89,6 +90,14 @@ void AddRigOptions(CLI::App* cmd, MakeRigArgs& a) {
       ->capture_default_str();
   cmd->add_option("--vehicle", a.surround.length_m, "surround: distance between front and back cameras (m)")
       ->capture_default_str();
+  cmd->add_option("--lens", a.lens,
+                  "every camera's lens instead of the type's own: pinhole, opencv (barrel distortion --lens-k1)\n"
+                  "or fisheye (Kannala-Brandt over --fisheye-fov); preset keeps the type's lenses")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"preset", "pinhole", "opencv", "fisheye"}));
+  cmd->add_option("--lens-k1", a.lens_k1, "--lens opencv: k1 (k2 = -0.24 k1)")->capture_default_str();
+  cmd->add_option("--fisheye-fov", a.fisheye_fov_deg, "--lens fisheye: horizontal field of view (deg, > 180 ok)")
+      ->capture_default_str();
   cmd->add_option("--width", r.width, "image width (px)")->capture_default_str();
   cmd->add_option("--height", r.height, "image height (px)")->capture_default_str();
   cmd->add_option("--jitter-deg", a.perturb.rotation_deg, "random mounting error: rotation up to this (deg)")
@@ -129,6 +138,7 @@ void AddSourceAndOutputOptions(CLI::App* cmd, MakeRigArgs& a) {
                       "camera, placement and trajectory options do not apply")
           ->check(CLI::ExistingFile);
   for (const char* name : {"type", "--cameras", "--spacing", "--overlap", "--hfov", "--radius", "--distorted", "--k1", "--k2",
+                           "--lens", "--lens-k1", "--fisheye-fov",
                            "--baseline", "--convergence", "--side-fov", "--vehicle", "--position", "--heading",
                            "--trajectory", "--circle-radius", "--frames", "--step", "--scene", "--clearance"}) {
     from_gltf->excludes(cmd->get_option(name));
@@ -251,84 +261,39 @@ void MakeRigFromGltf(const MakeRigArgs& a) {
   WriteRigAndFrames(a, from_file.rig, from_file.frames, "from " + std::filesystem::path(a.from_gltf).filename().string());
 }
 
-// The ring's options with --hfov and --overlap applied.
-RingRigOptions RingOptions(const MakeRigArgs& a, const CLI::App& cmd) {
-  RingRigOptions o = a.ring;
-  if (cmd.count("--hfov") > 0) o.hfov_deg = a.hfov_deg;
-  o.target_overlap = a.overlap_percent / 100.0;
-  return o;
-}
-
-// The rig of the requested type, before mounting errors. Every type takes --width and --height
-// (kept in the ring's options) and --hfov; wide-baseline takes --baseline too.
-Rig BuildRig(const MakeRigArgs& a, const CLI::App& cmd) {
-  const bool hfov_given = cmd.count("--hfov") > 0;
-  if (a.type == "ring") {
-    RingRigOptions o = RingOptions(a, cmd);
-    // The default distorted camera (index 1) only exists from two cameras on.
-    if (cmd.count("--distorted") == 0 && o.distorted_camera >= o.num_cameras) o.distorted_camera = -1;
-    return MakeRingRig(o);
+// The rig, its path and its placement as the options give them.
+RigSpec SpecOf(const MakeRigArgs& a, const CLI::App& cmd) {
+  RigSpec s;
+  s.type = a.type;
+  s.ring = a.ring;
+  // The default distorted camera (index 1) only exists from two cameras on.
+  if (cmd.count("--distorted") == 0 && s.ring.distorted_camera >= s.ring.num_cameras) s.ring.distorted_camera = -1;
+  s.stereo = a.stereo;
+  s.surround = a.surround;
+  s.wide = a.wide;
+  s.width = a.ring.width;
+  s.height = a.ring.height;
+  if (cmd.count("--hfov") > 0) s.hfov_deg = a.hfov_deg;
+  if (cmd.count("--baseline") > 0) s.baseline_m = a.stereo.baseline_m;
+  if (a.lens != "preset") {
+    LensOptions lens;
+    lens.kind = LensKindFromName(a.lens);
+    lens.k1 = a.lens_k1;
+    lens.fisheye_fov_deg = a.fisheye_fov_deg;
+    s.lens = lens;
   }
-  if (a.type == "stereo") {
-    StereoRigOptions o = a.stereo;
-    if (hfov_given) o.hfov_deg = a.hfov_deg;
-    o.width = a.ring.width;
-    o.height = a.ring.height;
-    return MakeStereoRig(o);
-  }
-  if (a.type == "surround") {
-    SurroundRigOptions o = a.surround;
-    if (hfov_given) o.front_hfov_deg = a.hfov_deg;
-    o.width = a.ring.width;
-    o.height = a.ring.height;
-    return MakeSurroundRig(o);
-  }
-  WideBaselineRigOptions o = a.wide;
-  if (hfov_given) o.hfov_deg = a.hfov_deg;
-  if (cmd.count("--baseline") > 0) o.baseline_m = a.stereo.baseline_m;
-  o.width = a.ring.width;
-  o.height = a.ring.height;
-  return MakeWideBaselineRig(o);
-}
-
-// The path over the frames from --position, --heading, --trajectory, --frames and --step.
-TrajectoryOptions Trajectory(const MakeRigArgs& a) {
-  TrajectoryOptions t;
-  t.kind = a.trajectory == "circle" ? TrajectoryKind::kCircle : TrajectoryKind::kStraight;
-  t.start_world = Eigen::Vector3d(a.position[0], a.position[1], a.position[2]);
-  t.heading_deg = a.heading_deg;
-  t.num_frames = a.frames;
-  t.step_m = a.step_m;
-  t.circle_radius_m = a.circle_radius_m;
-  return t;
-}
-
-// --scene: places the rig where it stands on the ground with every camera clear (the start of
-// `trajectory`), and re-solves a ring's spacing for its ground-truth overlap there. Returns the
-// scene's file name.
-std::string PlaceInScene(const MakeRigArgs& a, const CLI::App& cmd, Rig* rig, TrajectoryOptions* trajectory) {
-  const Scene scene = LoadGltf(a.scene);
-  PlacementOptions p = a.placement;
-  p.height_m = a.position[1] > 0 && cmd.count("--position") ? a.position[1] : p.height_m;
-  p.seed = a.perturb.seed;
-  if (trajectory->kind == TrajectoryKind::kStraight) p.travel_m = (a.frames - 1) * std::abs(a.step_m);
-  const std::optional<RigPlacement> placed = PlaceRig(scene, *rig, p);
-  if (!placed) {
-    throw std::runtime_error(a.scene + ": no place found where the rig stands on the ground with " +
-                             std::to_string(p.min_clearance_m) + " m clearance; try a smaller --clearance or fewer --frames");
-  }
-  trajectory->start_world = placed->position_world;
-  trajectory->heading_deg = placed->heading_deg;
-  if (a.type == "ring" && a.overlap_percent > 0) {
-    // Re-solve the spacing for the ground-truth overlap in this scene at this place (sky and
-    // occluders change it from the angular value).
-    *rig = MakeRingRigInScene(RingOptions(a, cmd), scene, RigFromWorldAt(trajectory->start_world, trajectory->heading_deg));
-    PerturbIfAsked(a, rig);
-  }
-  std::printf("placed at (%.2f, %.2f, %.2f), heading %.1f deg (%.0f%% of probe rays see structure)\n",
-              placed->position_world.x(), placed->position_world.y(), placed->position_world.z(), placed->heading_deg,
-              100.0 * placed->score);
-  return std::filesystem::path(a.scene).filename().string();
+  s.overlap_percent = a.overlap_percent;
+  s.perturbation = a.perturb;
+  s.trajectory.kind = a.trajectory == "circle" ? TrajectoryKind::kCircle : TrajectoryKind::kStraight;
+  s.trajectory.start_world = Eigen::Vector3d(a.position[0], a.position[1], a.position[2]);
+  s.trajectory.heading_deg = a.heading_deg;
+  s.trajectory.num_frames = a.frames;
+  s.trajectory.step_m = a.step_m;
+  s.trajectory.circle_radius_m = a.circle_radius_m;
+  s.placement = a.placement;
+  s.placement.height_m = a.position[1] > 0 && cmd.count("--position") ? a.position[1] : s.placement.height_m;
+  s.placement.seed = a.perturb.seed;
+  return s;
 }
 
 void MakeRig(const MakeRigArgs& a, const CLI::App& cmd) {
@@ -337,15 +302,23 @@ void MakeRig(const MakeRigArgs& a, const CLI::App& cmd) {
     MakeRigFromGltf(a);
     return;
   }
-  Rig rig = BuildRig(a, cmd);
-  PerturbIfAsked(a, &rig);
-  TrajectoryOptions trajectory = Trajectory(a);
-  std::string scene_name;
-  if (!a.scene.empty()) scene_name = PlaceInScene(a, cmd, &rig, &trajectory);
-  ApplyTiming(a, &rig);
-  FramesFile frames = MakeTrajectory(trajectory);
-  frames.scene = scene_name;
-  WriteRigAndFrames(a, rig, frames, a.type);
+  const RigSpec spec = SpecOf(a, cmd);
+  std::optional<Scene> scene;
+  if (!a.scene.empty()) scene = LoadGltf(a.scene);
+  std::optional<PlacedRig> placed = MakePlacedRig(spec, scene ? &*scene : nullptr);
+  if (!placed) {
+    throw std::runtime_error(a.scene + ": no place found where the rig stands on the ground with " +
+                             std::to_string(spec.placement.min_clearance_m) +
+                             " m clearance; try a smaller --clearance or fewer --frames");
+  }
+  if (placed->placement) {
+    const RigPlacement& p = *placed->placement;
+    std::printf("placed at (%.2f, %.2f, %.2f), heading %.1f deg (%.0f%% of probe rays see structure)\n",
+                p.position_world.x(), p.position_world.y(), p.position_world.z(), p.heading_deg, 100.0 * p.score);
+    placed->frames.scene = std::filesystem::path(a.scene).filename().string();
+  }
+  ApplyTiming(a, &placed->rig);
+  WriteRigAndFrames(a, placed->rig, placed->frames, a.type);
 }
 
 }  // namespace

@@ -7,7 +7,7 @@
 
 #include "apps/rigsim/interrupt.h"
 #include "apps/rigsim/progress.h"
-#include "apps/rigsim/report_table.h"
+#include "pipeline/report_table.h"
 #include "dataset/dataset.h"
 #include "gltf/gltf_loader.h"
 #include "gltf/label_rules.h"

@@ -1,0 +1,175 @@
+// The calibrator's Ceres cost functions, in one place (as COLMAP's estimators/cost_functions.h):
+// the angular epipolar error of the two-view refinement, the relative-rotation error of rotation
+// averaging and the reprojection error of the multi-frame rig bundle adjustment.
+//
+// Internal to the calibrator: included by its own sources and tests only, so that Ceres stays a
+// private dependency of the library (no Ceres type in its public headers).
+//
+// Quaternions are Eigen's coefficient order (x, y, z, w), as ceres::EigenQuaternionManifold.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <ceres/autodiff_cost_function.h>
+#include <ceres/rotation.h>
+#include <ceres/sized_cost_function.h>
+
+#include "geometry/camera.h"
+#include "geometry/camera_models.h"
+
+namespace rigsim {
+
+// Angular epipolar residual of one correspondence (two_view.h EpipolarAngularResidual): sines of
+// the angles between bearing b and the epipolar plane of bearing a (in B), and between bearing a
+// and the epipolar plane of bearing b (in A). Parameters: the rotation (4) and the unit
+// translation (3) of cam_b_from_cam_a. The bearings already went through their cameras' models.
+struct EpipolarAngularCost {
+  EpipolarAngularCost(const Eigen::Vector3d& fa, const Eigen::Vector3d& fb) : fa_(fa), fb_(fb) {}
+
+  template <typename T>
+  bool operator()(const T* q, const T* t, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> rot(q);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> tr(t);
+    const Eigen::Matrix<T, 3, 1> fa = fa_.cast<T>();
+    const Eigen::Matrix<T, 3, 1> fb = fb_.cast<T>();
+    // Normal of the epipolar plane through bearing a, in B; and through bearing b, in A.
+    const Eigen::Matrix<T, 3, 1> nb = tr.cross(rot * fa);
+    const Eigen::Matrix<T, 3, 1> na = rot.conjugate() * tr.cross(fb);
+    // The tiny constant keeps the derivative finite when a bearing points at the epipole.
+    residual[0] = nb.dot(fb) / sqrt(nb.squaredNorm() + T(1e-20));
+    residual[1] = na.dot(fa) / sqrt(na.squaredNorm() + T(1e-20));
+    return true;
+  }
+
+  static ceres::CostFunction* Create(const Eigen::Vector3d& fa, const Eigen::Vector3d& fb) {
+    return new ceres::AutoDiffCostFunction<EpipolarAngularCost, 2, 4, 3>(new EpipolarAngularCost(fa, fb));
+  }
+
+  Eigen::Vector3d fa_, fb_;
+};
+
+// Residual of a relative rotation R_ab against R_b R_a^T as an angle-axis vector, scaled by the
+// edge weight. Parameters: the rotations (4 each) of cam_a_from_rig and cam_b_from_rig.
+struct RelativeRotationCost {
+  RelativeRotationCost(const Eigen::Quaterniond& r_ab, double weight) : r_ab_inv_(r_ab.conjugate()), weight_(weight) {}
+
+  template <typename T>
+  bool operator()(const T* qa, const T* qb, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> ra(qa), rb(qb);
+    const Eigen::Quaternion<T> e = r_ab_inv_.cast<T>() * rb * ra.conjugate();
+    const T wxyz[4] = {e.w(), e.x(), e.y(), e.z()};
+    ceres::QuaternionToAngleAxis(wxyz, residual);
+    for (int i = 0; i < 3; ++i) residual[i] *= T(weight_);
+    return true;
+  }
+
+  static ceres::CostFunction* Create(const Eigen::Quaterniond& r_ab, double weight) {
+    return new ceres::AutoDiffCostFunction<RelativeRotationCost, 3, 4, 4>(new RelativeRotationCost(r_ab, weight));
+  }
+
+  Eigen::Quaterniond r_ab_inv_;
+  double weight_;
+};
+
+// Reprojection residual of one observation in the multi-frame rig bundle adjustment (pixels,
+// projected minus observed): X_cam = cam_from_rig * (rig_from_world * X_world), through the
+// camera model's ImgFromCam (geometry/camera_models.h). Parameters: cam_from_rig rotation (4) and
+// translation (3), rig_from_world rotation (4) and translation (3), the point in the world (3),
+// and the camera's intrinsics (its model's parameters, Camera::params()).
+struct RigReprojectionCost {
+  RigReprojectionCost(CameraModelId model, const Eigen::Vector2d& observed)
+      : model(model), num_params(CameraModelNumParams(model)), observed(observed) {}
+
+  // `P` is T when the intrinsics are differentiated, double when they are constants.
+  template <typename T, typename P>
+  bool Residual(const T* cam_q, const T* cam_t, const T* rig_q, const T* rig_t, const T* point, const P* intrinsics,
+                T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> qc(cam_q), qr(rig_q);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> tc(cam_t), tr(rig_t), x(point);
+    const Eigen::Matrix<T, 3, 1> x_in_cam = qc * (qr * x + tr) + tc;
+    T params[kMaxParams];
+    for (int i = 0; i < num_params; ++i) params[i] = T(intrinsics[i]);
+    T px[2];
+    if (!ImgFromCam(model, params, x_in_cam.data(), px)) return false;
+    residual[0] = px[0] - T(observed.x());
+    residual[1] = px[1] - T(observed.y());
+    return true;
+  }
+
+  template <typename T>
+  bool operator()(const T* cam_q, const T* cam_t, const T* rig_q, const T* rig_t, const T* point, const T* intrinsics,
+                  T* residual) const {
+    return Residual(cam_q, cam_t, rig_q, rig_t, point, intrinsics, residual);
+  }
+
+  static constexpr int kMaxParams = 12;  // the most any model has (FULL_OPENCV)
+  CameraModelId model;
+  int num_params;
+  Eigen::Vector2d observed;
+};
+
+// The pose and point blocks of RigReprojectionCost only, the intrinsics constants copied in.
+struct RigReprojectionHeldIntrinsics {
+  RigReprojectionHeldIntrinsics(CameraModelId model, const double* values, const Eigen::Vector2d& observed)
+      : cost(model, observed) {
+    std::copy(values, values + cost.num_params, intrinsics);
+  }
+  template <typename T>
+  bool operator()(const T* cam_q, const T* cam_t, const T* rig_q, const T* rig_t, const T* point, T* residual) const {
+    return cost.Residual(cam_q, cam_t, rig_q, rig_t, point, intrinsics, residual);
+  }
+  RigReprojectionCost cost;
+  double intrinsics[RigReprojectionCost::kMaxParams] = {};
+};
+
+// RigReprojectionCost with every parameter differentiated, the intrinsics included. Defined in
+// cost_functions.cc for 4, 8 and 12 intrinsics, out of the callers' translation unit: instantiated
+// beside the held path, its jets of 21-29 parameters keep GCC from inlining the held path's jet
+// arithmetic, and the bundle adjustment runs 30% slower.
+template <int kNumIntrinsics>
+bool EvaluateRigReprojectionWithIntrinsics(const RigReprojectionCost& cost, double const* const* parameters,
+                                           double* residuals, double** jacobians);
+
+// The Ceres cost of RigReprojectionCost, with a parameter block of kNumIntrinsics for the
+// intrinsics. While that block is held constant (Ceres then asks for no Jacobian of it) at the
+// values the cost was made with, only the 17 pose and point parameters are differentiated, the
+// intrinsics entering as constants: the arithmetic, and the speed, of a functor with the
+// intrinsics copied in. Otherwise every parameter is differentiated: refining intrinsics needs
+// nothing but SetParameterBlockVariable on their block.
+template <int kNumIntrinsics>
+class RigReprojectionCostFunction final : public ceres::SizedCostFunction<2, 4, 3, 4, 3, 3, kNumIntrinsics> {
+ public:
+  RigReprojectionCostFunction(CameraModelId model, const double* intrinsics, const Eigen::Vector2d& observed)
+      : held_(new RigReprojectionHeldIntrinsics(model, intrinsics, observed)) {}
+
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const RigReprojectionHeldIntrinsics& held = held_.functor();
+    const bool intrinsics_jacobian = jacobians != nullptr && jacobians[5] != nullptr;
+    if (intrinsics_jacobian || !std::equal(parameters[5], parameters[5] + kNumIntrinsics, held.intrinsics)) {
+      return EvaluateRigReprojectionWithIntrinsics<kNumIntrinsics>(held.cost, parameters, residuals, jacobians);
+    }
+    return held_.Evaluate(parameters, residuals, jacobians);  // reads the first five blocks only
+  }
+
+ private:
+  ceres::AutoDiffCostFunction<RigReprojectionHeldIntrinsics, 2, 4, 3, 4, 3, 3> held_;
+};
+
+// The cost of one observation of `camera`; its intrinsics block must have camera.params().size()
+// entries. Throws std::invalid_argument for a model with another number of parameters.
+inline ceres::CostFunction* CreateRigReprojectionCost(const Camera& camera, const Eigen::Vector2d& observed) {
+  switch (camera.params().size()) {
+    case 4: return new RigReprojectionCostFunction<4>(camera.model(), camera.params().data(), observed);
+    case 8: return new RigReprojectionCostFunction<8>(camera.model(), camera.params().data(), observed);
+    case 12: return new RigReprojectionCostFunction<12>(camera.model(), camera.params().data(), observed);
+  }
+  throw std::invalid_argument("CreateRigReprojectionCost: no cost for a camera with " +
+                              std::to_string(camera.params().size()) + " parameters");
+}
+
+}  // namespace rigsim

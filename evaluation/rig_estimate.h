@@ -1,0 +1,57 @@
+// An estimate of a rig's extrinsics as any tool gives it, read into one form so that every tool
+// is scored by the same code (evaluation/rig_scores.h):
+//   - a rig.json (rigsim's format: cameras with cam_from_rig, cameras without one unplaced);
+//   - a calibration folder written by `rigsim calibrate` (evaluation.json and <mode>/rig.json):
+//     one estimate per semantic mode, "rotation only" cameras with their rotation;
+//   - a COLMAP text model (a folder with images.txt, or the mapper's sparse/ with sub-models, of
+//     which the one with the most images is read) of the dataset's photos, named <cam>/<frame>.*
+//     as `rigsim export --format colmap` and COLMAP on DATASET/images name them: each camera's
+//     cam_from_rig is cam_from_world of its image times cam0's inverse, averaged over the frames
+//     where both are registered;
+//   - a Kalibr camchain.yaml (cameras by rostopic /<name>/image_raw, else in order).
+// Cameras are matched to the truth by name.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+
+#include "dataset/dataset.h"
+#include "geometry/rig.h"
+#include "geometry/rigid3.h"
+
+namespace rigsim {
+
+// What a tool estimated: per camera of the truth (same order), a full pose, a rotation only, or
+// nothing.
+struct RigEstimate {
+  std::string method;  // "none", "mask", ... (a calibration's modes), "colmap", "kalibr", "rig.json"
+  std::vector<std::optional<Rigid3d>> cam_from_rig;
+  std::vector<std::optional<Eigen::Quaterniond>> rotation_only;  // cameras with a rotation and no position
+  bool metric = false;  // translations in metres (position errors without a scale fit)
+  std::vector<std::string> notes;  // what the reader could not use, e.g. images not registered
+  // What the tool reported besides the poses (a calibration's timing and match statistics), as it
+  // reported it; null when nothing.
+  nlohmann::json details;
+};
+
+// How to treat the estimate's scale: as the estimate says (a calibration folder knows; COLMAP
+// never is metric; Kalibr always is; a bare rig.json is taken as unit scale), or forced.
+enum class EstimateScale { kAuto, kMetric, kFit };
+
+// Reads ESTIMATE for the cameras of `truth` (names) and the frames of the dataset (COLMAP).
+// Throws std::runtime_error naming the file and what is wrong (an unknown camera name with a
+// suggestion, an unrecognised file).
+std::vector<RigEstimate> ReadRigEstimates(const std::filesystem::path& estimate, const Rig& truth,
+                                          const FramesFile& frames, EstimateScale scale = EstimateScale::kAuto);
+
+// COLMAP images (name -> cam_from_world) as a rig: see the header comment. Images whose name is
+// not <camera>/<frame>.<ext> of the truth's cameras and the frames are named in the notes.
+RigEstimate RigEstimateFromColmap(const std::vector<std::pair<std::string, Rigid3d>>& images, const Rig& truth,
+                                  const FramesFile& frames);
+
+}  // namespace rigsim

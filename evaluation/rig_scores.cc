@@ -1,0 +1,249 @@
+#include "evaluation/rig_scores.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+
+#include "evaluation/pose_errors.h"
+
+namespace rigsim {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+double Median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// Centre of the camera in camera 0's frame, from cam_from_cam0.
+Eigen::Vector3d Centre(const Rigid3d& cam_from_cam0) { return cam_from_cam0.Inverse().translation; }
+
+double AngleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return RadToDeg(std::atan2(a.cross(b).norm(), a.dot(b)));
+}
+
+std::optional<double> Max(const std::vector<double>& v) {
+  if (v.empty()) return std::nullopt;
+  return *std::max_element(v.begin(), v.end());
+}
+
+}  // namespace
+
+RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate) {
+  const size_t n = truth.cameras.size();
+  if (!truth.HasAllPoses()) throw std::invalid_argument("ScoreRig: the truth needs every camera's cam_from_rig");
+  if (estimate.cam_from_rig.size() != n || estimate.rotation_only.size() != n) {
+    throw std::invalid_argument("ScoreRig: the estimate needs one entry per camera of the truth");
+  }
+  RigScores s;
+  s.method = estimate.method;
+  s.metric = estimate.metric;
+  s.notes = estimate.notes;
+  // Both rigs re-expressed with camera 0 as the rig frame.
+  const Rigid3d true_cam0_from_rig = *truth.cameras[0].cam_from_rig;
+  std::vector<Rigid3d> true_from_cam0(n);
+  for (size_t c = 0; c < n; ++c) true_from_cam0[c] = *truth.cameras[c].cam_from_rig * true_cam0_from_rig.Inverse();
+  const std::optional<Rigid3d>& est_cam0 = estimate.cam_from_rig[0];
+  std::vector<std::optional<Rigid3d>> est_from_cam0(n);
+  std::vector<std::optional<Eigen::Quaterniond>> est_rotation(n);  // of cam_c_from_cam0
+  for (size_t c = 0; c < n; ++c) {
+    if (!est_cam0) break;  // without camera 0 nothing is in the gauge
+    if (estimate.cam_from_rig[c]) {
+      est_from_cam0[c] = *estimate.cam_from_rig[c] * est_cam0->Inverse();
+      est_rotation[c] = est_from_cam0[c]->rotation;
+    } else if (estimate.rotation_only[c]) {
+      est_rotation[c] = *estimate.rotation_only[c] * est_cam0->rotation.inverse();
+    }
+  }
+  if (!est_cam0) s.notes.push_back("no pose for the reference camera " + truth.cameras[0].name + ": nothing scored");
+
+  // Scale of the position errors: least squares of s C_est onto C_true over the placed cameras.
+  double num = 0.0, den = 0.0;
+  for (size_t c = 1; c < n; ++c) {
+    if (!est_from_cam0[c]) continue;
+    num += Centre(*est_from_cam0[c]).dot(Centre(true_from_cam0[c]));
+    den += Centre(*est_from_cam0[c]).squaredNorm();
+  }
+  s.scale = estimate.metric ? 1.0 : (den > 0 ? num / den : 1.0);
+
+  std::vector<double> rotation_errors, direction_errors, position_errors, camera_pose_errors;
+  for (size_t c = 0; c < n; ++c) {
+    CameraScore cs;
+    cs.name = truth.cameras[c].name;
+    cs.posed = est_from_cam0[c].has_value();
+    cs.has_rotation = est_rotation[c].has_value();
+    s.cameras_posed += cs.posed;
+    s.cameras_rotation_only += cs.has_rotation && !cs.posed;
+    if (c == 0) {
+      cs.pose_error_deg = cs.posed ? 0.0 : kInf;
+      if (cs.posed) cs.rotation_error_deg = 0.0;
+      s.cameras.push_back(cs);
+      continue;
+    }
+    if (cs.has_rotation) {
+      cs.rotation_error_deg = RadToDeg(est_rotation[c]->angularDistance(true_from_cam0[c].rotation));
+      rotation_errors.push_back(*cs.rotation_error_deg);
+    }
+    if (cs.posed) {
+      const Eigen::Vector3d est_centre = Centre(*est_from_cam0[c]), true_centre = Centre(true_from_cam0[c]);
+      if (est_centre.norm() > 1e-12 && true_centre.norm() > 1e-12) {
+        cs.direction_error_deg = AngleDeg(est_centre, true_centre);
+        direction_errors.push_back(*cs.direction_error_deg);
+      }
+      cs.position_error_m = (s.scale * est_centre - true_centre).norm();
+      position_errors.push_back(*cs.position_error_m);
+    }
+    // A camera at camera 0's centre has no direction: its rotation is its whole pose.
+    const bool true_has_direction = Centre(true_from_cam0[c]).norm() > 1e-9;
+    cs.pose_error_deg = !cs.posed ? kInf
+                        : !true_has_direction ? *cs.rotation_error_deg
+                        : cs.direction_error_deg ? std::max(*cs.rotation_error_deg, *cs.direction_error_deg)
+                                                 : kInf;
+    camera_pose_errors.push_back(cs.pose_error_deg);
+    if (cs.posed && cs.pose_error_deg > 5.0) ++s.confidently_wrong;
+    s.cameras.push_back(cs);
+  }
+
+  std::vector<double> pair_pose_errors;
+  for (size_t a = 0; a < n; ++a) {
+    for (size_t b = a + 1; b < n; ++b) {
+      PairScore ps;
+      ps.cam_a = truth.cameras[a].name;
+      ps.cam_b = truth.cameras[b].name;
+      const Rigid3d true_ba = true_from_cam0[b] * true_from_cam0[a].Inverse();
+      if (est_rotation[a] && est_rotation[b]) {
+        ps.rotation_error_deg =
+            RadToDeg((*est_rotation[b] * est_rotation[a]->inverse()).angularDistance(true_ba.rotation));
+      }
+      ps.pose_error_deg = kInf;
+      if (est_from_cam0[a] && est_from_cam0[b]) {
+        const Rigid3d est_ba = *est_from_cam0[b] * est_from_cam0[a]->Inverse();
+        ps.direction_error_deg = TranslationDirectionErrorDeg(est_ba, true_ba);
+        if (ps.direction_error_deg) {
+          ps.pose_error_deg = std::max(*ps.rotation_error_deg, *ps.direction_error_deg);
+        } else if (true_ba.translation.norm() <= 1e-9) {
+          ps.pose_error_deg = *ps.rotation_error_deg;
+        }
+      }
+      pair_pose_errors.push_back(ps.pose_error_deg);
+      s.pairs.push_back(ps);
+    }
+  }
+
+  s.max_rotation_error_deg = Max(rotation_errors);
+  s.max_direction_error_deg = Max(direction_errors);
+  s.max_position_error_m = Max(position_errors);
+  if (!rotation_errors.empty()) s.median_rotation_error_deg = Median(rotation_errors);
+  if (!direction_errors.empty()) s.median_direction_error_deg = Median(direction_errors);
+  for (int t = 0; t < 4; ++t) {
+    s.auc_cameras[t] = PoseAuc(camera_pose_errors, kAucThresholdsDeg[t]);
+    s.auc_pairs[t] = PoseAuc(pair_pose_errors, kAucThresholdsDeg[t]);
+  }
+  const auto all_within = [&](double limit) {
+    return std::all_of(camera_pose_errors.begin(), camera_pose_errors.end(), [&](double e) { return e <= limit; });
+  };
+  s.success_1deg = est_cam0 && all_within(1.0);
+  s.success_2deg = est_cam0 && all_within(2.0);
+  return s;
+}
+
+namespace {
+
+nlohmann::json Opt(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
+nlohmann::json Finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+std::string Deg(const std::optional<double>& v, const char* format = "%.3f deg") {
+  if (!v) return "-";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, format, *v);
+  return buf;
+}
+
+}  // namespace
+
+nlohmann::json RigScoresToJson(const RigScores& s) {
+  nlohmann::json cameras = nlohmann::json::array(), pairs = nlohmann::json::array();
+  for (const CameraScore& c : s.cameras) {
+    cameras.push_back({{"name", c.name},
+                       {"posed", c.posed},
+                       {"has_rotation", c.has_rotation},
+                       {"rotation_error_deg", Opt(c.rotation_error_deg)},
+                       {"translation_direction_error_deg", Opt(c.direction_error_deg)},
+                       {"position_error_m", Opt(c.position_error_m)},
+                       {"pose_error_deg", Finite(c.pose_error_deg)}});
+  }
+  for (const PairScore& p : s.pairs) {
+    pairs.push_back({{"cam_a", p.cam_a},
+                     {"cam_b", p.cam_b},
+                     {"rotation_error_deg", Opt(p.rotation_error_deg)},
+                     {"translation_direction_error_deg", Opt(p.direction_error_deg)},
+                     {"pose_error_deg", Finite(p.pose_error_deg)}});
+  }
+  nlohmann::json auc_cameras, auc_pairs;
+  for (int t = 0; t < 4; ++t) {
+    const std::string key = std::to_string(static_cast<int>(kAucThresholdsDeg[t]));
+    auc_cameras[key] = s.auc_cameras[t];
+    auc_pairs[key] = s.auc_pairs[t];
+  }
+  return {{"method", s.method},
+          {"summary",
+           {{"cameras", s.cameras.size()},
+            {"cameras_posed", s.cameras_posed},
+            {"cameras_rotation_only", s.cameras_rotation_only},
+            {"success_1deg", s.success_1deg},
+            {"success_2deg", s.success_2deg},
+            {"confidently_wrong", s.confidently_wrong},
+            {"max_rotation_error_deg", Opt(s.max_rotation_error_deg)},
+            {"median_rotation_error_deg", Opt(s.median_rotation_error_deg)},
+            {"max_translation_direction_error_deg", Opt(s.max_direction_error_deg)},
+            {"median_translation_direction_error_deg", Opt(s.median_direction_error_deg)},
+            {"max_position_error_m", Opt(s.max_position_error_m)},
+            {"metric", s.metric},
+            {"position_scale", s.scale},
+            {"pose_auc_cameras", auc_cameras},
+            {"pose_auc_pairs", auc_pairs}}},
+          {"cameras", cameras},
+          {"pairs", pairs},
+          {"notes", s.notes}};
+}
+
+std::string FormatRigScores(const std::vector<RigScores>& all) {
+  std::string out;
+  char line[256];
+  std::snprintf(line, sizeof line, "%-12s %-12s %12s %12s %12s  %s\n", "camera", "method", "rot_err", "t_dir_err",
+                "pos_err", "pose");
+  out += line;
+  if (all.empty()) return out;
+  for (size_t c = 0; c < all[0].cameras.size(); ++c) {
+    for (size_t m = 0; m < all.size(); ++m) {
+      const CameraScore& cs = all[m].cameras[c];
+      const std::string pos = cs.position_error_m ? Deg(cs.position_error_m, all[m].metric ? "%.3f m" : "%.3f") : "-";
+      const char* pose = c == 0 ? (cs.posed ? "reference" : "missing")
+                         : cs.posed ? "full pose" : cs.has_rotation ? "rotation only" : "missing";
+      std::snprintf(line, sizeof line, "%-12s %-12s %12s %12s %12s  %s\n", m == 0 ? cs.name.c_str() : "",
+                    all[m].method.c_str(), Deg(cs.rotation_error_deg).c_str(), Deg(cs.direction_error_deg).c_str(),
+                    pos.c_str(), pose);
+      out += line;
+    }
+  }
+  out += "\n";
+  for (const RigScores& s : all) {
+    std::snprintf(line, sizeof line,
+                  "%s: %d/%zu cameras with a full pose, worst rotation %s, worst direction %s; pose AUC over pairs "
+                  "@1/2/5/10 deg %.2f/%.2f/%.2f/%.2f; every camera within 2 deg: %s%s\n",
+                  s.method.c_str(), s.cameras_posed, s.cameras.size(), Deg(s.max_rotation_error_deg).c_str(),
+                  Deg(s.max_direction_error_deg).c_str(), s.auc_pairs[0], s.auc_pairs[1], s.auc_pairs[2], s.auc_pairs[3],
+                  s.success_2deg ? "yes" : "no",
+                  s.confidently_wrong > 0 ? (", " + std::to_string(s.confidently_wrong) + " camera(s) placed > 5 deg off").c_str() : "");
+    out += line;
+    for (const std::string& note : s.notes) out += "  note: " + note + "\n";
+  }
+  return out;
+}
+
+}  // namespace rigsim

@@ -1,0 +1,79 @@
+// Scores an estimate of a rig's extrinsics against the truth, the same way whichever tool made it
+// (rigsim's calibrate, COLMAP, Kalibr, a hand-written rig.json).
+//
+// Gauge: both rigs are expressed with their first camera (camera 0 of the truth) as the rig frame,
+// so an estimate in any rig frame compares. Per camera c > 0:
+//   rotation error           angle of R_est R_true^T, R = cam_c_from_cam0's rotation;
+//   direction error          angle between the estimated and true directions of c's centre seen
+//                            from camera 0's (what images fix without a known distance);
+//   position error (m)       |s C_est - C_true| with the scale s fitted by least squares over the
+//                            cameras with a position (s = 1 when the estimate is metric); the
+//                            rotation and origin are fixed by the shared gauge, so this is the
+//                            similarity alignment of the two rigs;
+//   pose error               max(rotation error, direction error); infinite for a camera without
+//                            a full pose (a rotation-only camera has a rotation error only).
+// Per camera pair (a < b): the same errors of cam_b_from_cam_a (direction of its translation).
+// AUC of the pose errors at 1, 2, 5 and 10 deg (missing poses count as failures), over cameras
+// and over pairs; success at N deg: every camera c > 0 has a full pose within N deg.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+
+#include "evaluation/rig_estimate.h"
+#include "geometry/rig.h"
+#include "geometry/rigid3.h"
+
+namespace rigsim {
+
+struct CameraScore {
+  std::string name;
+  bool posed = false;          // full pose
+  bool has_rotation = false;   // full pose or rotation only
+  std::optional<double> rotation_error_deg;
+  std::optional<double> direction_error_deg;
+  std::optional<double> position_error_m;
+  double pose_error_deg = 0.0;  // +inf when not posed; 0 for camera 0
+};
+
+struct PairScore {
+  std::string cam_a, cam_b;
+  std::optional<double> rotation_error_deg;
+  std::optional<double> direction_error_deg;
+  double pose_error_deg = 0.0;  // +inf without both full poses
+};
+
+struct RigScores {
+  std::string method;
+  std::vector<CameraScore> cameras;  // truth order; camera 0 is the reference
+  std::vector<PairScore> pairs;      // a < b in truth order
+  double scale = 1.0;                // s of the position errors
+  bool metric = false;
+  int cameras_posed = 0;             // camera 0 included
+  int cameras_rotation_only = 0;
+  std::optional<double> max_rotation_error_deg, median_rotation_error_deg;
+  std::optional<double> max_direction_error_deg, median_direction_error_deg;
+  std::optional<double> max_position_error_m;
+  double auc_cameras[4] = {0, 0, 0, 0};  // at 1, 2, 5, 10 deg
+  double auc_pairs[4] = {0, 0, 0, 0};
+  bool success_1deg = false, success_2deg = false;
+  int confidently_wrong = 0;  // cameras with a full pose whose pose error exceeds 5 deg
+  std::vector<std::string> notes;
+};
+
+// The thresholds of RigScores::auc_*.
+inline constexpr double kAucThresholdsDeg[4] = {1.0, 2.0, 5.0, 10.0};
+
+// `truth` must give every camera's cam_from_rig (std::invalid_argument otherwise); `estimate`
+// has one entry per truth camera.
+RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate);
+
+nlohmann::json RigScoresToJson(const RigScores& scores);
+// The camera and pair tables and a summary line, for a terminal.
+std::string FormatRigScores(const std::vector<RigScores>& scores);
+
+}  // namespace rigsim

@@ -1,0 +1,117 @@
+#include "evaluation/rig_scores.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+namespace rigsim {
+namespace {
+
+// Three cameras: cam0 at the rig origin, cam1 1 m to the right turned 30 deg, cam2 1 m ahead.
+Rig Truth() {
+  Rig rig;
+  const Camera cam(CameraModelId::kPinhole, 64, 48, {50, 50, 31.5, 23.5});
+  const auto yaw = [](double deg) { return Eigen::Quaterniond(Eigen::AngleAxisd(DegToRad(deg), Eigen::Vector3d::UnitY())); };
+  // cam_from_rig = (R, -R C) for a camera at centre C.
+  const auto pose = [&](double deg, const Eigen::Vector3d& centre) {
+    const Eigen::Quaterniond r = yaw(deg).inverse();
+    return Rigid3d(r, -(r * centre));
+  };
+  rig.cameras.push_back({"cam0", cam, pose(0, {0, 0, 0})});
+  rig.cameras.push_back({"cam1", cam, pose(30, {1, 0, 0})});
+  rig.cameras.push_back({"cam2", cam, pose(0, {0, 0, 1})});
+  return rig;
+}
+
+RigEstimate EstimateOf(const Rig& rig, const std::string& method = "test") {
+  RigEstimate e;
+  e.method = method;
+  for (const RigCamera& c : rig.cameras) {
+    e.cam_from_rig.push_back(c.cam_from_rig);
+    e.rotation_only.push_back(std::nullopt);
+  }
+  return e;
+}
+
+TEST(RigScores, TheTruthInAnyRigFrameAndScoreIsPerfect) {
+  const Rig truth = Truth();
+  // The same rig in another rig frame (rig moved and turned) and at half the scale.
+  RigEstimate e = EstimateOf(truth);
+  const Rigid3d rig_from_other(Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized())),
+                               Eigen::Vector3d(3, -2, 5));
+  for (auto& p : e.cam_from_rig) {
+    p = *p * rig_from_other;
+    p->translation *= 0.5;
+  }
+  const RigScores s = ScoreRig(truth, e);
+  EXPECT_NEAR(s.scale, 2.0, 1e-9);
+  EXPECT_EQ(s.cameras_posed, 3);
+  EXPECT_NEAR(*s.max_rotation_error_deg, 0.0, 1e-6);
+  EXPECT_NEAR(*s.max_direction_error_deg, 0.0, 1e-6);
+  EXPECT_NEAR(*s.max_position_error_m, 0.0, 1e-9);
+  EXPECT_TRUE(s.success_1deg);
+  for (int t = 0; t < 4; ++t) {
+    EXPECT_NEAR(s.auc_cameras[t], 1.0, 1e-6);
+    EXPECT_NEAR(s.auc_pairs[t], 1.0, 1e-6);
+  }
+  EXPECT_EQ(s.pairs.size(), 3u);
+}
+
+TEST(RigScores, KnownErrorsAreMeasured) {
+  const Rig truth = Truth();
+  RigEstimate e = EstimateOf(truth);
+  // cam1 turned 3 deg more about its vertical axis (its centre stays): rotation error 3 deg only.
+  const Rigid3d& t1 = *truth.cameras[1].cam_from_rig;
+  const Eigen::Vector3d c1 = t1.Inverse().translation;
+  const Eigen::Quaterniond r1 = Eigen::Quaterniond(Eigen::AngleAxisd(DegToRad(3), Eigen::Vector3d::UnitY())) * t1.rotation;
+  e.cam_from_rig[1] = Rigid3d(r1, -(r1 * c1));
+  // cam2's centre moved sideways to (0.1, 0, 1): direction off by atan(0.1) = 5.71 deg.
+  const Eigen::Quaterniond r2 = truth.cameras[2].cam_from_rig->rotation;
+  e.cam_from_rig[2] = Rigid3d(r2, -(r2 * Eigen::Vector3d(0.1, 0, 1)));
+  e.metric = true;
+  const RigScores s = ScoreRig(truth, e);
+  EXPECT_NEAR(*s.cameras[1].rotation_error_deg, 3.0, 1e-9);
+  EXPECT_NEAR(*s.cameras[1].direction_error_deg, 0.0, 1e-9);
+  EXPECT_NEAR(s.cameras[1].pose_error_deg, 3.0, 1e-9);
+  EXPECT_NEAR(*s.cameras[2].direction_error_deg, RadToDeg(std::atan(0.1)), 1e-9);
+  EXPECT_NEAR(*s.cameras[2].position_error_m, 0.1, 1e-12);  // metric: no scale fitted
+  EXPECT_NEAR(s.scale, 1.0, 0.0);
+  EXPECT_EQ(s.confidently_wrong, 1);  // cam2 is placed 5.7 deg off
+  EXPECT_FALSE(s.success_2deg);
+  // AUC over the cameras (3 and 5.71 deg) at 5 deg: (0,0)->(3,0.5) then flat to 5: (0.75 + 1) / 5.
+  EXPECT_NEAR(s.auc_cameras[2], (0.5 * 0.5 * 3 + 0.5 * 2) / 5, 1e-9);
+  // Pair cam0-cam1: rotation error 3 deg.
+  EXPECT_EQ(s.pairs[0].cam_b, "cam1");
+  EXPECT_NEAR(*s.pairs[0].rotation_error_deg, 3.0, 1e-9);
+}
+
+TEST(RigScores, MissingAndRotationOnlyCamerasAreFailuresNotZeros) {
+  const Rig truth = Truth();
+  RigEstimate e = EstimateOf(truth);
+  e.rotation_only[1] = e.cam_from_rig[1]->rotation;
+  e.cam_from_rig[1].reset();
+  e.cam_from_rig[2].reset();
+  const RigScores s = ScoreRig(truth, e);
+  EXPECT_EQ(s.cameras_posed, 1);
+  EXPECT_EQ(s.cameras_rotation_only, 1);
+  EXPECT_TRUE(s.cameras[1].has_rotation);
+  EXPECT_NEAR(*s.cameras[1].rotation_error_deg, 0.0, 1e-6);
+  EXPECT_TRUE(std::isinf(s.cameras[1].pose_error_deg));
+  EXPECT_FALSE(s.max_direction_error_deg.has_value());  // a worst error over nothing is unknown, not 0
+  EXPECT_FALSE(s.max_position_error_m.has_value());
+  EXPECT_EQ(s.auc_cameras[3], 0.0);
+  EXPECT_FALSE(s.success_2deg);
+  const nlohmann::json j = RigScoresToJson(s);
+  EXPECT_TRUE(j["summary"]["max_translation_direction_error_deg"].is_null());
+  EXPECT_TRUE(j["cameras"][2]["pose_error_deg"].is_null());
+  // Without the reference camera nothing is in the gauge.
+  RigEstimate no_ref = EstimateOf(truth);
+  no_ref.cam_from_rig[0].reset();
+  const RigScores r = ScoreRig(truth, no_ref);
+  EXPECT_EQ(r.cameras_posed, 0);
+  EXPECT_FALSE(r.success_1deg);
+  EXPECT_FALSE(r.notes.empty());
+}
+
+}  // namespace
+}  // namespace rigsim

@@ -1,0 +1,257 @@
+#include "pipeline/calibration_outputs.h"
+
+#include <optional>
+#include <stdexcept>
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "calibrator/evaluation.h"
+#include "calibrator/match_image.h"
+#include "dataset/image_io.h"
+#include "exports/colmap.h"
+#include "exports/kalibr.h"
+#include "exports/opencv_yaml.h"
+#include "exports/rig_plot.h"
+#include "geometry/json_io.h"
+
+namespace rigsim {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+// rig_topdown.svg: the estimate over the truth (when known), seen from above.
+RigPlotInput TopDownPlot(const RigCalibrationResult& r, const std::optional<Rig>& truth, size_t cameras_exported) {
+  RigPlotInput plot;
+  plot.estimate = r.rig;
+  plot.truth = truth;
+  plot.metric = r.metric_scale;
+  for (size_t c = 0; c < r.rig.cameras.size(); ++c) {
+    const bool rotation_only = !r.rig.cameras[c].cam_from_rig && c < r.cam_from_rig_rotation.size();
+    plot.rotation_only.push_back(rotation_only ? r.cam_from_rig_rotation[c] : std::nullopt);
+  }
+  plot.title = "rigsim calibrate, " + r.semantic_mode + ": " + std::to_string(cameras_exported) + " of " +
+               std::to_string(r.rig.cameras.size()) + " cameras with a full pose";
+  return plot;
+}
+
+// The exports of one mode's estimate (the writers of `rigsim export`) and rig_topdown.svg into
+// `dir`. Returns the "outputs" record; its notes are also appended to `notes`.
+Json WriteExports(const RigCalibrationResult& r, const CalibrationInputs& inputs, const fs::path& dir,
+                  std::vector<std::string>* notes) {
+  const ExportSelection selection = SelectExports(r, inputs.frames);
+  Json omitted = Json::array(), notes_json = Json::array(), colmap_frames = Json::array();
+  for (const auto& [name, status] : selection.cameras_omitted) omitted.push_back({{"name", name}, {"status", status}});
+  Json files = {"rig.json", "pairs.json"};
+  auto note = [&](const std::string& text) {
+    notes->push_back(r.semantic_mode + ": " + text);
+    notes_json.push_back(text);
+  };
+  if (!selection.cameras_omitted.empty()) {
+    std::string names;
+    for (const auto& o : selection.cameras_omitted) names += (names.empty() ? "" : ", ") + o.first;
+    note("camchain.yaml, opencv.yaml and colmap/ leave out the cameras without a full pose: " + names +
+         " (see rig.json and evaluation.json for why)");
+  }
+  try {
+    json_io::WriteTextAtomic(dir / "rig_topdown.svg",
+                             RigTopDownSvg(TopDownPlot(r, inputs.truth, selection.cameras_exported.size())));
+    files.push_back("rig_topdown.svg");
+  } catch (const std::invalid_argument& e) {
+    note(std::string("rig_topdown.svg not written: ") + e.what());
+  }
+  if (selection.calibrated.cameras.empty()) {
+    note("no camera has a pose: no camchain.yaml, opencv.yaml or colmap/");
+  } else {
+    try {
+      WriteKalibrCamchain(selection.calibrated, dir / "camchain.yaml");
+      files.push_back("camchain.yaml");
+    } catch (const std::invalid_argument& e) {  // a model Kalibr cannot express
+      note(std::string("camchain.yaml not written: ") + e.what());
+    }
+    WriteOpenCvRigYaml(selection.calibrated, dir / "opencv.yaml");
+    files.push_back("opencv.yaml");
+    const DatasetLayout layout(inputs.dataset_dir);
+    ColmapExportOptions colmap;
+    colmap.image_name = [&layout](const std::string& cam, const std::string& frame) { return layout.ImageName(cam, frame); };
+    WriteColmapModel(selection.calibrated, selection.colmap_frames, dir / "colmap", colmap);
+    for (const Frame& f : selection.colmap_frames.frames) colmap_frames.push_back(f.name);
+    files.push_back("colmap/cameras.txt");
+    files.push_back("colmap/images.txt");
+    files.push_back("colmap/points3D.txt");
+  }
+  return {{"dir", r.semantic_mode},
+          {"files", files},
+          {"cameras_exported", selection.cameras_exported},
+          {"cameras_omitted", omitted},
+          {"colmap_frames", colmap_frames},
+          {"colmap_frames_omitted", selection.colmap_frames_omitted},
+          {"notes", notes_json}};
+}
+
+// Per inlier of a sample, whether the ground truth calls it right (1) or wrong (0), by the match
+// precision's own test (calibrator/evaluation.h CheckMatches); empty without the truth or depth.
+std::vector<signed char> SampleVerdicts(const PairInlierSample& s, const CalibrationInputs& inputs,
+                                        const std::string& frame, const MatchPrecisionOptions& precision) {
+  if (!inputs.truth) return {};
+  const DatasetLayout layout(inputs.dataset_dir);
+  const fs::path depth_a = layout.Depth(s.cam_a, frame), depth_b = layout.Depth(s.cam_b, frame);
+  if (!fs::exists(depth_a) || !fs::exists(depth_b)) return {};
+  const Rig& truth = *inputs.truth;
+  const RigCamera& a = truth.cameras.at(truth.FindCamera(s.cam_a));
+  const RigCamera& b = truth.cameras.at(truth.FindCamera(s.cam_b));
+  std::vector<Eigen::Vector2d> px_a, px_b;
+  for (const auto& [pa, pb] : s.points) {
+    px_a.push_back(pa);
+    px_b.push_back(pb);
+  }
+  const std::vector<char> ok = CheckMatches(px_a, px_b, a.camera, ReadImageF(depth_a), b.camera, ReadImageF(depth_b),
+                                            *b.cam_from_rig * a.cam_from_rig->Inverse(), precision);
+  return std::vector<signed char>(ok.begin(), ok.end());
+}
+
+// <mode>/matches/<cam_a>-<cam_b>.jpg: each pair's two-view inliers in its best frame, drawn over
+// the two photos with the cameras' names, right and wrong by the ground truth when it is known,
+// pairs in parallel (decoding two 6-megapixel JPEGs per pair is most of the work).
+// Returns the files written (relative to `dir`), in the pairs' order.
+std::vector<std::string> WriteMatchImages(const RigCalibrationResult& r, const CalibrationInputs& inputs,
+                                          const fs::path& dir, int num_threads, const MatchPrecisionOptions& precision) {
+  const DatasetLayout layout(inputs.dataset_dir);
+  const FramesFile& frames = inputs.frames;
+  std::vector<std::string> written(r.inlier_samples.size());
+  fs::create_directories(dir / "matches");
+  tbb::task_arena arena(num_threads > 0 ? num_threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(size_t(0), r.inlier_samples.size(), [&](size_t i) {
+      const PairInlierSample& s = r.inlier_samples[i];
+      if (s.frame < 0 || size_t(s.frame) >= frames.frames.size()) return;
+      const std::string& frame = frames.frames[s.frame].name;
+      const auto path_a = layout.FindImage(s.cam_a, frame), path_b = layout.FindImage(s.cam_b, frame);
+      if (!path_a || !path_b) return;
+      const std::string name = "matches/" + s.cam_a + "-" + s.cam_b + ".jpg";
+      const MatchAnnotation note{s.cam_a, s.cam_b, SampleVerdicts(s, inputs, frame, precision)};
+      WriteImage(dir / name, DrawMatches(ReadImageU8(*path_a, 3), ReadImageU8(*path_b, 3), s.points, {}, note));
+      written[i] = name;
+    });
+  });
+  std::vector<std::string> files;
+  for (std::string& name : written) {
+    if (!name.empty()) files.push_back(std::move(name));
+  }
+  if (files.empty()) fs::remove(dir / "matches");
+  return files;
+}
+
+}  // namespace
+
+ExportSelection SelectExports(const RigCalibrationResult& r, const FramesFile& frames) {
+  ExportSelection out;
+  out.calibrated = r.rig.PosedCameras();
+  for (size_t c = 0; c < r.rig.cameras.size(); ++c) {
+    const RigCamera& rc = r.rig.cameras[c];
+    if (rc.cam_from_rig) {
+      out.cameras_exported.push_back(rc.name);
+    } else {
+      out.cameras_omitted.emplace_back(rc.name, c < r.camera_status.size() ? r.camera_status[c] : "");
+    }
+  }
+  for (size_t k = 0; k < frames.frames.size(); ++k) {
+    const Frame& f = frames.frames[k];
+    std::optional<Rigid3d> rig_from_world;
+    if (k < r.rig_from_world.size()) {
+      rig_from_world = r.rig_from_world[k];
+    } else if (k == 0) {
+      rig_from_world = Rigid3d();  // without positions only frame 0 has a pose: its rig frame is the world
+    }
+    if (rig_from_world) {
+      out.colmap_frames.frames.push_back(Frame{f.name, rig_from_world, f.timestamp_s});
+    } else {
+      out.colmap_frames_omitted.push_back(f.name);
+    }
+  }
+  return out;
+}
+
+const RigEdgeStats* RigEdgeOf(const RigCalibrationResult& result, const PairResult& pair) {
+  const RigEdgeStats* found = nullptr;
+  for (const RigEdgeStats& e : result.edges) {
+    if (e.cam_a == pair.cam_a && e.cam_b == pair.cam_b) found = &e;
+  }
+  return found;
+}
+
+Json LabelSourceJson(const LabelSource& source, bool used) {
+  Json j = {{"kind", source.KindName()}, {"description", source.Describe()}, {"used", used}};
+  if (source.kind == LabelSource::Kind::kFolder) j["folder"] = fs::absolute(source.folder).lexically_normal().string();
+  if (source.kind == LabelSource::Kind::kNoisy) {
+    j["noise"] = {{"boundary_px", source.noise.boundary_px},
+                  {"confusion_rate", source.noise.confusion_rate},
+                  {"blob_size_px", source.noise.blob_size_px},
+                  {"seed", source.noise.seed}};
+  }
+  return j;
+}
+
+Json PairsJson(const RigCalibrationResult& result, const Json& label_source, const OverlapTable& overlap) {
+  Json pairs = Json::array();
+  for (const PairResult& pr : result.pairwise.pairs) {
+    Json pair = PairResultToJson(pr);
+    pair["pair_type"] = pr.two_view.success ? std::string(PairTypeName(pr.two_view.pair_type)) : "failed";
+    const auto ov = overlap.find({pr.cam_a, pr.cam_b});
+    pair["overlap"] = ov != overlap.end() ? Json(ov->second) : Json(nullptr);
+    pair["rig_edge"] = nullptr;
+    if (const RigEdgeStats* e = RigEdgeOf(result, pr)) {
+      pair["rig_edge"] = {{"used", e->used},
+                          {"status", e->status},
+                          {"rotation_outlier", e->rotation_outlier},
+                          {"rotation_residual_deg", json_io::OptionalNumber(e->rotation_residual_deg)}};
+    }
+    pairs.push_back(std::move(pair));
+  }
+  return {{"semantic_mode", result.semantic_mode},
+          {"label_source", label_source},
+          {"num_frames", result.pairwise.num_frames},
+          {"units",
+           {{"median_residual_deg", "median angular epipolar residual of the pair's two-view inliers (deg)"},
+            {"rotation_error_deg", "angle of R_est R_true^T (deg), when rig.json has the truth"},
+            {"translation_direction_error_deg", "angle between estimated and true baseline directions (deg)"},
+            {"rig_edge.rotation_residual_deg", "the final rig's relative rotation vs this pair's (deg)"}}},
+          {"pairs", pairs}};
+}
+
+Json EvaluationJson(const std::vector<RigCalibrationResult>& results) {
+  std::vector<CalibrationReport> pairwise;
+  for (const RigCalibrationResult& r : results) pairwise.push_back(r.pairwise);
+  Json evaluation = ReportToJson(pairwise);
+  const Json rig = RigCalibrationToJson(results);
+  for (const RigCalibrationResult& r : results) {
+    Json entry = rig["methods"][r.semantic_mode];
+    entry.erase("pairwise");  // already the method's own entry
+    evaluation["methods"][r.semantic_mode]["rig"] = entry;
+  }
+  return evaluation;
+}
+
+std::vector<std::string> WriteCalibrationResults(const CalibrationRun& run, const std::filesystem::path& dir) {
+  std::vector<std::string> notes;
+  Json evaluation = EvaluationJson(run.results);
+  evaluation["label_source"] = LabelSourceJson(run.options.pairwise.labels, run.labels_used);
+  for (const RigCalibrationResult& r : run.results) {
+    const fs::path mode_dir = dir / r.semantic_mode;
+    fs::create_directories(mode_dir);
+    WriteRig(r.rig, mode_dir / "rig.json");
+    json_io::WriteTextAtomic(mode_dir / "pairs.json",
+                             PairsJson(r, evaluation["label_source"], run.inputs.overlap).dump(2) + "\n");
+    Json& outputs = evaluation["methods"][r.semantic_mode]["outputs"];
+    outputs = WriteExports(r, run.inputs, mode_dir, &notes);
+    for (const std::string& file : WriteMatchImages(r, run.inputs, mode_dir, run.options.pairwise.num_threads,
+                                                       run.options.pairwise.precision)) {
+      outputs["files"].push_back(file);
+    }
+  }
+  json_io::WriteTextAtomic(dir / "evaluation.json", evaluation.dump(2) + "\n");
+  return notes;
+}
+
+}  // namespace rigsim

@@ -1,0 +1,168 @@
+#include "pipeline/report_table.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "geometry/json_io.h"
+
+namespace rigsim {
+namespace {
+
+std::string Fmt(const char* fmt, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), fmt, v);
+  return buf;
+}
+
+std::string Opt(const std::optional<double>& v, const char* fmt) { return v ? Fmt(fmt, *v) : "-"; }
+
+std::optional<double> Percent(const std::optional<double>& fraction) {
+  if (!fraction) return std::nullopt;
+  return 100.0 * *fraction;
+}
+
+std::optional<double> OverlapOf(const OverlapTable& overlap, const PairResult& p) {
+  const auto it = overlap.find({p.cam_a, p.cam_b});
+  if (it == overlap.end()) return std::nullopt;
+  return it->second;
+}
+
+bool IsNeighbour(const OverlapTable& overlap, const PairResult& p) {
+  const auto o = OverlapOf(overlap, p);
+  return overlap.empty() || (o && *o >= kNeighbourOverlap);
+}
+
+std::optional<double> Median(std::vector<double> v) {
+  if (v.empty()) return std::nullopt;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+}  // namespace
+
+OverlapTable ReadOverlap(const std::filesystem::path& overlap_json) {
+  OverlapTable table;
+  if (!std::filesystem::exists(overlap_json)) return table;
+  const json_io::Json j = json_io::ReadFile(overlap_json);
+  if (!j.contains("pairs") || !j["pairs"].is_array()) {
+    throw std::runtime_error(overlap_json.string() + ": expected a 'pairs' array");
+  }
+  for (const auto& p : j["pairs"]) {
+    const std::string src = overlap_json.string();
+    const auto a = json_io::Get<std::string>(p, "a", src, "pairs[]");
+    const auto b = json_io::Get<std::string>(p, "b", src, "pairs[]");
+    const double ab = json_io::Get<double>(p, "overlap_a_in_b", src, "pairs[]");
+    const double ba = json_io::Get<double>(p, "overlap_b_in_a", src, "pairs[]");
+    table[{a, b}] = table[{b, a}] = std::min(ab, ba);
+  }
+  return table;
+}
+
+std::string FormatPairTable(const std::vector<CalibrationReport>& reports, const OverlapTable& overlap) {
+  std::ostringstream out;
+  char line[256];
+  std::snprintf(line, sizeof(line), "%-14s %7s  %-10s %8s %8s %9s %10s %10s  %-13s  %s\n", "pair", "overlap",
+                "method", "matches", "inliers", "precision", "rot_err", "t_dir_err", "type", "status");
+  out << line;
+  if (reports.empty()) return out.str();
+  for (size_t i = 0; i < reports[0].pairs.size(); ++i) {
+    for (size_t m = 0; m < reports.size(); ++m) {
+      const PairResult& p = reports[m].pairs[i];
+      const std::string pair = m == 0 ? p.cam_a + "-" + p.cam_b : "";
+      const std::string ov = m == 0 ? Opt(Percent(OverlapOf(overlap, p)), "%.0f%%") : "";
+      // Type: what the matches determine (two_view.h: general, planar, rotation-only).
+      const TwoViewEstimate& tv = p.two_view;
+      const std::string type = tv.success ? std::string(PairTypeName(tv.pair_type)) : "-";
+      std::string status = tv.success ? "ok" : tv.failure_reason;
+      if (status.size() > 48) status = status.substr(0, 45) + "...";
+      std::snprintf(line, sizeof(line), "%-14s %7s  %-10s %8d %8d %9s %10s %10s  %-13s  %s\n", pair.c_str(), ov.c_str(),
+                    reports[m].semantic_mode.c_str(), tv.num_matches, tv.num_inliers,
+                    Opt(Percent(p.match_precision), "%.1f%%").c_str(),
+                    tv.success ? Opt(p.rotation_error_deg, "%.3f deg").c_str() : "-",
+                    tv.success ? Opt(p.translation_direction_error_deg, "%.2f deg").c_str() : "-", type.c_str(),
+                    status.c_str());
+      out << line;
+    }
+  }
+  return out.str();
+}
+
+std::string FormatSummary(const std::vector<CalibrationReport>& reports, const OverlapTable& overlap) {
+  std::ostringstream out;
+  for (const CalibrationReport& r : reports) {
+    std::vector<double> rot, tdir, prec;
+    int neighbours = 0, solved = 0;
+    for (const PairResult& p : r.pairs) {
+      if (!IsNeighbour(overlap, p)) continue;
+      ++neighbours;
+      if (p.match_precision) prec.push_back(*p.match_precision);
+      if (!p.two_view.success) continue;
+      ++solved;
+      if (p.rotation_error_deg) rot.push_back(*p.rotation_error_deg);
+      if (p.translation_direction_error_deg) tdir.push_back(*p.translation_direction_error_deg);
+    }
+    // Without overlap.json (photos) every pair counts: whether two views overlap is not known.
+    out << r.semantic_mode << ": " << solved << "/" << neighbours
+        << (overlap.empty() ? " pairs solved" : " overlapping pairs solved") << ", median rotation error " << Opt(Median(rot), "%.4f deg")
+        << ", median translation direction error " << Opt(Median(tdir), "%.2f deg") << ", median match precision "
+        << Opt(Percent(Median(prec)), "%.1f%%") << "; "
+        << Fmt("%.0f", r.mean_keypoints_per_image) << " keypoints/image; time detect "
+        << Fmt("%.2f s", r.detect_time_s) << ", screen " << Fmt("%.2f s", r.screen_time_s) << ", match "
+        << Fmt("%.2f s", r.match_time_s + r.temporal_match_time_s) << ", pose "
+        << Fmt("%.2f s", r.pose_time_s + r.temporal_pose_time_s) << " (summed over threads)\n";
+  }
+  return out.str();
+}
+
+std::string FormatRigTable(const std::vector<RigCalibrationResult>& results) {
+  std::ostringstream out;
+  char line[512];
+  std::snprintf(line, sizeof(line), "%-10s %-10s %10s %10s %10s %10s %8s  %s\n", "camera", "method", "rot_err",
+                "t_dir_err", "t_dir_std", "pos_err", "obs", "status");
+  out << line;
+  if (results.empty()) return out.str();
+  for (size_t c = 0; c < results[0].rig.cameras.size(); ++c) {
+    for (size_t m = 0; m < results.size(); ++m) {
+      const RigCalibrationResult& r = results[m];
+      const RigCameraStats& st = r.camera_stats[c];
+      std::string status = r.camera_status[c];
+      if (status.size() > 70) status = status.substr(0, 67) + "...";
+      std::snprintf(line, sizeof(line), "%-10s %-10s %10s %10s %10s %10s %8d  %s\n",
+                    m == 0 ? r.rig.cameras[c].name.c_str() : "", r.semantic_mode.c_str(),
+                    Opt(st.rotation_error_deg, "%.3f deg").c_str(), Opt(st.translation_direction_error_deg, "%.2f deg").c_str(),
+                    Opt(st.direction_std_deg, "%.3f deg").c_str(), Opt(st.position_error_m, "%.3f m").c_str(),
+                    st.observations, status.c_str());
+      out << line;
+    }
+  }
+  return out.str();
+}
+
+std::string FormatRigSummary(const std::vector<RigCalibrationResult>& results) {
+  std::ostringstream out;
+  for (const RigCalibrationResult& r : results) {
+    int calibrated = 0;
+    std::optional<double> worst_rot, worst_dir;
+    // Over every camera with an estimate, "rotation only" ones included, as evaluation.json's summary.
+    for (size_t c = 0; c < r.camera_stats.size(); ++c) {
+      const RigCameraStats& st = r.camera_stats[c];
+      if (st.rotation_error_deg) worst_rot = std::max(worst_rot.value_or(0.0), *st.rotation_error_deg);
+      if (st.translation_direction_error_deg) worst_dir = std::max(worst_dir.value_or(0.0), *st.translation_direction_error_deg);
+      calibrated += r.rig.cameras[c].cam_from_rig.has_value();
+    }
+    out << r.semantic_mode << ": " << calibrated << "/" << r.rig.cameras.size() << " cameras calibrated";
+    if (r.evaluated) {
+      out << ", worst rotation error " << Opt(worst_rot, "%.4f deg") << ", worst translation direction error "
+          << Opt(worst_dir, "%.2f deg");
+    }
+    out << ", reprojection RMS " << Fmt("%.2f px", r.reprojection_rms_px) << " over " << r.num_observations
+        << " observations; " << r.scale << "\n";
+    for (const std::string& w : r.warnings) out << "  warning: " << w << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace rigsim

@@ -1,0 +1,64 @@
+#include "pipeline/report_table.h"
+
+#include <gtest/gtest.h>
+
+namespace rigsim {
+namespace {
+
+PairResult Pair(const std::string& a, const std::string& b, bool success, double rot_err) {
+  PairResult p;
+  p.cam_a = a;
+  p.cam_b = b;
+  p.two_view.success = success;
+  p.two_view.num_matches = 100;
+  p.two_view.num_inliers = success ? 80 : 0;
+  if (success) p.rotation_error_deg = rot_err;
+  if (!success) p.two_view.failure_reason = "too few inliers";
+  return p;
+}
+
+CalibrationReport Report() {
+  CalibrationReport r;
+  r.semantic_mode = "none";
+  r.pairs = {Pair("cam0", "cam1", true, 0.1), Pair("cam0", "cam2", false, 0), Pair("cam1", "cam2", true, 0.3)};
+  return r;
+}
+
+TEST(FormatPairTable, OneRowPerPairAndMethod) {
+  OverlapTable overlap;
+  overlap[{"cam0", "cam1"}] = 0.34;
+  const std::string table = FormatPairTable({Report()}, overlap);
+  EXPECT_NE(table.find("cam0-cam1"), std::string::npos) << table;
+  EXPECT_NE(table.find("34%"), std::string::npos) << table;
+  EXPECT_NE(table.find("0.100 deg"), std::string::npos) << table;
+  EXPECT_NE(table.find("too few inliers"), std::string::npos) << table;
+  EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 4) << table;  // header and 3 pairs
+}
+
+TEST(FormatSummary, CountsOnlyOverlappingPairsWhenOverlapIsKnown) {
+  OverlapTable overlap;
+  overlap[{"cam0", "cam1"}] = overlap[{"cam1", "cam0"}] = 0.34;
+  overlap[{"cam1", "cam2"}] = overlap[{"cam2", "cam1"}] = 0.01;  // below kNeighbourOverlap
+  EXPECT_NE(FormatSummary({Report()}, overlap).find("none: 1/1 overlapping pairs solved"), std::string::npos);
+  EXPECT_NE(FormatSummary({Report()}, {}).find("none: 2/3 pairs solved, median rotation error 0.2000 deg"),
+            std::string::npos)
+      << FormatSummary({Report()}, {});
+}
+
+TEST(FormatRigTable, OneRowPerCameraAndMethod) {
+  RigCalibrationResult r;
+  r.semantic_mode = "mask";
+  r.rig.cameras = {{"cam0", Camera(CameraModelId::kPinhole, 64, 48, {50, 50, 32, 24}), Rigid3d(), 0.0},
+                   {"cam1", Camera(CameraModelId::kPinhole, 64, 48, {50, 50, 32, 24}), std::nullopt, 0.0}};
+  r.camera_status = {"calibrated (reference: rig frame)", "not connected: cam0-cam1: two-view failed"};
+  r.camera_stats.assign(2, {});
+  r.camera_stats[0].rotation_error_deg = 0.0;
+  r.evaluated = true;
+  r.scale = "no scale";
+  const std::string table = FormatRigTable({r});
+  EXPECT_NE(table.find("not connected"), std::string::npos) << table;
+  EXPECT_NE(FormatRigSummary({r}).find("mask: 1/2 cameras calibrated"), std::string::npos) << FormatRigSummary({r});
+}
+
+}  // namespace
+}  // namespace rigsim

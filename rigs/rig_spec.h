@@ -1,0 +1,51 @@
+// A rig as `rigsim make-rig` builds it: a preset type with its options, mounting errors, and its
+// path over the frames, placed in a scene when one is given (where it stands and, for a ring with
+// a target overlap, the spacing that gives that overlap there). The one place where type, lens,
+// placement, overlap and trajectory meet: the command line and sweeps both build rigs here.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "dataset/dataset.h"
+#include "geometry/rig.h"
+#include "rigs/placement.h"
+#include "rigs/rig_presets.h"
+#include "rigs/trajectories.h"
+#include "scene/scene.h"
+
+namespace rigsim {
+
+struct RigSpec {
+  std::string type = "ring";  // ring, stereo, surround, wide-baseline
+  RingRigOptions ring;
+  StereoRigOptions stereo;
+  SurroundRigOptions surround;
+  WideBaselineRigOptions wide;
+  // Set for every type (each type's options are overridden by these when given).
+  int width = 1280;
+  int height = 720;
+  std::optional<double> hfov_deg;    // the type's perspective cameras (surround: the front camera)
+  std::optional<double> baseline_m;  // stereo, wide-baseline
+  std::optional<LensOptions> lens;   // every camera's lens instead of the type's own
+  // Ring: the overlap of neighbours (percent); placed in a scene, the ground-truth overlap there.
+  double overlap_percent = 0.0;
+  RigPerturbation perturbation;
+  TrajectoryOptions trajectory;  // start and heading are chosen by the placement in a scene
+  PlacementOptions placement;    // in a scene
+};
+
+// The rig of the spec's type with the overrides applied, before mounting errors.
+Rig BuildPresetRig(const RigSpec& spec);
+
+struct PlacedRig {
+  Rig rig;
+  FramesFile frames;
+  std::optional<RigPlacement> placement;  // where the placement put it, in a scene
+};
+
+// The rig with its mounting errors and its frames; with `scene`, placed in it (nullopt when no
+// place qualifies). Throws std::invalid_argument on bad options.
+std::optional<PlacedRig> MakePlacedRig(const RigSpec& spec, const Scene* scene);
+
+}  // namespace rigsim

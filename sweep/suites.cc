@@ -1,0 +1,62 @@
+#include "sweep/suites.h"
+
+#include <stdexcept>
+
+#include "common/did_you_mean.h"
+
+namespace rigsim {
+
+using Json = nlohmann::ordered_json;
+
+std::vector<std::string> SuiteNames() { return {"thesis"}; }
+std::vector<std::string> SuiteSizes() { return {"small", "full"}; }
+
+namespace {
+
+Json Thesis(bool full) {
+  // The base point: a 4-camera ring on the street at 30% overlap, driving a left turn over three
+  // frames (a turning path fixes each camera's place in the rig), at 640x360.
+  Json config = Json::parse(R"({
+    "name": "thesis",
+    "description": "The thesis's four claims about semantic masking, across overlap, baseline, lens, label noise and scenes",
+    "base": {"scene": "street", "rig": "ring", "cameras": 4, "overlap": 30, "width": 640, "height": 360,
+             "frames": 3, "spp": 2, "trajectory": "circle", "circle_radius": 12, "step": 2}
+  })");
+  if (full) {
+    config["seeds"] = 3;
+    config["methods"] = {{"semantics", {"none", "mask", "gated", "mask+gated"}}, {"peers", {"colmap"}}};
+    config["studies"] = Json::parse(R"([
+      {"name": "overlap", "grid": {"overlap": [5, 15, 30, 50]}},
+      {"name": "baseline", "set": {"rig": "wide-baseline", "convergence": 30}, "grid": {"baseline": [0.1, 0.5, 2, 5]}},
+      {"name": "lens", "zip": {"lens": ["pinhole", "opencv", "fisheye", "fisheye"], "fisheye_fov": [190, 190, 150, 190]}},
+      {"name": "label-noise", "zip": {"label_boundary": [0, 3, 6, 10], "label_confusion": [0, 0.1, 0.2, 0.3]}},
+      {"name": "scene", "grid": {"scene": ["street", "plaza", "parking"]}}
+    ])");
+  } else {
+    config["seeds"] = 1;
+    config["methods"] = {{"semantics", {"none", "mask"}}, {"peers", {"colmap"}}};
+    config["studies"] = Json::parse(R"([
+      {"name": "overlap", "grid": {"overlap": [15, 30]}},
+      {"name": "baseline", "set": {"rig": "wide-baseline", "convergence": 30}, "grid": {"baseline": [0.5, 2]}},
+      {"name": "lens", "zip": {"lens": ["pinhole", "fisheye"], "fisheye_fov": [190, 190]}},
+      {"name": "label-noise", "zip": {"label_boundary": [0, 6], "label_confusion": [0, 0.2]}},
+      {"name": "scene", "grid": {"scene": ["street", "plaza"]}}
+    ])");
+  }
+  return config;
+}
+
+}  // namespace
+
+Json SuiteConfig(const std::string& name, const std::string& size) {
+  if (name != "thesis") {
+    throw std::invalid_argument("--suite: unknown suite '" + name + "'; the built-in suites are: thesis" +
+                                DidYouMean(name, SuiteNames()));
+  }
+  if (size != "small" && size != "full") {
+    throw std::invalid_argument("--size: give small or full (got '" + size + "')" + DidYouMean(size, SuiteSizes()));
+  }
+  return Thesis(size == "full");
+}
+
+}  // namespace rigsim

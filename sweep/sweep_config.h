@@ -1,0 +1,107 @@
+// What a sweep runs: a config file (JSON or YAML) names the parameters of a calibration
+// experiment (scene, rig, lens, images, label noise, ...), the values to sweep, the seeds and the
+// methods; it expands into cells, each a complete set of parameters.
+//
+//   name: lens-study
+//   base: {rig: ring, cameras: 4, overlap: 30, width: 640, height: 360}  # defaults for every cell
+//   seeds: [1, 2, 3]                          # every cell once per seed
+//   methods: {semantics: [none, mask], features: [sift], peers: [colmap]}
+//   grid: {overlap: [5, 15, 30, 50]}           # crossed: every combination of these axes
+//   zip: {lens: [pinhole, fisheye], fisheye_fov: [90, 190]}  # taken together, value i with value i
+//
+// or, for several sweeps around one base, `studies: [{name, set, grid, zip}, ...]` (`set` fixes
+// parameters for that study only). A cell that several studies share (the base point) runs once.
+// Every parameter has a default (CellParamSpecs); a misspelt one is refused with a suggestion.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace rigsim {
+
+// One cell parameter: its name in the config and the results, its type and its default.
+struct ParamSpec {
+  enum class Kind { kInt, kNumber, kBool, kChoice, kText };
+  std::string name;
+  Kind kind = Kind::kNumber;
+  nlohmann::ordered_json default_value;       // null: "not set" (e.g. overlap: use spacing)
+  std::vector<std::string> choices;   // kChoice
+  double min = 0.0, max = 0.0;        // kInt, kNumber: the allowed range
+  std::string help;
+};
+
+// Every cell parameter, in the order of the results' columns.
+const std::vector<ParamSpec>& CellParamSpecs();
+
+// A sweep axis: a parameter and the values it takes.
+struct SweepAxis {
+  std::string param;
+  std::vector<nlohmann::ordered_json> values;
+};
+
+struct SweepStudy {
+  std::string name;
+  nlohmann::ordered_json set = nlohmann::ordered_json::object();  // parameters fixed for this study
+  std::vector<SweepAxis> grid;                    // crossed
+  std::vector<SweepAxis> zip;                     // taken together (equal lengths)
+  // The parameters this study varies, grid first.
+  std::vector<std::string> VariedParams() const;
+};
+
+// A way of calibrating a cell's images: rigsim in one semantic mode with one feature type, or a
+// peer tool.
+struct SweepMethod {
+  std::string name;       // "none", "mask", "orb:none" (feature type named unless SIFT), "colmap"
+  std::string tool;       // "rigsim" or "colmap"
+  std::string semantics;  // rigsim: none, mask, gated, mask+gated
+  std::string features;   // rigsim: sift, rootsift, orb, akaze
+};
+
+struct SweepConfig {
+  std::string name;
+  std::filesystem::path source;  // the config file; relative scene paths are relative to its folder
+  nlohmann::ordered_json base = nlohmann::ordered_json::object();
+  std::vector<uint64_t> seeds = {1};
+  std::vector<SweepMethod> methods;
+  std::vector<SweepStudy> studies;
+};
+
+struct SweepCell {
+  int index = 0;                    // position in the sweep (0-based), for people
+  std::string key;                  // 16 hex digits of the parameters' hash: names the cell's files
+  nlohmann::ordered_json params;            // every parameter of CellParamSpecs, defaults filled in, and "seed"
+  std::vector<std::string> studies; // the studies that include it
+};
+
+// Reads a .json, .yaml or .yml config. Throws std::runtime_error naming the file and the key
+// (e.g. "sweep.yaml: studies[1].grid.overlpa: unknown parameter (did you mean 'overlap'?)").
+SweepConfig ReadSweepConfig(const std::filesystem::path& path);
+// The same from parsed JSON; `source` names it in errors.
+SweepConfig ParseSweepConfig(const nlohmann::ordered_json& j, const std::string& source);
+// YAML text as JSON (plain scalars become numbers, booleans and null as YAML 1.2 reads them;
+// quoted ones stay strings). Throws std::runtime_error("<source>:<line>:<column>: ...").
+nlohmann::ordered_json YamlToJson(const std::string& text, const std::string& source);
+
+// The cells of every study, in study order, each study's combinations in order (the first axis
+// varying slowest), seeds innermost; a cell already produced by an earlier study is not repeated.
+std::vector<SweepCell> ExpandCells(const SweepConfig& config);
+
+// Hash (16 hex digits) of what a sweep computes: the cells' parameters and the methods. Shards and
+// resumed runs of one sweep share it.
+std::string SweepHash(const SweepConfig& config);
+
+// A parameter value for people: text as it is, numbers without trailing zeros ("30", "0.5"),
+// null as "unset".
+std::string FormatParamValue(const nlohmann::ordered_json& value);
+
+// 64-bit FNV-1a of a text, as 16 hex digits: stable across machines and builds.
+std::string StableHash(const std::string& text);
+
+// The config as JSON (what was read, normalised), recorded in the results.
+nlohmann::ordered_json SweepConfigToJson(const SweepConfig& config);
+
+}  // namespace rigsim

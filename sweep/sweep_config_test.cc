@@ -1,0 +1,170 @@
+#include "sweep/sweep_config.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "testing/expect_error.h"
+
+namespace rigsim {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// A call that reads `text` as sweep.json.
+auto Parsing(const std::string& text) {
+  return [j = Json::parse(text)] { ParseSweepConfig(j, "sweep.json"); };
+}
+
+TEST(SweepConfig, GridCrossesAxesZipPairsThemAndSeedsAreInnermost) {
+  const Json j = Json::parse(R"({
+    "name": "t", "seeds": [1, 2],
+    "base": {"width": 320, "height": 180},
+    "grid": {"overlap": [10, 20], "frames": [2, 3]},
+    "zip": {"lens": ["pinhole", "fisheye"], "fisheye_fov": [90, 190]}})");
+  const SweepConfig c = ParseSweepConfig(j, "sweep.json");
+  const std::vector<SweepCell> cells = ExpandCells(c);
+  ASSERT_EQ(cells.size(), 2u * 2u * 2u * 2u);
+  // First axis slowest, zip next to last, seed innermost.
+  EXPECT_EQ(cells[0].params["overlap"], 10.0);
+  EXPECT_EQ(cells[0].params["frames"], 2);
+  EXPECT_EQ(cells[0].params["lens"], "pinhole");
+  EXPECT_EQ(cells[0].params["fisheye_fov"], 90.0);
+  EXPECT_EQ(cells[0].params["seed"], 1);
+  EXPECT_EQ(cells[1].params["seed"], 2);
+  EXPECT_EQ(cells[2].params["lens"], "fisheye");
+  EXPECT_EQ(cells[2].params["fisheye_fov"], 190.0);
+  EXPECT_EQ(cells[4].params["frames"], 3);
+  EXPECT_EQ(cells[8].params["overlap"], 20.0);
+  // Base values and defaults are filled in.
+  EXPECT_EQ(cells[5].params["width"], 320);
+  EXPECT_EQ(cells[5].params["rig"], "ring");
+  EXPECT_EQ(cells[5].params["scene_seed"], nullptr);
+  for (size_t i = 0; i < cells.size(); ++i) {
+    EXPECT_EQ(cells[i].index, static_cast<int>(i));
+    EXPECT_EQ(cells[i].key.size(), 16u);
+    for (size_t k = 0; k < i; ++k) EXPECT_NE(cells[i].key, cells[k].key);
+  }
+  // Methods default to none and mask with SIFT.
+  ASSERT_EQ(c.methods.size(), 2u);
+  EXPECT_EQ(c.methods[0].name, "none");
+  EXPECT_EQ(c.methods[1].name, "mask");
+}
+
+TEST(SweepConfig, StudiesShareTheirCommonCellAndSetFixesParameters) {
+  const Json j = Json::parse(R"({
+    "base": {"overlap": 30},
+    "methods": {"semantics": ["none"], "features": ["sift", "orb"], "peers": ["colmap"]},
+    "studies": [
+      {"name": "overlap", "grid": {"overlap": [15, 30]}},
+      {"name": "frames", "grid": {"frames": [2, 3]}},
+      {"name": "wide", "set": {"rig": "wide-baseline"}, "grid": {"baseline": [0.5, 2]}}]})");
+  const SweepConfig c = ParseSweepConfig(j, "sweep.json");
+  const std::vector<SweepCell> cells = ExpandCells(c);
+  // overlap=30 with frames=3 (the default) is the base point of both first studies: one cell.
+  ASSERT_EQ(cells.size(), 5u);
+  EXPECT_EQ(cells[1].params["overlap"], 30.0);
+  EXPECT_EQ(cells[1].studies, (std::vector<std::string>{"overlap", "frames"}));
+  EXPECT_EQ(cells[3].params["rig"], "wide-baseline");
+  EXPECT_EQ(cells[3].params["baseline"], 0.5);
+  EXPECT_EQ(cells[4].params["baseline"], 2.0);  // an integer in the file is the same number
+  std::vector<std::string> names;
+  for (const SweepMethod& m : c.methods) names.push_back(m.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"none", "orb:none", "colmap"}));
+}
+
+TEST(SweepConfig, HashesDependOnWhatIsComputedOnly) {
+  const Json a = Json::parse(R"({"name": "a", "grid": {"overlap": [10, 20]}})");
+  Json b = a;
+  b["name"] = "b";  // the name does not change what is computed
+  EXPECT_EQ(SweepHash(ParseSweepConfig(a, "a.json")), SweepHash(ParseSweepConfig(b, "b.json")));
+  Json c = a;
+  c["grid"]["overlap"] = {10, 25};
+  EXPECT_NE(SweepHash(ParseSweepConfig(a, "a.json")), SweepHash(ParseSweepConfig(c, "c.json")));
+  Json d = a;
+  d["methods"] = {{"semantics", {"none"}}};
+  EXPECT_NE(SweepHash(ParseSweepConfig(a, "a.json")), SweepHash(ParseSweepConfig(d, "d.json")));
+  EXPECT_EQ(StableHash(""), "cbf29ce484222325");  // FNV-1a 64 offset basis
+  EXPECT_EQ(StableHash("a"), "af63dc4c8601ec8c");
+}
+
+TEST(SweepConfig, ItsJsonReadsBackAsTheSameSweep) {
+  const SweepConfig c = ParseSweepConfig(Json::parse(R"({
+    "name": "round", "seeds": [4, 2], "base": {"width": 320},
+    "methods": {"semantics": ["mask", "none"], "features": ["orb", "sift"], "peers": ["colmap"]},
+    "studies": [{"name": "a", "set": {"rig": "stereo"}, "grid": {"baseline": [0.2, 0.4]}},
+                {"name": "b", "zip": {"lens": ["pinhole", "fisheye"], "fisheye_fov": [190, 150]}}]})"),
+                                         "round.json");
+  const SweepConfig back = ParseSweepConfig(SweepConfigToJson(c), "sweep.json");
+  EXPECT_EQ(SweepHash(back), SweepHash(c));
+  EXPECT_EQ(back.name, "round");
+  ASSERT_EQ(back.methods.size(), c.methods.size());
+  for (size_t i = 0; i < c.methods.size(); ++i) EXPECT_EQ(back.methods[i].name, c.methods[i].name);
+  const std::vector<SweepCell> a = ExpandCells(c), b = ExpandCells(back);
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].key, b[i].key);
+    EXPECT_EQ(a[i].studies, b[i].studies);
+  }
+  // A single top-level study keeps its name (the config's).
+  const SweepConfig one = ParseSweepConfig(Json::parse(R"({"name": "solo", "grid": {"frames": [2, 3]}})"), "s.json");
+  EXPECT_EQ(ParseSweepConfig(SweepConfigToJson(one), "sweep.json").studies[0].name, "solo");
+}
+
+TEST(SweepConfig, ErrorsNameTheFileTheKeyAndSuggestAFix) {
+  using E = std::runtime_error;
+  EXPECT_THAT(Parsing(R"({"grid": {"overlpa": [10]}})"),
+              ThrowsExactly<E>("sweep.json: grid.overlpa: unknown parameter (did you mean 'overlap'?); "
+                               "`rigsim sweep --list-params` lists them"));
+  EXPECT_THAT(Parsing(R"({"base": {"rig": "rign"}})"),
+              ThrowsExactly<E>("sweep.json: base.rig: 'rign' is not one of ring, stereo, surround, wide-baseline "
+                               "(did you mean 'ring'?)"));
+  EXPECT_THAT(Parsing(R"({"grid": {"overlap": [10, 200]}})"),
+              ThrowsExactly<E>("sweep.json: grid.overlap[1]: 200 is outside 1..95"));
+  EXPECT_THAT(Parsing(R"({"grid": {"cameras": [2.5]}})"),
+              ThrowsExactly<E>("sweep.json: grid.cameras[0]: must be a whole number, got 2.5"));
+  EXPECT_THAT(Parsing(R"({"zip": {"lens": ["pinhole"], "hfov": [60, 90]}})"),
+              ThrowsExactly<E>("sweep.json: zip: 'hfov' has 2 values and 'lens' 1: zipped axes need as many"));
+  EXPECT_THAT(Parsing(R"({"methods": {"semantics": ["mask+gatd"]}})"),
+              ThrowsExactly<E>("sweep.json: methods.semantics[0]: unknown semantics 'mask+gatd' "
+                               "(did you mean 'mask+gated'?)"));
+  EXPECT_THAT(Parsing(R"({"sedes": [1]})"),
+              ThrowsExactly<E>("sweep.json: sedes: unknown key (did you mean 'seeds'?); a config has name, "
+                               "description, base, seeds, methods, grid, zip and studies"));
+  EXPECT_THAT(Parsing(R"({"studies": [{"grid": {"frames": [2]}}]})"),
+              ThrowsExactly<E>("sweep.json: studies[0]: a study needs a name"));
+  EXPECT_THAT(Parsing(R"({"grid": {"frames": [2, 2]}})"),
+              ThrowsExactly<E>("sweep.json: grid.frames: value 2 is listed twice"));
+  EXPECT_THAT(Parsing(R"({"base": {"seed": 3}})"),
+              ThrowsExactly<E>("sweep.json: base.seed: give seeds with the top-level 'seeds' list, not as a parameter"));
+  // A zipped axis may repeat a value; the same combination twice is refused.
+  EXPECT_NO_THROW(Parsing(R"({"zip": {"lens": ["pinhole", "fisheye"], "fisheye_fov": [190, 190]}})")());
+  EXPECT_THAT(Parsing(R"({"zip": {"lens": ["fisheye", "fisheye"], "fisheye_fov": [190, 190]}})"),
+              ThrowsExactly<E>("sweep.json: zip: values [\"fisheye\",190.0] are listed twice"));
+}
+
+TEST(SweepConfig, YamlReadsLikeJson) {
+  const Json y = YamlToJson(R"(
+name: lens
+seeds: 2
+base: {width: 320, scene: "1"}
+grid:
+  overlap: [10, 20.5]
+  animated: [true, false]
+  hfov: [~]
+)",
+                            "sweep.yaml");
+  EXPECT_EQ(y["seeds"], 2);
+  EXPECT_EQ(y["base"]["width"], 320);
+  EXPECT_TRUE(y["base"]["width"].is_number_integer());
+  EXPECT_EQ(y["base"]["scene"], "1");  // quoted: stays text
+  EXPECT_EQ(y["grid"]["overlap"][1], 20.5);
+  EXPECT_EQ(y["grid"]["animated"][0], true);
+  EXPECT_TRUE(y["grid"]["hfov"][0].is_null());
+  const SweepConfig c = ParseSweepConfig(y, "sweep.yaml");
+  EXPECT_EQ(c.seeds, (std::vector<uint64_t>{1, 2}));
+  EXPECT_THAT([] { YamlToJson("grid: [1, 2\n", "bad.yaml"); },
+              testing::ThrowsMessage<std::runtime_error>(testing::StartsWith("bad.yaml:")));
+}
+
+}  // namespace
+}  // namespace rigsim

@@ -1,0 +1,130 @@
+#include "sweep/sweep_report.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <map>
+
+#include "sweep/sweep_plots.h"
+
+namespace rigsim {
+
+namespace {
+
+std::string Fmt(double v, const char* format = "%.3g") {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+std::string Percent(double share) { return Fmt(100.0 * share, "%.0f%%"); }
+
+std::string MedianRange(const MetricSpread& s, const char* format, const std::string& unit = "") {
+  if (!s.median) return "-";
+  std::string out = Fmt(*s.median, format) + unit;
+  if (s.count > 1 && *s.min != *s.max) out += " (" + Fmt(*s.min, format) + "-" + Fmt(*s.max, format) + ")";
+  return out;
+}
+
+std::string Cell(std::string s) {
+  std::replace(s.begin(), s.end(), '|', '/');
+  return s;
+}
+
+std::string ClaimSection(const std::vector<ClaimResult>& claims) {
+  if (claims.empty()) return "";
+  std::string md =
+      "## The thesis's claims\n\n"
+      "Semantic masking, compared with no semantics on the same images (each cell's method row paired with its "
+      "baseline row): a claim *holds* when the median over the paired cells favours it. Differences are method "
+      "minus baseline; ratios method over baseline; the range is over all paired cells. Accuracy counts as equal "
+      "when the AUC of the pair errors at 5 deg is within 0.02.\n\n"
+      "| method vs baseline | claim | metric | held | median (range) | cells in favour | does not hold at |\n"
+      "|---|---|---|---|---|---|---|\n";
+  for (const ClaimResult& c : claims) {
+    const char* format = c.metric == "cross_class_wrong" ? "%.0f" : "%.3g";
+    std::string value = "-";
+    if (c.median_difference) {
+      value = Fmt(*c.median_difference, format) + " (" + Fmt(*c.low, format) + " to " + Fmt(*c.high, format) + ")";
+      if (c.difference_kind == "ratio") value = Fmt(*c.median_difference, "%.2f") + "x (" + Fmt(*c.low, "%.2f") + "-" + Fmt(*c.high, "%.2f") + "x)";
+    }
+    std::string where;
+    for (size_t i = 0; i < c.fails_at.size() && i < 6; ++i) where += (i ? "; " : "") + c.fails_at[i];
+    if (c.fails_at.size() > 6) where += "; ... (" + std::to_string(c.fails_at.size()) + " in all)";
+    md += "| " + c.method + " vs " + c.baseline + " | " + c.claim + " | " + c.metric + " | " +
+          (c.decided ? (c.held ? "**held**" : "**not held**") : "undecided (no paired cells)") + " | " + value + " | " +
+          std::to_string(c.favourable) + "/" + std::to_string(c.pairs) + " | " + Cell(where.empty() ? "-" : where) +
+          " |\n";
+  }
+  return md + "\n";
+}
+
+std::string StudySection(const SweepStudy& study, const std::vector<SummaryRow>& summary,
+                         const std::vector<std::string>& plots) {
+  std::string md = "## Study: " + study.name + "\n\n";
+  const std::vector<std::string> varied = study.VariedParams();
+  if (!study.set.empty()) md += "Fixed for this study: `" + study.set.dump() + "`.\n\n";
+  for (const std::string& p : plots) {
+    if (p.rfind("plots/" + PlotFileStem(study.name) + "_", 0) == 0) md += "![" + p + "](" + p + ")\n";
+  }
+  md += "\n| " + std::string(varied.empty() ? "point" : "swept values") +
+        " | method | cells | failed | all within 1° | all within 2° | confidently wrong | AUC@5° (pairs) | "
+        "median rotation error | median direction error | match precision | wrong cross-class matches | "
+        "match time | total time | overlap achieved |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const SummaryRow& r : summary) {
+    if (r.study != study.name) continue;
+    md += "| " + Cell(r.point) + " | " + r.method + " | " + std::to_string(r.cells) + " | " + std::to_string(r.failed) +
+          " | " + Percent(r.success_1deg) + " | " + Percent(r.success_2deg) + " | " +
+          std::to_string(r.confidently_wrong) + " | " + MedianRange(r.auc_pairs_5deg, "%.2f") + " | " +
+          MedianRange(r.median_rotation_error_deg, "%.3g", "°") + " | " +
+          MedianRange(r.median_translation_direction_error_deg, "%.3g", "°") + " | " +
+          MedianRange(r.match_precision, "%.2f") + " | " + MedianRange(r.cross_class_wrong, "%.0f") + " | " +
+          MedianRange(r.time_match_s, "%.3g", " s") + " | " + MedianRange(r.time_total_s, "%.3g", " s") + " | " +
+          MedianRange(r.overlap_pct, "%.0f", "%") + " |\n";
+  }
+  return md + "\n";
+}
+
+}  // namespace
+
+std::string SweepReportMarkdown(const SweepReportInput& in) {
+  const SweepConfig& config = *in.config;
+  int failed_rows = 0, rows = 0;
+  std::map<std::string, int> reasons;
+  std::string failures;
+  for (size_t c = 0; c < in.records->size(); ++c) {
+    for (const MethodRow& r : (*in.records)[c].rows) {
+      ++rows;
+      if (r.status == "ok") continue;
+      ++failed_rows;
+      if (++reasons[r.failure_reason] <= 3) {
+        failures += "- cell " + std::to_string((*in.cells)[c].index) + " (`" + (*in.cells)[c].key + "`), " + r.method +
+                    ": " + r.failure_reason + "\n";
+      }
+    }
+  }
+  std::string methods;
+  for (const SweepMethod& m : config.methods) methods += (methods.empty() ? "" : ", ") + m.name;
+  std::string md = "# Sweep: " + config.name + "\n\n";
+  md += std::to_string(in.cells->size()) + " cells (" + std::to_string(config.studies.size()) + " studies, " +
+        std::to_string(config.seeds.size()) + " seeds each), methods " + methods + ": " + std::to_string(rows) +
+        " results, " + std::to_string(failed_rows) + " of them failed runs. Sweep hash `" + in.sweep_hash + "`.\n\n";
+  if (!in.command.empty()) md += "Run again (finished cells are kept): `" + in.command + "`\n\n";
+  md += "Every cell is rendered once and calibrated by every method; a camera counts as within N deg when it has a "
+        "full pose whose rotation and translation-direction errors against the truth are both at most N deg. "
+        "*Confidently wrong*: cameras reported with a full pose that are more than 5 deg off. Values are medians over "
+        "a point's seeds, with their range in brackets. Files: `results.csv` and `results.jsonl` (a row per cell and "
+        "method), `summary.csv`, `summary.json`, `plots/`.\n\n";
+  md += ClaimSection(*in.claims);
+  for (const SweepStudy& study : config.studies) md += StudySection(study, *in.summary, in.plot_images);
+  if (failed_rows > 0) md += "## Failed runs\n\n" + failures + "\n";
+  md += "## Columns of results.csv\n\n| column | meaning |\n|---|---|\n";
+  md += "| cell, key, studies, seed | the cell's number, its key (names `cells/<key>.json`), its studies, its seed |\n";
+  for (const ParamSpec& p : CellParamSpecs()) md += "| " + p.name + " | " + Cell(p.help) + " |\n";
+  for (const MetricSpec& m : CellMetricSpecs()) md += "| " + m.name + " | " + Cell(m.help) + " |\n";
+  md += "| method, tool, semantics, features | how the cell was calibrated |\n"
+        "| status, failure_reason | `ok`, or `failed` with why |\n";
+  for (const MetricSpec& m : SweepMetricSpecs()) md += "| " + m.name + " | " + Cell(m.help) + " |\n";
+  return md;
+}
+
+}  // namespace rigsim

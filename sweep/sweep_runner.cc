@@ -1,0 +1,306 @@
+#include "sweep/sweep_runner.h"
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+
+#include "geometry/json_io.h"
+#include "sweep/sweep_plots.h"
+#include "sweep/sweep_report.h"
+#include "sweep/sweep_summary.h"
+
+namespace rigsim {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+double CellCost(const SweepCell& cell, const std::vector<SweepMethod>& methods) {
+  const Json& p = cell.params;
+  const std::string rig = p.at("rig").get<std::string>();
+  const double cameras = rig == "ring" ? p.at("cameras").get<double>() : rig == "surround" ? 4.0 : 2.0;
+  const double views = cameras * p.at("frames").get<double>();
+  const double megapixels = p.at("width").get<double>() * p.at("height").get<double>() / 1e6;
+  // Measured on 2 cores at 640x360: rendering a view costs about a tenth of a second per sample
+  // and megapixel; calibrating it about one second per megapixel and method, COLMAP three times
+  // that.
+  double cost = views * megapixels * 0.1 * p.at("spp").get<double>();
+  for (const SweepMethod& m : methods) cost += views * megapixels * (m.tool == "colmap" ? 3.0 : 1.0);
+  return cost;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+bool IsSweepFolder(const fs::path& dir) { return fs::is_regular_file(dir / "sweep.json"); }
+
+// Refuses an output folder that is not a sweep's: it may hold anything of the user's.
+void CheckOutputFolder(const fs::path& out) {
+  std::error_code ec;
+  if (!fs::exists(out, ec)) return;
+  if (!fs::is_directory(out, ec)) throw std::runtime_error(out.string() + ": exists and is not a folder");
+  if (IsSweepFolder(out)) return;
+  if (!fs::is_empty(out, ec)) {
+    throw std::runtime_error(out.string() +
+                             ": exists and holds files that are not a sweep's results (no sweep.json); "
+                             "choose another --out (rigsim sweep never writes into or removes other files)");
+  }
+}
+
+// What a sweep writes into its folder, and nothing else: --force removes only these.
+void RemoveSweepOutputs(const fs::path& out) {
+  for (const char* name : {"cells", "work", "datasets", "scenes", "shards", "slurm", "plots", "results.csv",
+                           "results.jsonl", "summary.csv",
+                           "summary.json", "report.md", "sweep.json"}) {
+    fs::remove_all(out / name);
+  }
+}
+
+Json SweepJson(const SweepConfig& config, const std::vector<SweepCell>& cells, const SweepRunOptions& options) {
+  Json keys = Json::array();
+  for (const SweepCell& c : cells) keys.push_back(c.key);
+  return {{"config", SweepConfigToJson(config)},
+          {"sweep_hash", SweepHash(config)},
+          {"command", options.command},
+          {"shard", {{"index", options.shard_index}, {"count", options.num_shards}}},
+          {"cells", keys}};
+}
+
+std::string Describe(const SweepCell& cell, const std::vector<SweepStudy>& studies) {
+  std::string what = "cell " + std::to_string(cell.index) + " (";
+  bool first = true;
+  for (const SweepStudy& s : studies) {
+    if (std::find(cell.studies.begin(), cell.studies.end(), s.name) == cell.studies.end()) continue;
+    for (const std::string& p : s.VariedParams()) {
+      const Json& v = cell.params.at(p);
+      what += (first ? "" : ", ") + p + "=" + FormatParamValue(v);
+      first = false;
+    }
+    break;
+  }
+  return what + (first ? "" : ", ") + "seed=" + cell.params.at("seed").dump() + ")";
+}
+
+}  // namespace
+
+std::vector<int> AssignShards(const std::vector<SweepCell>& cells, const std::vector<SweepMethod>& methods,
+                              int num_shards) {
+  // Longest processing time first: the costliest cell goes to the shard with the least work so
+  // far (ties: the lower shard, then the earlier cell), which keeps the shards' totals close.
+  std::vector<size_t> order(cells.size());
+  std::iota(order.begin(), order.end(), size_t(0));
+  std::vector<double> cost(cells.size());
+  for (size_t i = 0; i < cells.size(); ++i) cost[i] = CellCost(cells[i], methods);
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return cost[a] > cost[b]; });
+  std::vector<double> load(num_shards, 0.0);
+  std::vector<int> shard(cells.size(), 0);
+  for (size_t i : order) {
+    const int s = static_cast<int>(std::min_element(load.begin(), load.end()) - load.begin());
+    shard[i] = s;
+    load[s] += cost[i];
+  }
+  return shard;
+}
+
+void PrepareSweepFolder(const SweepConfig& config, const SweepRunOptions& options) {
+  const fs::path& out = options.out_dir;
+  if (options.num_shards < 1 || options.shard_index < 0 || options.shard_index >= options.num_shards) {
+    throw std::invalid_argument("shard " + std::to_string(options.shard_index) + "/" +
+                                std::to_string(options.num_shards) + " does not exist");
+  }
+  CheckOutputFolder(out);
+  if (options.restart) RemoveSweepOutputs(out);
+  fs::create_directories(out / "cells");
+  fs::remove_all(out / "work");  // a cell interrupted by a kill: its half-made dataset
+  json_io::WriteTextAtomic(out / "sweep.json", SweepJson(config, ExpandCells(config), options).dump(1) + "\n");
+}
+
+SweepOutcome RunSweep(const SweepConfig& config, const SweepRunOptions& options, const CellRunner& run_cell) {
+  const fs::path& out = options.out_dir;
+  PrepareSweepFolder(config, options);
+  const std::vector<SweepCell> all_cells = ExpandCells(config);
+  const std::vector<int> shard = AssignShards(all_cells, config.methods, options.num_shards);
+  std::vector<SweepCell> cells;
+  for (size_t i = 0; i < all_cells.size(); ++i) {
+    if (shard[i] == options.shard_index) cells.push_back(all_cells[i]);
+  }
+
+  SweepOutcome outcome;
+  outcome.cells = static_cast<int>(cells.size());
+  SweepProgress progress;
+  progress.total = outcome.cells;
+  std::vector<char> finished(cells.size(), 0);
+  for (size_t i = 0; i < cells.size(); ++i) {
+    if (const auto r = ReadFinishedCell(out, cells[i], config.methods)) {
+      finished[i] = 1;
+      ++outcome.resumed;
+      for (const MethodRow& row : r->rows) progress.failed_rows += row.status != "ok";
+    }
+  }
+  progress.resumed = outcome.resumed;
+  progress.done = outcome.resumed;
+  double remaining_cost = 0.0, spent_cost = 0.0;
+  for (size_t i = 0; i < cells.size(); ++i) {
+    if (!finished[i]) remaining_cost += CellCost(cells[i], config.methods);
+  }
+  const auto start = Clock::now();
+  auto report = [&](const std::string& current) {
+    progress.elapsed_s = std::chrono::duration<double>(Clock::now() - start).count();
+    progress.eta_s = spent_cost > 0 ? progress.elapsed_s / spent_cost * remaining_cost : -1.0;
+    progress.current = current;
+    if (options.progress) options.progress(progress);
+  };
+  for (size_t i = 0; i < cells.size(); ++i) {
+    if (finished[i]) continue;
+    if (options.check_interrupt) options.check_interrupt();
+    const SweepCell& cell = cells[i];
+    const std::string what = Describe(cell, config.studies);
+    const fs::path work = out / "work" / cell.key;
+    fs::remove_all(work);
+    fs::create_directories(work);
+    CellRecord record;
+    try {
+      record = run_cell(cell, work, [&](const std::string& stage) {
+        if (options.check_interrupt) options.check_interrupt();
+        report(what + ": " + stage);
+      });
+    } catch (...) {
+      fs::remove_all(out / "work");
+      throw;
+    }
+    record.key = cell.key;
+    record.params = cell.params;
+    WriteCellRecord(out, record);
+    if (options.keep_datasets) {
+      fs::remove_all(out / "datasets" / cell.key);
+      fs::create_directories(out / "datasets");
+      fs::rename(work, out / "datasets" / cell.key);
+    } else {
+      fs::remove_all(work);
+    }
+    ++outcome.ran;
+    for (const MethodRow& row : record.rows) progress.failed_rows += row.status != "ok";
+    const double cost = CellCost(cell, config.methods);
+    spent_cost += cost;
+    remaining_cost -= cost;
+    ++progress.done;
+    report(what + ": done");
+  }
+  fs::remove_all(out / "work");
+  outcome.failed_rows = progress.failed_rows;
+  if (options.num_shards == 1) outcome.warnings = WriteSweepResults(config, out, options.command);
+  return outcome;
+}
+
+SweepFolder ReadSweepFolder(const fs::path& dir) {
+  const fs::path path = dir / "sweep.json";
+  if (!fs::exists(path)) throw std::runtime_error(dir.string() + ": not a sweep's output folder (no sweep.json)");
+  Json j;
+  try {
+    j = Json::parse(json_io::ReadText(path));
+    SweepFolder f;
+    f.dir = dir;
+    f.config = ParseSweepConfig(j.at("config"), path.string());
+    f.sweep_hash = j.at("sweep_hash").get<std::string>();
+    f.command = j.value("command", "");
+    f.shard_index = j.at("shard").at("index").get<int>();
+    f.num_shards = j.at("shard").at("count").get<int>();
+    return f;
+  } catch (const Json::exception& e) {
+    throw std::runtime_error(path.string() + ": not a sweep's record (" + e.what() + ")");
+  }
+}
+
+MergeOutcome MergeSweepShards(const fs::path& out, const std::vector<fs::path>& shard_dirs) {
+  if (shard_dirs.empty()) throw std::invalid_argument("no shard folder to merge");
+  std::vector<SweepFolder> shards;
+  for (const fs::path& d : shard_dirs) shards.push_back(ReadSweepFolder(d));
+  for (const SweepFolder& s : shards) {
+    if (s.sweep_hash != shards[0].sweep_hash) {
+      throw std::runtime_error(s.dir.string() + ": a shard of another sweep (hash " + s.sweep_hash + ", " +
+                               shards[0].dir.string() + " has " + shards[0].sweep_hash + "): merge shards of one config");
+    }
+  }
+  const SweepConfig& config = shards[0].config;
+  CheckOutputFolder(out);
+  if (fs::exists(out / "sweep.json") && ReadSweepFolder(out).sweep_hash != shards[0].sweep_hash) {
+    throw std::runtime_error(out.string() + ": holds the results of another sweep; merge into a new folder");
+  }
+  fs::create_directories(out / "cells");
+  SweepRunOptions record;
+  record.command = shards[0].command;
+  const std::vector<SweepCell> cells = ExpandCells(config);
+  json_io::WriteTextAtomic(out / "sweep.json", SweepJson(config, cells, record).dump(1) + "\n");
+  MergeOutcome outcome;
+  outcome.cells = static_cast<int>(cells.size());
+  for (const SweepCell& cell : cells) {
+    bool found = ReadFinishedCell(out, cell, config.methods).has_value();
+    for (const SweepFolder& s : shards) {
+      if (found) break;
+      if (const auto r = ReadFinishedCell(s.dir, cell, config.methods)) {
+        WriteCellRecord(out, *r);
+        found = true;
+      }
+    }
+    if (found) {
+      ++outcome.merged;
+    } else {
+      outcome.missing.push_back("cell " + std::to_string(cell.index) + " (" + cell.key + ")");
+    }
+  }
+  outcome.warnings = WriteSweepResults(config, out, shards[0].command);
+  return outcome;
+}
+
+std::vector<std::string> WriteSweepResults(const SweepConfig& config, const fs::path& out, const std::string& command) {
+  std::vector<std::string> warnings;
+  const std::vector<SweepCell> all = ExpandCells(config);
+  std::vector<SweepCell> cells;
+  std::vector<CellRecord> records;
+  int missing = 0;
+  for (const SweepCell& c : all) {
+    if (auto r = ReadFinishedCell(out, c, config.methods)) {
+      cells.push_back(c);
+      records.push_back(std::move(*r));
+    } else {
+      ++missing;
+    }
+  }
+  if (missing > 0) {
+    warnings.push_back(std::to_string(missing) + " of " + std::to_string(all.size()) +
+                       " cells have no results yet: the tables and plots leave them out");
+  }
+  std::vector<Json> rows;
+  for (size_t c = 0; c < cells.size(); ++c) {
+    for (const SweepMethod& m : config.methods) {
+      for (const MethodRow& row : records[c].rows) {
+        if (row.method == m.name) rows.push_back(ResultRow(cells[c], m, records[c], row));
+      }
+    }
+  }
+  json_io::WriteTextAtomic(out / "results.csv", ResultsCsv(rows));
+  json_io::WriteTextAtomic(out / "results.jsonl", ResultsJsonl(rows));
+  const std::vector<SummaryRow> summary = Summarise(config, cells, records);
+  const std::vector<ClaimResult> claims = TestThesisClaims(config, cells, records);
+  json_io::WriteTextAtomic(out / "summary.csv", SummaryCsv(summary));
+  json_io::WriteTextAtomic(out / "summary.json",
+                           Json{{"groups", SummaryToJson(summary)}, {"claims", ClaimsToJson(claims)}}.dump(1) + "\n");
+  const SweepPlots plots = WriteSweepPlots(config, summary, out);
+  warnings.insert(warnings.end(), plots.warnings.begin(), plots.warnings.end());
+  SweepReportInput input;
+  input.config = &config;
+  input.sweep_hash = SweepHash(config);
+  input.cells = &cells;
+  input.records = &records;
+  input.summary = &summary;
+  input.claims = &claims;
+  input.plot_images = plots.images;
+  input.command = command;
+  json_io::WriteTextAtomic(out / "report.md", SweepReportMarkdown(input));
+  return warnings;
+}
+
+}  // namespace rigsim

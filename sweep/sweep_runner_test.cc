@@ -1,0 +1,231 @@
+#include "sweep/sweep_runner.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <fstream>
+#include <sstream>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "common/run_program.h"
+#include "testing/expect_error.h"
+#include "testing/temp_dir.h"
+
+namespace rigsim {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+SweepConfig Config() {
+  return ParseSweepConfig(Json::parse(R"({"name": "fake", "seeds": [1, 2], "grid": {"frames": [2, 3, 4]}})"),
+                          "fake.json");
+}
+
+// A runner that makes up metrics from the parameters and counts its calls; it writes a file into
+// the dataset folder as a render would.
+struct FakeRunner {
+  int calls = 0;
+  int throw_at_call = -1;
+  CellRunner Get() {
+    return [this](const SweepCell& cell, const fs::path& dataset, const std::function<void(const std::string&)>& status) {
+      ++calls;
+      status("rendering");
+      std::ofstream(dataset / "image.png") << "pixels";
+      if (calls == throw_at_call) throw std::runtime_error("interrupted");
+      CellRecord r;
+      r.cell_metrics = {{"overlap_pct", 30.0}};
+      const double frames = cell.params["frames"].get<double>();
+      for (const char* m : {"none", "mask"}) {
+        r.rows.push_back({m, "ok", "",
+                          {{"success_2deg", frames > 2 ? 1 : 0},
+                           {"median_rotation_error_deg", 1.0 / frames},
+                           {"match_precision", 0.5}}});
+      }
+      return r;
+    };
+  }
+};
+
+TEST(SweepRunner, RunsEveryCellOnceAndWritesTheResults) {
+  const TempDir scratch;
+  const fs::path out = scratch / "out";
+  FakeRunner fake;
+  SweepRunOptions options;
+  options.out_dir = out;
+  std::vector<SweepProgress> seen;
+  options.progress = [&](const SweepProgress& p) { seen.push_back(p); };
+  const SweepOutcome outcome = RunSweep(Config(), options, fake.Get());
+  EXPECT_EQ(fake.calls, 6);
+  EXPECT_EQ(outcome.ran, 6);
+  EXPECT_EQ(outcome.resumed, 0);
+  ASSERT_FALSE(seen.empty());
+  EXPECT_EQ(seen.back().done, 6);
+  EXPECT_EQ(seen.back().total, 6);
+  EXPECT_NE(seen.front().current.find("cell 0 (frames=2, seed=1): rendering"), std::string::npos) << seen.front().current;
+  // 1 header + 6 cells x 2 methods.
+  const std::string csv = ReadFile(out / "results.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 13);
+  EXPECT_TRUE(fs::exists(out / "results.jsonl"));
+  EXPECT_TRUE(fs::exists(out / "summary.csv"));
+  EXPECT_TRUE(fs::exists(out / "sweep.json"));
+  EXPECT_FALSE(fs::exists(out / "work"));
+  EXPECT_FALSE(fs::exists(out / "datasets"));
+  const std::string report = ReadFile(out / "report.md");
+  EXPECT_NE(report.find("# Sweep: fake"), std::string::npos);
+  EXPECT_NE(report.find("| frames=2 | none | 2 | 0 | 0% | 0% |"), std::string::npos) << report;
+  EXPECT_NE(report.find("| frames=3 | mask | 2 | 0 | 0% | 100% |"), std::string::npos);
+  if (!FindProgram("gnuplot").empty()) {
+    EXPECT_TRUE(fs::file_size(out / "plots" / "fake_success.png") > 1000);
+    EXPECT_TRUE(fs::exists(out / "plots" / "fake_rotation_error.svg"));
+    EXPECT_NE(report.find("![plots/fake_success.png](plots/fake_success.png)"), std::string::npos);
+  }
+  // A second run finds every cell finished and writes the same results.
+  const std::string jsonl = ReadFile(out / "results.jsonl");
+  FakeRunner again;
+  EXPECT_EQ(RunSweep(Config(), options, again.Get()).resumed, 6);
+  EXPECT_EQ(again.calls, 0);
+  EXPECT_EQ(ReadFile(out / "results.jsonl"), jsonl);
+}
+
+TEST(SweepRunner, AnInterruptedCellLeavesNothingAndTheNextRunResumesThere) {
+  const TempDir scratch;
+  const fs::path out = scratch / "out";
+  FakeRunner fake;
+  fake.throw_at_call = 3;
+  SweepRunOptions options;
+  options.out_dir = out;
+  EXPECT_THROW(RunSweep(Config(), options, fake.Get()), std::runtime_error);
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(out / "cells")) {
+    EXPECT_EQ(e.path().extension(), ".json") << e.path();  // no half-written record
+    ++files;
+  }
+  EXPECT_EQ(files, 2);
+  EXPECT_FALSE(fs::exists(out / "work"));  // the interrupted cell's dataset is gone
+  FakeRunner rest;
+  const SweepOutcome outcome = RunSweep(Config(), options, rest.Get());
+  EXPECT_EQ(outcome.resumed, 2);
+  EXPECT_EQ(rest.calls, 4);
+}
+
+TEST(SweepRunner, NeverWritesIntoAFolderOfOtherFiles) {
+  const TempDir scratch;
+  const fs::path out = scratch / "out";
+  fs::create_directories(out);
+  WriteFile(out / "thesis.tex", "mine");
+  FakeRunner fake;
+  SweepRunOptions options;
+  options.out_dir = out;
+  options.restart = true;
+  EXPECT_THAT([&] { RunSweep(Config(), options, fake.Get()); },
+              ThrowsWith<std::runtime_error>("holds files that are not a sweep's results"));
+  EXPECT_EQ(fake.calls, 0);
+  EXPECT_EQ(ReadFile(out / "thesis.tex"), "mine");
+  EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 1);
+}
+
+TEST(SweepRunner, RestartRemovesOnlyWhatASweepWrites) {
+  const TempDir scratch;
+  const fs::path out = scratch / "out";
+  FakeRunner fake;
+  SweepRunOptions options;
+  options.out_dir = out;
+  options.keep_datasets = true;
+  RunSweep(Config(), options, fake.Get());
+  EXPECT_EQ(ReadFile(out / "datasets" / ExpandCells(Config())[0].key / "image.png"), "pixels");
+  WriteFile(out / "notes.txt", "mine");
+  options.restart = true;
+  options.keep_datasets = false;
+  FakeRunner again;
+  RunSweep(Config(), options, again.Get());
+  EXPECT_EQ(again.calls, 6);  // started over
+  EXPECT_FALSE(fs::exists(out / "datasets"));
+  EXPECT_EQ(ReadFile(out / "notes.txt"), "mine");
+}
+
+// Every file of a sweep folder's results, by relative path (cells/ and sweep.json aside).
+std::map<std::string, std::string> ResultFiles(const fs::path& out) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::recursive_directory_iterator(out)) {
+    const std::string rel = fs::relative(e.path(), out).string();
+    if (!e.is_regular_file() || rel.rfind("cells", 0) == 0 || rel == "sweep.json") continue;
+    files[rel] = ReadFile(e.path());
+  }
+  return files;
+}
+
+TEST(SweepShards, MergedShardsWriteWhatASingleRunWrites) {
+  const TempDir base;
+  FakeRunner single;
+  SweepRunOptions options;
+  options.command = "rigsim sweep fake.json";
+  options.out_dir = base / "single";
+  RunSweep(Config(), options, single.Get());
+  std::vector<fs::path> shards;
+  int calls = 0;
+  for (int i = 0; i < 3; ++i) {
+    FakeRunner part;
+    options.out_dir = base / ("shard" + std::to_string(i));
+    options.shard_index = i;
+    options.num_shards = 3;
+    const SweepOutcome o = RunSweep(Config(), options, part.Get());
+    EXPECT_FALSE(fs::exists(options.out_dir / "results.csv"));  // a shard writes its cells only
+    calls += part.calls;
+    shards.push_back(options.out_dir);
+  }
+  EXPECT_EQ(calls, 6);  // every cell in exactly one shard
+  const MergeOutcome merged = MergeSweepShards(base / "merged", shards);
+  EXPECT_EQ(merged.merged, 6);
+  EXPECT_TRUE(merged.missing.empty());
+  const auto a = ResultFiles(base / "single"), b = ResultFiles(base / "merged");
+  EXPECT_GE(a.size(), 5u);
+  ASSERT_EQ(a.size(), b.size());
+  for (const auto& [name, bytes] : a) EXPECT_TRUE(b.count(name) && b.at(name) == bytes) << name << " differs";
+
+  // A shard missing: its cells are named. A shard of another sweep is refused.
+  const MergeOutcome partial = MergeSweepShards(base / "partial", {shards[0], shards[2]});
+  EXPECT_EQ(partial.merged + static_cast<int>(partial.missing.size()), 6);
+  EXPECT_FALSE(partial.missing.empty());
+  EXPECT_EQ(partial.missing[0].rfind("cell ", 0), 0u);
+  SweepConfig other = Config();
+  other.seeds = {7};
+  SweepRunOptions other_options;
+  other_options.out_dir = base / "other";
+  FakeRunner third;
+  RunSweep(other, other_options, third.Get());
+  try {
+    MergeSweepShards(base / "mixed", {shards[0], base / "other"});
+    FAIL() << "merged shards of two sweeps";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("a shard of another sweep"), std::string::npos) << e.what();
+  }
+}
+
+TEST(SweepShards, EveryCellInExactlyOneShardAndTheShardsBalanced) {
+  const SweepConfig config = ParseSweepConfig(
+      Json::parse(R"({"seeds": 3, "grid": {"width": [320, 640, 1280], "frames": [2, 3]}})"), "t.json");
+  const std::vector<SweepCell> cells = ExpandCells(config);
+  for (int n : {1, 2, 4, 7}) {
+    const std::vector<int> shard = AssignShards(cells, config.methods, n);
+    ASSERT_EQ(shard.size(), cells.size());
+    std::vector<double> load(n, 0.0);
+    for (size_t i = 0; i < cells.size(); ++i) {
+      ASSERT_GE(shard[i], 0);
+      ASSERT_LT(shard[i], n);
+      load[shard[i]] += CellCost(cells[i], config.methods);
+    }
+    const double most = *std::max_element(load.begin(), load.end());
+    const double least = *std::min_element(load.begin(), load.end());
+    double biggest_cell = 0.0;
+    for (const SweepCell& c : cells) biggest_cell = std::max(biggest_cell, CellCost(c, config.methods));
+    // Greedy largest-first: no shard exceeds another by more than one cell's cost.
+    EXPECT_LE(most - least, biggest_cell + 1e-9) << n << " shards";
+    EXPECT_EQ(AssignShards(cells, config.methods, n), shard);  // deterministic
+  }
+}
+
+}  // namespace
+}  // namespace rigsim

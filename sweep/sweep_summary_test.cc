@@ -1,0 +1,102 @@
+#include "sweep/sweep_summary.h"
+
+#include <gtest/gtest.h>
+
+namespace rigsim {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// Two overlaps x two seeds, methods none and mask; metrics made up so the answers are known.
+struct Fixture {
+  SweepConfig config = ParseSweepConfig(Json::parse(R"({"seeds": [1, 2], "grid": {"overlap": [10, 20]}})"), "t.json");
+  std::vector<SweepCell> cells = ExpandCells(config);
+  std::vector<CellRecord> records;
+
+  Fixture() {
+    // precision none/mask, cross-class wrong none/mask, match time none/mask, auc5 none/mask, success2 none/mask
+    const double table[4][10] = {
+        {0.50, 0.60, 40, 10, 2.0, 1.0, 0.80, 0.82, 1, 1},  // overlap 10 seed 1
+        {0.40, 0.45, 30, 20, 2.0, 1.5, 0.70, 0.60, 0, 0},  // overlap 10 seed 2
+        {0.70, 0.65, 10, 12, 1.0, 1.2, 0.90, 0.91, 1, 1},  // overlap 20 seed 1
+        {0.60, 0.62, 20, 10, 1.0, 0.5, 0.95, 0.95, 1, 1},  // overlap 20 seed 2
+    };
+    for (int c = 0; c < 4; ++c) {
+      CellRecord r;
+      r.key = cells[c].key;
+      r.params = cells[c].params;
+      r.cell_metrics = {{"overlap_pct", 8.0 + 10 * (c / 2)}};
+      for (int m = 0; m < 2; ++m) {
+        MethodRow row;
+        row.method = m == 0 ? "none" : "mask";
+        row.metrics = {{"match_precision", table[c][0 + m]},
+                       {"cross_class_wrong", table[c][2 + m]},
+                       {"time_match_s", table[c][4 + m]},
+                       {"time_total_s", 10.0},
+                       {"auc_pairs_5deg", table[c][6 + m]},
+                       {"success_2deg", table[c][8 + m]},
+                       {"success_1deg", 0},
+                       {"median_rotation_error_deg", 0.1 * (c + 1) + m}};
+        r.rows.push_back(row);
+      }
+      records.push_back(r);
+    }
+  }
+};
+
+TEST(SweepSummary, GroupsCellsByStudyPointAndMethod) {
+  const Fixture f;
+  const std::vector<SummaryRow> rows = Summarise(f.config, f.cells, f.records);
+  ASSERT_EQ(rows.size(), 4u);  // 2 points x 2 methods
+  EXPECT_EQ(rows[0].point, "overlap=10");
+  EXPECT_EQ(rows[0].method, "none");
+  EXPECT_EQ(rows[1].method, "mask");
+  EXPECT_EQ(rows[2].point, "overlap=20");
+  EXPECT_EQ(rows[0].cells, 2);
+  EXPECT_DOUBLE_EQ(rows[0].success_2deg, 0.5);
+  EXPECT_DOUBLE_EQ(rows[2].success_2deg, 1.0);
+  EXPECT_DOUBLE_EQ(*rows[0].match_precision.median, 0.45);
+  EXPECT_DOUBLE_EQ(*rows[0].match_precision.min, 0.40);
+  EXPECT_DOUBLE_EQ(*rows[0].match_precision.max, 0.50);
+  EXPECT_DOUBLE_EQ(*rows[1].median_rotation_error_deg.median, 1.15);  // (1.1 + 1.2) / 2
+  EXPECT_DOUBLE_EQ(*rows[2].overlap_pct.median, 18.0);
+  const std::string csv = SummaryCsv(rows);
+  EXPECT_EQ(csv.substr(0, csv.find('\n')).substr(0, 30), "study,point,method,cells,faile");
+  EXPECT_NE(csv.find("\nt,overlap=10,none,2,0,0,0.5,0,0.75,0.15,"), std::string::npos) << csv;
+}
+
+TEST(SweepSummary, ClaimsPairEachCellsMethodWithItsBaseline) {
+  const Fixture f;
+  const std::vector<ClaimResult> claims = TestThesisClaims(f.config, f.cells, f.records);
+  ASSERT_EQ(claims.size(), 5u);  // mask vs none: five claims
+  // Precision differences: +0.10, +0.05, -0.05, +0.02 -> median +0.035, held, 3 of 4.
+  EXPECT_EQ(claims[0].metric, "match_precision");
+  EXPECT_TRUE(claims[0].held);
+  EXPECT_EQ(claims[0].pairs, 4);
+  EXPECT_EQ(claims[0].favourable, 3);
+  EXPECT_NEAR(*claims[0].median_difference, 0.035, 1e-12);
+  EXPECT_NEAR(*claims[0].low, -0.05, 1e-12);
+  // Per point: overlap=20 has median (-0.05 + 0.02) / 2 < 0: the claim fails there.
+  EXPECT_EQ(claims[0].fails_at, (std::vector<std::string>{"t: overlap=20"}));
+  // Cross-class wrong: -30, -10, +2, -10 -> median -10, held.
+  EXPECT_TRUE(claims[1].held);
+  EXPECT_DOUBLE_EQ(*claims[1].median_difference, -10.0);
+  // Match time ratios 0.5, 0.75, 1.2, 0.5 -> median 0.625, faster.
+  EXPECT_TRUE(claims[2].held);
+  EXPECT_DOUBLE_EQ(*claims[2].median_difference, 0.625);
+  EXPECT_EQ(claims[2].difference_kind, "ratio");
+  // Total time equal: ratio 1, not faster.
+  EXPECT_FALSE(claims[3].held);
+  // AUC differences +0.02, -0.10, +0.01, 0 -> median +0.005, equal or better.
+  EXPECT_TRUE(claims[4].held);
+  EXPECT_EQ(claims[4].favourable, 3);
+}
+
+TEST(SweepSummary, NoClaimsWithoutTheBaseline) {
+  Fixture f;
+  f.config.methods.erase(f.config.methods.begin());  // only mask
+  EXPECT_TRUE(TestThesisClaims(f.config, f.cells, f.records).empty());
+}
+
+}  // namespace
+}  // namespace rigsim
