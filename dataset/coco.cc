@@ -95,6 +95,19 @@ void CocoInstances::AddImage(const std::string& file_name, const ImageU8& labels
   }
 }
 
+void CocoInstances::AddAll(const nlohmann::json& coco) {
+  const int image_offset = int(images_.size());
+  for (nlohmann::json image : coco.at("images")) {
+    image["id"] = image.at("id").get<int>() + image_offset;
+    images_.push_back(std::move(image));
+  }
+  for (nlohmann::json annotation : coco.at("annotations")) {
+    annotation["id"] = int(annotations_.size()) + 1;
+    annotation["image_id"] = annotation.at("image_id").get<int>() + image_offset;
+    annotations_.push_back(std::move(annotation));
+  }
+}
+
 nlohmann::json CocoInstances::ToJson() const {
   nlohmann::json categories = nlohmann::json::array();
   for (const LabelClass& c : CityscapesClasses()) {

@@ -32,6 +32,9 @@ class CocoInstances {
  public:
   // Adds one view: its labels and instances (same size); `file_name` as described above.
   void AddImage(const std::string& file_name, const ImageU8& labels, const ImageU16& instances);
+  // Adds every image and annotation of another instances_coco.json (ToJson's), after these, with
+  // the ids they would have had if added here one by one.
+  void AddAll(const nlohmann::json& coco);
   nlohmann::json ToJson() const;
 
  private:

@@ -16,11 +16,13 @@
 #include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
 
+#include "common/stable_hash.h"
 #include "dataset/coco.h"
 #include "dataset/ground_truth.h"
 #include "dataset/image_io.h"
 #include "dataset/label_image.h"
 #include "dataset/previews.h"
+#include "dataset/render_shards.h"
 #include "geometry/json_io.h"
 #include "rigs/trajectories.h"
 #include "scene/scene_pose.h"
@@ -214,12 +216,11 @@ struct ViewResult {
   ViewPose pose;
 };
 
-// The fraction of every camera's surface pixels visible in every other camera (overlap[a * n + b]),
-// over one frame. Without rolling shutters and correspondence maps, band by band (CountCoVisible);
+// Every camera's surface pixels and those visible in every other camera, over one frame. Without rolling shutters and correspondence maps, band by band (CountCoVisible);
 // else from the correspondence maps, which give the same counts and are written when asked for.
-void AddFrameOverlap(const RenderJob& job, const std::vector<ViewResult>& views,
-                     const std::vector<std::shared_ptr<const std::vector<Eigen::Vector3f>>>& bearings,
-                     const DatasetLayout& layout, const std::string& frame, std::vector<double>* overlap) {
+FrameOverlapCounts FrameOverlap(const RenderJob& job, const std::vector<ViewResult>& views,
+                                const std::vector<std::shared_ptr<const std::vector<Eigen::Vector3f>>>& bearings,
+                                const DatasetLayout& layout, const std::string& frame) {
   const std::vector<RigCamera>& cams = job.rig.cameras;
   const int num_cams = int(cams.size());
   bool rolling = false;
@@ -282,12 +283,7 @@ void AddFrameOverlap(const RenderJob& job, const std::vector<ViewResult>& views,
       }
     }
   }
-  for (int a = 0; a < num_cams; ++a) {
-    for (int b = 0; b < num_cams; ++b) {
-      const size_t ab = size_t(a) * num_cams + b;
-      if (b != a && surface[a] > 0) (*overlap)[ab] += double(visible[ab]) / double(surface[a]);
-    }
-  }
+  return {std::move(surface), std::move(visible)};
 }
 
 // flow/<cam>/<frame>.exr: each camera's pixels at the previous frame in its image of this one.
@@ -307,6 +303,21 @@ void WriteFlow(const RenderJob& job, const std::vector<ViewResult>& previous, co
   });
 }
 
+// What the shards of one render share: the rig, the whole frames file and what changes the pixels.
+std::string RenderIdentity(const RenderJob& job, const FramesFile& frames) {
+  const RenderOptions& o = job.options;
+  const nlohmann::json options{{"spp", o.samples_per_pixel},
+                               {"seed", o.seed},
+                               {"sun", {o.sun_direction_world.x(), o.sun_direction_world.y(), o.sun_direction_world.z()}},
+                               {"sun_intensity", o.sun_intensity},
+                               {"sky_intensity", o.sky_intensity},
+                               {"exposure", o.exposure},
+                               {"shadows", o.shadows},
+                               {"photometric", job.photometric.enabled() ? PhotometryJson(job, {}) : nlohmann::json()},
+                               {"extras", {job.extras.correspondence, job.extras.normals, job.extras.coco, job.extras.previews}}};
+  return StableHash(RigToJsonText(job.rig) + FramesToJsonText(frames) + options.dump());
+}
+
 }  // namespace
 
 void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
@@ -314,8 +325,8 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
   CheckJob(job);
   const std::vector<RigCamera>& cams = job.rig.cameras;
   const int num_cams = int(cams.size());
-  const int num_frames = int(job.frames.frames.size());
-  const int total = num_cams * num_frames;
+  const FrameRange range = ShardFrames(int(job.frames.frames.size()), job.shard.index, job.shard.count);
+  const int total = num_cams * (range.end - range.begin);
   const CaptureClock clock(job);  // before anything is built: repeated timestamps are refused
 
   // Built before the staging folder exists so that a bad scene leaves nothing behind.
@@ -332,8 +343,7 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
   StagedOutput staged(out_dir, force);
   const DatasetLayout layout(staged.staging_dir());
 
-  // overlap[a * num_cams + b] sums, over frames, the fraction of a's surface seen by b.
-  std::vector<double> overlap(size_t(num_cams) * num_cams, 0.0);
+  std::vector<FrameOverlapCounts> overlap;  // per frame rendered
   int done = 0;
   std::vector<SceneMesh> posed;  // the renderer's meshes while an animated scene is posed
   PosedSpan posed_span;          // or while it is posed over a camera's capture span
@@ -343,19 +353,26 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
   std::vector<nlohmann::json> poses_json(num_cams, nlohmann::json::array());
   CocoInstances coco;
   std::vector<ViewResult> previous;
-  for (int frame_index = 0; frame_index < num_frames; ++frame_index) {
+  // A shard's flow from the frame before its first needs that frame's views, rendered unwritten.
+  const int first = job.extras.correspondence && range.begin > 0 ? range.begin - 1 : range.begin;
+  for (int frame_index = first; frame_index < range.end; ++frame_index) {
     const Frame& frame = job.frames.frames[frame_index];
+    const bool written = frame_index >= range.begin;
     std::vector<ViewResult> views(num_cams);
+    std::vector<CocoInstances> view_coco(job.extras.coco ? num_cams : 0);
     auto finish = [&](int c, RenderedView view) {
-      if (photometric) {
-        const ImageU8 invalid = InvalidPixels(view);
-        ApplyPhotometry(photometry[c], PhotometricNoiseKey{job.photometric.seed, c, frame_index}, cams[c].camera.cx(),
-                        cams[c].camera.cy(), view.rgb, &invalid, job.options.num_threads);
+      if (written) {
+        if (photometric) {
+          const ImageU8 invalid = InvalidPixels(view);
+          ApplyPhotometry(photometry[c], PhotometricNoiseKey{job.photometric.seed, c, frame_index}, cams[c].camera.cx(),
+                          cams[c].camera.cy(), view.rgb, &invalid, job.options.num_threads);
+        }
+        WriteView(layout, job.extras, cams[c].name, frame.name, view);
+        if (job.extras.coco) view_coco[c].AddImage(cams[c].name + "/" + frame.name + ".png", view.label, view.instance);
+        if (clock.timed()) poses_json[c].push_back(PosesEntry(cams[c], frame, views[c].pose));
       }
-      WriteView(layout, job.extras, cams[c].name, frame.name, view);
-      if (job.extras.coco) coco.AddImage(cams[c].name + "/" + frame.name + ".png", view.label, view.instance);
-      if (clock.timed()) poses_json[c].push_back(PosesEntry(cams[c], frame, views[c].pose));
       views[c].range = std::move(view.range);
+      if (!written) return;
       ++done;
       if (progress) progress(done, total);
     };
@@ -391,24 +408,22 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
       views[c].pose = clock.PoseOf(cams[c], frame);
       finish(c, renderer.Render(moving, options));
     }
-    AddFrameOverlap(job, views, bearings, layout, frame.name, &overlap);
+    if (!written) {
+      previous = std::move(views);
+      continue;
+    }
+    overlap.push_back(FrameOverlap(job, views, bearings, layout, frame.name));
     if (job.extras.correspondence && frame_index > 0) {
       WriteFlow(job, previous, views, bearings, layout, job.frames.frames[frame_index - 1].name);
     }
     if (job.extras.correspondence) previous = std::move(views);
+    // COCO's images in frame and rig order, whatever order the cameras were rendered in.
+    for (const CocoInstances& c : view_coco) coco.AddAll(c.ToJson());
   }
 
-  nlohmann::json pairs = nlohmann::json::array();
-  for (int a = 0; a < num_cams; ++a) {
-    for (int b = a + 1; b < num_cams; ++b) {
-      pairs.push_back({{"a", cams[a].name},
-                       {"b", cams[b].name},
-                       {"overlap_a_in_b", overlap[size_t(a) * num_cams + b] / num_frames},
-                       {"overlap_b_in_a", overlap[size_t(b) * num_cams + a] / num_frames}});
-    }
-  }
-  const nlohmann::json overlap_json{{"frames", num_frames}, {"pairs", pairs}};
-  json_io::WriteTextAtomic(layout.OverlapJson(), overlap_json.dump(2) + "\n");
+  std::vector<std::string> names;
+  for (const RigCamera& cam : cams) names.push_back(cam.name);
+  json_io::WriteTextAtomic(layout.OverlapJson(), OverlapJson(names, overlap).dump(2) + "\n");
   if (photometric) json_io::WriteTextAtomic(layout.PhotometricJson(), PhotometryJson(job, photometry).dump(2) + "\n");
   if (clock.timed()) json_io::WriteTextAtomic(layout.PosesJson(), PosesJsonOf(job, poses_json).dump() + "\n");
   if (job.extras.coco) json_io::WriteTextAtomic(layout.CocoJson(), coco.ToJson().dump() + "\n");
@@ -417,6 +432,12 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
   FramesFile frames = job.frames;
   frames.seed = job.options.seed;
   if (frames.scene.empty()) frames.scene = job.scene_name;
+  if (job.shard.count > 1) {
+    RenderShardInfo shard{job.shard.index, job.shard.count, RenderIdentity(job, frames), int(frames.frames.size()),
+                          range.begin, std::move(overlap)};
+    json_io::WriteTextAtomic(RenderShardJsonPath(layout.root()), RenderShardJson(shard).dump(1) + "\n");
+    frames.frames = std::vector<Frame>(frames.frames.begin() + range.begin, frames.frames.begin() + range.end);
+  }
   WriteFrames(frames, layout.FramesJson());
 
   staged.Commit();

@@ -57,6 +57,12 @@ struct RenderJob {
   // --seed) and is recorded in photometric.json.
   PhotometricOptions photometric;
   ExtraOutputs extras;
+  // Shard `index` of `count` renders only its block of the frames (dataset/render_shards.h): its
+  // folder holds those frames' files, frames.json and overlap.json over them, and shard.json,
+  // from which MergeRenderShards writes the one-machine render's bytes. count 1: every frame.
+  struct {
+    int index = 0, count = 1;
+  } shard;
 };
 
 // Writes into out_dir:
