@@ -24,8 +24,8 @@ void WriteTyped(const fs::path& path, const Image<T>& image, OIIO::TypeDesc type
   auto out = OIIO::ImageOutput::create(path.string());
   if (!out) throw std::runtime_error(path.string() + ": no image writer for this extension: " + OIIO::geterror());
   OIIO::ImageSpec spec(image.width, image.height, image.channels, type);
-  // Float images (depth) uncompressed: zip shrank a rendered 1280x720 range image by only 16%
-  // (3.1 MB instead of 3.7) and took 68 ms to write it instead of 13.
+  // Float images (depth) uncompressed: zip shrinks a rendered 1280x720 range image by only 16%
+  // (3.1 MB instead of 3.7) and takes 68 ms to write it instead of 13.
   // Multi-channel float images (correspondence maps, normals: opt-in, 11 MB each uncompressed)
   // are zip-compressed: their many no-surface pixels are the same value.
   if (type == OIIO::TypeDesc::FLOAT) spec.attribute("compression", image.channels == 1 ? "none" : "zip");

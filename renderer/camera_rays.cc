@@ -84,8 +84,8 @@ PixelCentreRays ComputePixelCentreRays(const Camera& camera) {
 // normalised), when they all lie in the image and inside the lens; else nullopt. Between pixel
 // centres the bearing is a smooth function of the image point, so the interpolation's error is of
 // second order in the pixel size: below 1e-6 rad (1/1000 px) for every camera model in the tests,
-// while undistorting each sample exactly (Newton iterations for a distorted lens) was a quarter of
-// the instructions of a 4-spp render of the demo rig.
+// while undistorting each sample exactly (Newton iterations for a distorted lens) would cost a
+// quarter of the instructions of a 4-spp render of the demo rig.
 [[gnu::always_inline]] inline std::optional<Eigen::Vector3f> InterpolatedBearing(const PixelCentreRays& c, int height,
                                                                                 double px, double py) {
   if (!(px >= 0.0 && py >= 0.0)) return std::nullopt;  // (also NaN) the top-left pixel's centre is (0, 0)

@@ -41,8 +41,8 @@ struct PixelCentreRays {
 // interpolated between the four pixel centres around it (bilinear, normalised: an error of second
 // order in the pixel size, below 0.005 px on the lenses of the tests), computed exactly at the
 // image's border and for fisheyes (whose bearings change fast near the image circle's fold).
-// Undistorting every sample exactly (Newton iterations for a distorted lens) was a quarter of the
-// instructions of a 4-spp render of the demo rig. nullopt outside the lens.
+// Undistorting every sample exactly (Newton iterations for a distorted lens) would cost a quarter of
+// the instructions of a 4-spp render of the demo rig. nullopt outside the lens.
 std::optional<Eigen::Vector3f> SampleBearing(const Camera& camera, const PixelCentreRays& centres, const Eigen::Vector2d& point);
 
 // The pixel-centre rays of the cameras rendered so far, keyed by model, size and parameters.

@@ -67,7 +67,7 @@ void WriteView(const DatasetLayout& layout, const ExtraOutputs& extras, const st
   if (extras.previews) paths.insert(paths.end(), {layout.DepthColor(cam, frame), layout.InstanceColor(cam, frame)});
   if (extras.normals) paths.push_back(layout.Normal(cam, frame));
   for (const fs::path& p : paths) fs::create_directories(p.parent_path());
-  // In parallel: compressing the five files took longer than rendering a 1-spp view.
+  // In parallel: compressing the five files takes longer than rendering a 1-spp view.
   tbb::parallel_invoke([&] { WriteImage(layout.Image(cam, frame), view.rgb); },
                        [&] { WriteImage(layout.Label(cam, frame), view.label); },
                        [&] { WriteImage(layout.LabelColor(cam, frame), ColorizeLabels(view.label)); },

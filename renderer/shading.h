@@ -177,8 +177,8 @@ struct SampleRecord {
 // for the first of them (normals, sky and sun, one shadow ray); each keeps its own albedo (texture
 // look-up at its own point and footprint, AlbedoOnly), so textures are as sharp as with shading per
 // sample. Geometric edges and alpha cut-outs stay anti-aliased by the samples; a shadow edge that
-// crosses a triangle inside a pixel is not. Lighting and shadow rays per sample were most of the
-// extra time of a sample. `records` are in pixel order (CollectRecords); up to 8 triangles per
+// crosses a triangle inside a pixel is not. Lighting and shadow rays per sample would be most of
+// the extra time of a sample. `records` are in pixel order (CollectRecords); up to 8 triangles per
 // pixel share (samples beyond are lit alone).
 inline void ShareShadingWithinPixels(std::vector<SampleRecord>& records) {
   constexpr int kMaxShared = 8;
