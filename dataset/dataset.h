@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "dataset/output_folder.h"  // StagedOutput, for the commands that write datasets
 #include "geometry/rigid3.h"
 
 namespace rigsim {
@@ -75,27 +76,6 @@ class DatasetLayout {
 
  private:
   std::filesystem::path root_;
-};
-
-// Builds an output folder next to its final place and moves it there only when complete, so an
-// interrupted run leaves either the previous output or nothing. The destructor removes an
-// uncommitted staging folder.
-class StagedOutput {
- public:
-  // Throws when `final_dir` exists and `force` is false.
-  StagedOutput(std::filesystem::path final_dir, bool force);
-  ~StagedOutput();
-  StagedOutput(const StagedOutput&) = delete;
-  StagedOutput& operator=(const StagedOutput&) = delete;
-
-  const std::filesystem::path& staging_dir() const { return staging_; }
-  // Replaces `final_dir` with the staging folder.
-  void Commit();
-
- private:
-  std::filesystem::path final_;
-  std::filesystem::path staging_;
-  bool committed_ = false;
 };
 
 }  // namespace rigsim

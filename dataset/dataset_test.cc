@@ -112,33 +112,5 @@ TEST(DatasetLayout, ImagesAreNamedWithTheExtensionTheyHave) {
   fs::remove_all(dir);
 }
 
-TEST(StagedOutput, NothingAppearsUntilCommitAndFailuresLeaveNothing) {
-  const fs::path dir = FreshDir("staged");
-  const fs::path out = dir / "out";
-  {
-    StagedOutput staged(out, false);
-    std::ofstream(staged.staging_dir() / "file") << "x";
-    EXPECT_FALSE(fs::exists(out));
-  }  // not committed: as if interrupted
-  EXPECT_FALSE(fs::exists(out));
-  EXPECT_TRUE(fs::is_empty(dir));
-  {
-    StagedOutput staged(out, false);
-    std::ofstream(staged.staging_dir() / "file") << "new";
-    staged.Commit();
-  }
-  EXPECT_TRUE(fs::exists(out / "file"));
-  EXPECT_THROW(StagedOutput(out, false), std::runtime_error);  // no overwrite without force
-  {
-    StagedOutput staged(out, true);
-    std::ofstream(staged.staging_dir() / "other") << "x";
-    EXPECT_TRUE(fs::exists(out / "file"));  // old output intact until commit
-    staged.Commit();
-  }
-  EXPECT_FALSE(fs::exists(out / "file"));
-  EXPECT_TRUE(fs::exists(out / "other"));
-  fs::remove_all(dir);
-}
-
 }  // namespace
 }  // namespace rigsim

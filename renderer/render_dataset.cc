@@ -118,7 +118,7 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
     for (int c = 0; c < num_cams; ++c) photometry.push_back(DrawCameraPhotometry(job.photometric, c));
   }
 
-  StagedOutput staged(out_dir, force);
+  StagedOutput staged(OutputFolderRequest{out_dir, "", "rigsim render", {}, force});
   const DatasetLayout layout(staged.staging_dir());
 
   // overlap[a * num_cams + b] sums, over frames, the fraction of a's surface seen by b.

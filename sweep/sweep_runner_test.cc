@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "common/run_program.h"
+#include "dataset/output_folder.h"
 
 namespace rigsim {
 namespace {
@@ -133,7 +134,7 @@ TEST(SweepRunner, NeverWritesIntoAFolderOfOtherFiles) {
     RunSweep(Config(), options, fake.Get());
     FAIL() << "wrote into a folder of other files";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("holds files that are not a sweep's results"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("holds files that rigsim did not write"), std::string::npos) << e.what();
   }
   EXPECT_EQ(fake.calls, 0);
   EXPECT_EQ(Read(out / "thesis.tex"), "mine");
@@ -141,7 +142,7 @@ TEST(SweepRunner, NeverWritesIntoAFolderOfOtherFiles) {
   fs::remove_all(out);
 }
 
-TEST(SweepRunner, RestartRemovesOnlyWhatASweepWrites) {
+TEST(SweepRunner, ResumesOrRestartsOnlyInAFolderASweepWrote) {
   const fs::path out = TempDir("sweep_restart");
   FakeRunner fake;
   SweepRunOptions options;
@@ -149,14 +150,37 @@ TEST(SweepRunner, RestartRemovesOnlyWhatASweepWrites) {
   options.keep_datasets = true;
   RunSweep(Config(), options, fake.Get());
   EXPECT_EQ(Read(out / "datasets" / ExpandCells(Config())[0].key / "image.png"), "pixels");
+  // A file of the user's in it: neither resumed nor restarted, and the file kept.
   std::ofstream(out / "notes.txt") << "mine";
+  for (const bool restart : {false, true}) {
+    options.restart = restart;
+    FakeRunner refused;
+    try {
+      RunSweep(Config(), options, refused.Get());
+      ADD_FAILURE() << "ran beside a file of the user's";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("holds notes.txt, which rigsim did not write there"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(refused.calls, 0);
+    EXPECT_EQ(Read(out / "notes.txt"), "mine");
+  }
+  fs::remove(out / "notes.txt");
   options.restart = true;
   options.keep_datasets = false;
   FakeRunner again;
   RunSweep(Config(), options, again.Get());
   EXPECT_EQ(again.calls, 6);  // started over
   EXPECT_FALSE(fs::exists(out / "datasets"));
-  EXPECT_EQ(Read(out / "notes.txt"), "mine");
+  // A folder another command wrote is not a sweep's.
+  const fs::path dataset = TempDir("sweep_in_a_dataset");
+  fs::create_directories(dataset);
+  WriteOutputMarker(dataset, "rigsim render", {"rig.json"});
+  std::ofstream(dataset / "rig.json") << "{}";
+  options.out_dir = dataset;
+  FakeRunner other;
+  EXPECT_THROW(RunSweep(Config(), options, other.Get()), std::runtime_error);
+  EXPECT_EQ(other.calls, 0);
+  fs::remove_all(dataset);
   fs::remove_all(out);
 }
 

@@ -5,6 +5,7 @@
 
 #include "apps/rigsim/commands.h"
 #include "dataset/dataset.h"
+#include "dataset/output_folder.h"
 #include "pipeline/calibration_outputs.h"
 #include "pipeline/calibration_run.h"
 #include "pipeline/report_table.h"
@@ -132,6 +133,28 @@ void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& s) {
   }
 }
 
+namespace {
+
+// The output folder and what calibrate reads: it must not replace the photos, labels or rig
+// it calibrates. Its default, DATASET/calibration, lies beside them.
+OutputFolderRequest CalibrationOutputFolder(const std::filesystem::path& dataset, const CalibrateSettings& settings,
+                                            const std::filesystem::path& out_dir, bool force) {
+  const DatasetLayout layout(dataset);
+  const bool default_folder = out_dir.lexically_normal() == (dataset / "calibration").lexically_normal();
+  OutputFolderRequest out{out_dir, default_folder ? "" : "--out", "rigsim calibrate", {}, force};
+  out.inputs = {{layout.RigJson(), "the dataset's rig.json"},
+                {layout.FramesJson(), "the dataset's frames.json"},
+                {layout.OverlapJson(), "the dataset's overlap.json"},
+                {layout.root() / "images", "the dataset's images/"},
+                {layout.root() / "labels", "the dataset's labels/"},
+                {layout.root() / "depth", "the dataset's depth/"}};
+  const std::string& labels = settings.labels.labels;
+  if (labels != "truth" && labels != "noisy" && !labels.empty()) out.inputs.push_back({labels, "--labels"});
+  return out;
+}
+
+}  // namespace
+
 std::vector<RigCalibrationResult> CalibrateAndReport(const std::filesystem::path& dataset, const CalibrateSettings& settings,
                                                      const std::filesystem::path& out_dir, bool force) {
   const RigCalibrationOptions options = settings.ToOptions();
@@ -144,9 +167,11 @@ std::vector<RigCalibrationResult> CalibrateAndReport(const std::filesystem::path
   }
   // Everything that can be checked cheaply is checked before the long run, so that bad input
   // fails fast and leaves nothing behind.
+  const OutputFolderRequest out = CalibrationOutputFolder(dataset, settings, out_dir, force);
+  CheckReplaceableOutput(out);
   const CalibrationInputs inputs = ReadCalibrationInputs(dataset);
   for (const std::string& w : inputs.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-  StagedOutput staged(out_dir, force);
+  StagedOutput staged(out);
 
   std::fprintf(stderr, "calibrating %s (%zu semantic modes%s)...\n", dataset.string().c_str(), modes.size(),
                labels_used ? (", labels: " + labels.Describe()).c_str() : "");

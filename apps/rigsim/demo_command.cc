@@ -6,6 +6,7 @@
 #include "apps/rigsim/render_support.h"
 #include "apps/rigsim/version.h"
 #include "dataset/dataset.h"
+#include "dataset/output_folder.h"
 #include "rigs/rig_presets.h"
 #include "rigs/trajectories.h"
 
@@ -41,6 +42,8 @@ void AddDemoCommand(CLI::App& app) {
     // Fail on bad calibration options before spending time on rendering.
     args->calibrate.ToOptions();
     args->calibrate.Modes();
+    const OutputFolderRequest out{args->out, "--out", "rigsim demo", {}, args->force};
+    CheckReplaceableOutput(out);
 
     const Scene scene = LoadSceneVerbose(args->scene);
     RenderJob job;
@@ -57,6 +60,7 @@ void AddDemoCommand(CLI::App& app) {
     // The evaluation also beside the images, where the dataset's other ground truth is.
     std::filesystem::copy_file(calibration / "evaluation.json", DatasetLayout(args->out).EvaluationJson(),
                                std::filesystem::copy_options::overwrite_existing);
+    WriteOutputMarker(args->out, out.written_by);  // the dataset, its calibration/ and evaluation.json
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("demo finished in %.1f s\n", seconds);
     ThrowUnlessEveryCameraCalibrated(results);

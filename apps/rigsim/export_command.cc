@@ -8,6 +8,7 @@
 #include "apps/rigsim/calibrate_support.h"
 #include "apps/rigsim/commands.h"
 #include "dataset/dataset.h"
+#include "dataset/output_folder.h"
 #include "exports/colmap.h"
 #include "exports/kalibr.h"
 #include "exports/nerfstudio.h"
@@ -49,6 +50,11 @@ void AddExportCommand(CLI::App& app) {
     if (formats.count("all")) formats = {"kalibr", "opencv", "colmap", "nerfstudio"};
     const DatasetLayout layout(args->dataset);
     const std::filesystem::path rig_json = args->rig.empty() ? layout.RigJson() : std::filesystem::path(args->rig);
+    OutputFolderRequest out{args->out, "--out", "rigsim export", {}, args->force};
+    out.inputs = {{rig_json, args->rig.empty() ? "the dataset's rig.json" : "--rig"},
+                  {layout.FramesJson(), "the dataset's frames.json"},
+                  {layout.root() / "images", "the dataset's images/"}};
+    CheckReplaceableOutput(out);
     Rig rig = ReadRig(rig_json);
     // A calibration estimate may leave cameras without a pose: they are left out of every format,
     // as calibrate's own exports do. A rig with no pose at all exports its intrinsics (opencv).
@@ -68,7 +74,7 @@ void AddExportCommand(CLI::App& app) {
     const ImageNameFn image_name = [&layout](const std::string& cam, const std::string& frame) {
       return layout.ImageName(cam, frame);
     };
-    StagedOutput staged(args->out, args->force);
+    StagedOutput staged(out);
     const std::filesystem::path& dir = staged.staging_dir();
     std::vector<std::string> written;
     if (formats.count("kalibr")) {

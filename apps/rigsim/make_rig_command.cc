@@ -12,6 +12,7 @@
 #include "apps/rigsim/commands.h"
 #include "apps/rigsim/render_support.h"
 #include "dataset/dataset.h"
+#include "dataset/output_folder.h"
 #include "geometry/rig.h"
 #include "gltf/gltf_loader.h"
 #include "gltf/scene_cameras.h"
@@ -151,14 +152,20 @@ void AddSourceAndOutputOptions(CLI::App* cmd, MakeRigArgs& a) {
   cmd->add_flag("--force", a.force, "with --out: replace an existing folder");
 }
 
+// --out DIR, with what make-rig reads.
+OutputFolderRequest OutputFolder(const MakeRigArgs& a) {
+  OutputFolderRequest out{a.out, "--out", "rigsim make-rig", {}, a.force};
+  if (!a.scene.empty()) out.inputs.push_back({a.scene, "--scene"});
+  if (!a.from_gltf.empty()) out.inputs.push_back({a.from_gltf, "--from-gltf"});
+  return out;
+}
+
 // Where to write, checked before any work.
 void CheckOutput(const MakeRigArgs& a) {
   if (a.out.empty() && (a.rig_out.empty() || a.frames_out.empty())) {
     throw CLI::ValidationError("make-rig", "give --out DIR, or both --rig-out FILE and --frames-out FILE");
   }
-  if (!a.out.empty() && std::filesystem::exists(a.out) && !a.force) {
-    throw std::runtime_error(a.out + ": already exists (use --force to replace it)");
-  }
+  if (!a.out.empty()) CheckReplaceableOutput(OutputFolder(a));
 }
 
 // Writes rig.json and frames.json (into --out, complete or not at all, or to --rig-out and
@@ -166,7 +173,7 @@ void CheckOutput(const MakeRigArgs& a) {
 void WriteRigAndFrames(const MakeRigArgs& a, const Rig& rig, const FramesFile& frames, const std::string& what) {
   std::string rig_path = a.rig_out, frames_path = a.frames_out;
   if (!a.out.empty()) {
-    StagedOutput staged(a.out, a.force);
+    StagedOutput staged(OutputFolder(a));
     WriteRig(rig, staged.staging_dir() / "rig.json");
     WriteFrames(frames, staged.staging_dir() / "frames.json");
     staged.Commit();

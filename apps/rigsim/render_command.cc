@@ -5,6 +5,7 @@
 #include "apps/rigsim/progress.h"
 #include "apps/rigsim/render_support.h"
 #include "apps/rigsim/version.h"
+#include "dataset/output_folder.h"
 #include "geometry/camera_validation.h"
 #include "geometry/rig.h"
 #include "gltf/gltf_loader.h"
@@ -37,7 +38,12 @@ void AddRenderCommand(CLI::App& app) {
   AddRenderSettingsOptions(*cmd, args->settings);
   AddPhotometricOptions(*cmd, args->photometric);
   cmd->callback([args] {
-    // The small inputs first, so that their errors come before the scene's loading time.
+    // The output folder and the small inputs first, so that their errors come before the scene's
+    // loading time.
+    OutputFolderRequest out{args->out, "--out", "rigsim render", {}, args->force};
+    out.inputs = {{args->scene, "--scene"}, {args->rig, "--rig"}, {args->frames, "--frames"}};
+    if (!args->rules.empty()) out.inputs.push_back({args->rules, "--rules"});
+    CheckReplaceableOutput(out);
     RenderJob job;
     job.options = args->settings.ToRenderOptions();
     job.photometric = args->photometric.ToOptions(args->settings.seed);
