@@ -126,6 +126,7 @@ class Loader {
   ClassTag ParseClass(const tinygltf::Value& extras, const std::string& owner);
   void ParseClasses();
   ClassTag ClassFromLabelRules(int node_index, int mesh_index, int material_index);
+  void ReportUnusedLabelRules();
 
   // materials.cc: materials and the texture coordinates their textures sample.
   void ConvertMaterials();
@@ -207,6 +208,8 @@ class Loader {
   size_t decoded_elements_ = 0;  // accessor elements read so far (ReadAccessor's total bound)
   size_t instanced_elements_ = 0;  // vertices and indices of every GPU instance so far (CheckInstancedSize)
   std::vector<int> rule_parent_;  // parent node of each node, for label rules (built on first use)
+  std::vector<size_t> rule_uses_;  // per label rule: primitives it classified
+  size_t rule_lookups_ = 0;        // primitives the label rules were asked about
 };
 
 }  // namespace rigsim::gltf

@@ -1,9 +1,12 @@
 #include "apps/rigsim/calibrate_support.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "apps/rigsim/commands.h"
+#include "apps/rigsim/parse_errors.h"
+#include "common/did_you_mean.h"
 #include "dataset/dataset.h"
 #include "dataset/output_folder.h"
 #include "pipeline/calibration_outputs.h"
@@ -65,7 +68,13 @@ void AddLabelSourceOptions(CLI::App& cmd, LabelSettings& s) {
 RigCalibrationOptions CalibrateSettings::ToOptions() const {
   RigCalibrationOptions o = options;
   o.pairwise.labels = labels.ToSource();
-  if (!reliable.empty()) o.pairwise.reliable = ReliableClasses::FromNames(reliable);
+  if (!reliable.empty()) {
+    try {
+      o.pairwise.reliable = ReliableClasses::FromNames(reliable);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("--reliable: ") + e.what());
+    }
+  }
   if (!known_distance.empty()) {
     if (known_distance.size() != 3) throw std::invalid_argument("--known-distance takes CAM_A CAM_B METRES");
     double metres = 0.0;
@@ -73,6 +82,9 @@ RigCalibrationOptions CalibrateSettings::ToOptions() const {
       metres = std::stod(known_distance[2]);
     } catch (const std::exception&) {
       throw std::invalid_argument("--known-distance: '" + known_distance[2] + "' is not a number of metres");
+    }
+    if (!std::isfinite(metres) || !(metres > 0)) {
+      throw std::invalid_argument("--known-distance: the distance must be more than 0 metres (got " + known_distance[2] + ")");
     }
     if (known_distance[0] == known_distance[1]) {
       throw std::invalid_argument("--known-distance: give two different cameras (got '" + known_distance[0] + "' twice)");
@@ -108,16 +120,16 @@ void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& s) {
   FeatureOptions& features = s.options.pairwise.features;
   cmd.add_option("--max-features", features.max_features, "strongest keypoints kept per image (every --features type)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(Positive());
   cmd.add_option("--sift-contrast", features.contrast_threshold,
                  "SIFT contrast threshold; lower finds more, weaker keypoints")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(Positive());
   cmd.add_option("--screen-features", s.options.pairwise.screen_features,
                  "pair screening: match only this many strongest keypoints of two frames first and\n"
                  "skip the full matching of pairs that show no shared view; 0 matches every pair in full")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegative());
   cmd.add_option("--ratio", s.options.pairwise.matching.ratio,
                  "Lowe's ratio test: keep a match when best < ratio x second best")
       ->capture_default_str()
@@ -125,11 +137,11 @@ void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& s) {
   cmd.add_option("--max-error-px", s.options.pairwise.two_view.max_error_px,
                  "inlier threshold of the robust relative-pose fit (px)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(Positive());
   if (cmd.get_option_no_throw("--threads") == nullptr) {
     cmd.add_option("--threads", s.options.pairwise.num_threads, "worker threads, 0 = all cores")
         ->capture_default_str()
-        ->check(CLI::NonNegativeNumber);
+        ->check(NonNegative());
   }
 }
 
@@ -153,6 +165,21 @@ OutputFolderRequest CalibrationOutputFolder(const std::filesystem::path& dataset
   return out;
 }
 
+// --known-distance names cameras of the rig, or says which it has.
+void CheckKnownDistanceCameras(const CalibrateSettings& settings, const Rig& rig, const std::filesystem::path& rig_json) {
+  if (settings.known_distance.size() != 3) return;
+  std::vector<std::string> names;
+  for (const RigCamera& c : rig.cameras) names.push_back(c.name);
+  for (int i = 0; i < 2; ++i) {
+    const std::string& name = settings.known_distance[i];
+    if (rig.FindCamera(name) >= 0) continue;
+    std::string list;
+    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+    throw std::invalid_argument("--known-distance: no camera '" + name + "' in " + rig_json.string() + DidYouMean(name, names) +
+                                "; its cameras are " + list);
+  }
+}
+
 }  // namespace
 
 std::vector<RigCalibrationResult> CalibrateAndReport(const std::filesystem::path& dataset, const CalibrateSettings& settings,
@@ -171,6 +198,7 @@ std::vector<RigCalibrationResult> CalibrateAndReport(const std::filesystem::path
   CheckReplaceableOutput(out);
   const CalibrationInputs inputs = ReadCalibrationInputs(dataset);
   for (const std::string& w : inputs.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  CheckKnownDistanceCameras(settings, inputs.rig, DatasetLayout(dataset).RigJson());
   StagedOutput staged(out);
 
   std::fprintf(stderr, "calibrating %s (%zu semantic modes%s)...\n", dataset.string().c_str(), modes.size(),

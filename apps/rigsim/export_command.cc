@@ -7,6 +7,7 @@
 
 #include "apps/rigsim/calibrate_support.h"
 #include "apps/rigsim/commands.h"
+#include "apps/rigsim/render_support.h"
 #include "dataset/dataset.h"
 #include "dataset/output_folder.h"
 #include "exports/colmap.h"
@@ -69,6 +70,7 @@ void AddExportCommand(CLI::App& app) {
         throw std::runtime_error(layout.FramesJson().string() + ": missing; colmap and nerfstudio exports need the frame poses");
       }
       frames = ReadFrames(layout.FramesJson());
+      RequirePoses(rig, rig_json, frames, layout.FramesJson(), "the colmap and nerfstudio exports");
     }
     // Images are named as the dataset has them, whatever their extension.
     const ImageNameFn image_name = [&layout](const std::string& cam, const std::string& frame) {

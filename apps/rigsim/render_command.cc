@@ -50,6 +50,7 @@ void AddRenderCommand(CLI::App& app) {
     job.rig = ReadRig(args->rig);
     for (const std::string& w : CheckRigCoversImages(job.rig, args->rig)) std::fprintf(stderr, "warning: %s\n", w.c_str());
     job.frames = ReadFrames(args->frames);
+    RequirePoses(job.rig, args->rig, job.frames, args->frames, "render");
     const Scene scene = LoadSceneVerbose(args->scene, args->rules);
     job.scene = &scene;
     job.scene_name = std::filesystem::path(args->scene).filename().string();
