@@ -18,6 +18,7 @@
 
 #include "gltf/gltf_compression.h"
 #include "gltf/gltf_loader.h"
+#include "gltf/readable_gltf.h"
 #include "scene/scene.h"
 
 namespace rigsim::gltf {
@@ -120,6 +121,7 @@ class Loader {
 
   // model_reading.cc: the file into model_, and what the file as a whole asks for.
   void ReadModel();
+  void UndoReadableRewrites(const ReadableGltf& readable);
   void ReportFileLevelUnsupported();
 
   // classes.cc: semantic classes from extras.class and the label rules.
@@ -195,6 +197,8 @@ class Loader {
   std::vector<MaterialUvs> material_uv_;  // per glTF material: its textures' coordinates
   std::map<int, int> texture_map_;  // glTF texture -> Scene::textures index
   ImageChecks image_checks_;        // filled by LoadCheckedImage while tinygltf reads the file
+  std::set<int> dataless_buffers_;  // buffers without uri or data (gltf/readable_gltf.h)
+  std::map<int, std::string> unknown_accessor_types_;  // accessor -> a type glTF does not define
   std::set<int> animated_nodes_;    // nodes targeted by a translation, rotation or scale channel
   std::set<int> morph_animated_nodes_;  // nodes whose morph weights a channel animates
   std::vector<bool> traversed_;                 // per glTF node: reached from the loaded scene's roots
