@@ -332,6 +332,35 @@ TEST_F(CalibrateIo, PhotosWithoutTruthCalibrateAndPlotTheEstimateAlone) {
       << "no truth: nothing compared";
 }
 
+// Photos without labels: the default modes (none,mask) fall back to none with a warning saying so;
+// a mode that needs labels asked for by name is refused, saying what to do.
+TEST_F(CalibrateIo, PhotosWithoutLabelsCalibrateWithoutSemanticsOrSayWhatToDo) {
+  const fs::path photos = dir_ / "photos";
+  fs::create_directories(photos);
+  fs::copy(dataset() / "images", photos / "images", fs::copy_options::recursive);
+  fs::copy_file(dataset() / "rig.json", photos / "rig.json");
+  const fs::path out = dir_ / "out";
+  const CliResult r = RunRigsim({"calibrate", photos.string(), "--out", out.string(), "--threads", "2"}, dir_ / "default");
+  ExpectBackUncalibrated(r);
+  EXPECT_NE(r.err.find("warning: " + photos.string() + " has no labels/: calibrating with --semantics none only"),
+            std::string::npos)
+      << r.err;
+  const json methods = ReadJson(out / "evaluation.json")["methods"];
+  EXPECT_TRUE(methods.contains("none"));
+  EXPECT_FALSE(methods.contains("mask"));
+
+  const fs::path refused = dir_ / "refused";
+  const CliResult mask =
+      RunRigsim({"calibrate", photos.string(), "--out", refused.string(), "--semantics", "none,mask", "--threads", "2"}, dir_ / "mask");
+  EXPECT_EQ(mask.code, 1) << mask.err;
+  EXPECT_NE(mask.err.find("rigsim: error: " + (photos / "labels").string() + ": no such folder: --semantics mask needs a label "
+                          "image per photo"),
+            std::string::npos)
+      << mask.err;
+  EXPECT_NE(mask.err.find("use --semantics none"), std::string::npos) << mask.err;
+  EXPECT_FALSE(fs::exists(refused));
+}
+
 TEST_F(CalibrateIo, UserLabelsInIdsAndInColoursGiveIdenticalResults) {
   // Any ids the palette maps back uniquely: the truth with its colour-ambiguous void ids made 0.
   auto ids = [](ImageU8 l, const std::string&, const std::string&) { return LabelsFromColors(ColorizeLabels(l), "x"); };

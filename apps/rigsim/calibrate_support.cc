@@ -103,7 +103,7 @@ std::vector<SemanticMode> CalibrateSettings::Modes() const {
 }
 
 void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& s) {
-  cmd.add_option("--semantics", s.semantics,
+  s.semantics_option = cmd.add_option("--semantics", s.semantics,
                  "semantic modes to compare on the same images: none (baseline), mask (features only on\n"
                  "reliable classes), gated (match only within a class), mask+gated")
       ->delimiter(',')
@@ -180,12 +180,38 @@ void CheckKnownDistanceCameras(const CalibrateSettings& settings, const Rig& rig
   }
 }
 
+// The semantic modes to run. Photos without labels (no DATASET/labels/ for --labels truth) run the
+// default modes that need none, with a warning; modes asked for by name that need labels are
+// refused, saying what to do.
+std::vector<SemanticMode> ModesFor(const std::filesystem::path& dataset, const CalibrateSettings& settings) {
+  std::vector<SemanticMode> modes = settings.Modes();
+  const std::filesystem::path labels = DatasetLayout(dataset).root() / "labels";
+  if (settings.labels.labels != "truth" || std::filesystem::exists(labels) ||
+      std::none_of(modes.begin(), modes.end(), NeedsLabels)) {
+    return modes;
+  }
+  std::string needing;
+  for (SemanticMode m : modes) {
+    if (NeedsLabels(m)) needing += (needing.empty() ? "" : ",") + std::string(SemanticModeName(m));
+  }
+  const bool given = settings.semantics_option != nullptr && settings.semantics_option->count() > 0;
+  if (given || std::all_of(modes.begin(), modes.end(), NeedsLabels)) {
+    throw std::runtime_error(labels.string() + ": no such folder: --semantics " + needing +
+                             " needs a label image per photo (README, 'Labels for the semantic modes'); for photos "
+                             "without labels use --semantics none, or give labels with --labels DIR");
+  }
+  std::fprintf(stderr, "warning: %s has no labels/: calibrating with --semantics none only (%s needs a label image per photo; "
+               "--labels DIR gives them)\n", dataset.string().c_str(), needing.c_str());
+  modes.erase(std::remove_if(modes.begin(), modes.end(), NeedsLabels), modes.end());
+  return modes;
+}
+
 }  // namespace
 
 std::vector<RigCalibrationResult> CalibrateAndReport(const std::filesystem::path& dataset, const CalibrateSettings& settings,
                                                      const std::filesystem::path& out_dir, bool force) {
   const RigCalibrationOptions options = settings.ToOptions();
-  const std::vector<SemanticMode> modes = settings.Modes();
+  const std::vector<SemanticMode> modes = ModesFor(dataset, settings);
   const bool labels_used = std::any_of(modes.begin(), modes.end(), NeedsLabels);
   const LabelSource& labels = options.pairwise.labels;
   if (!labels_used && labels.kind != LabelSource::Kind::kTruth) {

@@ -71,7 +71,8 @@ void AddRigOptions(CLI::App* cmd, MakeRigArgs& a) {
   cmd->add_option("--cameras", r.num_cameras, "ring: number of cameras")->capture_default_str()->check(CLI::Range(1, 64));
   cmd->add_option("--spacing", r.yaw_spacing_deg, "ring: yaw between neighbouring cameras (deg)")->capture_default_str();
   cmd->add_option("--overlap", a.overlap_percent,
-                  "ring: target overlap between neighbours (percent of the image, at infinity; overrides --spacing)")
+                  "ring: overlap between neighbours, percent of the image (the smaller of the two directions, as render reports it):\n"
+                  "ground truth at the place found with --scene, else the angular one at infinity; overrides --spacing")
       ->check(CLI::Range(0.0, 99.0));
   cmd->add_option("--hfov", a.hfov_deg, "horizontal field of view of the perspective cameras (deg; ring default 95, "
                                         "stereo 80, wide-baseline 70, surround front 100)");
@@ -241,6 +242,38 @@ RigSpec SpecOf(const MakeRigArgs& a, const CLI::App& cmd) {
   return s;
 }
 
+// What the rig will see: the overlap of each pair that shares a view at the first frame, and a
+// warning when a neighbour pair misses the --overlap asked for.
+void ReportOverlaps(const MakeRigArgs& a, const PlacedRig& placed, const Scene* scene) {
+  if (placed.rig.cameras.size() < 2 || !placed.rig.HasAllPoses()) return;
+  const std::vector<PairOverlap> pairs = RigPairOverlaps(placed.rig, scene, *placed.frames.frames[0].rig_from_world);
+  std::printf("%s\n", scene ? "overlap predicted at the first frame (the smaller of the two directions, the figure render "
+                              "and calibrate report from overlap.json):"
+                            : "angular overlap for points at infinity (the smaller of the two directions; render measures "
+                              "the ground truth, without sky and with parallax: --scene solves for that):");
+  std::string line, missed;
+  int shown = 0;
+  for (const PairOverlap& p : pairs) {
+    if (p.overlap < 0.005) continue;
+    char text[96];
+    std::snprintf(text, sizeof(text), "  %s-%s %5.1f%%", p.a.c_str(), p.b.c_str(), 100 * p.overlap);
+    line += text;
+    if (++shown % 4 == 0) line += "\n";
+    // Neighbours on the ring (camera i and i+1) are what --overlap solves for, pair by pair in a scene.
+    const bool neighbours = placed.rig.FindCamera(p.b) == placed.rig.FindCamera(p.a) + 1;
+    if (scene && a.overlap_percent > 0 && neighbours && std::abs(100 * p.overlap - a.overlap_percent) > 2.0) {
+      missed += (missed.empty() ? "" : ", ") + p.a + "-" + p.b;
+    }
+  }
+  if (shown < int(pairs.size())) line += shown % 4 == 0 ? "  (the other pairs 0%)" : "    (the other pairs 0%)";
+  if (shown == 0) line = "  every pair 0%";
+  std::printf("%s\n", line.c_str());
+  if (!missed.empty()) {
+    std::fprintf(stderr, "warning: %s: more than 2 points from the --overlap %g%% asked for: no spacing gives it at this "
+                 "place (near walls or open sky); try another --seed\n", missed.c_str(), a.overlap_percent);
+  }
+}
+
 void MakeRig(const MakeRigArgs& a, const CLI::App& cmd) {
   CheckOutput(a);
   if (!a.from_gltf.empty()) {
@@ -250,18 +283,29 @@ void MakeRig(const MakeRigArgs& a, const CLI::App& cmd) {
   const RigSpec spec = SpecOf(a, cmd);
   std::optional<Scene> scene;
   if (!a.scene.empty()) scene = LoadGltf(a.scene);
+  if (scene && scene->NumTriangles() == 0) {
+    throw std::runtime_error(a.scene + ": the scene holds no triangles: there is no ground to place the rig on; give a "
+                             "scene with geometry, or leave out --scene and place the rig with --position and --heading");
+  }
   std::optional<PlacedRig> placed = MakePlacedRig(spec, scene ? &*scene : nullptr);
   if (!placed) {
-    throw std::runtime_error(a.scene + ": no place found where the rig stands on the ground with " +
-                             std::to_string(spec.placement.min_clearance_m) +
+    char clearance[32];
+    std::snprintf(clearance, sizeof(clearance), "%g", spec.placement.min_clearance_m);
+    throw std::runtime_error(a.scene + ": no place found where the rig stands on the ground with " + clearance +
                              " m clearance; try a smaller --clearance or fewer --frames");
   }
   if (placed->placement) {
     const RigPlacement& p = *placed->placement;
     std::printf("placed at (%.2f, %.2f, %.2f), heading %.1f deg (%.0f%% of probe rays see structure)\n",
                 p.position_world.x(), p.position_world.y(), p.position_world.z(), p.heading_deg, 100.0 * p.score);
+    if (p.score < 0.1) {
+      std::fprintf(stderr, "warning: %s: at the best place found, %.0f%% of the probe rays see structure within %.0f m: the "
+                   "views will be mostly empty sky; try another --seed, or a scene with structure around the ground\n",
+                   a.scene.c_str(), 100.0 * p.score, spec.placement.max_range_m);
+    }
     placed->frames.scene = std::filesystem::path(a.scene).filename().string();
   }
+  ReportOverlaps(a, *placed, scene ? &*scene : nullptr);
   WriteRigAndFrames(a, placed->rig, placed->frames, a.type);
 }
 

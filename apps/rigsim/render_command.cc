@@ -52,6 +52,9 @@ void AddRenderCommand(CLI::App& app) {
     job.frames = ReadFrames(args->frames);
     RequirePoses(job.rig, args->rig, job.frames, args->frames, "render");
     const Scene scene = LoadSceneVerbose(args->scene, args->rules);
+    if (scene.NumTriangles() == 0) {
+      std::fprintf(stderr, "warning: %s: the scene holds no triangles: every view will be empty sky\n", args->scene.c_str());
+    }
     job.scene = &scene;
     job.scene_name = std::filesystem::path(args->scene).filename().string();
     job.frames.label_rules = args->rules.empty() ? "" : std::filesystem::path(args->rules).filename().string();
