@@ -27,6 +27,7 @@ packages=(
 # Large, and used by tests only.
 test_packages=(
   clang libclang-rt-14-dev               # fuzzing: clang and libFuzzer (libclang_rt.fuzzer), scripts/fuzz.sh
+  colmap                                 # the COLMAP export through COLMAP's tools (tests/colmap_interop_cli_test.cc)
 )
 case "${1:-}" in
   --tests) packages+=("${test_packages[@]}") ;;

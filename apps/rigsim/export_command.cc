@@ -109,8 +109,10 @@ void AddExportCommand(CLI::App& app) {
                 frames.frames.empty() ? "" : (" x " + std::to_string(frames.frames.size()) + " frames").c_str(), args->out.c_str(),
                 list.c_str());
     if (formats.count("colmap")) {
-      std::printf("COLMAP: --image_path %s --input_path %s\n", (layout.root() / "images").string().c_str(),
-                  (std::filesystem::path(args->out) / "colmap").string().c_str());
+      const std::filesystem::path model = std::filesystem::path(args->out) / "colmap";
+      std::printf("COLMAP: --image_path %s --input_path %s; its points at these poses: bash %s %s OUT_DIR\n",
+                  (layout.root() / "images").string().c_str(), model.string().c_str(), (model / "triangulate.sh").string().c_str(),
+                  (layout.root() / "images").string().c_str());
     }
   });
 }
