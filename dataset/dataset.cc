@@ -4,6 +4,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "common/did_you_mean.h"
 #include "geometry/json_io.h"
 
 namespace rigsim {
@@ -95,6 +96,21 @@ std::string PhotoExtensionList() {
 
 }  // namespace
 
+std::string NoCameraFolderMessage(const fs::path& parent, const std::string& cam, const std::string& what) {
+  std::vector<std::string> folders;
+  std::error_code ec;
+  for (fs::directory_iterator it(parent, ec), end; !ec && it != end; it.increment(ec)) {
+    if (it->is_directory(ec) && it->path().filename().string()[0] != '.') folders.push_back(it->path().filename().string());
+  }
+  std::sort(folders.begin(), folders.end());
+  std::string held;
+  for (const std::string& f : folders) held += (held.empty() ? "" : ", ") + f;
+  const std::string name = parent.filename().string();
+  return (parent / cam).string() + ": no such folder: the " + what + " of camera '" + cam + "' of rig.json go in " + name + "/" +
+         cam + "/" + DidYouMean(cam, folders) + (folders.empty() ? "; " + name + "/ holds no folder" : "; " + name + "/ holds " + held) +
+         " (a folder per camera, named as in rig.json)";
+}
+
 std::optional<fs::path> DatasetLayout::FindImage(const std::string& cam, const std::string& frame) const {
   for (const std::string& ext : PhotoExtensions()) {
     const fs::path p = root_ / "images" / cam / (frame + ext);
@@ -105,6 +121,7 @@ std::optional<fs::path> DatasetLayout::FindImage(const std::string& cam, const s
 
 fs::path DatasetLayout::RequireImage(const std::string& cam, const std::string& frame) const {
   if (std::optional<fs::path> found = FindImage(cam, frame)) return *found;
+  if (!fs::is_directory(root_ / "images" / cam)) throw std::runtime_error(NoCameraFolderMessage(root_ / "images", cam, "photos"));
   throw std::runtime_error((root_ / "images" / cam / frame).string() + ".*: image missing (camera '" + cam + "', frame '" +
                            frame + "'; tried " + PhotoExtensionList() + ")");
 }
@@ -117,9 +134,7 @@ std::string DatasetLayout::ImageName(const std::string& cam, const std::string& 
 FramesFile DatasetLayout::ReadFramesOrScan(const std::string& first_camera) const {
   if (fs::exists(FramesJson())) return ReadFrames(FramesJson());
   const fs::path dir = root_ / "images" / first_camera;
-  if (!fs::is_directory(dir)) {
-    throw std::runtime_error(dir.string() + ": no such folder (and no frames.json in " + root_.string() + ")");
-  }
+  if (!fs::is_directory(dir)) throw std::runtime_error(NoCameraFolderMessage(dir.parent_path(), first_camera, "photos") + "; no frames.json either");
   std::vector<std::string> stems;
   const std::vector<std::string>& extensions = PhotoExtensions();
   for (const auto& entry : fs::directory_iterator(dir)) {

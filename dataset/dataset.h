@@ -65,7 +65,8 @@ class DatasetLayout {
   // Finds the image of a frame whatever its extension (.png, .jpg, .jpeg, .tif, .tiff, .exr, and
   // .PNG, .JPG, .JPEG); nullopt if absent.
   std::optional<std::filesystem::path> FindImage(const std::string& cam, const std::string& frame) const;
-  // FindImage, or a std::runtime_error naming the camera, the frame and the extensions tried.
+  // FindImage, or a std::runtime_error naming the camera, the frame and the extensions tried (or,
+  // when images/<cam>/ is missing, NoCameraFolderMessage).
   std::filesystem::path RequireImage(const std::string& cam, const std::string& frame) const;
   // The image's name relative to images/, "<cam>/<frame><ext>" with the extension of the file
   // found, ".png" (what render writes) when there is none: what COLMAP and nerfstudio exports name.
@@ -77,5 +78,10 @@ class DatasetLayout {
  private:
   std::filesystem::path root_;
 };
+
+// The error for a camera of rig.json without its folder `parent`/<cam> (of `what`: "photos",
+// "label images"): what the folder must be called, the nearest folder there is ("did you mean")
+// and the folders `parent` holds.
+std::string NoCameraFolderMessage(const std::filesystem::path& parent, const std::string& cam, const std::string& what);
 
 }  // namespace rigsim

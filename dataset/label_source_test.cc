@@ -88,8 +88,19 @@ TEST_F(LabelSourceTest, BadUserLabelImagesAreErrorsNamingTheFile) {
   ExpectFolderFails("bad_id", "pixel (3, 2) has label id 77");
   Write("two_channels", ImageU8(64, 48, 2, 11));
   ExpectFolderFails("two_channels", "must have 1 channel (Cityscapes label ids) or 3");
-  fs::create_directories(dir_ / "empty");
+  fs::create_directories(dir_ / "empty" / "cam0");
   ExpectFolderFails("empty", "label image missing");
+  // No folder for the camera: the message names the folder, the nearest there is and what there is.
+  fs::create_directories(dir_ / "misnamed" / "CAM0");
+  fs::create_directories(dir_ / "misnamed" / "cam1");
+  try {
+    LoadLabels(LabelSource::Folder(dir_ / "misnamed"), DatasetLayout(dir_ / "dataset"), "cam0", "000000", 64, 48);
+    ADD_FAILURE() << "no error for a missing camera folder";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), (dir_ / "misnamed" / "cam0").string() +
+                                         ": no such folder: the label images of camera 'cam0' of rig.json go in misnamed/cam0/ "
+                                         "(did you mean 'CAM0'?); misnamed/ holds CAM0, cam1 (a folder per camera, named as in rig.json)");
+  }
 }
 
 TEST_F(LabelSourceTest, MissingFolderIsNamedByCheck) {

@@ -97,6 +97,24 @@ TEST_F(MessagesCli, RenderNamesTheFileThatLacksAPose) {
   EXPECT_FALSE(fs::exists(dir_ / "out"));
 }
 
+// A camera folder named otherwise than the camera in rig.json: the message names the folder it
+// looked for, the nearest there is and what the folder holds; for photos and for label folders.
+TEST_F(MessagesCli, AMisnamedCameraFolderIsNamedWithTheNearest) {
+  const fs::path data = Dataset();
+  fs::rename(data / "images" / "cam1", data / "images" / "Cam1");
+  ExpectError({"calibrate", data.string(), "--semantics", "none", "--out", (dir_ / "out").string()},
+              (data / "images" / "cam1").string() + ": no such folder: the photos of camera 'cam1' of rig.json go in "
+              "images/cam1/ (did you mean 'Cam1'?); images/ holds Cam1, cam0 (a folder per camera, named as in rig.json)");
+  fs::rename(data / "images" / "Cam1", data / "images" / "cam1");
+  fs::create_directories(dir_ / "labels");
+  fs::copy(data / "labels" / "cam0", dir_ / "labels" / "cam0");
+  fs::copy(data / "labels" / "cam1", dir_ / "labels" / "CAM1");
+  ExpectError({"calibrate", data.string(), "--semantics", "mask", "--labels", (dir_ / "labels").string(), "--out", (dir_ / "out").string()},
+              (dir_ / "labels" / "cam1").string() + ": no such folder: the label images of camera 'cam1' of rig.json go in "
+              "labels/cam1/ (did you mean 'CAM1'?)");
+  EXPECT_FALSE(fs::exists(dir_ / "out"));
+}
+
 TEST_F(MessagesCli, MisspeltClassesAndRulesThatLabelNothingAreNamed) {
   // A rules file with a misspelt class is refused, suggesting the class.
   std::ofstream(dir_ / "typo.json") << R"({"rules": [{"match": "node", "glob": "*", "class": "buildng"}]})";
