@@ -59,7 +59,7 @@ void ScaleTranslations(double s, std::vector<std::optional<Rigid3d>>* cam_from_r
 
 // A calibrated camera whose place rests on one pair only, a pair whose fit explains under a
 // quarter of its matches, may be a wrong view that agreed with some pose by chance (a mirrored
-// photo of a symmetric facade did: 17% inliers, 121 deg off); genuine pairs of the demo and of
+// photo of a symmetric facade does: 17% inliers, 121 deg off); genuine pairs of the demo and of
 // Herz-Jesus explain 60-90%. The pose is kept, with a warning that says what to look at.
 constexpr double kWeakPairInlierRatio = 0.25;
 
@@ -308,6 +308,7 @@ struct ScaledPoses {
   std::vector<std::string> undetermined;             // why a camera's adjusted position is dropped
   std::vector<std::optional<double>> direction_std_deg;
   std::vector<std::optional<Rigid3d>> rig_from_world;  // empty when positions are not observable
+  double length_scale = 1.0;  // the bundle adjustment's unit of length in the result's
   bool metric_scale = false;
   std::string scale;
   std::vector<std::string> warnings;
@@ -338,7 +339,10 @@ ScaledPoses DropUndeterminedAndScale(const RigObservations& obs, MultiFrameBundl
     for (int c = 1; c < n && scale_camera < 0; ++c) {
       if (pose[c] && pose[c]->translation.norm() > 1e-12) scale_camera = c;
     }
-    if (scale_camera >= 0) ScaleTranslations(1.0 / pose[scale_camera]->translation.norm(), &pose, &ba.rig_from_world);
+    if (scale_camera >= 0) {
+      out.length_scale = 1.0 / pose[scale_camera]->translation.norm();
+      ScaleTranslations(out.length_scale, &pose, &ba.rig_from_world);
+    }
   }
   if (ps.positions.unique) out.rig_from_world = ba.rig_from_world;
   out.scale = scale_camera >= 0 ? "unit scale: |centre of " + obs.camera_names[scale_camera] + "| = 1"
@@ -347,6 +351,7 @@ ScaledPoses DropUndeterminedAndScale(const RigObservations& obs, MultiFrameBundl
   if (pose[known_a] && pose[known_b]) {
     const double d = (pose[known_a]->SourceOriginInTarget() - pose[known_b]->SourceOriginInTarget()).norm();
     if (d > 1e-12) {
+      out.length_scale *= options.known_distance->metres / d;
       ScaleTranslations(options.known_distance->metres / d, &pose, &out.rig_from_world);
       out.metric_scale = true;
       out.scale = "metric: |" + obs.camera_names[known_a] + " - " + obs.camera_names[known_b] +
@@ -464,9 +469,10 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
   start = Clock::now();
   MultiFrameBundleAdjustmentResult ba;
   if (initial.positions.unique) {
+    RigBundleAdjustmentOptions ba_options = options.bundle_adjustment;
+    ba_options.keep_points = ba_options.keep_points || options.keep_details;
     ba = MultiFrameRigBundleAdjust(obs.cameras, obs.keypoints, tracks, initial.initial_cam_from_rig,
-                                   initial.initial_rig_from_world, initial.scale_camera, options.bundle_adjustment,
-                                   !motion.moving);
+                                   initial.initial_rig_from_world, initial.scale_camera, ba_options, !motion.moving);
   } else {
     ba.cam_from_rig = initial.initial_cam_from_rig;
     ba.observations_per_camera.assign(n, 0);
@@ -491,6 +497,15 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
   }
   result.warnings.insert(result.warnings.end(), poses.warnings.begin(), poses.warnings.end());
   SetCameraAndEdgeStatus(obs, rotations, ba, poses, initial.position_reason, &result);
+  if (options.keep_details) {
+    result.details = std::make_shared<RigCalibrationDetails>();
+    RigCalibrationDetails& d = *result.details;
+    d.rotation_averaging = rotations.rot.cam_from_rig;
+    for (const Eigen::Vector3d& x : ba.points) d.points.push_back(poses.length_scale * x);
+    d.point_observations = ba.point_observations;
+    d.initial_residuals_px = ba.initial_residuals_px;
+    d.final_residuals_px = ba.final_residuals_px;
+  }
   return result;
 }
 
@@ -533,7 +548,9 @@ std::vector<RigCalibrationResult> CalibrateRig(const std::filesystem::path& data
     KnownDistanceCameras(*options.known_distance, names, rig_json.string());
   }
   std::vector<PairwiseMatchData> data;
-  const std::vector<CalibrationReport> reports = CalibrateDatasetPairs(dataset_dir, options.pairwise, modes, &data);
+  CalibrationOptions pairwise = options.pairwise;
+  pairwise.keep_match_details = pairwise.keep_match_details || options.keep_details;
+  const std::vector<CalibrationReport> reports = CalibrateDatasetPairs(dataset_dir, pairwise, modes, &data);
   std::vector<RigCalibrationResult> results;
   for (size_t m = 0; m < modes.size(); ++m) {
     RigCalibrationResult r = EstimateRig(ObservationsFromPipeline(truth, reports[m], data[m]), options);
@@ -542,6 +559,7 @@ std::vector<RigCalibrationResult> CalibrateRig(const std::filesystem::path& data
     r.pairwise = reports[m];
     r.inlier_samples = InlierSamples(truth, reports[m], data[m]);
     if (options.pairwise.evaluate) EvaluateRigAgainstTruth(truth, &r);
+    if (r.details) r.details->matches = std::move(data[m]);
     results.push_back(std::move(r));
   }
   return results;

@@ -2,7 +2,11 @@
 
 #include <filesystem>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include "testing/expect_error.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
@@ -33,6 +37,37 @@ TEST(Rig, JsonRoundTripKeepsEverything) {
   EXPECT_EQ(back.FindCamera("right"), -1);
 }
 
+TEST(Rig, TimingRoundTripsAndIsWrittenOnlyWhenOn) {
+  Rig rig = TwoCameraRig();
+  EXPECT_EQ(RigToJsonText(rig).find("readout"), std::string::npos);  // off: the file is as before
+  EXPECT_EQ(RigToJsonText(rig).find("exposure_s"), std::string::npos);
+  rig.cameras[1].readout_s = 0.03;
+  rig.cameras[1].readout_bottom_to_top = true;
+  rig.cameras[1].exposure_s = 0.002;
+  const Rig back = RigFromJsonText(RigToJsonText(rig), "test");
+  EXPECT_DOUBLE_EQ(back.cameras[1].readout_s, 0.03);
+  EXPECT_TRUE(back.cameras[1].readout_bottom_to_top);
+  EXPECT_DOUBLE_EQ(back.cameras[1].exposure_s, 0.002);
+  EXPECT_FALSE(back.cameras[0].CaptureSpansTime());
+  EXPECT_TRUE(back.cameras[1].CaptureSpansTime());
+  // Bottom to top: the last row (47) first, at the offset; row 0 last, 47/48 of the readout later.
+  EXPECT_DOUBLE_EQ(back.cameras[1].RowTime(47), 0.004);
+  EXPECT_DOUBLE_EQ(back.cameras[1].RowTime(0), 0.004 + 47 * 0.03 / 48);
+}
+
+TEST(Rig, BadTimingIsRefusedNamingTheField) {
+  const std::string head = R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5],)";
+  for (const std::string& bad : {std::string(R"("readout_s": -1)"), std::string(R"("exposure_s": -0.1)"),
+                                 std::string(R"("readout_direction": "left-to-right")")}) {
+    try {
+      RigFromJsonText(head + bad + "}]}", "rig.json");
+      ADD_FAILURE() << bad;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(bad.substr(1, bad.find('"', 1) - 1)), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(Rig, PosesAreOptionalForRealPhotos) {
   const Rig rig = RigFromJsonText(
       R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5]}]})", "rig.json");
@@ -40,49 +75,43 @@ TEST(Rig, PosesAreOptionalForRealPhotos) {
   EXPECT_FALSE(rig.HasAllPoses());
 }
 
-void ExpectErrorMentions(const std::string& text, const std::string& what) {
-  try {
-    RigFromJsonText(text, "my/rig.json");
-    FAIL() << "no error for " << text;
-  } catch (const std::runtime_error& e) {
-    const std::string msg = e.what();
-    EXPECT_NE(msg.find("my/rig.json"), std::string::npos) << msg;
-    EXPECT_NE(msg.find(what), std::string::npos) << msg;
-  }
+// A call that reads `text` as my/rig.json.
+auto Parsing(const std::string& text) {
+  return [text] { RigFromJsonText(text, "my/rig.json"); };
 }
 
 TEST(Rig, BadJsonNamesTheFileAndTheProblem) {
-  ExpectErrorMentions("{\"cameras\": [", "invalid JSON");
-  ExpectErrorMentions("{\"cameras\": []}", "empty");
-  ExpectErrorMentions(R"({"cameras":[{"name":"a","width":10,"height":10,"params":[5,5,4.5,4.5]}]})", "model");
-  ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"PINHOLE","width":"ten","height":10,"params":[5,5,4.5,4.5]}]})",
-                      "width");
-  ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[-5,5,4.5,4.5]}]})",
-                      "focal");
+  using E = std::runtime_error;
+  EXPECT_THAT(Parsing("{\"cameras\": ["), ThrowsWith<E>("my/rig.json", "invalid JSON"));
+  EXPECT_THAT(Parsing("{\"cameras\": []}"), ThrowsWith<E>("my/rig.json", "empty"));
+  EXPECT_THAT(Parsing(R"({"cameras":[{"name":"a","width":10,"height":10,"params":[5,5,4.5,4.5]}]})"),
+              ThrowsWith<E>("my/rig.json", "model"));
+  EXPECT_THAT(Parsing(R"({"cameras":[{"name":"a","model":"PINHOLE","width":"ten","height":10,"params":[5,5,4.5,4.5]}]})"),
+              ThrowsWith<E>("my/rig.json", "width"));
+  EXPECT_THAT(Parsing(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[-5,5,4.5,4.5]}]})"),
+              ThrowsWith<E>("my/rig.json", "focal"));
   // Integer fields take integers that fit: nlohmann would cast these with undefined behaviour.
-  ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":489999999999999999999999999999,"params":[5,5,4.5,4.5]}]})",
-                      "height: must be an integer");
-  ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10.5,"height":10,"params":[5,5,4.5,4.5]}]})",
-                      "width: must be an integer");
-  ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"PINHOLE","width":18446744073709551615,"height":10,"params":[5,5,4.5,4.5]}]})",
-                      "width: out of range");
-  ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"OPENCV","width":10,"height":10,"params":[5,5,4.5,4.5]}]})",
-                      "8 parameters");
-  ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5]},
-                                     {"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5]}]})",
-                      "duplicate");
-  ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5],
-                          "cam_from_rig":{"rotation_wxyz":[2,0,0,0],"translation":[0,0,0]}}]})",
-                      "unit quaternion");
+  EXPECT_THAT(Parsing(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":489999999999999999999999999999,"params":[5,5,4.5,4.5]}]})"),
+              ThrowsWith<E>("my/rig.json", "height: must be an integer"));
+  EXPECT_THAT(Parsing(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10.5,"height":10,"params":[5,5,4.5,4.5]}]})"),
+              ThrowsWith<E>("my/rig.json", "width: must be an integer"));
+  EXPECT_THAT(Parsing(R"({"cameras":[{"name":"a","model":"PINHOLE","width":18446744073709551615,"height":10,"params":[5,5,4.5,4.5]}]})"),
+              ThrowsWith<E>("my/rig.json", "width: out of range"));
+  EXPECT_THAT(Parsing(R"({"cameras":[{"name":"a","model":"OPENCV","width":10,"height":10,"params":[5,5,4.5,4.5]}]})"),
+              ThrowsWith<E>("my/rig.json", "8 parameters"));
+  EXPECT_THAT(Parsing(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5]},
+                                     {"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5]}]})"),
+              ThrowsWith<E>("my/rig.json", "duplicate"));
+  EXPECT_THAT(Parsing(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5],
+                          "cam_from_rig":{"rotation_wxyz":[2,0,0,0],"translation":[0,0,0]}}]})"),
+              ThrowsWith<E>("my/rig.json", "unit quaternion"));
 }
 
 TEST(Rig, WriteAndReadAFile) {
-  const auto dir = std::filesystem::temp_directory_path() / "rigsim_rig_test";
-  std::filesystem::create_directories(dir);
+  const TempDir dir;
   WriteRig(TwoCameraRig(), dir / "rig.json");
   EXPECT_EQ(ReadRig(dir / "rig.json").cameras.size(), 2u);
   EXPECT_THROW(ReadRig(dir / "missing.json"), std::runtime_error);
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

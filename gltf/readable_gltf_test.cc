@@ -14,13 +14,12 @@
 
 #include "gltf/gltf_loader.h"
 #include "gltf/gltf_test_support.h"
-#include "tests/data_uri.h"
 
 namespace rigsim::gltf_test {
 namespace {
 
 // A quad of two triangles whose indices are `indices` (an accessor the caller adds).
-void QuadWithIndices(TestGltf& g, int pos, int indices) {
+void QuadWithIndices(GltfBuilder& g, int pos, int indices) {
   g.Node({{"mesh", g.Mesh({{"POSITION", pos}}, indices)}, {"extras", {{"class", "building"}}}});
   g.Scene({0});
 }
@@ -28,10 +27,10 @@ void QuadWithIndices(TestGltf& g, int pos, int indices) {
 std::vector<uint32_t> Indices(const Scene& s) { return s.meshes.empty() ? std::vector<uint32_t>{} : s.meshes[0].indices; }
 
 TEST(ReadableGltf, ABufferWithoutUriLoadsWhenNothingReadsIt) {
-  const auto dir = TempDir();
-  TestGltf g;
-  const int pos = g.Positions(kQuad);
-  QuadWithIndices(g, pos, g.Accessor<uint16_t>({0, 1, 2, 0, 2, 3}, kUShort, "SCALAR", 6));
+  const TempDir dir;
+  GltfBuilder g;
+  const int pos = g.Positions(kUnitQuad);
+  QuadWithIndices(g, pos, g.Accessor<uint16_t>({0, 1, 2, 0, 2, 3}, kGltfUShort, "SCALAR", 6));
   g.extra_buffers.push_back({{"byteLength", 64}});  // e.g. filled by an extension rigsim does not use
   for (const auto& path : {g.Write(dir, "unused"), g.WriteGlb(dir, "unused")}) {
     const Scene s = LoadGltf(path);
@@ -40,31 +39,31 @@ TEST(ReadableGltf, ABufferWithoutUriLoadsWhenNothingReadsIt) {
   // Read by an accessor: refused, saying which buffer has no data.
   g.doc["bufferViews"].push_back({{"buffer", 1}, {"byteLength", 48}});
   g.doc["accessors"][0]["bufferView"] = int(g.doc["bufferViews"].size()) - 1;
-  ExpectThrowsWith(g.Write(dir, "read"), "lies in buffer 1, which has no uri and so no data");
-  ExpectThrowsWith(g.WriteGlb(dir, "read"), "lies in buffer 1, which has no uri and so no data");
+  ExpectLoadFails(g.Write(dir, "read"), "lies in buffer 1, which has no uri and so no data");
+  ExpectLoadFails(g.WriteGlb(dir, "read"), "lies in buffer 1, which has no uri and so no data");
 }
 
 TEST(ReadableGltf, AccessorsWithoutABufferViewAreZerosAndTheirSparseValues) {
-  const auto dir = TempDir();
-  TestGltf g;
-  const int pos = g.Positions(kQuad);
+  const TempDir dir;
+  GltfBuilder g;
+  const int pos = g.Positions(kUnitQuad);
   // Indices: zeros but for the sparse values 1, 2 at 1, 2 and 2, 3 at 4, 5: (0 1 2) (0 2 3).
   const int where = int(g.doc["bufferViews"].size());
-  g.Accessor<uint8_t>({1, 2, 4, 5}, kUByte, "SCALAR", 4);
-  g.Accessor<uint16_t>({1, 2, 2, 3}, kUShort, "SCALAR", 4);
-  g.doc["accessors"].push_back({{"componentType", kUShort}, {"count", 6}, {"type", "SCALAR"},
-                                {"sparse", {{"count", 4}, {"indices", {{"bufferView", where}, {"componentType", kUByte}}},
+  g.Accessor<uint8_t>({1, 2, 4, 5}, kGltfUByte, "SCALAR", 4);
+  g.Accessor<uint16_t>({1, 2, 2, 3}, kGltfUShort, "SCALAR", 4);
+  g.doc["accessors"].push_back({{"componentType", kGltfUShort}, {"count", 6}, {"type", "SCALAR"},
+                                {"sparse", {{"count", 4}, {"indices", {{"bufferView", where}, {"componentType", kGltfUByte}}},
                                             {"values", {{"bufferView", where + 1}}}}}});
   QuadWithIndices(g, pos, int(g.doc["accessors"].size()) - 1);
   // An animation whose key times are zeros but for the sparse 1 and 2 at keys 1 and 2.
   const int times_at = int(g.doc["bufferViews"].size());
-  g.Accessor<uint8_t>({1, 2}, kUByte, "SCALAR", 2);
-  g.Accessor<float>({1, 2}, kFloat, "SCALAR", 2);
-  g.doc["accessors"].push_back({{"componentType", kFloat}, {"count", 3}, {"type", "SCALAR"}, {"min", {0}}, {"max", {2}},
-                                {"sparse", {{"count", 2}, {"indices", {{"bufferView", times_at}, {"componentType", kUByte}}},
+  g.Accessor<uint8_t>({1, 2}, kGltfUByte, "SCALAR", 2);
+  g.Accessor<float>({1, 2}, kGltfFloat, "SCALAR", 2);
+  g.doc["accessors"].push_back({{"componentType", kGltfFloat}, {"count", 3}, {"type", "SCALAR"}, {"min", {0}}, {"max", {2}},
+                                {"sparse", {{"count", 2}, {"indices", {{"bufferView", times_at}, {"componentType", kGltfUByte}}},
                                             {"values", {{"bufferView", times_at + 1}}}}}});
   const int times = int(g.doc["accessors"].size()) - 1;
-  const int moves = g.Accessor<float>({0, 0, 0, 1, 0, 0, 2, 0, 0}, kFloat, "VEC3", 3);
+  const int moves = g.Accessor<float>({0, 0, 0, 1, 0, 0, 2, 0, 0}, kGltfFloat, "VEC3", 3);
   g.doc["animations"] = json::array({{{"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}}}},
                                       {"samplers", {{{"input", times}, {"output", moves}}}}}});
   for (const auto& path : {g.Write(dir, "sparse"), g.WriteGlb(dir, "sparse")}) {
@@ -76,10 +75,10 @@ TEST(ReadableGltf, AccessorsWithoutABufferViewAreZerosAndTheirSparseValues) {
 }
 
 TEST(ReadableGltf, DataUrisTinygltfDoesNotDecode) {
-  const auto dir = TempDir();
-  TestGltf g;
-  const int pos = g.Positions(kQuad);
-  QuadWithIndices(g, pos, g.Accessor<uint16_t>({0, 1, 2, 0, 2, 3}, kUShort, "SCALAR", 6));
+  const TempDir dir;
+  GltfBuilder g;
+  const int pos = g.Positions(kUnitQuad);
+  QuadWithIndices(g, pos, g.Accessor<uint16_t>({0, 1, 2, 0, 2, 3}, kGltfUShort, "SCALAR", 6));
   // The buffer percent-encoded (RFC 2397 without ;base64), then base64 of a media type tinygltf
   // does not know.
   std::string percent = "data:application/gltf-buffer,";
@@ -99,7 +98,7 @@ TEST(ReadableGltf, DataUrisTinygltfDoesNotDecode) {
   cv::Mat bgr(2, 3, CV_8UC3, cv::Scalar(30, 60, 90));
   std::vector<uint8_t> webp;
   ASSERT_TRUE(cv::imencode(".webp", bgr, webp, {cv::IMWRITE_WEBP_QUALITY, 101}));
-  const int uv = g.Accessor<float>({0, 0, 1, 0, 1, 1, 0, 1}, kFloat, "VEC2", 4);
+  const int uv = g.Accessor<float>({0, 0, 1, 0, 1, 1, 0, 1}, kGltfFloat, "VEC2", 4);
   g.doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = uv;
   g.doc["meshes"][0]["primitives"][0]["material"] = 0;
   g.doc["images"] = json::array({{{"uri", DataUri("image/webp", webp)}}});
@@ -112,32 +111,32 @@ TEST(ReadableGltf, DataUrisTinygltfDoesNotDecode) {
 }
 
 TEST(ReadableGltf, AnUnusedAccessorOfATypeGltfDoesNotDefineLoads) {
-  const auto dir = TempDir();
-  TestGltf g;
-  const int pos = g.Positions(kQuad);
-  QuadWithIndices(g, pos, g.Accessor<uint16_t>({0, 1, 2, 0, 2, 3}, kUShort, "SCALAR", 6));
-  g.doc["accessors"].push_back({{"bufferView", 0}, {"componentType", kFloat}, {"count", 1}, {"type", "VEC5"}});
+  const TempDir dir;
+  GltfBuilder g;
+  const int pos = g.Positions(kUnitQuad);
+  QuadWithIndices(g, pos, g.Accessor<uint16_t>({0, 1, 2, 0, 2, 3}, kGltfUShort, "SCALAR", 6));
+  g.doc["accessors"].push_back({{"bufferView", 0}, {"componentType", kGltfFloat}, {"count", 1}, {"type", "VEC5"}});
   const int vec5 = int(g.doc["accessors"].size()) - 1;
   g.doc["accessors"].push_back({{"bufferView", 0}, {"componentType", 1234}, {"count", 1}, {"type", "VEC3"}});
   const int odd = int(g.doc["accessors"].size()) - 1;
   for (const auto& path : {g.Write(dir, "unused"), g.WriteGlb(dir, "unused")}) EXPECT_EQ(LoadGltf(path).NumTriangles(), 2u) << path;
   // Read: refused, naming the accessor and its type.
   g.doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = vec5;
-  ExpectThrowsWith(g.Write(dir, "vec5"), "accessor " + std::to_string(vec5) + " (mesh 0 primitive 0 POSITION): type 'VEC5' is not a glTF accessor type");
+  ExpectLoadFails(g.Write(dir, "vec5"), "accessor " + std::to_string(vec5) + " (mesh 0 primitive 0 POSITION): type 'VEC5' is not a glTF accessor type");
   g.doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = odd;
-  ExpectThrowsWith(g.Write(dir, "odd"), "invalid componentType 1234");
+  ExpectLoadFails(g.Write(dir, "odd"), "invalid componentType 1234");
 }
 
 TEST(ReadableGltf, RemoteResourcesAreRefusedSayingSo) {
-  const auto dir = TempDir();
-  TestGltf g;
-  QuadWithIndices(g, g.Positions(kQuad), -1);
+  const TempDir dir;
+  GltfBuilder g;
+  QuadWithIndices(g, g.Positions(kUnitQuad), -1);
   json doc = g.doc;
   doc["buffers"] = json::array({{{"byteLength", g.bin.size()}, {"uri", "https://example.com/quad.bin"}}});
   std::ofstream(dir / "remote.gltf") << doc.dump();
-  ExpectThrowsWith(dir / "remote.gltf", "buffer 0: its uri 'https://example.com/quad.bin' is a web address");
+  ExpectLoadFails(dir / "remote.gltf", "buffer 0: its uri 'https://example.com/quad.bin' is a web address");
   g.doc["images"] = json::array({{{"uri", "http://example.com/brick.png"}}});
-  ExpectThrowsWith(g.Write(dir, "image"), "image 0: its uri 'http://example.com/brick.png' is a web address");
+  ExpectLoadFails(g.Write(dir, "image"), "image 0: its uri 'http://example.com/brick.png' is a web address");
 }
 
 }  // namespace

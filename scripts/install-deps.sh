@@ -19,6 +19,7 @@ packages=(
   nlohmann-json3-dev
   libyaml-cpp-dev                        # sweep configs in YAML (sweep/sweep_config.h)
   gnuplot-nox                            # sweep plots (sweep/sweep_plots.h)
+  libjs-three                            # three.js r111, copied into every teaching report (report/)
   libcli11-dev
   libtbb-dev
   libre2-dev                             # label-rule regexes in linear time (gltf/label_rules.h)
@@ -28,6 +29,7 @@ packages=(
 test_packages=(
   clang libclang-rt-14-dev               # fuzzing: clang and libFuzzer (libclang_rt.fuzzer), scripts/fuzz.sh
   colmap                                 # the COLMAP export through COLMAP's tools (tests/colmap_interop_cli_test.cc)
+  chromium                               # the report in a real browser (tests/report_browser_test.cc)
 )
 case "${1:-}" in
   --tests) packages+=("${test_packages[@]}") ;;

@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include "testing/temp_dir.h"
 #include "tests/rigsim_cli.h"
 
 namespace rigsim {
@@ -23,7 +24,7 @@ namespace fs = std::filesystem;
 // Data lines of a COLMAP text file: neither comments nor empty lines.
 std::vector<std::string> DataLines(const fs::path& path) {
   std::vector<std::string> lines;
-  std::istringstream in(ReadAll(path));
+  std::istringstream in(ReadFile(path));
   for (std::string line; std::getline(in, line);) {
     if (!line.empty() && line[0] != '#') lines.push_back(line);
   }
@@ -38,7 +39,8 @@ int Shell(const std::string& command) {
 
 TEST(ColmapInterop, PointTriangulatorRunsOnTheExport) {
   if (Shell("command -v colmap > /dev/null 2>&1") != 0) GTEST_SKIP() << "colmap is not on the PATH";
-  const fs::path dir = FreshTestDir("ColmapInterop");
+  const TempDir temp;
+  const fs::path dir = temp.path();
   const std::string street = std::string(RIGSIM_SOURCE_DIR) + "/assets/scenes/street.glb";
   // 3 cameras (cam1 with OPENCV distortion) x 2 frames at 320x240, placed in the street.
   CliResult r = RunRigsim({"make-rig", "ring", "--cameras", "3", "--spacing", "50", "--hfov", "90", "--width", "320", "--height",
@@ -56,10 +58,10 @@ TEST(ColmapInterop, PointTriangulatorRunsOnTheExport) {
   const fs::path out = dir / "triangulated";
   const int code = Shell("bash " + (dir / "export" / "colmap" / "triangulate.sh").string() + " " + (dir / "data" / "images").string() +
                          " " + out.string() + " > " + (dir / "triangulate.log").string() + " 2>&1");
-  ASSERT_EQ(code, 0) << ReadAll(dir / "triangulate.log") << ReadAll(out / "colmap.log");
+  ASSERT_EQ(code, 0) << ReadFile(dir / "triangulate.log") << ReadFile(out / "colmap.log");
   EXPECT_EQ(DataLines(out / "model" / "images.txt").size(), 2u * 6u);  // pose and points line per image
   const std::vector<std::string> points = DataLines(out / "model" / "points3D.txt");
-  EXPECT_GT(points.size(), 50u) << ReadAll(dir / "triangulate.log");
+  EXPECT_GT(points.size(), 50u) << ReadFile(dir / "triangulate.log");
   // POINT3D_ID X Y Z R G B ERROR ...: the exported intrinsics and poses explain the matches.
   std::vector<double> errors;
   for (const std::string& line : points) {

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "testing/temp_dir.h"
 #include "tests/rigsim_cli.h"
 
 namespace rigsim {
@@ -22,7 +23,7 @@ const std::string kStreet = std::string(RIGSIM_SOURCE_DIR) + "/assets/scenes/str
 
 class MessagesCli : public testing::Test {
  protected:
-  void SetUp() override { dir_ = FreshTestDir("MessagesCli"); }
+  void SetUp() override { dir_ = temp_.path(); }
 
   CliResult Run(const std::vector<std::string>& args) { return RunRigsim(args, dir_ / ("run" + std::to_string(runs_++))); }
 
@@ -45,6 +46,7 @@ class MessagesCli : public testing::Test {
     return dir_ / "data";
   }
 
+  const TempDir temp_;
   fs::path dir_;
   int runs_ = 0;
 };
@@ -62,7 +64,7 @@ TEST_F(MessagesCli, OptionParserErrorsExitWith1AndSuggestTheNameMeant) {
   ExpectError({"render", "--scene", (dir_ / "missing.glb").string()}, "--scene: no such file: " + (dir_ / "missing.glb").string());
   ExpectError({"make-rig", "rnig", "--out", (dir_ / "r").string()}, "--type: 'rnig' is not one of ring, stereo, surround, wide-baseline (did you mean 'ring'?)");
   ExpectError({"make-rig", "--out", (dir_ / "a").string(), "--rig-out", (dir_ / "b").string()}, "--rig-out cannot be given with --out");
-  ExpectError({}, "give a command: demo, make-rig, render, calibrate");
+  ExpectError({}, "give a command: demo, make-rig, render, render-merge, calibrate");
 }
 
 TEST_F(MessagesCli, CalibrateSpeaksOfItsOptionsNotOfTheLibrary) {
@@ -81,14 +83,14 @@ TEST_F(MessagesCli, CalibrateSpeaksOfItsOptionsNotOfTheLibrary) {
 TEST_F(MessagesCli, RenderNamesTheFileThatLacksAPose) {
   const fs::path rig = dir_ / "rig";
   ASSERT_EQ(Run({"make-rig", "ring", "--cameras", "2", "--width", "64", "--height", "48", "--out", rig.string()}).code, 0);
-  nlohmann::json frames = nlohmann::json::parse(ReadAll(rig / "frames.json"));
+  nlohmann::json frames = nlohmann::json::parse(ReadFile(rig / "frames.json"));
   frames["frames"][0]["name"] = "0001";
   frames["frames"][0].erase("rig_from_world");
   std::ofstream(dir_ / "frames.json") << frames.dump();
   ExpectError({"render", "--scene", kStreet, "--rig", (rig / "rig.json").string(), "--frames", (dir_ / "frames.json").string(),
                "--out", (dir_ / "out").string()},
               (dir_ / "frames.json").string() + ": frames[0] ('0001') has no rig_from_world");
-  nlohmann::json cameras = nlohmann::json::parse(ReadAll(rig / "rig.json"));
+  nlohmann::json cameras = nlohmann::json::parse(ReadFile(rig / "rig.json"));
   cameras["cameras"][1].erase("cam_from_rig");
   std::ofstream(dir_ / "rig.json") << cameras.dump();
   ExpectError({"render", "--scene", kStreet, "--rig", (dir_ / "rig.json").string(), "--frames", (rig / "frames.json").string(),

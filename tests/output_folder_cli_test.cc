@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "dataset/dataset.h"
+#include "testing/temp_dir.h"
 #include "tests/rigsim_cli.h"
 
 namespace rigsim {
@@ -44,7 +45,7 @@ class OutputFolderCli : public testing::Test {
     delete base_;
   }
 
-  void SetUp() override { dir_ = FreshTestDir("OutputFolderCli"); }
+  void SetUp() override { dir_ = temp_.path(); }
 
   static fs::path Rig() { return *base_ / "rig" / "rig.json"; }
   static fs::path Frames() { return *base_ / "rig" / "frames.json"; }
@@ -69,6 +70,7 @@ class OutputFolderCli : public testing::Test {
   }
 
   static fs::path* base_;
+  const TempDir temp_;
   fs::path dir_;
   int runs_ = 0;
 };
@@ -85,7 +87,7 @@ TEST_F(OutputFolderCli, ForceNeverReplacesAFolderOfOtherFiles) {
                                        "methods: {semantics: [none]}\ngrid:\n  radius: [0.3, 0.6]\n";
   ExpectRefused({"sweep", (dir_ / "tiny.yaml").string(), "--out", work.string(), "--force"}, work.string(),
                 "holds files that rigsim did not write");
-  EXPECT_EQ(ReadAll(work / "src" / "thesis.tex"), "chapter 1");
+  EXPECT_EQ(ReadFile(work / "src" / "thesis.tex"), "chapter 1");
   EXPECT_TRUE(StagingFolders(work).empty());
 }
 
@@ -94,20 +96,20 @@ TEST_F(OutputFolderCli, ForceNeverReplacesAFile) {
   for (const auto& args : EveryCommandInto(dir_ / "notes.txt")) {
     ExpectRefused(args, (dir_ / "notes.txt").string(), "is a file, not a folder");
   }
-  EXPECT_EQ(ReadAll(dir_ / "notes.txt"), "mine");
+  EXPECT_EQ(ReadFile(dir_ / "notes.txt"), "mine");
 }
 
 TEST_F(OutputFolderCli, ForceReplacesOnlyWhatRigsimWrote) {
   const fs::path out = dir_ / "rig";
   ASSERT_EQ(RunRigsim({"make-rig", "ring", "--cameras", "2", "--out", out.string()}, dir_ / "first").code, 0);
-  EXPECT_NE(ReadAll(out / ".rigsim-output").find("\"written_by\": \"rigsim make-rig\""), std::string::npos);
+  EXPECT_NE(ReadFile(out / ".rigsim-output").find("\"written_by\": \"rigsim make-rig\""), std::string::npos);
   const CliResult again = RunRigsim({"make-rig", "ring", "--cameras", "3", "--out", out.string(), "--force"}, dir_ / "again");
   EXPECT_EQ(again.code, 0) << again.err;
   // A file added to rigsim's folder is the user's: the folder is not replaced any more.
   std::ofstream(out / "notes.txt") << "mine";
   ExpectRefused({"make-rig", "ring", "--cameras", "2", "--out", out.string(), "--force"}, out.string(),
                 "holds notes.txt, which rigsim did not write there");
-  EXPECT_EQ(ReadAll(out / "notes.txt"), "mine");
+  EXPECT_EQ(ReadFile(out / "notes.txt"), "mine");
 }
 
 TEST_F(OutputFolderCli, ForceNeverReplacesTheHomeOrTheWorkingFolder) {

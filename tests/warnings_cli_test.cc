@@ -16,7 +16,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "tests/data_uri.h"
+#include "testing/gltf_builder.h"
+#include "testing/temp_dir.h"
 #include "tests/rigsim_cli.h"
 
 namespace rigsim {
@@ -26,7 +27,7 @@ using nlohmann::json;
 
 class WarningsCli : public testing::Test {
  protected:
-  void SetUp() override { dir_ = FreshTestDir("WarningsCli"); }
+  void SetUp() override { dir_ = temp_.path(); }
 
   CliResult Run(const std::vector<std::string>& args) { return RunRigsim(args, dir_ / ("run" + std::to_string(runs_++))); }
 
@@ -48,6 +49,7 @@ class WarningsCli : public testing::Test {
     return path;
   }
 
+  const TempDir temp_;
   fs::path dir_;
   int runs_ = 0;
 };
@@ -107,7 +109,7 @@ TEST_F(WarningsCli, MakeRigOverlapIsWhatRenderReports) {
   const CliResult rendered = Run({"render", "--scene", plaza, "--rig", (rig / "rig.json").string(), "--frames",
                                   (rig / "frames.json").string(), "--out", (dir_ / "data").string(), "--spp", "1"});
   ASSERT_EQ(rendered.code, 0) << rendered.err;
-  const json overlap = json::parse(ReadAll(dir_ / "data" / "overlap.json"));
+  const json overlap = json::parse(ReadFile(dir_ / "data" / "overlap.json"));
   int neighbours = 0;
   for (const json& p : overlap["pairs"]) {
     const std::string pair = p["a"].get<std::string>() + "-" + p["b"].get<std::string>();

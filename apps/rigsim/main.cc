@@ -23,12 +23,15 @@ int main(int argc, char** argv) {
   rigsim::cli::AddDemoCommand(app);
   rigsim::cli::AddMakeRigCommand(app);
   rigsim::cli::AddRenderCommand(app);
+  rigsim::cli::AddRenderMergeCommand(app);
   rigsim::cli::AddCalibrateCommand(app);
   rigsim::cli::AddInspectCommand(app);
   rigsim::cli::AddGenerateSceneCommand(app);
   rigsim::cli::AddExportCommand(app);
   rigsim::cli::AddEvaluateCommand(app);
   rigsim::cli::AddSweepCommand(app);
+  rigsim::cli::AddSweepMergeCommand(app);
+  rigsim::cli::AddReportCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

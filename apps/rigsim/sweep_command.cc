@@ -3,12 +3,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <tuple>
 
 #include <unistd.h>
 
 #include "apps/rigsim/commands.h"
 #include "apps/rigsim/parse_errors.h"
 #include "apps/rigsim/interrupt.h"
+#include "apps/rigsim/shard_options.h"
 #include "sweep/cell_runner.h"
 #include "sweep/suites.h"
 #include "sweep/sweep_config.h"
@@ -74,8 +76,9 @@ void ListParams() {
 void AddSweepCommand(CLI::App& app) {
   struct Args {
     std::string config, suite, size = "small", out;
-    bool keep_datasets = false, force = false, list_params = false, dry_run = false;
+    bool keep_datasets = false, force = false, list_params = false;
     int threads = 0;
+    ShardSettings shards;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
@@ -101,7 +104,8 @@ void AddSweepCommand(CLI::App& app) {
   cmd->add_flag("--force", args->force, "start over: remove OUT's earlier sweep results (only what a sweep writes)");
   cmd->add_option("--threads", args->threads, "worker threads, 0 = all cores")->capture_default_str()->check(NonNegative());
   cmd->add_flag("--list-params", args->list_params, "list the cell parameters and methods, and exit");
-  cmd->add_flag("--dry-run", args->dry_run, "list the cells and exit");
+  AddShardOptions(*cmd, args->shards, "cells", "sweep-merge");
+  cmd->get_option("--dry-run")->description("list the cells and exit; with --slurm: write the job scripts, do not submit");
   cmd->callback([args, config, suite] {
     if (args->list_params) {
       ListParams();
@@ -110,21 +114,47 @@ void AddSweepCommand(CLI::App& app) {
     if (config->count() == 0 && suite->count() == 0) throw CLI::ValidationError("sweep", "give CONFIG or --suite thesis");
     SweepConfig sweep;
     fs::path config_dir = fs::current_path();
+    // How the sweep is started, the same for every shard and run (for its report).
     std::string command = "rigsim sweep ";
+    std::vector<std::string> sweep_args;
     if (!args->suite.empty()) {
       sweep = ParseSweepConfig(SuiteConfig(args->suite, args->size), "--suite " + args->suite);
       command += "--suite " + args->suite + " --size " + args->size;
+      sweep_args = {"--suite", args->suite, "--size", args->size};
     } else {
       sweep = ReadSweepConfig(args->config);
       config_dir = fs::absolute(args->config).parent_path();
-      command += args->config;
+      command += fs::path(args->config).filename().string();
+      sweep_args = {fs::absolute(args->config).lexically_normal().string()};
     }
     const fs::path out = args->out.empty() ? fs::path("out") / "sweep" / sweep.name : fs::path(args->out);
-    command += " --out " + out.string();
     const std::vector<SweepCell> cells = ExpandCells(sweep);
+    SweepRunOptions options;
+    options.out_dir = out;
+    options.keep_datasets = args->keep_datasets;
+    options.restart = args->force;
+    options.command = command;
+    if (!args->shards.shard.empty()) std::tie(options.shard_index, options.num_shards) = ParseShard(args->shards.shard);
     std::fprintf(stderr, "sweep %s: %zu cells x %zu methods into %s\n", sweep.name.c_str(), cells.size(),
                  sweep.methods.size(), out.string().c_str());
-    if (args->dry_run) {
+    if (args->shards.slurm) {
+      if (!args->shards.shard.empty()) throw std::invalid_argument("--slurm makes the shards itself: leave out --shard");
+      SlurmArrayJob job = args->shards.job;
+      job.binary = fs::read_symlink("/proc/self/exe");
+      job.command = "sweep";
+      job.args = sweep_args;
+      if (args->keep_datasets) job.args.push_back("--keep-datasets");
+      job.merge_command = "sweep-merge";
+      job.out = job.work = fs::absolute(out).lexically_normal();
+      job.name = sweep.name;
+      if (job.num_shards <= 0) job.num_shards = std::max(1, std::min<int>(64, static_cast<int>(cells.size())));
+      options.num_shards = job.num_shards;
+      PrepareSweepFolder(sweep, options);
+      SubmitOrWriteSlurm(job, args->shards.dry_run);
+      if (!args->shards.dry_run) std::printf("the report: %s once the merge has run\n", (job.out / "report.md").c_str());
+      return;
+    }
+    if (args->shards.dry_run) {
       for (const SweepCell& c : cells) std::printf("cell %d %s %s\n", c.index, c.key.c_str(), c.params.dump().c_str());
       return;
     }
@@ -132,11 +162,6 @@ void AddSweepCommand(CLI::App& app) {
     runner.config_dir = config_dir;
     runner.scene_dir = out / "scenes";
     runner.num_threads = args->threads;
-    SweepRunOptions options;
-    options.out_dir = out;
-    options.keep_datasets = args->keep_datasets;
-    options.restart = args->force;
-    options.command = command;
     InterruptScope interrupt;
     options.check_interrupt = [] { InterruptScope::ThrowIfRequested(); };
     SweepProgressLine progress;
@@ -145,7 +170,42 @@ void AddSweepCommand(CLI::App& app) {
     for (const std::string& w : outcome.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     std::printf("sweep %s: %d cells (%d run now, %d from an earlier run), %d failed runs\n", sweep.name.c_str(),
                 outcome.cells, outcome.ran, outcome.resumed, outcome.failed_rows);
-    std::printf("results in %s: report.md, results.csv, results.jsonl, summary.csv, plots/\n", out.string().c_str());
+    if (options.num_shards > 1) {
+      std::printf("shard %d/%d in %s; combine the shards with: rigsim sweep-merge OUT SHARD_DIR...\n", options.shard_index,
+                  options.num_shards, out.string().c_str());
+    } else {
+      std::printf("results in %s: report.md, results.csv, results.jsonl, summary.csv, plots/\n", out.string().c_str());
+    }
+  });
+}
+
+void AddSweepMergeCommand(CLI::App& app) {
+  struct Args {
+    std::string out;
+    std::vector<std::string> shards;
+  };
+  auto args = std::make_shared<Args>();
+  CLI::App* cmd = app.add_subcommand(
+      "sweep-merge",
+      "Combine the folders of a sweep's shards (rigsim sweep --shard I/N) into OUT: the same results.csv,\n"
+      "summary, plots and report.md a single run of the sweep writes. Refuses shards of different sweeps.\n"
+      "Exit code 0 when every cell was found, 3 when some are missing (they are named; the results of the\n"
+      "others are written), 1 on bad input.");
+  cmd->add_option("OUT", args->out, "output folder (created, or a folder of the same sweep)")->required();
+  cmd->add_option("SHARD_DIR", args->shards, "the shards' output folders")->required()->check(CLI::ExistingDirectory);
+  cmd->callback([args] {
+    std::vector<fs::path> shards(args->shards.begin(), args->shards.end());
+    const MergeOutcome outcome = MergeSweepShards(args->out, shards);
+    for (const std::string& w : outcome.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    std::printf("merged %d of %d cells from %zu shard folders into %s\n", outcome.merged, outcome.cells, shards.size(),
+                args->out.c_str());
+    if (!outcome.missing.empty()) {
+      std::string list;
+      for (size_t i = 0; i < outcome.missing.size() && i < 20; ++i) list += (i ? ", " : "") + outcome.missing[i];
+      if (outcome.missing.size() > 20) list += ", ... (" + std::to_string(outcome.missing.size()) + " in all)";
+      throw Unfinished(3, std::to_string(outcome.missing.size()) + " cells are in no shard folder: " + list +
+                              "; run their shards again (rigsim sweep ... --shard I/N) and merge again");
+    }
   });
 }
 
