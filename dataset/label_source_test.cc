@@ -34,11 +34,11 @@ class LabelSourceTest : public ::testing::Test {
   void ExpectFolderFails(const std::string& folder, const std::string& part, int width = 64, int height = 48,
                          const char* file = __builtin_FILE(), int line = __builtin_LINE()) {
     const ::testing::ScopedTrace trace(file, line, folder);
-    const fs::path file = dir_ / folder / "cam0" / "000000.png";
+    const fs::path label_file = dir_ / folder / "cam0" / "000000.png";
     auto load = [&] {
       LoadLabels(LabelSource::Folder(dir_ / folder), DatasetLayout(dir_ / "dataset"), "cam0", "000000", width, height);
     };
-    EXPECT_THAT(load, ThrowsNaming<std::runtime_error>(file.string() + ": ", part));
+    EXPECT_THAT(load, ThrowsNaming<std::runtime_error>(label_file.string() + ": ", part));
   }
   const TempDir dir_;
   ImageU8 truth_;

@@ -65,6 +65,8 @@ TEST_F(MessagesCli, OptionParserErrorsExitWith1AndSuggestTheNameMeant) {
   ExpectError({"make-rig", "rnig", "--out", (dir_ / "r").string()}, "--type: 'rnig' is not one of ring, stereo, surround, wide-baseline (did you mean 'ring'?)");
   ExpectError({"make-rig", "--out", (dir_ / "a").string(), "--rig-out", (dir_ / "b").string()}, "--rig-out cannot be given with --out");
   ExpectError({}, "give a command: demo, make-rig, render, render-merge, calibrate");
+  ExpectError({"make-rig", "--cameras", "2", "--time-offset", "cam7=0.01", "--out", (dir_ / "t").string()},
+              "--time-offset: no camera named 'cam7' in the rig (did you mean 'cam0'?); its cameras are cam0, cam1");
 }
 
 TEST_F(MessagesCli, CalibrateSpeaksOfItsOptionsNotOfTheLibrary) {
