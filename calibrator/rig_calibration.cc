@@ -573,13 +573,13 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
   for (const RigCalibrationResult& r : results) {
     nlohmann::json cams = nlohmann::json::array();
     int calibrated = 0;
-    double max_rot = 0.0, max_dir = 0.0;
+    std::optional<double> max_rot, max_dir;  // worst over the cameras that have the error; none: null
     for (size_t c = 0; c < r.rig.cameras.size(); ++c) {
       const auto& pose = r.rig.cameras[c].cam_from_rig;
       const RigCameraStats& s = r.camera_stats[c];
       calibrated += pose.has_value();
-      if (s.rotation_error_deg) max_rot = std::max(max_rot, *s.rotation_error_deg);
-      if (s.translation_direction_error_deg) max_dir = std::max(max_dir, *s.translation_direction_error_deg);
+      if (s.rotation_error_deg) max_rot = std::max(max_rot.value_or(0.0), *s.rotation_error_deg);
+      if (s.translation_direction_error_deg) max_dir = std::max(max_dir.value_or(0.0), *s.translation_direction_error_deg);
       nlohmann::json j;
       j["name"] = r.rig.cameras[c].name;
       j["status"] = r.camera_status[c];
@@ -631,8 +631,8 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
                               {"position_eigenvalue_ratio", std::isfinite(r.position_eigenvalue_ratio)
                                                                 ? nlohmann::json(r.position_eigenvalue_ratio)
                                                                 : nlohmann::json(nullptr)}};
-    summary["max_rotation_error_deg"] = r.evaluated ? nlohmann::json(max_rot) : nlohmann::json(nullptr);
-    summary["max_translation_direction_error_deg"] = r.evaluated ? nlohmann::json(max_dir) : nlohmann::json(nullptr);
+    summary["max_rotation_error_deg"] = json_io::OptionalNumber(r.evaluated ? max_rot : std::nullopt);
+    summary["max_translation_direction_error_deg"] = json_io::OptionalNumber(r.evaluated ? max_dir : std::nullopt);
     nlohmann::json m;
     m["summary"] = summary;
     m["timing"] = {{"detect_time_s", r.pairwise.detect_time_s},

@@ -133,6 +133,21 @@ TEST_F(RigCalibrationTest, JsonNamesEveryCameraAndEdge) {
   EXPECT_TRUE(m["pairwise"].is_null());  // EstimateRig alone: no pairwise report
 }
 
+// The worst error over no camera is unknown, not zero: a rig whose positions the data does not
+// determine has no direction errors, and evaluation.json says null.
+TEST_F(RigCalibrationTest, JsonWorstErrorOverNoCameraIsNull) {
+  RigCalibrationResult r = EstimateRig(*observations_, {});
+  r.semantic_mode = "none";
+  EvaluateRigAgainstTruth(synthetic_->rig, &r);
+  for (RigCameraStats& s : r.camera_stats) s.translation_direction_error_deg.reset();
+  const nlohmann::json summary = RigCalibrationToJson({r})["methods"]["none"]["summary"];
+  EXPECT_TRUE(summary["max_translation_direction_error_deg"].is_null()) << summary;
+  EXPECT_TRUE(summary["max_rotation_error_deg"].is_number()) << summary;
+  for (RigCameraStats& s : r.camera_stats) s.rotation_error_deg.reset();
+  const nlohmann::json none = RigCalibrationToJson({r})["methods"]["none"]["summary"];
+  EXPECT_TRUE(none["max_rotation_error_deg"].is_null()) << none;
+}
+
 TEST_F(RigCalibrationTest, RotationOutlierEdgeIsDroppedWithItsReason) {
   RigObservations obs = *observations_;
   // Corrupt the rotation of one good pair by 20 deg, as a wrong two-view fit would. The pair is

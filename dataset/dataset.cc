@@ -1,18 +1,10 @@
 #include "dataset/dataset.h"
 
 #include <algorithm>
-#include <atomic>
-#include <chrono>
 #include <set>
 #include <stdexcept>
 
-#include <cerrno>
-#include <csignal>
-
-#include <fcntl.h>
-#include <stdio.h>
-#include <unistd.h>
-
+#include "common/did_you_mean.h"
 #include "geometry/json_io.h"
 
 namespace rigsim {
@@ -120,6 +112,21 @@ std::string PhotoExtensionList() {
 
 }  // namespace
 
+std::string NoCameraFolderMessage(const fs::path& parent, const std::string& cam, const std::string& what) {
+  std::vector<std::string> folders;
+  std::error_code ec;
+  for (fs::directory_iterator it(parent, ec), end; !ec && it != end; it.increment(ec)) {
+    if (it->is_directory(ec) && it->path().filename().string()[0] != '.') folders.push_back(it->path().filename().string());
+  }
+  std::sort(folders.begin(), folders.end());
+  std::string held;
+  for (const std::string& f : folders) held += (held.empty() ? "" : ", ") + f;
+  const std::string name = parent.filename().string();
+  return (parent / cam).string() + ": no such folder: the " + what + " of camera '" + cam + "' of rig.json go in " + name + "/" +
+         cam + "/" + DidYouMean(cam, folders) + (folders.empty() ? "; " + name + "/ holds no folder" : "; " + name + "/ holds " + held) +
+         " (a folder per camera, named as in rig.json)";
+}
+
 std::optional<fs::path> DatasetLayout::FindImage(const std::string& cam, const std::string& frame) const {
   for (const std::string& ext : PhotoExtensions()) {
     const fs::path p = root_ / "images" / cam / (frame + ext);
@@ -130,6 +137,7 @@ std::optional<fs::path> DatasetLayout::FindImage(const std::string& cam, const s
 
 fs::path DatasetLayout::RequireImage(const std::string& cam, const std::string& frame) const {
   if (std::optional<fs::path> found = FindImage(cam, frame)) return *found;
+  if (!fs::is_directory(root_ / "images" / cam)) throw std::runtime_error(NoCameraFolderMessage(root_ / "images", cam, "photos"));
   throw std::runtime_error((root_ / "images" / cam / frame).string() + ".*: image missing (camera '" + cam + "', frame '" +
                            frame + "'; tried " + PhotoExtensionList() + ")");
 }
@@ -142,9 +150,7 @@ std::string DatasetLayout::ImageName(const std::string& cam, const std::string& 
 FramesFile DatasetLayout::ReadFramesOrScan(const std::string& first_camera) const {
   if (fs::exists(FramesJson())) return ReadFrames(FramesJson());
   const fs::path dir = root_ / "images" / first_camera;
-  if (!fs::is_directory(dir)) {
-    throw std::runtime_error(dir.string() + ": no such folder (and no frames.json in " + root_.string() + ")");
-  }
+  if (!fs::is_directory(dir)) throw std::runtime_error(NoCameraFolderMessage(dir.parent_path(), first_camera, "photos") + "; no frames.json either");
   std::vector<std::string> stems;
   const std::vector<std::string>& extensions = PhotoExtensions();
   for (const auto& entry : fs::directory_iterator(dir)) {
@@ -158,83 +164,6 @@ FramesFile DatasetLayout::ReadFramesOrScan(const std::string& first_camera) cons
   FramesFile out;
   for (const std::string& s : stems) out.frames.push_back(Frame{s, std::nullopt, 0.0});
   return out;
-}
-
-namespace {
-
-// Removes staging folders "<parent>/.<name>.partial-<pid>-..." left by runs that were killed
-// (SIGKILL, power loss): their process is gone. Folders of live processes are left alone.
-void RemoveStaleStaging(const fs::path& final_dir) {
-  const fs::path parent = final_dir.parent_path().empty() ? fs::path(".") : final_dir.parent_path();
-  std::string prefix = ".";  // (built with += : GCC 12 warns falsely on "." + s + "...")
-  prefix += final_dir.filename().string();
-  prefix += ".partial-";
-  std::error_code ec;
-  std::vector<fs::path> stale;
-  for (fs::directory_iterator it(parent, ec), end; !ec && it != end; it.increment(ec)) {
-    const std::string name = it->path().filename().string();
-    if (name.rfind(prefix, 0) != 0) continue;
-    const size_t digits_end = name.find_first_not_of("0123456789", prefix.size());
-    if (digits_end == prefix.size()) continue;
-    const std::string pid_text = name.substr(prefix.size(), digits_end - prefix.size());
-    if (pid_text.size() > 9) continue;
-    const pid_t pid = pid_t(std::stol(pid_text));
-    if (pid > 0 && ::kill(pid, 0) != 0 && errno == ESRCH) stale.push_back(it->path());
-  }
-  for (const fs::path& p : stale) fs::remove_all(p, ec);
-}
-
-}  // namespace
-
-StagedOutput::StagedOutput(fs::path final_dir, bool force) : final_(std::move(final_dir)) {
-  if (final_.filename().empty()) final_ = final_.parent_path();  // "out/" -> "out"
-  if (fs::exists(final_) && !force) {
-    throw std::runtime_error(final_.string() + ": already exists (use --force to replace it)");
-  }
-  RemoveStaleStaging(final_);
-  static std::atomic<int> counter{0};
-  const auto stamp = std::chrono::steady_clock::now().time_since_epoch().count();
-  // Appended piecewise: GCC 12 warns falsely (-Wrestrict) on "literal" + std::string&&.
-  std::string name = ".";
-  for (const std::string& part : {final_.filename().string(), std::string(".partial-"), std::to_string(::getpid()),
-                                  std::string("-"), std::to_string(stamp), std::string("-"),
-                                  std::to_string(counter++)}) {
-    name += part;
-  }
-  staging_ = final_.parent_path() / name;
-  if (!final_.parent_path().empty()) fs::create_directories(final_.parent_path());
-  fs::create_directories(staging_);
-}
-
-StagedOutput::~StagedOutput() {
-  if (!committed_) {
-    std::error_code ec;
-    fs::remove_all(staging_, ec);
-  }
-}
-
-void StagedOutput::Commit() {
-  if (committed_) return;
-  // Swap the new output with the old one in one atomic step (renameat2 RENAME_EXCHANGE), so that
-  // at every instant a complete output sits at `final_`, then drop the old one, now at staging_.
-  if (fs::exists(final_)) {
-    if (::renameat2(AT_FDCWD, staging_.c_str(), AT_FDCWD, final_.c_str(), RENAME_EXCHANGE) == 0) {
-      committed_ = true;
-      std::error_code ec;
-      fs::remove_all(staging_, ec);
-      return;
-    }
-    // Filesystems without RENAME_EXCHANGE: move the old output aside first. An interruption
-    // between the two renames leaves no output (the old one is then a stale staging folder).
-    const fs::path old = staging_.string() + ".old";
-    fs::rename(final_, old);
-    fs::rename(staging_, final_);
-    committed_ = true;
-    fs::remove_all(old);
-    return;
-  }
-  fs::rename(staging_, final_);
-  committed_ = true;
 }
 
 }  // namespace rigsim

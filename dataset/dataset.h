@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "dataset/output_folder.h"  // StagedOutput, for the commands that write datasets
 #include "geometry/rigid3.h"
 
 namespace rigsim {
@@ -78,7 +79,8 @@ class DatasetLayout {
   // Finds the image of a frame whatever its extension (.png, .jpg, .jpeg, .tif, .tiff, .exr, and
   // .PNG, .JPG, .JPEG); nullopt if absent.
   std::optional<std::filesystem::path> FindImage(const std::string& cam, const std::string& frame) const;
-  // FindImage, or a std::runtime_error naming the camera, the frame and the extensions tried.
+  // FindImage, or a std::runtime_error naming the camera, the frame and the extensions tried (or,
+  // when images/<cam>/ is missing, NoCameraFolderMessage).
   std::filesystem::path RequireImage(const std::string& cam, const std::string& frame) const;
   // The image's name relative to images/, "<cam>/<frame><ext>" with the extension of the file
   // found, ".png" (what render writes) when there is none: what COLMAP and nerfstudio exports name.
@@ -91,25 +93,9 @@ class DatasetLayout {
   std::filesystem::path root_;
 };
 
-// Builds an output folder next to its final place and moves it there only when complete, so an
-// interrupted run leaves either the previous output or nothing. The destructor removes an
-// uncommitted staging folder.
-class StagedOutput {
- public:
-  // Throws when `final_dir` exists and `force` is false.
-  StagedOutput(std::filesystem::path final_dir, bool force);
-  ~StagedOutput();
-  StagedOutput(const StagedOutput&) = delete;
-  StagedOutput& operator=(const StagedOutput&) = delete;
-
-  const std::filesystem::path& staging_dir() const { return staging_; }
-  // Replaces `final_dir` with the staging folder.
-  void Commit();
-
- private:
-  std::filesystem::path final_;
-  std::filesystem::path staging_;
-  bool committed_ = false;
-};
+// The error for a camera of rig.json without its folder `parent`/<cam> (of `what`: "photos",
+// "label images"): what the folder must be called, the nearest folder there is ("did you mean")
+// and the folders `parent` holds.
+std::string NoCameraFolderMessage(const std::filesystem::path& parent, const std::string& cam, const std::string& what);
 
 }  // namespace rigsim

@@ -92,32 +92,5 @@ TEST(DatasetLayout, ImagesAreNamedWithTheExtensionTheyHave) {
                                                "tried .png .jpg .jpeg .JPG .JPEG .PNG .tif .tiff .exr"));
 }
 
-TEST(StagedOutput, NothingAppearsUntilCommitAndFailuresLeaveNothing) {
-  const TempDir dir;
-  const fs::path out = dir / "out";
-  {
-    StagedOutput staged(out, false);
-    std::ofstream(staged.staging_dir() / "file") << "x";
-    EXPECT_FALSE(fs::exists(out));
-  }  // not committed: as if interrupted
-  EXPECT_FALSE(fs::exists(out));
-  EXPECT_TRUE(fs::is_empty(dir));
-  {
-    StagedOutput staged(out, false);
-    std::ofstream(staged.staging_dir() / "file") << "new";
-    staged.Commit();
-  }
-  EXPECT_TRUE(fs::exists(out / "file"));
-  EXPECT_THROW(StagedOutput(out, false), std::runtime_error);  // no overwrite without force
-  {
-    StagedOutput staged(out, true);
-    std::ofstream(staged.staging_dir() / "other") << "x";
-    EXPECT_TRUE(fs::exists(out / "file"));  // old output intact until commit
-    staged.Commit();
-  }
-  EXPECT_FALSE(fs::exists(out / "file"));
-  EXPECT_TRUE(fs::exists(out / "other"));
-}
-
 }  // namespace
 }  // namespace rigsim

@@ -48,6 +48,9 @@ ImageU8 LoadLabels(const LabelSource& source, const DatasetLayout& layout, const
                    const std::string& frame, int width, int height) {
   const std::filesystem::path path = LabelSourcePath(source, layout, camera, frame);
   if (!std::filesystem::exists(path)) {
+    if (source.kind == LabelSource::Kind::kFolder && !std::filesystem::is_directory(source.folder / camera)) {
+      throw std::runtime_error(NoCameraFolderMessage(source.folder, camera, "label images"));
+    }
     throw std::runtime_error(path.string() + ": label image missing (the semantic mode needs labels; source: " +
                              source.KindName() + ")");
   }

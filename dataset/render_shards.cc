@@ -6,6 +6,7 @@
 
 #include "dataset/coco.h"
 #include "dataset/dataset.h"
+#include "dataset/output_folder.h"
 #include "geometry/json_io.h"
 #include "geometry/rig.h"
 
@@ -194,7 +195,10 @@ RenderShardInfo ReadRenderShard(const fs::path& dir) {
 
 void MergeRenderShards(const fs::path& out_dir, const std::vector<fs::path>& shard_dirs, bool force) {
   const auto shards = CheckShards(shard_dirs);
-  StagedOutput staged(out_dir, force);
+  // The merged dataset is what one render writes, marker included; it must not replace a shard.
+  OutputFolderRequest request{out_dir, "OUT", "rigsim render", {}, force};
+  for (const fs::path& d : shard_dirs) request.inputs.push_back({d, "a shard"});
+  StagedOutput staged(request);
   const DatasetLayout layout(staged.staging_dir());
   CopyShardFiles(shards, staged.staging_dir());
   json_io::WriteTextAtomic(layout.FramesJson(), MergedFrames(shards));

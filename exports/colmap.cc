@@ -12,6 +12,110 @@ namespace rigsim {
 
 using exports_internal::Num;
 
+namespace {
+
+// COLMAP's intrinsics of `cam`: model name and parameters, the centre of the top-left pixel at
+// (0.5, 0.5) where rigsim has it at (0, 0).
+std::vector<double> ColmapParams(const Camera& cam) {
+  std::vector<double> p = cam.params();
+  p[2] += 0.5;
+  p[3] += 0.5;
+  return p;
+}
+
+// One image of the model: its camera (index in the rig), frame and name.
+struct ModelImage {
+  size_t camera;
+  const Frame* frame;
+  std::string name;
+};
+
+// The model's images in id order (ids 1..): camera by camera in rig order, each camera's images in
+// the order of their names, as COLMAP's feature_extractor numbers them (see colmap.h).
+std::vector<ModelImage> ImagesInIdOrder(const Rig& rig, const FramesFile& frames, const ColmapExportOptions& options) {
+  std::vector<ModelImage> images;
+  for (size_t c = 0; c < rig.cameras.size(); ++c) {
+    const size_t first = images.size();
+    for (const Frame& f : frames.frames) images.push_back({c, &f, options.image_name(rig.cameras[c].name, f.name)});
+    std::sort(images.begin() + first, images.end(), [](const ModelImage& a, const ModelImage& b) { return a.name < b.name; });
+  }
+  return images;
+}
+
+std::string TriangulateScript(const Rig& rig, const std::vector<ModelImage>& images) {
+  std::string s = R"SH(#!/usr/bin/env bash
+# COLMAP's points at the poses of this model, with COLMAP's own tools (its FAQ: "Reconstruct
+# sparse/dense model from known camera poses"). Written by rigsim export and calibrate.
+#   bash triangulate.sh IMAGES_DIR OUT_DIR
+# IMAGES_DIR: the dataset's images/ folder. OUT_DIR (a new or empty folder) gets database.db,
+# model/ (this model with the points, COLMAP text) and colmap.log. COLMAP_USE_GPU=1 extracts and
+# matches on the GPU.
+# Each camera's images get their features in a run of their own, listed in this model's id order,
+# with the camera's intrinsics and one thread: the database then gives every image and camera the
+# id this model has, which point_triangulator requires.
+set -euo pipefail
+if [ $# -ne 2 ]; then
+  echo "usage: bash $0 IMAGES_DIR OUT_DIR" >&2
+  exit 1
+fi
+model=$(cd "$(dirname "$0")" && pwd)
+images=$1
+out=$2
+if ! command -v colmap > /dev/null; then
+  echo "triangulate.sh: colmap is not on the PATH (Debian and Ubuntu: apt-get install colmap)" >&2
+  exit 1
+fi
+if [ ! -d "$images" ]; then
+  echo "triangulate.sh: $images: no such folder (give the dataset's images/ folder)" >&2
+  exit 1
+fi
+if [ -e "$out" ] && [ -n "$(ls -A "$out")" ]; then
+  echo "triangulate.sh: $out: not empty; give a new or empty folder" >&2
+  exit 1
+fi
+mkdir -p "$out/model"
+gpu=${COLMAP_USE_GPU:-0}
+run() {
+  if ! "$@" >> "$out/colmap.log" 2>&1; then
+    tail -n 20 "$out/colmap.log" >&2
+    echo "triangulate.sh: colmap $2 failed; its whole output: $out/colmap.log" >&2
+    exit 1
+  fi
+}
+# extract MODEL PARAMS: the images listed on stdin, as one camera, in the order given.
+extract() {
+  cat > "$out/image_list.txt"
+  run colmap feature_extractor --database_path "$out/database.db" --image_path "$images" \
+    --image_list_path "$out/image_list.txt" --ImageReader.single_camera 1 --ImageReader.camera_model "$1" \
+    --ImageReader.camera_params "$2" --SiftExtraction.use_gpu "$gpu" --SiftExtraction.num_threads 1
+}
+)SH";
+  size_t k = 0;
+  for (size_t c = 0; c < rig.cameras.size(); ++c) {
+    const Camera& cam = rig.cameras[c].camera;
+    std::string params;
+    for (double v : ColmapParams(cam)) {
+      if (!params.empty()) params += ',';
+      params += Num(v);
+    }
+    s.append("# ").append(rig.cameras[c].name).append("\n");
+    s.append("extract ").append(CameraModelName(cam.model())).append(" ").append(params).append(" << 'END_OF_LIST'\n");
+    for (; k < images.size() && images[k].camera == c; ++k) s.append(images[k].name).append("\n");
+    s += "END_OF_LIST\n";
+  }
+  s += R"SH(rm "$out/image_list.txt"
+run colmap exhaustive_matcher --database_path "$out/database.db" --SiftMatching.use_gpu "$gpu"
+run colmap point_triangulator --database_path "$out/database.db" --image_path "$images" --input_path "$model" \
+  --output_path "$out/model" --clear_points 1
+run colmap model_converter --input_path "$out/model" --output_path "$out/model" --output_type TXT
+rm "$out/model/cameras.bin" "$out/model/images.bin" "$out/model/points3D.bin"
+echo "triangulate.sh: $(grep -c '^[0-9]' "$out/model/points3D.txt") points in $out/model"
+)SH";
+  return s;
+}
+
+}  // namespace
+
 ColmapModelText ColmapModel(const Rig& rig, const FramesFile& frames, const ColmapExportOptions& options) {
   exports_internal::RequireAllPoses(rig, "colmap");
   exports_internal::RequireFramePoses(frames, "colmap");
@@ -20,35 +124,29 @@ ColmapModelText ColmapModel(const Rig& rig, const FramesFile& frames, const Colm
   out.cameras += "# Number of cameras: " + std::to_string(rig.cameras.size()) + "\n";
   for (size_t i = 0; i < rig.cameras.size(); ++i) {
     const Camera& cam = rig.cameras[i].camera;
-    std::vector<double> p = cam.params();
-    p[2] += 0.5;  // COLMAP: centre of the top-left pixel at (0.5, 0.5)
-    p[3] += 0.5;
     out.cameras += std::to_string(i + 1) + " " + std::string(CameraModelName(cam.model())) + " " +
                    std::to_string(cam.width()) + " " + std::to_string(cam.height());
-    for (double v : p) out.cameras += " " + Num(v);
+    for (double v : ColmapParams(cam)) out.cameras.append(" ").append(Num(v));
     out.cameras += "\n";
   }
-  const size_t num_images = rig.cameras.size() * frames.frames.size();
+  const std::vector<ModelImage> images = ImagesInIdOrder(rig, frames, options);
   out.images = "# Image list with two lines of data per image:\n"
                "#   IMAGE_ID, QW, QX, QY, QZ, TX, TY, TZ, CAMERA_ID, NAME\n"
                "#   POINTS2D[] as (X, Y, POINT3D_ID)\n";
-  out.images += "# Number of images: " + std::to_string(num_images) + ", mean observations per image: 0\n";
-  size_t image_id = 1;
-  for (const Frame& f : frames.frames) {
-    for (size_t c = 0; c < rig.cameras.size(); ++c, ++image_id) {
-      const RigCamera& rc = rig.cameras[c];
-      const Rigid3d cam_from_world = *rc.cam_from_rig * *f.rig_from_world;
-      Eigen::Quaterniond q = cam_from_world.rotation.normalized();
-      if (q.w() < 0) q.coeffs() *= -1.0;  // one canonical sign
-      const Eigen::Vector3d& t = cam_from_world.translation;
-      out.images += std::to_string(image_id) + " " + Num(q.w()) + " " + Num(q.x()) + " " + Num(q.y()) + " " + Num(q.z()) +
-                    " " + Num(t.x()) + " " + Num(t.y()) + " " + Num(t.z()) + " " + std::to_string(c + 1) + " " +
-                    options.image_name(rc.name, f.name) + "\n\n";
-    }
+  out.images += "# Number of images: " + std::to_string(images.size()) + ", mean observations per image: 0\n";
+  for (size_t k = 0; k < images.size(); ++k) {
+    const ModelImage& im = images[k];
+    const Rigid3d cam_from_world = *rig.cameras[im.camera].cam_from_rig * *im.frame->rig_from_world;
+    Eigen::Quaterniond q = cam_from_world.rotation.normalized();
+    if (q.w() < 0) q.coeffs() *= -1.0;  // one canonical sign
+    const Eigen::Vector3d& t = cam_from_world.translation;
+    out.images += std::to_string(k + 1) + " " + Num(q.w()) + " " + Num(q.x()) + " " + Num(q.y()) + " " + Num(q.z()) + " " +
+                  Num(t.x()) + " " + Num(t.y()) + " " + Num(t.z()) + " " + std::to_string(im.camera + 1) + " " + im.name + "\n\n";
   }
   out.points3d = "# 3D point list with one line of data per point:\n"
                  "#   POINT3D_ID, X, Y, Z, R, G, B, ERROR, TRACK[] as (IMAGE_ID, POINT2D_IDX)\n"
                  "# Number of points: 0, mean track length: 0\n";
+  out.triangulate_script = TriangulateScript(rig, images);
   return out;
 }
 
@@ -61,6 +159,7 @@ void WriteColmapModel(const Rig& rig, const FramesFile& frames, const std::files
   json_io::WriteTextAtomic(dir / "cameras.txt", text.cameras);
   json_io::WriteTextAtomic(dir / "images.txt", text.images);
   json_io::WriteTextAtomic(dir / "points3D.txt", text.points3d);
+  json_io::WriteTextAtomic(dir / "triangulate.sh", text.triangulate_script);
 }
 
 std::vector<ColmapImage> ReadColmapImages(const std::filesystem::path& images_txt) {

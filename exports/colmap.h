@@ -1,11 +1,20 @@
 // COLMAP text model export (cameras.txt, images.txt, points3D.txt), one image per camera x frame,
 // named "<cam>/<frame><ext>" relative to DATASET/images, so COLMAP runs on the dataset as it is
-// (--image_path DATASET/images).
+// (--image_path DATASET/images), and triangulate.sh, which runs COLMAP's own tools on it.
 //
 //   cameras.txt: CAMERA_ID MODEL WIDTH HEIGHT PARAMS[]   (ids 1..N in rig order)
 //   images.txt:  IMAGE_ID QW QX QY QZ TX TY TZ CAMERA_ID NAME, then an empty POINTS2D line;
-//                the pose is cam_from_world = cam_from_rig * rig_from_world.
+//                the pose is cam_from_world = cam_from_rig * rig_from_world. Ids 1.. camera by
+//                camera in rig order, each camera's images in the order of their names: the ids
+//                COLMAP's feature_extractor gives them when triangulate.sh runs it.
 //   points3D.txt: header only.
+//   triangulate.sh IMAGES_DIR OUT_DIR: COLMAP's recipe for a model of known poses (its FAQ,
+//                "Reconstruct sparse/dense model from known camera poses"): feature_extractor once
+//                per camera (that camera's images listed in id order, its intrinsics given, one
+//                thread so that the ids follow the list), exhaustive_matcher, point_triangulator
+//                on this model; OUT_DIR gets database.db, model/ (text, with the points) and
+//                colmap.log. COLMAP's image ids are its database's, so the model's must be the
+//                same: the ids COLMAP would give in another order make point_triangulator abort.
 //
 // Model names and parameter orders are COLMAP's (PINHOLE, OPENCV, FULL_OPENCV, OPENCV_FISHEYE are
 // identical in rigsim). COLMAP puts the centre of the top-left pixel at (0.5, 0.5), rigsim at
@@ -31,11 +40,12 @@ struct ColmapExportOptions {
 
 struct ColmapModelText {
   std::string cameras, images, points3d;
+  std::string triangulate_script;  // triangulate.sh
 };
 
 // Throws std::invalid_argument when a camera has no cam_from_rig or a frame no rig_from_world.
 ColmapModelText ColmapModel(const Rig& rig, const FramesFile& frames, const ColmapExportOptions& options = {});
-// Writes cameras.txt, images.txt and points3D.txt into `dir` (created if needed).
+// Writes cameras.txt, images.txt, points3D.txt and triangulate.sh into `dir` (created if needed).
 void WriteColmapModel(const Rig& rig, const FramesFile& frames, const std::filesystem::path& dir,
                       const ColmapExportOptions& options = {});
 

@@ -53,7 +53,7 @@ TEST(Colmap, ImagesProjectLikeRigsimShiftedByHalfAPixel) {
   const Eigen::Vector3d x_world(0.3, -1.2, -2.0);
   for (size_t k = 0; k < images.size(); ++k) {
     const auto& im = images[k];
-    const size_t f = k / 3, c = k % 3;
+    const size_t c = k / 2, f = k % 2;  // camera by camera, as COLMAP's feature_extractor numbers them
     EXPECT_EQ(im[0], std::to_string(k + 1));
     EXPECT_EQ(im[8], std::to_string(c + 1));
     EXPECT_EQ(im[9], rig.cameras[c].name + "/" + frames.frames[f].name + ".png");
@@ -85,11 +85,37 @@ TEST(Colmap, ImagesAreNamedByTheGivenFunction) {
     if (line.size() == 10) names.push_back(line[9]);
   }
   ASSERT_EQ(names.size(), 2 * test::MixedRig().cameras.size());
-  EXPECT_EQ(names[1], "cam1/000000.JPG");
+  EXPECT_EQ(names[2], "cam1/000000.JPG");
   for (const std::string& name : names) {
     EXPECT_EQ(name.substr(name.size() - 4), name.rfind("cam1/", 0) == 0 ? ".JPG" : ".png") << name;
   }
-  EXPECT_EQ(DataLines(ColmapModel(test::MixedRig(), test::TwoFrames()).images)[1][9], "cam1/000000.png");  // default
+  EXPECT_EQ(DataLines(ColmapModel(test::MixedRig(), test::TwoFrames()).images)[2][9], "cam1/000000.png");  // default
+}
+
+// COLMAP numbers images camera by camera, each camera's in the order of their names: frames
+// listed out of name order get the ids of their names' order.
+TEST(Colmap, ImageIdsFollowCamerasThenNames) {
+  FramesFile frames = test::TwoFrames();
+  std::swap(frames.frames[0], frames.frames[1]);
+  const auto images = DataLines(ColmapModel(test::MixedRig(), frames).images);
+  ASSERT_EQ(images.size(), 6u);
+  for (size_t k = 0; k < images.size(); ++k) {
+    EXPECT_EQ(images[k][0], std::to_string(k + 1));
+    EXPECT_EQ(images[k][8], std::to_string(k / 2 + 1));
+    EXPECT_EQ(images[k][9], test::MixedRig().cameras[k / 2].name + "/00000" + std::to_string(k % 2) + ".png");
+  }
+}
+
+// triangulate.sh lists each camera's images in id order, with COLMAP's intrinsics (cx, cy + 0.5).
+TEST(Colmap, TriangulateScriptExtractsEachCameraInIdOrder) {
+  const Rig rig = test::MixedRig();
+  const std::string script = ColmapModel(rig, test::TwoFrames()).triangulate_script;
+  // cam1: PINHOLE 600 600 401 298 in rigsim.
+  const std::string cam1 = "extract PINHOLE 600,600,401.5,298.5 << 'END_OF_LIST'\ncam1/000000.png\ncam1/000001.png\nEND_OF_LIST\n";
+  EXPECT_NE(script.find(cam1), std::string::npos) << script;
+  EXPECT_LT(script.find("extract OPENCV "), script.find("extract PINHOLE "));
+  EXPECT_LT(script.find("extract PINHOLE "), script.find("extract OPENCV_FISHEYE "));
+  EXPECT_NE(script.find("point_triangulator"), std::string::npos);
 }
 
 TEST(Colmap, NeedsPoses) {

@@ -77,6 +77,9 @@ std::vector<double> Loader::ReadAccessor(int index, int expected_type, const std
   const std::string label = "accessor " + std::to_string(index) + " (" + use + ")";
   if (index < 0 || size_t(index) >= model_.accessors.size()) Fail(label + ": index out of range");
   const tinygltf::Accessor& a = model_.accessors[index];
+  if (const auto it = unknown_accessor_types_.find(index); it != unknown_accessor_types_.end()) {
+    Fail(label + ": type '" + it->second + "' is not a glTF accessor type (SCALAR, VEC2, VEC3, VEC4, MAT2, MAT3, MAT4)");
+  }
   const int ncomp = NumComponents(a.type);
   const int csize = ComponentSize(a.componentType);
   if (csize < 0) Fail(label + ": invalid componentType " + std::to_string(a.componentType));
@@ -160,6 +163,10 @@ const unsigned char* Loader::CheckedView(int index, const std::string& label) co
   const tinygltf::BufferView& bv = model_.bufferViews[index];
   if (bv.buffer < 0 || size_t(bv.buffer) >= model_.buffers.size()) Fail(label + ": buffer " + std::to_string(bv.buffer) + " out of range");
   const std::vector<unsigned char>& data = model_.buffers[bv.buffer].data;
+  if (dataless_buffers_.count(bv.buffer)) {
+    Fail(label + ": bufferView " + std::to_string(index) + " lies in buffer " + std::to_string(bv.buffer) +
+         ", which has no uri and so no data (glTF allows such a buffer only when nothing reads it)");
+  }
   if (bv.byteOffset > data.size() || bv.byteLength > data.size() - bv.byteOffset) {
     Fail(label + ": bufferView " + std::to_string(index) + " (byteOffset " + std::to_string(bv.byteOffset) + ", byteLength " +
          std::to_string(bv.byteLength) + ") out of range of buffer " + std::to_string(bv.buffer) + " (" +

@@ -21,17 +21,6 @@ namespace {
 
 using nlohmann::json;
 
-uint32_t ReadU32(const unsigned char* p) {
-  uint32_t v;
-  std::memcpy(&v, p, 4);  // GLB is little-endian, as is every machine rigsim builds on
-  return v;
-}
-
-void AppendU32(std::vector<unsigned char>& out, uint32_t v) {
-  const auto* p = reinterpret_cast<const unsigned char*>(&v);
-  out.insert(out.end(), p, p + 4);
-}
-
 // Appends `bytes` as a new buffer with a tightly packed buffer view over it and returns the view.
 int AppendBufferView(tinygltf::Model& model, std::vector<unsigned char> bytes) {
   tinygltf::BufferView view;
@@ -212,10 +201,11 @@ class PrimitiveDecoder {
   size_t max_elements_;
 };
 
-// The JSON of ReadableGltf, or nothing when it is not a glTF object. Adds to *fallback_lengths.
-std::optional<std::string> ReadableJson(const std::string& text, std::map<int, size_t>* fallback_lengths) {
-  json doc = json::parse(text, nullptr, /*allow_exceptions=*/false);
-  if (!doc.is_object()) return std::nullopt;
+}  // namespace
+
+bool MakeCompressedMeshesReadable(json& doc, std::map<int, size_t>* fallback_lengths) {
+  if (!doc.is_object()) return false;
+  bool changed = false;
   // EXT_meshopt_compression's fallback buffers: one zero byte each for tinygltf (which refuses a
   // .gltf buffer without a URI and gives a GLB's BIN chunk to every such buffer); their length is
   // kept for DecodeMeshoptBufferViews.
@@ -235,9 +225,10 @@ std::optional<std::string> ReadableJson(const std::string& text, std::map<int, s
       (*fallback_lengths)[int(b)] = buffer["byteLength"].get<size_t>();
       buffer["byteLength"] = 1;
       buffer["uri"] = "data:application/octet-stream;base64,AA==";
+      changed = true;
     }
   }
-  if (!doc.contains("meshes") || !doc["meshes"].is_array()) return doc.dump();
+  if (!doc.contains("meshes") || !doc["meshes"].is_array()) return changed;
   // KHR_draco_mesh_compression: tinygltf refuses an index accessor without a bufferView.
   json* accessors = doc.contains("accessors") && doc["accessors"].is_array() ? &doc["accessors"] : nullptr;
   const size_t num_views = doc.contains("bufferViews") && doc["bufferViews"].is_array() ? doc["bufferViews"].size() : 0;
@@ -261,11 +252,16 @@ std::optional<std::string> ReadableJson(const std::string& text, std::map<int, s
       if (!prim.contains("indices") || !prim["indices"].is_number_integer() || accessors == nullptr) continue;
       const int64_t indices = prim["indices"].get<int64_t>();
       if (indices < 0 || size_t(indices) >= accessors->size() || !(*accessors)[indices].is_object()) continue;
-      if (!(*accessors)[indices].contains("bufferView")) (*accessors)[indices]["bufferView"] = *view;
+      if (!(*accessors)[indices].contains("bufferView")) {
+        (*accessors)[indices]["bufferView"] = *view;
+        changed = true;
+      }
     }
   }
-  return doc.dump();
+  return changed;
 }
+
+namespace {
 
 // An EXT_meshopt_compression buffer view's extension object, read and checked.
 struct MeshoptView {
@@ -344,38 +340,6 @@ std::string PrimitiveLabel(size_t mesh, const std::string& mesh_name, size_t pri
   std::string label = "mesh " + std::to_string(mesh);
   if (!mesh_name.empty()) label += " '" + mesh_name + "'";
   return label + " primitive " + std::to_string(prim);
-}
-
-std::string_view GltfJson(const std::vector<unsigned char>& file) {
-  const std::string_view all(reinterpret_cast<const char*>(file.data()), file.size());
-  if (file.size() < 4 || std::memcmp(file.data(), "glTF", 4) != 0) return all;  // .gltf: all JSON
-  // GLB: header (magic, version, length), then chunks of (length, type, data); the first is JSON.
-  constexpr uint32_t kJsonChunk = 0x4E4F534A;
-  if (file.size() < 20 || ReadU32(&file[16]) != kJsonChunk || ReadU32(&file[12]) > file.size() - 20) return {};
-  return all.substr(20, ReadU32(&file[12]));
-}
-
-std::optional<ReadableGltf> ReadableGltfOf(const std::vector<unsigned char>& file) {
-  const std::string_view json = GltfJson(file);
-  if (json.find(kDracoExtension) == std::string_view::npos && json.find(kMeshoptExtension) == std::string_view::npos) {
-    return std::nullopt;
-  }
-  ReadableGltf out;
-  std::optional<std::string> rewritten = ReadableJson(std::string(json), &out.fallback_lengths);
-  if (!rewritten) return std::nullopt;
-  if (json.size() == file.size()) {  // .gltf
-    out.bytes.assign(rewritten->begin(), rewritten->end());
-    return out;
-  }
-  while (rewritten->size() % 4 != 0) rewritten->push_back(' ');  // chunks stay 4-byte aligned
-  const size_t rest = 20 + json.size();                           // the binary chunk, unchanged
-  out.bytes.assign(file.begin(), file.begin() + 8);
-  AppendU32(out.bytes, uint32_t(12 + 8 + rewritten->size() + (file.size() - rest)));
-  AppendU32(out.bytes, uint32_t(rewritten->size()));
-  AppendU32(out.bytes, ReadU32(&file[16]));
-  out.bytes.insert(out.bytes.end(), rewritten->begin(), rewritten->end());
-  out.bytes.insert(out.bytes.end(), file.begin() + std::ptrdiff_t(rest), file.end());
-  return out;
 }
 
 size_t DecodeMeshoptBufferViews(tinygltf::Model& model, const std::map<int, size_t>& fallback_lengths, size_t max_bytes) {

@@ -2,19 +2,19 @@
 // includes tinygltf): KHR_draco_mesh_compression (libdraco) and EXT_meshopt_compression
 // (meshoptimizer). tinygltf reads neither and refuses what they leave out (a Draco primitive's
 // index accessor has no buffer view; meshopt's fallback buffer has no data). So the loader loads
-// such a file in two steps: tinygltf reads a version whose JSON it accepts (ReadableGltfOf), then
-// DecodeMeshoptBufferViews fills the fallback buffers and DecodeDracoPrimitives replaces each
-// Draco primitive's indices and attributes with plain accessors, which the rest of the loader
-// reads like any other.
+// such a file in two steps: tinygltf reads a version whose JSON it accepts
+// (MakeCompressedMeshesReadable, part of gltf/readable_gltf.h), then DecodeMeshoptBufferViews
+// fills the fallback buffers and DecodeDracoPrimitives replaces each Draco primitive's indices and
+// attributes with plain accessors, which the rest of the loader reads like any other.
 #pragma once
 
 #include <cstddef>
 #include <map>
-#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
 namespace rigsim {
@@ -25,23 +25,13 @@ inline constexpr std::string_view kMeshoptExtension = "EXT_meshopt_compression";
 // How the loader's messages name a primitive: "mesh 3 'wheel' primitive 0".
 std::string PrimitiveLabel(size_t mesh, const std::string& mesh_name, size_t prim);
 
-// The JSON of a .gltf file (all of it) or of a .glb file (its first chunk; empty when the
-// header is malformed or the chunk runs past the end).
-std::string_view GltfJson(const std::vector<unsigned char>& file);
-
-// A .gltf or .glb file's bytes as tinygltf can load them (from memory, with the file's folder for
-// its external files): in the JSON, the index accessor of every Draco primitive that has no
-// buffer view points at the primitive's Draco buffer view (a placeholder: DecodeDracoPrimitives
-// points it at the decoded indices), and every meshopt fallback buffer without data is one zero
-// byte, its length kept here.
-struct ReadableGltf {
-  std::vector<unsigned char> bytes;
-  std::map<int, size_t> fallback_lengths;  // buffer index -> byteLength in the file
-};
-// Nothing when the file names neither extension (or its JSON is unreadable: tinygltf then says
-// what is wrong). Throws std::invalid_argument naming the primitive or buffer when an extension
+// Rewrites a glTF document so that tinygltf reads it: the index accessor of every Draco primitive
+// that has no buffer view points at the primitive's Draco buffer view (a placeholder:
+// DecodeDracoPrimitives points it at the decoded indices), and every meshopt fallback buffer
+// without data is one zero byte, its byteLength kept in *fallback_lengths. Returns whether it
+// changed anything. Throws std::invalid_argument naming the primitive or buffer when an extension
 // object cannot be made readable.
-std::optional<ReadableGltf> ReadableGltfOf(const std::vector<unsigned char>& file);
+bool MakeCompressedMeshesReadable(nlohmann::json& doc, std::map<int, size_t>* fallback_lengths);
 
 // Gives each fallback buffer its length back (at most `max_bytes` in all) and decodes into it
 // every buffer view compressed with EXT_meshopt_compression (attributes, triangles or indices,

@@ -22,6 +22,7 @@ Scene Loader::Load() {
 }
 
 void Loader::Summarise() {
+  ReportUnusedLabelRules();
   for (const auto& [what, count] : ignored_) Warn("not supported, ignored: " + what + " (" + std::to_string(count) + "x)");
   if (unlabeled_triangles_ > 0) {
     Warn(std::to_string(unlabeled_triangles_) + " triangles in " + std::to_string(unlabeled_meshes_) +

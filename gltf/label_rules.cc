@@ -111,7 +111,7 @@ LabelRules LabelRules::FromJsonText(const std::string& text, const std::string& 
     if (!r.contains("class") || !r["class"].is_string()) throw std::runtime_error(where + "'class' must be a Cityscapes class name");
     const std::string cls = r["class"].get<std::string>();
     const LabelClass* c = FindClassByName(cls);
-    if (!c) throw std::runtime_error(where + "unknown class '" + cls + "' (not a Cityscapes class name)");
+    if (!c) throw std::runtime_error(where + "unknown class '" + cls + "'" + ClassNameSuggestion(cls) + "; the classes are Cityscapes'");
     rule.class_id = c->id;
     std::shared_ptr<const re2::RE2> re;
     if (rule.is_regex) {

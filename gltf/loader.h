@@ -18,6 +18,7 @@
 
 #include "gltf/gltf_compression.h"
 #include "gltf/gltf_loader.h"
+#include "gltf/readable_gltf.h"
 #include "scene/scene.h"
 
 namespace rigsim::gltf {
@@ -120,12 +121,14 @@ class Loader {
 
   // model_reading.cc: the file into model_, and what the file as a whole asks for.
   void ReadModel();
+  void UndoReadableRewrites(const ReadableGltf& readable);
   void ReportFileLevelUnsupported();
 
   // classes.cc: semantic classes from extras.class and the label rules.
   ClassTag ParseClass(const tinygltf::Value& extras, const std::string& owner);
   void ParseClasses();
   ClassTag ClassFromLabelRules(int node_index, int mesh_index, int material_index);
+  void ReportUnusedLabelRules();
 
   // materials.cc: materials and the texture coordinates their textures sample.
   void ConvertMaterials();
@@ -194,6 +197,8 @@ class Loader {
   std::vector<MaterialUvs> material_uv_;  // per glTF material: its textures' coordinates
   std::map<int, int> texture_map_;  // glTF texture -> Scene::textures index
   ImageChecks image_checks_;        // filled by LoadCheckedImage while tinygltf reads the file
+  std::set<int> dataless_buffers_;  // buffers without uri or data (gltf/readable_gltf.h)
+  std::map<int, std::string> unknown_accessor_types_;  // accessor -> a type glTF does not define
   std::set<int> animated_nodes_;    // nodes targeted by a translation, rotation or scale channel
   std::set<int> morph_animated_nodes_;  // nodes whose morph weights a channel animates
   std::vector<bool> traversed_;                 // per glTF node: reached from the loaded scene's roots
@@ -207,6 +212,8 @@ class Loader {
   size_t decoded_elements_ = 0;  // accessor elements read so far (ReadAccessor's total bound)
   size_t instanced_elements_ = 0;  // vertices and indices of every GPU instance so far (CheckInstancedSize)
   std::vector<int> rule_parent_;  // parent node of each node, for label rules (built on first use)
+  std::vector<size_t> rule_uses_;  // per label rule: primitives it classified
+  size_t rule_lookups_ = 0;        // primitives the label rules were asked about
 };
 
 }  // namespace rigsim::gltf

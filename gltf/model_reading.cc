@@ -14,6 +14,7 @@
 
 #include "gltf/gltf_compression.h"
 #include "gltf/loader.h"
+#include "gltf/readable_gltf.h"
 
 namespace rigsim::gltf {
 namespace {
@@ -97,33 +98,6 @@ std::string UnsupportedVersion(const tinygltf::Asset& asset) {
   return "asset.minVersion is " + given + ": the file needs a glTF " + given + " reader, and rigsim reads glTF 2.0";
 }
 
-// tinygltf 2.7 refuses an index accessor without a bufferView, which glTF allows (zeros, with
-// sparse values), in words that name no primitive: "accessor[N] invalid bufferView". This names
-// the primitives whose indices are accessor N, from the file's JSON; "" for any other error.
-std::string IndexAccessorUsers(const nlohmann::json& doc, const std::string& err) {
-  constexpr std::string_view kBefore = "accessor[", kAfter = "] invalid bufferView";
-  const size_t after = err.find(kAfter);
-  const size_t before = after == std::string::npos ? std::string::npos : err.rfind(kBefore, after);
-  if (before == std::string::npos) return "";
-  const char* last = err.data() + after;
-  int accessor = -1;
-  const auto [end, error] = std::from_chars(err.data() + before + kBefore.size(), last, accessor);
-  if (error != std::errc() || end != last || !doc.is_object() || !doc.contains("meshes") || !doc["meshes"].is_array()) return "";
-  std::string users;
-  for (size_t m = 0; m < doc["meshes"].size(); ++m) {
-    const nlohmann::json& mesh = doc["meshes"][m];
-    if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
-    const std::string name = mesh.contains("name") && mesh["name"].is_string() ? mesh["name"].get<std::string>() : "";
-    for (size_t p = 0; p < mesh["primitives"].size(); ++p) {
-      const nlohmann::json& prim = mesh["primitives"][p];
-      if (prim.is_object() && prim.contains("indices") && prim["indices"] == accessor) {
-        users += (users.empty() ? "" : ", ") + PrimitiveLabel(m, name, p);
-      }
-    }
-  }
-  return users;
-}
-
 // Extensions whose content we fully honour; everything else in extensionsRequired is fatal.
 // KHR_texture_transform is honoured on the textures rigsim renders: base colour, emissive,
 // normal, occlusion. EXT_mesh_gpu_instancing's custom attributes (_ID, ...) are named as ignored.
@@ -144,14 +118,15 @@ void Loader::ReadModel() {
   if (bytes.empty()) Fail("the file is empty");
   const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
 
-  // Compressed meshes: tinygltf reads a version it accepts (gltf/gltf_compression.h).
-  std::optional<ReadableGltf> readable;
+  // What tinygltf refuses of valid glTF, and compressed meshes: it reads a version it accepts
+  // (gltf/readable_gltf.h), and the model it gives back is set right below.
+  ReadableGltf readable;
   try {
     readable = ReadableGltfOf(bytes);
   } catch (const std::invalid_argument& e) {
     Fail(e.what());
   }
-  const std::vector<unsigned char>& load = readable ? readable->bytes : bytes;
+  const std::vector<unsigned char>& load = readable.bytes.empty() ? bytes : readable.bytes;
 
   tinygltf::TinyGLTF gltf;
   image_checks_.max_pixels = options_.max_image_pixels;
@@ -161,7 +136,7 @@ void Loader::ReadModel() {
   const bool ok = binary ? gltf.LoadBinaryFromMemory(&model_, &err, &warn, load.data(), unsigned(load.size()), folder)
                          : gltf.LoadASCIIFromString(&model_, &err, &warn, reinterpret_cast<const char*>(load.data()),
                                                     unsigned(load.size()), folder);
-  if (readable) readable->bytes = {};  // tinygltf keeps what it needs
+  readable.bytes = {};  // tinygltf keeps what it needs
   if (const std::string why = ok ? UnsupportedVersion(model_.asset) : ""; !why.empty()) Fail(why);
   const int nodeless_channels = TakeErrorsGltfAllows(&err);
   err = AbbreviateDataUris(err);
@@ -169,7 +144,7 @@ void Loader::ReadModel() {
   auto missing_file = [](const std::string& line) {
     return line.find("Failed to load external") != std::string::npos || line.find("File not found") != std::string::npos;
   };
-  std::string unsupported_used, index_users;  // named when the file is refused anyway
+  std::string unsupported_used;  // named when the file is refused anyway
   if (!ok || !err.empty() || missing_file(warn)) {
     const nlohmann::json doc = nlohmann::json::parse(GltfJson(bytes), nullptr, /*allow_exceptions=*/false);
     const DeclaredExtensions declared = ReadDeclaredExtensions(doc);
@@ -179,7 +154,6 @@ void Loader::ReadModel() {
     for (const std::string& ext : declared.used) {
       if (!SupportedExtension(ext)) unsupported_used += (unsupported_used.empty() ? "" : ", ") + ext;
     }
-    index_users = IndexAccessorUsers(doc, err);
   }
   // tinygltf reports a missing image as a warning; we turn it into an error naming the file.
   std::istringstream warn_lines(warn);
@@ -194,10 +168,6 @@ void Loader::ReadModel() {
     if (err.find("Failed to decode 'uri' : ") == 0 && err.find(" in Buffer") != std::string::npos) {
       err += " (the data URI is not base64, or does not decode to the buffer's byteLength)";
     }
-    if (!index_users.empty()) {
-      err += " (the indices of " + index_users + ": glTF allows an index accessor without a bufferView, its values " +
-             "all sparse, but tinygltf, which reads the file for rigsim, does not)";
-    }
     if (!unsupported_used.empty()) err += " (the file also uses " + unsupported_used + ", which rigsim does not read)";
     Fail(std::string(binary ? "invalid .glb: " : "invalid .gltf: ") + (err.empty() ? "tinygltf failed" : err));
   }
@@ -206,15 +176,29 @@ void Loader::ReadModel() {
          "such as KHR_animation_pointer names what they animate)");
   }
   bytes = {};  // what follows needs only the model
+  UndoReadableRewrites(readable);
   try {
-    if (readable) {
-      // Decoded data is bounded like accessors: elements of at most 16 bytes (VEC4 float).
-      scene_.meshopt_views = DecodeMeshoptBufferViews(model_, readable->fallback_lengths, options_.max_accessor_count * 16);
-      scene_.draco_primitives = DecodeDracoPrimitives(model_, options_.max_accessor_count);
-    }
+    // Decoded data is bounded like accessors: elements of at most 16 bytes (VEC4 float).
+    scene_.meshopt_views = DecodeMeshoptBufferViews(model_, readable.fallback_lengths, options_.max_accessor_count * 16);
+    scene_.draco_primitives = DecodeDracoPrimitives(model_, options_.max_accessor_count);
   } catch (const std::invalid_argument& e) {
     Fail(e.what());
   }
+}
+
+// The model as the file has it where ReadableGltfOf rewrote it for tinygltf.
+void Loader::UndoReadableRewrites(const ReadableGltf& readable) {
+  for (int b : readable.dataless_buffers) {
+    if (size_t(b) < model_.buffers.size()) model_.buffers[b].data.clear();
+  }
+  dataless_buffers_ = readable.dataless_buffers;
+  for (int a : readable.viewless_accessors) {
+    if (size_t(a) < model_.accessors.size()) model_.accessors[a].bufferView = -1;
+  }
+  for (const auto& [a, type] : readable.unknown_component_types) {
+    if (size_t(a) < model_.accessors.size()) model_.accessors[a].componentType = type;
+  }
+  unknown_accessor_types_ = readable.unknown_types;
 }
 
 void Loader::ReportFileLevelUnsupported() {

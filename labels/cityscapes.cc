@@ -1,5 +1,7 @@
 #include "labels/cityscapes.h"
 
+#include "common/did_you_mean.h"
+
 #include <stdexcept>
 #include <vector>
 
@@ -105,6 +107,12 @@ std::span<const uint8_t> ConfusableClasses(int id) {
   return kConfusable[id];
 }
 
+std::string ClassNameSuggestion(std::string_view typed) {
+  std::vector<std::string> names;
+  for (const LabelClass& c : kClasses) names.emplace_back(c.name);
+  return DidYouMean(typed, names);
+}
+
 ReliableClasses::ReliableClasses() {
   for (const LabelClass& c : kClasses) reliable_[c.id] = c.reliable;
 }
@@ -114,7 +122,10 @@ ReliableClasses ReliableClasses::FromNames(const std::vector<std::string>& names
   r.reliable_.fill(false);
   for (const std::string& n : names) {
     const LabelClass* c = FindClassByName(n);
-    if (!c) throw std::invalid_argument("unknown class name '" + n + "' (see the Cityscapes list in README)");
+    if (!c) {
+      throw std::invalid_argument("unknown class '" + n + "'" + ClassNameSuggestion(n) +
+                                  "; the classes are Cityscapes' (README, Conventions)");
+    }
     r.reliable_[c->id] = true;
   }
   return r;

@@ -34,6 +34,9 @@ std::span<const LabelClass> CityscapesClasses();
 // nullptr when unknown.
 const LabelClass* FindClassById(int id);
 const LabelClass* FindClassByName(std::string_view name);
+// " (did you mean 'building'?)" for a misspelt class name (letter case and near misses), "" when
+// no class name is close: to append to the message that refuses `typed`.
+std::string ClassNameSuggestion(std::string_view typed);
 // Label id whose preview colour equals `rgb`, if any.
 std::optional<uint8_t> ClassIdFromColor(const std::array<uint8_t, 3>& rgb);
 

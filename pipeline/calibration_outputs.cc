@@ -80,6 +80,7 @@ Json WriteExports(const RigCalibrationResult& r, const CalibrationInputs& inputs
     files.push_back("colmap/cameras.txt");
     files.push_back("colmap/images.txt");
     files.push_back("colmap/points3D.txt");
+    files.push_back("colmap/triangulate.sh");
   }
   return {{"dir", r.semantic_mode},
           {"files", files},

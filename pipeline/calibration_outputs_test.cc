@@ -182,7 +182,7 @@ TEST_F(WriteCalibrationResultsTest, WritesEveryFileAndReturnsTheNotes) {
   EXPECT_NE(notes[0].find("cam2"), std::string::npos) << notes[0];
   for (const char* file : {"evaluation.json", "mask/rig.json", "mask/pairs.json", "mask/camchain.yaml",
                            "mask/opencv.yaml", "mask/colmap/cameras.txt", "mask/colmap/images.txt",
-                           "mask/colmap/points3D.txt", "mask/rig_topdown.svg"}) {
+                           "mask/colmap/points3D.txt", "mask/colmap/triangulate.sh", "mask/rig_topdown.svg"}) {
     EXPECT_TRUE(fs::exists(dir_ / "out" / file)) << file;
   }
   EXPECT_FALSE(fs::exists(dir_ / "out" / "mask" / "matches")) << "no inlier samples: no matches/ folder";

@@ -357,7 +357,7 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
   RenderOptions options = job.options;
   options.normals = job.extras.normals;
 
-  StagedOutput staged(out_dir, force);
+  StagedOutput staged(OutputFolderRequest{out_dir, "", "rigsim render", {}, force});
   const DatasetLayout layout(staged.staging_dir());
 
   std::vector<FrameOverlapCounts> overlap;  // per frame rendered

@@ -189,20 +189,27 @@ TEST(RenderDatasetTest, ExistingOutputNeedsForceAndSurvivesAFailure) {
   const fs::path out = scratch / "dataset";
   fs::create_directories(out);
   std::ofstream(out / "keep.txt") << "previous";
-
-  EXPECT_THROW(RenderDataset(job, out, false), std::runtime_error);
+  // A folder of other files is never replaced, --force or not (dataset/output_folder.h).
+  EXPECT_THROW(RenderDataset(job, out, true), std::runtime_error);
   EXPECT_TRUE(fs::exists(out / "keep.txt"));
+  fs::remove(out / "keep.txt");
+
+  RenderDataset(job, out, false);
+  const fs::path previous = DatasetLayout(out).Depth("cam2", "000000");
+  EXPECT_THROW(RenderDataset(job, out, false), std::runtime_error);
+  EXPECT_TRUE(fs::exists(previous));
 
   auto interrupt = [](int done, int) {
     if (done == 2) throw std::runtime_error("interrupted");
   };
+  job.frames.frames[0].name = "000001";
   EXPECT_THROW(RenderDataset(job, out, true, interrupt), std::runtime_error);
-  EXPECT_TRUE(fs::exists(out / "keep.txt"));  // the previous output is intact
+  EXPECT_TRUE(fs::exists(previous));  // the previous output is intact
   EXPECT_EQ(NumEntries(scratch), 1);
 
   RenderDataset(job, out, true);
-  EXPECT_FALSE(fs::exists(out / "keep.txt"));
-  EXPECT_TRUE(fs::exists(DatasetLayout(out).Depth("cam2", "000000")));
+  EXPECT_FALSE(fs::exists(previous));
+  EXPECT_TRUE(fs::exists(DatasetLayout(out).Depth("cam2", "000001")));
   EXPECT_EQ(NumEntries(scratch), 1);
 }
 

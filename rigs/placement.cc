@@ -42,9 +42,10 @@ double PredictedOverlapOneWay(const GridCaster& caster, const RigCamera& a, cons
   return surface ? double(seen) / surface : 0.0;
 }
 
+// The smaller of the two directions: the figure overlap.json's readers (render, calibrate) report.
 double PredictedOverlapWith(const GridCaster& caster, const Rig& rig, int a, int b, const Rigid3d& rig_from_world) {
-  return 0.5 * (PredictedOverlapOneWay(caster, rig.cameras[a], rig.cameras[b], rig_from_world) +
-                PredictedOverlapOneWay(caster, rig.cameras[b], rig.cameras[a], rig_from_world));
+  return std::min(PredictedOverlapOneWay(caster, rig.cameras[a], rig.cameras[b], rig_from_world),
+                  PredictedOverlapOneWay(caster, rig.cameras[b], rig.cameras[a], rig_from_world));
 }
 
 }  // namespace
@@ -54,6 +55,17 @@ double PredictedOverlap(const Scene& scene, const Rig& rig, int a, int b, const 
     Fail("predicted overlap", "camera index out of range or camera without cam_from_rig");
   }
   return PredictedOverlapWith(GridCaster(scene), rig, a, b, rig_from_world);
+}
+
+Eigen::MatrixXd PredictedOverlaps(const Scene& scene, const Rig& rig, const Rigid3d& rig_from_world) {
+  if (!rig.HasAllPoses()) Fail("predicted overlap", "every camera needs cam_from_rig");
+  const GridCaster caster(scene);
+  const int n = int(rig.cameras.size());
+  Eigen::MatrixXd overlap = Eigen::MatrixXd::Zero(n, n);
+  for (int a = 0; a < n; ++a) {
+    for (int b = a + 1; b < n; ++b) overlap(a, b) = overlap(b, a) = PredictedOverlapWith(caster, rig, a, b, rig_from_world);
+  }
+  return overlap;
 }
 
 Rig MakeRingRigInScene(const RingRigOptions& options, const Scene& scene, const Rigid3d& rig_from_world) {

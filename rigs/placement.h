@@ -19,15 +19,18 @@
 namespace rigsim {
 
 // Ring rig whose neighbours share `options.target_overlap` of their surface pixels as the
-// renderer's ground truth counts it (overlap.json: sky excluded, depth-tested), predicted by ray
+// renderer's ground truth counts it (overlap.json: sky excluded, depth-tested; the smaller of the
+// two directions, the figure render and calibrate report), predicted by ray
 // casting in `scene` with the rig at `rig_from_world`: cam0 keeps the yaw of the angular solution
 // and each next camera's yaw is solved in turn, so spacings differ where the scene does (more sky
 // or near occluders on one side). Costs a few seconds of ray casting.
 Rig MakeRingRigInScene(const RingRigOptions& options, const Scene& scene, const Rigid3d& rig_from_world);
 
 // Predicted ground-truth overlap of cameras a and b of `rig` at `rig_from_world` in `scene`
-// (mean of both directions; see MakeRingRigInScene).
+// (the smaller of both directions; see MakeRingRigInScene).
 double PredictedOverlap(const Scene& scene, const Rig& rig, int a, int b, const Rigid3d& rig_from_world);
+// PredictedOverlap of every pair of cameras (a symmetric matrix, zero diagonal), casting in one grid.
+Eigen::MatrixXd PredictedOverlaps(const Scene& scene, const Rig& rig, const Rigid3d& rig_from_world);
 
 struct PlacementOptions {
   double height_m = 1.6;          // rig origin above the ground under it

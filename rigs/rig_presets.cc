@@ -164,8 +164,9 @@ double RingSpacingForOverlap(const RingRigOptions& options, double overlap) {
       const RigCamera& a = rig.cameras[i];
       const RigCamera& b = rig.cameras[i + 1];
       const Eigen::Matrix3d b_from_a = (*b.cam_from_rig * a.cam_from_rig->Inverse()).RotationMatrix();
-      sum += AngularOverlap(a.camera, b.camera, b_from_a) + AngularOverlap(b.camera, a.camera, b_from_a.transpose());
-      n += 2;
+      // The smaller of the two directions, the figure render and calibrate report.
+      sum += std::min(AngularOverlap(a.camera, b.camera, b_from_a), AngularOverlap(b.camera, a.camera, b_from_a.transpose()));
+      ++n;
     }
     return sum / n;
   };

@@ -62,8 +62,8 @@ Rigid3d RingCamFromRig(double radius_m, double yaw_deg);
 // ring radius) and on how much sky a view sees; the renderer measures it (overlap.json).
 double AngularOverlap(const Camera& a, const Camera& b, const Eigen::Matrix3d& b_from_a_rotation);
 
-// Yaw spacing (deg) at which neighbouring ring cameras overlap by `overlap` (mean over both
-// directions and all neighbour pairs, AngularOverlap). Throws when unreachable.
+// Yaw spacing (deg) at which neighbouring ring cameras overlap by `overlap` (AngularOverlap, the
+// smaller of the two directions, averaged over the neighbour pairs). Throws when unreachable.
 double RingSpacingForOverlap(const RingRigOptions& options, double overlap);
 
 struct StereoRigOptions {

@@ -1,5 +1,6 @@
 #include "rigs/rig_spec.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace rigsim {
@@ -74,6 +75,28 @@ std::optional<PlacedRig> MakePlacedRig(const RigSpec& s, const Scene* scene) {
   }
   out.frames = MakeTrajectory(trajectory);
   return out;
+}
+
+std::vector<PairOverlap> RigPairOverlaps(const Rig& rig, const Scene* scene, const Rigid3d& rig_from_world) {
+  const int n = int(rig.cameras.size());
+  Eigen::MatrixXd overlap = Eigen::MatrixXd::Zero(n, n);
+  if (scene != nullptr) {
+    overlap = PredictedOverlaps(*scene, rig, rig_from_world);
+  } else {
+    for (int a = 0; a < n; ++a) {
+      for (int b = a + 1; b < n; ++b) {
+        const RigCamera& ca = rig.cameras[a];
+        const RigCamera& cb = rig.cameras[b];
+        const Eigen::Matrix3d b_from_a = (*cb.cam_from_rig * ca.cam_from_rig->Inverse()).RotationMatrix();
+        overlap(a, b) = std::min(AngularOverlap(ca.camera, cb.camera, b_from_a), AngularOverlap(cb.camera, ca.camera, b_from_a.transpose()));
+      }
+    }
+  }
+  std::vector<PairOverlap> pairs;
+  for (int a = 0; a < n; ++a) {
+    for (int b = a + 1; b < n; ++b) pairs.push_back({rig.cameras[a].name, rig.cameras[b].name, overlap(a, b)});
+  }
+  return pairs;
 }
 
 }  // namespace rigsim

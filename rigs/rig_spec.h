@@ -6,6 +6,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "dataset/dataset.h"
 #include "geometry/rig.h"
@@ -47,5 +48,16 @@ struct PlacedRig {
 // The rig with its mounting errors and its frames; with `scene`, placed in it (nullopt when no
 // place qualifies). Throws std::invalid_argument on bad options.
 std::optional<PlacedRig> MakePlacedRig(const RigSpec& spec, const Scene* scene);
+
+// The overlap of a pair of cameras, the smaller of its two directions (what overlap.json's readers,
+// render and calibrate, report).
+struct PairOverlap {
+  std::string a, b;
+  double overlap = 0.0;  // fraction
+};
+
+// Every pair of `rig`'s cameras: in `scene`, the ground-truth overlap predicted at `rig_from_world`
+// (PredictedOverlaps); without a scene, the angular overlap of points at infinity (AngularOverlap).
+std::vector<PairOverlap> RigPairOverlaps(const Rig& rig, const Scene* scene, const Rigid3d& rig_from_world);
 
 }  // namespace rigsim

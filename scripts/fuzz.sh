@@ -30,6 +30,7 @@ also=(${RIGSIM_FUZZ_ALSO_BUILD:-})
 with_tests=OFF
 if [ ${#also[@]} -gt 0 ]; then with_tests=ON; fi
 
+bash scripts/install-deps.sh --tests  # clang and libFuzzer
 mkdir -p "$build_dir"
 # Only the libraries the readers need: no renderer, calibrator or CLI.
 CC=clang CXX=clang++ "${lock[@]}" cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DRIGSIM_FUZZ=ON \

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Installs rigsim's build dependencies from Debian's packages, skipping what is already there.
+# Installs rigsim's dependencies from Debian's packages, skipping what is already there.
 # Safe to run repeatedly; needs root (or sudo) only when something is missing.
+#   bash scripts/install-deps.sh          what building rigsim and running the demo need
+#   bash scripts/install-deps.sh --tests  also what only the tests use (scripts/test.sh)
 set -euo pipefail
 
 packages=(
@@ -18,14 +20,22 @@ packages=(
   libyaml-cpp-dev                        # sweep configs in YAML (sweep/sweep_config.h)
   gnuplot-nox                            # sweep plots (sweep/sweep_plots.h)
   libjs-three                            # three.js r111, copied into every teaching report (report/)
-  chromium                               # test only: the report in a real browser (tests/report_browser_test.cc)
   libcli11-dev
   libtbb-dev
   libre2-dev                             # label-rule regexes in linear time (gltf/label_rules.h)
-  libgtest-dev libgmock-dev
-  libbenchmark-dev
-  clang libclang-rt-14-dev               # fuzzing: clang and libFuzzer (libclang_rt.fuzzer), scripts/fuzz.sh
+  libgtest-dev libgmock-dev libbenchmark-dev  # small; configuring the default build finds them
 )
+# Large, and used by tests only.
+test_packages=(
+  clang libclang-rt-14-dev               # fuzzing: clang and libFuzzer (libclang_rt.fuzzer), scripts/fuzz.sh
+  colmap                                 # the COLMAP export through COLMAP's tools (tests/colmap_interop_cli_test.cc)
+  chromium                               # the report in a real browser (tests/report_browser_test.cc)
+)
+case "${1:-}" in
+  --tests) packages+=("${test_packages[@]}") ;;
+  "") ;;
+  *) echo "install-deps: unknown argument '$1' (give --tests or nothing)" >&2; exit 1 ;;
+esac
 
 missing=()
 for p in "${packages[@]}"; do

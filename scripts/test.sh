@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The tests: install what is missing, then
+# The tests: install what is missing (what only the tests use too: install-deps.sh --tests), then
 #   1. build everything (build/, Release) and run the whole suite, unit and end-to-end (ctest);
 #   2. build the fuzz targets, the unit tests of geometry, labels, dataset, scene, gltf, procedural
 #      and rigs and the bad-input test once, with clang, AddressSanitizer and
@@ -17,6 +17,7 @@ if [ -n "${RIGSIM_BUILD_LOCK:-}" ]; then lock=(flock "$RIGSIM_BUILD_LOCK"); fi
 step() { echo; echo "=== test.sh: $* ($((SECONDS - start)) s elapsed)"; }
 
 step "1/3 build and run the whole suite"
+bash scripts/install-deps.sh --tests
 "${lock[@]}" bash scripts/build.sh
 build_dir=${RIGSIM_BUILD_DIR:-build}
 ctest --test-dir "$build_dir" --output-on-failure -j"$(nproc)"

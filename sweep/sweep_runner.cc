@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "dataset/output_folder.h"
 #include "geometry/json_io.h"
 #include "sweep/sweep_plots.h"
 #include "sweep/sweep_report.h"
@@ -35,28 +36,32 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-bool IsSweepFolder(const fs::path& dir) { return fs::is_regular_file(dir / "sweep.json"); }
+// What a sweep writes into its folder, and nothing else: --force removes only these.
+const std::vector<std::string>& SweepEntries() {
+  static const std::vector<std::string> entries = {"cells",        "work",        "datasets",      "scenes",
+                                                   "shards",       "slurm",       "plots",         "results.csv",
+                                                   "results.jsonl", "summary.csv", "summary.json", "report.md",
+                                                   "sweep.json"};
+  return entries;
+}
 
-// Refuses an output folder that is not a sweep's: it may hold anything of the user's.
-void CheckOutputFolder(const fs::path& out) {
-  std::error_code ec;
-  if (!fs::exists(out, ec)) return;
-  if (!fs::is_directory(out, ec)) throw std::runtime_error(out.string() + ": exists and is not a folder");
-  if (IsSweepFolder(out)) return;
-  if (!fs::is_empty(out, ec)) {
-    throw std::runtime_error(out.string() +
-                             ": exists and holds files that are not a sweep's results (no sweep.json); "
-                             "choose another --out (rigsim sweep never writes into or removes other files)");
+constexpr const char* kWrittenBy = "rigsim sweep";
+
+// The output folder's rules (dataset/output_folder.h), and a sweep's own: it resumes in a folder
+// only an earlier sweep wrote.
+void CheckSweepFolder(const fs::path& out) {
+  OutputFolderRequest request;
+  request.dir = out;
+  request.written_by = kWrittenBy;
+  const OutputFolderState state = CheckOutputFolder(request);
+  if (state.kind == OutputFolderState::kWrittenByRigsim && state.written_by != kWrittenBy) {
+    throw std::runtime_error("--out " + out.string() + ": holds what " + state.written_by +
+                             " wrote, not a sweep's results; choose another --out");
   }
 }
 
-// What a sweep writes into its folder, and nothing else: --force removes only these.
 void RemoveSweepOutputs(const fs::path& out) {
-  for (const char* name : {"cells", "work", "datasets", "scenes", "shards", "slurm", "plots", "results.csv",
-                           "results.jsonl", "summary.csv",
-                           "summary.json", "report.md", "sweep.json"}) {
-    fs::remove_all(out / name);
-  }
+  for (const std::string& name : SweepEntries()) fs::remove_all(out / name);
 }
 
 Json SweepJson(const SweepConfig& config, const std::vector<SweepCell>& cells, const SweepRunOptions& options) {
@@ -111,9 +116,10 @@ void PrepareSweepFolder(const SweepConfig& config, const SweepRunOptions& option
     throw std::invalid_argument("shard " + std::to_string(options.shard_index) + "/" +
                                 std::to_string(options.num_shards) + " does not exist");
   }
-  CheckOutputFolder(out);
+  CheckSweepFolder(out);
   if (options.restart) RemoveSweepOutputs(out);
   fs::create_directories(out / "cells");
+  WriteOutputMarker(out, kWrittenBy, SweepEntries());
   fs::remove_all(out / "work");  // a cell interrupted by a kill: its half-made dataset
   json_io::WriteTextAtomic(out / "sweep.json", SweepJson(config, ExpandCells(config), options).dump(1) + "\n");
 }
@@ -225,11 +231,12 @@ MergeOutcome MergeSweepShards(const fs::path& out, const std::vector<fs::path>& 
     }
   }
   const SweepConfig& config = shards[0].config;
-  CheckOutputFolder(out);
+  CheckSweepFolder(out);
   if (fs::exists(out / "sweep.json") && ReadSweepFolder(out).sweep_hash != shards[0].sweep_hash) {
     throw std::runtime_error(out.string() + ": holds the results of another sweep; merge into a new folder");
   }
   fs::create_directories(out / "cells");
+  WriteOutputMarker(out, kWrittenBy, SweepEntries());
   SweepRunOptions record;
   record.command = shards[0].command;
   const std::vector<SweepCell> cells = ExpandCells(config);

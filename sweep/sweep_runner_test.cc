@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "common/run_program.h"
+#include "dataset/output_folder.h"
 #include "testing/expect_error.h"
 #include "testing/temp_dir.h"
 
@@ -121,13 +122,13 @@ TEST(SweepRunner, NeverWritesIntoAFolderOfOtherFiles) {
   options.out_dir = out;
   options.restart = true;
   EXPECT_THAT([&] { RunSweep(Config(), options, fake.Get()); },
-              ThrowsWith<std::runtime_error>("holds files that are not a sweep's results"));
+              ThrowsWith<std::runtime_error>("holds files that rigsim did not write"));
   EXPECT_EQ(fake.calls, 0);
   EXPECT_EQ(ReadFile(out / "thesis.tex"), "mine");
   EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 1);
 }
 
-TEST(SweepRunner, RestartRemovesOnlyWhatASweepWrites) {
+TEST(SweepRunner, ResumesOrRestartsOnlyInAFolderASweepWrote) {
   const TempDir scratch;
   const fs::path out = scratch / "out";
   FakeRunner fake;
@@ -136,14 +137,32 @@ TEST(SweepRunner, RestartRemovesOnlyWhatASweepWrites) {
   options.keep_datasets = true;
   RunSweep(Config(), options, fake.Get());
   EXPECT_EQ(ReadFile(out / "datasets" / ExpandCells(Config())[0].key / "image.png"), "pixels");
+  // A file of the user's in it: neither resumed nor restarted, and the file kept.
   WriteFile(out / "notes.txt", "mine");
+  for (const bool restart : {false, true}) {
+    options.restart = restart;
+    FakeRunner refused;
+    EXPECT_THAT([&] { RunSweep(Config(), options, refused.Get()); },
+                ThrowsWith<std::runtime_error>("holds notes.txt, which rigsim did not write there"));
+    EXPECT_EQ(refused.calls, 0);
+    EXPECT_EQ(ReadFile(out / "notes.txt"), "mine");
+  }
+  fs::remove(out / "notes.txt");
   options.restart = true;
   options.keep_datasets = false;
   FakeRunner again;
   RunSweep(Config(), options, again.Get());
   EXPECT_EQ(again.calls, 6);  // started over
   EXPECT_FALSE(fs::exists(out / "datasets"));
-  EXPECT_EQ(ReadFile(out / "notes.txt"), "mine");
+  // A folder another command wrote is not a sweep's.
+  const fs::path dataset = scratch / "dataset";
+  fs::create_directories(dataset);
+  WriteOutputMarker(dataset, "rigsim render", {"rig.json"});
+  WriteFile(dataset / "rig.json", "{}");
+  options.out_dir = dataset;
+  FakeRunner other;
+  EXPECT_THROW(RunSweep(Config(), options, other.Get()), std::runtime_error);
+  EXPECT_EQ(other.calls, 0);
 }
 
 // Every file of a sweep folder's results, by relative path (cells/ and sweep.json aside).

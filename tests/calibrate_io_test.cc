@@ -208,16 +208,17 @@ TEST_F(CalibrateIo, WritesEveryExportAndPairStatisticsPerMode) {
       EXPECT_EQ(id, i + 1);
       EXPECT_EQ(model, std::string(CameraModelName(calibrated[i]->camera.model())));
       EXPECT_DOUBLE_EQ(cx, calibrated[i]->camera.params()[2] + 0.5);
-      const std::string name = images_txt[i].substr(images_txt[i].rfind(' ') + 1);
+      // Image ids camera by camera, each camera's frames in order (what COLMAP's feature_extractor gives).
+      const std::string name = images_txt[2 * i].substr(images_txt[2 * i].rfind(' ') + 1);
       EXPECT_EQ(name, calibrated[i]->name + "/000000.png");
       EXPECT_TRUE(fs::exists(dataset() / "images" / name));
     }
     const std::string first = images_txt[0];
     EXPECT_EQ(first.substr(0, first.find(" 1 cam0/")), "1 1 0 0 0 0 0 0") << "cam0 is the rig frame";
-    // cam0 at frame 1 (image 4): its centre in the calibration's world (cam0 at frame 0) is the
+    // cam0 at frame 1 (image 2): its centre in the calibration's world (cam0 at frame 0) is the
     // rig's motion, which must agree with the truth in direction and, in units of cam1's distance
     // from cam0, in length.
-    std::istringstream moved(images_txt[3]);
+    std::istringstream moved(images_txt[1]);
     int image_id, camera_id;
     double qw, qx, qy, qz, tx, ty, tz;
     std::string moved_name;
@@ -298,7 +299,7 @@ TEST_F(CalibrateIo, WritesEveryExportAndPairStatisticsPerMode) {
     size_t match_images = 0;
     for (const auto& entry : fs::directory_iterator(dir / "matches")) match_images += entry.path().extension() == ".jpg";
     EXPECT_GE(match_images, 2u);
-    EXPECT_EQ(outputs["files"].size(), 8u + match_images);
+    EXPECT_EQ(outputs["files"].size(), 9u + match_images);
   }
   EXPECT_TRUE(StagingFolders(out).empty());
 }
@@ -324,6 +325,35 @@ TEST_F(CalibrateIo, PhotosWithoutTruthCalibrateAndPlotTheEstimateAlone) {
   EXPECT_NE(svg.find(" units</text>"), std::string::npos);
   EXPECT_TRUE(ReadJson(out / "evaluation.json")["methods"]["none"]["rig"]["summary"]["max_rotation_error_deg"].is_null())
       << "no truth: nothing compared";
+}
+
+// Photos without labels: the default modes (none,mask) fall back to none with a warning saying so;
+// a mode that needs labels asked for by name is refused, saying what to do.
+TEST_F(CalibrateIo, PhotosWithoutLabelsCalibrateWithoutSemanticsOrSayWhatToDo) {
+  const fs::path photos = dir_ / "photos";
+  fs::create_directories(photos);
+  fs::copy(dataset() / "images", photos / "images", fs::copy_options::recursive);
+  fs::copy_file(dataset() / "rig.json", photos / "rig.json");
+  const fs::path out = dir_ / "out";
+  const CliResult r = RunRigsim({"calibrate", photos.string(), "--out", out.string(), "--threads", "2"}, dir_ / "default");
+  ExpectBackUncalibrated(r);
+  EXPECT_NE(r.err.find("warning: " + photos.string() + " has no labels/: calibrating with --semantics none only"),
+            std::string::npos)
+      << r.err;
+  const json methods = ReadJson(out / "evaluation.json")["methods"];
+  EXPECT_TRUE(methods.contains("none"));
+  EXPECT_FALSE(methods.contains("mask"));
+
+  const fs::path refused = dir_ / "refused";
+  const CliResult mask =
+      RunRigsim({"calibrate", photos.string(), "--out", refused.string(), "--semantics", "none,mask", "--threads", "2"}, dir_ / "mask");
+  EXPECT_EQ(mask.code, 1) << mask.err;
+  EXPECT_NE(mask.err.find("rigsim: error: " + (photos / "labels").string() + ": no such folder: --semantics mask needs a label "
+                          "image per photo"),
+            std::string::npos)
+      << mask.err;
+  EXPECT_NE(mask.err.find("use --semantics none"), std::string::npos) << mask.err;
+  EXPECT_FALSE(fs::exists(refused));
 }
 
 TEST_F(CalibrateIo, UserLabelsInIdsAndInColoursGiveIdenticalResults) {

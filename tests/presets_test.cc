@@ -1,6 +1,7 @@
 // Every scene preset, end to end: each renders with every rig generator;
 // each preset gives SIFT at least 2000 features per 1280x720 view on average; a ring rig asked
-// for a neighbour overlap gets it within +-5 points of the ground truth measured on the renders.
+// for a neighbour overlap gets it within +-3 points of the ground truth measured on the renders (the
+// smaller of the two directions, as overlap.json's readers report it).
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -140,7 +141,8 @@ TEST_P(PresetTest, SiftFeaturesAndRingOverlap) {
     const double ab = CoVisibleFraction(a.camera, views[i].range, b.camera, views[i + 1].range, b_from_a);
     const double ba = CoVisibleFraction(b.camera, views[i + 1].range, a.camera, views[i].range, b_from_a.Inverse());
     std::printf("  %s-%s ground-truth overlap %.1f%% / %.1f%% (asked 30%%)\n", a.name.c_str(), b.name.c_str(), 100 * ab, 100 * ba);
-    EXPECT_NEAR(0.5 * (ab + ba), 0.30, 0.05) << a.name << "-" << b.name;
+    // The figure render's overlap.json readers report, and MakeRingRigInScene solves for.
+    EXPECT_NEAR(std::min(ab, ba), 0.30, 0.03) << a.name << "-" << b.name;
   }
 }
 

@@ -113,7 +113,7 @@ TEST(SweepCli, BadConfigsAreRefusedNamingTheFileAndKey) {
   const CliResult foreign = RunRigsim({"sweep", (dir / "tiny.yaml").string(), "--out", (dir / "mine").string(), "--force"},
                                       dir / "foreign");
   EXPECT_EQ(foreign.code, 1);
-  EXPECT_NE(foreign.err.find("not a sweep's results"), std::string::npos) << foreign.err;
+  EXPECT_NE(foreign.err.find("holds files that rigsim did not write"), std::string::npos) << foreign.err;
   EXPECT_EQ(ReadFile(dir / "mine" / "thesis.tex"), "text");
 }
 

@@ -1,10 +1,14 @@
 #include "apps/rigsim/calibrate_support.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "apps/rigsim/commands.h"
+#include "apps/rigsim/parse_errors.h"
+#include "common/did_you_mean.h"
 #include "dataset/dataset.h"
+#include "dataset/output_folder.h"
 #include "pipeline/calibration_outputs.h"
 #include "pipeline/calibration_run.h"
 #include "pipeline/report_table.h"
@@ -64,7 +68,13 @@ void AddLabelSourceOptions(CLI::App& cmd, LabelSettings& s) {
 RigCalibrationOptions CalibrateSettings::ToOptions() const {
   RigCalibrationOptions o = options;
   o.pairwise.labels = labels.ToSource();
-  if (!reliable.empty()) o.pairwise.reliable = ReliableClasses::FromNames(reliable);
+  if (!reliable.empty()) {
+    try {
+      o.pairwise.reliable = ReliableClasses::FromNames(reliable);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("--reliable: ") + e.what());
+    }
+  }
   if (!known_distance.empty()) {
     if (known_distance.size() != 3) throw std::invalid_argument("--known-distance takes CAM_A CAM_B METRES");
     double metres = 0.0;
@@ -72,6 +82,9 @@ RigCalibrationOptions CalibrateSettings::ToOptions() const {
       metres = std::stod(known_distance[2]);
     } catch (const std::exception&) {
       throw std::invalid_argument("--known-distance: '" + known_distance[2] + "' is not a number of metres");
+    }
+    if (!std::isfinite(metres) || !(metres > 0)) {
+      throw std::invalid_argument("--known-distance: the distance must be more than 0 metres (got " + known_distance[2] + ")");
     }
     if (known_distance[0] == known_distance[1]) {
       throw std::invalid_argument("--known-distance: give two different cameras (got '" + known_distance[0] + "' twice)");
@@ -90,7 +103,7 @@ std::vector<SemanticMode> CalibrateSettings::Modes() const {
 }
 
 void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& s) {
-  cmd.add_option("--semantics", s.semantics,
+  s.semantics_option = cmd.add_option("--semantics", s.semantics,
                  "semantic modes to compare on the same images: none (baseline), mask (features only on\n"
                  "reliable classes), gated (match only within a class), mask+gated")
       ->delimiter(',')
@@ -107,16 +120,16 @@ void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& s) {
   FeatureOptions& features = s.options.pairwise.features;
   cmd.add_option("--max-features", features.max_features, "strongest keypoints kept per image (every --features type)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(Positive());
   cmd.add_option("--sift-contrast", features.contrast_threshold,
                  "SIFT contrast threshold; lower finds more, weaker keypoints")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(Positive());
   cmd.add_option("--screen-features", s.options.pairwise.screen_features,
                  "pair screening: match only this many strongest keypoints of two frames first and\n"
                  "skip the full matching of pairs that show no shared view; 0 matches every pair in full")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegative());
   cmd.add_option("--ratio", s.options.pairwise.matching.ratio,
                  "Lowe's ratio test: keep a match when best < ratio x second best")
       ->capture_default_str()
@@ -124,18 +137,81 @@ void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& s) {
   cmd.add_option("--max-error-px", s.options.pairwise.two_view.max_error_px,
                  "inlier threshold of the robust relative-pose fit (px)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(Positive());
   if (cmd.get_option_no_throw("--threads") == nullptr) {
     cmd.add_option("--threads", s.options.pairwise.num_threads, "worker threads, 0 = all cores")
         ->capture_default_str()
-        ->check(CLI::NonNegativeNumber);
+        ->check(NonNegative());
   }
 }
+
+namespace {
+
+// The output folder and what calibrate reads: it must not replace the photos, labels or rig
+// it calibrates. Its default, DATASET/calibration, lies beside them.
+OutputFolderRequest CalibrationOutputFolder(const std::filesystem::path& dataset, const CalibrateSettings& settings,
+                                            const std::filesystem::path& out_dir, bool force) {
+  const DatasetLayout layout(dataset);
+  const bool default_folder = out_dir.lexically_normal() == (dataset / "calibration").lexically_normal();
+  OutputFolderRequest out{out_dir, default_folder ? "" : "--out", "rigsim calibrate", {}, force};
+  out.inputs = {{layout.RigJson(), "the dataset's rig.json"},
+                {layout.FramesJson(), "the dataset's frames.json"},
+                {layout.OverlapJson(), "the dataset's overlap.json"},
+                {layout.root() / "images", "the dataset's images/"},
+                {layout.root() / "labels", "the dataset's labels/"},
+                {layout.root() / "depth", "the dataset's depth/"}};
+  const std::string& labels = settings.labels.labels;
+  if (labels != "truth" && labels != "noisy" && !labels.empty()) out.inputs.push_back({labels, "--labels"});
+  return out;
+}
+
+// --known-distance names cameras of the rig, or says which it has.
+void CheckKnownDistanceCameras(const CalibrateSettings& settings, const Rig& rig, const std::filesystem::path& rig_json) {
+  if (settings.known_distance.size() != 3) return;
+  std::vector<std::string> names;
+  for (const RigCamera& c : rig.cameras) names.push_back(c.name);
+  for (int i = 0; i < 2; ++i) {
+    const std::string& name = settings.known_distance[i];
+    if (rig.FindCamera(name) >= 0) continue;
+    std::string list;
+    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+    throw std::invalid_argument("--known-distance: no camera '" + name + "' in " + rig_json.string() + DidYouMean(name, names) +
+                                "; its cameras are " + list);
+  }
+}
+
+// The semantic modes to run. Photos without labels (no DATASET/labels/ for --labels truth) run the
+// default modes that need none, with a warning; modes asked for by name that need labels are
+// refused, saying what to do.
+std::vector<SemanticMode> ModesFor(const std::filesystem::path& dataset, const CalibrateSettings& settings) {
+  std::vector<SemanticMode> modes = settings.Modes();
+  const std::filesystem::path labels = DatasetLayout(dataset).root() / "labels";
+  if (settings.labels.labels != "truth" || std::filesystem::exists(labels) ||
+      std::none_of(modes.begin(), modes.end(), NeedsLabels)) {
+    return modes;
+  }
+  std::string needing;
+  for (SemanticMode m : modes) {
+    if (NeedsLabels(m)) needing += (needing.empty() ? "" : ",") + std::string(SemanticModeName(m));
+  }
+  const bool given = settings.semantics_option != nullptr && settings.semantics_option->count() > 0;
+  if (given || std::all_of(modes.begin(), modes.end(), NeedsLabels)) {
+    throw std::runtime_error(labels.string() + ": no such folder: --semantics " + needing +
+                             " needs a label image per photo (README, 'Labels for the semantic modes'); for photos "
+                             "without labels use --semantics none, or give labels with --labels DIR");
+  }
+  std::fprintf(stderr, "warning: %s has no labels/: calibrating with --semantics none only (%s needs a label image per photo; "
+               "--labels DIR gives them)\n", dataset.string().c_str(), needing.c_str());
+  modes.erase(std::remove_if(modes.begin(), modes.end(), NeedsLabels), modes.end());
+  return modes;
+}
+
+}  // namespace
 
 CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const CalibrateSettings& settings,
                                   const std::filesystem::path& out_dir, bool force) {
   const RigCalibrationOptions options = settings.ToOptions();
-  const std::vector<SemanticMode> modes = settings.Modes();
+  const std::vector<SemanticMode> modes = ModesFor(dataset, settings);
   const bool labels_used = std::any_of(modes.begin(), modes.end(), NeedsLabels);
   const LabelSource& labels = options.pairwise.labels;
   if (!labels_used && labels.kind != LabelSource::Kind::kTruth) {
@@ -144,9 +220,12 @@ CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const Ca
   }
   // Everything that can be checked cheaply is checked before the long run, so that bad input
   // fails fast and leaves nothing behind.
+  const OutputFolderRequest out = CalibrationOutputFolder(dataset, settings, out_dir, force);
+  CheckReplaceableOutput(out);
   const CalibrationInputs inputs = ReadCalibrationInputs(dataset);
   for (const std::string& w : inputs.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-  StagedOutput staged(out_dir, force);
+  CheckKnownDistanceCameras(settings, inputs.rig, DatasetLayout(dataset).RigJson());
+  StagedOutput staged(out);
 
   std::fprintf(stderr, "calibrating %s (%zu semantic modes%s)...\n", dataset.string().c_str(), modes.size(),
                labels_used ? (", labels: " + labels.Describe()).c_str() : "");

@@ -41,6 +41,7 @@ struct CalibrateSettings {
   // Numeric options are bound to these fields directly, so the library's defaults are the CLI's.
   RigCalibrationOptions options;
   std::vector<std::string> semantics = {"none", "mask"};
+  const CLI::Option* semantics_option = nullptr;  // set by AddCalibrateSettingsOptions: given or default
   std::vector<std::string> reliable;        // empty = the defaults of labels/cityscapes.h
   std::vector<std::string> known_distance;  // CAM_A CAM_B METRES, or empty
   LabelSettings labels;                     // options.pairwise.labels, resolved by ToOptions
@@ -51,7 +52,8 @@ struct CalibrateSettings {
 
 void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& settings);
 
-// Calibrates the rig of `dataset` in each semantic mode (pipeline/calibration_run.h), writes the
+// Calibrates the rig of `dataset` in each semantic mode (pipeline/calibration_run.h; the default
+// modes without those that need labels when the dataset has none, with a warning), writes the
 // results into `out_dir` (pipeline/calibration_outputs.h; atomically, replaced only with `force`)
 // and prints the pair and camera tables and a summary, warnings to stderr. Returns the run (with
 // each stage's details when settings.options.keep_details, for a report).

@@ -7,6 +7,7 @@
 #include "apps/rigsim/report_support.h"
 #include "apps/rigsim/version.h"
 #include "dataset/dataset.h"
+#include "dataset/output_folder.h"
 #include "rigs/rig_presets.h"
 #include "rigs/trajectories.h"
 
@@ -51,6 +52,8 @@ void AddDemoCommand(CLI::App& app) {
     // Fail on bad calibration options before spending time on rendering.
     args->calibrate.ToOptions();
     args->calibrate.Modes();
+    const OutputFolderRequest out{args->out, "--out", "rigsim demo", {}, args->force};
+    CheckReplaceableOutput(out);
 
     const Scene scene = LoadSceneVerbose(args->scene);
     RenderJob job;
@@ -81,6 +84,7 @@ void AddDemoCommand(CLI::App& app) {
           WriteReportFolder(run, report, std::filesystem::path(args->out) / "report", true);
       std::printf("teaching report: %s (open it in a browser)\n", index.string().c_str());
     }
+    WriteOutputMarker(args->out, out.written_by);  // the dataset, its calibration/, evaluation.json and report/
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("demo finished in %.1f s\n", seconds);
     ThrowUnlessEveryCameraCalibrated(run.results);

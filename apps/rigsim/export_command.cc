@@ -7,7 +7,9 @@
 
 #include "apps/rigsim/calibrate_support.h"
 #include "apps/rigsim/commands.h"
+#include "apps/rigsim/render_support.h"
 #include "dataset/dataset.h"
+#include "dataset/output_folder.h"
 #include "exports/colmap.h"
 #include "exports/kalibr.h"
 #include "exports/nerfstudio.h"
@@ -49,6 +51,11 @@ void AddExportCommand(CLI::App& app) {
     if (formats.count("all")) formats = {"kalibr", "opencv", "colmap", "nerfstudio"};
     const DatasetLayout layout(args->dataset);
     const std::filesystem::path rig_json = args->rig.empty() ? layout.RigJson() : std::filesystem::path(args->rig);
+    OutputFolderRequest out{args->out, "--out", "rigsim export", {}, args->force};
+    out.inputs = {{rig_json, args->rig.empty() ? "the dataset's rig.json" : "--rig"},
+                  {layout.FramesJson(), "the dataset's frames.json"},
+                  {layout.root() / "images", "the dataset's images/"}};
+    CheckReplaceableOutput(out);
     Rig rig = ReadRig(rig_json);
     // A calibration estimate may leave cameras without a pose: they are left out of every format,
     // as calibrate's own exports do. A rig with no pose at all exports its intrinsics (opencv).
@@ -63,12 +70,13 @@ void AddExportCommand(CLI::App& app) {
         throw std::runtime_error(layout.FramesJson().string() + ": missing; colmap and nerfstudio exports need the frame poses");
       }
       frames = ReadFrames(layout.FramesJson());
+      RequirePoses(rig, rig_json, frames, layout.FramesJson(), "the colmap and nerfstudio exports");
     }
     // Images are named as the dataset has them, whatever their extension.
     const ImageNameFn image_name = [&layout](const std::string& cam, const std::string& frame) {
       return layout.ImageName(cam, frame);
     };
-    StagedOutput staged(args->out, args->force);
+    StagedOutput staged(out);
     const std::filesystem::path& dir = staged.staging_dir();
     std::vector<std::string> written;
     if (formats.count("kalibr")) {
@@ -101,8 +109,10 @@ void AddExportCommand(CLI::App& app) {
                 frames.frames.empty() ? "" : (" x " + std::to_string(frames.frames.size()) + " frames").c_str(), args->out.c_str(),
                 list.c_str());
     if (formats.count("colmap")) {
-      std::printf("COLMAP: --image_path %s --input_path %s\n", (layout.root() / "images").string().c_str(),
-                  (std::filesystem::path(args->out) / "colmap").string().c_str());
+      const std::filesystem::path model = std::filesystem::path(args->out) / "colmap";
+      std::printf("COLMAP: --image_path %s --input_path %s; its points at these poses: bash %s %s OUT_DIR\n",
+                  (layout.root() / "images").string().c_str(), model.string().c_str(), (model / "triangulate.sh").string().c_str(),
+                  (layout.root() / "images").string().c_str());
     }
   });
 }

@@ -1,11 +1,14 @@
 // rigsim: render labelled multi-camera datasets from glTF scenes and calibrate rigs from them.
 #include <cstdio>
 #include <exception>
+#include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "apps/rigsim/commands.h"
 #include "apps/rigsim/interrupt.h"
+#include "apps/rigsim/parse_errors.h"
 #include "apps/rigsim/version.h"
 
 int main(int argc, char** argv) {
@@ -32,7 +35,12 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);  // --help, --version
+    const std::vector<std::string> args(argv + 1, argv + argc);
+    const CLI::App* sub = rigsim::cli::FailedSubcommand(app);
+    std::fprintf(stderr, "rigsim: error: %s\n(`rigsim %s--help` explains every option)\n",
+                 rigsim::cli::DescribeParseError(e, app, args).c_str(), sub ? (sub->get_name() + " ").c_str() : "");
+    return 1;
   } catch (const rigsim::cli::Unfinished& e) {
     std::fprintf(stderr, "rigsim: %s\n", e.what());
     return e.code;

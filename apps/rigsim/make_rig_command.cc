@@ -11,7 +11,9 @@
 
 #include "apps/rigsim/commands.h"
 #include "apps/rigsim/render_support.h"
+#include "common/did_you_mean.h"
 #include "dataset/dataset.h"
+#include "dataset/output_folder.h"
 #include "geometry/rig.h"
 #include "gltf/gltf_loader.h"
 #include "gltf/scene_cameras.h"
@@ -72,7 +74,8 @@ void AddRigOptions(CLI::App* cmd, MakeRigArgs& a) {
   cmd->add_option("--cameras", r.num_cameras, "ring: number of cameras")->capture_default_str()->check(CLI::Range(1, 64));
   cmd->add_option("--spacing", r.yaw_spacing_deg, "ring: yaw between neighbouring cameras (deg)")->capture_default_str();
   cmd->add_option("--overlap", a.overlap_percent,
-                  "ring: target overlap between neighbours (percent of the image, at infinity; overrides --spacing)")
+                  "ring: overlap between neighbours, percent of the image (the smaller of the two directions, as render reports it):\n"
+                  "ground truth at the place found with --scene, else the angular one at infinity; overrides --spacing")
       ->check(CLI::Range(0.0, 99.0));
   cmd->add_option("--hfov", a.hfov_deg, "horizontal field of view of the perspective cameras (deg; ring default 95, "
                                         "stereo 80, wide-baseline 70, surround front 100)");
@@ -153,6 +156,14 @@ void AddSourceAndOutputOptions(CLI::App* cmd, MakeRigArgs& a) {
   cmd->add_flag("--force", a.force, "with --out: replace an existing folder");
 }
 
+// --out DIR, with what make-rig reads.
+OutputFolderRequest OutputFolder(const MakeRigArgs& a) {
+  OutputFolderRequest out{a.out, "--out", "rigsim make-rig", {}, a.force};
+  if (!a.scene.empty()) out.inputs.push_back({a.scene, "--scene"});
+  if (!a.from_gltf.empty()) out.inputs.push_back({a.from_gltf, "--from-gltf"});
+  return out;
+}
+
 // Capture timing: when each camera captures relative to the frame, its rolling shutter and exposure.
 void AddTimingOptions(CLI::App* cmd, MakeRigArgs& a) {
   const std::string group = "Capture timing (per camera: CAMERA=VALUE; a plain VALUE sets every camera; repeatable)";
@@ -179,7 +190,14 @@ void ApplyPerCamera(const std::vector<std::string>& entries, const std::string& 
         set(cam, value);
       }
       if (named && rig->FindCamera(entry.substr(0, eq)) < 0) {
-        throw CLI::ValidationError(option, "no camera named '" + entry.substr(0, eq) + "' in the rig");
+        std::vector<std::string> names;
+        std::string list;
+        for (const RigCamera& c : rig->cameras) {
+          names.push_back(c.name);
+          list += (list.empty() ? "" : ", ") + c.name;
+        }
+        throw CLI::ValidationError(option, "no camera named '" + entry.substr(0, eq) + "' in the rig" +
+                                               DidYouMean(entry.substr(0, eq), names) + "; its cameras are " + list);
       }
     }
   }
@@ -217,9 +235,7 @@ void CheckOutput(const MakeRigArgs& a) {
   if (a.out.empty() && (a.rig_out.empty() || a.frames_out.empty())) {
     throw CLI::ValidationError("make-rig", "give --out DIR, or both --rig-out FILE and --frames-out FILE");
   }
-  if (!a.out.empty() && std::filesystem::exists(a.out) && !a.force) {
-    throw std::runtime_error(a.out + ": already exists (use --force to replace it)");
-  }
+  if (!a.out.empty()) CheckReplaceableOutput(OutputFolder(a));
 }
 
 // Writes rig.json and frames.json (into --out, complete or not at all, or to --rig-out and
@@ -227,7 +243,7 @@ void CheckOutput(const MakeRigArgs& a) {
 void WriteRigAndFrames(const MakeRigArgs& a, const Rig& rig, const FramesFile& frames, const std::string& what) {
   std::string rig_path = a.rig_out, frames_path = a.frames_out;
   if (!a.out.empty()) {
-    StagedOutput staged(a.out, a.force);
+    StagedOutput staged(OutputFolder(a));
     WriteRig(rig, staged.staging_dir() / "rig.json");
     WriteFrames(frames, staged.staging_dir() / "frames.json");
     staged.Commit();
@@ -296,6 +312,38 @@ RigSpec SpecOf(const MakeRigArgs& a, const CLI::App& cmd) {
   return s;
 }
 
+// What the rig will see: the overlap of each pair that shares a view at the first frame, and a
+// warning when a neighbour pair misses the --overlap asked for.
+void ReportOverlaps(const MakeRigArgs& a, const PlacedRig& placed, const Scene* scene) {
+  if (placed.rig.cameras.size() < 2 || !placed.rig.HasAllPoses()) return;
+  const std::vector<PairOverlap> pairs = RigPairOverlaps(placed.rig, scene, *placed.frames.frames[0].rig_from_world);
+  std::printf("%s\n", scene ? "overlap predicted at the first frame (the smaller of the two directions, the figure render "
+                              "and calibrate report from overlap.json):"
+                            : "angular overlap for points at infinity (the smaller of the two directions; render measures "
+                              "the ground truth, without sky and with parallax: --scene solves for that):");
+  std::string line, missed;
+  int shown = 0;
+  for (const PairOverlap& p : pairs) {
+    if (p.overlap < 0.005) continue;
+    char text[96];
+    std::snprintf(text, sizeof(text), "  %s-%s %5.1f%%", p.a.c_str(), p.b.c_str(), 100 * p.overlap);
+    line += text;
+    if (++shown % 4 == 0) line += "\n";
+    // Neighbours on the ring (camera i and i+1) are what --overlap solves for, pair by pair in a scene.
+    const bool neighbours = placed.rig.FindCamera(p.b) == placed.rig.FindCamera(p.a) + 1;
+    if (scene && a.overlap_percent > 0 && neighbours && std::abs(100 * p.overlap - a.overlap_percent) > 2.0) {
+      missed += (missed.empty() ? "" : ", ") + p.a + "-" + p.b;
+    }
+  }
+  if (shown < int(pairs.size())) line += shown % 4 == 0 ? "  (the other pairs 0%)" : "    (the other pairs 0%)";
+  if (shown == 0) line = "  every pair 0%";
+  std::printf("%s\n", line.c_str());
+  if (!missed.empty()) {
+    std::fprintf(stderr, "warning: %s: more than 2 points from the --overlap %g%% asked for: no spacing gives it at this "
+                 "place (near walls or open sky); try another --seed\n", missed.c_str(), a.overlap_percent);
+  }
+}
+
 void MakeRig(const MakeRigArgs& a, const CLI::App& cmd) {
   CheckOutput(a);
   if (!a.from_gltf.empty()) {
@@ -305,19 +353,30 @@ void MakeRig(const MakeRigArgs& a, const CLI::App& cmd) {
   const RigSpec spec = SpecOf(a, cmd);
   std::optional<Scene> scene;
   if (!a.scene.empty()) scene = LoadGltf(a.scene);
+  if (scene && scene->NumTriangles() == 0) {
+    throw std::runtime_error(a.scene + ": the scene holds no triangles: there is no ground to place the rig on; give a "
+                             "scene with geometry, or leave out --scene and place the rig with --position and --heading");
+  }
   std::optional<PlacedRig> placed = MakePlacedRig(spec, scene ? &*scene : nullptr);
   if (!placed) {
-    throw std::runtime_error(a.scene + ": no place found where the rig stands on the ground with " +
-                             std::to_string(spec.placement.min_clearance_m) +
+    char clearance[32];
+    std::snprintf(clearance, sizeof(clearance), "%g", spec.placement.min_clearance_m);
+    throw std::runtime_error(a.scene + ": no place found where the rig stands on the ground with " + clearance +
                              " m clearance; try a smaller --clearance or fewer --frames");
   }
   if (placed->placement) {
     const RigPlacement& p = *placed->placement;
     std::printf("placed at (%.2f, %.2f, %.2f), heading %.1f deg (%.0f%% of probe rays see structure)\n",
                 p.position_world.x(), p.position_world.y(), p.position_world.z(), p.heading_deg, 100.0 * p.score);
+    if (p.score < 0.1) {
+      std::fprintf(stderr, "warning: %s: at the best place found, %.0f%% of the probe rays see structure within %.0f m: the "
+                   "views will be mostly empty sky; try another --seed, or a scene with structure around the ground\n",
+                   a.scene.c_str(), 100.0 * p.score, spec.placement.max_range_m);
+    }
     placed->frames.scene = std::filesystem::path(a.scene).filename().string();
   }
   ApplyTiming(a, &placed->rig);
+  ReportOverlaps(a, *placed, scene ? &*scene : nullptr);
   WriteRigAndFrames(a, placed->rig, placed->frames, a.type);
 }
 

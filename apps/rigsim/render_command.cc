@@ -11,6 +11,7 @@
 #include "apps/rigsim/render_support.h"
 #include "apps/rigsim/shard_options.h"
 #include "apps/rigsim/version.h"
+#include "dataset/output_folder.h"
 #include "geometry/camera_validation.h"
 #include "geometry/rig.h"
 #include "gltf/gltf_loader.h"
@@ -69,7 +70,12 @@ void AddRenderCommand(CLI::App& app) {
   cmd->add_flag("--previews", args->extras.previews, "depth_color/ and instances_color/ PNGs to look at")->group(group);
   AddShardOptions(*cmd, args->shards, "frames", "render-merge");
   cmd->callback([args] {
-    // The small inputs first, so that their errors come before the scene's loading time.
+    // The output folder and the small inputs first, so that their errors come before the scene's
+    // loading time.
+    OutputFolderRequest out{args->out, "--out", "rigsim render", {}, args->force};
+    out.inputs = {{args->scene, "--scene"}, {args->rig, "--rig"}, {args->frames, "--frames"}};
+    if (!args->rules.empty()) out.inputs.push_back({args->rules, "--rules"});
+    CheckReplaceableOutput(out);
     RenderJob job;
     job.options = args->settings.ToRenderOptions();
     job.extras = args->extras;
@@ -77,7 +83,11 @@ void AddRenderCommand(CLI::App& app) {
     job.rig = ReadRig(args->rig);
     for (const std::string& w : CheckRigCoversImages(job.rig, args->rig)) std::fprintf(stderr, "warning: %s\n", w.c_str());
     job.frames = ReadFrames(args->frames);
+    RequirePoses(job.rig, args->rig, job.frames, args->frames, "render");
     const Scene scene = LoadSceneVerbose(args->scene, args->rules);
+    if (scene.NumTriangles() == 0) {
+      std::fprintf(stderr, "warning: %s: the scene holds no triangles: every view will be empty sky\n", args->scene.c_str());
+    }
     job.scene = &scene;
     job.scene_name = std::filesystem::path(args->scene).filename().string();
     job.frames.label_rules = args->rules.empty() ? "" : std::filesystem::path(args->rules).filename().string();

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "apps/rigsim/interrupt.h"
+#include "apps/rigsim/parse_errors.h"
 #include "apps/rigsim/progress.h"
 #include "pipeline/report_table.h"
 #include "dataset/dataset.h"
@@ -32,7 +33,7 @@ void AddRenderSettingsOptions(CLI::App& cmd, RenderSettings& s) {
       ->capture_default_str();
   cmd.add_option("--threads", s.threads, "worker threads, 0 = all cores (output does not depend on it)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegative());
 }
 
 PhotometricOptions PhotometricSettings::ToOptions(uint64_t seed) const {
@@ -105,6 +106,23 @@ Scene LoadSceneVerbose(const std::filesystem::path& path, const std::string& rul
   if (rules) std::fprintf(stderr, "  label rules %s (%zu rules)\n", rules_path.c_str(), rules->rules().size());
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "  warning: %s\n", w.c_str());
   return scene;
+}
+
+void RequirePoses(const Rig& rig, const std::filesystem::path& rig_path, const FramesFile& frames,
+                  const std::filesystem::path& frames_path, const std::string& command) {
+  for (const RigCamera& c : rig.cameras) {
+    if (!c.cam_from_rig) {
+      throw std::runtime_error(rig_path.string() + ": camera '" + c.name + "' has no cam_from_rig; " + command +
+                               " needs every camera's pose in the rig (rigsim make-rig writes it, calibrate estimates it)");
+    }
+  }
+  for (size_t i = 0; i < frames.frames.size(); ++i) {
+    if (!frames.frames[i].rig_from_world) {
+      throw std::runtime_error(frames_path.string() + ": frames[" + std::to_string(i) + "] ('" + frames.frames[i].name +
+                               "') has no rig_from_world; " + command +
+                               " needs the rig's pose at every frame (rigsim make-rig writes them)");
+    }
+  }
 }
 
 void RenderAndReport(const RenderJob& job, const std::filesystem::path& out, bool force) {

@@ -44,6 +44,11 @@ void AddLabelRulesOption(CLI::App& cmd, std::string& rules_path);
 // size, the rules used and every loader warning to stderr.
 Scene LoadSceneVerbose(const std::filesystem::path& path, const std::string& rules_path = "");
 
+// Throws std::runtime_error naming the file when a camera of `rig` has no cam_from_rig or a frame
+// of `frames` no rig_from_world: rendering needs both, and a rig to be calibrated has neither.
+void RequirePoses(const Rig& rig, const std::filesystem::path& rig_path, const FramesFile& frames,
+                  const std::filesystem::path& frames_path, const std::string& command);
+
 // Renders with a progress line, then prints time and the ground-truth overlap per pair.
 void RenderAndReport(const RenderJob& job, const std::filesystem::path& out, bool force);
 

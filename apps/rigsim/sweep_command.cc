@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "apps/rigsim/commands.h"
+#include "apps/rigsim/parse_errors.h"
 #include "apps/rigsim/interrupt.h"
 #include "apps/rigsim/shard_options.h"
 #include "sweep/cell_runner.h"
@@ -101,7 +102,7 @@ void AddSweepCommand(CLI::App& app) {
                 "keep every cell's rendered dataset in OUT/datasets/<key> (they are deleted after their cell "
                 "otherwise, so that a large sweep does not fill the disk)");
   cmd->add_flag("--force", args->force, "start over: remove OUT's earlier sweep results (only what a sweep writes)");
-  cmd->add_option("--threads", args->threads, "worker threads, 0 = all cores")->capture_default_str()->check(CLI::NonNegativeNumber);
+  cmd->add_option("--threads", args->threads, "worker threads, 0 = all cores")->capture_default_str()->check(NonNegative());
   cmd->add_flag("--list-params", args->list_params, "list the cell parameters and methods, and exit");
   AddShardOptions(*cmd, args->shards, "cells", "sweep-merge");
   cmd->get_option("--dry-run")->description("list the cells and exit; with --slurm: write the job scripts, do not submit");
