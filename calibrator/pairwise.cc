@@ -319,15 +319,18 @@ std::vector<PairwiseMatchData> CollectMatchData(const PairwiseJob& job, const De
         for (const Keypoint& kp : feats[job.Image(c, f)].keypoints) md.keypoints[f][c].push_back(kp.px);
       }
     }
+    md.matches.assign(job.num_pairs, std::vector<std::vector<std::pair<int, int>>>(job.num_frames));
     md.inliers.assign(job.num_pairs, std::vector<std::vector<std::pair<int, int>>>(job.num_frames));
     for (int p = 0; p < job.num_pairs; ++p) {
       const int mp = job.ModePair(m, p);
       const TwoViewResult& tv = fits.two_view[mp];
-      if (!tv.success) continue;
       for (int f = 0; f < job.num_frames; ++f) {
         const std::vector<Match>& mt = matches.matches[job.ModePairFrame(m, p, f)];
         for (size_t i = 0; i < mt.size(); ++i) {
-          if (tv.inlier_mask[fits.pooled[mp].frame_begin[f] + i]) md.inliers[p][f].push_back({mt[i].a, mt[i].b});
+          md.matches[p][f].push_back({mt[i].a, mt[i].b});
+          if (tv.success && tv.inlier_mask[fits.pooled[mp].frame_begin[f] + i]) {
+            md.inliers[p][f].push_back({mt[i].a, mt[i].b});
+          }
         }
       }
     }
@@ -368,10 +371,9 @@ TemporalFits EstimateTemporalPairs(const PairwiseJob& job, const DetectedFeature
     te.camera = c;
     te.frame = k;
     te.two_view = ToEstimate(tv, static_cast<int>(mt.size()));
-    if (tv.success) {
-      for (size_t j = 0; j < mt.size(); ++j) {
-        if (tv.inlier_mask[j]) te.inliers.push_back({mt[j].a, mt[j].b});
-      }
+    for (size_t j = 0; j < mt.size(); ++j) {
+      te.matches.push_back({mt[j].a, mt[j].b});
+      if (tv.success && tv.inlier_mask[j]) te.inliers.push_back({mt[j].a, mt[j].b});
     }
   });
   return out;

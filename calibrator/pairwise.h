@@ -133,8 +133,10 @@ CalibrationReport CalibrateDatasetPairs(const std::filesystem::path& dataset_dir
 struct PairwiseMatchData {
   // Keypoint positions [frame][camera][keypoint] of the features the mode used.
   std::vector<std::vector<std::vector<Eigen::Vector2d>>> keypoints;
-  // [pair (CalibrationReport::pairs order)][frame]: (keypoint index in cam_a, in cam_b) of the
-  // two-view inliers; empty for a failed pair.
+  // [pair (CalibrationReport::pairs order)][frame]: (keypoint index in cam_a, in cam_b) of every
+  // match the two-view estimate saw (empty for a pair screened out), and of its inliers (empty for
+  // a failed pair). The matches let a later stage estimate the pair again (other intrinsics).
+  std::vector<std::vector<std::vector<std::pair<int, int>>>> matches;
   std::vector<std::vector<std::vector<std::pair<int, int>>>> inliers;
   // Per camera and frame step (camera-major: camera * (frames - 1) + k), the camera between frames
   // k and k+1: its two-view estimate and inliers. Empty with one frame or temporal_matches off.

@@ -32,6 +32,7 @@
 
 #include "calibrator/multi_frame_rig.h"
 #include "calibrator/pairwise.h"
+#include "calibrator/rig_positions.h"
 #include "calibrator/correspondences.h"
 #include "calibrator/rotation_averaging.h"
 #include "calibrator/view_graph.h"
@@ -53,7 +54,7 @@ struct RigCalibrationOptions {
   ViewGraphOptions view_graph;
   // Robust rotation averaging and its outlier threshold.
   RotationAveragingOptions rotation_averaging;
-  // Linear positions from the tracks (initialisation of the bundle adjustment).
+  // Positions from the tracks (one of the bundle adjustment's starts, rig_positions.h).
   RigPositionOptions positions;
   // Triangulation, bundle adjustment and its outlier filter.
   RigBundleAdjustmentOptions bundle_adjustment;
@@ -66,6 +67,19 @@ struct RigCalibrationOptions {
   // the ones whose cameras sit (next to) together: a co-located ring 7-32 deg, a ring of 3 cm
   // radius 1.6-41 deg (errors 9-26 deg).
   double max_direction_std_deg = 1.0;
+  // The bundle adjustment runs from every initial position estimate (rig_positions.h) and keeps
+  // the result the images agree with best. A camera that another start puts more than
+  // max_start_disagreement_deg (direction from camera 0) away, at a cost within
+  // ambiguous_cost_margin (relative) of the best, is reported ambiguous, not placed.
+  double max_start_disagreement_deg = 2.0;
+  double ambiguous_cost_margin = 0.01;
+  // A used pair whose two-view rotation is more than max_pair_rotation_disagreement_deg from the
+  // rig's, or whose baseline direction is more than max_pair_direction_disagreement_deg from the
+  // rig's, is left out and the rig made again without it (at most max_rejected_pairs times, the
+  // worst first): a wrong pair agrees with the rest only by chance.
+  double max_pair_rotation_disagreement_deg = 1.0;
+  double max_pair_direction_disagreement_deg = 10.0;
+  int max_rejected_pairs = 3;
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;
@@ -78,6 +92,9 @@ struct RigObservations {
   FrameKeypoints keypoints;          // [frame][camera][keypoint]
   std::vector<PairEstimate> pairs;   // one per camera pair
   std::vector<PairMatches> inliers;  // the same pairs' two-view inliers per frame (empty when failed)
+  // The same pairs' matches per frame, the inliers' superset; may be empty (then a pair cannot be
+  // estimated again, e.g. with refined intrinsics).
+  std::vector<PairMatches> matches;
   // Each camera between consecutive frames (pairwise.h PairwiseMatchData::temporal). Empty: the
   // frames are independent captures of a static rig (no rig motion is estimated).
   std::vector<TemporalPairEstimate> temporal;
@@ -110,7 +127,23 @@ struct RigEdgeStats {
   bool rotation_only = false;  // no translation direction
   bool rotation_outlier = false;
   std::optional<double> rotation_residual_deg;  // R_b R_a^T vs the pair's rotation at the solution
-  std::string status;                           // "used" or why not
+  // The pair's two-view estimate against the final rig: rotation (deg) and, when both cameras
+  // have a position, baseline direction (deg).
+  std::optional<double> rotation_disagreement_deg;
+  std::optional<double> direction_disagreement_deg;
+  bool rejected = false;  // left out for disagreeing with the rig (status says by how much)
+  std::string status;     // "used" or why not
+};
+
+// One start of the bundle adjustment (RigCalibrationOptions::max_start_disagreement_deg).
+struct RigStartSummary {
+  std::string source;  // "two-view directions", "tracks"
+  double cost = 0.0;   // TruncatedReprojectionCost after the adjustment (px^2)
+  int observations = 0;
+  bool chosen = false;
+  // Per camera c > 0: the angle between this start's and the chosen one's direction of c from
+  // camera 0 after the adjustment; nullopt where either has no position.
+  std::vector<std::optional<double>> direction_difference_deg;
 };
 
 // One camera pair's two-view inliers in the frame where it has the most, in pixels: what a
@@ -154,8 +187,10 @@ struct RigCalibrationResult {
   std::vector<std::optional<Rigid3d>> rig_from_world;
   bool rig_motion_estimated = false;
   int num_temporal_pairs_used = 0;  // successful temporal pairs between cameras with a rotation
-  // Observability of the linear positions (RigPositions::eigenvalue_ratio): large when determined.
+  // How clearly the tracks single out one set of positions (RigPositions::eigenvalue_ratio).
   double position_eigenvalue_ratio = 0.0;
+  // The bundle adjustment's starts and how each ended.
+  std::vector<RigStartSummary> position_starts;
   // Ground truth available and compared.
   bool evaluated = false;
   // Per camera pair with two-view inliers (CalibrationReport::pairs order, failed pairs left out).
