@@ -5,16 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include "testing/synthetic_rig.h"
+
 namespace rigsim {
 namespace {
-
-std::mt19937 TestRng() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  uint32_t h = 2166136261u;  // FNV-1a of the test's name
-  for (char c : std::string(info->test_suite_name()) + "." + info->name()) h = (h ^ static_cast<uint8_t>(c)) * 16777619u;
-  return std::mt19937(h);
-}
-
 
 // A view graph from true rotations and centres (directions exact).
 ViewGraph GraphFromTruth(const std::vector<Rigid3d>& cam_from_rig, const std::vector<std::pair<int, int>>& pairs) {
@@ -32,20 +26,9 @@ ViewGraph GraphFromTruth(const std::vector<Rigid3d>& cam_from_rig, const std::ve
   return BuildViewGraph(static_cast<int>(cam_from_rig.size()), estimates, {});
 }
 
-std::vector<Rigid3d> RandomRig(std::mt19937& rng, int n) {
-  std::normal_distribution<double> g(0, 1);
-  std::vector<Rigid3d> rig(n);
-  for (int c = 1; c < n; ++c) {
-    const Eigen::Quaterniond q = Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized();
-    const Eigen::Vector3d centre(g(rng), g(rng), g(rng));
-    rig[c] = Rigid3d(q, -(q * centre));
-  }
-  return rig;
-}
-
 TEST(EstimateCameraCentres, ExactDirectionsGiveTheShape) {
   std::mt19937 rng = TestRng();
-  const std::vector<Rigid3d> rig = RandomRig(rng, 5);
+  const std::vector<Rigid3d> rig = RandomCamFromRig(5, rng);
   const ViewGraph graph = GraphFromTruth(rig, {{0, 1}, {0, 2}, {1, 2}, {1, 3}, {2, 3}, {3, 4}, {2, 4}});
   std::vector<std::optional<Eigen::Quaterniond>> rot;
   for (const Rigid3d& r : rig) rot.push_back(r.rotation);
@@ -74,7 +57,7 @@ TEST(EstimateCameraCentres, ARingOfPairsIsReportedAmbiguous) {
 
 TEST(EstimateCameraCentres, CamerasWithoutRotationOrDirectionAreLeftOut) {
   std::mt19937 rng = TestRng();
-  const std::vector<Rigid3d> rig = RandomRig(rng, 4);
+  const std::vector<Rigid3d> rig = RandomCamFromRig(4, rng);
   ViewGraph graph = GraphFromTruth(rig, {{0, 1}, {1, 2}, {0, 2}, {2, 3}});
   graph.edges[3].rotation_only = true;
   graph.edges[3].direction.setZero();

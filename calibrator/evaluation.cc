@@ -22,7 +22,21 @@ MatchPrecisionCounts& MatchPrecisionCounts::operator+=(const MatchPrecisionCount
   evaluated += o.evaluated;
   correct += o.correct;
   at_infinity += o.at_infinity;
+  cross_class += o.cross_class;
+  cross_class_correct += o.cross_class_correct;
   return *this;
+}
+
+std::vector<char> CrossClassMatches(const std::vector<Eigen::Vector2d>& px_a, const std::vector<Eigen::Vector2d>& px_b,
+                                    const ImageU8& labels_a, const ImageU8& labels_b) {
+  const auto label_at = [](const ImageU8& labels, const Eigen::Vector2d& px) -> int {
+    const int x = static_cast<int>(std::lround(px.x())), y = static_cast<int>(std::lround(px.y()));
+    if (x < 0 || y < 0 || x >= labels.width || y >= labels.height) return -1;
+    return labels.at(x, y);
+  };
+  std::vector<char> cross(px_a.size(), 0);
+  for (size_t i = 0; i < px_a.size(); ++i) cross[i] = label_at(labels_a, px_a[i]) != label_at(labels_b, px_b[i]);
+  return cross;
 }
 
 std::vector<char> CheckMatches(const std::vector<Eigen::Vector2d>& px_a, const std::vector<Eigen::Vector2d>& px_b,

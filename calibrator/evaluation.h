@@ -40,10 +40,19 @@ struct MatchPrecisionCounts {
   int evaluated = 0;    // matches checked
   int correct = 0;      // of those, correct
   int at_infinity = 0;  // of the evaluated, A's pixel had no surface (checked as a point at infinity)
+  // Of the evaluated, matches whose two keypoints lie on different true classes (the thesis's
+  // "cross-class matches"), and of those the correct ones (a class boundary, not an error).
+  // Counted only when both label images are known.
+  int cross_class = 0;
+  int cross_class_correct = 0;
 
   double Precision() const;  // NaN when nothing was evaluated
   MatchPrecisionCounts& operator+=(const MatchPrecisionCounts& o);
 };
+
+// The true class under each keypoint (nearest pixel) differs between A and B: one flag per match.
+std::vector<char> CrossClassMatches(const std::vector<Eigen::Vector2d>& px_a, const std::vector<Eigen::Vector2d>& px_b,
+                                    const ImageU8& labels_a, const ImageU8& labels_b);
 
 // One flag per match (1 = correct). `range_a`, `range_b`: the true range images of A and B;
 // `cam_b_from_cam_a`: the true relative pose (metric).

@@ -28,6 +28,22 @@ struct PlaneScene {
   PlaneScene() : range_a(Range(cam)), range_b(Range(cam)) {}
 };
 
+TEST(CrossClassMatches, ComparesTheTrueClassUnderEachKeypoint) {
+  // A: left half road (7), right half building (11); B: everything building.
+  ImageU8 a(4, 2, 1, 7), b(4, 2, 1, 11);
+  for (int y = 0; y < 2; ++y) {
+    for (int x = 2; x < 4; ++x) a.at(x, y) = 11;
+  }
+  const std::vector<Eigen::Vector2d> pa = {{0.2, 0.4}, {2.6, 1.0}, {1.49, 0.0}, {1.51, 0.0}, {-0.6, 0.0}};
+  const std::vector<Eigen::Vector2d> pb = {{1.0, 1.0}, {0.0, 0.0}, {3.0, 1.0}, {3.0, 1.0}, {0.0, 0.0}};
+  // road-building, building-building, road (x rounds to 1), building (rounds to 2), outside A.
+  EXPECT_EQ(CrossClassMatches(pa, pb, a, b), (std::vector<char>{1, 0, 1, 0, 1}));
+  MatchPrecisionCounts sum{10, 6, 1, 4, 1};
+  sum += MatchPrecisionCounts{5, 5, 0, 2, 2};
+  EXPECT_EQ(sum.cross_class, 6);
+  EXPECT_EQ(sum.cross_class_correct, 3);
+}
+
 TEST(MatchPrecision, PlaneCorrectAndShiftedMatches) {
   const PlaneScene s;
   std::vector<Eigen::Vector2d> pa, pb, pb_shifted;

@@ -1,5 +1,7 @@
 #include "calibrator/match_image.h"
 
+#include <array>
+#include <cstdlib>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
@@ -47,6 +49,39 @@ TEST(MatchImage, ScaledDownToTheWidthWithPixelCentresKept) {
   EXPECT_FALSE(Is(out, 600, 200, 255, 255, 255)) << "the line between the two centres, at y = 200";
   EXPECT_TRUE(Is(out, 600, 190, 255, 255, 255));
   EXPECT_TRUE(Is(out, 600, 210, 255, 255, 255));
+}
+
+TEST(MatchImage, RightAndWrongMatchesInTheirColoursWithNamesAndLegend) {
+  const ImageU8 grey = Plain(400, 300, 128, 128, 128);
+  MatchAnnotation note{"camA", "camB", {1, 0}};
+  // A right match along y = 100, a wrong one along y = 200.
+  const ImageU8 out = DrawMatches(grey, grey,
+                                  {{Eigen::Vector2d(50, 100), Eigen::Vector2d(350, 100)},
+                                   {Eigen::Vector2d(50, 200), Eigen::Vector2d(350, 200)}},
+                                  {}, note);
+  // Along each line (anti-aliased: the strongest pixel of the column).
+  auto strongest = [&](int x, int y0) {
+    int best = y0;
+    for (int y = y0 - 2; y <= y0 + 2; ++y) {
+      if (std::abs(out.at(x, y, 1) - out.at(x, y, 0)) > std::abs(out.at(x, best, 1) - out.at(x, best, 0))) best = y;
+    }
+    return std::array<int, 3>{out.at(x, best, 0), out.at(x, best, 1), out.at(x, best, 2)};
+  };
+  const auto right = strongest(300, 100), wrong = strongest(300, 200);
+  EXPECT_GT(right[1], right[0] + 60) << "right: green";
+  EXPECT_GT(wrong[0], wrong[1] + 60) << "wrong: red";
+  int changed_top_left = 0;  // the name "camA" written over the first photo
+  for (int y = 0; y < 20; ++y) {
+    for (int x = 0; x < 60; ++x) changed_top_left += !Is(out, x, y, 128, 128, 128);
+  }
+  EXPECT_GT(changed_top_left, 30);
+  int changed_bottom = 0;  // the legend
+  for (int y = 250; y < 300; ++y) {
+    for (int x = 0; x < 200; ++x) changed_bottom += !Is(out, x, y, 128, 128, 128);
+  }
+  EXPECT_GT(changed_bottom, 100);
+  EXPECT_THROW(DrawMatches(grey, grey, {{Eigen::Vector2d(1, 1), Eigen::Vector2d(2, 2)}}, {}, MatchAnnotation{"a", "b", {1, 0}}),
+               std::invalid_argument);
 }
 
 TEST(MatchImage, RefusesImagesThatAreNotRgb) {

@@ -381,6 +381,18 @@ struct BundleProblem {
     return count > 0 ? std::sqrt(sum / count) : 0.0;
   }
 
+  // Every observation's reprojection error (px); behind the camera counts as infinite.
+  std::vector<double> Residuals(const std::vector<WorldPoint>& points) const {
+    std::vector<double> out;
+    for (const WorldPoint& p : points) {
+      for (const ViewObservation& o : p.observations) {
+        const auto e = Error(p, o);
+        out.push_back(e ? *e : std::numeric_limits<double>::infinity());
+      }
+    }
+    return out;
+  }
+
   // Removes the observations reprojecting beyond `max_error_px` (or behind their camera), then
   // the points left with fewer than two. Returns the observations removed.
   int Filter(std::vector<WorldPoint>* points, double max_error_px) const {
@@ -510,6 +522,7 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
   const double min_angle = DegToRad(options.min_triangulation_angle_deg);
   std::vector<WorldPoint> points = bp.Triangulate(min_angle, std::numeric_limits<double>::infinity());
   result.initial_rms_px = bp.RmsPx(points);
+  if (options.keep_points) result.initial_residuals_px = bp.Residuals(points);
 
   // Round -1 (coarse): the linear initial poses can be far off (hundreds of px RMS on the demo
   // ring), and converging from there took ~80 iterations over every point. Poses are fixed by far
@@ -550,6 +563,13 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
     result.num_observations += static_cast<int>(p.observations.size());
   }
   result.reprojection_rms_px = bp.RmsPx(points);
+  if (options.keep_points) {
+    result.final_residuals_px = bp.Residuals(points);
+    for (const WorldPoint& p : points) {
+      result.points.push_back(p.x);
+      result.point_observations.push_back(static_cast<int>(p.observations.size()));
+    }
+  }
   return result;
 }
 

@@ -80,6 +80,8 @@ struct RigBundleAdjustmentOptions {
   int max_iterations = 100;
   // Ceres threads.
   int num_threads = 1;
+  // Keep the points and every observation's reprojection error in the result (for a report).
+  bool keep_points = false;
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;
@@ -100,6 +102,12 @@ struct MultiFrameBundleAdjustmentResult {
   // solution, from the Jacobian and the reprojection RMS; nullopt for camera 0 and cameras not
   // adjusted, or when it could not be computed.
   std::vector<std::optional<Eigen::Matrix3d>> centre_covariance;
+  // With RigBundleAdjustmentOptions::keep_points only: the final solve's points (world frame) and
+  // how many views see each, and the reprojection error (px) of every observation triangulated
+  // from the initial poses (before any solve) and of every observation kept at the end.
+  std::vector<Eigen::Vector3d> points;
+  std::vector<int> point_observations;
+  std::vector<double> initial_residuals_px, final_residuals_px;
 };
 
 // Triangulates the tracks (world frame) over the posed views, then solves and filters

@@ -306,9 +306,34 @@ std::vector<CalibrationReport> BuildReports(const PairwiseJob& job, const Detect
   return reports;
 }
 
+// CalibrationOptions::keep_match_details: every match of mode m's inlier flag (md->matches is
+// filled), and the keypoints' classes (the ground-truth flags come with the match precision, AddMatchPrecision).
+void KeepMatchDetails(const PairwiseJob& job, const std::vector<FeatureSet>& feats, const PairFits& fits, int m,
+                      PairwiseMatchData* md) {
+  md->keypoint_classes.assign(job.num_frames, std::vector<std::vector<uint8_t>>(job.num_cams));
+  for (int f = 0; f < job.num_frames; ++f) {
+    for (int c = 0; c < job.num_cams; ++c) {
+      for (const Keypoint& kp : feats[job.Image(c, f)].keypoints) md->keypoint_classes[f][c].push_back(kp.class_id);
+    }
+  }
+  md->match_inlier.assign(job.num_pairs, std::vector<std::vector<char>>(job.num_frames));
+  md->match_correct.assign(job.num_pairs, std::vector<std::vector<char>>(job.num_frames));
+  for (int p = 0; p < job.num_pairs; ++p) {
+    const int mp = job.ModePair(m, p);
+    const TwoViewResult& tv = fits.two_view[mp];
+    for (int f = 0; f < job.num_frames; ++f) {
+      const int begin = fits.pooled[mp].frame_begin[f];
+      for (size_t i = 0; i < md->matches[p][f].size(); ++i) {
+        md->match_inlier[p][f].push_back(tv.success && tv.inlier_mask[begin + i] ? 1 : 0);
+      }
+    }
+  }
+}
+
 // 4. What the rig stage needs of each mode: keypoints and per pair and frame the two-view inliers.
 std::vector<PairwiseMatchData> CollectMatchData(const PairwiseJob& job, const DetectedFeatures& features,
-                                                const FrameMatches& matches, const PairFits& fits) {
+                                                const FrameMatches& matches, const PairFits& fits,
+                                                const CalibrationOptions& options) {
   std::vector<PairwiseMatchData> out(job.num_modes);
   for (int m = 0; m < job.num_modes; ++m) {
     PairwiseMatchData& md = out[m];
@@ -334,6 +359,7 @@ std::vector<PairwiseMatchData> CollectMatchData(const PairwiseJob& job, const De
         }
       }
     }
+    if (options.keep_match_details) KeepMatchDetails(job, feats, fits, m, &md);
   }
   return out;
 }
@@ -397,9 +423,10 @@ void AddPoseErrors(const PairwiseJob& job, std::vector<CalibrationReport>* repor
 
 // 5b. Match precision per pair against the ground-truth range images, where depth/ has them:
 //     per frame, each camera's range image is read once for every mode and pair of that frame.
-//     Needs the truth's relative poses (AddPoseErrors).
+//     Needs the truth's relative poses (AddPoseErrors). With keep_match_details, each match's flag
+//     goes to `match_data` too.
 void AddMatchPrecision(const PairwiseJob& job, const CalibrationOptions& options, const PairFits& fits,
-                       std::vector<CalibrationReport>* reports) {
+                       std::vector<CalibrationReport>* reports, std::vector<PairwiseMatchData>* match_data) {
   std::vector<char> have_depth(job.NumImages(), 0);
   for (int c = 0; c < job.num_cams; ++c) {
     for (int f = 0; f < job.num_frames; ++f) {
@@ -412,11 +439,13 @@ void AddMatchPrecision(const PairwiseJob& job, const CalibrationOptions& options
   struct Counts {
     MatchPrecisionCounts all, inliers;
     bool evaluated = false;
+    bool labelled = false;  // both label images known
   };
   const int num_mp = job.num_modes * job.num_pairs;
   std::vector<Counts> counts(job.num_frames * num_mp);
   tbb::parallel_for(0, job.num_frames, [&](int f) {
     std::vector<ImageF> range(job.num_cams);
+    std::vector<ImageU8> labels(job.num_cams);  // the true labels: what a cross-class match is
     for (int c = 0; c < job.num_cams; ++c) {
       if (!have_depth[job.Image(c, f)]) continue;
       const Camera& camera = job.rig.cameras[c].camera;
@@ -425,6 +454,8 @@ void AddMatchPrecision(const PairwiseJob& job, const CalibrationOptions& options
       if (!range[c].SameSize(camera.width(), camera.height()) || range[c].channels != 1) {
         throw std::runtime_error(path.string() + ": range image must be 1 channel of the camera's size");
       }
+      const auto label_path = job.layout.Label(job.rig.cameras[c].name, job.frames.frames[f].name);
+      if (std::filesystem::exists(label_path)) labels[c] = ReadLabelImage(label_path, camera.width(), camera.height());
     }
     for (int m = 0; m < job.num_modes; ++m) {
       for (int p = 0; p < job.num_pairs; ++p) {
@@ -440,12 +471,18 @@ void AddMatchPrecision(const PairwiseJob& job, const CalibrationOptions& options
         const std::vector<char> ok =
             CheckMatches(pa, pb, job.rig.cameras[a].camera, range[a], job.rig.cameras[b].camera, range[b],
                          *(*reports)[m].pairs[p].cam_b_from_cam_a_gt, options.precision, &at_infinity);
+        if (match_data && options.keep_match_details) (*match_data)[m].match_correct[p][f] = ok;
         cnt.evaluated = true;
         cnt.all.evaluated = end - begin;
         cnt.all.at_infinity = at_infinity;
+        cnt.labelled = !labels[a].empty() && !labels[b].empty();
+        const std::vector<char> cross =
+            cnt.labelled ? CrossClassMatches(pa, pb, labels[a], labels[b]) : std::vector<char>(end - begin, 0);
         const TwoViewResult& tv = fits.two_view[mp];
         for (int i = 0; i < end - begin; ++i) {
           cnt.all.correct += ok[i];
+          cnt.all.cross_class += cross[i];
+          cnt.all.cross_class_correct += cross[i] && ok[i];
           if (tv.success && tv.inlier_mask[begin + i]) {
             ++cnt.inliers.evaluated;
             cnt.inliers.correct += ok[i];
@@ -457,10 +494,11 @@ void AddMatchPrecision(const PairwiseJob& job, const CalibrationOptions& options
   for (int m = 0; m < job.num_modes; ++m) {
     for (int p = 0; p < job.num_pairs; ++p) {
       MatchPrecisionCounts all, inl;
-      bool any = false;
+      bool any = false, labelled = true;
       for (int f = 0; f < job.num_frames; ++f) {
         const Counts& cnt = counts[f * num_mp + job.ModePair(m, p)];
         any = any || cnt.evaluated;
+        labelled = labelled && (!cnt.evaluated || cnt.labelled);
         all += cnt.all;
         inl += cnt.inliers;
       }
@@ -469,6 +507,10 @@ void AddMatchPrecision(const PairwiseJob& job, const CalibrationOptions& options
       pr.matches_evaluated = all.evaluated;
       pr.matches_correct = all.correct;
       pr.matches_at_infinity = all.at_infinity;
+      if (labelled) {
+        pr.cross_class_matches = all.cross_class;
+        pr.cross_class_correct = all.cross_class_correct;
+      }
       if (all.evaluated > 0) pr.match_precision = all.Precision();
       pr.inliers_evaluated = inl.evaluated;
       pr.inliers_correct = inl.correct;
@@ -512,7 +554,7 @@ std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path
   const PairFits fits = PoolAndEstimatePairs(job, features, matches, screening, options);
   std::vector<CalibrationReport> reports = BuildReports(job, features, matches, screening, fits);
   if (match_data) {
-    *match_data = CollectMatchData(job, features, matches, fits);
+    *match_data = CollectMatchData(job, features, matches, fits, options);
     if (options.temporal_matches && job.num_frames >= 2) {
       TemporalFits temporal = EstimateTemporalPairs(job, features, options);
       const int per_mode = job.num_cams * (job.num_frames - 1);
@@ -528,7 +570,7 @@ std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path
   }
   if (!options.evaluate || !job.rig.HasAllPoses()) return reports;
   AddPoseErrors(job, &reports);
-  AddMatchPrecision(job, options, fits, &reports);
+  AddMatchPrecision(job, options, fits, &reports, match_data);
   return reports;
 }
 
@@ -553,6 +595,9 @@ nlohmann::json PairResultToJson(const PairResult& pr) {
   j["matches_evaluated"] = pr.matches_evaluated;
   j["matches_correct"] = pr.matches_correct;
   j["matches_at_infinity"] = pr.matches_at_infinity;
+  j["cross_class_matches"] = pr.cross_class_matches ? nlohmann::json(*pr.cross_class_matches) : nlohmann::json(nullptr);
+  j["cross_class_wrong"] =
+      pr.cross_class_matches ? nlohmann::json(*pr.cross_class_matches - pr.cross_class_correct) : nlohmann::json(nullptr);
   j["inlier_precision"] = json_io::OptionalNumber(pr.inlier_precision);
   j["inliers_evaluated"] = pr.inliers_evaluated;
   j["inliers_correct"] = pr.inliers_correct;
@@ -585,10 +630,15 @@ nlohmann::json ReportToJson(const std::vector<CalibrationReport>& reports) {
     nlohmann::json pairs = nlohmann::json::array();
     std::vector<double> pose_errors, rotation_errors;
     int succeeded = 0, rotation_only = 0, planar = 0;
-    int64_t matches = 0, inliers = 0, evaluated = 0, correct = 0;
-    bool has_truth = false;
+    int64_t matches = 0, inliers = 0, evaluated = 0, correct = 0, cross = 0, cross_correct = 0;
+    bool has_truth = false, has_cross = false;
     for (const PairResult& pr : rep.pairs) {
       pairs.push_back(PairResultToJson(pr));
+      if (pr.cross_class_matches) {
+        has_cross = true;
+        cross += *pr.cross_class_matches;
+        cross_correct += pr.cross_class_correct;
+      }
       succeeded += pr.two_view.success;
       rotation_only += pr.two_view.rotation_only;
       planar += pr.two_view.success && pr.two_view.pair_type == PairType::kPlanar;
@@ -611,6 +661,8 @@ nlohmann::json ReportToJson(const std::vector<CalibrationReport>& reports) {
     summary["inliers"] = inliers;
     summary["mean_keypoints_per_image"] = rep.mean_keypoints_per_image;
     summary["match_precision"] = evaluated > 0 ? nlohmann::json(double(correct) / evaluated) : nlohmann::json(nullptr);
+    summary["cross_class_matches"] = has_cross ? nlohmann::json(cross) : nlohmann::json(nullptr);
+    summary["cross_class_wrong"] = has_cross ? nlohmann::json(cross - cross_correct) : nlohmann::json(nullptr);
     if (has_truth) {
       for (double t : {1.0, 2.0, 5.0, 10.0}) {
         const std::string key = std::to_string(static_cast<int>(t));

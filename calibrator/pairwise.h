@@ -72,6 +72,9 @@ struct CalibrationOptions {
   // Worker threads (TBB); 0 = all cores. OpenCV's own threading is switched off meanwhile so the
   // two do not oversubscribe the machine.
   int num_threads = 0;
+  // Keep, in PairwiseMatchData, every match with its inlier and ground-truth flags and every
+  // keypoint's class: what a report shows of the matching (pipeline/, report/). Costs memory only.
+  bool keep_match_details = false;
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;
@@ -94,6 +97,10 @@ struct PairResult {
   int matches_evaluated = 0;
   int matches_correct = 0;
   int matches_at_infinity = 0;
+  // Of the evaluated matches, those joining two different true classes (labels/ of the dataset),
+  // and of those the correct ones; nullopt without label images.
+  std::optional<int> cross_class_matches;
+  int cross_class_correct = 0;
   std::optional<double> inlier_precision;  // precision of the two-view inliers only
   int inliers_evaluated = 0;
   int inliers_correct = 0;
@@ -134,13 +141,23 @@ struct PairwiseMatchData {
   // Keypoint positions [frame][camera][keypoint] of the features the mode used.
   std::vector<std::vector<std::vector<Eigen::Vector2d>>> keypoints;
   // [pair (CalibrationReport::pairs order)][frame]: (keypoint index in cam_a, in cam_b) of every
-  // match the two-view estimate saw (empty for a pair screened out), and of its inliers (empty for
-  // a failed pair). The matches let a later stage estimate the pair again (other intrinsics).
+  // match after the ratio test and mutual check, in the order the two-view estimate saw them
+  // (empty for a pair screened out), and of its inliers (empty for a failed pair). The matches
+  // let a later stage estimate the pair again (other intrinsics).
   std::vector<std::vector<std::vector<std::pair<int, int>>>> matches;
   std::vector<std::vector<std::vector<std::pair<int, int>>>> inliers;
   // Per camera and frame step (camera-major: camera * (frames - 1) + k), the camera between frames
   // k and k+1: its two-view estimate and inliers. Empty with one frame or temporal_matches off.
   std::vector<TemporalPairEstimate> temporal;
+
+  // With CalibrationOptions::keep_match_details only (empty otherwise):
+  // [frame][camera][keypoint]: the class at the keypoint (kUnlabeledId without labels).
+  std::vector<std::vector<std::vector<uint8_t>>> keypoint_classes;
+  // [pair][frame][match]: 1 when the two-view estimate kept the match as an inlier.
+  std::vector<std::vector<std::vector<char>>> match_inlier;
+  // [pair][frame][match]: 1 when the match is correct by the ground truth (evaluation.h
+  // CheckMatches, as in the match precision); empty where it was not checked (no truth or depth).
+  std::vector<std::vector<std::vector<char>>> match_correct;
 };
 
 // Runs several modes on the same images, sharing the detected features. Reports in `modes` order.

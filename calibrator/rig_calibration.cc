@@ -346,11 +346,12 @@ AdjustedRig AdjustFromEveryStart(const RigObservations& obs, const std::vector<V
   const int n = static_cast<int>(obs.cameras.size());
   AdjustedRig out;
   out.ambiguous.assign(n, "");
+  RigBundleAdjustmentOptions ba_options = options.bundle_adjustment;
+  ba_options.keep_points = ba_options.keep_points || options.keep_details;
   std::vector<MultiFrameBundleAdjustmentResult> adjusted;
   for (const PoseStart& start : ps.starts) {
     adjusted.push_back(MultiFrameRigBundleAdjust(obs.cameras, obs.keypoints, tracks, start.cam_from_rig,
-                                                 start.rig_from_world, ps.scale_camera, options.bundle_adjustment,
-                                                 !motion.moving));
+                                                 start.rig_from_world, ps.scale_camera, ba_options, !motion.moving));
     RigStartSummary summary;
     summary.source = start.source;
     summary.cost = TruncatedReprojectionCost(obs.cameras, obs.keypoints, tracks, adjusted.back().cam_from_rig,
@@ -389,6 +390,7 @@ struct ScaledPoses {
   std::vector<std::string> undetermined;             // why a camera's adjusted position is dropped
   std::vector<std::optional<double>> direction_std_deg;
   std::vector<std::optional<Rigid3d>> rig_from_world;  // empty when positions are not observable
+  double length_scale = 1.0;  // the bundle adjustment's unit of length in the result's
   bool metric_scale = false;
   std::string scale;
   std::vector<std::string> warnings;
@@ -424,7 +426,10 @@ ScaledPoses DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& ad
     for (int c = 1; c < n && scale_camera < 0; ++c) {
       if (pose[c] && pose[c]->translation.norm() > 1e-12) scale_camera = c;
     }
-    if (scale_camera >= 0) ScaleTranslations(1.0 / pose[scale_camera]->translation.norm(), &pose, &ba.rig_from_world);
+    if (scale_camera >= 0) {
+      out.length_scale = 1.0 / pose[scale_camera]->translation.norm();
+      ScaleTranslations(out.length_scale, &pose, &ba.rig_from_world);
+    }
   }
   if (!ps.starts.empty()) out.rig_from_world = ba.rig_from_world;
   out.scale = scale_camera >= 0 ? "unit scale: |centre of " + obs.camera_names[scale_camera] + "| = 1"
@@ -433,6 +438,7 @@ ScaledPoses DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& ad
   if (pose[known_a] && pose[known_b]) {
     const double d = (pose[known_a]->SourceOriginInTarget() - pose[known_b]->SourceOriginInTarget()).norm();
     if (d > 1e-12) {
+      out.length_scale *= options.known_distance->metres / d;
       ScaleTranslations(options.known_distance->metres / d, &pose, &out.rig_from_world);
       out.metric_scale = true;
       out.scale = "metric: |" + obs.camera_names[known_a] + " - " + obs.camera_names[known_b] +
@@ -590,6 +596,15 @@ RigCalibrationResult EstimateRigOnce(const RigObservations& obs, const RigCalibr
   result.warnings.insert(result.warnings.end(), poses.warnings.begin(), poses.warnings.end());
   SetCameraAndEdgeStatus(obs, rotations, ba, poses, initial.position_reason, &result);
   CompareEdgesWithRig(obs, &result);
+  if (options.keep_details) {
+    result.details = std::make_shared<RigCalibrationDetails>();
+    RigCalibrationDetails& d = *result.details;
+    d.rotation_averaging = rotations.rot.cam_from_rig;
+    for (const Eigen::Vector3d& x : ba.points) d.points.push_back(poses.length_scale * x);
+    d.point_observations = ba.point_observations;
+    d.initial_residuals_px = ba.initial_residuals_px;
+    d.final_residuals_px = ba.final_residuals_px;
+  }
   return result;
 }
 
@@ -691,7 +706,9 @@ std::vector<RigCalibrationResult> CalibrateRig(const std::filesystem::path& data
     KnownDistanceCameras(*options.known_distance, names, rig_json.string());
   }
   std::vector<PairwiseMatchData> data;
-  const std::vector<CalibrationReport> reports = CalibrateDatasetPairs(dataset_dir, options.pairwise, modes, &data);
+  CalibrationOptions pairwise = options.pairwise;
+  pairwise.keep_match_details = pairwise.keep_match_details || options.keep_details;
+  const std::vector<CalibrationReport> reports = CalibrateDatasetPairs(dataset_dir, pairwise, modes, &data);
   std::vector<RigCalibrationResult> results;
   for (size_t m = 0; m < modes.size(); ++m) {
     RigCalibrationResult r = EstimateRig(ObservationsFromPipeline(truth, reports[m], data[m]), options);
@@ -700,6 +717,7 @@ std::vector<RigCalibrationResult> CalibrateRig(const std::filesystem::path& data
     r.pairwise = reports[m];
     r.inlier_samples = InlierSamples(truth, reports[m], data[m]);
     if (options.pairwise.evaluate) EvaluateRigAgainstTruth(truth, &r);
+    if (r.details) r.details->matches = std::move(data[m]);
     results.push_back(std::move(r));
   }
   return results;

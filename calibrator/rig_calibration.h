@@ -23,6 +23,7 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -80,6 +81,9 @@ struct RigCalibrationOptions {
   double max_pair_rotation_disagreement_deg = 1.0;
   double max_pair_direction_disagreement_deg = 10.0;
   int max_rejected_pairs = 3;
+  // Keep what a report shows of every stage in RigCalibrationResult::details (matches with their
+  // flags, rotations after rotation averaging, points, reprojection errors). Costs memory only.
+  bool keep_details = false;
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;
@@ -154,6 +158,21 @@ struct PairInlierSample {
   std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> points;  // (in cam_a, in cam_b)
 };
 
+// The stages of one calibration as a report shows them (RigCalibrationOptions::keep_details).
+struct RigCalibrationDetails {
+  // The pairwise stage's keypoints, every match with its inlier and ground-truth flags (pairwise.h,
+  // kept with CalibrationOptions::keep_match_details); empty for EstimateRig on given observations.
+  PairwiseMatchData matches;
+  // Per camera: cam_from_rig's rotation after rotation averaging, before the bundle adjustment.
+  std::vector<std::optional<Eigen::Quaterniond>> rotation_averaging;
+  // The bundle adjustment's points in the result's world (frame 0's rig frame, the result's
+  // scale), how many views see each, and the reprojection errors (px) of every observation at
+  // the initial poses and at the end (multi_frame_rig.h).
+  std::vector<Eigen::Vector3d> points;
+  std::vector<int> point_observations;
+  std::vector<double> initial_residuals_px, final_residuals_px;
+};
+
 struct RigCalibrationResult {
   std::string semantic_mode;
   // Intrinsics as read; cam_from_rig estimated for calibrated cameras, nullopt otherwise.
@@ -201,6 +220,8 @@ struct RigCalibrationResult {
   double positions_time_s = 0.0;
   double tracks_time_s = 0.0;
   double bundle_adjustment_time_s = 0.0;
+  // With RigCalibrationOptions::keep_details only; shared, so copies of a result stay cheap.
+  std::shared_ptr<RigCalibrationDetails> details;
 };
 
 // The rig stages on given observations (no truth, no pairwise report). Throws

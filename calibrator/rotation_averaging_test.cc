@@ -7,28 +7,10 @@
 
 #include <gtest/gtest.h>
 
+#include "testing/synthetic_rig.h"
+
 namespace rigsim {
 namespace {
-
-// Every test's generator is seeded from its own name (FNV-1a): reproducible, independent.
-std::mt19937 TestRng() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  uint32_t h = 2166136261u;
-  for (char c : std::string(info->test_suite_name()) + "." + info->name()) h = (h ^ static_cast<uint8_t>(c)) * 16777619u;
-  return std::mt19937(h);
-}
-
-Eigen::Quaterniond RandomRotation(std::mt19937& rng) {
-  std::normal_distribution<double> n(0, 1);
-  return Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized();
-}
-
-// A rotation of exactly `deg` about a random axis.
-Eigen::Quaterniond Perturbation(std::mt19937& rng, double deg) {
-  std::normal_distribution<double> n(0, 1);
-  const Eigen::Vector3d axis = Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
-  return Eigen::Quaterniond(Eigen::AngleAxisd(DegToRad(deg), axis));
-}
 
 struct SyntheticGraph {
   std::vector<Eigen::Quaterniond> truth;  // cam_from_rig
@@ -58,7 +40,7 @@ SyntheticGraph MakeGraph(std::mt19937& rng, int n, double noise_deg, double outl
       const Eigen::Vector3d e = std::sqrt(200.0 / p.two_view.num_inliers) * Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
       r = Eigen::Quaterniond(Eigen::AngleAxisd(e.norm(), e.normalized())) * r;
       if (u(rng) < outlier_fraction) {
-        r = Perturbation(rng, 30.0 + 60.0 * u(rng)) * r;
+        r = RandomRotationBy(rng, 30.0 + 60.0 * u(rng)) * r;
         s.perturbed.insert(static_cast<int>(pairs.size()));
         p.two_view.num_inliers = 400 + static_cast<int>(200 * u(rng));
       }
@@ -103,7 +85,7 @@ double InlierEdgeRms(const SyntheticGraph& s) {
 }
 
 TEST(RotationAveraging, ExactGraphIsRecoveredExactly) {
-  std::mt19937 rng = TestRng();
+  std::mt19937 rng = TestRng();  // seeded from the test's name: reproducible, independent
   const SyntheticGraph s = MakeGraph(rng, 8, 0.0, 0.0);
   const RotationAveragingResult r = AverageRotations(s.graph, 0, {});
   ASSERT_EQ(r.cam_from_rig.size(), 8u);

@@ -9,7 +9,12 @@
 # folders are that folder's business. A target that links a module left out of this configuration
 # (RIGSIM_SKIP_MODULES) is not checked: it cannot be built here either.
 #
-# rigsim_check_layers() fails the configuration with one line per include that breaks the rule.
+# The test toolkit, testing/ (rigsim_testing), exists only with RIGSIM_BUILD_TESTS: only tests
+# (add_unit_test marks them RIGSIM_TEST) may link it; a library or program that did would not
+# build without the tests.
+#
+# rigsim_check_layers() fails the configuration with one line per include or link that breaks
+# these rules.
 
 # Quoted includes of `file` that name a file of the repository.
 function(_rigsim_includes_of file out)
@@ -67,6 +72,13 @@ function(_rigsim_check_target target errors_var)
   get_target_property(source_dir ${target} SOURCE_DIR)
   file(RELATIVE_PATH own_folder "${PROJECT_SOURCE_DIR}" "${source_dir}")
   _rigsim_link_closure(${target} closure complete)
+  get_target_property(is_test ${target} RIGSIM_TEST)
+  if("rigsim_testing" IN_LIST closure AND NOT is_test)
+    set(errors "${${errors_var}}")
+    list(APPEND errors "  ${target} links rigsim_testing, the test toolkit: only tests may (add_unit_test)")
+    set(${errors_var} "${errors}" PARENT_SCOPE)
+    return()
+  endif()
   if(NOT complete)
     return()
   endif()
@@ -130,6 +142,7 @@ function(rigsim_check_layers)
   if(errors)
     list(JOIN errors "\n" lines)
     message(FATAL_ERROR "rigsim layering: a target includes a folder whose library it does not link "
-                        "(link it, or include through a library that does; cmake/CheckLayers.cmake):\n${lines}")
+                        "(link it, or include through a library that does), or links the test toolkit "
+                        "without being a test (cmake/CheckLayers.cmake):\n${lines}")
   endif()
 endfunction()

@@ -1,49 +1,32 @@
 #include "common/run_program.h"
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include <gtest/gtest.h>
-#include <unistd.h>
+
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path TempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("rigsim_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string Read(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 TEST(RunProgram, PassesArgumentsAsTheyAreAndCapturesOutput) {
-  const fs::path dir = TempDir("run_program");
+  const TempDir dir;
   const fs::path log = dir / "log.txt";
   // A quote and a space in one argument reach the program unchanged: no shell in between.
   const ProgramRun run = RunProgram({"sh", "-c", "printf '%s|' \"$0\" \"$1\"; pwd", "it's a", "b c"}, log, dir);
   EXPECT_EQ(run.exit_code, 0) << run.error;
-  EXPECT_EQ(Read(log), "it's a|b c|" + fs::canonical(dir).string() + "\n");
-  fs::remove_all(dir);
+  EXPECT_EQ(ReadFile(log), "it's a|b c|" + fs::canonical(dir).string() + "\n");
 }
 
 TEST(RunProgram, AddsAndOverridesEnvironmentVariables) {
-  const fs::path dir = TempDir("run_program_env");
+  const TempDir dir;
   setenv("RIGSIM_TEST_A", "parent", 1);
   const ProgramRun run = RunProgram({"sh", "-c", "printf '%s %s' \"$RIGSIM_TEST_A\" \"$RIGSIM_TEST_B\""}, dir / "log.txt", {},
                                     {"RIGSIM_TEST_A=child", "RIGSIM_TEST_B=new"});
   EXPECT_EQ(run.exit_code, 0);
-  EXPECT_EQ(Read(dir / "log.txt"), "child new");
-  fs::remove_all(dir);
+  EXPECT_EQ(ReadFile(dir / "log.txt"), "child new");
 }
 
 TEST(RunProgram, ReportsExitCodesAndMissingPrograms) {

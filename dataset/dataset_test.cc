@@ -2,18 +2,15 @@
 
 #include <fstream>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include "testing/expect_error.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
 namespace fs = std::filesystem;
-
-fs::path FreshDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("rigsim_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 TEST(Frames, JsonRoundTrip) {
   FramesFile f;
@@ -38,12 +35,7 @@ TEST(Frames, JsonRoundTrip) {
 TEST(Frames, BadInputNamesTheFile) {
   for (const char* text : {"[1,2", "{}", R"({"frames":[]})", R"({"frames":[{"name":"a/b"}]})",
                            R"({"frames":[{"name":"a"},{"name":"a"}]})"}) {
-    try {
-      FramesFromJsonText(text, "d/frames.json");
-      FAIL() << text;
-    } catch (const std::runtime_error& e) {
-      EXPECT_NE(std::string(e.what()).find("d/frames.json"), std::string::npos);
-    }
+    EXPECT_THAT([&] { FramesFromJsonText(text, "d/frames.json"); }, ThrowsWith<std::runtime_error>("d/frames.json")) << text;
   }
 }
 
@@ -56,7 +48,7 @@ TEST(DatasetLayout, PathsFollowTheDocumentedLayout) {
 }
 
 TEST(DatasetLayout, FramesAreScannedWhenThereIsNoFramesJson) {
-  const fs::path dir = FreshDir("scan");
+  const TempDir dir;
   fs::create_directories(dir / "images" / "a");
   std::ofstream(dir / "images" / "a" / "b.jpg") << "x";
   std::ofstream(dir / "images" / "a" / "a.jpg") << "x";
@@ -65,11 +57,10 @@ TEST(DatasetLayout, FramesAreScannedWhenThereIsNoFramesJson) {
   EXPECT_EQ(f.frames[0].name, "a");
   EXPECT_EQ(*DatasetLayout(dir).FindImage("a", "b"), dir / "images" / "a" / "b.jpg");
   EXPECT_THROW(DatasetLayout(dir).ReadFramesOrScan("missing"), std::runtime_error);
-  fs::remove_all(dir);
 }
 
 TEST(DatasetLayout, ScanningSkipsHiddenFilesAndFilesThatAreNoPhotos) {
-  const fs::path dir = FreshDir("scan_photos");
+  const TempDir dir;
   const fs::path cam = dir / "images" / "a";
   fs::create_directories(cam / "sub.jpg");  // a folder, whatever its name
   for (const char* name : {"0001.JPG", "0002.png", ".DS_Store", "._0001.JPG", "notes.txt", "0003.jpg.xmp", "Thumbs.db"}) {
@@ -80,17 +71,12 @@ TEST(DatasetLayout, ScanningSkipsHiddenFilesAndFilesThatAreNoPhotos) {
   EXPECT_EQ(f.frames[0].name, "0001");
   EXPECT_EQ(f.frames[1].name, "0002");
   for (const char* name : {"0001.JPG", "0002.png"}) fs::remove(cam / name);
-  try {
-    DatasetLayout(dir).ReadFramesOrScan("a");
-    FAIL() << "a folder without photos scanned";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find(cam.string() + ": no images (.png .jpg"), std::string::npos) << e.what();
-  }
-  fs::remove_all(dir);
+  EXPECT_THAT([&] { DatasetLayout(dir).ReadFramesOrScan("a"); },
+              ThrowsWith<std::runtime_error>(cam.string() + ": no images (.png .jpg"));
 }
 
 TEST(DatasetLayout, ImagesAreNamedWithTheExtensionTheyHave) {
-  const fs::path dir = FreshDir("image_names");
+  const TempDir dir;
   fs::create_directories(dir / "images" / "front");
   fs::create_directories(dir / "images" / "side");
   std::ofstream(dir / "images" / "front" / "0001.JPG") << "x";
@@ -100,20 +86,14 @@ TEST(DatasetLayout, ImagesAreNamedWithTheExtensionTheyHave) {
   EXPECT_EQ(layout.ImageName("side", "0001"), "side/0001.png");
   EXPECT_EQ(layout.ImageName("side", "0002"), "side/0002.png");  // none yet: what render writes
   EXPECT_EQ(layout.RequireImage("front", "0001"), dir / "images" / "front" / "0001.JPG");
-  try {
-    layout.RequireImage("side", "0002");
-    FAIL() << "a missing image was found";
-  } catch (const std::runtime_error& e) {
-    const std::string what = e.what();
-    EXPECT_EQ(what.rfind((dir / "images" / "side" / "0002").string() + ".*: image missing (camera 'side', frame '0002'", 0), 0u)
-        << what;
-    EXPECT_NE(what.find("tried .png .jpg .jpeg .JPG .JPEG .PNG .tif .tiff .exr"), std::string::npos) << what;
-  }
-  fs::remove_all(dir);
+  EXPECT_THAT([&] { layout.RequireImage("side", "0002"); },
+              ThrowsNaming<std::runtime_error>((dir / "images" / "side" / "0002").string() +
+                                                   ".*: image missing (camera 'side', frame '0002'",
+                                               "tried .png .jpg .jpeg .JPG .JPEG .PNG .tif .tiff .exr"));
 }
 
 TEST(StagedOutput, NothingAppearsUntilCommitAndFailuresLeaveNothing) {
-  const fs::path dir = FreshDir("staged");
+  const TempDir dir;
   const fs::path out = dir / "out";
   {
     StagedOutput staged(out, false);
@@ -137,7 +117,6 @@ TEST(StagedOutput, NothingAppearsUntilCommitAndFailuresLeaveNothing) {
   }
   EXPECT_FALSE(fs::exists(out / "file"));
   EXPECT_TRUE(fs::exists(out / "other"));
-  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -4,9 +4,11 @@
 #include <iterator>
 #include <string>
 
-#include <unistd.h>
-
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include "testing/expect_error.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
@@ -14,16 +16,7 @@ namespace fs = std::filesystem;
 
 class ImageIo : public testing::Test {
  protected:
-  void SetUp() override {
-    // ctest runs the tests of this fixture in parallel processes: a folder per test.
-    dir_ = fs::temp_directory_path() /
-           ("rigsim_image_io_test_" + std::to_string(::getpid()) + "_" +
-            testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
+  const TempDir dir_;
 };
 
 TEST_F(ImageIo, Rgb8RoundTripIsLosslessAndOriented) {
@@ -76,12 +69,7 @@ TEST_F(ImageIo, ChannelConversion) {
 }
 
 TEST_F(ImageIo, ErrorsNameTheFile) {
-  try {
-    ReadImageU8(dir_ / "none.png");
-    FAIL();
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("none.png"), std::string::npos);
-  }
+  EXPECT_THAT([&] { ReadImageU8(dir_ / "none.png"); }, ThrowsWith<std::runtime_error>("none.png"));
   std::ofstream(dir_ / "bad.png") << "not a png at all";
   EXPECT_THROW(ReadImageU8(dir_ / "bad.png"), std::runtime_error);
   EXPECT_THROW(WriteImage(dir_ / "nodir" / "x.png", ImageU8(2, 2, 1)), std::runtime_error);
@@ -99,12 +87,7 @@ TEST_F(ImageIo, SizeComesFromTheHeaderWithTheReadersChecks) {
   EXPECT_EQ(exr.height, 11);
   std::ofstream(dir_ / "bad.png") << "not a png at all";
   EXPECT_THROW(ReadImageSize(dir_ / "bad.png"), std::runtime_error);
-  try {
-    ReadImageSize(dir_ / "none.jpg");
-    FAIL();
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("none.jpg: no such file"), std::string::npos) << e.what();
-  }
+  EXPECT_THAT([&] { ReadImageSize(dir_ / "none.jpg"); }, ThrowsWith<std::runtime_error>("none.jpg: no such file"));
 }
 
 }  // namespace

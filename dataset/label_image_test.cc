@@ -1,6 +1,9 @@
 #include "dataset/label_image.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include "testing/expect_error.h"
 
 namespace rigsim {
 namespace {
@@ -20,13 +23,8 @@ TEST(LabelImage, ColourRoundTrip) {
 TEST(LabelImage, UnknownIdsAndColoursAreErrorsNamingTheFile) {
   ImageU8 labels(2, 2, 1, 11);
   labels.at(1, 1) = 99;
-  try {
-    CheckLabelIds(labels, "labels/cam0/000000.png");
-    FAIL();
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("labels/cam0/000000.png"), std::string::npos);
-    EXPECT_NE(std::string(e.what()).find("99"), std::string::npos);
-  }
+  EXPECT_THAT([&] { CheckLabelIds(labels, "labels/cam0/000000.png"); },
+              ThrowsWith<std::runtime_error>("labels/cam0/000000.png", "99"));
   ImageU8 colors(1, 1, 3, 1);
   EXPECT_THROW(LabelsFromColors(colors, "c.png"), std::runtime_error);
 }

@@ -1,9 +1,14 @@
 #include "dataset/label_source.h"
 
+#include <source_location>
+
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "dataset/image_io.h"
 #include "dataset/label_image.h"
+#include "testing/expect_error.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
@@ -12,9 +17,6 @@ namespace fs = std::filesystem;
 class LabelSourceTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("rigsim_label_source_" + std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
     truth_ = ImageU8(64, 48, 1, 23);
     for (int y = 20; y < 48; ++y) {
       for (int x = 0; x < 64; ++x) truth_.at(x, y) = x < 30 ? 11 : (y > 40 ? 7 : 26);
@@ -23,7 +25,6 @@ class LabelSourceTest : public ::testing::Test {
     fs::create_directories(layout.Label("cam0", "000000").parent_path());
     WriteImage(layout.Label("cam0", "000000"), truth_);
   }
-  void TearDown() override { fs::remove_all(dir_); }
   fs::path Write(const std::string& folder, const ImageU8& image) {
     const fs::path p = dir_ / folder / "cam0" / "000000.png";
     fs::create_directories(p.parent_path());
@@ -31,18 +32,16 @@ class LabelSourceTest : public ::testing::Test {
     return p;
   }
   // LoadLabels from `folder` fails with a message naming its file and saying `part`.
-  void ExpectFolderFails(const std::string& folder, const std::string& part, int width = 64, int height = 48) {
+  void ExpectFolderFails(const std::string& folder, const std::string& part, int width = 64, int height = 48,
+                         std::source_location where = std::source_location::current()) {
+    const ::testing::ScopedTrace trace(where.file_name(), static_cast<int>(where.line()), folder);
     const fs::path file = dir_ / folder / "cam0" / "000000.png";
-    try {
+    auto load = [&] {
       LoadLabels(LabelSource::Folder(dir_ / folder), DatasetLayout(dir_ / "dataset"), "cam0", "000000", width, height);
-      ADD_FAILURE() << "no error for " << folder;
-    } catch (const std::runtime_error& e) {
-      const std::string what = e.what();
-      EXPECT_EQ(what.rfind(file.string() + ": ", 0), 0u) << "message does not start with the file: " << what;
-      EXPECT_NE(what.find(part), std::string::npos) << what;
-    }
+    };
+    EXPECT_THAT(load, ThrowsNaming<std::runtime_error>(file.string() + ": ", part));
   }
-  fs::path dir_;
+  const TempDir dir_;
   ImageU8 truth_;
 };
 
@@ -93,12 +92,8 @@ TEST_F(LabelSourceTest, BadUserLabelImagesAreErrorsNamingTheFile) {
 }
 
 TEST_F(LabelSourceTest, MissingFolderIsNamedByCheck) {
-  try {
-    LabelSource::Folder(dir_ / "nowhere").Check();
-    ADD_FAILURE();
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find((dir_ / "nowhere").string() + ": no such label folder"), std::string::npos);
-  }
+  EXPECT_THAT([&] { LabelSource::Folder(dir_ / "nowhere").Check(); },
+              ThrowsWith<std::runtime_error>((dir_ / "nowhere").string() + ": no such label folder"));
   SegmentationNoiseOptions bad;
   bad.confusion_rate = 2;
   EXPECT_THROW(LabelSource::Noisy(bad).Check(), std::invalid_argument);

@@ -1,26 +1,20 @@
 #include "evaluation/rig_estimate.h"
 
 #include <filesystem>
-#include <fstream>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include "evaluation/rig_scores.h"
 #include "exports/colmap.h"
 #include "exports/kalibr.h"
+#include "testing/expect_error.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path TempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("rigsim_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 // A ring of three cameras (the middle one distorted) and two frames of a rig moving forward.
 Rig Truth() {
@@ -47,7 +41,7 @@ FramesFile Frames() {
 }
 
 TEST(RigEstimate, AColmapModelOfTheTruthScoresPerfectly) {
-  const fs::path dir = TempDir("estimate_colmap");
+  const TempDir dir;
   const Rig truth = Truth();
   const FramesFile frames = Frames();
   // The export writes what COLMAP writes; a model at another scale and in another world frame
@@ -74,7 +68,6 @@ TEST(RigEstimate, AColmapModelOfTheTruthScoresPerfectly) {
   EXPECT_NEAR(*s.max_rotation_error_deg, 0.0, 1e-6);
   EXPECT_NEAR(*s.max_direction_error_deg, 0.0, 1e-6);
   EXPECT_NEAR(s.scale, 1.0 / 3.0, 1e-9);
-  fs::remove_all(dir);
 }
 
 TEST(RigEstimate, ColmapImagesNotRegisteredLeaveTheirCameraOutWithANote) {
@@ -94,13 +87,14 @@ TEST(RigEstimate, ColmapImagesNotRegisteredLeaveTheirCameraOutWithANote) {
 }
 
 TEST(RigEstimate, ColmapImagesTxtKeepsItsLinePairsAndRefusesGarbage) {
-  const fs::path dir = TempDir("estimate_images_txt");
-  std::ofstream(dir / "images.txt") << "# comment\n"
-                                       "3 1 0 0 0 0.5 0 0 2 cam1/000000.png\n"
-                                       "10.0 20.0 -1 11.0 21.0 7\n"
-                                       "# between\n"
-                                       "4 0 1 0 0 0 0 1 1 my cam/000001.JPG\n"
-                                       "\n";
+  const TempDir dir;
+  WriteFile(dir / "images.txt",
+            "# comment\n"
+            "3 1 0 0 0 0.5 0 0 2 cam1/000000.png\n"
+            "10.0 20.0 -1 11.0 21.0 7\n"
+            "# between\n"
+            "4 0 1 0 0 0 0 1 1 my cam/000001.JPG\n"
+            "\n");
   const std::vector<ColmapImage> images = ReadColmapImages(dir / "images.txt");
   ASSERT_EQ(images.size(), 2u);
   EXPECT_EQ(images[0].image_id, 3);
@@ -108,18 +102,12 @@ TEST(RigEstimate, ColmapImagesTxtKeepsItsLinePairsAndRefusesGarbage) {
   EXPECT_EQ(images[0].name, "cam1/000000.png");
   EXPECT_NEAR(images[0].cam_from_world.translation.x(), 0.5, 0);
   EXPECT_EQ(images[1].name, "my cam/000001.JPG");  // names may hold spaces
-  std::ofstream(dir / "images.txt") << "1 1 0 0\n\n";
-  try {
-    ReadColmapImages(dir / "images.txt");
-    FAIL();
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("images.txt:1: not an image line"), std::string::npos) << e.what();
-  }
-  fs::remove_all(dir);
+  WriteFile(dir / "images.txt", "1 1 0 0\n\n");
+  EXPECT_THAT([&] { ReadColmapImages(dir / "images.txt"); }, ThrowsWith<std::runtime_error>("images.txt:1: not an image line"));
 }
 
 TEST(RigEstimate, KalibrCamchainReadsBackWhatTheExportWrote) {
-  const fs::path dir = TempDir("estimate_kalibr");
+  const TempDir dir;
   const Rig truth = Truth();
   WriteKalibrCamchain(truth, dir / "camchain.yaml");
   const std::vector<RigEstimate> e = ReadRigEstimates(dir / "camchain.yaml", truth, Frames());
@@ -132,20 +120,12 @@ TEST(RigEstimate, KalibrCamchainReadsBackWhatTheExportWrote) {
   Rig renamed = truth;
   renamed.cameras[2].name = "cma2";
   WriteKalibrCamchain(renamed, dir / "camchain.yaml");
-  try {
-    ReadRigEstimates(dir / "camchain.yaml", truth, Frames());
-    FAIL();
-  } catch (const std::runtime_error& err) {
-    EXPECT_NE(std::string(err.what()).find("cam2: camera 'cma2' is not in the dataset's rig (cam0, cam1, cam2) (did "
-                                           "you mean 'cam2'?)"),
-              std::string::npos)
-        << err.what();
-  }
-  fs::remove_all(dir);
+  EXPECT_THAT([&] { ReadRigEstimates(dir / "camchain.yaml", truth, Frames()); },
+              ThrowsWith<std::runtime_error>("cam2: camera 'cma2' is not in the dataset's rig (cam0, cam1, cam2) (did you mean 'cam2'?)"));
 }
 
 TEST(RigEstimate, ACalibrationFolderGivesOneEstimatePerModeWithItsRotationOnlyCameras) {
-  const fs::path dir = TempDir("estimate_calibration");
+  const TempDir dir;
   const Rig truth = Truth();
   Rig estimate = truth;
   estimate.cameras[2].cam_from_rig.reset();
@@ -156,8 +136,7 @@ TEST(RigEstimate, ACalibrationFolderGivesOneEstimatePerModeWithItsRotationOnlyCa
   const Eigen::Quaterniond q = truth.cameras[2].cam_from_rig->rotation;
   const nlohmann::json cam2 = {{"name", "cam2"}, {"position_known", false}, {"rotation_wxyz", {q.w(), q.x(), q.y(), q.z()}}};
   const nlohmann::json rig = {{"cameras", {cam2}}, {"summary", {{"metric_scale", true}}}};
-  std::ofstream(dir / "evaluation.json")
-      << nlohmann::ordered_json{{"methods", {{"none", {{"rig", rig}}}, {"mask", {{"rig", rig}}}}}}.dump();
+  WriteFile(dir / "evaluation.json", nlohmann::ordered_json{{"methods", {{"none", {{"rig", rig}}}, {"mask", {{"rig", rig}}}}}}.dump());
   const std::vector<RigEstimate> e = ReadRigEstimates(dir, truth, Frames());
   ASSERT_EQ(e.size(), 2u);
   EXPECT_EQ(e[0].method, "none");  // in the order calibrate ran the modes
@@ -170,20 +149,14 @@ TEST(RigEstimate, ACalibrationFolderGivesOneEstimatePerModeWithItsRotationOnlyCa
   EXPECT_NEAR(*s.cameras[2].rotation_error_deg, 0.0, 1e-6);
   // The same folder forced to be scored without a metric scale.
   EXPECT_FALSE(ReadRigEstimates(dir, truth, Frames(), EstimateScale::kFit)[0].metric);
-  fs::remove_all(dir);
 }
 
 TEST(RigEstimate, AnUnknownFileIsRefusedSayingWhatIsRead) {
-  const fs::path dir = TempDir("estimate_unknown");
-  std::ofstream(dir / "poses.txt") << "1 2 3\n";
-  try {
-    ReadRigEstimates(dir / "poses.txt", Truth(), Frames());
-    FAIL();
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("not an estimate rigsim reads"), std::string::npos);
-  }
+  const TempDir dir;
+  WriteFile(dir / "poses.txt", "1 2 3\n");
+  EXPECT_THAT([&] { ReadRigEstimates(dir / "poses.txt", Truth(), Frames()); },
+              ThrowsWith<std::runtime_error>("not an estimate rigsim reads"));
   EXPECT_THROW(ReadRigEstimates(dir / "missing.json", Truth(), Frames()), std::runtime_error);
-  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -6,13 +6,15 @@
 #include <opencv2/core.hpp>
 
 #include "exports/test_rig.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
 
 TEST(OpenCvYaml, ReadsBackWithFileStorage) {
   const Rig rig = test::MixedRig();
-  const auto path = std::filesystem::temp_directory_path() / "rigsim_opencv_yaml_test.yaml";
+  const TempDir dir;
+  const auto path = dir / "rig.yaml";
   WriteOpenCvRigYaml(rig, path);
   cv::FileStorage fs(path.string(), cv::FileStorage::READ);
   ASSERT_TRUE(fs.isOpened());

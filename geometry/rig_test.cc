@@ -2,7 +2,11 @@
 
 #include <filesystem>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include "testing/expect_error.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
@@ -40,49 +44,43 @@ TEST(Rig, PosesAreOptionalForRealPhotos) {
   EXPECT_FALSE(rig.HasAllPoses());
 }
 
-void ExpectErrorMentions(const std::string& text, const std::string& what) {
-  try {
-    RigFromJsonText(text, "my/rig.json");
-    FAIL() << "no error for " << text;
-  } catch (const std::runtime_error& e) {
-    const std::string msg = e.what();
-    EXPECT_NE(msg.find("my/rig.json"), std::string::npos) << msg;
-    EXPECT_NE(msg.find(what), std::string::npos) << msg;
-  }
+// A call that reads `text` as my/rig.json.
+auto Parsing(const std::string& text) {
+  return [text] { RigFromJsonText(text, "my/rig.json"); };
 }
 
 TEST(Rig, BadJsonNamesTheFileAndTheProblem) {
-  ExpectErrorMentions("{\"cameras\": [", "invalid JSON");
-  ExpectErrorMentions("{\"cameras\": []}", "empty");
-  ExpectErrorMentions(R"({"cameras":[{"name":"a","width":10,"height":10,"params":[5,5,4.5,4.5]}]})", "model");
-  ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"PINHOLE","width":"ten","height":10,"params":[5,5,4.5,4.5]}]})",
-                      "width");
-  ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[-5,5,4.5,4.5]}]})",
-                      "focal");
+  using E = std::runtime_error;
+  EXPECT_THAT(Parsing("{\"cameras\": ["), ThrowsWith<E>("my/rig.json", "invalid JSON"));
+  EXPECT_THAT(Parsing("{\"cameras\": []}"), ThrowsWith<E>("my/rig.json", "empty"));
+  EXPECT_THAT(Parsing(R"({"cameras":[{"name":"a","width":10,"height":10,"params":[5,5,4.5,4.5]}]})"),
+              ThrowsWith<E>("my/rig.json", "model"));
+  EXPECT_THAT(Parsing(R"({"cameras":[{"name":"a","model":"PINHOLE","width":"ten","height":10,"params":[5,5,4.5,4.5]}]})"),
+              ThrowsWith<E>("my/rig.json", "width"));
+  EXPECT_THAT(Parsing(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[-5,5,4.5,4.5]}]})"),
+              ThrowsWith<E>("my/rig.json", "focal"));
   // Integer fields take integers that fit: nlohmann would cast these with undefined behaviour.
-  ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":489999999999999999999999999999,"params":[5,5,4.5,4.5]}]})",
-                      "height: must be an integer");
-  ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10.5,"height":10,"params":[5,5,4.5,4.5]}]})",
-                      "width: must be an integer");
-  ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"PINHOLE","width":18446744073709551615,"height":10,"params":[5,5,4.5,4.5]}]})",
-                      "width: out of range");
-  ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"OPENCV","width":10,"height":10,"params":[5,5,4.5,4.5]}]})",
-                      "8 parameters");
-  ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5]},
-                                     {"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5]}]})",
-                      "duplicate");
-  ExpectErrorMentions(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5],
-                          "cam_from_rig":{"rotation_wxyz":[2,0,0,0],"translation":[0,0,0]}}]})",
-                      "unit quaternion");
+  EXPECT_THAT(Parsing(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":489999999999999999999999999999,"params":[5,5,4.5,4.5]}]})"),
+              ThrowsWith<E>("my/rig.json", "height: must be an integer"));
+  EXPECT_THAT(Parsing(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10.5,"height":10,"params":[5,5,4.5,4.5]}]})"),
+              ThrowsWith<E>("my/rig.json", "width: must be an integer"));
+  EXPECT_THAT(Parsing(R"({"cameras":[{"name":"a","model":"PINHOLE","width":18446744073709551615,"height":10,"params":[5,5,4.5,4.5]}]})"),
+              ThrowsWith<E>("my/rig.json", "width: out of range"));
+  EXPECT_THAT(Parsing(R"({"cameras":[{"name":"a","model":"OPENCV","width":10,"height":10,"params":[5,5,4.5,4.5]}]})"),
+              ThrowsWith<E>("my/rig.json", "8 parameters"));
+  EXPECT_THAT(Parsing(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5]},
+                                     {"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5]}]})"),
+              ThrowsWith<E>("my/rig.json", "duplicate"));
+  EXPECT_THAT(Parsing(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5],
+                          "cam_from_rig":{"rotation_wxyz":[2,0,0,0],"translation":[0,0,0]}}]})"),
+              ThrowsWith<E>("my/rig.json", "unit quaternion"));
 }
 
 TEST(Rig, WriteAndReadAFile) {
-  const auto dir = std::filesystem::temp_directory_path() / "rigsim_rig_test";
-  std::filesystem::create_directories(dir);
+  const TempDir dir;
   WriteRig(TwoCameraRig(), dir / "rig.json");
   EXPECT_EQ(ReadRig(dir / "rig.json").cameras.size(), 2u);
   EXPECT_THROW(ReadRig(dir / "missing.json"), std::runtime_error);
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -11,14 +11,14 @@ namespace rigsim::gltf_test {
 namespace {
 
 TEST(GltfLoader, SparseAccessorOverridesValues) {
-  const auto dir = TempDir();
-  TestGltf g;
+  const TempDir dir;
+  GltfBuilder g;
   const int pos = g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
   const int before = int(g.doc["bufferViews"].size());
-  g.Accessor<uint8_t>({2, 0, 0, 0}, kUByte, "SCALAR", 1);  // just to get bufferViews for sparse data
-  g.Accessor<float>({5, 6, 7}, kFloat, "VEC3", 1);
+  g.Accessor<uint8_t>({2, 0, 0, 0}, kGltfUByte, "SCALAR", 1);  // just to get bufferViews for sparse data
+  g.Accessor<float>({5, 6, 7}, kGltfFloat, "VEC3", 1);
   g.doc["accessors"][pos]["sparse"] = {{"count", 1},
-                                       {"indices", {{"bufferView", before}, {"componentType", kUByte}}},
+                                       {"indices", {{"bufferView", before}, {"componentType", kGltfUByte}}},
                                        {"values", {{"bufferView", before + 1}}}};
   g.Mesh({{"POSITION", pos}});
   g.Node({{"mesh", 0}});
@@ -30,28 +30,28 @@ TEST(GltfLoader, SparseAccessorOverridesValues) {
 }
 
 TEST(GltfLoader, AccessorOutOfRangeThrows) {
-  const auto dir = TempDir();
-  TestGltf g;
+  const TempDir dir;
+  GltfBuilder g;
   const int pos = g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
   g.doc["accessors"][pos]["count"] = 4;  // one vertex more than the bufferView holds
   g.Mesh({{"POSITION", pos}});
   g.Node({{"mesh", 0}});
   g.Scene({0});
-  ExpectThrowsWith(g.Write(dir, "range"), "accessor 0 (mesh 0 primitive 0 POSITION): byteOffset 0 + 4 elements");
+  ExpectLoadFails(g.Write(dir, "range"), "accessor 0 (mesh 0 primitive 0 POSITION): byteOffset 0 + 4 elements");
 
-  TestGltf h;  // an index that points past the vertices
-  h.Mesh({{"POSITION", h.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0})}}, h.Accessor<uint8_t>({0, 1, 3, 0}, kUByte, "SCALAR", 3));
+  GltfBuilder h;  // an index that points past the vertices
+  h.Mesh({{"POSITION", h.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0})}}, h.Accessor<uint8_t>({0, 1, 3, 0}, kGltfUByte, "SCALAR", 3));
   h.Node({{"mesh", 0}});
   h.Scene({0});
-  ExpectThrowsWith(h.Write(dir, "index"), "index 3 at position 2 is >= vertex count 3");
+  ExpectLoadFails(h.Write(dir, "index"), "index 3 at position 2 is >= vertex count 3");
 
-  TestGltf k;  // an absurd count is rejected before anything is allocated
+  GltfBuilder k;  // an absurd count is rejected before anything is allocated
   const int big = k.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
   k.doc["accessors"][big]["count"] = 4000000000ull;
   k.Mesh({{"POSITION", big}});
   k.Node({{"mesh", 0}});
   k.Scene({0});
-  ExpectThrowsWith(k.Write(dir, "absurd"), "exceeds the limit");
+  ExpectLoadFails(k.Write(dir, "absurd"), "exceeds the limit");
 }
 
 }  // namespace

@@ -16,14 +16,14 @@ namespace {
 // joint 2, bound at (0, 1, 0) and at rest at (5, 1, 0). The mesh node's own translation does not
 // apply (glTF: a skinned mesh is placed by its joints).
 TEST(GltfLoader, SkinnedMeshesArePlacedByTheirJoints) {
-  const auto dir = TempDir();
-  TestGltf g;
-  const int pos = g.Positions(kQuad);
-  const int joints = g.Accessor<uint8_t>({0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0}, kUByte, "VEC4", 4);
-  const int weights = g.Accessor<float>({1, 0, 0, 0, 1, 0, 0, 0, 0, 2, 0, 0, 0, 1, 0, 0}, kFloat, "VEC4", 4);  // rescaled to sum 1
+  const TempDir dir;
+  GltfBuilder g;
+  const int pos = g.Positions(kUnitQuad);
+  const int joints = g.Accessor<uint8_t>({0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0}, kGltfUByte, "VEC4", 4);
+  const int weights = g.Accessor<float>({1, 0, 0, 0, 1, 0, 0, 0, 0, 2, 0, 0, 0, 1, 0, 0}, kGltfFloat, "VEC4", 4);  // rescaled to sum 1
   const std::vector<float> ibm = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1,     // joint 1: identity
                                   1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, -1, 0, 1};   // joint 2: translate(0, -1, 0)
-  const int ibm_acc = g.Accessor(ibm, kFloat, "MAT4", 2);
+  const int ibm_acc = g.Accessor(ibm, kGltfFloat, "MAT4", 2);
   g.doc["skins"] = json::array({{{"joints", {1, 2}}, {"inverseBindMatrices", ibm_acc}}});
   g.Node({{"mesh", g.Mesh({{"POSITION", pos}, {"JOINTS_0", joints}, {"WEIGHTS_0", weights}}, -1, 6)},
           {"skin", 0}, {"translation", {100, 0, 0}}});
@@ -43,9 +43,9 @@ TEST(GltfLoader, SkinnedMeshesArePlacedByTheirJoints) {
   EXPECT_FALSE(HasWarning(s, "JOINTS_0"));
 
   g.doc["skins"][0]["joints"] = {1};  // vertex 2 weighs joint 1 of a skin that now has one
-  ExpectThrowsWith(g.Write(dir, "joint_beyond_skin"), "JOINTS_0): vertex 2 names joint 1 of a skin with 1");
+  ExpectLoadFails(g.Write(dir, "joint_beyond_skin"), "JOINTS_0): vertex 2 names joint 1 of a skin with 1");
   g.doc["skins"][0]["joints"] = {1, 2, 0};
-  ExpectThrowsWith(g.Write(dir, "short_ibm"), "skin 0: 2 inverse bind matrices for 3 joints");
+  ExpectLoadFails(g.Write(dir, "short_ibm"), "skin 0: 2 inverse bind matrices for 3 joints");
   g.doc["skins"][0]["joints"] = {1, 2};
   g.doc["skins"][0].erase("inverseBindMatrices");  // glTF: identity matrices
   const Scene identity = LoadGltf(g.Write(dir, "no_ibm"));
@@ -56,24 +56,24 @@ TEST(GltfLoader, SkinnedMeshesArePlacedByTheirJoints) {
   EXPECT_FALSE(HasWarning(identity, "inverseBindMatrices"));
   g.doc["skins"][0]["inverseBindMatrices"] = ibm_acc;
   g.Scene({0});  // the joints' tree is left out of the scene
-  ExpectThrowsWith(g.Write(dir, "joints_outside_scene"), "skin 0: joint node 1 is not in the loaded scene");
+  ExpectLoadFails(g.Write(dir, "joints_outside_scene"), "skin 0: joint node 1 is not in the loaded scene");
 }
 
 TEST(GltfLoader, NodeAnimationsAreKeptForPosing) {
-  const auto dir = TempDir();
-  TestGltf g;
-  const int pos = g.Positions(kQuad);
-  const int idx = g.Accessor(std::vector<uint16_t>{0, 1, 2, 0, 2, 3}, kUShort, "SCALAR", 6);
+  const TempDir dir;
+  GltfBuilder g;
+  const int pos = g.Positions(kUnitQuad);
+  const int idx = g.Accessor(std::vector<uint16_t>{0, 1, 2, 0, 2, 3}, kGltfUShort, "SCALAR", 6);
   g.Mesh({{"POSITION", pos}}, idx);
   // Parent (animated, translation) -> child with the mesh; a static mesh node beside them.
   g.Node({{"name", "parent"}, {"children", {1}}, {"translation", {0, 0, -5}}});
   g.Node({{"name", "child"}, {"mesh", 0}, {"translation", {1, 0, 0}}});
   g.Node({{"name", "static"}, {"mesh", 0}});
   g.Scene({0, 2});
-  const int times = g.Accessor(std::vector<float>{0, 1, 2}, kFloat, "SCALAR", 3);
-  const int moves = g.Accessor(std::vector<float>{0, 0, -5, 2, 0, -5, 2, 1, -5}, kFloat, "VEC3", 3);
-  const int turns = g.Accessor(std::vector<float>{0, 0, 0, 1, 0, 0.7071068f, 0, 0.7071068f}, kFloat, "VEC4", 2);
-  const int two = g.Accessor(std::vector<float>{0, 1}, kFloat, "SCALAR", 2);
+  const int times = g.Accessor(std::vector<float>{0, 1, 2}, kGltfFloat, "SCALAR", 3);
+  const int moves = g.Accessor(std::vector<float>{0, 0, -5, 2, 0, -5, 2, 1, -5}, kGltfFloat, "VEC3", 3);
+  const int turns = g.Accessor(std::vector<float>{0, 0, 0, 1, 0, 0.7071068f, 0, 0.7071068f}, kGltfFloat, "VEC4", 2);
+  const int two = g.Accessor(std::vector<float>{0, 1}, kGltfFloat, "SCALAR", 2);
   g.doc["animations"] = json::array({{{"name", "drive"},
                                       {"samplers", {{{"input", times}, {"output", moves}, {"interpolation", "LINEAR"}},
                                                     {{"input", two}, {"output", turns}, {"interpolation", "STEP"}}}},
@@ -108,40 +108,40 @@ TEST(GltfLoader, NodeAnimationsAreKeptForPosing) {
 }
 
 TEST(GltfLoader, BadAnimationsThrowOrWarn) {
-  const auto dir = TempDir();
-  TestGltf g;
-  g.Mesh({{"POSITION", g.Positions(kQuad)}});
+  const TempDir dir;
+  GltfBuilder g;
+  g.Mesh({{"POSITION", g.Positions(kUnitQuad)}});
   g.Node({{"mesh", 0}});
   g.Scene({0});
-  const int times = g.Accessor(std::vector<float>{0, 1}, kFloat, "SCALAR", 2);
-  const int moves = g.Accessor(std::vector<float>{0, 0, 0, 1, 0, 0}, kFloat, "VEC3", 2);
-  const int cubic = g.Accessor(std::vector<float>(18, 0.0f), kFloat, "VEC3", 6);
+  const int times = g.Accessor(std::vector<float>{0, 1}, kGltfFloat, "SCALAR", 2);
+  const int moves = g.Accessor(std::vector<float>{0, 0, 0, 1, 0, 0}, kGltfFloat, "VEC3", 2);
+  const int cubic = g.Accessor(std::vector<float>(18, 0.0f), kGltfFloat, "VEC3", 6);
   g.doc["animations"] = json::array({{{"samplers", {{{"input", times}, {"output", cubic}, {"interpolation", "CUBICSPLINE"}}}},
                                       {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}}}}}});
   const Scene s = LoadGltf(g.Write(dir, "cubic"));
   EXPECT_EQ(s.animation_channels.size(), 1u);
   EXPECT_TRUE(HasWarning(s, "CUBICSPLINE"));
   // Keys out of order.
-  const int backwards = g.Accessor(std::vector<float>{1, 0}, kFloat, "SCALAR", 2);
+  const int backwards = g.Accessor(std::vector<float>{1, 0}, kGltfFloat, "SCALAR", 2);
   g.doc["animations"][0]["samplers"][0] = {{"input", backwards}, {"output", moves}};
-  ExpectThrowsWith(g.Write(dir, "backwards"), "strictly increasing");
+  ExpectLoadFails(g.Write(dir, "backwards"), "strictly increasing");
   // Output count mismatch.
   g.doc["animations"][0]["samplers"][0] = {{"input", times}, {"output", cubic}};
-  ExpectThrowsWith(g.Write(dir, "count"), "output values for 2 keyframes");
+  ExpectLoadFails(g.Write(dir, "count"), "output values for 2 keyframes");
 }
 
 // glTF allows a channel without a target node: an extension (KHR_animation_pointer) names what it
 // animates. Such channels are ignored with a warning, in .gltf and .glb files alike; the file's
 // other channels still animate their nodes.
 TEST(GltfLoader, ChannelsWithoutATargetNodeAreIgnored) {
-  const auto dir = TempDir();
-  TestGltf g;
-  g.Mesh({{"POSITION", g.Positions(kQuad)}});
+  const TempDir dir;
+  GltfBuilder g;
+  g.Mesh({{"POSITION", g.Positions(kUnitQuad)}});
   g.Node({{"mesh", 0}});
   g.Scene({0});
-  const int times = g.Accessor(std::vector<float>{0, 1}, kFloat, "SCALAR", 2);
-  const int moves = g.Accessor(std::vector<float>{0, 0, 0, 1, 0, 0}, kFloat, "VEC3", 2);
-  const int fades = g.Accessor(std::vector<float>{1, 0}, kFloat, "SCALAR", 2);
+  const int times = g.Accessor(std::vector<float>{0, 1}, kGltfFloat, "SCALAR", 2);
+  const int moves = g.Accessor(std::vector<float>{0, 0, 0, 1, 0, 0}, kGltfFloat, "VEC3", 2);
+  const int fades = g.Accessor(std::vector<float>{1, 0}, kGltfFloat, "SCALAR", 2);
   const json pointer = {{"path", "pointer"},
                         {"extensions", {{"KHR_animation_pointer", {{"pointer", "/materials/0/alphaCutoff"}}}}}};
   g.doc["extensionsUsed"] = {"KHR_animation_pointer"};
@@ -163,18 +163,18 @@ TEST(GltfLoader, ChannelsWithoutATargetNodeAreIgnored) {
   }
   // A file that is broken otherwise still fails with tinygltf's message.
   g.doc["animations"][0]["channels"][1]["target"].erase("path");
-  ExpectThrowsWith(g.Write(dir, "no_path"), "`path` field is missing");
+  ExpectLoadFails(g.Write(dir, "no_path"), "`path` field is missing");
 }
 
-// kQuad (indexed as a fan) with two morph targets: target 0 lifts vertex i by 2 (i + 1) in z and
+// kUnitQuad (indexed as a fan) with two morph targets: target 0 lifts vertex i by 2 (i + 1) in z and
 // tips the normals (0, 0, 1) towards +x by 1; target 1, quantized (normalized BYTE, as
 // KHR_mesh_quantization allows), moves every vertex by 1 in y.
-int MorphedQuadMesh(TestGltf& g, json weights = nullptr) {
+int MorphedQuadMesh(GltfBuilder& g, json weights = nullptr) {
   constexpr int kByte = 5120;
-  const int pos = g.Positions(kQuad);
-  const int nrm = g.Accessor(std::vector<float>{0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1}, kFloat, "VEC3", 4);
+  const int pos = g.Positions(kUnitQuad);
+  const int nrm = g.Accessor(std::vector<float>{0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1}, kGltfFloat, "VEC3", 4);
   const int lift = g.Positions({0, 0, 2, 0, 0, 4, 0, 0, 6, 0, 0, 8});
-  const int tip = g.Accessor(std::vector<float>{1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0}, kFloat, "VEC3", 4);
+  const int tip = g.Accessor(std::vector<float>{1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0}, kGltfFloat, "VEC3", 4);
   const int shift = g.Accessor(std::vector<int8_t>{0, 127, 0, 0, 127, 0, 0, 127, 0, 0, 127, 0}, kByte, "VEC3", 4, /*normalized=*/true);
   const int mesh = g.Mesh({{"POSITION", pos}, {"NORMAL", nrm}}, -1, /*TRIANGLE_FAN=*/6);
   g.doc["meshes"][mesh]["primitives"][0]["targets"] = {{{"POSITION", lift}, {"NORMAL", tip}}, {{"POSITION", shift}}};
@@ -184,8 +184,8 @@ int MorphedQuadMesh(TestGltf& g, json weights = nullptr) {
 
 // Static morphs are applied at load with the rest weights: node.weights, else mesh.weights, else 0.
 TEST(GltfLoader, MorphTargetsAreAppliedAtTheRestWeights) {
-  const auto dir = TempDir();
-  TestGltf g;
+  const TempDir dir;
+  GltfBuilder g;
   const int mesh = MorphedQuadMesh(g, {0.5, 0.0});
   g.Node({{"mesh", mesh}, {"translation", {10, 0, 0}}});     // mesh.weights (0.5, 0)
   g.Node({{"mesh", mesh}, {"weights", {1.0, 0.0}}});          // node.weights override them
@@ -194,7 +194,7 @@ TEST(GltfLoader, MorphTargetsAreAppliedAtTheRestWeights) {
   const Scene s = LoadGltf(g.Write(dir, "morphed"));
   ASSERT_EQ(s.meshes.size(), 3u);
   for (int i = 0; i < 4; ++i) {
-    const Eigen::Vector3f base(kQuad[3 * i], kQuad[3 * i + 1], kQuad[3 * i + 2]);
+    const Eigen::Vector3f base(kUnitQuad[3 * i], kUnitQuad[3 * i + 1], kUnitQuad[3 * i + 2]);
     EXPECT_TRUE(s.meshes[0].positions[i].isApprox(base + Eigen::Vector3f(10, 0, i + 1))) << i << ": " << s.meshes[0].positions[i].transpose();
     EXPECT_TRUE(s.meshes[1].positions[i].isApprox(base + Eigen::Vector3f(0, 0, 2 * (i + 1)))) << i << ": " << s.meshes[1].positions[i].transpose();
     EXPECT_TRUE(s.meshes[2].positions[i].isApprox(base + Eigen::Vector3f(0, 1, 0))) << i << ": " << s.meshes[2].positions[i].transpose();
@@ -215,13 +215,13 @@ TEST(GltfLoader, MorphTargetsAreAppliedAtTheRestWeights) {
 // glTF 2.0 "Skins": morphing comes first, in the mesh's frame. The joint scales by 2, so skinning
 // before morphing would lift the quad by 1 instead of 2.
 TEST(GltfLoader, MorphingComesBeforeSkinning) {
-  const auto dir = TempDir();
-  TestGltf g;
+  const TempDir dir;
+  GltfBuilder g;
   const int mesh = MorphedQuadMesh(g, {0.0, 1.0});
-  g.doc["meshes"][mesh]["primitives"][0]["attributes"]["JOINTS_0"] = g.Accessor<uint8_t>(std::vector<uint8_t>(16, 0), kUByte, "VEC4", 4);
+  g.doc["meshes"][mesh]["primitives"][0]["attributes"]["JOINTS_0"] = g.Accessor<uint8_t>(std::vector<uint8_t>(16, 0), kGltfUByte, "VEC4", 4);
   g.doc["meshes"][mesh]["primitives"][0]["attributes"]["WEIGHTS_0"] =
-      g.Accessor<float>({1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0}, kFloat, "VEC4", 4);
-  const int ibm = g.Accessor(std::vector<float>{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, kFloat, "MAT4", 1);
+      g.Accessor<float>({1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0}, kGltfFloat, "VEC4", 4);
+  const int ibm = g.Accessor(std::vector<float>{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, kGltfFloat, "MAT4", 1);
   g.doc["skins"] = json::array({{{"joints", {1}}, {"inverseBindMatrices", ibm}}});
   g.Node({{"mesh", mesh}, {"skin", 0}});
   g.Node({{"scale", {2, 2, 2}}});
@@ -229,14 +229,14 @@ TEST(GltfLoader, MorphingComesBeforeSkinning) {
   const Scene s = LoadGltf(g.Write(dir, "skinned_morph"));
   ASSERT_EQ(s.meshes.size(), 1u);
   for (int i = 0; i < 4; ++i) {
-    const Eigen::Vector3f expected = 2 * (Eigen::Vector3f(kQuad[3 * i], kQuad[3 * i + 1], kQuad[3 * i + 2]) + Eigen::Vector3f(0, 1, 0));
+    const Eigen::Vector3f expected = 2 * (Eigen::Vector3f(kUnitQuad[3 * i], kUnitQuad[3 * i + 1], kUnitQuad[3 * i + 2]) + Eigen::Vector3f(0, 1, 0));
     EXPECT_TRUE(s.meshes[0].positions[i].isApprox(expected)) << i << ": " << s.meshes[0].positions[i].transpose();
   }
 }
 
 TEST(GltfLoader, MalformedMorphTargetsThrow) {
-  const auto dir = TempDir();
-  TestGltf g;
+  const TempDir dir;
+  GltfBuilder g;
   const int mesh = MorphedQuadMesh(g);
   g.Node({{"mesh", mesh}, {"name", "face"}});
   g.Scene({0});
@@ -244,42 +244,42 @@ TEST(GltfLoader, MalformedMorphTargetsThrow) {
   const json good_targets = prim["targets"];
   EXPECT_FALSE(HasWarning(LoadGltf(g.Write(dir, "zero_weights")), "morph"));  // no weights: all 0
   g.doc["meshes"][mesh]["weights"] = {0.5};
-  ExpectThrowsWith(g.Write(dir, "mesh_weights"), "mesh 0: 1 morph weights for 2 morph targets");
+  ExpectLoadFails(g.Write(dir, "mesh_weights"), "mesh 0: 1 morph weights for 2 morph targets");
   g.doc["meshes"][mesh].erase("weights");
   g.doc["nodes"][0]["weights"] = {0.5, 0.5, 0.5};
-  ExpectThrowsWith(g.Write(dir, "node_weights"), "node 0 'face': 3 morph weights for 2 morph targets");
+  ExpectLoadFails(g.Write(dir, "node_weights"), "node 0 'face': 3 morph weights for 2 morph targets");
   g.doc["nodes"][0].erase("weights");
-  TestGltf plain;  // weights on a mesh without targets: nothing to morph, so a warning
-  plain.Mesh({{"POSITION", plain.Positions(kQuad)}});
+  GltfBuilder plain;  // weights on a mesh without targets: nothing to morph, so a warning
+  plain.Mesh({{"POSITION", plain.Positions(kUnitQuad)}});
   plain.doc["meshes"][0]["weights"] = {0.5};
   plain.Node({{"mesh", 0}});
   plain.Scene({0});
   EXPECT_TRUE(HasWarning(LoadGltf(plain.Write(dir, "no_targets")), "mesh 0: 1 morph weights but no morph targets"));
   prim["targets"][0]["POSITION"] = g.Positions({0, 0, 1, 0, 0, 1, 0, 0, 1});
-  ExpectThrowsWith(g.Write(dir, "count"), "(mesh 0 primitive 0 target 0 POSITION): count 3 differs from POSITION's 4");
-  prim["targets"][0]["POSITION"] = g.Accessor(std::vector<float>(8, 0.0f), kFloat, "VEC2", 4);
-  ExpectThrowsWith(g.Write(dir, "type"), "(mesh 0 primitive 0 target 0 POSITION): unexpected type");
-  prim["targets"][0]["POSITION"] = g.Accessor(std::vector<uint32_t>(12, 0), kUInt, "VEC3", 4);
-  ExpectThrowsWith(g.Write(dir, "component"), "target 0 POSITION): componentType must be FLOAT, BYTE or SHORT");
+  ExpectLoadFails(g.Write(dir, "count"), "(mesh 0 primitive 0 target 0 POSITION): count 3 differs from POSITION's 4");
+  prim["targets"][0]["POSITION"] = g.Accessor(std::vector<float>(8, 0.0f), kGltfFloat, "VEC2", 4);
+  ExpectLoadFails(g.Write(dir, "type"), "(mesh 0 primitive 0 target 0 POSITION): unexpected type");
+  prim["targets"][0]["POSITION"] = g.Accessor(std::vector<uint32_t>(12, 0), kGltfUInt, "VEC3", 4);
+  ExpectLoadFails(g.Write(dir, "component"), "target 0 POSITION): componentType must be FLOAT, BYTE or SHORT");
   prim["targets"][0]["POSITION"] = g.Positions({0, 0, 0, 0, std::numeric_limits<float>::infinity(), 0, 0, 0, 0, 0, 0, 0});
-  ExpectThrowsWith(g.Write(dir, "infinite"), "target 0 POSITION): vertex 1 is not finite");
+  ExpectLoadFails(g.Write(dir, "infinite"), "target 0 POSITION): vertex 1 is not finite");
   prim["targets"] = good_targets;
   g.doc["meshes"][mesh]["primitives"].push_back(prim);
   g.doc["meshes"][mesh]["primitives"][1]["targets"].erase(1);
-  ExpectThrowsWith(g.Write(dir, "primitives_differ"), "mesh 0 primitive 1: 1 morph targets, primitive 0 has 2");
+  ExpectLoadFails(g.Write(dir, "primitives_differ"), "mesh 0 primitive 1: 1 morph targets, primitive 0 has 2");
 }
 
 // A "weights" channel keeps one weight per target per key, and the mesh on its node keeps its base
 // vertices and targets for PoseSceneAt; another instance of the same mesh stays static.
 TEST(GltfLoader, MorphWeightAnimationsAreKeptForPosing) {
-  const auto dir = TempDir();
-  TestGltf g;
+  const TempDir dir;
+  GltfBuilder g;
   const int mesh = MorphedQuadMesh(g, {0.5, 0.0});
   g.Node({{"mesh", mesh}, {"children", {1}}});
   g.Node({{"mesh", mesh}, {"translation", {0, 0, 5}}});
   g.Scene({0});
-  const int times = g.Accessor(std::vector<float>{0, 1}, kFloat, "SCALAR", 2);
-  const int weights = g.Accessor(std::vector<float>{0, 0, 1, 0.5f}, kFloat, "SCALAR", 4);
+  const int times = g.Accessor(std::vector<float>{0, 1}, kGltfFloat, "SCALAR", 2);
+  const int weights = g.Accessor(std::vector<float>{0, 0, 1, 0.5f}, kGltfFloat, "SCALAR", 4);
   g.doc["animations"] = json::array({{{"samplers", {{{"input", times}, {"output", weights}, {"interpolation", "STEP"}}}},
                                       {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "weights"}}}}}}}});
   const Scene s = LoadGltf(g.Write(dir, "morph_animated"));
@@ -311,7 +311,7 @@ TEST(GltfLoader, MorphWeightAnimationsAreKeptForPosing) {
   EXPECT_FALSE(HasWarning(s, "weights"));
 
   // CUBICSPLINE: the key values (the middle of each in-tangent, value, out-tangent triple), warned.
-  const int cubic = g.Accessor(std::vector<float>{9, 9, 0, 0, 9, 9, 9, 9, 1, 0.5f, 9, 9}, kFloat, "SCALAR", 12);
+  const int cubic = g.Accessor(std::vector<float>{9, 9, 0, 0, 9, 9, 9, 9, 1, 0.5f, 9, 9}, kGltfFloat, "SCALAR", 12);
   g.doc["animations"][0]["samplers"][0] = {{"input", times}, {"output", cubic}, {"interpolation", "CUBICSPLINE"}};
   const Scene c = LoadGltf(g.Write(dir, "cubic"));
   ASSERT_EQ(c.animation_channels.size(), 1u);
@@ -319,7 +319,7 @@ TEST(GltfLoader, MorphWeightAnimationsAreKeptForPosing) {
   EXPECT_TRUE(HasWarning(c, "CUBICSPLINE"));
   // One weight per key is too few for two targets.
   g.doc["animations"][0]["samplers"][0] = {{"input", times}, {"output", times}};
-  ExpectThrowsWith(g.Write(dir, "short"), "2 output values for 2 keyframes of 2 morph target weights");
+  ExpectLoadFails(g.Write(dir, "short"), "2 output values for 2 keyframes of 2 morph target weights");
   // A node without morph targets: the channel is ignored with a warning.
   g.doc["animations"][0]["samplers"][0] = {{"input", times}, {"output", weights}};
   g.doc["nodes"].push_back({{"name", "empty"}});

@@ -12,8 +12,8 @@ namespace rigsim::gltf_test {
 namespace {
 
 TEST(GltfLoader, ClassesInheritAndOverride) {
-  const auto dir = TempDir();
-  TestGltf g;
+  const TempDir dir;
+  GltfBuilder g;
   const int pos = g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
   g.doc["materials"] = json::array({{{"name", "plain"}}, {{"name", "labelled"}, {"extras", {{"class", "vegetation"}}}}});
   const int plain = g.Mesh({{"POSITION", pos}}, -1, 4, 0);

@@ -19,7 +19,6 @@
 #include <meshoptimizer.h>
 
 #include "gltf/gltf_test_support.h"
-#include "tests/data_uri.h"
 
 namespace rigsim::gltf_test {
 namespace {
@@ -70,15 +69,15 @@ DracoGrid EncodeDracoGrid(int n, int method, int position_bits) {
 
 // A glTF file whose one mesh is `grid`, the way exporters write Draco: bufferView 0 holds the
 // compressed data and the primitive's accessors have no bufferView.
-TestGltf DracoGltf(const DracoGrid& grid, int n, int index_type) {
-  TestGltf g;
+GltfBuilder DracoGltf(const DracoGrid& grid, int n, int index_type) {
+  GltfBuilder g;
   g.bin = grid.bytes;
   g.doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 0}, {"byteLength", grid.bytes.size()}});
   const size_t points = size_t(n) * n;
   g.doc["accessors"] = json::array({{{"componentType", index_type}, {"count", 6 * (n - 1) * (n - 1)}, {"type", "SCALAR"}},
-                                    {{"componentType", kFloat}, {"count", points}, {"type", "VEC3"}},
-                                    {{"componentType", kFloat}, {"count", points}, {"type", "VEC2"}},
-                                    {{"componentType", kUByte}, {"count", points}, {"type", "VEC4"}, {"normalized", true}}});
+                                    {{"componentType", kGltfFloat}, {"count", points}, {"type", "VEC3"}},
+                                    {{"componentType", kGltfFloat}, {"count", points}, {"type", "VEC2"}},
+                                    {{"componentType", kGltfUByte}, {"count", points}, {"type", "VEC4"}, {"normalized", true}}});
   g.Mesh({{"POSITION", 1}, {"TEXCOORD_0", 2}, {"COLOR_0", 3}}, 0);
   g.doc["meshes"][0]["primitives"][0]["extensions"] = {
       {"KHR_draco_mesh_compression",
@@ -135,12 +134,12 @@ void ExpectTheDracoGrid(const Scene& scene, int n, float position_tolerance) {
 }
 
 TEST(GltfLoader, DracoCompressedMeshesLoadAsTheMeshTheyEncode) {
-  const auto dir = TempDir();
+  const TempDir dir;
   const int n = 5;
   for (const int method : {draco::MESH_SEQUENTIAL_ENCODING, draco::MESH_EDGEBREAKER_ENCODING}) {
     SCOPED_TRACE(method == draco::MESH_SEQUENTIAL_ENCODING ? "sequential" : "edgebreaker");
-    TestGltf g = DracoGltf(EncodeDracoGrid(n, method, 0), n, kUShort);
-    for (const auto& path : {g.Write(dir, "grid"), g.Write(dir, "grid_uri", true), g.WriteGlb(dir, "grid")}) {
+    GltfBuilder g = DracoGltf(EncodeDracoGrid(n, method, 0), n, kGltfUShort);
+    for (const auto& path : {g.Write(dir, "grid"), g.WriteEmbedded(dir, "grid_uri"), g.WriteGlb(dir, "grid")}) {
       SCOPED_TRACE(path.filename().string());
       const Scene scene = LoadGltf(path);
       ExpectTheDracoGrid(scene, n, 0.0f);
@@ -149,47 +148,47 @@ TEST(GltfLoader, DracoCompressedMeshesLoadAsTheMeshTheyEncode) {
   }
   // Quantised positions come back within half a quantisation step of the 2 m range.
   const int bits = 10;
-  TestGltf q = DracoGltf(EncodeDracoGrid(n, draco::MESH_EDGEBREAKER_ENCODING, bits), n, kUInt);
+  GltfBuilder q = DracoGltf(EncodeDracoGrid(n, draco::MESH_EDGEBREAKER_ENCODING, bits), n, kGltfUInt);
   ExpectTheDracoGrid(LoadGltf(q.Write(dir, "quantised")), n, 2.0f / ((1 << bits) - 1));
 }
 
 TEST(GltfLoader, MalformedDracoPrimitivesAreRefusedNamingThePrimitive) {
-  const auto dir = TempDir();
+  const TempDir dir;
   const int n = 3;
   const DracoGrid grid = EncodeDracoGrid(n, draco::MESH_EDGEBREAKER_ENCODING, 0);
   const std::string where = "mesh 0 primitive 0: KHR_draco_mesh_compression: ";
   {
-    TestGltf g = DracoGltf(grid, n, kUShort);
+    GltfBuilder g = DracoGltf(grid, n, kGltfUShort);
     g.doc["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["bufferView"] = 4;
-    ExpectThrowsWith(g.Write(dir, "view"), where + "bufferView is missing or not one of the file's 1 buffer views");
-    ExpectThrowsWith(g.WriteGlb(dir, "view"), where + "bufferView is missing or not one of the file's 1 buffer views");
+    ExpectLoadFails(g.Write(dir, "view"), where + "bufferView is missing or not one of the file's 1 buffer views");
+    ExpectLoadFails(g.WriteGlb(dir, "view"), where + "bufferView is missing or not one of the file's 1 buffer views");
   }
   {
-    TestGltf g = DracoGltf(grid, n, kUShort);
+    GltfBuilder g = DracoGltf(grid, n, kGltfUShort);
     std::fill(g.bin.begin() + 4, g.bin.end(), uint8_t(0x5a));  // "DRAC" kept, the rest garbage
-    ExpectThrowsWith(g.Write(dir, "garbage"), where + "the Draco data in bufferView 0 does not decode");
+    ExpectLoadFails(g.Write(dir, "garbage"), where + "the Draco data in bufferView 0 does not decode");
   }
   {
-    TestGltf g = DracoGltf(grid, n, kUShort);
+    GltfBuilder g = DracoGltf(grid, n, kGltfUShort);
     g.doc["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["attributes"]["TEXCOORD_0"] = 9;
-    ExpectThrowsWith(g.Write(dir, "id"), where + "attribute TEXCOORD_0: the Draco data has no attribute with id 9");
+    ExpectLoadFails(g.Write(dir, "id"), where + "attribute TEXCOORD_0: the Draco data has no attribute with id 9");
   }
   {
-    TestGltf g = DracoGltf(grid, n, kUShort);
+    GltfBuilder g = DracoGltf(grid, n, kGltfUShort);
     g.doc["accessors"][2]["type"] = "VEC3";
-    ExpectThrowsWith(g.Write(dir, "components"), where + "attribute TEXCOORD_0: the Draco attribute has 2 components, its accessor 3");
+    ExpectLoadFails(g.Write(dir, "components"), where + "attribute TEXCOORD_0: the Draco attribute has 2 components, its accessor 3");
   }
   {
     const int big = 17;  // 289 vertices: more than unsigned bytes can index
-    TestGltf g = DracoGltf(EncodeDracoGrid(big, draco::MESH_SEQUENTIAL_ENCODING, 0), big, kUByte);
-    ExpectThrowsWith(g.Write(dir, "bytes"), where + "289 vertices cannot be indexed by the indices accessor's unsigned bytes");
+    GltfBuilder g = DracoGltf(EncodeDracoGrid(big, draco::MESH_SEQUENTIAL_ENCODING, 0), big, kGltfUByte);
+    ExpectLoadFails(g.Write(dir, "bytes"), where + "289 vertices cannot be indexed by the indices accessor's unsigned bytes");
   }
   {
     // tinygltf reads a rewritten version from memory, and still finds external files beside the file.
-    TestGltf g = DracoGltf(grid, n, kUShort);
+    GltfBuilder g = DracoGltf(grid, n, kGltfUShort);
     const auto path = g.Write(dir, "missing");
     std::filesystem::remove(dir / "missing.bin");
-    ExpectThrowsWith(path, "File not found : missing.bin");
+    ExpectLoadFails(path, "File not found : missing.bin");
   }
 }
 
@@ -198,7 +197,7 @@ TEST(GltfLoader, MalformedDracoPrimitivesAreRefusedNamingThePrimitive) {
 // ATTRIBUTES), tilted normals (normalized bytes under KHR_mesh_quantization, OCTAHEDRAL filter),
 // its triangles (TRIANGLES) for primitive 0 and the same as an index sequence (INDICES) for 1.
 struct MeshoptGrid {
-  TestGltf g;
+  GltfBuilder g;
   std::vector<float> xyz;
   std::vector<Eigen::Vector3f> normals;
   std::vector<uint32_t> triangles;
@@ -251,7 +250,7 @@ MeshoptGrid MeshoptGltf(int n) {
       {encoded(meshopt_encodeIndexSequenceBound(tri, count),
                [&](unsigned char* b, size_t s) { return meshopt_encodeIndexSequence(b, s, out.triangles.data(), tri); }),
        2, tri, "INDICES", "NONE", tri * 2}};
-  TestGltf& g = out.g;
+  GltfBuilder& g = out.g;
   size_t fallback = 0;
   for (const Stream& st : streams) {
     while (g.bin.size() % 4) g.bin.push_back(0);
@@ -267,10 +266,10 @@ MeshoptGrid MeshoptGltf(int n) {
     fallback += (st.raw_bytes + 3) / 4 * 4;
   }
   g.extra_buffers.push_back({{"byteLength", fallback}, {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}});
-  g.doc["accessors"] = json::array({{{"bufferView", 0}, {"componentType", kFloat}, {"count", count}, {"type", "VEC3"}},
+  g.doc["accessors"] = json::array({{{"bufferView", 0}, {"componentType", kGltfFloat}, {"count", count}, {"type", "VEC3"}},
                                     {{"bufferView", 1}, {"componentType", 5120}, {"count", count}, {"type", "VEC3"}, {"normalized", true}},
-                                    {{"bufferView", 2}, {"componentType", kUShort}, {"count", tri}, {"type", "SCALAR"}},
-                                    {{"bufferView", 3}, {"componentType", kUShort}, {"count", tri}, {"type", "SCALAR"}}});
+                                    {{"bufferView", 2}, {"componentType", kGltfUShort}, {"count", tri}, {"type", "SCALAR"}},
+                                    {{"bufferView", 3}, {"componentType", kGltfUShort}, {"count", tri}, {"type", "SCALAR"}}});
   const json attributes = {{"POSITION", 0}, {"NORMAL", 1}};
   g.doc["meshes"] = json::array({{{"primitives", json::array({{{"attributes", attributes}, {"indices", 2}},
                                                              {{"attributes", attributes}, {"indices", 3}}})}}});
@@ -282,9 +281,9 @@ MeshoptGrid MeshoptGltf(int n) {
 }
 
 TEST(GltfLoader, MeshoptCompressedBuffersLoadAsTheDataTheyEncode) {
-  const auto dir = TempDir();
+  const TempDir dir;
   MeshoptGrid grid = MeshoptGltf(4);
-  for (const auto& path : {grid.g.Write(dir, "grid"), grid.g.Write(dir, "grid_uri", true), grid.g.WriteGlb(dir, "grid")}) {
+  for (const auto& path : {grid.g.Write(dir, "grid"), grid.g.WriteEmbedded(dir, "grid_uri"), grid.g.WriteGlb(dir, "grid")}) {
     SCOPED_TRACE(path.filename().string());
     const Scene scene = LoadGltf(path);
     ASSERT_EQ(scene.meshes.size(), 2u);
@@ -311,48 +310,48 @@ TEST(GltfLoader, MeshoptCompressedBuffersLoadAsTheDataTheyEncode) {
 }
 
 TEST(GltfLoader, MalformedMeshoptBufferViewsAreRefusedNamingTheView) {
-  const auto dir = TempDir();
-  auto extension = [](TestGltf& g, int view) -> json& { return g.doc["bufferViews"][view]["extensions"]["EXT_meshopt_compression"]; };
+  const TempDir dir;
+  auto extension = [](GltfBuilder& g, int view) -> json& { return g.doc["bufferViews"][view]["extensions"]["EXT_meshopt_compression"]; };
   const std::string where = ": EXT_meshopt_compression: ";
   {
     MeshoptGrid grid = MeshoptGltf(3);
     extension(grid.g, 2)["mode"] = "LINES";
-    ExpectThrowsWith(grid.g.Write(dir, "mode"), "bufferView 2" + where + "mode 'LINES' is none of ATTRIBUTES, TRIANGLES, INDICES");
+    ExpectLoadFails(grid.g.Write(dir, "mode"), "bufferView 2" + where + "mode 'LINES' is none of ATTRIBUTES, TRIANGLES, INDICES");
   }
   {
     MeshoptGrid grid = MeshoptGltf(3);
     extension(grid.g, 0)["byteLength"] = grid.g.bin.size() + 1;
-    ExpectThrowsWith(grid.g.Write(dir, "range"), "bufferView 0" + where + "bytes 0 + " + std::to_string(grid.g.bin.size() + 1) +
+    ExpectLoadFails(grid.g.Write(dir, "range"), "bufferView 0" + where + "bytes 0 + " + std::to_string(grid.g.bin.size() + 1) +
                                                      " lie beyond buffer 0's " + std::to_string(grid.g.bin.size()));
   }
   {
     MeshoptGrid grid = MeshoptGltf(3);
     const size_t length = extension(grid.g, 0)["byteLength"].get<size_t>();
     std::fill_n(grid.g.bin.begin(), length, uint8_t(0xff));
-    ExpectThrowsWith(grid.g.Write(dir, "garbage"), "bufferView 0" + where + "the compressed bytes do not decode");
+    ExpectLoadFails(grid.g.Write(dir, "garbage"), "bufferView 0" + where + "the compressed bytes do not decode");
   }
   {
     MeshoptGrid grid = MeshoptGltf(3);
     extension(grid.g, 0)["count"] = 10;  // 10 x 12 bytes in a view of 9 x 12
-    ExpectThrowsWith(grid.g.Write(dir, "count"), "bufferView 0" + where + "10 elements of 12 bytes do not fit the view's 108 bytes");
+    ExpectLoadFails(grid.g.Write(dir, "count"), "bufferView 0" + where + "10 elements of 12 bytes do not fit the view's 108 bytes");
   }
   {
     MeshoptGrid grid = MeshoptGltf(3);
     extension(grid.g, 1)["filter"] = "QUATERNION";
-    ExpectThrowsWith(grid.g.Write(dir, "filter"), "bufferView 1" + where + "QUATERNION needs a byteStride of 8");
+    ExpectLoadFails(grid.g.Write(dir, "filter"), "bufferView 1" + where + "QUATERNION needs a byteStride of 8");
   }
   {
     MeshoptGrid grid = MeshoptGltf(3);
     grid.g.extra_buffers[0]["byteLength"] = 1u << 30;
     GltfLoadOptions small;
     small.max_accessor_count = 1000;
-    ExpectThrowsWithOptions(grid.g.Write(dir, "huge"), small, "exceed the limit of 16000 decoded bytes");
+    ExpectLoadFails(grid.g.Write(dir, "huge"), small, "exceed the limit of 16000 decoded bytes");
   }
 }
 
 // Without extensionsRequired the fallback buffer may hold the data itself: it is read as it is.
 TEST(GltfLoader, MeshoptViewsOverABufferWithItsDataReadThatData) {
-  const auto dir = TempDir();
+  const TempDir dir;
   MeshoptGrid grid = MeshoptGltf(3);
   std::vector<uint8_t> raw(grid.g.extra_buffers[0]["byteLength"].get<size_t>(), 0);
   std::memcpy(raw.data(), grid.xyz.data(), grid.xyz.size() * sizeof(float));

@@ -4,24 +4,23 @@
 #include <stdexcept>
 #include <string>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "gltf/gltf_loader.h"
 #include "gltf/scene_builder.h"
 #include "labels/cityscapes.h"
+#include "testing/expect_error.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
 
 uint8_t Id(const char* name) { return FindClassByName(name)->id; }
 
-std::string ErrorOf(const std::string& text) {
-  try {
-    LabelRules::FromJsonText(text, "rules.json");
-  } catch (const std::runtime_error& e) {
-    return e.what();
-  }
-  return "";
+// A call that reads `text` as rules.json.
+auto Parsing(const std::string& text) {
+  return [text] { LabelRules::FromJsonText(text, "rules.json"); };
 }
 
 TEST(Glob, Wildcards) {
@@ -81,26 +80,21 @@ TEST(LabelRules, ShippedRulesFileReadsAndClassifies) {
 }
 
 TEST(LabelRules, ErrorsNameFileAndRule) {
-  EXPECT_NE(ErrorOf(R"({"rules": [{"match": "node", "glob": "a", "class": "car"},
-                                   {"match": "node", "glob": "b", "class": "cars"}]})")
-                .find("rules.json: rules[1]: unknown class 'cars'"),
-            std::string::npos);
-  EXPECT_NE(ErrorOf(R"({"rules": [{"match": "mesh", "regex": "(unclosed", "class": "car"}]})").find("rules.json: rules[0]: bad regex '(unclosed'"),
-            std::string::npos);
-  EXPECT_NE(ErrorOf(R"({"rules": [{"match": "node", "glob": "a", "class": "car"},)").find("rules.json: invalid JSON"), std::string::npos);
-  EXPECT_NE(ErrorOf(R"({"rules": [{"match": "scene", "glob": "a", "class": "car"}]})").find("rules[0]: 'match' is 'scene'"),
-            std::string::npos);
-  EXPECT_NE(ErrorOf(R"({"rules": [{"match": "node", "glob": "a", "regex": "a", "class": "car"}]})").find("exactly one of"),
-            std::string::npos);
-  EXPECT_NE(ErrorOf(R"({"rules": [{"match": "node", "glob": "a", "class": "car", "clas": "x"}]})").find("unknown field 'clas'"),
-            std::string::npos);
-  EXPECT_NE(ErrorOf(R"([1, 2])").find("'rules' array"), std::string::npos);
-  try {
-    LabelRules::Read("/nonexistent/rules.json");
-    FAIL();
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("/nonexistent/rules.json"), std::string::npos);
-  }
+  using E = std::runtime_error;
+  EXPECT_THAT(Parsing(R"({"rules": [{"match": "node", "glob": "a", "class": "car"},
+                                    {"match": "node", "glob": "b", "class": "cars"}]})"),
+              ThrowsWith<E>("rules.json: rules[1]: unknown class 'cars'"));
+  EXPECT_THAT(Parsing(R"({"rules": [{"match": "mesh", "regex": "(unclosed", "class": "car"}]})"),
+              ThrowsWith<E>("rules.json: rules[0]: bad regex '(unclosed'"));
+  EXPECT_THAT(Parsing(R"({"rules": [{"match": "node", "glob": "a", "class": "car"},)"), ThrowsWith<E>("rules.json: invalid JSON"));
+  EXPECT_THAT(Parsing(R"({"rules": [{"match": "scene", "glob": "a", "class": "car"}]})"),
+              ThrowsWith<E>("rules[0]: 'match' is 'scene'"));
+  EXPECT_THAT(Parsing(R"({"rules": [{"match": "node", "glob": "a", "regex": "a", "class": "car"}]})"),
+              ThrowsWith<E>("exactly one of"));
+  EXPECT_THAT(Parsing(R"({"rules": [{"match": "node", "glob": "a", "class": "car", "clas": "x"}]})"),
+              ThrowsWith<E>("unknown field 'clas'"));
+  EXPECT_THAT(Parsing(R"([1, 2])"), ThrowsWith<E>("'rules' array"));
+  EXPECT_THAT([] { LabelRules::Read("/nonexistent/rules.json"); }, ThrowsWith<E>("/nonexistent/rules.json"));
 }
 
 MeshData Triangle() {
@@ -118,8 +112,7 @@ TEST(LabelRules, LoaderUsesRulesOnlyWithoutExtras) {
   b.AddNode("Car_2", "person", Triangle(), paint);  // extras win over rules
   b.AddNode("ground", "", Triangle(), asphalt);
   b.AddNode("mystery", "", Triangle(), paint);
-  const auto dir = std::filesystem::temp_directory_path() / "rigsim_label_rules_test";
-  std::filesystem::create_directories(dir);
+  const TempDir dir;
   b.WriteGlb(dir / "foreign.glb");
   const LabelRules rules = LabelRules::FromJsonText(R"({"rules": [
       {"match": "node", "glob": "Car*", "class": "car"},

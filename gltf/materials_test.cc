@@ -12,9 +12,9 @@ namespace rigsim::gltf_test {
 namespace {
 
 TEST(GltfLoader, UnlitMaterialsAreMarked) {
-  const auto dir = TempDir();
-  TestGltf g;
-  const int pos = g.Positions(kQuad);
+  const TempDir dir;
+  GltfBuilder g;
+  const int pos = g.Positions(kUnitQuad);
   g.doc["extensionsUsed"] = {"KHR_materials_unlit"};
   g.doc["extensionsRequired"] = {"KHR_materials_unlit"};  // honoured, so not refused
   g.doc["materials"] = json::array({{{"name", "lit"}},
@@ -32,8 +32,8 @@ TEST(GltfLoader, UnlitMaterialsAreMarked) {
 // emissiveFactor times KHR_materials_emissive_strength, and an emissive texture sampled through its
 // own texCoord and KHR_texture_transform, baked apart from the base colour's coordinates.
 TEST(GltfLoader, EmissionIsReadWithItsStrengthAndItsOwnTexcoords) {
-  const auto dir = TempDir();
-  TestGltf g;
+  const TempDir dir;
+  GltfBuilder g;
   const auto [pos, uv0, uv1] = g.QuadWithTwoTexcoordSets();
   g.doc["extensionsUsed"] = {"KHR_materials_emissive_strength", "KHR_texture_transform"};
   g.doc["extensionsRequired"] = {"KHR_materials_emissive_strength"};  // honoured, so not refused
@@ -65,15 +65,15 @@ TEST(GltfLoader, EmissionIsReadWithItsStrengthAndItsOwnTexcoords) {
   EXPECT_FALSE(HasWarning(s, "TEXCOORD_1")) << "the emissive texture samples it";
 
   g.doc["materials"][0]["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"] = -1;
-  ExpectThrowsWith(g.Write(dir, "negative_strength"), "material 0 'sign': KHR_materials_emissive_strength: emissiveStrength must be");
+  ExpectLoadFails(g.Write(dir, "negative_strength"), "material 0 'sign': KHR_materials_emissive_strength: emissiveStrength must be");
   g.doc["materials"][0]["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"] = 1;
   g.doc["materials"][0]["emissiveFactor"] = {0.5, -0.25, 0};
-  ExpectThrowsWith(g.Write(dir, "negative_factor"), "material 0 'sign': emissiveFactor must be finite and >= 0");
+  ExpectLoadFails(g.Write(dir, "negative_factor"), "material 0 'sign': emissiveFactor must be finite and >= 0");
 }
 
 // The two-texcoord quad on one node, with the tiny texture and `material` as its only material.
-TestGltf QuadWithMaterial(const json& material) {
-  TestGltf g;
+GltfBuilder QuadWithMaterial(const json& material) {
+  GltfBuilder g;
   const auto [pos, uv0, uv1] = g.QuadWithTwoTexcoordSets();
   g.TinyTexture();
   g.doc["materials"] = json::array({material});
@@ -84,8 +84,8 @@ TestGltf QuadWithMaterial(const json& material) {
 
 // normalTexture: its scale, and its own texCoord baked into SceneMesh::normal_texcoords.
 TEST(GltfLoader, NormalTextureIsReadWithItsScaleAndTexcoords) {
-  const auto dir = TempDir();
-  TestGltf g = QuadWithMaterial({{"name", "bricks"}, {"normalTexture", {{"index", 0}, {"texCoord", 1}, {"scale", 0.5}}}});
+  const TempDir dir;
+  GltfBuilder g = QuadWithMaterial({{"name", "bricks"}, {"normalTexture", {{"index", 0}, {"texCoord", 1}, {"scale", 0.5}}}});
   const Scene s = LoadGltf(g.Write(dir, "normal_map"));
   ASSERT_EQ(s.materials.size(), 1u);
   EXPECT_EQ(s.materials[0].normal_texture, 0);
@@ -100,8 +100,8 @@ TEST(GltfLoader, NormalTextureIsReadWithItsScaleAndTexcoords) {
 // occlusionTexture: its strength, and its own texCoord baked into SceneMesh::occlusion_texcoords;
 // a strength outside glTF's [0, 1] is refused.
 TEST(GltfLoader, OcclusionTextureIsReadWithItsStrengthAndTexcoords) {
-  const auto dir = TempDir();
-  TestGltf g = QuadWithMaterial({{"name", "baked"}, {"occlusionTexture", {{"index", 0}, {"texCoord", 1}, {"strength", 0.25}}}});
+  const TempDir dir;
+  GltfBuilder g = QuadWithMaterial({{"name", "baked"}, {"occlusionTexture", {{"index", 0}, {"texCoord", 1}, {"strength", 0.25}}}});
   const Scene s = LoadGltf(g.Write(dir, "occlusion"));
   ASSERT_EQ(s.materials.size(), 1u);
   EXPECT_EQ(s.materials[0].occlusion_texture, 0);
@@ -112,15 +112,15 @@ TEST(GltfLoader, OcclusionTextureIsReadWithItsStrengthAndTexcoords) {
   EXPECT_FALSE(HasWarning(s, "occlusion"));
   EXPECT_FALSE(HasWarning(s, "TEXCOORD_1"));
   g.doc["materials"][0]["occlusionTexture"]["strength"] = 1.5;
-  ExpectThrowsWith(g.Write(dir, "strong"), "material 0 'baked' occlusionTexture: strength must be in [0, 1], got 1.5");
+  ExpectLoadFails(g.Write(dir, "strong"), "material 0 'baked' occlusionTexture: strength must be in [0, 1], got 1.5");
 }
 
 // KHR_texture_transform: uv' = offset + R(rotation) * (scale * uv), with the rotation
 // counter-clockwise in glTF's v-down UV space: at 90 deg (1, 0) -> (0, -1), as the Khronos sample
 // viewer and the TextureTransformTest model have it (see ParseTextureTransform).
 TEST(GltfLoader, TextureTransformIsBakedIntoTexcoords) {
-  const auto dir = TempDir();
-  TestGltf g;
+  const TempDir dir;
+  GltfBuilder g;
   const auto [pos, uv0, uv1] = g.QuadWithTwoTexcoordSets();
   const double half_pi = std::numbers::pi / 2;
   g.doc["extensionsUsed"] = {"KHR_texture_transform"};
@@ -167,10 +167,10 @@ TEST(GltfLoader, TextureTransformIsBakedIntoTexcoords) {
 }
 
 TEST(GltfLoader, MalformedTextureTransformThrowsAndMissingSetWarns) {
-  const auto dir = TempDir();
-  TestGltf g;
-  const int pos = g.Positions(kQuad);
-  const int uv0 = g.Accessor<float>({0, 0, 1, 0, 1, 1, 0, 1}, kFloat, "VEC2", 4);
+  const TempDir dir;
+  GltfBuilder g;
+  const int pos = g.Positions(kUnitQuad);
+  const int uv0 = g.Accessor<float>({0, 0, 1, 0, 1, 1, 0, 1}, kGltfFloat, "VEC2", 4);
   g.doc["images"] = json::array({{{"uri", TinyPngUri()}}});
   g.doc["textures"] = json::array({{{"source", 0}}});
   g.doc["materials"] = json::array({{{"name", "atlas"},
@@ -186,11 +186,11 @@ TEST(GltfLoader, MalformedTextureTransformThrowsAndMissingSetWarns) {
 
   auto& ext = g.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]["KHR_texture_transform"];
   ext = {{"scale", {1}}};
-  ExpectThrowsWith(g.Write(dir, "short_scale"), "material 0 'atlas' baseColorTexture: KHR_texture_transform: scale must be an array of 2 numbers");
+  ExpectLoadFails(g.Write(dir, "short_scale"), "material 0 'atlas' baseColorTexture: KHR_texture_transform: scale must be an array of 2 numbers");
   ext = {{"rotation", "quarter"}};
-  ExpectThrowsWith(g.Write(dir, "text_rotation"), "rotation must be a finite number");
+  ExpectLoadFails(g.Write(dir, "text_rotation"), "rotation must be a finite number");
   ext = {{"texCoord", -1}};
-  ExpectThrowsWith(g.Write(dir, "negative_set"), "texCoord must be a non-negative integer");
+  ExpectLoadFails(g.Write(dir, "negative_set"), "texCoord must be a non-negative integer");
 }
 
 }  // namespace

@@ -7,10 +7,12 @@
 #include <tuple>
 #include <vector>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "gltf/gltf_test_support.h"
 #include "gltf/scene_builder.h"
+#include "testing/expect_error.h"
 
 namespace rigsim::gltf_test {
 namespace {
@@ -19,25 +21,25 @@ namespace {
 // refuses it before rigsim sees the model, in words that name no primitive: the message adds the
 // primitives that use it.
 TEST(GltfLoader, SparseOnlyIndicesAreRefusedNamingThePrimitive) {
-  const auto dir = TempDir();
-  TestGltf g;
-  const int pos = g.Positions(kQuad);
+  const TempDir dir;
+  GltfBuilder g;
+  const int pos = g.Positions(kUnitQuad);
   const int before = int(g.doc["bufferViews"].size());
-  g.Accessor<uint8_t>({0, 1, 2, 3, 4, 5}, kUByte, "SCALAR", 6);  // bufferViews for the sparse data
-  g.Accessor<uint16_t>({0, 1, 2, 0, 2, 3}, kUShort, "SCALAR", 6);
-  g.doc["accessors"].push_back({{"componentType", kUShort}, {"count", 6}, {"type", "SCALAR"},
-                                {"sparse", {{"count", 6}, {"indices", {{"bufferView", before}, {"componentType", kUByte}}},
+  g.Accessor<uint8_t>({0, 1, 2, 3, 4, 5}, kGltfUByte, "SCALAR", 6);  // bufferViews for the sparse data
+  g.Accessor<uint16_t>({0, 1, 2, 0, 2, 3}, kGltfUShort, "SCALAR", 6);
+  g.doc["accessors"].push_back({{"componentType", kGltfUShort}, {"count", 6}, {"type", "SCALAR"},
+                                {"sparse", {{"count", 6}, {"indices", {{"bufferView", before}, {"componentType", kGltfUByte}}},
                                             {"values", {{"bufferView", before + 1}}}}}});
   const int indices = int(g.doc["accessors"].size()) - 1;
   g.Mesh({{"POSITION", pos}}, indices);
   g.doc["meshes"][0]["name"] = "quad";
   g.Node({{"mesh", 0}});
   g.Scene({0});
-  ExpectThrowsWith(g.Write(dir, "sparse_indices"), "accessor[" + std::to_string(indices) + "] invalid bufferView (the indices of mesh 0 'quad' primitive 0: glTF allows");
+  ExpectLoadFails(g.Write(dir, "sparse_indices"), "accessor[" + std::to_string(indices) + "] invalid bufferView (the indices of mesh 0 'quad' primitive 0: glTF allows");
 }
 
 TEST(GltfLoader, TruncatedGlbThrowsWithFileName) {
-  const auto dir = TempDir();
+  const TempDir dir;
   SceneBuilder b;
   MeshData m;
   m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
@@ -48,15 +50,15 @@ TEST(GltfLoader, TruncatedGlbThrowsWithFileName) {
   std::ofstream(good, std::ios::binary).write(reinterpret_cast<const char*>(glb.data()), std::streamsize(glb.size()));
   std::ofstream(bad, std::ios::binary).write(reinterpret_cast<const char*>(glb.data()), std::streamsize(glb.size() - 20));
   EXPECT_EQ(LoadGltf(good).NumTriangles(), 1u);
-  ExpectThrowsWith(bad, "glb");
-  ExpectThrowsWith(dir / "does_not_exist.glb", "cannot open");
+  ExpectLoadFails(bad, "glb");
+  ExpectLoadFails(dir / "does_not_exist.glb", "cannot open");
 }
 
 // glTF 2.0, "Asset": a client refuses a file whose minVersion it does not support (rigsim: 2.0),
 // else one whose major version is not 2; a later 2.x minor version loads.
 TEST(GltfLoader, FilesForAnotherGltfVersionAreRefused) {
-  const auto dir = TempDir();
-  TestGltf g;
+  const TempDir dir;
+  GltfBuilder g;
   g.Node({{"mesh", g.Mesh({{"POSITION", g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0})}})}});
   g.Scene({0});
   for (const auto& [version, min_version, error] :
@@ -69,8 +71,8 @@ TEST(GltfLoader, FilesForAnotherGltfVersionAreRefused) {
     if (*min_version) g.doc["asset"]["minVersion"] = min_version;
     const std::string name = std::string(version) + "_" + min_version;
     if (*error) {
-      ExpectThrowsWith(g.Write(dir, name), error);
-      ExpectThrowsWith(g.WriteGlb(dir, name), error);
+      ExpectLoadFails(g.Write(dir, name), error);
+      ExpectLoadFails(g.WriteGlb(dir, name), error);
     } else {
       EXPECT_EQ(LoadGltf(g.WriteGlb(dir, name)).meshes.size(), 1u) << name;
     }
@@ -81,43 +83,38 @@ TEST(GltfLoader, FilesForAnotherGltfVersionAreRefused) {
 // stumble first on what the extension changes (here an index accessor without a bufferView, which
 // tinygltf refuses).
 TEST(GltfLoader, UnsupportedExtensionsAreNamedWhenTheFileIsRefused) {
-  const auto dir = TempDir();
-  TestGltf g;
+  const TempDir dir;
+  GltfBuilder g;
   const int pos = g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
-  g.doc["accessors"].push_back({{"componentType", kUShort}, {"count", 3}, {"type", "SCALAR"}});  // no bufferView
+  g.doc["accessors"].push_back({{"componentType", kGltfUShort}, {"count", 3}, {"type", "SCALAR"}});  // no bufferView
   g.Mesh({{"POSITION", pos}}, 1);
   g.Node({{"mesh", 0}});
   g.Scene({0});
   g.doc["extensionsUsed"] = {"EXT_future_compression"};
   g.doc["extensionsRequired"] = {"EXT_future_compression"};
-  ExpectThrowsWith(g.Write(dir, "future"), "requires extension EXT_future_compression, which rigsim does not support");
-  ExpectThrowsWith(g.WriteGlb(dir, "future"), "requires extension EXT_future_compression, which rigsim does not support");
+  ExpectLoadFails(g.Write(dir, "future"), "requires extension EXT_future_compression, which rigsim does not support");
+  ExpectLoadFails(g.WriteGlb(dir, "future"), "requires extension EXT_future_compression, which rigsim does not support");
   g.doc.erase("extensionsRequired");
-  ExpectThrowsWith(g.Write(dir, "future_used"), "(the file also uses EXT_future_compression, which rigsim does not read)");
+  ExpectLoadFails(g.Write(dir, "future_used"), "(the file also uses EXT_future_compression, which rigsim does not read)");
 }
 
 // A buffer's data URI that does not hold byteLength bytes: the message says so and quotes the
 // URI's start only (tinygltf quotes it whole, megabytes for a real buffer).
 TEST(GltfLoader, ABufferOfTheWrongLengthIsNamedBriefly) {
-  const auto dir = TempDir();
-  TestGltf g;
+  const TempDir dir;
+  GltfBuilder g;
   g.Mesh({{"POSITION", g.Positions(std::vector<float>(3000, 0.0f))}});
   g.Node({{"mesh", 0}});
   g.Scene({0});
-  const auto path = g.Write(dir, "short", /*data_uri=*/true);
+  const auto path = g.WriteEmbedded(dir, "short");
   json doc = json::parse(std::ifstream(path));
   doc["buffers"][0]["byteLength"] = 12004;  // 4 bytes more than the data
   std::ofstream(path) << doc.dump();
-  try {
-    LoadGltf(path);
-    ADD_FAILURE() << "no exception";
-  } catch (const std::runtime_error& e) {
-    const std::string msg = e.what();
-    EXPECT_LT(msg.size(), 400u) << msg;
-    EXPECT_NE(msg.find("data:application/octet-stream;base64,"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("... (16000 characters)"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("does not decode to the buffer's byteLength"), std::string::npos) << msg;
-  }
+  const std::string msg = ErrorMessage<std::runtime_error>([&] { LoadGltf(path); });
+  EXPECT_LT(msg.size(), 400u) << msg;
+  EXPECT_THAT(msg, testing::AllOf(testing::HasSubstr("data:application/octet-stream;base64,"),
+                                  testing::HasSubstr("... (16000 characters)"),
+                                  testing::HasSubstr("does not decode to the buffer's byteLength")));
 }
 
 }  // namespace

@@ -14,14 +14,14 @@ namespace rigsim::gltf_test {
 namespace {
 
 TEST(GltfLoader, TrsEqualsMatrix) {
-  const auto dir = TempDir();
+  const TempDir dir;
   const Eigen::Quaterniond q(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()));
   const Eigen::Vector3d t(1, -2, 3), s(2, 0.5, 1.5);
   Eigen::Affine3d a = Eigen::Translation3d(t) * q * Eigen::Scaling(s);
   std::vector<double> matrix(a.matrix().data(), a.matrix().data() + 16);  // column-major like glTF
 
-  TestGltf trs, mat;
-  for (TestGltf* g : {&trs, &mat}) g->Mesh({{"POSITION", g->Positions(kQuad)}}, g->Accessor<uint8_t>({0, 1, 2, 0, 2, 3}, kUByte, "SCALAR", 6));
+  GltfBuilder trs, mat;
+  for (GltfBuilder* g : {&trs, &mat}) g->Mesh({{"POSITION", g->Positions(kUnitQuad)}}, g->Accessor<uint8_t>({0, 1, 2, 0, 2, 3}, kGltfUByte, "SCALAR", 6));
   trs.Node({{"mesh", 0}, {"translation", {t.x(), t.y(), t.z()}}, {"rotation", {q.x(), q.y(), q.z(), q.w()}}, {"scale", {s.x(), s.y(), s.z()}}});
   mat.Node({{"mesh", 0}, {"matrix", matrix}});
   trs.Scene({0});
@@ -31,7 +31,7 @@ TEST(GltfLoader, TrsEqualsMatrix) {
   ASSERT_EQ(a_scene.meshes.size(), 1u);
   ASSERT_EQ(b_scene.meshes.size(), 1u);
   for (size_t i = 0; i < 4; ++i) {
-    const Eigen::Vector3d expected = a * Eigen::Vector3d(kQuad[3 * i], kQuad[3 * i + 1], kQuad[3 * i + 2]);
+    const Eigen::Vector3d expected = a * Eigen::Vector3d(kUnitQuad[3 * i], kUnitQuad[3 * i + 1], kUnitQuad[3 * i + 2]);
     EXPECT_TRUE(a_scene.meshes[0].positions[i].isApprox(expected.cast<float>(), 1e-5f));
     EXPECT_TRUE(b_scene.meshes[0].positions[i].isApprox(expected.cast<float>(), 1e-5f));
   }
@@ -42,8 +42,8 @@ TEST(GltfLoader, TrsEqualsMatrix) {
 // A non-unit rotation is normalised (exporters round). (Non-finite numbers cannot get this far:
 // the JSON parser refuses 1e999, and the node's world transform is checked.)
 TEST(GltfLoader, InvalidNodeTransformsAreRefusedNamingTheNode) {
-  const auto dir = TempDir();
-  TestGltf g;
+  const TempDir dir;
+  GltfBuilder g;
   g.Node({{"name", "quad"}, {"mesh", g.Mesh({{"POSITION", g.Positions({1, 0, 0, 0, 1, 0, 0, 0, 1})}})}});
   g.Scene({0});
   const json identity15 = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0};
@@ -52,11 +52,11 @@ TEST(GltfLoader, InvalidNodeTransformsAreRefusedNamingTheNode) {
         std::tuple{"translation", json{1, 2}, "node 0 'quad': translation has 2 numbers, glTF requires 3"},
         std::tuple{"rotation", json{0, 0, 0, 0}, "node 0 'quad': rotation is a zero quaternion, which is no rotation"},
         std::tuple{"scale", json{1, 1, 1, 1}, "node 0 'quad': scale has 4 numbers, glTF requires 3"}}) {
-    TestGltf bad = g;
+    GltfBuilder bad = g;
     bad.doc["nodes"][0][property] = value;
-    ExpectThrowsWith(bad.Write(dir, property), error);
+    ExpectLoadFails(bad.Write(dir, property), error);
   }
-  TestGltf turned = g;  // 90 degrees about +y, at twice unit length
+  GltfBuilder turned = g;  // 90 degrees about +y, at twice unit length
   turned.doc["nodes"][0]["rotation"] = {0, std::sqrt(2.0), 0, std::sqrt(2.0)};
   const Scene s = LoadGltf(turned.Write(dir, "turned"));
   ASSERT_EQ(s.meshes.size(), 1u);
@@ -64,8 +64,8 @@ TEST(GltfLoader, InvalidNodeTransformsAreRefusedNamingTheNode) {
 }
 
 TEST(GltfLoader, NestedTransformsAccumulate) {
-  const auto dir = TempDir();
-  TestGltf g;
+  const TempDir dir;
+  GltfBuilder g;
   g.Mesh({{"POSITION", g.Positions({1, 0, 0, 0, 1, 0, 0, 0, 1})}});
   // root translates by (10, 0, 0); child rotates 90 deg about +y; grandchild scales by 2 and has the mesh.
   const double h = std::sqrt(0.5);
@@ -73,7 +73,7 @@ TEST(GltfLoader, NestedTransformsAccumulate) {
   g.Node({{"rotation", {0, h, 0, h}}, {"children", {2}}});
   g.Node({{"scale", {2, 2, 2}}, {"mesh", 0}});
   g.Scene({0});
-  const Scene s = LoadGltf(g.Write(dir, "nested", /*data_uri=*/true));
+  const Scene s = LoadGltf(g.WriteEmbedded(dir, "nested"));
   ASSERT_EQ(s.meshes.size(), 1u);
   // R_y(90) maps x -> -z, z -> x.
   EXPECT_TRUE(s.meshes[0].positions[0].isApprox(Eigen::Vector3f(10, 0, -2), 1e-5f));
@@ -83,8 +83,8 @@ TEST(GltfLoader, NestedTransformsAccumulate) {
 }
 
 TEST(GltfLoader, InstanceIdsFollowDepthFirstTraversal) {
-  const auto dir = TempDir();
-  TestGltf g;
+  const TempDir dir;
+  GltfBuilder g;
   const int mesh = g.Mesh({{"POSITION", g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0})}});
   g.Node({{"name", "a"}, {"mesh", mesh}, {"children", {2}}});  // 0
   g.Node({{"name", "c"}, {"mesh", mesh}});                     // 1
@@ -102,13 +102,13 @@ TEST(GltfLoader, InstanceIdsFollowDepthFirstTraversal) {
 }
 
 TEST(GltfLoader, RecursiveNodesThrow) {
-  const auto dir = TempDir();
-  TestGltf g;
+  const TempDir dir;
+  GltfBuilder g;
   g.Mesh({{"POSITION", g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0})}});
   g.Node({{"mesh", 0}, {"children", {1}}});
   g.Node({{"children", {0}}});  // cycle back to the root
   g.Scene({0});
-  ExpectThrowsWith(g.Write(dir, "cycle"), "reached twice");
+  ExpectLoadFails(g.Write(dir, "cycle"), "reached twice");
 }
 
 }  // namespace

@@ -15,12 +15,12 @@ namespace rigsim::gltf_test {
 namespace {
 
 TEST(GltfLoader, EveryIndexTypeAndNonIndexedGiveTheSameTriangles) {
-  const auto dir = TempDir();
-  TestGltf g;
-  const int pos = g.Positions(kQuad);
-  g.Mesh({{"POSITION", pos}}, g.Accessor<uint8_t>({0, 1, 2, 0, 2, 3}, kUByte, "SCALAR", 6));
-  g.Mesh({{"POSITION", pos}}, g.Accessor<uint16_t>({0, 1, 2, 0, 2, 3}, kUShort, "SCALAR", 6));
-  g.Mesh({{"POSITION", pos}}, g.Accessor<uint32_t>({0, 1, 2, 0, 2, 3}, kUInt, "SCALAR", 6));
+  const TempDir dir;
+  GltfBuilder g;
+  const int pos = g.Positions(kUnitQuad);
+  g.Mesh({{"POSITION", pos}}, g.Accessor<uint8_t>({0, 1, 2, 0, 2, 3}, kGltfUByte, "SCALAR", 6));
+  g.Mesh({{"POSITION", pos}}, g.Accessor<uint16_t>({0, 1, 2, 0, 2, 3}, kGltfUShort, "SCALAR", 6));
+  g.Mesh({{"POSITION", pos}}, g.Accessor<uint32_t>({0, 1, 2, 0, 2, 3}, kGltfUInt, "SCALAR", 6));
   g.Mesh({{"POSITION", g.Positions({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 0, 0, 1, 1, 0, 0, 1, 0})}});
   for (int i = 0; i < 4; ++i) g.Node({{"mesh", i}});
   g.Scene({0, 1, 2, 3});
@@ -38,11 +38,11 @@ TEST(GltfLoader, EveryIndexTypeAndNonIndexedGiveTheSameTriangles) {
 }
 
 TEST(GltfLoader, StripsAndFansBecomeTriangles) {
-  const auto dir = TempDir();
-  TestGltf g;
+  const TempDir dir;
+  GltfBuilder g;
   // A strip over 5 vertices zig-zagging along x in the z = 0 plane: 3 triangles, all facing +z.
   const int strip_pos = g.Positions({0, 1, 0, 1, 1, 0, 0, 0, 0, 1, 0, 0, 2, 1, 0});
-  g.Mesh({{"POSITION", strip_pos}}, g.Accessor<uint16_t>({0, 2, 1, 3, 4}, kUShort, "SCALAR", 5), /*mode=*/5);
+  g.Mesh({{"POSITION", strip_pos}}, g.Accessor<uint16_t>({0, 2, 1, 3, 4}, kGltfUShort, "SCALAR", 5), /*mode=*/5);
   // A fan around the origin over 5 vertices: 3 triangles facing +z.
   const int fan_pos = g.Positions({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, -1, 1, 0});
   g.Mesh({{"POSITION", fan_pos}}, -1, /*mode=*/6);
@@ -61,11 +61,11 @@ TEST(GltfLoader, StripsAndFansBecomeTriangles) {
 }
 
 TEST(GltfLoader, MirroringTransformFlipsWindingAndNormalsUseInverseTranspose) {
-  const auto dir = TempDir();
-  TestGltf g;
+  const TempDir dir;
+  GltfBuilder g;
   const int pos = g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
   const float n = std::sqrt(0.5f);
-  const int nrm = g.Accessor<float>({n, 0, n, n, 0, n, n, 0, n}, kFloat, "VEC3", 3);
+  const int nrm = g.Accessor<float>({n, 0, n, n, 0, n, n, 0, n}, kGltfFloat, "VEC3", 3);
   g.Mesh({{"POSITION", pos}, {"NORMAL", nrm}});
   g.Node({{"mesh", 0}, {"scale", {-1, 1, 1}}});  // mirror
   g.Node({{"mesh", 0}, {"scale", {4, 1, 1}}});   // non-uniform
@@ -81,8 +81,8 @@ TEST(GltfLoader, MirroringTransformFlipsWindingAndNormalsUseInverseTranspose) {
 }
 
 TEST(GltfLoader, LinesAndUnsupportedFeaturesAreWarnings) {
-  const auto dir = TempDir();
-  TestGltf g;
+  const TempDir dir;
+  GltfBuilder g;
   const int pos = g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
   g.Mesh({{"POSITION", pos}}, -1, /*LINES=*/1);
   g.doc["meshes"][0]["name"] = "wires";
@@ -105,12 +105,12 @@ TEST(GltfLoader, LinesAndUnsupportedFeaturesAreWarnings) {
 }
 
 TEST(GltfLoader, VertexColoursAreReadAsLinearRgba) {
-  const auto dir = TempDir();
-  TestGltf g;
+  const TempDir dir;
+  GltfBuilder g;
   const int pos = g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
   // VEC3 float (alpha 1) on one mesh, VEC4 normalized unsigned byte on the other.
-  const int rgb = g.Accessor(std::vector<float>{1, 0, 0, 0, 0.5f, 0, 0, 0, 2}, kFloat, "VEC3", 3);
-  const int rgba = g.Accessor(std::vector<uint8_t>{255, 0, 0, 255, 0, 51, 0, 102, 0, 0, 255, 0}, kUByte, "VEC4", 3, true);
+  const int rgb = g.Accessor(std::vector<float>{1, 0, 0, 0, 0.5f, 0, 0, 0, 2}, kGltfFloat, "VEC3", 3);
+  const int rgba = g.Accessor(std::vector<uint8_t>{255, 0, 0, 255, 0, 51, 0, 102, 0, 0, 255, 0}, kGltfUByte, "VEC4", 3, true);
   g.Mesh({{"POSITION", pos}, {"COLOR_0", rgb}});
   g.Mesh({{"POSITION", pos}, {"COLOR_0", rgba}});
   g.Node({{"mesh", 0}});
@@ -127,28 +127,28 @@ TEST(GltfLoader, VertexColoursAreReadAsLinearRgba) {
   EXPECT_TRUE(s.meshes[1].colors[2].isApprox(Eigen::Vector4f(0, 0, 1, 0)));
   EXPECT_FALSE(HasWarning(s, "COLOR_0"));
 
-  TestGltf bad;
+  GltfBuilder bad;
   const int bad_pos = bad.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
-  const int not_normalized = bad.Accessor(std::vector<uint8_t>{255, 0, 0, 0, 255, 0, 0, 0, 255, 0, 0, 0}, kUByte, "VEC3", 3);
-  const int too_few = bad.Accessor(std::vector<float>{1, 1, 1, 1, 1, 1}, kFloat, "VEC3", 2);
-  const int scalar = bad.Accessor(std::vector<float>{1, 1, 1}, kFloat, "SCALAR", 3);
+  const int not_normalized = bad.Accessor(std::vector<uint8_t>{255, 0, 0, 0, 255, 0, 0, 0, 255, 0, 0, 0}, kGltfUByte, "VEC3", 3);
+  const int too_few = bad.Accessor(std::vector<float>{1, 1, 1, 1, 1, 1}, kGltfFloat, "VEC3", 2);
+  const int scalar = bad.Accessor(std::vector<float>{1, 1, 1}, kGltfFloat, "SCALAR", 3);
   bad.Node({{"mesh", bad.Mesh({{"POSITION", bad_pos}, {"COLOR_0", not_normalized}})}});
   bad.Scene({0});
-  ExpectThrowsWith(bad.Write(dir, "not_normalized"),
+  ExpectLoadFails(bad.Write(dir, "not_normalized"),
                    "COLOR_0): componentType must be FLOAT, or normalized UNSIGNED_BYTE or UNSIGNED_SHORT");
   bad.doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = too_few;
-  ExpectThrowsWith(bad.Write(dir, "too_few"), "COLOR_0): count differs from POSITION");
+  ExpectLoadFails(bad.Write(dir, "too_few"), "COLOR_0): count differs from POSITION");
   bad.doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = scalar;
-  ExpectThrowsWith(bad.Write(dir, "scalar"), "COLOR_0): type must be VEC3 or VEC4");
+  ExpectLoadFails(bad.Write(dir, "scalar"), "COLOR_0): type must be VEC3 or VEC4");
 }
 
 TEST(GltfLoader, NonFiniteVertexThrows) {
-  const auto dir = TempDir();
-  TestGltf g;
+  const TempDir dir;
+  GltfBuilder g;
   g.Mesh({{"POSITION", g.Positions({0, 0, 0, std::numeric_limits<float>::quiet_NaN(), 0, 0, 0, 1, 0})}});
   g.Node({{"mesh", 0}});
   g.Scene({0});
-  ExpectThrowsWith(g.Write(dir, "nan"), "vertex 1 is not finite");
+  ExpectLoadFails(g.Write(dir, "nan"), "vertex 1 is not finite");
 }
 
 }  // namespace

@@ -7,15 +7,10 @@
 
 #include "gltf/gltf_loader.h"
 #include "labels/cityscapes.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
-
-std::filesystem::path TempDir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("rigsim_scene_builder_test_" + name);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
 
 MeshData Triangle() {
   MeshData m;
@@ -45,7 +40,8 @@ TEST(SceneBuilder, RoundTripThroughLoader) {
   parts.push_back({Triangle(), -1});
   b.AddNode("two_parts", "", std::move(parts));
 
-  const auto path = TempDir("roundtrip") / "scene.glb";
+  const TempDir dir;
+  const auto path = dir / "scene.glb";
   b.WriteGlb(path);
   const Scene s = LoadGltf(path);
   ASSERT_EQ(s.meshes.size(), 4u);

@@ -3,17 +3,20 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <numbers>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "gltf/gltf_loader.h"
+#include "testing/expect_error.h"
+#include "testing/gltf_builder.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
@@ -21,17 +24,9 @@ namespace {
 using nlohmann::json;
 namespace fs = std::filesystem;
 
-fs::path TempDir() {
-  const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-  const auto dir = fs::temp_directory_path() / "rigsim_scene_cameras_test" / info->name();
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
 fs::path WriteGltf(const fs::path& dir, const std::string& name, const json& doc) {
   const fs::path path = dir / (name + ".gltf");
-  std::ofstream(path) << doc.dump(1);
+  WriteFile(path, doc.dump(1));
   return path;
 }
 
@@ -56,34 +51,17 @@ void ExpectPoseNear(const Rigid3d& actual, const Rigid3d& expected, const std::s
       << what << ": " << actual.translation.transpose() << " expected " << expected.translation.transpose();
 }
 
-// Two perspective cameras and an orthographic one:
-//  - node 0 "front": at (1, 2, 3), turned +90 deg about +Y, so glTF's -Z view axis points along
-//    world -X: OpenCV forward = -X, down = -Y, right = -Z.
-//  - node 2 "back": child of node 1 (translation (0, 0, -10), 180 deg about +Y, scale 2) at local
-//    (2, 0, 0): centre (-4, 0, -10), looking along +Z: forward = +Z, down = -Y, right = -X. The file
-//    gives aspectRatio 2.
+// GltfCamerasDocument (testing/gltf_builder.h), whose cameras the loader must place so:
+//  - node 0 "front": glTF's -Z view axis points along world -X: OpenCV forward = -X, down = -Y,
+//    right = -Z.
+//  - node 2 "back": centre (-4, 0, -10), looking along +Z: forward = +Z, down = -Y, right = -X.
 //  - node 3: orthographic.
-// The scene lists node 1 before node 0, so traversal meets "back" first; file order still makes
-// "front" the reference.
-json TwoCameraDoc() {
-  const double h = std::sqrt(0.5);
-  return {{"asset", {{"version", "2.0"}}},
-          {"cameras", {Perspective(std::numbers::pi / 3), Perspective(std::numbers::pi / 3, 2.0),
-                       {{"type", "orthographic"}, {"name", "plan"}, {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0.1}, {"zfar", 100}}}}}},
-          {"nodes",
-           {{{"name", "front"}, {"camera", 0}, {"translation", {1, 2, 3}}, {"rotation", {0, h, 0, h}}},
-            {{"name", "mount"}, {"translation", {0, 0, -10}}, {"rotation", {0, 1, 0, 0}}, {"scale", {2, 2, 2}}, {"children", {2}}},
-            {{"name", "back"}, {"camera", 1}, {"translation", {2, 0, 0}}},
-            {{"name", "top"}, {"camera", 2}, {"translation", {0, 50, 0}}}}},
-          {"scenes", {{{"nodes", {1, 0, 3}}}}},
-          {"scene", 0}};
-}
-
+// Traversal meets "back" first; file order still makes "front" the reference.
 const Rigid3d kFrontFromWorld = CamFromWorld({0, 0, -1}, {0, -1, 0}, {-1, 0, 0}, {1, 2, 3});
 const Rigid3d kBackFromWorld = CamFromWorld({-1, 0, 0}, {0, -1, 0}, {0, 0, 1}, {-4, 0, -10});
 
 TEST(SceneCameras, LoaderReadsCamerasWithParentTransformsInFileOrder) {
-  const Scene scene = LoadGltf(WriteGltf(TempDir(), "two", TwoCameraDoc()));
+  const Scene scene = LoadGltf(WriteGltf(TempDir(), "two", GltfCamerasDocument()));
   ASSERT_EQ(scene.cameras.size(), 3u);
   EXPECT_EQ(scene.cameras[0].name, "front");
   EXPECT_EQ(scene.cameras[0].node, 0);
@@ -99,7 +77,7 @@ TEST(SceneCameras, LoaderReadsCamerasWithParentTransformsInFileOrder) {
 }
 
 TEST(SceneCameras, RigIsRelativeToTheFirstCameraAndReproducesTheWorldPoses) {
-  const Scene scene = LoadGltf(WriteGltf(TempDir(), "two", TwoCameraDoc()));
+  const Scene scene = LoadGltf(WriteGltf(TempDir(), "two", GltfCamerasDocument()));
   const SceneCameraRig r = RigFromSceneCameras(scene, 640, 480);
   ASSERT_EQ(r.rig.cameras.size(), 2u);
   EXPECT_EQ(r.rig.cameras[0].name, "front");
@@ -139,7 +117,7 @@ TEST(SceneCameras, RigIsRelativeToTheFirstCameraAndReproducesTheWorldPoses) {
 }
 
 TEST(SceneCameras, ViewCentreLandsAtThePrincipalPointAndGltfUpIsImageUp) {
-  const Scene scene = LoadGltf(WriteGltf(TempDir(), "two", TwoCameraDoc()));
+  const Scene scene = LoadGltf(WriteGltf(TempDir(), "two", GltfCamerasDocument()));
   const SceneCameraRig r = RigFromSceneCameras(scene, 640, 480);
   const Rigid3d rig_from_world = *r.frames.frames[0].rig_from_world;
   // Back's glTF camera frame: centre (-4, 0, -10), glTF x (right) = world -X, glTF y (up) = world +Y,
@@ -163,38 +141,26 @@ TEST(SceneCameras, ViewCentreLandsAtThePrincipalPointAndGltfUpIsImageUp) {
 }
 
 TEST(SceneCameras, NoPerspectiveCameraIsAnErrorNamingTheFile) {
-  const auto dir = TempDir();
-  json doc = TwoCameraDoc();
+  const TempDir dir;
+  json doc = GltfCamerasDocument();
   doc.erase("cameras");
   for (json& n : doc["nodes"]) n.erase("camera");
   const fs::path none = WriteGltf(dir, "no_cameras", doc);
-  try {
-    RigFromSceneCameras(LoadGltf(none), 640, 480);
-    ADD_FAILURE() << "no exception";
-  } catch (const std::runtime_error& e) {
-    const std::string msg = e.what();
-    EXPECT_EQ(msg.rfind(none.string(), 0), 0u) << msg;
-    EXPECT_NE(msg.find("no perspective camera"), std::string::npos) << msg;
-  }
+  EXPECT_THAT([&] { RigFromSceneCameras(LoadGltf(none), 640, 480); },
+              ThrowsNaming<std::runtime_error>(none, "no perspective camera"));
   // Only an orthographic camera: the message names it.
-  doc = TwoCameraDoc();
+  doc = GltfCamerasDocument();
   doc["nodes"][0].erase("camera");
   doc["nodes"][2].erase("camera");
   const fs::path ortho = WriteGltf(dir, "ortho", doc);
-  try {
-    RigFromSceneCameras(LoadGltf(ortho), 640, 480);
-    ADD_FAILURE() << "no exception";
-  } catch (const std::runtime_error& e) {
-    const std::string msg = e.what();
-    EXPECT_EQ(msg.rfind(ortho.string(), 0), 0u) << msg;
-    EXPECT_NE(msg.find("orthographic cameras cannot be rig cameras: 'top'"), std::string::npos) << msg;
-  }
-  EXPECT_THROW(RigFromSceneCameras(LoadGltf(WriteGltf(dir, "two", TwoCameraDoc())), 8, 480), std::invalid_argument);
+  EXPECT_THAT([&] { RigFromSceneCameras(LoadGltf(ortho), 640, 480); },
+              ThrowsNaming<std::runtime_error>(ortho, "orthographic cameras cannot be rig cameras: 'top'"));
+  EXPECT_THROW(RigFromSceneCameras(LoadGltf(WriteGltf(dir, "two", GltfCamerasDocument())), 8, 480), std::invalid_argument);
 }
 
 TEST(SceneCameras, BadCamerasAreSkippedWithWarningsAndNamesAreMadeUsable) {
-  const auto dir = TempDir();
-  json doc = TwoCameraDoc();
+  const TempDir dir;
+  json doc = GltfCamerasDocument();
   doc["cameras"][1]["perspective"]["yfov"] = 4.0;  // > pi
   doc["nodes"][0]["name"] = "a/b";
   doc["nodes"].push_back({{"name", "a/b"}, {"camera", 0}, {"scale", {1, -1, 1}}});  // mirrored
@@ -217,7 +183,7 @@ TEST(SceneCameras, BadCamerasAreSkippedWithWarningsAndNamesAreMadeUsable) {
 // Names become folder names: a blank one is replaced like an empty one, and names that differ only
 // in letter case (one folder on macOS and Windows) are made unique like repeated ones.
 TEST(SceneCameras, BlankNamesAndNamesDifferingInCaseAreMadeUsable) {
-  const auto dir = TempDir();
+  const TempDir dir;
   json doc = {{"asset", {{"version", "2.0"}}}, {"cameras", {Perspective(1.0)}}, {"nodes", json::array()}};
   for (const char* name : {" \t", "Cam", "cam", "", "CAMERA0"}) {
     doc["nodes"].push_back({{"name", name}, {"camera", 0}, {"translation", {double(doc["nodes"].size()), 0, 0}}});

@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "calibrator/evaluation.h"
 #include "calibrator/match_image.h"
 #include "dataset/image_io.h"
 #include "exports/colmap.h"
@@ -89,11 +90,33 @@ Json WriteExports(const RigCalibrationResult& r, const CalibrationInputs& inputs
           {"notes", notes_json}};
 }
 
+// Per inlier of a sample, whether the ground truth calls it right (1) or wrong (0), by the match
+// precision's own test (calibrator/evaluation.h CheckMatches); empty without the truth or depth.
+std::vector<signed char> SampleVerdicts(const PairInlierSample& s, const CalibrationInputs& inputs,
+                                        const std::string& frame, const MatchPrecisionOptions& precision) {
+  if (!inputs.truth) return {};
+  const DatasetLayout layout(inputs.dataset_dir);
+  const fs::path depth_a = layout.Depth(s.cam_a, frame), depth_b = layout.Depth(s.cam_b, frame);
+  if (!fs::exists(depth_a) || !fs::exists(depth_b)) return {};
+  const Rig& truth = *inputs.truth;
+  const RigCamera& a = truth.cameras.at(truth.FindCamera(s.cam_a));
+  const RigCamera& b = truth.cameras.at(truth.FindCamera(s.cam_b));
+  std::vector<Eigen::Vector2d> px_a, px_b;
+  for (const auto& [pa, pb] : s.points) {
+    px_a.push_back(pa);
+    px_b.push_back(pb);
+  }
+  const std::vector<char> ok = CheckMatches(px_a, px_b, a.camera, ReadImageF(depth_a), b.camera, ReadImageF(depth_b),
+                                            *b.cam_from_rig * a.cam_from_rig->Inverse(), precision);
+  return std::vector<signed char>(ok.begin(), ok.end());
+}
+
 // <mode>/matches/<cam_a>-<cam_b>.jpg: each pair's two-view inliers in its best frame, drawn over
-// the two photos, pairs in parallel (decoding two 6-megapixel JPEGs per pair is most of the work).
+// the two photos with the cameras' names, right and wrong by the ground truth when it is known,
+// pairs in parallel (decoding two 6-megapixel JPEGs per pair is most of the work).
 // Returns the files written (relative to `dir`), in the pairs' order.
 std::vector<std::string> WriteMatchImages(const RigCalibrationResult& r, const CalibrationInputs& inputs,
-                                          const fs::path& dir, int num_threads) {
+                                          const fs::path& dir, int num_threads, const MatchPrecisionOptions& precision) {
   const DatasetLayout layout(inputs.dataset_dir);
   const FramesFile& frames = inputs.frames;
   std::vector<std::string> written(r.inlier_samples.size());
@@ -107,7 +130,8 @@ std::vector<std::string> WriteMatchImages(const RigCalibrationResult& r, const C
       const auto path_a = layout.FindImage(s.cam_a, frame), path_b = layout.FindImage(s.cam_b, frame);
       if (!path_a || !path_b) return;
       const std::string name = "matches/" + s.cam_a + "-" + s.cam_b + ".jpg";
-      WriteImage(dir / name, DrawMatches(ReadImageU8(*path_a, 3), ReadImageU8(*path_b, 3), s.points));
+      const MatchAnnotation note{s.cam_a, s.cam_b, SampleVerdicts(s, inputs, frame, precision)};
+      WriteImage(dir / name, DrawMatches(ReadImageU8(*path_a, 3), ReadImageU8(*path_b, 3), s.points, {}, note));
       written[i] = name;
     });
   });
@@ -221,7 +245,8 @@ std::vector<std::string> WriteCalibrationResults(const CalibrationRun& run, cons
                              PairsJson(r, evaluation["label_source"], run.inputs.overlap).dump(2) + "\n");
     Json& outputs = evaluation["methods"][r.semantic_mode]["outputs"];
     outputs = WriteExports(r, run.inputs, mode_dir, &notes);
-    for (const std::string& file : WriteMatchImages(r, run.inputs, mode_dir, run.options.pairwise.num_threads)) {
+    for (const std::string& file : WriteMatchImages(r, run.inputs, mode_dir, run.options.pairwise.num_threads,
+                                                       run.options.pairwise.precision)) {
       outputs["files"].push_back(file);
     }
   }

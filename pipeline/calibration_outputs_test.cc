@@ -1,7 +1,5 @@
 #include "pipeline/calibration_outputs.h"
 
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -9,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "geometry/json_io.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
@@ -164,18 +163,13 @@ TEST(LabelSourceJson, NamesTheNoiseModel) {
 
 class WriteCalibrationResultsTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("rigsim_calibration_outputs_test_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_ / "out");
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
+  void SetUp() override { fs::create_directories(dir_ / "out"); }
+  const TempDir dir_;
 };
 
 TEST_F(WriteCalibrationResultsTest, WritesEveryFileAndReturnsTheNotes) {
   CalibrationRun run;
-  run.inputs.dataset_dir = dir_;  // no images: no match images, and COLMAP names the default .png
+  run.inputs.dataset_dir = dir_.path();  // no images: no match images, and COLMAP names the default .png
   run.inputs.rig = ThreeCameraResult().rig;
   run.inputs.frames = ThreeFrames();
   run.modes = {SemanticMode::kMask};

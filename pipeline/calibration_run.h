@@ -44,7 +44,9 @@ struct CalibrationRun {
 };
 
 // Calibrates the rig of `inputs.dataset_dir` in each of `modes` (at least one); features are
-// detected once and shared. Throws like CalibrateRig (calibrator/rig_calibration.h).
+// detected once and shared. With options.keep_details, each result also keeps what a report
+// shows of every stage (RigCalibrationResult::details, report/); off, the run costs nothing more.
+// Throws like CalibrateRig (calibrator/rig_calibration.h).
 CalibrationRun CalibrateDataset(const CalibrationInputs& inputs, const RigCalibrationOptions& options,
                                 const std::vector<SemanticMode>& modes);
 // ReadCalibrationInputs, then the above.

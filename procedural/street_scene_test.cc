@@ -1,25 +1,20 @@
 #include "procedural/street_scene.h"
 
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <set>
+#include <string>
 
 #include <gtest/gtest.h>
 
 #include "gltf/gltf_loader.h"
 #include "labels/cityscapes.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
 
 // Tests run from the repository root.
 const std::filesystem::path kAsset = "assets/scenes/street.glb";
-
-std::vector<uint8_t> ReadBytes(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
-}
 
 TEST(StreetScene, ShippedAssetLoadsWithEveryClass) {
   ASSERT_TRUE(std::filesystem::exists(kAsset)) << "run from the repository root";
@@ -61,12 +56,11 @@ TEST(StreetScene, SurroundsTheOrigin) {
 }
 
 TEST(StreetScene, ShippedAssetMatchesTheCode) {
-  const auto dir = std::filesystem::temp_directory_path() / "rigsim_street_scene_test";
-  std::filesystem::create_directories(dir);
+  const TempDir dir;
   WriteStreetScene(dir / "street.glb", 1);
-  const std::vector<uint8_t> fresh = ReadBytes(dir / "street.glb");
+  const std::string fresh = ReadFile(dir / "street.glb");
   EXPECT_EQ(fresh.size(), std::filesystem::file_size(kAsset));
-  EXPECT_TRUE(fresh == ReadBytes(kAsset))
+  EXPECT_TRUE(fresh == ReadFile(kAsset))
       << "assets/scenes/street.glb is out of date: regenerate it with rigsim_make_street_scene assets/scenes/street.glb 1";
 }
 

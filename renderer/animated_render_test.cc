@@ -2,8 +2,6 @@
 // (scene/scene_pose.h), and the result does not depend on the number of threads.
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <string>
 #include <vector>
 
@@ -16,6 +14,7 @@
 #include "renderer/renderer.h"
 #include "scene/scene_pose.h"
 #include "scene/test_scenes.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
@@ -54,13 +53,6 @@ TEST(AnimatedRenderTest, MovingBoxRendersWhereItIsAtEachTime) {
   }
 }
 
-std::filesystem::path TempDir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / "rigsim_scene_pose_test" / name;
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir.parent_path());
-  return dir;
-}
-
 RenderJob TwoCameraJob(const Scene& scene, double offset_b) {
   RenderJob job;
   job.scene = &scene;
@@ -75,14 +67,10 @@ RenderJob TwoCameraJob(const Scene& scene, double offset_b) {
   return job;
 }
 
-std::string FileBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 TEST(AnimatedRenderTest, UnsynchronisedCamerasSeeTheBoxInDifferentPlaces) {
   const Scene scene = AnimatedBoxScene();
-  const auto dir = TempDir("unsynchronised");
+  const TempDir scratch;
+  const auto dir = scratch / "unsynchronised";
   RenderDataset(TwoCameraJob(scene, 0.5), dir, true);
   const DatasetLayout layout(dir);
   // Frame 0 at 0.25 s: "early" sees the box at x = -0.5, "late" (0.75 s) at x = +0.5.
@@ -96,31 +84,32 @@ TEST(AnimatedRenderTest, UnsynchronisedCamerasSeeTheBoxInDifferentPlaces) {
   EXPECT_NEAR(InstanceCentroidX(ReadImageU16(layout.Instance("late", "000001")), 5),
               TestCamera().ImgFromCam(Eigen::Vector3d(1, 0, 6))->x(), 1.5);
   // Synchronised cameras with the same pose see the same image.
-  const auto sync_dir = TempDir("synchronised");
+  const auto sync_dir = scratch / "synchronised";
   RenderDataset(TwoCameraJob(scene, 0.0), sync_dir, true);
   const DatasetLayout sync(sync_dir);
-  EXPECT_EQ(FileBytes(sync.Image("early", "000000")), FileBytes(sync.Image("late", "000000")));
+  EXPECT_EQ(ReadFile(sync.Image("early", "000000")), ReadFile(sync.Image("late", "000000")));
 }
 
 TEST(AnimatedRenderTest, AnimatedDatasetIsByteIdenticalWithOneAndTwoThreads) {
   const Scene scene = AnimatedBoxScene();
   RenderJob job = TwoCameraJob(scene, 0.3);
   job.options.num_threads = 1;
-  const auto one = TempDir("threads1");
+  const TempDir scratch;
+  const auto one = scratch / "threads1";
   RenderDataset(job, one, true);
   job.options.num_threads = 2;
-  const auto two = TempDir("threads2");
+  const auto two = scratch / "threads2";
   RenderDataset(job, two, true);
   const DatasetLayout a(one), b(two);
   for (const std::string cam : {"early", "late"}) {
     for (const std::string frame : {"000000", "000001"}) {
-      EXPECT_EQ(FileBytes(a.Image(cam, frame)), FileBytes(b.Image(cam, frame))) << cam << " " << frame;
-      EXPECT_EQ(FileBytes(a.Label(cam, frame)), FileBytes(b.Label(cam, frame))) << cam << " " << frame;
-      EXPECT_EQ(FileBytes(a.Instance(cam, frame)), FileBytes(b.Instance(cam, frame))) << cam << " " << frame;
-      EXPECT_EQ(FileBytes(a.Depth(cam, frame)), FileBytes(b.Depth(cam, frame))) << cam << " " << frame;
+      EXPECT_EQ(ReadFile(a.Image(cam, frame)), ReadFile(b.Image(cam, frame))) << cam << " " << frame;
+      EXPECT_EQ(ReadFile(a.Label(cam, frame)), ReadFile(b.Label(cam, frame))) << cam << " " << frame;
+      EXPECT_EQ(ReadFile(a.Instance(cam, frame)), ReadFile(b.Instance(cam, frame))) << cam << " " << frame;
+      EXPECT_EQ(ReadFile(a.Depth(cam, frame)), ReadFile(b.Depth(cam, frame))) << cam << " " << frame;
     }
   }
-  EXPECT_EQ(FileBytes(a.OverlapJson()), FileBytes(b.OverlapJson()));
+  EXPECT_EQ(ReadFile(a.OverlapJson()), ReadFile(b.OverlapJson()));
 }
 
 }  // namespace

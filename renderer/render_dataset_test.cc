@@ -8,33 +8,17 @@
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-#include <unistd.h>
 
 #include "dataset/image_io.h"
 #include "dataset/label_image.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
 namespace fs = std::filesystem;
 
-// A per-test scratch folder, removed at the end.
-class ScratchDir {
- public:
-  ScratchDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() /
-            ("rigsim_render_dataset_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~ScratchDir() { fs::remove_all(path_); }
-  const fs::path& path() const { return path_; }
-  // Entries of the folder (to check that nothing, not even a staging folder, was left).
-  int NumEntries() const { return int(std::distance(fs::directory_iterator(path_), fs::directory_iterator())); }
-
- private:
-  fs::path path_;
-};
+// Entries of the folder (to check that nothing, not even a staging folder, was left).
+int NumEntries(const fs::path& dir) { return int(std::distance(fs::directory_iterator(dir), fs::directory_iterator())); }
 
 void AddQuad(Scene& scene, const Eigen::Vector3f& p0, const Eigen::Vector3f& p1, const Eigen::Vector3f& p2,
              const Eigen::Vector3f& p3, uint8_t class_id, uint16_t instance_id) {
@@ -82,16 +66,16 @@ RenderJob WallJob(const Scene& scene) {
 }
 
 TEST(RenderDatasetTest, WritesTheWholeLayout) {
-  ScratchDir scratch;
+  const TempDir scratch;
   const Scene scene = WallScene();
   const RenderJob job = WallJob(scene);
-  const fs::path out = scratch.path() / "dataset";
+  const fs::path out = scratch / "dataset";
   std::vector<std::pair<int, int>> calls;
   RenderDataset(job, out, false, [&](int done, int total) { calls.emplace_back(done, total); });
 
   ASSERT_EQ(calls.size(), 6u);
   EXPECT_EQ(calls.back(), std::make_pair(6, 6));
-  EXPECT_EQ(scratch.NumEntries(), 1);  // the dataset, no staging leftovers
+  EXPECT_EQ(NumEntries(scratch), 1);  // the dataset, no staging leftovers
 
   const DatasetLayout layout(out);
   EXPECT_TRUE(fs::exists(layout.RigJson()));
@@ -148,14 +132,14 @@ TEST(RenderDatasetTest, WritesTheWholeLayout) {
 }
 
 TEST(RenderDatasetTest, IncompleteJobWritesNothing) {
-  ScratchDir scratch;
+  const TempDir scratch;
   const Scene scene = WallScene();
-  const fs::path out = scratch.path() / "dataset";
+  const fs::path out = scratch / "dataset";
 
   RenderJob job = WallJob(scene);
   job.rig.cameras[1].cam_from_rig.reset();
   EXPECT_THROW(RenderDataset(job, out, false), std::invalid_argument);
-  EXPECT_EQ(scratch.NumEntries(), 0);
+  EXPECT_EQ(NumEntries(scratch), 0);
 
   job = WallJob(scene);
   job.frames.frames[0].rig_from_world.reset();
@@ -166,40 +150,40 @@ TEST(RenderDatasetTest, IncompleteJobWritesNothing) {
   job = WallJob(scene);
   job.rig.cameras[0].name = "../escape";
   EXPECT_THROW(RenderDataset(job, out, false), std::invalid_argument);
-  EXPECT_EQ(scratch.NumEntries(), 0);
+  EXPECT_EQ(NumEntries(scratch), 0);
 }
 
 TEST(RenderDatasetTest, FailureMidwayLeavesNothing) {
-  ScratchDir scratch;
+  const TempDir scratch;
   const Scene scene = WallScene();
   const RenderJob job = WallJob(scene);
-  const fs::path out = scratch.path() / "dataset";
+  const fs::path out = scratch / "dataset";
   // The callback runs after views have been written to the staging folder.
   auto interrupt = [](int done, int) {
     if (done == 3) throw std::runtime_error("interrupted");
   };
   EXPECT_THROW(RenderDataset(job, out, false, interrupt), std::runtime_error);
-  EXPECT_EQ(scratch.NumEntries(), 0);
+  EXPECT_EQ(NumEntries(scratch), 0);
 }
 
 TEST(RenderDatasetTest, UnwritablePlaceThrowsAndWritesNothing) {
   // A regular file where a parent folder should be: no folder can be made there (even as root,
   // where permission bits would not stop us).
-  ScratchDir scratch;
+  const TempDir scratch;
   const Scene scene = WallScene();
-  const fs::path blocker = scratch.path() / "not_a_folder";
+  const fs::path blocker = scratch / "not_a_folder";
   std::ofstream(blocker) << "x";
   EXPECT_ANY_THROW(RenderDataset(WallJob(scene), blocker / "dataset", false));
-  EXPECT_EQ(scratch.NumEntries(), 1);
+  EXPECT_EQ(NumEntries(scratch), 1);
   EXPECT_TRUE(fs::is_regular_file(blocker));
 }
 
 TEST(RenderDatasetTest, ExistingOutputNeedsForceAndSurvivesAFailure) {
-  ScratchDir scratch;
+  const TempDir scratch;
   const Scene scene = WallScene();
   RenderJob job = WallJob(scene);
   job.frames.frames.resize(1);
-  const fs::path out = scratch.path() / "dataset";
+  const fs::path out = scratch / "dataset";
   fs::create_directories(out);
   std::ofstream(out / "keep.txt") << "previous";
 
@@ -211,24 +195,19 @@ TEST(RenderDatasetTest, ExistingOutputNeedsForceAndSurvivesAFailure) {
   };
   EXPECT_THROW(RenderDataset(job, out, true, interrupt), std::runtime_error);
   EXPECT_TRUE(fs::exists(out / "keep.txt"));  // the previous output is intact
-  EXPECT_EQ(scratch.NumEntries(), 1);
+  EXPECT_EQ(NumEntries(scratch), 1);
 
   RenderDataset(job, out, true);
   EXPECT_FALSE(fs::exists(out / "keep.txt"));
   EXPECT_TRUE(fs::exists(DatasetLayout(out).Depth("cam2", "000000")));
-  EXPECT_EQ(scratch.NumEntries(), 1);
-}
-
-std::string FileBytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  EXPECT_EQ(NumEntries(scratch), 1);
 }
 
 // Photometric variation: off (zero magnitudes, whatever its seed) writes exactly the dataset of a
 // job without it; on, only the RGB images change, the same seed gives the same bytes whatever the
 // thread count, and photometric.json records what each camera drew.
 TEST(RenderDatasetTest, PhotometricVariationChangesOnlyRgbAndIsRecorded) {
-  ScratchDir scratch;
+  const TempDir scratch;
   const Scene scene = WallScene();
   RenderJob plain = WallJob(scene);
   RenderJob off = plain;
@@ -240,7 +219,7 @@ TEST(RenderDatasetTest, PhotometricVariationChangesOnlyRgbAndIsRecorded) {
   RenderJob on_one_thread = on;
   on_one_thread.options.num_threads = 1;
   on.options.num_threads = 2;
-  const fs::path a = scratch.path() / "plain", b = scratch.path() / "off", c = scratch.path() / "on", d = scratch.path() / "on1";
+  const fs::path a = scratch / "plain", b = scratch / "off", c = scratch / "on", d = scratch / "on1";
   RenderDataset(plain, a, false);
   RenderDataset(off, b, false);
   RenderDataset(on, c, false);
@@ -254,17 +233,17 @@ TEST(RenderDatasetTest, PhotometricVariationChangesOnlyRgbAndIsRecorded) {
     for (const Frame& frame : plain.frames.frames) {
       const std::string& n = cam.name;
       const std::string& f = frame.name;
-      EXPECT_EQ(FileBytes(la.Image(n, f)), FileBytes(lb.Image(n, f))) << "off must not change a byte";
-      EXPECT_EQ(FileBytes(lc.Image(n, f)), FileBytes(ld.Image(n, f))) << "same seed, 1 or 2 threads";
-      changed += FileBytes(la.Image(n, f)) != FileBytes(lc.Image(n, f));
+      EXPECT_EQ(ReadFile(la.Image(n, f)), ReadFile(lb.Image(n, f))) << "off must not change a byte";
+      EXPECT_EQ(ReadFile(lc.Image(n, f)), ReadFile(ld.Image(n, f))) << "same seed, 1 or 2 threads";
+      changed += ReadFile(la.Image(n, f)) != ReadFile(lc.Image(n, f));
       // Ground truth stays exact.
       for (const auto& path : {&DatasetLayout::Label, &DatasetLayout::LabelColor, &DatasetLayout::Instance, &DatasetLayout::Depth}) {
-        EXPECT_EQ(FileBytes((la.*path)(n, f)), FileBytes((lc.*path)(n, f))) << (la.*path)(n, f);
+        EXPECT_EQ(ReadFile((la.*path)(n, f)), ReadFile((lc.*path)(n, f))) << (la.*path)(n, f);
       }
     }
   }
   EXPECT_EQ(changed, 6) << "every view, even cam2's sky, gets its camera's exposure and noise";
-  EXPECT_EQ(FileBytes(la.OverlapJson()), FileBytes(lc.OverlapJson()));
+  EXPECT_EQ(ReadFile(la.OverlapJson()), ReadFile(lc.OverlapJson()));
 
   std::ifstream file(lc.PhotometricJson());
   const nlohmann::json j = nlohmann::json::parse(file);
@@ -285,8 +264,8 @@ TEST(RenderDatasetTest, PhotometricVariationChangesOnlyRgbAndIsRecorded) {
   // Bad options are refused before anything is written.
   RenderJob bad = on;
   bad.photometric.vignetting_strength = 1.2;
-  EXPECT_THROW(RenderDataset(bad, scratch.path() / "bad", false), std::invalid_argument);
-  EXPECT_FALSE(fs::exists(scratch.path() / "bad"));
+  EXPECT_THROW(RenderDataset(bad, scratch / "bad", false), std::invalid_argument);
+  EXPECT_FALSE(fs::exists(scratch / "bad"));
 }
 
 }  // namespace

@@ -8,11 +8,13 @@
 #include <string>
 #include <vector>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "labels/cityscapes.h"
 #include "renderer/render_test_scenes.h"
 #include "renderer/renderer.h"
+#include "testing/expect_error.h"
 
 namespace rigsim {
 namespace {
@@ -290,20 +292,10 @@ TEST(RendererTest, OptionsAndSceneAreChecked) {
   scene.meshes[0].indices.push_back(0);
   EXPECT_THROW(Renderer{scene}, std::invalid_argument);
   scene.meshes[0].indices = {0, 1, 7};
-  try {
-    Renderer renderer(scene);
-    FAIL() << "expected an exception";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("broken.glb"), std::string::npos) << e.what();
-  }
+  EXPECT_THAT([&] { Renderer renderer(scene); }, ThrowsWith<std::invalid_argument>("broken.glb"));
   scene.meshes[0].indices = {0, 1, 2};
   scene.meshes[0].colors = {Eigen::Vector4f::Ones()};  // one colour for four vertices
-  try {
-    Renderer renderer(scene);
-    FAIL() << "expected an exception";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("1 vertex colours for 4 positions"), std::string::npos) << e.what();
-  }
+  EXPECT_THAT([&] { Renderer renderer(scene); }, ThrowsWith<std::invalid_argument>("1 vertex colours for 4 positions"));
 }
 
 TEST(RendererTest, EmptySceneIsAllSky) {

@@ -5,7 +5,10 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include "testing/expect_error.h"
 
 namespace rigsim {
 namespace {
@@ -35,12 +38,7 @@ Scene ValidScene() {
 
 // The message ValidateScene throws for `scene`; "" when it accepts the scene.
 std::string ValidationError(const Scene& scene) {
-  try {
-    ValidateScene(scene);
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
+  return ErrorMessage<std::invalid_argument>([&] { ValidateScene(scene); });
 }
 
 TEST(SceneValidationTest, AConsistentSceneIsAccepted) {
@@ -129,12 +127,8 @@ TEST(SceneValidationTest, OtherMeshesAreCheckedAgainstTheScenesMaterials) {
   std::vector<SceneMesh> posed = scene.meshes;
   EXPECT_NO_THROW(ValidateMeshes(scene, posed));
   posed[0].material = 4;
-  try {
-    ValidateMeshes(scene, posed);
-    FAIL() << "expected an exception";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_EQ(std::string(e.what()), "broken.glb: mesh 0 'quad': material index 4 out of range");
-  }
+  EXPECT_THAT([&] { ValidateMeshes(scene, posed); },
+              ThrowsExactly<std::invalid_argument>("broken.glb: mesh 0 'quad': material index 4 out of range"));
 }
 
 }  // namespace

@@ -4,7 +4,10 @@
 #include <vector>
 
 #include <Eigen/Geometry>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include "testing/expect_error.h"
 
 namespace rigsim {
 namespace {
@@ -58,12 +61,8 @@ TEST(Skinning, InconsistentDataThrowNamingTheMesh) {
   EXPECT_THROW(SkinMesh(t.skin, {Eigen::Matrix4d::Identity(), Eigen::Matrix4d::Identity()}, &t.mesh),
                std::invalid_argument);
   TwoJoints u;
-  try {
-    SkinMesh(u.skin, {Eigen::Matrix4d::Identity()}, &u.mesh);  // no transform for node 1
-    ADD_FAILURE() << "no exception";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("skinned mesh 'arm': joint 1 is node 1"), std::string::npos) << e.what();
-  }
+  EXPECT_THAT([&] { SkinMesh(u.skin, {Eigen::Matrix4d::Identity()}, &u.mesh); },  // no transform for node 1
+              ThrowsWith<std::invalid_argument>("skinned mesh 'arm': joint 1 is node 1"));
   TwoJoints v;
   v.mesh.weights.pop_back();
   EXPECT_THROW(SkinMesh(v.skin, {Eigen::Matrix4d::Identity(), Eigen::Matrix4d::Identity()}, &v.mesh),

@@ -17,6 +17,8 @@ packages=(
   nlohmann-json3-dev
   libyaml-cpp-dev                        # sweep configs in YAML (sweep/sweep_config.h)
   gnuplot-nox                            # sweep plots (sweep/sweep_plots.h)
+  libjs-three                            # three.js r111, copied into every teaching report (report/)
+  chromium                               # test only: the report in a real browser (tests/report_browser_test.cc)
   libcli11-dev
   libtbb-dev
   libre2-dev                             # label-rule regexes in linear time (gltf/label_rules.h)

@@ -145,12 +145,21 @@ RigEstimate EstimateOf(const RigCalibrationResult& r, const std::string& method)
 
 // What rigsim's calibration reported about its matches and its time.
 void AddCalibrationMetrics(const RigCalibrationResult& r, Json& m) {
-  int64_t matches = 0, evaluated = 0, correct = 0;
+  int64_t matches = 0, evaluated = 0, correct = 0, cross = 0, cross_correct = 0;
+  bool has_cross = false;
   for (const PairResult& pair : r.pairwise.pairs) {
     matches += pair.two_view.num_matches;
     evaluated += pair.matches_evaluated;
     correct += pair.matches_correct;
+    if (pair.cross_class_matches) {
+      has_cross = true;
+      cross += *pair.cross_class_matches;
+      cross_correct += pair.cross_class_correct;
+    }
   }
+  m["cross_class_matches"] = has_cross ? Json(cross) : Json(nullptr);
+  m["cross_class_wrong"] = has_cross ? Json(cross - cross_correct) : Json(nullptr);
+  m["cross_class_right"] = has_cross ? Json(cross_correct) : Json(nullptr);
   m["matches"] = matches;
   m["match_precision"] = evaluated > 0 ? Json(double(correct) / evaluated) : Json(nullptr);
   m["wrong_matches"] = evaluated > 0 ? Json(evaluated - correct) : Json(nullptr);

@@ -147,7 +147,8 @@ Json CheckParams(const Json& j, const std::string& source, const std::string& wh
   return out;
 }
 
-std::vector<SweepAxis> ParseAxes(const Json& j, const std::string& source, const std::string& where) {
+// `repeats`: a zipped axis may repeat a value (its neighbours tell the points apart).
+std::vector<SweepAxis> ParseAxes(const Json& j, const std::string& source, const std::string& where, bool repeats) {
   if (!j.is_object()) Fail(source, where, "must map parameter names to lists of values");
   std::vector<SweepAxis> axes;
   for (const auto& [k, v] : j.items()) {
@@ -158,7 +159,7 @@ std::vector<SweepAxis> ParseAxes(const Json& j, const std::string& source, const
     std::set<std::string> seen;
     for (size_t i = 0; i < v.size(); ++i) {
       Json value = CheckValue(spec, v[i], source, w + "[" + std::to_string(i) + "]");
-      if (!seen.insert(value.dump()).second) Fail(source, w, "value " + value.dump() + " is listed twice");
+      if (!seen.insert(value.dump()).second && !repeats) Fail(source, w, "value " + value.dump() + " is listed twice");
       axis.values.push_back(std::move(value));
     }
     axes.push_back(std::move(axis));
@@ -179,9 +180,9 @@ SweepStudy ParseStudy(const Json& j, const std::string& source, const std::strin
     } else if (k == "set") {
       study.set = CheckParams(v, source, Join(where, "set"));
     } else if (k == "grid") {
-      study.grid = ParseAxes(v, source, Join(where, "grid"));
+      study.grid = ParseAxes(v, source, Join(where, "grid"), false);
     } else if (k == "zip") {
-      study.zip = ParseAxes(v, source, Join(where, "zip"));
+      study.zip = ParseAxes(v, source, Join(where, "zip"), true);
     } else if (where.rfind("studies", 0) == 0) {
       Fail(source, where + "." + k, "unknown key" + DidYouMean(k, keys) + "; a study has name, set, grid and zip");
     }
@@ -192,6 +193,12 @@ SweepStudy ParseStudy(const Json& j, const std::string& source, const std::strin
                                        " values and '" + study.zip[0].param + "' " +
                                        std::to_string(study.zip[0].values.size()) + ": zipped axes need as many");
     }
+  }
+  std::set<std::string> tuples;
+  for (size_t i = 0; !study.zip.empty() && i < study.zip[0].values.size(); ++i) {
+    Json tuple = Json::array();
+    for (const SweepAxis& axis : study.zip) tuple.push_back(axis.values[i]);
+    if (!tuples.insert(tuple.dump()).second) Fail(source, Join(where, "zip"), "values " + tuple.dump() + " are listed twice");
   }
   std::set<std::string> varied;
   for (const std::string& p : study.VariedParams()) {
@@ -453,11 +460,24 @@ Json SweepConfigToJson(const SweepConfig& config) {
     for (const SweepAxis& a : s.zip) zip[a.param] = a.values;
     studies.push_back({{"name", s.name}, {"set", s.set}, {"grid", grid}, {"zip", zip}});
   }
-  Json methods = Json::array();
+  // The methods as a config names them: rigsim's are every feature type crossed with every mode.
+  Json semantics = Json::array(), features = Json::array(), peers = Json::array();
+  const auto add = [](Json& list, const std::string& v) {
+    if (std::find(list.begin(), list.end(), Json(v)) == list.end()) list.push_back(v);
+  };
   for (const SweepMethod& m : config.methods) {
-    methods.push_back({{"name", m.name}, {"tool", m.tool}, {"semantics", m.semantics}, {"features", m.features}});
+    if (m.tool == "rigsim") {
+      add(semantics, m.semantics);
+      add(features, m.features);
+    } else {
+      add(peers, m.tool);
+    }
   }
-  return {{"name", config.name}, {"base", config.base}, {"seeds", config.seeds}, {"methods", methods}, {"studies", studies}};
+  return {{"name", config.name},
+          {"base", config.base},
+          {"seeds", config.seeds},
+          {"methods", {{"semantics", semantics}, {"features", features}, {"peers", peers}}},
+          {"studies", studies}};
 }
 
 std::string SweepHash(const SweepConfig& config) {

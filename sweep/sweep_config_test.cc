@@ -1,19 +1,18 @@
 #include "sweep/sweep_config.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include "testing/expect_error.h"
 
 namespace rigsim {
 namespace {
 
 using Json = nlohmann::ordered_json;
 
-std::string ErrorOf(const Json& j) {
-  try {
-    ParseSweepConfig(j, "sweep.json");
-  } catch (const std::runtime_error& e) {
-    return e.what();
-  }
-  return "";
+// A call that reads `text` as sweep.json.
+auto Parsing(const std::string& text) {
+  return [j = Json::parse(text)] { ParseSweepConfig(j, "sweep.json"); };
 }
 
 TEST(SweepConfig, GridCrossesAxesZipPairsThemAndSeedsAreInnermost) {
@@ -88,29 +87,59 @@ TEST(SweepConfig, HashesDependOnWhatIsComputedOnly) {
   EXPECT_EQ(StableHash("a"), "af63dc4c8601ec8c");
 }
 
+TEST(SweepConfig, ItsJsonReadsBackAsTheSameSweep) {
+  const SweepConfig c = ParseSweepConfig(Json::parse(R"({
+    "name": "round", "seeds": [4, 2], "base": {"width": 320},
+    "methods": {"semantics": ["mask", "none"], "features": ["orb", "sift"], "peers": ["colmap"]},
+    "studies": [{"name": "a", "set": {"rig": "stereo"}, "grid": {"baseline": [0.2, 0.4]}},
+                {"name": "b", "zip": {"lens": ["pinhole", "fisheye"], "fisheye_fov": [190, 150]}}]})"),
+                                         "round.json");
+  const SweepConfig back = ParseSweepConfig(SweepConfigToJson(c), "sweep.json");
+  EXPECT_EQ(SweepHash(back), SweepHash(c));
+  EXPECT_EQ(back.name, "round");
+  ASSERT_EQ(back.methods.size(), c.methods.size());
+  for (size_t i = 0; i < c.methods.size(); ++i) EXPECT_EQ(back.methods[i].name, c.methods[i].name);
+  const std::vector<SweepCell> a = ExpandCells(c), b = ExpandCells(back);
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].key, b[i].key);
+    EXPECT_EQ(a[i].studies, b[i].studies);
+  }
+  // A single top-level study keeps its name (the config's).
+  const SweepConfig one = ParseSweepConfig(Json::parse(R"({"name": "solo", "grid": {"frames": [2, 3]}})"), "s.json");
+  EXPECT_EQ(ParseSweepConfig(SweepConfigToJson(one), "sweep.json").studies[0].name, "solo");
+}
+
 TEST(SweepConfig, ErrorsNameTheFileTheKeyAndSuggestAFix) {
-  EXPECT_EQ(ErrorOf(Json::parse(R"({"grid": {"overlpa": [10]}})")),
-            "sweep.json: grid.overlpa: unknown parameter (did you mean 'overlap'?); `rigsim sweep --list-params` "
-            "lists them");
-  EXPECT_EQ(ErrorOf(Json::parse(R"({"base": {"rig": "rign"}})")),
-            "sweep.json: base.rig: 'rign' is not one of ring, stereo, surround, wide-baseline (did you mean 'ring'?)");
-  EXPECT_EQ(ErrorOf(Json::parse(R"({"grid": {"overlap": [10, 200]}})")),
-            "sweep.json: grid.overlap[1]: 200 is outside 1..95");
-  EXPECT_EQ(ErrorOf(Json::parse(R"({"grid": {"cameras": [2.5]}})")),
-            "sweep.json: grid.cameras[0]: must be a whole number, got 2.5");
-  EXPECT_EQ(ErrorOf(Json::parse(R"({"zip": {"lens": ["pinhole"], "hfov": [60, 90]}})")),
-            "sweep.json: zip: 'hfov' has 2 values and 'lens' 1: zipped axes need as many");
-  EXPECT_EQ(ErrorOf(Json::parse(R"({"methods": {"semantics": ["mask+gatd"]}})")),
-            "sweep.json: methods.semantics[0]: unknown semantics 'mask+gatd' (did you mean 'mask+gated'?)");
-  EXPECT_EQ(ErrorOf(Json::parse(R"({"sedes": [1]})")),
-            "sweep.json: sedes: unknown key (did you mean 'seeds'?); a config has name, description, base, seeds, "
-            "methods, grid, zip and studies");
-  EXPECT_EQ(ErrorOf(Json::parse(R"({"studies": [{"grid": {"frames": [2]}}]})")),
-            "sweep.json: studies[0]: a study needs a name");
-  EXPECT_EQ(ErrorOf(Json::parse(R"({"grid": {"frames": [2, 2]}})")),
-            "sweep.json: grid.frames: value 2 is listed twice");
-  EXPECT_EQ(ErrorOf(Json::parse(R"({"base": {"seed": 3}})")),
-            "sweep.json: base.seed: give seeds with the top-level 'seeds' list, not as a parameter");
+  using E = std::runtime_error;
+  EXPECT_THAT(Parsing(R"({"grid": {"overlpa": [10]}})"),
+              ThrowsExactly<E>("sweep.json: grid.overlpa: unknown parameter (did you mean 'overlap'?); "
+                               "`rigsim sweep --list-params` lists them"));
+  EXPECT_THAT(Parsing(R"({"base": {"rig": "rign"}})"),
+              ThrowsExactly<E>("sweep.json: base.rig: 'rign' is not one of ring, stereo, surround, wide-baseline "
+                               "(did you mean 'ring'?)"));
+  EXPECT_THAT(Parsing(R"({"grid": {"overlap": [10, 200]}})"),
+              ThrowsExactly<E>("sweep.json: grid.overlap[1]: 200 is outside 1..95"));
+  EXPECT_THAT(Parsing(R"({"grid": {"cameras": [2.5]}})"),
+              ThrowsExactly<E>("sweep.json: grid.cameras[0]: must be a whole number, got 2.5"));
+  EXPECT_THAT(Parsing(R"({"zip": {"lens": ["pinhole"], "hfov": [60, 90]}})"),
+              ThrowsExactly<E>("sweep.json: zip: 'hfov' has 2 values and 'lens' 1: zipped axes need as many"));
+  EXPECT_THAT(Parsing(R"({"methods": {"semantics": ["mask+gatd"]}})"),
+              ThrowsExactly<E>("sweep.json: methods.semantics[0]: unknown semantics 'mask+gatd' "
+                               "(did you mean 'mask+gated'?)"));
+  EXPECT_THAT(Parsing(R"({"sedes": [1]})"),
+              ThrowsExactly<E>("sweep.json: sedes: unknown key (did you mean 'seeds'?); a config has name, "
+                               "description, base, seeds, methods, grid, zip and studies"));
+  EXPECT_THAT(Parsing(R"({"studies": [{"grid": {"frames": [2]}}]})"),
+              ThrowsExactly<E>("sweep.json: studies[0]: a study needs a name"));
+  EXPECT_THAT(Parsing(R"({"grid": {"frames": [2, 2]}})"),
+              ThrowsExactly<E>("sweep.json: grid.frames: value 2 is listed twice"));
+  EXPECT_THAT(Parsing(R"({"base": {"seed": 3}})"),
+              ThrowsExactly<E>("sweep.json: base.seed: give seeds with the top-level 'seeds' list, not as a parameter"));
+  // A zipped axis may repeat a value; the same combination twice is refused.
+  EXPECT_NO_THROW(Parsing(R"({"zip": {"lens": ["pinhole", "fisheye"], "fisheye_fov": [190, 190]}})")());
+  EXPECT_THAT(Parsing(R"({"zip": {"lens": ["fisheye", "fisheye"], "fisheye_fov": [190, 190]}})"),
+              ThrowsExactly<E>("sweep.json: zip: values [\"fisheye\",190.0] are listed twice"));
 }
 
 TEST(SweepConfig, YamlReadsLikeJson) {
@@ -133,12 +162,8 @@ grid:
   EXPECT_TRUE(y["grid"]["hfov"][0].is_null());
   const SweepConfig c = ParseSweepConfig(y, "sweep.yaml");
   EXPECT_EQ(c.seeds, (std::vector<uint64_t>{1, 2}));
-  try {
-    YamlToJson("grid: [1, 2\n", "bad.yaml");
-    FAIL() << "no error";
-  } catch (const std::runtime_error& e) {
-    EXPECT_EQ(std::string(e.what()).substr(0, 9), "bad.yaml:");
-  }
+  EXPECT_THAT([] { YamlToJson("grid: [1, 2\n", "bad.yaml"); },
+              testing::ThrowsMessage<std::runtime_error>(testing::StartsWith("bad.yaml:")));
 }
 
 }  // namespace

@@ -1,10 +1,10 @@
 #include "sweep/sweep_results.h"
 
 #include <filesystem>
-#include <fstream>
 
 #include <gtest/gtest.h>
-#include <unistd.h>
+
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
@@ -38,8 +38,8 @@ TEST(SweepResults, CsvHasEveryParameterAndMetricQuotedAsRfc4180) {
 }
 
 TEST(SweepResults, AFinishedCellIsReadBackOnlyWhenItMatchesTheConfig) {
-  const fs::path out = fs::temp_directory_path() / ("rigsim_sweep_results_" + std::to_string(::getpid()));
-  fs::remove_all(out);
+  const TempDir scratch;
+  const fs::path out = scratch / "out";
   const SweepConfig config = ParseSweepConfig(Json::parse(R"({"grid": {"frames": [2, 3]}})"), "t.json");
   const std::vector<SweepCell> cells = ExpandCells(config);
   CellRecord record;
@@ -54,13 +54,12 @@ TEST(SweepResults, AFinishedCellIsReadBackOnlyWhenItMatchesTheConfig) {
   more.push_back({"gated", "rigsim", "gated", "sift"});
   EXPECT_FALSE(ReadFinishedCell(out, cells[0], more).has_value());
   // A damaged file counts as absent, not as an error.
-  std::ofstream(CellRecordPath(out, cells[0].key)) << "{\"key\": ";
+  WriteFile(CellRecordPath(out, cells[0].key), "{\"key\": ");
   EXPECT_FALSE(ReadFinishedCell(out, cells[0], config.methods).has_value());
   EXPECT_TRUE(fs::is_empty(out / "cells") == false);
   for (const auto& e : fs::directory_iterator(out / "cells")) {
     EXPECT_EQ(e.path().extension(), ".json") << "a temporary file was left: " << e.path();
   }
-  fs::remove_all(out);
 }
 
 }  // namespace

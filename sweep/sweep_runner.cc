@@ -52,16 +52,21 @@ void CheckOutputFolder(const fs::path& out) {
 
 // What a sweep writes into its folder, and nothing else: --force removes only these.
 void RemoveSweepOutputs(const fs::path& out) {
-  for (const char* name : {"cells", "work", "datasets", "scenes", "plots", "results.csv", "results.jsonl", "summary.csv",
+  for (const char* name : {"cells", "work", "datasets", "scenes", "shards", "slurm", "plots", "results.csv",
+                           "results.jsonl", "summary.csv",
                            "summary.json", "report.md", "sweep.json"}) {
     fs::remove_all(out / name);
   }
 }
 
-Json SweepJson(const SweepConfig& config, const std::vector<SweepCell>& cells) {
+Json SweepJson(const SweepConfig& config, const std::vector<SweepCell>& cells, const SweepRunOptions& options) {
   Json keys = Json::array();
   for (const SweepCell& c : cells) keys.push_back(c.key);
-  return {{"config", SweepConfigToJson(config)}, {"sweep_hash", SweepHash(config)}, {"cells", keys}};
+  return {{"config", SweepConfigToJson(config)},
+          {"sweep_hash", SweepHash(config)},
+          {"command", options.command},
+          {"shard", {{"index", options.shard_index}, {"count", options.num_shards}}},
+          {"cells", keys}};
 }
 
 std::string Describe(const SweepCell& cell, const std::vector<SweepStudy>& studies) {
@@ -100,23 +105,28 @@ std::vector<int> AssignShards(const std::vector<SweepCell>& cells, const std::ve
   return shard;
 }
 
-SweepOutcome RunSweep(const SweepConfig& config, const SweepRunOptions& options, const CellRunner& run_cell) {
+void PrepareSweepFolder(const SweepConfig& config, const SweepRunOptions& options) {
   const fs::path& out = options.out_dir;
   if (options.num_shards < 1 || options.shard_index < 0 || options.shard_index >= options.num_shards) {
     throw std::invalid_argument("shard " + std::to_string(options.shard_index) + "/" +
                                 std::to_string(options.num_shards) + " does not exist");
   }
   CheckOutputFolder(out);
+  if (options.restart) RemoveSweepOutputs(out);
+  fs::create_directories(out / "cells");
+  fs::remove_all(out / "work");  // a cell interrupted by a kill: its half-made dataset
+  json_io::WriteTextAtomic(out / "sweep.json", SweepJson(config, ExpandCells(config), options).dump(1) + "\n");
+}
+
+SweepOutcome RunSweep(const SweepConfig& config, const SweepRunOptions& options, const CellRunner& run_cell) {
+  const fs::path& out = options.out_dir;
+  PrepareSweepFolder(config, options);
   const std::vector<SweepCell> all_cells = ExpandCells(config);
   const std::vector<int> shard = AssignShards(all_cells, config.methods, options.num_shards);
   std::vector<SweepCell> cells;
   for (size_t i = 0; i < all_cells.size(); ++i) {
     if (shard[i] == options.shard_index) cells.push_back(all_cells[i]);
   }
-  if (options.restart) RemoveSweepOutputs(out);
-  fs::create_directories(out / "cells");
-  fs::remove_all(out / "work");  // a cell interrupted by a kill: its half-made dataset
-  json_io::WriteTextAtomic(out / "sweep.json", SweepJson(config, all_cells).dump(1) + "\n");
 
   SweepOutcome outcome;
   outcome.cells = static_cast<int>(cells.size());
@@ -182,6 +192,66 @@ SweepOutcome RunSweep(const SweepConfig& config, const SweepRunOptions& options,
   fs::remove_all(out / "work");
   outcome.failed_rows = progress.failed_rows;
   if (options.num_shards == 1) outcome.warnings = WriteSweepResults(config, out, options.command);
+  return outcome;
+}
+
+SweepFolder ReadSweepFolder(const fs::path& dir) {
+  const fs::path path = dir / "sweep.json";
+  if (!fs::exists(path)) throw std::runtime_error(dir.string() + ": not a sweep's output folder (no sweep.json)");
+  Json j;
+  try {
+    j = Json::parse(json_io::ReadText(path));
+    SweepFolder f;
+    f.dir = dir;
+    f.config = ParseSweepConfig(j.at("config"), path.string());
+    f.sweep_hash = j.at("sweep_hash").get<std::string>();
+    f.command = j.value("command", "");
+    f.shard_index = j.at("shard").at("index").get<int>();
+    f.num_shards = j.at("shard").at("count").get<int>();
+    return f;
+  } catch (const Json::exception& e) {
+    throw std::runtime_error(path.string() + ": not a sweep's record (" + e.what() + ")");
+  }
+}
+
+MergeOutcome MergeSweepShards(const fs::path& out, const std::vector<fs::path>& shard_dirs) {
+  if (shard_dirs.empty()) throw std::invalid_argument("no shard folder to merge");
+  std::vector<SweepFolder> shards;
+  for (const fs::path& d : shard_dirs) shards.push_back(ReadSweepFolder(d));
+  for (const SweepFolder& s : shards) {
+    if (s.sweep_hash != shards[0].sweep_hash) {
+      throw std::runtime_error(s.dir.string() + ": a shard of another sweep (hash " + s.sweep_hash + ", " +
+                               shards[0].dir.string() + " has " + shards[0].sweep_hash + "): merge shards of one config");
+    }
+  }
+  const SweepConfig& config = shards[0].config;
+  CheckOutputFolder(out);
+  if (fs::exists(out / "sweep.json") && ReadSweepFolder(out).sweep_hash != shards[0].sweep_hash) {
+    throw std::runtime_error(out.string() + ": holds the results of another sweep; merge into a new folder");
+  }
+  fs::create_directories(out / "cells");
+  SweepRunOptions record;
+  record.command = shards[0].command;
+  const std::vector<SweepCell> cells = ExpandCells(config);
+  json_io::WriteTextAtomic(out / "sweep.json", SweepJson(config, cells, record).dump(1) + "\n");
+  MergeOutcome outcome;
+  outcome.cells = static_cast<int>(cells.size());
+  for (const SweepCell& cell : cells) {
+    bool found = ReadFinishedCell(out, cell, config.methods).has_value();
+    for (const SweepFolder& s : shards) {
+      if (found) break;
+      if (const auto r = ReadFinishedCell(s.dir, cell, config.methods)) {
+        WriteCellRecord(out, *r);
+        found = true;
+      }
+    }
+    if (found) {
+      ++outcome.merged;
+    } else {
+      outcome.missing.push_back("cell " + std::to_string(cell.index) + " (" + cell.key + ")");
+    }
+  }
+  outcome.warnings = WriteSweepResults(config, out, shards[0].command);
   return outcome;
 }
 

@@ -47,7 +47,9 @@ struct SweepRunOptions {
   int num_shards = 1;
   std::function<void(const SweepProgress&)> progress;
   std::function<void()> check_interrupt;  // throws to stop the sweep
-  std::string command;                    // how the sweep was started, for report.md
+  // How the sweep was started, for report.md: the same for every shard and run of one sweep (no
+  // --out, --shard), so merged shards write the report a single run writes.
+  std::string command;
 };
 
 struct SweepOutcome {
@@ -68,9 +70,37 @@ double CellCost(const SweepCell& cell, const std::vector<SweepMethod>& methods);
 std::vector<int> AssignShards(const std::vector<SweepCell>& cells, const std::vector<SweepMethod>& methods,
                               int num_shards);
 
-// Throws std::runtime_error before running anything when `out_dir` exists and is not a sweep's
-// output folder (a folder of other files is never written into or removed).
+// Makes `options.out_dir` a sweep folder for `config` (sweep.json; with `restart`, its earlier
+// sweep results removed first). Throws std::runtime_error when it exists and is not a sweep's
+// output folder: a folder of other files is never written into or removed.
+void PrepareSweepFolder(const SweepConfig& config, const SweepRunOptions& options);
+
+// Runs the cells of the options' shard that are not finished yet (PrepareSweepFolder first).
 SweepOutcome RunSweep(const SweepConfig& config, const SweepRunOptions& options, const CellRunner& run_cell);
+
+// What a sweep folder's sweep.json says: the sweep it belongs to and which shard it holds.
+struct SweepFolder {
+  std::filesystem::path dir;
+  SweepConfig config;
+  std::string sweep_hash;
+  std::string command;  // how the sweep was started (without --out), for the report
+  int shard_index = 0, num_shards = 1;
+};
+// Throws std::runtime_error naming the folder when it holds no sweep (no or a broken sweep.json).
+SweepFolder ReadSweepFolder(const std::filesystem::path& dir);
+
+struct MergeOutcome {
+  int cells = 0;                     // in the sweep
+  int merged = 0;                    // found finished in a shard (or already in the output)
+  std::vector<std::string> missing;  // "cell N (key)" of the cells no shard finished
+  std::vector<std::string> warnings;
+};
+
+// Combines the finished cells of shard folders (RunSweep with num_shards > 1) into `out` and writes
+// the results there: the same files a single run of the sweep writes. Refuses shards of different
+// sweeps (their hashes differ) and an `out` that is not a sweep folder; cells no shard finished are
+// listed in `missing` and left out of the results.
+MergeOutcome MergeSweepShards(const std::filesystem::path& out, const std::vector<std::filesystem::path>& shard_dirs);
 
 // Writes results.csv, results.jsonl, summary.csv, summary.json, plots/ and report.md from the
 // finished cells of `config` found in `out_dir`. Returns warnings (cells missing, plots not drawn).

@@ -2,32 +2,22 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 #include <fstream>
 #include <sstream>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include "common/run_program.h"
+#include "testing/expect_error.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
-
-fs::path TempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("rigsim_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  return dir;
-}
-
-std::string Read(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 SweepConfig Config() {
   return ParseSweepConfig(Json::parse(R"({"name": "fake", "seeds": [1, 2], "grid": {"frames": [2, 3, 4]}})"),
@@ -60,7 +50,8 @@ struct FakeRunner {
 };
 
 TEST(SweepRunner, RunsEveryCellOnceAndWritesTheResults) {
-  const fs::path out = TempDir("sweep_run");
+  const TempDir scratch;
+  const fs::path out = scratch / "out";
   FakeRunner fake;
   SweepRunOptions options;
   options.out_dir = out;
@@ -75,14 +66,14 @@ TEST(SweepRunner, RunsEveryCellOnceAndWritesTheResults) {
   EXPECT_EQ(seen.back().total, 6);
   EXPECT_NE(seen.front().current.find("cell 0 (frames=2, seed=1): rendering"), std::string::npos) << seen.front().current;
   // 1 header + 6 cells x 2 methods.
-  const std::string csv = Read(out / "results.csv");
+  const std::string csv = ReadFile(out / "results.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 13);
   EXPECT_TRUE(fs::exists(out / "results.jsonl"));
   EXPECT_TRUE(fs::exists(out / "summary.csv"));
   EXPECT_TRUE(fs::exists(out / "sweep.json"));
   EXPECT_FALSE(fs::exists(out / "work"));
   EXPECT_FALSE(fs::exists(out / "datasets"));
-  const std::string report = Read(out / "report.md");
+  const std::string report = ReadFile(out / "report.md");
   EXPECT_NE(report.find("# Sweep: fake"), std::string::npos);
   EXPECT_NE(report.find("| frames=2 | none | 2 | 0 | 0% | 0% |"), std::string::npos) << report;
   EXPECT_NE(report.find("| frames=3 | mask | 2 | 0 | 0% | 100% |"), std::string::npos);
@@ -92,16 +83,16 @@ TEST(SweepRunner, RunsEveryCellOnceAndWritesTheResults) {
     EXPECT_NE(report.find("![plots/fake_success.png](plots/fake_success.png)"), std::string::npos);
   }
   // A second run finds every cell finished and writes the same results.
-  const std::string jsonl = Read(out / "results.jsonl");
+  const std::string jsonl = ReadFile(out / "results.jsonl");
   FakeRunner again;
   EXPECT_EQ(RunSweep(Config(), options, again.Get()).resumed, 6);
   EXPECT_EQ(again.calls, 0);
-  EXPECT_EQ(Read(out / "results.jsonl"), jsonl);
-  fs::remove_all(out);
+  EXPECT_EQ(ReadFile(out / "results.jsonl"), jsonl);
 }
 
 TEST(SweepRunner, AnInterruptedCellLeavesNothingAndTheNextRunResumesThere) {
-  const fs::path out = TempDir("sweep_interrupt");
+  const TempDir scratch;
+  const fs::path out = scratch / "out";
   FakeRunner fake;
   fake.throw_at_call = 3;
   SweepRunOptions options;
@@ -118,46 +109,99 @@ TEST(SweepRunner, AnInterruptedCellLeavesNothingAndTheNextRunResumesThere) {
   const SweepOutcome outcome = RunSweep(Config(), options, rest.Get());
   EXPECT_EQ(outcome.resumed, 2);
   EXPECT_EQ(rest.calls, 4);
-  fs::remove_all(out);
 }
 
 TEST(SweepRunner, NeverWritesIntoAFolderOfOtherFiles) {
-  const fs::path out = TempDir("sweep_foreign");
+  const TempDir scratch;
+  const fs::path out = scratch / "out";
   fs::create_directories(out);
-  std::ofstream(out / "thesis.tex") << "mine";
+  WriteFile(out / "thesis.tex", "mine");
   FakeRunner fake;
   SweepRunOptions options;
   options.out_dir = out;
   options.restart = true;
-  try {
-    RunSweep(Config(), options, fake.Get());
-    FAIL() << "wrote into a folder of other files";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("holds files that are not a sweep's results"), std::string::npos);
-  }
+  EXPECT_THAT([&] { RunSweep(Config(), options, fake.Get()); },
+              ThrowsWith<std::runtime_error>("holds files that are not a sweep's results"));
   EXPECT_EQ(fake.calls, 0);
-  EXPECT_EQ(Read(out / "thesis.tex"), "mine");
+  EXPECT_EQ(ReadFile(out / "thesis.tex"), "mine");
   EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 1);
-  fs::remove_all(out);
 }
 
 TEST(SweepRunner, RestartRemovesOnlyWhatASweepWrites) {
-  const fs::path out = TempDir("sweep_restart");
+  const TempDir scratch;
+  const fs::path out = scratch / "out";
   FakeRunner fake;
   SweepRunOptions options;
   options.out_dir = out;
   options.keep_datasets = true;
   RunSweep(Config(), options, fake.Get());
-  EXPECT_EQ(Read(out / "datasets" / ExpandCells(Config())[0].key / "image.png"), "pixels");
-  std::ofstream(out / "notes.txt") << "mine";
+  EXPECT_EQ(ReadFile(out / "datasets" / ExpandCells(Config())[0].key / "image.png"), "pixels");
+  WriteFile(out / "notes.txt", "mine");
   options.restart = true;
   options.keep_datasets = false;
   FakeRunner again;
   RunSweep(Config(), options, again.Get());
   EXPECT_EQ(again.calls, 6);  // started over
   EXPECT_FALSE(fs::exists(out / "datasets"));
-  EXPECT_EQ(Read(out / "notes.txt"), "mine");
-  fs::remove_all(out);
+  EXPECT_EQ(ReadFile(out / "notes.txt"), "mine");
+}
+
+// Every file of a sweep folder's results, by relative path (cells/ and sweep.json aside).
+std::map<std::string, std::string> ResultFiles(const fs::path& out) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::recursive_directory_iterator(out)) {
+    const std::string rel = fs::relative(e.path(), out).string();
+    if (!e.is_regular_file() || rel.rfind("cells", 0) == 0 || rel == "sweep.json") continue;
+    files[rel] = ReadFile(e.path());
+  }
+  return files;
+}
+
+TEST(SweepShards, MergedShardsWriteWhatASingleRunWrites) {
+  const TempDir base;
+  FakeRunner single;
+  SweepRunOptions options;
+  options.command = "rigsim sweep fake.json";
+  options.out_dir = base / "single";
+  RunSweep(Config(), options, single.Get());
+  std::vector<fs::path> shards;
+  int calls = 0;
+  for (int i = 0; i < 3; ++i) {
+    FakeRunner part;
+    options.out_dir = base / ("shard" + std::to_string(i));
+    options.shard_index = i;
+    options.num_shards = 3;
+    const SweepOutcome o = RunSweep(Config(), options, part.Get());
+    EXPECT_FALSE(fs::exists(options.out_dir / "results.csv"));  // a shard writes its cells only
+    calls += part.calls;
+    shards.push_back(options.out_dir);
+  }
+  EXPECT_EQ(calls, 6);  // every cell in exactly one shard
+  const MergeOutcome merged = MergeSweepShards(base / "merged", shards);
+  EXPECT_EQ(merged.merged, 6);
+  EXPECT_TRUE(merged.missing.empty());
+  const auto a = ResultFiles(base / "single"), b = ResultFiles(base / "merged");
+  EXPECT_GE(a.size(), 5u);
+  ASSERT_EQ(a.size(), b.size());
+  for (const auto& [name, bytes] : a) EXPECT_TRUE(b.count(name) && b.at(name) == bytes) << name << " differs";
+
+  // A shard missing: its cells are named. A shard of another sweep is refused.
+  const MergeOutcome partial = MergeSweepShards(base / "partial", {shards[0], shards[2]});
+  EXPECT_EQ(partial.merged + static_cast<int>(partial.missing.size()), 6);
+  EXPECT_FALSE(partial.missing.empty());
+  EXPECT_EQ(partial.missing[0].rfind("cell ", 0), 0u);
+  SweepConfig other = Config();
+  other.seeds = {7};
+  SweepRunOptions other_options;
+  other_options.out_dir = base / "other";
+  FakeRunner third;
+  RunSweep(other, other_options, third.Get());
+  try {
+    MergeSweepShards(base / "mixed", {shards[0], base / "other"});
+    FAIL() << "merged shards of two sweeps";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("a shard of another sweep"), std::string::npos) << e.what();
+  }
 }
 
 TEST(SweepShards, EveryCellInExactlyOneShardAndTheShardsBalanced) {

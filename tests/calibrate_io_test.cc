@@ -18,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
@@ -27,6 +28,8 @@
 #include "dataset/image_io.h"
 #include "dataset/label_image.h"
 #include "geometry/rig.h"
+#include "testing/expect_error.h"
+#include "testing/temp_dir.h"
 #include "tests/rigsim_cli.h"
 
 #ifndef RIGSIM_SOURCE_DIR
@@ -38,12 +41,12 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-json ReadJson(const fs::path& path) { return json::parse(ReadAll(path)); }
+json ReadJson(const fs::path& path) { return json::parse(ReadFile(path)); }
 
 // Data lines of a COLMAP text file: neither comments nor empty lines.
 std::vector<std::string> DataLines(const fs::path& path) {
   std::vector<std::string> lines;
-  std::istringstream in(ReadAll(path));
+  std::istringstream in(ReadFile(path));
   for (std::string line; std::getline(in, line);) {
     if (!line.empty() && line[0] != '#') lines.push_back(line);
   }
@@ -54,9 +57,7 @@ std::vector<std::string> DataLines(const fs::path& path) {
 class CalibrateIo : public testing::Test {
  protected:
   static void SetUpTestSuite() {
-    base_ = new fs::path(fs::temp_directory_path() / ("rigsim_calibrate_io_" + std::to_string(::getpid())));
-    fs::remove_all(*base_);
-    fs::create_directories(*base_);
+    base_ = new TempDir();
     const std::string scene = std::string(RIGSIM_SOURCE_DIR) + "/assets/scenes/street.glb";
     const fs::path rig_json = *base_ / "rig.json", frames_json = *base_ / "frames.json";
     CliResult r = RunRigsim({"make-rig", "ring", "--cameras", "3", "--spacing", "50", "--hfov", "90", "--width", "320", "--height",
@@ -77,14 +78,7 @@ class CalibrateIo : public testing::Test {
             *base_ / "render");
     ASSERT_EQ(r.code, 0) << r.err;
   }
-  static void TearDownTestSuite() {
-    fs::remove_all(*base_);
-    delete base_;
-  }
-  void SetUp() override {
-    dir_ = *base_ / testing::UnitTest::GetInstance()->current_test_info()->name();
-    fs::create_directories(dir_);
-  }
+  static void TearDownTestSuite() { delete base_; }
 
   static fs::path dataset() { return *base_ / "dataset"; }
   // The fixture's rig has `back`, which shares nothing with the others: calibrate writes every
@@ -128,11 +122,11 @@ class CalibrateIo : public testing::Test {
     EXPECT_TRUE(StagingFolders(out).empty());
   }
 
-  static fs::path* base_;
-  fs::path dir_;
+  static TempDir* base_;  // the shared dataset
+  const TempDir dir_;     // each test's outputs
   int runs_ = 0;
 };
-fs::path* CalibrateIo::base_ = nullptr;
+TempDir* CalibrateIo::base_ = nullptr;
 
 TEST_F(CalibrateIo, WritesEveryExportAndPairStatisticsPerMode) {
   const fs::path out = dir_ / "out";
@@ -159,7 +153,7 @@ TEST_F(CalibrateIo, WritesEveryExportAndPairStatisticsPerMode) {
     EXPECT_FALSE(rig.cameras[3].cam_from_rig.has_value());
 
     // Kalibr: one entry per calibrated camera, a T_cn_cnm1 for all but the first.
-    const std::string camchain = ReadAll(dir / "camchain.yaml");
+    const std::string camchain = ReadFile(dir / "camchain.yaml");
     for (int i = 0; i < 3; ++i) {
       EXPECT_NE(camchain.find("\ncam" + std::to_string(i) + ":\n"), std::string::npos) << camchain;
       EXPECT_NE(camchain.find("rostopic: /" + calibrated[i]->name + "/image_raw"), std::string::npos);
@@ -245,7 +239,7 @@ TEST_F(CalibrateIo, WritesEveryExportAndPairStatisticsPerMode) {
 
     // rig_topdown.svg: every camera's true centre, an estimated one for the three calibrated, and
     // it is listed among the outputs.
-    const std::string svg = ReadAll(dir / "rig_topdown.svg");
+    const std::string svg = ReadFile(dir / "rig_topdown.svg");
     EXPECT_EQ(svg.rfind("<svg", 0), 0u);
     for (const RigCamera& rc : rig.cameras) {
       EXPECT_NE(svg.find("class=\"truth\" data-camera=\"" + rc.name + "\""), std::string::npos) << rc.name;
@@ -322,7 +316,7 @@ TEST_F(CalibrateIo, PhotosWithoutTruthCalibrateAndPlotTheEstimateAlone) {
   const CliResult r = RunRigsim({"calibrate", photos.string(), "--out", out.string(), "--semantics", "none", "--threads", "2"},
                                 dir_ / "run");
   ExpectBackUncalibrated(r);
-  const std::string svg = ReadAll(out / "none" / "rig_topdown.svg");
+  const std::string svg = ReadFile(out / "none" / "rig_topdown.svg");
   EXPECT_EQ(svg.find("class=\"truth\""), std::string::npos);
   for (const std::string name : {"cam0", "cam1", "cam2"}) {
     EXPECT_NE(svg.find("class=\"estimate\" data-camera=\"" + name + "\""), std::string::npos) << name << svg;
@@ -348,7 +342,7 @@ TEST_F(CalibrateIo, UserLabelsInIdsAndInColoursGiveIdenticalResults) {
   EXPECT_EQ(eb["label_source"]["folder"], fs::absolute(color_dir).lexically_normal().string());
   for (const std::string mode : {"mask", "gated"}) {
     SCOPED_TRACE(mode);
-    EXPECT_EQ(ReadAll(dir_ / "out_ids" / mode / "rig.json"), ReadAll(dir_ / "out_colors" / mode / "rig.json"));
+    EXPECT_EQ(ReadFile(dir_ / "out_ids" / mode / "rig.json"), ReadFile(dir_ / "out_colors" / mode / "rig.json"));
     const json& pa = ea["methods"][mode]["pairs"];
     const json& pb = eb["methods"][mode]["pairs"];
     ASSERT_EQ(pa.size(), pb.size());
@@ -381,7 +375,7 @@ TEST_F(CalibrateIo, NoisyLabelsAreSeededAndRecorded) {
   EXPECT_EQ(ReadJson(dir_ / "a" / "gated" / "pairs.json")["label_source"]["kind"], "noisy");
   // Same seed, another thread count: the same labels, hence the same estimate.
   for (const std::string mode : {"mask", "gated"}) {
-    EXPECT_EQ(ReadAll(dir_ / "a" / mode / "rig.json"), ReadAll(dir_ / "b" / mode / "rig.json")) << mode;
+    EXPECT_EQ(ReadFile(dir_ / "a" / mode / "rig.json"), ReadFile(dir_ / "b" / mode / "rig.json")) << mode;
   }
   // The noise reached the features: the mask mode keeps other keypoints than with the truth.
   EXPECT_NE(ea["methods"]["mask"]["summary"]["mean_keypoints_per_image"],
@@ -423,14 +417,8 @@ TEST_F(CalibrateIo, LibraryNamesABadUserLabelImage) {
   CalibrationOptions options;
   options.semantic_mode = SemanticMode::kMask;
   options.labels = LabelSource::Folder(small);
-  try {
-    CalibrateDatasetPairs(dataset(), options);
-    ADD_FAILURE() << "no error";
-  } catch (const std::runtime_error& e) {
-    const std::string what = e.what();
-    EXPECT_EQ(what.rfind((small / "cam0").string(), 0), 0u) << what;
-    EXPECT_NE(what.find("label image is 320x200, its image is 320x240"), std::string::npos) << what;
-  }
+  EXPECT_THAT([&] { CalibrateDatasetPairs(dataset(), options); },
+              ThrowsNaming<std::runtime_error>(small / "cam0", "label image is 320x200, its image is 320x240"));
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// The built `rigsim` binary on bad input and when interrupted (issue 6). Every failure exits
+// The built `rigsim` binary on bad input and when interrupted. Every failure exits
 // non-zero with a message naming the file and the problem, and leaves no output behind: neither
 // --out / evaluation.json nor a hidden staging folder. A render killed by SIGKILL or SIGINT leaves
 // the previous dataset intact (or none); a staging folder left by SIGKILL is removed by the next run.
@@ -26,7 +26,8 @@
 #include "gltf/scene_builder.h"
 #include "rigs/rig_presets.h"
 #include "rigs/trajectories.h"
-#include "tests/data_uri.h"
+#include "testing/gltf_builder.h"
+#include "testing/temp_dir.h"
 #include "tests/rigsim_cli.h"
 
 namespace rigsim {
@@ -34,29 +35,18 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-void WriteText(const fs::path& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
-
 // A one-triangle glTF document with its buffer as a data URI (the tests corrupt it).
-json TriangleGltf(const std::vector<float>& xyz = {-5, 0, -5, 5, 0, -5, 0, 5, -5}) {
-  std::vector<uint8_t> bin(xyz.size() * 4);
-  std::memcpy(bin.data(), xyz.data(), bin.size());
-  return {{"asset", {{"version", "2.0"}}},
-          {"scene", 0},
-          {"scenes", {{{"nodes", {0}}}}},
-          {"nodes", {{{"mesh", 0}, {"extras", {{"class", "building"}}}}}},
-          {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"mode", 4}}}}}}},
-          {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", xyz.size() / 3}, {"type", "VEC3"}}}},
-          {"bufferViews", {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", bin.size()}}}},
-          {"buffers", {{{"byteLength", bin.size()}, {"uri", DataUri("application/octet-stream", bin)}}}}};
+GltfBuilder TriangleGltf(const std::vector<float>& xyz = {-5, 0, -5, 5, 0, -5, 0, 5, -5}) {
+  GltfBuilder g;
+  g.Triangle(xyz, "building");
+  return g;
 }
 
 class RigsimCli : public testing::Test {
  protected:
   // Shared inputs: a small scene, a 2-camera rig, frames, and one rendered dataset.
   static void SetUpTestSuite() {
-    base_ = new fs::path(fs::temp_directory_path() / ("rigsim_cli_errors_" + std::to_string(::getpid())));
-    fs::remove_all(*base_);
-    fs::create_directories(*base_);
+    base_ = new TempDir();
     SceneBuilder b;
     MeshData wall;
     wall.positions = {{-20, -5, -8}, {20, -5, -8}, {20, 15, -8}, {-20, 15, -8}};
@@ -85,17 +75,9 @@ class RigsimCli : public testing::Test {
               *base_ / "setup");
     ASSERT_EQ(p.Wait(), 0) << p.err();
   }
-  static void TearDownTestSuite() {
-    fs::remove_all(*base_);
-    delete base_;
-  }
+  static void TearDownTestSuite() { delete base_; }
 
-  void SetUp() override {
-    dir_ = *base_ / testing::UnitTest::GetInstance()->current_test_info()->name();
-    fs::create_directories(dir_);
-  }
-
-  static fs::path base() { return *base_; }
+  static fs::path base() { return base_->path(); }
 
   CliResult Run(const std::vector<std::string>& args) { return RunRigsim(args, dir_ / ("run" + std::to_string(runs_++))); }
   std::vector<std::string> RenderArgs(const fs::path& scene, const fs::path& rig, const fs::path& frames, const fs::path& out) {
@@ -117,11 +99,7 @@ class RigsimCli : public testing::Test {
   void ExpectSceneFails(const fs::path& scene, const std::string& part) {
     ExpectRenderFails(scene, base() / "rig.json", base() / "frames.json", scene.string(), part);
   }
-  fs::path WriteGltf(const std::string& name, const json& doc) {
-    const fs::path p = dir_ / name;
-    WriteText(p, doc.dump(1));
-    return p;
-  }
+  fs::path WriteGltf(const std::string& name, const GltfBuilder& g) { return g.WriteEmbedded(dir_, name); }
   // A copy of the rendered dataset to corrupt.
   fs::path CopyDataset() {
     const fs::path copy = dir_ / "dataset";
@@ -138,11 +116,11 @@ class RigsimCli : public testing::Test {
     EXPECT_FALSE(fs::exists(dataset / "evaluation.json"));
   }
 
-  static fs::path* base_;
-  fs::path dir_;
+  static TempDir* base_;  // the shared inputs and dataset
+  const TempDir dir_;     // each test's files
   int runs_ = 0;
 };
-fs::path* RigsimCli::base_ = nullptr;
+TempDir* RigsimCli::base_ = nullptr;
 
 TEST_F(RigsimCli, RendersTheValidInputs) {
   // The reference the failures are measured against: the shared dataset is complete.
@@ -153,92 +131,92 @@ TEST_F(RigsimCli, RendersTheValidInputs) {
 }
 
 TEST_F(RigsimCli, TruncatedGlb) {
-  const std::string glb = ReadAll(base() / "scene.glb");
+  const std::string glb = ReadFile(base() / "scene.glb");
   const fs::path cut = dir_ / "cut.glb";
-  WriteText(cut, glb.substr(0, glb.size() - 40));
+  WriteFile(cut, glb.substr(0, glb.size() - 40));
   ExpectSceneFails(cut, "invalid .glb");
 }
 
 TEST_F(RigsimCli, AccessorOutOfRange) {
-  json doc = TriangleGltf();
-  doc["accessors"][0]["count"] = 4;  // the bufferView holds 3 vertices
-  ExpectSceneFails(WriteGltf("range.gltf", doc), "out of range of bufferView 0");
+  GltfBuilder g = TriangleGltf();
+  g.doc["accessors"][0]["count"] = 4;  // the bufferView holds 3 vertices
+  ExpectSceneFails(WriteGltf("range", g), "out of range of bufferView 0");
 }
 
 TEST_F(RigsimCli, MissingBufferFile) {
-  json doc = TriangleGltf();
-  doc["buffers"][0]["uri"] = "missing.bin";
-  ExpectSceneFails(WriteGltf("buffer.gltf", doc), "missing.bin");
+  GltfBuilder g = TriangleGltf();
+  g.doc["buffers"] = {{{"byteLength", g.bin.size()}, {"uri", "missing.bin"}}};
+  ExpectSceneFails(WriteGltf("buffer", g), "missing.bin");
 }
 
 TEST_F(RigsimCli, MissingImageFile) {
-  json doc = TriangleGltf();
-  doc["images"] = {{{"uri", "missing_texture.png"}}};
-  doc["textures"] = {{{"source", 0}}};
-  doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
-  doc["meshes"][0]["primitives"][0]["material"] = 0;
-  ExpectSceneFails(WriteGltf("image.gltf", doc), "missing_texture.png");
+  GltfBuilder g = TriangleGltf();
+  g.doc["images"] = {{{"uri", "missing_texture.png"}}};
+  g.doc["textures"] = {{{"source", 0}}};
+  g.doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
+  g.doc["meshes"][0]["primitives"][0]["material"] = 0;
+  ExpectSceneFails(WriteGltf("image", g), "missing_texture.png");
 }
 
 TEST_F(RigsimCli, RecursiveNodeGraph) {
-  json doc = TriangleGltf();
-  doc["nodes"][0]["children"] = {1};
-  doc["nodes"].push_back({{"children", {0}}});
-  ExpectSceneFails(WriteGltf("cycle.gltf", doc), "reached twice");
+  GltfBuilder g = TriangleGltf();
+  g.doc["nodes"][0]["children"] = {1};
+  g.doc["nodes"].push_back({{"children", {0}}});
+  ExpectSceneFails(WriteGltf("cycle", g), "reached twice");
 }
 
 TEST_F(RigsimCli, NanAndInfiniteVertices) {
-  ExpectSceneFails(WriteGltf("nan.gltf", TriangleGltf({0, 0, 0, std::numeric_limits<float>::quiet_NaN(), 0, 0, 0, 1, 0})),
+  ExpectSceneFails(WriteGltf("nan", TriangleGltf({0, 0, 0, std::numeric_limits<float>::quiet_NaN(), 0, 0, 0, 1, 0})),
                    "vertex 1 is not finite");
-  ExpectSceneFails(WriteGltf("inf.gltf", TriangleGltf({0, 0, 0, 1, 0, 0, 0, -std::numeric_limits<float>::infinity(), 0})),
+  ExpectSceneFails(WriteGltf("inf", TriangleGltf({0, 0, 0, 1, 0, 0, 0, -std::numeric_limits<float>::infinity(), 0})),
                    "vertex 2 is not finite");
 }
 
 TEST_F(RigsimCli, NonTrianglePrimitivesAreSkippedWithAWarning) {
-  json doc = TriangleGltf();
-  doc["meshes"][0]["primitives"].push_back({{"attributes", {{"POSITION", 0}}}, {"mode", 1}});  // lines
+  GltfBuilder g = TriangleGltf();
+  g.doc["meshes"][0]["primitives"].push_back({{"attributes", {{"POSITION", 0}}}, {"mode", 1}});  // lines
   const fs::path out = dir_ / "out";
-  const CliResult r = Run(RenderArgs(WriteGltf("lines.gltf", doc), base() / "rig.json", base() / "frames.json", out));
+  const CliResult r = Run(RenderArgs(WriteGltf("lines", g), base() / "rig.json", base() / "frames.json", out));
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("warning: mesh 0 primitive 1: lines primitive (mode 1) skipped"), std::string::npos) << r.err;
   EXPECT_TRUE(fs::exists(DatasetLayout(out).Image("cam0", "000000")));
 }
 
 TEST_F(RigsimCli, AbsurdDeclaredCount) {
-  json doc = TriangleGltf();
-  doc["accessors"][0]["count"] = 3000000000ull;
-  ExpectSceneFails(WriteGltf("count.gltf", doc), "exceeds the limit");
+  GltfBuilder g = TriangleGltf();
+  g.doc["accessors"][0]["count"] = 3000000000ull;
+  ExpectSceneFails(WriteGltf("count", g), "exceeds the limit");
 }
 
 TEST_F(RigsimCli, RigWithNegativeFocalLength) {
-  json rig = json::parse(ReadAll(base() / "rig.json"));
+  json rig = json::parse(ReadFile(base() / "rig.json"));
   rig["cameras"][1]["params"][0] = -80.0;
   const fs::path path = dir_ / "rig.json";
-  WriteText(path, rig.dump());
+  WriteFile(path, rig.dump());
   ExpectRenderFails(base() / "scene.glb", path, base() / "frames.json", path.string(), "focal lengths must be positive");
 }
 
 TEST_F(RigsimCli, RigWhoseDistortionCannotBeInvertedOverTheImage) {
-  json rig = json::parse(ReadAll(base() / "rig.json"));
+  json rig = json::parse(ReadFile(base() / "rig.json"));
   const double f = rig["cameras"][0]["params"][0];
   rig["cameras"][0]["model"] = "OPENCV";
   rig["cameras"][0]["params"] = {f, f, 47.5, 31.5, -0.6, 0.0, 0.0, 0.0};  // folds back inside the image
   const fs::path path = dir_ / "rig.json";
-  WriteText(path, rig.dump());
+  WriteFile(path, rig.dump());
   ExpectRenderFails(base() / "scene.glb", path, base() / "frames.json", path.string(),
                     "camera 'cam0': OPENCV distortion cannot be inverted over the 96x64 image");
   // calibrate applies the same rule to the dataset's rig.json
   const fs::path dataset = CopyDataset();
-  WriteText(dataset / "rig.json", rig.dump());
+  WriteFile(dataset / "rig.json", rig.dump());
   ExpectCalibrateFails(dataset, "none", dataset / "rig.json", "distortion cannot be inverted");
 }
 
 TEST_F(RigsimCli, FisheyeWithImageCircleInsideTheSensorOnlyWarns) {
-  json rig = json::parse(ReadAll(base() / "rig.json"));
+  json rig = json::parse(ReadFile(base() / "rig.json"));
   rig["cameras"][0]["model"] = "OPENCV_FISHEYE";
   rig["cameras"][0]["params"] = {25.0, 25.0, 47.5, 31.5, -0.2, 0.0, 0.0, 0.0};  // circle of radius 21 px
   const fs::path path = dir_ / "rig.json";
-  WriteText(path, rig.dump());
+  WriteFile(path, rig.dump());
   const CliResult r = Run(RenderArgs(base() / "scene.glb", path, base() / "frames.json", dir_ / "out"));
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("camera 'cam0': "), std::string::npos) << r.err;
@@ -247,23 +225,23 @@ TEST_F(RigsimCli, FisheyeWithImageCircleInsideTheSensorOnlyWarns) {
 
 TEST_F(RigsimCli, MalformedRigAndFramesJson) {
   const fs::path rig = dir_ / "rig.json", frames = dir_ / "frames.json";
-  WriteText(rig, "{\"cameras\": [");
+  WriteFile(rig, "{\"cameras\": [");
   ExpectRenderFails(base() / "scene.glb", rig, base() / "frames.json", rig.string(), "invalid JSON");
-  WriteText(frames, R"({"frames": [{"name": "a/b"}]})");
+  WriteFile(frames, R"({"frames": [{"name": "a/b"}]})");
   ExpectRenderFails(base() / "scene.glb", base() / "rig.json", frames, frames.string(), "not a valid file stem");
-  WriteText(frames, "[]");
+  WriteFile(frames, "[]");
   ExpectRenderFails(base() / "scene.glb", base() / "rig.json", frames, frames.string(), "expected an object with a 'frames' array");
 }
 
 TEST_F(RigsimCli, CalibrateMalformedJsonInTheDataset) {
   const fs::path dataset = CopyDataset();
-  WriteText(dataset / "overlap.json", "{\"pairs\": [{\"a\": \"cam0\"");
+  WriteFile(dataset / "overlap.json", "{\"pairs\": [{\"a\": \"cam0\"");
   ExpectCalibrateFails(dataset, "none", dataset / "overlap.json", "invalid JSON");
   fs::copy_file(base() / "dataset" / "overlap.json", dataset / "overlap.json", fs::copy_options::overwrite_existing);
-  WriteText(dataset / "frames.json", "{\"frames\": 7}");
+  WriteFile(dataset / "frames.json", "{\"frames\": 7}");
   ExpectCalibrateFails(dataset, "none", dataset / "frames.json", "'frames' array");
   fs::copy_file(base() / "dataset" / "frames.json", dataset / "frames.json", fs::copy_options::overwrite_existing);
-  WriteText(dataset / "rig.json", "");
+  WriteFile(dataset / "rig.json", "");
   ExpectCalibrateFails(dataset, "none", dataset / "rig.json", "invalid JSON");
 }
 
@@ -314,10 +292,10 @@ TEST_F(RigsimCli, ExportNamesEachCamerasPhotosAndLeavesOutCamerasWithoutAPose) {
   fs::remove(png);
   const CliResult r = Run({"export", dataset.string(), "--format", "colmap,nerfstudio", "--out", (dir_ / "all").string()});
   ASSERT_EQ(r.code, 0) << r.err;
-  const std::string images = ReadAll(dir_ / "all" / "colmap" / "images.txt");
+  const std::string images = ReadFile(dir_ / "all" / "colmap" / "images.txt");
   EXPECT_NE(images.find(" cam0/000000.png\n"), std::string::npos) << images;
   EXPECT_NE(images.find(" cam1/000000.jpg\n"), std::string::npos) << images;
-  const json transforms = json::parse(ReadAll(dir_ / "all" / "transforms.json"));
+  const json transforms = json::parse(ReadFile(dir_ / "all" / "transforms.json"));
   EXPECT_EQ(transforms["frames"][1]["file_path"].get<std::string>().substr(std::string("../").size()),
             (fs::path("dataset") / "images" / "cam1" / "000000.jpg").string())
       << transforms["frames"][1]["file_path"];
@@ -329,10 +307,10 @@ TEST_F(RigsimCli, ExportNamesEachCamerasPhotosAndLeavesOutCamerasWithoutAPose) {
                            "--out", (dir_ / "estimate").string()});
   ASSERT_EQ(e.code, 0) << e.err;
   EXPECT_NE(e.err.find("leaving out the cameras without cam_from_rig (not calibrated): cam1"), std::string::npos) << e.err;
-  const std::string yaml = ReadAll(dir_ / "estimate" / "opencv.yaml");
+  const std::string yaml = ReadFile(dir_ / "estimate" / "opencv.yaml");
   EXPECT_NE(yaml.find("num_cameras: 1"), std::string::npos) << yaml;
   EXPECT_EQ(yaml.find("cam1"), std::string::npos) << yaml;
-  EXPECT_NE(ReadAll(dir_ / "estimate" / "camchain.yaml").find("cam0"), std::string::npos);
+  EXPECT_NE(ReadFile(dir_ / "estimate" / "camchain.yaml").find("cam0"), std::string::npos);
 }
 
 TEST_F(RigsimCli, CalibrateImageOfTheWrongSize) {
@@ -353,11 +331,11 @@ TEST_F(RigsimCli, CalibrateLabelImageWithUnknownIds) {
 
 TEST_F(RigsimCli, ExistingDatasetIsNotOverwrittenWithoutForce) {
   const fs::path out = CopyDataset();
-  const std::string frames_before = ReadAll(out / "frames.json");
+  const std::string frames_before = ReadFile(out / "frames.json");
   const CliResult r = Run(RenderArgs(base() / "scene.glb", base() / "rig.json", base() / "frames_long.json", out));
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.err.find(out.string() + ": already exists (use --force to replace it)"), std::string::npos) << r.err;
-  EXPECT_EQ(ReadAll(out / "frames.json"), frames_before);
+  EXPECT_EQ(ReadFile(out / "frames.json"), frames_before);
   EXPECT_TRUE(StagingFolders(out).empty());
 }
 
@@ -396,14 +374,14 @@ TEST_F(RigsimCli, SigkillLeavesThePreviousDatasetOrNoneAndTheNextRunCleansUp) {
   }
   {  // a previous dataset replaced with --force: intact afterwards
     const fs::path out = CopyDataset();
-    const std::string frames_before = ReadAll(out / "frames.json");
+    const std::string frames_before = ReadFile(out / "frames.json");
     std::vector<std::string> args = RenderArgs(base() / "scene.glb", base() / "rig_big.json", base() / "frames_long.json", out);
     args.push_back("--force");
     auto p = StartLongRenderAndWaitForFirstView(args, out, dir_ / "kill_force");
     ASSERT_TRUE(p);
     kill(p->pid(), SIGKILL);
     EXPECT_EQ(p->Wait(), 128 + SIGKILL);
-    EXPECT_EQ(ReadAll(out / "frames.json"), frames_before);
+    EXPECT_EQ(ReadFile(out / "frames.json"), frames_before);
     EXPECT_TRUE(fs::exists(DatasetLayout(out).Depth("cam1", "000000")));
   }
   // The next run into the same place removes the dead run's staging folder and completes.
@@ -415,7 +393,7 @@ TEST_F(RigsimCli, SigkillLeavesThePreviousDatasetOrNoneAndTheNextRunCleansUp) {
 
 TEST_F(RigsimCli, SigintStopsCleanlyAndKeepsThePreviousDataset) {
   const fs::path out = CopyDataset();
-  const std::string frames_before = ReadAll(out / "frames.json");
+  const std::string frames_before = ReadFile(out / "frames.json");
   std::vector<std::string> args = RenderArgs(base() / "scene.glb", base() / "rig_big.json", base() / "frames_long.json", out);
   args.push_back("--force");
   auto p = StartLongRenderAndWaitForFirstView(args, out, dir_ / "interrupt");
@@ -424,7 +402,7 @@ TEST_F(RigsimCli, SigintStopsCleanlyAndKeepsThePreviousDataset) {
   EXPECT_EQ(p->Wait(), 128 + SIGINT);
   EXPECT_NE(p->err().find("interrupted by SIGINT; the output was not written"), std::string::npos) << p->err();
   EXPECT_TRUE(StagingFolders(out).empty());  // removed on the way out
-  EXPECT_EQ(ReadAll(out / "frames.json"), frames_before);
+  EXPECT_EQ(ReadFile(out / "frames.json"), frames_before);
   EXPECT_TRUE(fs::exists(DatasetLayout(out).Depth("cam1", "000000")));
 }
 

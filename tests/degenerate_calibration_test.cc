@@ -5,8 +5,6 @@
 #include <filesystem>
 #include <random>
 
-#include <unistd.h>
-
 #include <gtest/gtest.h>
 
 #include "calibrator/evaluation.h"
@@ -18,6 +16,7 @@
 #include "renderer/render_dataset.h"
 #include "rigs/rig_presets.h"
 #include "rigs/trajectories.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
@@ -81,14 +80,6 @@ Rigid3d Yaw(double deg, const Eigen::Vector3d& centre = Eigen::Vector3d::Zero())
 
 class Degenerate : public testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("rigsim_degenerate_" + std::to_string(::getpid()) + "_" +
-            testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   void Render(const Scene& scene, const Rig& rig, const FramesFile& frames, int samples_per_pixel = 1,
               uint64_t seed = 0) {
     RenderJob job;
@@ -111,7 +102,7 @@ class Degenerate : public testing::Test {
   RigCalibrationResult Calibrate(SemanticMode mode, const RigCalibrationOptions& options = {}) {
     return CalibrateRig(dir_, options, mode);
   }
-  fs::path dir_;
+  const TempDir dir_;  // the rendered dataset
 };
 
 FramesFile LookingDownAt(double pitch_deg) {

@@ -4,8 +4,6 @@
 #include <filesystem>
 #include <string>
 
-#include <unistd.h>
-
 #include <gtest/gtest.h>
 
 #include "calibrator/rig_calibration.h"
@@ -17,16 +15,16 @@
 #include "renderer/render_dataset.h"
 #include "rigs/rig_presets.h"
 #include "rigs/trajectories.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
 namespace fs = std::filesystem;
 
-// The demo's rig on the street, `frames` frames of the demo path at `spp` samples per pixel.
-// ctest runs each test in its own process, possibly in parallel: one folder per process.
-fs::path* RenderDemoRig(const std::string& name, int frames, int spp) {
-  auto* dir = new fs::path(fs::temp_directory_path() / (name + "_" + std::to_string(::getpid())));
-  fs::remove_all(*dir);
+// The demo's rig on the street, `frames` frames of the demo path at `spp` samples per pixel, in a
+// folder of the running test suite.
+TempDir* RenderDemoRig(int frames, int spp) {
+  auto* dir = new TempDir();
   const Scene scene = LoadGltf("assets/scenes/street.glb");
   RenderJob job;
   job.scene = &scene;
@@ -44,27 +42,21 @@ fs::path* RenderDemoRig(const std::string& name, int frames, int spp) {
 // 0.1 deg (measured: 0.4-1.0 deg with 1 frame at 640x360).
 class StreetEndToEnd : public testing::Test {
  protected:
-  static void SetUpTestSuite() { dir_ = RenderDemoRig("rigsim_end_to_end", 4, 4); }
-  static void TearDownTestSuite() {
-    fs::remove_all(*dir_);
-    delete dir_;
-  }
-  static fs::path* dir_;
+  static void SetUpTestSuite() { dir_ = RenderDemoRig(4, 4); }
+  static void TearDownTestSuite() { delete dir_; }
+  static TempDir* dir_;
 };
-fs::path* StreetEndToEnd::dir_ = nullptr;
+TempDir* StreetEndToEnd::dir_ = nullptr;
 
 // The demo's first frame at 1 spp: enough for the checks of the rendered ground truth, at a
 // twentieth of the demo's rendering time.
 class StreetFirstFrame : public testing::Test {
  protected:
-  static void SetUpTestSuite() { dir_ = RenderDemoRig("rigsim_first_frame", 1, 1); }
-  static void TearDownTestSuite() {
-    fs::remove_all(*dir_);
-    delete dir_;
-  }
-  static fs::path* dir_;
+  static void SetUpTestSuite() { dir_ = RenderDemoRig(1, 1); }
+  static void TearDownTestSuite() { delete dir_; }
+  static TempDir* dir_;
 };
-fs::path* StreetFirstFrame::dir_ = nullptr;
+TempDir* StreetFirstFrame::dir_ = nullptr;
 
 // Neighbouring pairs have a median rotation error below 0.1 deg, and every camera of the ring is
 // within 0.05 deg in rotation and 0.5 deg in translation direction, in every semantic mode.
@@ -148,8 +140,7 @@ TEST_F(StreetFirstFrame, OverlapOfNeighboursIsInTheDesignedRange) {
 // A vehicle-like surround rig whose side cameras are 190-degree fisheyes (neighbours
 // share 12-14% of their views) calibrates to within 0.1 deg for every camera.
 TEST(SurroundEndToEnd, RigWithTwoFisheyesCalibratesWithinATenthOfADegree) {
-  const fs::path dir = fs::temp_directory_path() / ("rigsim_surround_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+  const TempDir dir;
   const Scene scene = LoadGltf("assets/scenes/street.glb");
   RenderJob job;
   job.scene = &scene;
@@ -160,7 +151,6 @@ TEST(SurroundEndToEnd, RigWithTwoFisheyesCalibratesWithinATenthOfADegree) {
   job.options.seed = 1;
   RenderDataset(job, dir, true);
   const RigCalibrationResult result = CalibrateRig(dir, RigCalibrationOptions{}, SemanticMode::kNone);
-  fs::remove_all(dir);
   ASSERT_TRUE(result.evaluated);
   int fisheyes = 0;
   for (size_t c = 1; c < result.rig.cameras.size(); ++c) {

@@ -25,80 +25,14 @@
 #include "labels/cityscapes.h"
 #include "renderer/renderer.h"
 #include "renderer/srgb.h"
-#include "tests/data_uri.h"
+#include "testing/gltf_builder.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
 
 using nlohmann::json;
 namespace fs = std::filesystem;
-
-fs::path TempDir() {
-  const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-  const auto dir = fs::temp_directory_path() / "rigsim_gltf_features_render_test" / info->name();
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-// A glTF document of world-space quads (two triangles each, non-indexed), each its own node with a
-// class, optionally textured with texcoords (0,0) (1,0) (1,1) (0,1) at its corners.
-struct QuadGltf {
-  json doc = {{"asset", {{"version", "2.0"}}}, {"nodes", json::array()}, {"meshes", json::array()},
-              {"accessors", json::array()}, {"bufferViews", json::array()}, {"scene", 0}};
-  std::vector<uint8_t> bin;
-  std::vector<int> roots;
-
-  int View(const std::vector<float>& v, const std::string& type, size_t count) {
-    const size_t offset = bin.size();
-    bin.resize(offset + v.size() * 4);
-    std::memcpy(bin.data() + offset, v.data(), v.size() * 4);
-    doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", v.size() * 4}});
-    doc["accessors"].push_back({{"bufferView", doc["bufferViews"].size() - 1}, {"componentType", 5126}, {"count", count}, {"type", type}});
-    return int(doc["accessors"].size()) - 1;
-  }
-
-  // Corners in order around the quad; corner 0 gets uv (0, 0), 1 (1, 0), 2 (1, 1), 3 (0, 1).
-  // `rgba`: COLOR_0 per corner (none when empty).
-  void Quad(const std::array<Eigen::Vector3d, 4>& c, const std::string& cls, int material = -1,
-            const std::vector<Eigen::Vector4f>& rgba = {}) {
-    const int order[6] = {0, 1, 2, 0, 2, 3};
-    const float uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-    std::vector<float> xyz, st, colours;
-    for (int i : order) {
-      for (int k = 0; k < 3; ++k) xyz.push_back(float(c[i][k]));
-      st.push_back(uv[i][0]);
-      st.push_back(uv[i][1]);
-      for (int k = 0; k < 4 && !rgba.empty(); ++k) colours.push_back(rgba[i][k]);
-    }
-    json attributes = {{"POSITION", View(xyz, "VEC3", 6)}};
-    if (material >= 0) attributes["TEXCOORD_0"] = View(st, "VEC2", 6);
-    if (!rgba.empty()) attributes["COLOR_0"] = View(colours, "VEC4", 6);
-    json prim = {{"attributes", attributes}, {"mode", 4}};
-    if (material >= 0) prim["material"] = material;
-    doc["meshes"].push_back({{"primitives", {prim}}});
-    doc["nodes"].push_back({{"mesh", doc["meshes"].size() - 1}, {"extras", {{"class", cls}}}});
-    roots.push_back(int(doc["nodes"].size()) - 1);
-  }
-
-  // A square of side `size` centred at `centre`, spanned by unit vectors `right` and `up`; uv (0, 0)
-  // at its top-left corner as seen with `right` to the right and `up` up.
-  void Square(const Eigen::Vector3d& centre, const Eigen::Vector3d& right, const Eigen::Vector3d& up, double size,
-              const std::string& cls, int material = -1) {
-    const double h = 0.5 * size;
-    Quad({centre - h * right + h * up, centre + h * right + h * up, centre + h * right - h * up, centre - h * right - h * up},
-         cls, material);
-  }
-
-  fs::path Write(const fs::path& dir, const std::string& name) {
-    json d = doc;
-    d["buffers"] = {{{"byteLength", bin.size()}, {"uri", DataUri("application/octet-stream", bin)}}};
-    d["scenes"] = {{{"nodes", roots}}};
-    const fs::path path = dir / (name + ".gltf");
-    std::ofstream(path) << d.dump(1);
-    return path;
-  }
-};
 
 uint8_t ClassId(const char* name) { return FindClassByName(name)->id; }
 
@@ -117,7 +51,7 @@ RenderedView RenderFromOrigin(const Scene& scene, const Camera& camera, bool sha
 }
 
 TEST(GltfFeaturesRender, GltfCameraSeesTheFilesViewCentreAtThePrincipalPoint) {
-  QuadGltf g;
+  GltfBuilder g;
   // The reference camera (node 0) somewhere else; the tested camera (node 2) is a child of a mount
   // turned 30 deg about +Y and lifted 1.5 m, itself tilted 10 deg down about its x axis.
   const double yfov = 50.0 * std::numbers::pi / 180.0;
@@ -129,14 +63,14 @@ TEST(GltfFeaturesRender, GltfCameraSeesTheFilesViewCentreAtThePrincipalPoint) {
   g.doc["nodes"].push_back({{"name", "mount"}, {"translation", {mount_t.x(), mount_t.y(), mount_t.z()}},
                             {"rotation", {mount_q.x(), mount_q.y(), mount_q.z(), mount_q.w()}}, {"children", {2}}});
   g.doc["nodes"].push_back({{"name", "tilted"}, {"camera", 0}, {"rotation", {cam_q.x(), cam_q.y(), cam_q.z(), cam_q.w()}}});
-  g.roots = {0, 1};
+  g.Scene({0, 1});
   // The glTF camera frame of "tilted" in the world: right, up and view (-Z) directions.
   const Eigen::Matrix3d world_from_gl = (mount_q * cam_q).toRotationMatrix();
   const Eigen::Vector3d right = world_from_gl.col(0), up = world_from_gl.col(1), view = -world_from_gl.col(2);
   g.Square(mount_t + 8.0 * view, right, up, 0.4, "pole");                        // on the view axis
   g.Square(mount_t + 8.0 * view + 1.5 * up, right, up, 0.4, "traffic sign");    // above it
   g.Square(mount_t + 20.0 * view, right, up, 60.0, "building");                  // background
-  const Scene scene = LoadGltf(g.Write(TempDir(), "cameras"));
+  const Scene scene = LoadGltf(g.WriteEmbedded(TempDir(), "cameras"));
 
   // Odd image sizes put the principal point on a pixel centre.
   const SceneCameraRig r = RigFromSceneCameras(scene, 161, 121);
@@ -176,7 +110,7 @@ TEST(GltfFeaturesRender, GltfCameraSeesTheFilesViewCentreAtThePrincipalPoint) {
 }
 
 // A 2x1 texture, left texel red, right texel green, sampled NEAREST with clamping.
-int AddRedGreenTexture(QuadGltf& g) {
+int AddRedGreenTexture(GltfBuilder& g) {
   cv::Mat bgr(1, 2, CV_8UC3);
   bgr.at<cv::Vec3b>(0, 0) = cv::Vec3b(0, 0, 255);
   bgr.at<cv::Vec3b>(0, 1) = cv::Vec3b(0, 255, 0);
@@ -197,7 +131,7 @@ TEST(GltfFeaturesRender, TextureTransformSelectsThePartOfTheTextureShown) {
   //  3 rotation 90 deg: uv -> (v, -u) (counter-clockwise in the v-down UV plane), so the texture's
   //    columns run down the square: top half red, bottom half green. The opposite direction,
   //    (-v, u), would clamp to the red texel everywhere.
-  QuadGltf g;
+  GltfBuilder g;
   AddRedGreenTexture(g);
   const double pi = std::numbers::pi;
   auto material = [&](json ext) {
@@ -211,7 +145,7 @@ TEST(GltfFeaturesRender, TextureTransformSelectsThePartOfTheTextureShown) {
   const Eigen::Vector3d right(1, 0, 0), up(0, 1, 0);
   auto centre = [](int square) { return Eigen::Vector3d(-3.3 + 2.2 * square, 0, -6); };
   for (int m = 0; m < 4; ++m) g.Square(centre(m), right, up, 2.0, "wall", m);
-  const Scene scene = LoadGltf(g.Write(TempDir(), "texture_transform"));
+  const Scene scene = LoadGltf(g.WriteEmbedded(TempDir(), "texture_transform"));
   ASSERT_TRUE(scene.warnings.empty()) << scene.warnings.front();
 
   const Camera camera = Camera::PinholeFromHorizontalFov(300, 100, 90.0);
@@ -238,11 +172,11 @@ TEST(GltfFeaturesRender, TextureTransformSelectsThePartOfTheTextureShown) {
 
 TEST(GltfFeaturesRender, VertexColoursColourASurfaceWithoutMaterial) {
   // One square 5 m down -Z: red on its left edge, green on its right, no material.
-  QuadGltf g;
+  GltfBuilder g;
   const Eigen::Vector4f red(1, 0, 0, 1), green(0, 1, 0, 1);
   g.Quad({Eigen::Vector3d(-1, 1, -5), Eigen::Vector3d(1, 1, -5), Eigen::Vector3d(1, -1, -5), Eigen::Vector3d(-1, -1, -5)},
          "wall", -1, {red, green, green, red});
-  const Scene scene = LoadGltf(g.Write(TempDir(), "vertex_colours"));
+  const Scene scene = LoadGltf(g.WriteEmbedded(TempDir(), "vertex_colours"));
   ASSERT_TRUE(scene.warnings.empty()) << scene.warnings.front();
 
   const Camera camera = Camera::PinholeFromHorizontalFov(100, 100, 60.0);
@@ -267,15 +201,15 @@ TEST(GltfFeaturesRender, VertexColoursColourASurfaceWithoutMaterial) {
 // One square node, 5 m down -Z, drawn by three instances 1.5 m apart along x (the middle one
 // turned 45 deg about z): each shows at its own place with its own id, nothing between them.
 TEST(GltfFeaturesRender, GpuInstancesAreSeparateObjectsInTheInstanceImage) {
-  QuadGltf g;
+  GltfBuilder g;
   g.doc["extensionsUsed"] = {"EXT_mesh_gpu_instancing"};
   g.doc["extensionsRequired"] = {"EXT_mesh_gpu_instancing"};
   g.Square(Eigen::Vector3d(0, 0, -5), Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), 0.8, "vegetation");
   const float s = float(std::sin(std::numbers::pi / 8)), c = float(std::cos(std::numbers::pi / 8));
-  const int t = g.View({-1.5f, 0, 0, 0, 0, 0, 1.5f, 0, 0}, "VEC3", 3);
-  const int r = g.View({0, 0, 0, 1, 0, 0, s, c, 0, 0, 0, 1}, "VEC4", 3);
+  const int t = g.Floats({-1.5f, 0, 0, 0, 0, 0, 1.5f, 0, 0}, "VEC3");
+  const int r = g.Floats({0, 0, 0, 1, 0, 0, s, c, 0, 0, 0, 1}, "VEC4");
   g.doc["nodes"].back()["extensions"] = {{"EXT_mesh_gpu_instancing", {{"attributes", {{"TRANSLATION", t}, {"ROTATION", r}}}}}};
-  const Scene scene = LoadGltf(g.Write(TempDir(), "instanced"));
+  const Scene scene = LoadGltf(g.WriteEmbedded(TempDir(), "instanced"));
   ASSERT_TRUE(scene.warnings.empty()) << scene.warnings.front();
   ASSERT_EQ(scene.meshes.size(), 3u);
 
@@ -307,13 +241,13 @@ TEST(GltfFeaturesRender, GpuInstancesAreSeparateObjectsInTheInstanceImage) {
 // A black surface with emissiveFactor scaled by KHR_materials_emissive_strength shows exactly
 // that light, whatever the sun and sky.
 TEST(GltfFeaturesRender, EmissiveSurfaceShowsItsEmission) {
-  QuadGltf g;
+  GltfBuilder g;
   g.doc["extensionsUsed"] = {"KHR_materials_emissive_strength"};
   g.doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}}},
                          {"emissiveFactor", {0.2, 0.1, 0.05}},
                          {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 2}}}}}}};
   g.Square(Eigen::Vector3d(0, 0, -5), Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), 2, "wall", 0);
-  const Scene scene = LoadGltf(g.Write(TempDir(), "emissive"));
+  const Scene scene = LoadGltf(g.WriteEmbedded(TempDir(), "emissive"));
   ASSERT_TRUE(scene.warnings.empty()) << scene.warnings.front();
 
   const Camera camera = Camera::PinholeFromHorizontalFov(100, 100, 60.0);

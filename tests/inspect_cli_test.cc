@@ -11,7 +11,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "tests/data_uri.h"
+#include "testing/gltf_builder.h"
+#include "testing/temp_dir.h"
 #include "tests/rigsim_cli.h"
 
 namespace rigsim {
@@ -19,40 +20,23 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-fs::path TempDir() { return FreshTestDir("rigsim_inspect_cli_test"); }
-
 // One triangle of class `building` with COLOR_0 and an unlit material, and one unclassified
 // triangle with a TEXCOORD_1 nothing samples.
 fs::path WriteTwoTriangles(const fs::path& dir) {
-  const std::vector<float> floats = {0, 0, 0, 1, 0, 0, 0, 1, 0,                // positions
-                                     1, 0, 0, 1, 0, 1, 0, 1, 0, 0, 1, 1,    // COLOR_0 (VEC4)
-                                     0, 0, 1, 0, 0, 1};                     // TEXCOORD_1
-  std::vector<uint8_t> bin(floats.size() * 4);
-  std::memcpy(bin.data(), floats.data(), bin.size());
-  json accessors = json::array();
-  accessors.push_back({{"bufferView", 0}, {"componentType", 5126}, {"count", 3}, {"type", "VEC3"}});
-  accessors.push_back({{"bufferView", 0}, {"byteOffset", 36}, {"componentType", 5126}, {"count", 3}, {"type", "VEC4"}});
-  accessors.push_back({{"bufferView", 0}, {"byteOffset", 84}, {"componentType", 5126}, {"count", 3}, {"type", "VEC2"}});
-  json coloured = {{"attributes", {{"POSITION", 0}, {"COLOR_0", 1}}}};
-  json second_uv = {{"attributes", {{"POSITION", 0}, {"TEXCOORD_1", 2}}}};
-  json doc;
-  doc["asset"] = {{"version", "2.0"}};
-  doc["scene"] = 0;
-  doc["scenes"] = json::array({{{"nodes", {0, 1}}}});
-  doc["nodes"] = json::array({{{"name", "house"}, {"mesh", 0}, {"extras", {{"class", "building"}}}}, {{"mesh", 1}}});
-  doc["meshes"] = json::array({{{"primitives", json::array({coloured})}}, {{"primitives", json::array({second_uv})}}});
-  doc["accessors"] = accessors;
-  doc["materials"] = json::array({{{"extensions", {{"KHR_materials_unlit", json::object()}}}, {"emissiveFactor", {1, 0.5, 0}}}});
-  doc["meshes"][0]["primitives"][0]["material"] = 0;
-  doc["bufferViews"] = json::array({{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", bin.size()}}});
-  doc["buffers"] = json::array({{{"byteLength", bin.size()}, {"uri", DataUri("application/octet-stream", bin)}}});
-  const fs::path path = dir / "two.gltf";
-  std::ofstream(path) << doc.dump();
-  return path;
+  GltfBuilder g;
+  const int pos = g.Positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+  const int colour = g.Floats({1, 0, 0, 1, 0, 1, 0, 1, 0, 0, 1, 1}, "VEC4");
+  const int uv1 = g.Floats({0, 0, 1, 0, 0, 1}, "VEC2");
+  g.doc["materials"] = json::array({{{"extensions", {{"KHR_materials_unlit", json::object()}}}, {"emissiveFactor", {1, 0.5, 0}}}});
+  const int coloured = g.Mesh({{"POSITION", pos}, {"COLOR_0", colour}}, -1, 4, 0);
+  g.Node({{"name", "house"}, {"mesh", coloured}, {"extras", {{"class", "building"}}}});
+  g.Node({{"mesh", g.Mesh({{"POSITION", pos}, {"TEXCOORD_1", uv1}})}});
+  g.Scene({0, 1});
+  return g.WriteEmbedded(dir, "two");
 }
 
 TEST(InspectCli, ReportsWhatTheLoaderUnderstood) {
-  const fs::path dir = TempDir();
+  const TempDir dir;
   const CliResult r = RunRigsim({"inspect", WriteTwoTriangles(dir).string()}, dir / "rigsim");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("primitives  2 (1 with vertex colours)"), std::string::npos) << r.out;
@@ -66,7 +50,7 @@ TEST(InspectCli, ReportsWhatTheLoaderUnderstood) {
 
 // The fuzz seed with morph targets: one mesh on two nodes, one of them with animated weights.
 TEST(InspectCli, ReportsMorphTargetsAndWeightChannels) {
-  const fs::path dir = TempDir();
+  const TempDir dir;
   const fs::path seed = fs::path(RIGSIM_SOURCE_DIR) / "tests/fuzz_corpus/fuzz_gltf/morphed_quad.gltf";
   const CliResult r = RunRigsim({"inspect", seed.string()}, dir / "rigsim");
   ASSERT_EQ(r.code, 0) << r.err;
@@ -81,7 +65,7 @@ TEST(InspectCli, ReportsMorphTargetsAndWeightChannels) {
 
 // The fuzz seeds with a normal map and with an occlusion map: both are counted, neither warned.
 TEST(InspectCli, ReportsNormalAndOcclusionMaps) {
-  const fs::path dir = TempDir();
+  const TempDir dir;
   const fs::path seeds = fs::path(RIGSIM_SOURCE_DIR) / "tests/fuzz_corpus/fuzz_gltf";
   const CliResult normal = RunRigsim({"inspect", (seeds / "normal_mapped_quad.gltf").string()}, dir / "rigsim_normal");
   ASSERT_EQ(normal.code, 0) << normal.err;
@@ -96,7 +80,7 @@ TEST(InspectCli, ReportsNormalAndOcclusionMaps) {
 // instances (float translation and scale, normalized-short rotation, one mirrored, an _ID
 // attribute), whose node is animated. Every instance is counted, and so is its node.
 TEST(InspectCli, ReportsGpuInstances) {
-  const fs::path dir = TempDir();
+  const TempDir dir;
   const fs::path seed = fs::path(RIGSIM_SOURCE_DIR) / "tests/fuzz_corpus/fuzz_gltf/instanced_quad.gltf";
   const CliResult r = RunRigsim({"inspect", seed.string()}, dir / "rigsim");
   ASSERT_EQ(r.code, 0) << r.err;
@@ -113,7 +97,7 @@ TEST(InspectCli, ReportsGpuInstances) {
 // The fuzz seeds compressed with Draco (one primitive) and meshopt (four buffer views), and one
 // compressed with neither.
 TEST(InspectCli, ReportsCompressedMeshes) {
-  const fs::path dir = TempDir();
+  const TempDir dir;
   const fs::path seeds = fs::path(RIGSIM_SOURCE_DIR) / "tests/fuzz_corpus/fuzz_gltf";
   const CliResult draco = RunRigsim({"inspect", (seeds / "draco_grid.glb").string()}, dir / "rigsim_draco");
   ASSERT_EQ(draco.code, 0) << draco.err;
@@ -129,9 +113,9 @@ TEST(InspectCli, ReportsCompressedMeshes) {
 }
 
 TEST(InspectCli, AnUnreadableFileIsAnErrorNamingIt) {
-  const fs::path dir = TempDir();
+  const TempDir dir;
   const fs::path bad = dir / "broken.gltf";
-  std::ofstream(bad) << "{ \"asset\": { \"version\": \"2.0\" }, \"meshes\": [";
+  WriteFile(bad, "{ \"asset\": { \"version\": \"2.0\" }, \"meshes\": [");
   const CliResult r = RunRigsim({"inspect", bad.string()}, dir / "rigsim");
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.err.find(bad.string()), std::string::npos) << r.err;

@@ -7,7 +7,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <numbers>
 #include <sstream>
 #include <string>
 
@@ -18,7 +17,8 @@
 #include "geometry/rig.h"
 #include "gltf/gltf_loader.h"
 #include "gltf/scene_cameras.h"
-#include "tests/data_uri.h"
+#include "testing/gltf_builder.h"
+#include "testing/temp_dir.h"
 #include "tests/rigsim_cli.h"
 
 namespace rigsim {
@@ -39,32 +39,20 @@ bool HasStagingFolder(const fs::path& dir) {
 class MakeRigFromGltf : public testing::Test {
  protected:
   void SetUp() override {
-    dir_ = FreshTestDir("rigsim_make_rig_from_gltf_cli_test");
-    // Two perspective cameras (the second on a turned, scaled parent) and an orthographic one.
-    const double h = std::sqrt(0.5);
-    const json doc = {
-        {"asset", {{"version", "2.0"}}},
-        {"cameras",
-         {{{"type", "perspective"}, {"perspective", {{"yfov", std::numbers::pi / 3}, {"znear", 0.1}}}},
-          {{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"aspectRatio", 2.0}, {"znear", 0.1}}}},
-          {{"type", "orthographic"}, {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0.1}, {"zfar", 100}}}}}},
-        {"nodes",
-         {{{"name", "front"}, {"camera", 0}, {"translation", {1, 2, 3}}, {"rotation", {0, h, 0, h}}},
-          {{"name", "mount"}, {"translation", {0, 0, -10}}, {"rotation", {0, 1, 0, 0}}, {"scale", {2, 2, 2}}, {"children", {2}}},
-          {{"name", "back"}, {"camera", 1}, {"translation", {2, 0, 0}}},
-          {{"name", "top"}, {"camera", 2}, {"translation", {0, 50, 0}}}}},
-        {"scenes", {{{"nodes", {1, 0, 3}}}}},
-        {"scene", 0}};
+    // Two perspective cameras (the second on a turned, scaled parent, aspect ratio 2) and an
+    // orthographic one.
+    const json doc = GltfCamerasDocument();
     scene_ = dir_ / "cameras.gltf";
-    std::ofstream(scene_) << doc.dump(1);
+    WriteFile(scene_, doc.dump(1));
     json none = doc;
     none.erase("cameras");
     for (json& n : none["nodes"]) n.erase("camera");
     no_cameras_ = dir_ / "no_cameras.gltf";
-    std::ofstream(no_cameras_) << none.dump(1);
+    WriteFile(no_cameras_, none.dump(1));
   }
 
-  fs::path dir_, scene_, no_cameras_;
+  const TempDir dir_;
+  fs::path scene_, no_cameras_;
 };
 
 TEST_F(MakeRigFromGltf, WritesTheFilesCamerasAsRigAndOneFrame) {
@@ -93,11 +81,11 @@ TEST_F(MakeRigFromGltf, WritesTheFilesCamerasAsRigAndOneFrame) {
   EXPECT_EQ(rig.cameras[1].name, "back");
 
   // The folder exists now: refused without --force (and left as it was), replaced with it.
-  const std::string before = ReadAll(out / "rig.json");
+  const std::string before = ReadFile(out / "rig.json");
   const CliResult again = RunRigsim(dir_, {"make-rig", "--from-gltf", scene_.string(), "--width", "320", "--height", "240", "--out", out.string()});
   EXPECT_NE(again.code, 0);
   EXPECT_NE(again.err.find("already exists (use --force"), std::string::npos) << again.err;
-  EXPECT_EQ(ReadAll(out / "rig.json"), before);
+  EXPECT_EQ(ReadFile(out / "rig.json"), before);
   const CliResult forced = RunRigsim(dir_, {"make-rig", "--from-gltf", scene_.string(), "--width", "320", "--height", "240", "--out", out.string(), "--force"});
   ASSERT_EQ(forced.code, 0) << forced.err;
   EXPECT_EQ(ReadRig(out / "rig.json").cameras[0].camera.width(), 320);
@@ -126,28 +114,22 @@ TEST_F(MakeRigFromGltf, TheLoadersWarningsArePrintedAndSkippedCamerasCounted) {
   const json camera = {{"type", "perspective"}, {"perspective", {{"yfov", 1.0}, {"znear", 0.1}}}};
   json zero_fov = camera;
   zero_fov["perspective"]["yfov"] = 0.0;
-  json doc = {{"asset", {{"version", "2.0"}}},
-              {"cameras", {camera, zero_fov}},
-              {"nodes",
-               {{{"name", "mirror"}, {"scale", {1, 1, -1}}, {"children", {1}}},
-                {{"name", "mirrored"}, {"camera", 0}},
-                {{"name", "no_fov"}, {"camera", 1}},
-                {{"name", "shear"}, {"scale", {1, 3, 1}}, {"children", {4}}},
-                {{"name", "sheared"}, {"camera", 0}, {"rotation", {0, 0, std::sin(0.3), std::cos(0.3)}}},
-                {{"name", "moving"}, {"camera", 0}}}},
-              {"scenes", {{{"nodes", {0, 2, 3, 5}}}}},
-              {"scene", 0}};
-  const std::vector<float> times = {0, 1}, moves = {0, 0, 0, 1, 0, 0};
-  std::vector<uint8_t> bytes(32);
-  std::memcpy(bytes.data(), times.data(), 8);
-  std::memcpy(bytes.data() + 8, moves.data(), 24);
-  doc["buffers"] = {{{"byteLength", 32}, {"uri", DataUri("application/octet-stream", bytes)}}};
-  doc["bufferViews"] = {{{"buffer", 0}, {"byteLength", 8}}, {{"buffer", 0}, {"byteOffset", 8}, {"byteLength", 24}}};
-  doc["accessors"] = {{{"bufferView", 0}, {"componentType", 5126}, {"count", 2}, {"type", "SCALAR"}, {"min", {0}}, {"max", {1}}},
-                      {{"bufferView", 1}, {"componentType", 5126}, {"count", 2}, {"type", "VEC3"}}};
-  doc["animations"] = {{{"samplers", {{{"input", 0}, {"output", 1}}}}, {"channels", {{{"sampler", 0}, {"target", {{"node", 5}, {"path", "translation"}}}}}}}};
-  const fs::path mixed = dir_ / "mixed.gltf";
-  std::ofstream(mixed) << doc.dump(1);
+  GltfBuilder g;
+  g.doc["cameras"] = {camera, zero_fov};
+  g.doc["nodes"] = {{{"name", "mirror"}, {"scale", {1, 1, -1}}, {"children", {1}}},
+                    {{"name", "mirrored"}, {"camera", 0}},
+                    {{"name", "no_fov"}, {"camera", 1}},
+                    {{"name", "shear"}, {"scale", {1, 3, 1}}, {"children", {4}}},
+                    {{"name", "sheared"}, {"camera", 0}, {"rotation", {0, 0, std::sin(0.3), std::cos(0.3)}}},
+                    {{"name", "moving"}, {"camera", 0}}};
+  g.Scene({0, 2, 3, 5});
+  const int times = g.Floats({0, 1}, "SCALAR");
+  g.doc["accessors"][times]["min"] = {0};
+  g.doc["accessors"][times]["max"] = {1};
+  const int moves = g.Floats({0, 0, 0, 1, 0, 0}, "VEC3");
+  g.doc["animations"] = {{{"samplers", {{{"input", times}, {"output", moves}}}},
+                          {"channels", {{{"sampler", 0}, {"target", {{"node", 5}, {"path", "translation"}}}}}}}};
+  const fs::path mixed = g.WriteEmbedded(dir_, "mixed");
   const CliResult r = RunRigsim(dir_, {"make-rig", "--from-gltf", mixed.string(), "--out", (dir_ / "mixed").string()});
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(ReadRig(dir_ / "mixed" / "rig.json").cameras.size(), 2u);
@@ -157,9 +139,8 @@ TEST_F(MakeRigFromGltf, TheLoadersWarningsArePrintedAndSkippedCamerasCounted) {
     EXPECT_NE(r.err.find(warning), std::string::npos) << warning << " in:\n" << r.err;
   }
 
-  doc["scenes"][0]["nodes"] = {0, 2};  // two unusable cameras; two more outside the loaded scene
-  const fs::path skipped = dir_ / "skipped.gltf";
-  std::ofstream(skipped) << doc.dump(1);
+  g.Scene({0, 2});  // two unusable cameras; two more outside the loaded scene
+  const fs::path skipped = g.WriteEmbedded(dir_, "skipped");
   const CliResult none = RunRigsim(dir_, {"make-rig", "--from-gltf", skipped.string(), "--out", (dir_ / "skipped").string()});
   EXPECT_NE(none.code, 0);
   EXPECT_NE(none.err.find(skipped.string() + ": no perspective camera in the loaded scene (4 camera node(s) skipped by the loader; its warnings say why)"),

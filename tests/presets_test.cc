@@ -1,4 +1,4 @@
-// Issue 4's done-when checks, end to end: every scene preset renders with every rig generator;
+// Every scene preset, end to end: each renders with every rig generator;
 // each preset gives SIFT at least 2000 features per 1280x720 view on average; a ring rig asked
 // for a neighbour overlap gets it within +-5 points of the ground truth measured on the renders.
 #include <cstdio>

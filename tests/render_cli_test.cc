@@ -19,8 +19,9 @@
 #include "dataset/dataset.h"
 #include "dataset/label_image.h"
 #include "labels/cityscapes.h"
+#include "testing/gltf_builder.h"
+#include "testing/temp_dir.h"
 #include "tests/rigsim_cli.h"
-#include "tests/data_uri.h"
 
 namespace rigsim {
 namespace {
@@ -33,28 +34,19 @@ CliResult RunRigsim(const fs::path& dir, const std::vector<std::string>& args) {
 class RenderCli : public testing::Test {
  protected:
   void SetUp() override {
-    dir_ = FreshTestDir("rigsim_render_cli_test");
     // A large wall 6 m down -Z (every ring camera at heading 0 sees part of it, the others sky).
-    scene_ = dir_ / "wall.gltf";
-    WriteWall(scene_, {{"mesh", 0}, {"extras", {{"class", "building"}}}});
+    scene_ = WriteWall("wall", {{"mesh", 0}, {"extras", {{"class", "building"}}}});
     const CliResult rig = RunRigsim(dir_, {"make-rig", "--cameras", "3", "--width", "64", "--height", "48", "--out", (dir_ / "rig").string()});
     ASSERT_EQ(rig.code, 0) << rig.err;
   }
 
-  static void WriteWall(const fs::path& path, const json& node) {
-    const std::vector<float> xyz = {-30, -10, -6, 30, -10, -6, 30, 20, -6, -30, -10, -6, 30, 20, -6, -30, 20, -6};
-    std::vector<uint8_t> bin(xyz.size() * 4);
-    std::memcpy(bin.data(), xyz.data(), bin.size());
-    const json doc = {
-        {"asset", {{"version", "2.0"}}},
-        {"scene", 0},
-        {"scenes", {{{"nodes", {0}}}}},
-        {"nodes", {node}},
-        {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"mode", 4}}}}}}},
-        {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", 6}, {"type", "VEC3"}}}},
-        {"bufferViews", {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", bin.size()}}}},
-        {"buffers", {{{"byteLength", bin.size()}, {"uri", DataUri("application/octet-stream", bin)}}}}};
-    std::ofstream(path) << doc.dump();
+  // The wall as `name`.gltf in the test's folder; `node` places mesh 0.
+  fs::path WriteWall(const std::string& name, const json& node) const {
+    GltfBuilder g;
+    g.Mesh({{"POSITION", g.Positions({-30, -10, -6, 30, -10, -6, 30, 20, -6, -30, -10, -6, 30, 20, -6, -30, 20, -6})}});
+    g.Node(node);
+    g.Scene({0});
+    return g.WriteEmbedded(dir_, name);
   }
 
   CliResult Render(const std::string& out, std::vector<std::string> extra) {
@@ -68,7 +60,8 @@ class RenderCli : public testing::Test {
     return RunRigsim(dir_, args);
   }
 
-  fs::path dir_, scene_;
+  const TempDir dir_;
+  fs::path scene_;
 };
 
 TEST_F(RenderCli, PhotometricOnChangesOnlyRgbAndRecordsTheDraws) {
@@ -85,13 +78,13 @@ TEST_F(RenderCli, PhotometricOnChangesOnlyRgbAndRecordsTheDraws) {
   EXPECT_FALSE(fs::exists(a.PhotometricJson()));
   ASSERT_TRUE(fs::exists(b.PhotometricJson()));
   for (const std::string cam : {"cam0", "cam1", "cam2"}) {
-    EXPECT_NE(ReadAll(a.Image(cam, "000000")), ReadAll(b.Image(cam, "000000"))) << cam;
-    EXPECT_EQ(ReadAll(b.Image(cam, "000000")), ReadAll(c.Image(cam, "000000"))) << cam << ": same seed, same bytes";
-    EXPECT_EQ(ReadAll(a.Label(cam, "000000")), ReadAll(b.Label(cam, "000000"))) << cam;
-    EXPECT_EQ(ReadAll(a.Instance(cam, "000000")), ReadAll(b.Instance(cam, "000000"))) << cam;
-    EXPECT_EQ(ReadAll(a.Depth(cam, "000000")), ReadAll(b.Depth(cam, "000000"))) << cam;
+    EXPECT_NE(ReadFile(a.Image(cam, "000000")), ReadFile(b.Image(cam, "000000"))) << cam;
+    EXPECT_EQ(ReadFile(b.Image(cam, "000000")), ReadFile(c.Image(cam, "000000"))) << cam << ": same seed, same bytes";
+    EXPECT_EQ(ReadFile(a.Label(cam, "000000")), ReadFile(b.Label(cam, "000000"))) << cam;
+    EXPECT_EQ(ReadFile(a.Instance(cam, "000000")), ReadFile(b.Instance(cam, "000000"))) << cam;
+    EXPECT_EQ(ReadFile(a.Depth(cam, "000000")), ReadFile(b.Depth(cam, "000000"))) << cam;
   }
-  const json j = json::parse(ReadAll(b.PhotometricJson()));
+  const json j = json::parse(ReadFile(b.PhotometricJson()));
   EXPECT_EQ(j.at("seed").get<int>(), 3);
   EXPECT_EQ(j.at("options").at("read_noise_stddev").get<double>(), 0.01);
   EXPECT_EQ(j.at("options").at("vignetting_strength").get<double>(), 0.3);  // the --photometric default
@@ -101,7 +94,7 @@ TEST_F(RenderCli, PhotometricOnChangesOnlyRgbAndRecordsTheDraws) {
   // One magnitude alone turns on only itself.
   const CliResult vignetting_only = Render("vignetting_only", {"--vignetting", "0.5"});
   ASSERT_EQ(vignetting_only.code, 0) << vignetting_only.err;
-  const json v = json::parse(ReadAll(DatasetLayout(dir_ / "vignetting_only").PhotometricJson()));
+  const json v = json::parse(ReadFile(DatasetLayout(dir_ / "vignetting_only").PhotometricJson()));
   EXPECT_EQ(v.at("options").at("vignetting_strength").get<double>(), 0.5);
   EXPECT_EQ(v.at("options").at("exposure_stops_sigma").get<double>(), 0.0);
   EXPECT_EQ(v.at("cameras")[1].at("gain").get<double>(), 1.0);
@@ -138,9 +131,8 @@ TEST_F(RenderCli, BadPhotometricMagnitudesAreRefusedBeforeWriting) {
 
 TEST_F(RenderCli, RulesLabelAGltfWithoutClasses) {
   // The same wall, named but without extras.class.
-  const fs::path facade = dir_ / "facade.gltf", rules = dir_ / "rules.json";
-  WriteWall(facade, {{"mesh", 0}, {"name", "Facade_01"}});
-  std::ofstream(rules) << R"({"rules": [{"match": "node", "glob": "Facade*", "class": "building"}]})";
+  const fs::path facade = WriteWall("facade", {{"mesh", 0}, {"name", "Facade_01"}}), rules = dir_ / "rules.json";
+  WriteFile(rules, R"({"rules": [{"match": "node", "glob": "Facade*", "class": "building"}]})");
   const CliResult plain = RenderScene(facade, "plain", {});
   ASSERT_EQ(plain.code, 0) << plain.err;
   const CliResult ruled = RenderScene(facade, "ruled", {"--rules", rules.string()});
@@ -168,7 +160,7 @@ TEST_F(RenderCli, RulesLabelAGltfWithoutClasses) {
   EXPECT_GT(wall, int(with.data.size() / 4));
 
   // A rules file with an unknown class: refused with its name and the rule, nothing written.
-  std::ofstream(rules) << R"({"rules": [{"match": "node", "glob": "Facade*", "class": "buildings"}]})";
+  WriteFile(rules, R"({"rules": [{"match": "node", "glob": "Facade*", "class": "buildings"}]})");
   const CliResult bad = RenderScene(facade, "bad", {"--rules", rules.string()});
   EXPECT_NE(bad.code, 0);
   EXPECT_NE(bad.err.find(rules.string()), std::string::npos) << bad.err;

@@ -5,8 +5,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <fstream>
-#include <sstream>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -16,21 +14,6 @@
 #endif
 
 namespace rigsim {
-
-std::filesystem::path FreshTestDir(const std::string& suite) {
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / suite / testing::UnitTest::GetInstance()->current_test_info()->name();
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
-
-std::string ReadAll(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 RigsimProcess::RigsimProcess(const std::vector<std::string>& args, const std::filesystem::path& log_prefix)
     : out_(log_prefix.string() + ".stdout"), err_(log_prefix.string() + ".stderr") {

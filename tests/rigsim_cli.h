@@ -9,13 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "testing/temp_dir.h"
+
 namespace rigsim {
-
-// A fresh, empty folder for the running test: <tmp>/<suite>/<test name>.
-std::filesystem::path FreshTestDir(const std::string& suite);
-
-// The whole file as bytes ("" when it cannot be read).
-std::string ReadAll(const std::filesystem::path& path);
 
 // rigsim started with `args` (no shell involved); stdout and stderr go to the files
 // `log_prefix`.stdout and .stderr. For tests that signal the running process.
@@ -25,8 +21,8 @@ class RigsimProcess {
   pid_t pid() const { return pid_; }
   // Waits (at most `timeout`, then kills it and fails the test); the exit code, or 128 + signal.
   int Wait(std::chrono::seconds timeout = std::chrono::seconds(120));
-  std::string out() const { return ReadAll(out_); }
-  std::string err() const { return ReadAll(err_); }
+  std::string out() const { return ReadFile(out_); }
+  std::string err() const { return ReadFile(err_); }
 
  private:
   pid_t pid_ = -1;

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "testing/temp_dir.h"
 #include "tests/rigsim_cli.h"
 
 namespace rigsim {
@@ -20,31 +21,31 @@ namespace fs = std::filesystem;
 // Two cells of a 2-camera ring on the street at 320x180, two frames, SIFT without and with the
 // semantic mask: seconds per cell.
 void WriteTinyConfig(const fs::path& path) {
-  std::ofstream(path) << R"(# a tiny sweep for the test suite
+  WriteFile(path, R"(# a tiny sweep for the test suite
 name: tiny
 base: {rig: ring, cameras: 2, spacing: 40, width: 320, height: 180, frames: 2, spp: 1}
 methods: {semantics: [none, mask]}
 grid:
   radius: [0.3, 0.6]
-)";
+)");
 }
 
 int CountLines(const std::string& text) { return static_cast<int>(std::count(text.begin(), text.end(), '\n')); }
 
 TEST(SweepCli, ATinySweepRunsEndToEndAndResumes) {
-  const fs::path dir = FreshTestDir("SweepCli");
+  const TempDir dir;
   WriteTinyConfig(dir / "tiny.yaml");
   const fs::path out = dir / "out";
   const CliResult run = RunRigsim({"sweep", (dir / "tiny.yaml").string(), "--out", out.string()}, dir / "run1",
                                   std::chrono::seconds(300));
   ASSERT_EQ(run.code, 0) << run.err;
   EXPECT_NE(run.out.find("sweep tiny: 2 cells (2 run now, 0 from an earlier run)"), std::string::npos) << run.out;
-  const std::string csv = ReadAll(out / "results.csv");
+  const std::string csv = ReadFile(out / "results.csv");
   EXPECT_EQ(CountLines(csv), 1 + 2 * 2) << csv;  // header + 2 cells x 2 methods
   EXPECT_NE(csv.find(",none,rigsim,none,sift,ok,"), std::string::npos) << csv;
   EXPECT_NE(csv.find(",mask,rigsim,mask,sift,ok,"), std::string::npos) << csv;
   // Every row is scored against the truth: the rig has two cameras.
-  std::istringstream jsonl(ReadAll(out / "results.jsonl"));
+  std::istringstream jsonl(ReadFile(out / "results.jsonl"));
   std::string line;
   int rows = 0;
   while (std::getline(jsonl, line)) {
@@ -53,10 +54,12 @@ TEST(SweepCli, ATinySweepRunsEndToEndAndResumes) {
     EXPECT_TRUE(row["overlap_pct"].is_number()) << line;
     EXPECT_TRUE(row["auc_pairs_5deg"].is_number()) << line;
     EXPECT_TRUE(row["time_total_s"].is_number()) << line;
+    EXPECT_TRUE(row["cross_class_matches"].is_number()) << line;  // the dataset has true labels
+    EXPECT_LE(row["cross_class_wrong"].get<int>(), row["cross_class_matches"].get<int>());
     ++rows;
   }
   EXPECT_EQ(rows, 4);
-  const std::string report = ReadAll(out / "report.md");
+  const std::string report = ReadFile(out / "report.md");
   EXPECT_NE(report.find("# Sweep: tiny"), std::string::npos);
   EXPECT_NE(report.find("| radius=0.3 | none |"), std::string::npos) << report;
   EXPECT_NE(report.find("## The thesis's claims"), std::string::npos);  // none and mask: the claims are tested
@@ -65,15 +68,15 @@ TEST(SweepCli, ATinySweepRunsEndToEndAndResumes) {
   EXPECT_FALSE(fs::exists(out / "datasets"));  // deleted after each cell without --keep-datasets
 
   // Again: both cells are found finished, nothing is rendered, the results are the same rows.
-  const std::string rows_before = ReadAll(out / "results.jsonl");
+  const std::string rows_before = ReadFile(out / "results.jsonl");
   const CliResult again = RunRigsim({"sweep", (dir / "tiny.yaml").string(), "--out", out.string()}, dir / "run2");
   ASSERT_EQ(again.code, 0) << again.err;
   EXPECT_NE(again.out.find("(0 run now, 2 from an earlier run)"), std::string::npos) << again.out;
-  EXPECT_EQ(ReadAll(out / "results.jsonl"), rows_before);
+  EXPECT_EQ(ReadFile(out / "results.jsonl"), rows_before);
 }
 
 TEST(SweepCli, CtrlCLosesOnlyTheCellInProgress) {
-  const fs::path dir = FreshTestDir("SweepCli");
+  const TempDir dir;
   WriteTinyConfig(dir / "tiny.yaml");
   const fs::path out = dir / "out";
   RigsimProcess sweep({"sweep", (dir / "tiny.yaml").string(), "--out", out.string()}, dir / "interrupted");
@@ -92,12 +95,12 @@ TEST(SweepCli, CtrlCLosesOnlyTheCellInProgress) {
   const CliResult rest = RunRigsim({"sweep", (dir / "tiny.yaml").string(), "--out", out.string()}, dir / "resumed",
                                    std::chrono::seconds(300));
   ASSERT_EQ(rest.code, 0) << rest.err;
-  EXPECT_EQ(CountLines(ReadAll(out / "results.csv")), 1 + 2 * 2);
+  EXPECT_EQ(CountLines(ReadFile(out / "results.csv")), 1 + 2 * 2);
 }
 
 TEST(SweepCli, BadConfigsAreRefusedNamingTheFileAndKey) {
-  const fs::path dir = FreshTestDir("SweepCli");
-  std::ofstream(dir / "bad.yaml") << "grid: {overlpa: [10, 20]}\n";
+  const TempDir dir;
+  WriteFile(dir / "bad.yaml", "grid: {overlpa: [10, 20]}\n");
   const CliResult bad = RunRigsim({"sweep", (dir / "bad.yaml").string(), "--out", (dir / "out").string()}, dir / "bad");
   EXPECT_EQ(bad.code, 1);
   EXPECT_NE(bad.err.find("bad.yaml: grid.overlpa: unknown parameter (did you mean 'overlap'?)"), std::string::npos)
@@ -105,17 +108,17 @@ TEST(SweepCli, BadConfigsAreRefusedNamingTheFileAndKey) {
   EXPECT_FALSE(fs::exists(dir / "out"));
   // A folder of other files is never written into.
   fs::create_directories(dir / "mine");
-  std::ofstream(dir / "mine" / "thesis.tex") << "text";
+  WriteFile(dir / "mine" / "thesis.tex", "text");
   WriteTinyConfig(dir / "tiny.yaml");
   const CliResult foreign = RunRigsim({"sweep", (dir / "tiny.yaml").string(), "--out", (dir / "mine").string(), "--force"},
                                       dir / "foreign");
   EXPECT_EQ(foreign.code, 1);
   EXPECT_NE(foreign.err.find("not a sweep's results"), std::string::npos) << foreign.err;
-  EXPECT_EQ(ReadAll(dir / "mine" / "thesis.tex"), "text");
+  EXPECT_EQ(ReadFile(dir / "mine" / "thesis.tex"), "text");
 }
 
 TEST(EvaluateCli, EveryEstimateFormatOfTheTruthScoresPerfectly) {
-  const fs::path dir = FreshTestDir("EvaluateCli");
+  const TempDir dir;
   ASSERT_EQ(RunRigsim({"make-rig", "ring", "--cameras", "3", "--width", "160", "--height", "96", "--frames", "2",
                        "--out", (dir / "rig").string()},
                       dir / "make-rig")
@@ -137,14 +140,14 @@ TEST(EvaluateCli, EveryEstimateFormatOfTheTruthScoresPerfectly) {
                                   dir / "evaluate");
     ASSERT_EQ(r.code, 0) << estimate << r.err;
     EXPECT_NE(r.out.find("3/3 cameras with a full pose"), std::string::npos) << r.out;
-    const nlohmann::json scores = nlohmann::json::parse(ReadAll(dir / "scores.json"));
+    const nlohmann::json scores = nlohmann::json::parse(ReadFile(dir / "scores.json"));
     const nlohmann::json& summary = scores["methods"].begin().value()["summary"];
     EXPECT_NEAR(summary["max_rotation_error_deg"].get<double>(), 0.0, 1e-6) << estimate;
     EXPECT_NEAR(summary["max_translation_direction_error_deg"].get<double>(), 0.0, 1e-6) << estimate;
     EXPECT_EQ(summary["success_1deg"], true);
   }
   // A dataset without the truth cannot score anything.
-  std::ofstream(dir / "export" / "notes.txt") << "x";
+  WriteFile(dir / "export" / "notes.txt", "x");
   const CliResult bad = RunRigsim({"evaluate", (dir / "export").string(), (dir / "data" / "rig.json").string()},
                                   dir / "bad");
   EXPECT_EQ(bad.code, 1);

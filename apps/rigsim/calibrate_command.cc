@@ -46,7 +46,7 @@ void AddCalibrateCommand(CLI::App& app) {
     args->settings.options.pairwise.features.type = FeatureTypeFromName(args->features);
     const std::filesystem::path out =
         args->out.empty() ? std::filesystem::path(args->dataset) / "calibration" : std::filesystem::path(args->out);
-    ThrowUnlessEveryCameraCalibrated(CalibrateAndReport(args->dataset, args->settings, out, args->force));
+    ThrowUnlessEveryCameraCalibrated(CalibrateAndReport(args->dataset, args->settings, out, args->force).results);
   });
 }
 

@@ -132,8 +132,8 @@ void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& s) {
   }
 }
 
-std::vector<RigCalibrationResult> CalibrateAndReport(const std::filesystem::path& dataset, const CalibrateSettings& settings,
-                                                     const std::filesystem::path& out_dir, bool force) {
+CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const CalibrateSettings& settings,
+                                  const std::filesystem::path& out_dir, bool force) {
   const RigCalibrationOptions options = settings.ToOptions();
   const std::vector<SemanticMode> modes = settings.Modes();
   const bool labels_used = std::any_of(modes.begin(), modes.end(), NeedsLabels);
@@ -150,7 +150,7 @@ std::vector<RigCalibrationResult> CalibrateAndReport(const std::filesystem::path
 
   std::fprintf(stderr, "calibrating %s (%zu semantic modes%s)...\n", dataset.string().c_str(), modes.size(),
                labels_used ? (", labels: " + labels.Describe()).c_str() : "");
-  const CalibrationRun run = CalibrateDataset(inputs, options, modes);
+  CalibrationRun run = CalibrateDataset(inputs, options, modes);
   for (const std::string& note : WriteCalibrationResults(run, staged.staging_dir())) {
     std::fprintf(stderr, "warning: %s\n", note.c_str());
   }
@@ -172,7 +172,7 @@ std::vector<RigCalibrationResult> CalibrateAndReport(const std::filesystem::path
   std::printf("  evaluation.json; per mode <mode>/: rig.json, camchain.yaml (Kalibr), opencv.yaml, colmap/, pairs.json,\n"
               "  rig_topdown.svg (the rig seen from above%s), matches/ (each solved pair's inliers)\n",
               results.empty() || !inputs.truth ? "" : ", against the truth");
-  return results;
+  return run;
 }
 
 void ThrowUnlessEveryCameraCalibrated(const std::vector<RigCalibrationResult>& results) {

@@ -10,6 +10,7 @@
 
 #include "calibrator/rig_calibration.h"
 #include "dataset/label_source.h"
+#include "pipeline/calibration_run.h"
 
 namespace rigsim::cli {
 
@@ -52,9 +53,10 @@ void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& settings);
 
 // Calibrates the rig of `dataset` in each semantic mode (pipeline/calibration_run.h), writes the
 // results into `out_dir` (pipeline/calibration_outputs.h; atomically, replaced only with `force`)
-// and prints the pair and camera tables and a summary, warnings to stderr.
-std::vector<RigCalibrationResult> CalibrateAndReport(const std::filesystem::path& dataset, const CalibrateSettings& settings,
-                                                     const std::filesystem::path& out_dir, bool force);
+// and prints the pair and camera tables and a summary, warnings to stderr. Returns the run (with
+// each stage's details when settings.options.keep_details, for a report).
+CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const CalibrateSettings& settings,
+                                  const std::filesystem::path& out_dir, bool force);
 
 // Throws Unfinished (exit code 3) naming, per semantic mode, the cameras without a full pose, so
 // that a script sees a rig that was not (fully) calibrated; the results are written by then.

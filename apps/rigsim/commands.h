@@ -25,5 +25,7 @@ void AddGenerateSceneCommand(CLI::App& app);
 void AddExportCommand(CLI::App& app);
 void AddEvaluateCommand(CLI::App& app);
 void AddSweepCommand(CLI::App& app);
+void AddSweepMergeCommand(CLI::App& app);
+void AddReportCommand(CLI::App& app);
 
 }  // namespace rigsim::cli

@@ -4,6 +4,7 @@
 #include "apps/rigsim/calibrate_support.h"
 #include "apps/rigsim/commands.h"
 #include "apps/rigsim/render_support.h"
+#include "apps/rigsim/report_support.h"
 #include "apps/rigsim/version.h"
 #include "dataset/dataset.h"
 #include "rigs/rig_presets.h"
@@ -17,6 +18,9 @@ void AddDemoCommand(CLI::App& app) {
     std::string out = "out/demo";
     bool force = false;
     int frames = 4;
+    int width = RingRigOptions{}.width;
+    int height = RingRigOptions{}.height;
+    bool report = true;
     RenderSettings render;
     CalibrateSettings calibrate;
   };
@@ -25,14 +29,20 @@ void AddDemoCommand(CLI::App& app) {
       "demo",
       "Render the built-in street with the default rig (4 cameras in a ring, 20-40% overlap between\n"
       "neighbours, cam1 with barrel distortion, 1280x720), calibrate every camera pair with and\n"
-      "without semantics, and print how close each came to the truth. Writes the dataset and\n"
-      "evaluation.json to --out.");
+      "without semantics, and print how close each came to the truth. Writes the dataset,\n"
+      "calibration/ and evaluation.json to --out, and a teaching report, OUT/report/index.html\n"
+      "(open it in a browser). --width 640 --height 360 runs in seconds on a laptop.");
   cmd->add_option("--scene", args->scene, "scene to render")->capture_default_str()->check(CLI::ExistingFile);
   cmd->add_option("--out", args->out, "dataset folder to write")->capture_default_str();
   cmd->add_flag("--force", args->force, "replace an existing output folder");
   cmd->add_option("--frames", args->frames, "frames rendered along the street (matches are pooled over them)")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));
+  cmd->add_option("--width", args->width, "image width of every camera (the field of view stays)")
+      ->capture_default_str()
+      ->check(CLI::Range(64, 8192));
+  cmd->add_option("--height", args->height, "image height of every camera")->capture_default_str()->check(CLI::Range(64, 8192));
+  cmd->add_flag("--report,!--no-report", args->report, "write the teaching report OUT/report/ (default: on)");
   AddRenderSettingsOptions(*cmd, args->render);
   AddCalibrateSettingsOptions(*cmd, args->calibrate);
   cmd->callback([args] {
@@ -46,20 +56,34 @@ void AddDemoCommand(CLI::App& app) {
     RenderJob job;
     job.scene = &scene;
     job.scene_name = std::filesystem::path(args->scene).filename().string();
-    job.rig = MakeRingRig(RingRigOptions{});
+    RingRigOptions ring;
+    ring.width = args->width;
+    ring.height = args->height;
+    job.rig = MakeRingRig(ring);
     job.frames = MakeDemoTrajectory(args->frames);
     job.frames.tool_version = RIGSIM_VERSION_STRING;
     job.options = args->render.ToRenderOptions();
     RenderAndReport(job, args->out, args->force);
 
     const std::filesystem::path calibration = std::filesystem::path(args->out) / "calibration";
-    const std::vector<RigCalibrationResult> results = CalibrateAndReport(args->out, args->calibrate, calibration, true);
+    CalibrateSettings calibrate = args->calibrate;
+    calibrate.options.keep_details = args->report;  // what the report shows of every stage
+    const CalibrationRun run = CalibrateAndReport(args->out, calibrate, calibration, true);
     // The evaluation also beside the images, where the dataset's other ground truth is.
     std::filesystem::copy_file(calibration / "evaluation.json", DatasetLayout(args->out).EvaluationJson(),
                                std::filesystem::copy_options::overwrite_existing);
+    if (args->report) {
+      ReportOptions report;
+      report.scene = args->scene;
+      report.tool_version = RIGSIM_VERSION_STRING;
+      report.command = "rigsim demo --out " + args->out;
+      const std::filesystem::path index =
+          WriteReportFolder(run, report, std::filesystem::path(args->out) / "report", true);
+      std::printf("teaching report: %s (open it in a browser)\n", index.string().c_str());
+    }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("demo finished in %.1f s\n", seconds);
-    ThrowUnlessEveryCameraCalibrated(results);
+    ThrowUnlessEveryCameraCalibrated(run.results);
   });
 }
 

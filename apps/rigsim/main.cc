@@ -26,6 +26,8 @@ int main(int argc, char** argv) {
   rigsim::cli::AddExportCommand(app);
   rigsim::cli::AddEvaluateCommand(app);
   rigsim::cli::AddSweepCommand(app);
+  rigsim::cli::AddSweepMergeCommand(app);
+  rigsim::cli::AddReportCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,28 @@
+#include "apps/rigsim/report_support.h"
+
+#include <cstdio>
+
+#include "dataset/dataset.h"
+
+namespace rigsim::cli {
+namespace fs = std::filesystem;
+
+fs::path FindSceneOf(const fs::path& dataset, const FramesFile& frames) {
+  if (frames.scene.empty()) return {};
+  const fs::path scene = frames.scene;
+  for (const fs::path& candidate : {scene, dataset / scene, fs::path(RIGSIM_ASSET_DIR) / "scenes" / scene.filename()}) {
+    if (fs::is_regular_file(candidate)) return candidate;
+  }
+  return {};
+}
+
+fs::path WriteReportFolder(const CalibrationRun& run, const ReportOptions& options, const fs::path& out_dir, bool force) {
+  StagedOutput staged(out_dir, force);
+  for (const std::string& w : WriteReport(run, options, staged.staging_dir())) {
+    std::fprintf(stderr, "warning: report: %s\n", w.c_str());
+  }
+  staged.Commit();
+  return fs::absolute(out_dir / "index.html").lexically_normal();
+}
+
+}  // namespace rigsim::cli

@@ -1,0 +1,23 @@
+// What the report and demo commands share: writing the teaching report of a calibration run
+// (report/report_writer.h) into its own folder, atomically, and saying where it is.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "pipeline/calibration_run.h"
+#include "report/report_writer.h"
+
+namespace rigsim::cli {
+
+// The scene a dataset was rendered from, for the report's 3D view: frames.json's "scene" as a
+// path (absolute, or relative to the dataset or to the working folder), else the shipped scene of
+// that name (assets/scenes/); empty when none is found.
+std::filesystem::path FindSceneOf(const std::filesystem::path& dataset, const FramesFile& frames);
+
+// Writes the report into `out_dir` (replaced only with `force`), prints its warnings to stderr
+// and returns the path of its index.html.
+std::filesystem::path WriteReportFolder(const CalibrationRun& run, const ReportOptions& options,
+                                        const std::filesystem::path& out_dir, bool force);
+
+}  // namespace rigsim::cli
