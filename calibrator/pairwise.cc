@@ -574,6 +574,13 @@ std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path
   return reports;
 }
 
+std::optional<bool> PairWithinTolerance(const PairResult& pr) {
+  if (!pr.cam_b_from_cam_a_gt) return std::nullopt;
+  if (!pr.two_view.success) return false;
+  return WithinTolerance(pr.rotation_error_deg, pr.two_view.rotation_only ? std::nullopt : pr.translation_direction_error_deg,
+                         PoseTolerance::kPairRotationDeg, PoseTolerance::kPairDirectionDeg);
+}
+
 nlohmann::json PairResultToJson(const PairResult& pr) {
   const TwoViewEstimate& tv = pr.two_view;
   nlohmann::json j;
@@ -591,6 +598,8 @@ nlohmann::json PairResultToJson(const PairResult& pr) {
   j["median_residual_deg"] = tv.success ? nlohmann::json(tv.median_residual_deg) : nlohmann::json(nullptr);
   j["rotation_error_deg"] = json_io::OptionalNumber(pr.rotation_error_deg);
   j["translation_direction_error_deg"] = json_io::OptionalNumber(pr.translation_direction_error_deg);
+  const std::optional<bool> within = PairWithinTolerance(pr);
+  j["within_tolerance"] = within ? nlohmann::json(*within) : nlohmann::json(nullptr);
   j["match_precision"] = json_io::OptionalNumber(pr.match_precision);
   j["matches_evaluated"] = pr.matches_evaluated;
   j["matches_correct"] = pr.matches_correct;
@@ -629,7 +638,7 @@ nlohmann::json ReportToJson(const std::vector<CalibrationReport>& reports) {
     nlohmann::json m;
     nlohmann::json pairs = nlohmann::json::array();
     std::vector<double> pose_errors, rotation_errors;
-    int succeeded = 0, rotation_only = 0, planar = 0;
+    int succeeded = 0, rotation_only = 0, planar = 0, within = 0, succeeded_outside = 0;
     int64_t matches = 0, inliers = 0, evaluated = 0, correct = 0, cross = 0, cross_correct = 0;
     bool has_truth = false, has_cross = false;
     for (const PairResult& pr : rep.pairs) {
@@ -648,6 +657,9 @@ nlohmann::json ReportToJson(const std::vector<CalibrationReport>& reports) {
       correct += pr.matches_correct;
       if (pr.cam_b_from_cam_a_gt) {
         has_truth = true;
+        const bool ok = PairWithinTolerance(pr).value_or(false);
+        within += ok;
+        succeeded_outside += pr.two_view.success && !ok;
         pose_errors.push_back(PoseError(pr));
         rotation_errors.push_back(pr.rotation_error_deg.value_or(std::numeric_limits<double>::infinity()));
       }
@@ -663,6 +675,10 @@ nlohmann::json ReportToJson(const std::vector<CalibrationReport>& reports) {
     summary["match_precision"] = evaluated > 0 ? nlohmann::json(double(correct) / evaluated) : nlohmann::json(nullptr);
     summary["cross_class_matches"] = has_cross ? nlohmann::json(cross) : nlohmann::json(nullptr);
     summary["cross_class_wrong"] = has_cross ? nlohmann::json(cross - cross_correct) : nlohmann::json(nullptr);
+    summary["tolerance"] = {{"rotation_deg", PoseTolerance::kPairRotationDeg},
+                            {"direction_deg", PoseTolerance::kPairDirectionDeg}};
+    summary["pairs_within_tolerance"] = has_truth ? nlohmann::json(within) : nlohmann::json(nullptr);
+    summary["pairs_succeeded_outside_tolerance"] = has_truth ? nlohmann::json(succeeded_outside) : nlohmann::json(nullptr);
     if (has_truth) {
       for (double t : {1.0, 2.0, 5.0, 10.0}) {
         const std::string key = std::to_string(static_cast<int>(t));

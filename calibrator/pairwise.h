@@ -167,6 +167,10 @@ std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path
                                                      const std::vector<SemanticMode>& modes,
                                                      std::vector<PairwiseMatchData>* match_data = nullptr);
 
+// The pair's pose against the truth (evaluation.h PoseTolerance, pair bounds): nullopt without
+// the truth, false for a failed pair; a rotation-only pair is judged on its rotation.
+std::optional<bool> PairWithinTolerance(const PairResult& pair);
+
 // One pair's entry of ReportToJson below.
 nlohmann::json PairResultToJson(const PairResult& pair);
 

@@ -261,8 +261,26 @@ struct PositionStage {
   std::vector<PoseStart> starts;
   double eigenvalue_ratio = 0.0;  // of the track solve
   std::string position_reason;    // why there is no start; empty when there is one
+  std::string remedy;             // what would fix the positions the images leave open
   int scale_camera = -1;          // the camera at distance 1 from camera 0; -1: none
 };
+
+// What a user can change so that the images fix positions they leave open, from how the rig moved.
+std::string PositionRemedy(const RigMotion& motion, int num_frames) {
+  if (!motion.moving) {
+    return num_frames < 2 ? "to place it: several frames while the rig moves (its motion links the cameras' positions), "
+                            "or more overlap between neighbouring cameras"
+                          : "to place it: matches between consecutive frames (move the rig less between frames), or "
+                            "more overlap between neighbouring cameras";
+  }
+  double turn_deg = 0.0;  // the largest rotation of the rig from frame 0
+  for (const auto& q : motion.rig_rotation) {
+    if (q && motion.rig_rotation[0]) turn_deg = std::max(turn_deg, RotationDifferenceDeg(*q, *motion.rig_rotation[0]));
+  }
+  std::string remedy = "to place it: more frames";
+  if (turn_deg < 10.0) remedy += ", a path that turns (the rig turned " + Fixed(turn_deg, 1) + " deg)";
+  return remedy + ", more overlap between neighbouring cameras, or a higher resolution";
+}
 
 PoseStart ToStart(const std::string& source, const RigPositions& positions, const RotationStage& rs,
                   const RigMotion& motion, int scale_camera) {
@@ -287,6 +305,7 @@ PoseStart ToStart(const std::string& source, const RigPositions& positions, cons
 PositionStage EstimateInitialPoses(const RigObservations& obs, const RotationStage& rs, const RigMotion& motion,
                                    const std::vector<ViewTrack>& tracks, const RigCalibrationOptions& options) {
   PositionStage s;
+  s.remedy = PositionRemedy(motion, static_cast<int>(obs.keypoints.size()));
   const RigPositions from_directions = EstimateRigPositionsFromDirections(rs.graph, obs.temporal, rs.rot.cam_from_rig,
                                                                           motion.rig_rotation, !motion.moving);
   const RigPositions from_tracks = EstimateRigPositions(obs.cameras, obs.keypoints, tracks, rs.rot.cam_from_rig,
@@ -301,7 +320,7 @@ PositionStage EstimateInitialPoses(const RigObservations& obs, const RotationSta
       s.position_reason = "not observable: the cameras' pairs do not link their scales (only " +
                           std::to_string(multi_view_tracks) +
                           " points seen by three or more cameras) and there is no rig motion to link them (one "
-                          "frame, or no matches between frames)";
+                          "frame, or no matches between frames); " + s.remedy;
       return s;
     }
   }
@@ -319,7 +338,8 @@ PositionStage EstimateInitialPoses(const RigObservations& obs, const RotationSta
     }
   }
   if (s.starts.empty()) {
-    s.position_reason = "not observable: " + (!from_directions.reason.empty() ? from_directions.reason : from_tracks.reason);
+    s.position_reason = "not observable: " +
+                        (!from_directions.reason.empty() ? from_directions.reason : from_tracks.reason) + "; " + s.remedy;
   }
   return s;
 }
@@ -411,13 +431,14 @@ ScaledPoses DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& ad
     out.direction_std_deg[c] = std_deg;
     if (std_deg > options.max_direction_std_deg) {
       out.undetermined[c] = "not determined: the images fix its direction from " + obs.camera_names[0] + " to +-" +
-                            Fixed(std_deg, 1) + " deg only (cameras close together for the depth of the scene)";
+                            Fixed(std_deg, 1) + " deg only (cameras close together for the depth of the scene); " +
+                            ps.remedy;
       pose[c].reset();  // its adjusted rotation is kept (from ba)
     }
   }
   for (int c = 1; c < n; ++c) {
     if (!pose[c] || adjusted.ambiguous[c].empty()) continue;
-    out.undetermined[c] = adjusted.ambiguous[c];
+    out.undetermined[c] = adjusted.ambiguous[c] + "; " + ps.remedy;
     pose[c].reset();
   }
   int scale_camera = ps.scale_camera;
@@ -432,7 +453,8 @@ ScaledPoses DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& ad
     }
   }
   if (!ps.starts.empty()) out.rig_from_world = ba.rig_from_world;
-  out.scale = scale_camera >= 0 ? "unit scale: |centre of " + obs.camera_names[scale_camera] + "| = 1"
+  out.scale = scale_camera >= 0 ? "unit scale: |centre of " + obs.camera_names[scale_camera] +
+                                      "| = 1 (--known-distance CAM_A CAM_B METRES makes it metric)"
                                 : "no scale (no camera with a position besides " + obs.camera_names[0] + ")";
   if (!options.known_distance) return out;
   if (pose[known_a] && pose[known_b]) {
@@ -486,7 +508,8 @@ void SetCameraAndEdgeStatus(const RigObservations& obs, const RotationStage& rs,
            : !position_reason.empty()     ? position_reason
                                           : std::string("not observable: no track links its views to the "
                                                         "calibrated cameras' (only rotation-only pairs or too "
-                                                        "little parallax)"));
+                                                        "little parallax); to place it: more overlap with a "
+                                                        "placed camera, or more frames while the rig moves"));
     } else {
       result->camera_status[c] = NotConnectedReason(graph, c, rotated, obs.camera_names);
     }
@@ -723,6 +746,14 @@ std::vector<RigCalibrationResult> CalibrateRig(const std::filesystem::path& data
   return results;
 }
 
+std::optional<bool> CameraWithinTolerance(const RigCalibrationResult& r, size_t c) {
+  if (!r.evaluated) return std::nullopt;
+  const RigCameraStats& s = r.camera_stats[c];
+  if (!s.rotation_error_deg) return false;  // no estimate
+  return WithinTolerance(s.rotation_error_deg, s.translation_direction_error_deg, PoseTolerance::kCameraRotationDeg,
+                         PoseTolerance::kCameraDirectionDeg);
+}
+
 nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& results) {
   std::vector<CalibrationReport> reports;
   for (const RigCalibrationResult& r : results) reports.push_back(r.pairwise);
@@ -730,7 +761,7 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
   nlohmann::json methods = nlohmann::json::object();
   for (const RigCalibrationResult& r : results) {
     nlohmann::json cams = nlohmann::json::array();
-    int calibrated = 0;
+    int calibrated = 0, within = 0, calibrated_outside = 0;
     double max_rot = 0.0, max_dir = 0.0;
     for (size_t c = 0; c < r.rig.cameras.size(); ++c) {
       const auto& pose = r.rig.cameras[c].cam_from_rig;
@@ -757,6 +788,10 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
       j["rotation_error_deg"] = json_io::OptionalNumber(s.rotation_error_deg);
       j["translation_direction_error_deg"] = json_io::OptionalNumber(s.translation_direction_error_deg);
       j["position_error_m"] = json_io::OptionalNumber(s.position_error_m);
+      const std::optional<bool> ok = CameraWithinTolerance(r, c);
+      j["within_tolerance"] = ok ? nlohmann::json(*ok) : nlohmann::json(nullptr);
+      within += ok.value_or(false);
+      calibrated_outside += pose.has_value() && !ok.value_or(true);
       cams.push_back(j);
     }
     nlohmann::json edges = nlohmann::json::array();
@@ -792,6 +827,11 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
                               {"position_eigenvalue_ratio", std::isfinite(r.position_eigenvalue_ratio)
                                                                 ? nlohmann::json(r.position_eigenvalue_ratio)
                                                                 : nlohmann::json(nullptr)}};
+    summary["tolerance"] = {{"rotation_deg", PoseTolerance::kCameraRotationDeg},
+                            {"direction_deg", PoseTolerance::kCameraDirectionDeg}};
+    summary["cameras_within_tolerance"] = r.evaluated ? nlohmann::json(within) : nlohmann::json(nullptr);
+    summary["cameras_calibrated_outside_tolerance"] =
+        r.evaluated ? nlohmann::json(calibrated_outside) : nlohmann::json(nullptr);
     summary["max_rotation_error_deg"] = r.evaluated ? nlohmann::json(max_rot) : nlohmann::json(nullptr);
     summary["max_translation_direction_error_deg"] = r.evaluated ? nlohmann::json(max_dir) : nlohmann::json(nullptr);
     nlohmann::json m;

@@ -241,6 +241,10 @@ std::vector<RigCalibrationResult> CalibrateRig(const std::filesystem::path& data
                                                const RigCalibrationOptions& options,
                                                const std::vector<SemanticMode>& modes);
 
+// Camera c's estimate against the truth (evaluation.h PoseTolerance, camera bounds): nullopt when
+// not evaluated, false without an estimate; a camera without a position is judged on its rotation.
+std::optional<bool> CameraWithinTolerance(const RigCalibrationResult& result, size_t c);
+
 // rig_calibration.json: {"methods": {"<mode>": {"summary": {...}, "timing": {...},
 // "cameras": [{name, status, calibrated, position_known, rotation_wxyz, cam_from_rig, centre_in_rig,
 // observations,
