@@ -1,6 +1,8 @@
-// Renderer speed against its lower bound: a labelled frame (RGB + label + instance + range) of
-// the built-in street at 1280x720 through the demo rig's first camera, and Embree alone tracing
-// exactly the same primary and shadow rays (TraceOnlyForBenchmark, renderer/trace_only_benchmark.h).
+// Renderer speed against its lower bounds: a labelled frame (RGB + label + instance + range) of
+// the built-in street at 1280x720 through the demo rig's first camera, the minimal labelled frame
+// (MinimalFrameForBenchmark: the same rays, flat grey Lambert, no texture or material), and Embree
+// alone tracing exactly the same primary and shadow rays (TraceOnlyForBenchmark,
+// renderer/trace_only_benchmark.h).
 //
 // Counters: ms_per_frame, Mrays_per_s (primary + shadow rays of the frame / wall time),
 // peak_rss_MB (getrusage ru_maxrss of the whole process so far: benchmarks run in the order they
@@ -123,6 +125,21 @@ void RenderFrames(benchmark::State& state, const Renderer& renderer, const Camer
   state.SetLabel(key);
 }
 
+// The floor under a labelled frame (MinimalFrameForBenchmark): timed like RenderFrames.
+void MinimalFrames(benchmark::State& state, const Renderer& renderer, const Camera& camera, const Rigid3d& pose,
+                   const std::string& key) {
+  const RenderOptions options = Options(int(state.range(0)), int(state.range(1)));
+  double seconds = 0;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    RenderedView view = MinimalFrameForBenchmark(renderer, camera, pose, options);
+    benchmark::DoNotOptimize(view.rgb.data.data());
+    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  state.counters["ms_per_frame"] = 1e3 * seconds / double(std::max<benchmark::IterationCount>(1, state.iterations()));
+  state.SetLabel(key);
+}
+
 void TraceOnly(benchmark::State& state, const Renderer& renderer, const Camera& camera, const Rigid3d& pose,
                const std::string& key) {
   const RenderOptions options = Options(int(state.range(0)), int(state.range(1)));
@@ -155,6 +172,11 @@ void BM_StreetEmbreeAlone(benchmark::State& state) {
   TraceOnly(state, *v.renderer, v.camera, v.cam_from_world, Key("street embree", state));
 }
 
+void BM_StreetMinimalFrame(benchmark::State& state) {
+  StreetView& v = Street();
+  MinimalFrames(state, *v.renderer, v.camera, v.cam_from_world, Key("street minimal", state));
+}
+
 void BM_Grid1MLabelledFrame(benchmark::State& state) {
   GridView& v = Grid();
   RenderFrames(state, *v.renderer, v.camera, v.cam_from_world, Key("grid1M frame", state));
@@ -171,6 +193,7 @@ BENCHMARK(BM_StreetLabelledFrame)->Args({1, 0})->Args({4, 0})->Args({1, 1})->Arg
     ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 BENCHMARK(BM_StreetEmbreeAlone)->Args({1, 0})->Args({4, 0})->Args({1, 1})->Args({1, 2})
     ->Unit(benchmark::kMillisecond)->UseManualTime()->MinTime(2.0);
+BENCHMARK(BM_StreetMinimalFrame)->Args({1, 0})->Args({1, 1})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 BENCHMARK(BM_Grid1MLabelledFrame)->Args({1, 0})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 BENCHMARK(BM_Grid1MEmbreeAlone)->Args({1, 0})->Unit(benchmark::kMillisecond)->UseManualTime()->MinTime(2.0);
 

@@ -309,8 +309,8 @@ namespace rigsim {
 namespace {
 
 // A 180-degree rotation maps pixel x to (width - 1 - x): a detector without positional bias finds
-// the same features at mirrored positions. OpenCV 4.6's SIFT is 0.25 px off in x and y (the
-// median difference below was exactly 0.5 px before DetectFeatures corrected it).
+// the same features at mirrored positions. OpenCV 4.6's SIFT is 0.25 px off in x and y (without
+// DetectFeatures' correction the median difference below is exactly 0.5 px).
 TEST(DetectFeatures, KeypointsAreEquivariantUnderA180DegreeRotation) {
   constexpr int kW = 480, kH = 360;
   const ImageU8 img = BlobImage(kW, kH, 5);

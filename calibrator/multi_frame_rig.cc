@@ -468,8 +468,8 @@ BundleRoundResult SolveBundle(BundleProblem& bp, std::vector<WorldPoint>& points
   solver_options.linear_solver_type = ceres::DENSE_SCHUR;
   solver_options.max_num_iterations = options.max_iterations;
   // The rounds before the last only decide which observations to filter: a coarse solve is
-  // enough there (it took 150 of 155 iterations on the demo ring with the final tolerance).
-  // The last stops at a relative cost change of 1e-6: beyond it Levenberg-Marquardt crawled
+  // enough there (with the final tolerance it takes 150 of 155 iterations on the demo ring).
+  // The last stops at a relative cost change of 1e-6: beyond it Levenberg-Marquardt crawls
   // 100 iterations (4.6 s on a 6-camera ring) for 3e-5 of the cost and no change in the
   // poses at 0.001 deg.
   solver_options.function_tolerance = round.final_round ? 1e-6 : 1e-5;
@@ -525,7 +525,7 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
   if (options.keep_points) result.initial_residuals_px = bp.Residuals(points);
 
   // Round -1 (coarse): the linear initial poses can be far off (hundreds of px RMS on the demo
-  // ring), and converging from there took ~80 iterations over every point. Poses are fixed by far
+  // ring), and converging from there takes ~80 iterations over every point. Poses are fixed by far
   // fewer points: solve on an even subsample, then re-triangulate every track from those poses,
   // keeping the observations within max_reprojection_error_px (the poses now tell outliers).
   const bool coarse_first = options.coarse_points > 0 && static_cast<int>(points.size()) > 2 * options.coarse_points;

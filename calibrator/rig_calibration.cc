@@ -60,7 +60,7 @@ void ScaleTranslations(double s, std::vector<std::optional<Rigid3d>>* cam_from_r
 
 // A calibrated camera whose place rests on one pair only, a pair whose fit explains under a
 // quarter of its matches, may be a wrong view that agreed with some pose by chance (a mirrored
-// photo of a symmetric facade did: 17% inliers, 121 deg off); genuine pairs of the demo and of
+// photo of a symmetric facade does: 17% inliers, 121 deg off); genuine pairs of the demo and of
 // Herz-Jesus explain 60-90%. The pose is kept, with a warning that says what to look at.
 constexpr double kWeakPairInlierRatio = 0.25;
 

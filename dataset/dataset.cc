@@ -88,6 +88,22 @@ fs::path DatasetLayout::Depth(const std::string& cam, const std::string& frame) 
   return root_ / "depth" / cam / (frame + ".exr");
 }
 
+fs::path DatasetLayout::DepthColor(const std::string& cam, const std::string& frame) const {
+  return root_ / "depth_color" / cam / (frame + ".png");
+}
+fs::path DatasetLayout::InstanceColor(const std::string& cam, const std::string& frame) const {
+  return root_ / "instances_color" / cam / (frame + ".png");
+}
+fs::path DatasetLayout::Normal(const std::string& cam, const std::string& frame) const {
+  return root_ / "normals" / cam / (frame + ".exr");
+}
+fs::path DatasetLayout::Correspondence(const std::string& cam_a, const std::string& cam_b, const std::string& frame) const {
+  return root_ / "correspondence" / cam_a / cam_b / (frame + ".exr");
+}
+fs::path DatasetLayout::Flow(const std::string& cam, const std::string& frame) const {
+  return root_ / "flow" / cam / (frame + ".exr");
+}
+
 namespace {
 
 // The extensions a photo in images/<cam>/ may have, in the order FindImage tries them.

@@ -8,6 +8,9 @@
 //   DATASET/instances/<cam>/<frame>.png     uint16 instance ids, 0 = none
 //   DATASET/depth/<cam>/<frame>.exr         float32 range along the pixel's ray (m), 0 = no surface
 //   DATASET/overlap.json                    ground-truth co-visibility per camera pair
+//   Only when asked for (README, 'Dataset layout'): depth_color/ instances_color/ normals/
+//   correspondence/<a>/<b>/ flow/ per camera and frame, instances_coco.json; poses.json when
+//   cameras capture over time.
 //   DATASET/photometric.json                per-camera exposure, white balance, vignetting, noise
 //                                           drawn for the images (only when render varied them;
 //                                           renderer/photometric.h)
@@ -60,6 +63,17 @@ class DatasetLayout {
   std::filesystem::path LabelColor(const std::string& cam, const std::string& frame) const;
   std::filesystem::path Instance(const std::string& cam, const std::string& frame) const;
   std::filesystem::path Depth(const std::string& cam, const std::string& frame) const;
+  // Written only when asked for (render --previews, --normals, --correspondence, --coco) or when
+  // the rig's cameras capture over time (poses.json).
+  std::filesystem::path DepthColor(const std::string& cam, const std::string& frame) const;
+  std::filesystem::path InstanceColor(const std::string& cam, const std::string& frame) const;
+  std::filesystem::path Normal(const std::string& cam, const std::string& frame) const;
+  // Camera a's pixels in camera b at the same frame.
+  std::filesystem::path Correspondence(const std::string& cam_a, const std::string& cam_b, const std::string& frame) const;
+  // The camera's pixels at `frame` in its image of the next frame.
+  std::filesystem::path Flow(const std::string& cam, const std::string& frame) const;
+  std::filesystem::path PosesJson() const { return root_ / "poses.json"; }
+  std::filesystem::path CocoJson() const { return root_ / "instances_coco.json"; }
 
   // Finds the image of a frame whatever its extension (.png, .jpg, .jpeg, .tif, .tiff, .exr, and
   // .PNG, .JPG, .JPEG); nullopt if absent.

@@ -50,6 +50,43 @@ CoVisibleCounts CountCoVisible(const Camera& cam_a, const ImageF& range_a, const
                                int y_begin, int y_end, const DepthTransferOptions& options = {},
                                const std::vector<Eigen::Vector3f>* bearings_a = nullptr);
 
+// A rendered view's pose: cam_from_world of every image row (a rolling shutter, each row captured
+// from where the camera was at its time), or one for all rows.
+struct ViewPose {
+  std::vector<Rigid3d> cam_from_world_rows;  // 1 or the image height
+
+  const Rigid3d& Row(int y) const { return cam_from_world_rows.size() == 1 ? cam_from_world_rows[0] : cam_from_world_rows[size_t(y)]; }
+  bool Rolling() const { return cam_from_world_rows.size() > 1; }
+};
+
+// Where a world point appears in a view: its pixel, and the point in the camera frame of the row
+// that sees it. With a rolling shutter the row is found by fixed-point iteration (project with a
+// row's pose, take the row it lands on, until it lands on that row; at most 8 steps). nullopt when
+// the camera model does not project it (behind, outside the lens's valid region).
+struct ViewProjection {
+  Eigen::Vector2d px;
+  Eigen::Vector3d x_in_cam;
+};
+std::optional<ViewProjection> ProjectIntoView(const Eigen::Vector3d& x_in_world, const Camera& camera, const ViewPose& pose,
+                                              int first_row_guess = -1);
+
+// Ground-truth correspondence from view A to view B (another camera, or the same camera at
+// another frame: optical flow). Per pixel of A, 3 channels: x, y = where the surface point seen at
+// A's pixel centre (lifted by its range along the pixel's ray, from A's pose at the pixel's row)
+// projects in B (OpenCV pixel convention, possibly outside B's image), visible = 1 when it lies in
+// B's image and B's range image sees that surface there (the depth test of the overlap), else 0.
+// x = y = NaN where A sees no surface or B's camera does not project the point. The surface is
+// taken as static between A's and B's capture times. `surface` and `visible` count A's surface
+// pixels and those visible in B: for global shutters exactly CountCoVisible's figures.
+struct CorrespondenceMap {
+  ImageF map;  // 3 channels: x, y, visible
+  size_t surface = 0, visible = 0;
+};
+CorrespondenceMap ComputeCorrespondence(const Camera& cam_a, const ImageF& range_a, const ViewPose& pose_a,
+                                        const std::vector<Eigen::Vector3f>& bearings_a, const Camera& cam_b,
+                                        const ImageF& range_b, const ViewPose& pose_b,
+                                        const DepthTransferOptions& options = {});
+
 // Fraction of A's pixels with a surface that are visible in B (depth-tested).
 double CoVisibleFraction(const Camera& cam_a, const ImageF& range_a, const Camera& cam_b, const ImageF& range_b,
                          const Rigid3d& b_from_a, const DepthTransferOptions& options = {});

@@ -12,7 +12,7 @@ namespace rigsim {
 void WriteImage(const std::filesystem::path& path, const ImageU8& image);
 // 16-bit single-channel PNG (instance ids).
 void WriteImage(const std::filesystem::path& path, const ImageU16& image);
-// float EXR (depth).
+// float EXR: depth (1 channel, uncompressed), or 3 channels R, G, B (zip).
 void WriteImage(const std::filesystem::path& path, const ImageF& image);
 
 // Reads any format OpenImageIO knows, converted to the requested type. `channels` > 0 demands
@@ -21,6 +21,8 @@ void WriteImage(const std::filesystem::path& path, const ImageF& image);
 ImageU8 ReadImageU8(const std::filesystem::path& path, int channels = 0);
 ImageU16 ReadImageU16(const std::filesystem::path& path);
 ImageF ReadImageF(const std::filesystem::path& path);
+// Any number of float channels (correspondence maps, normals).
+ImageF ReadImageFChannels(const std::filesystem::path& path);
 
 // The size in the file's header, without decoding the pixels (a whole dataset's photos are
 // checked in moments before any is decoded). Throws like the readers.

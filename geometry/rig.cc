@@ -1,5 +1,6 @@
 #include "geometry/rig.h"
 
+#include <cmath>
 #include <cstdint>
 #include <stdexcept>
 
@@ -13,6 +14,31 @@ using json_io::Json;
 namespace {
 // Image sides beyond this are certainly a corrupt file (no sensor has 1 million pixels per row).
 constexpr int64_t kMaxImageSide = 1 << 20;
+// The rolling shutter and exposure fields of one camera (absent = off).
+void ReadTiming(const Json& c, const std::string& source, const std::string& where, RigCamera& rc) {
+  auto non_negative = [&](const char* key, double* value) {
+    if (!c.contains(key)) return;
+    *value = Get<double>(c, key, source, where);
+    if (!std::isfinite(*value) || *value < 0 || *value > 3600) {
+      throw std::runtime_error(source + ": " + where + " ('" + rc.name + "'): " + key + " must be in [0, 3600] s, got " +
+                               std::to_string(*value));
+    }
+  };
+  non_negative("readout_s", &rc.readout_s);
+  non_negative("exposure_s", &rc.exposure_s);
+  if (!std::isfinite(rc.time_offset_s) || std::abs(rc.time_offset_s) > 3600) {
+    throw std::runtime_error(source + ": " + where + " ('" + rc.name + "'): time_offset_s must be finite, within 3600 s");
+  }
+  if (c.contains("readout_direction")) {
+    const std::string direction = Get<std::string>(c, "readout_direction", source, where);
+    if (direction != "top-to-bottom" && direction != "bottom-to-top") {
+      throw std::runtime_error(source + ": " + where + " ('" + rc.name + "'): readout_direction must be "
+                               "\"top-to-bottom\" or \"bottom-to-top\", got \"" + direction + "\"");
+    }
+    rc.readout_bottom_to_top = direction == "bottom-to-top";
+  }
+}
+
 }  // namespace
 
 int Rig::FindCamera(const std::string& name) const {
@@ -74,6 +100,7 @@ Rig RigFromJsonText(const std::string& text, const std::string& source) {
       rc.cam_from_rig = json_io::PoseFromJson(c["cam_from_rig"], source, where + ".cam_from_rig");
     }
     if (c.contains("time_offset_s")) rc.time_offset_s = Get<double>(c, "time_offset_s", source, where);
+    ReadTiming(c, source, where, rc);
     rig.cameras.push_back(std::move(rc));
   }
   return rig;
@@ -89,6 +116,11 @@ std::string RigToJsonText(const Rig& rig) {
            {"params", rc.camera.params()},
            {"time_offset_s", rc.time_offset_s}};
     if (rc.cam_from_rig) c["cam_from_rig"] = json_io::PoseToJson(*rc.cam_from_rig);
+    if (rc.readout_s > 0) {
+      c["readout_s"] = rc.readout_s;
+      c["readout_direction"] = rc.readout_bottom_to_top ? "bottom-to-top" : "top-to-bottom";
+    }
+    if (rc.exposure_s > 0) c["exposure_s"] = rc.exposure_s;
     cams.push_back(std::move(c));
   }
   return Json{{"cameras", cams}}.dump(2) + "\n";

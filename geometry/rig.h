@@ -6,9 +6,13 @@
 //     { "name": "cam0", "model": "OPENCV", "width": 1280, "height": 720,
 //       "params": [fx, fy, cx, cy, k1, k2, p1, p2],          // camera_models.h orders
 //       "cam_from_rig": { "rotation_wxyz": [w, x, y, z], "translation": [x, y, z] },  // optional
-//       "time_offset_s": 0.0 }                                 // optional, capture delay
+//       "time_offset_s": 0.0,                                  // optional, capture delay
+//       "readout_s": 0.0, "readout_direction": "top-to-bottom", // optional, rolling shutter
+//       "exposure_s": 0.0 }                                    // optional, motion blur
 //   ]
 // }
+// The three timing fields are written only when they differ from their defaults, so a rig
+// without them reads and writes as before they existed.
 #pragma once
 
 #include <filesystem>
@@ -26,6 +30,23 @@ struct RigCamera {
   Camera camera;
   std::optional<Rigid3d> cam_from_rig;  // unknown for a rig that is yet to be calibrated
   double time_offset_s = 0.0;            // capture time relative to the frame's timestamp
+  // Rolling shutter: the time from the first row read out to the row after the last; row r (in
+  // readout order) is captured time_offset_s + r * readout_s / height after the frame's
+  // timestamp. 0 = global shutter.
+  double readout_s = 0.0;
+  bool readout_bottom_to_top = false;    // readout order: top row first (false) or bottom row first
+  // Each row integrates light over [t - exposure_s / 2, t + exposure_s / 2] around its capture
+  // time t (motion blur in the colour image; ground truth is at t). 0 = instantaneous.
+  double exposure_s = 0.0;
+
+  // Whether the camera's capture is spread over time (rolling shutter or exposure).
+  bool CaptureSpansTime() const { return readout_s > 0 || exposure_s > 0; }
+  // Seconds after the frame's timestamp at which image row `row` is captured (mid exposure).
+  double RowTime(int row) const {
+    const int h = camera.height();
+    const int r = readout_bottom_to_top ? h - 1 - row : row;
+    return time_offset_s + (h > 0 ? r * readout_s / h : 0.0);
+  }
 };
 
 struct Rig {

@@ -37,6 +37,37 @@ TEST(Rig, JsonRoundTripKeepsEverything) {
   EXPECT_EQ(back.FindCamera("right"), -1);
 }
 
+TEST(Rig, TimingRoundTripsAndIsWrittenOnlyWhenOn) {
+  Rig rig = TwoCameraRig();
+  EXPECT_EQ(RigToJsonText(rig).find("readout"), std::string::npos);  // off: the file is as before
+  EXPECT_EQ(RigToJsonText(rig).find("exposure_s"), std::string::npos);
+  rig.cameras[1].readout_s = 0.03;
+  rig.cameras[1].readout_bottom_to_top = true;
+  rig.cameras[1].exposure_s = 0.002;
+  const Rig back = RigFromJsonText(RigToJsonText(rig), "test");
+  EXPECT_DOUBLE_EQ(back.cameras[1].readout_s, 0.03);
+  EXPECT_TRUE(back.cameras[1].readout_bottom_to_top);
+  EXPECT_DOUBLE_EQ(back.cameras[1].exposure_s, 0.002);
+  EXPECT_FALSE(back.cameras[0].CaptureSpansTime());
+  EXPECT_TRUE(back.cameras[1].CaptureSpansTime());
+  // Bottom to top: the last row (47) first, at the offset; row 0 last, 47/48 of the readout later.
+  EXPECT_DOUBLE_EQ(back.cameras[1].RowTime(47), 0.004);
+  EXPECT_DOUBLE_EQ(back.cameras[1].RowTime(0), 0.004 + 47 * 0.03 / 48);
+}
+
+TEST(Rig, BadTimingIsRefusedNamingTheField) {
+  const std::string head = R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5],)";
+  for (const std::string& bad : {std::string(R"("readout_s": -1)"), std::string(R"("exposure_s": -0.1)"),
+                                 std::string(R"("readout_direction": "left-to-right")")}) {
+    try {
+      RigFromJsonText(head + bad + "}]}", "rig.json");
+      ADD_FAILURE() << bad;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(bad.substr(1, bad.find('"', 1) - 1)), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(Rig, PosesAreOptionalForRealPhotos) {
   const Rig rig = RigFromJsonText(
       R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5]}]})", "rig.json");

@@ -71,8 +71,8 @@ WrapMode ToWrap(int gl) {
 // Decodes glTF images with OpenCV (libpng, libjpeg, libwebp) in place of tinygltf's stb_image,
 // after two checks on the encoded bytes: the image is a PNG or a JPEG, the formats glTF 2.0
 // allows, or a WebP (EXT_texture_webp) (stb would also take BMP, PSD, GIF, ...), and its header
-// asks for no more pixels than the limit. stb inflated a PNG's compressed data into a buffer
-// without bound: a 1x1 PNG of a few hundred bytes (found by fuzzing) made it allocate 1.2 GB.
+// asks for no more pixels than the limit. stb inflates a PNG's compressed data into a buffer
+// without bound: a 1x1 PNG of a few hundred bytes (found by fuzzing) makes it allocate 1.2 GB.
 // libpng inflates row by row into the image's own size. An image that fails a check or does not
 // decode is left empty, its reason kept in the ImageChecks `user_data`, and tinygltf goes on.
 bool LoadCheckedImage(tinygltf::Image* image, const int index, std::string* /*err*/, std::string* /*warn*/,

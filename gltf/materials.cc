@@ -112,8 +112,8 @@ void Loader::ConvertEmission(const tinygltf::Material& m, const std::string& whe
 // Rotation: the extension rotates UVs counter-clockwise *in UV space*, where v points down, so
 // (u, v) -> (cos r * u + sin r * v, -sin r * u + cos r * v): at 90 deg, (1, 0) -> (0, -1). This is
 // what the Khronos sample viewer, three.js, Babylon.js, Blender and CesiumGltf compute and what the
-// TextureTransformTest sample model checks; the README's GLSL listing shows the transpose (a
-// counter-clockwise turn in a v-up space), a known erratum (KhronosGroup/glTF issue #1563).
+// TextureTransformTest sample model checks; the GLSL listing in the extension's README shows the
+// transpose (a counter-clockwise turn in a v-up space), a known erratum (KhronosGroup/glTF #1563).
 TextureUv Loader::ParseTextureTransform(const tinygltf::Value& ext, const std::string& where, int texcoord_set) {
   const std::string w = where + ": KHR_texture_transform";
   if (!ext.IsObject()) Fail(w + " is not an object");

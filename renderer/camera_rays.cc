@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <utility>
 
 #include <tbb/parallel_for.h>
@@ -21,19 +22,21 @@ uint64_t Mix64(uint64_t z) {
   return z ^ (z >> 31);
 }
 
-uint64_t HashSample(uint64_t seed, int x, int y, int sample, int stream) {
-  uint64_t h = Mix64(seed);
-  h = Mix64(h ^ (uint64_t(uint32_t(x)) << 32 | uint32_t(y)));
-  h = Mix64(h ^ (uint64_t(uint32_t(sample)) << 8 | uint32_t(stream)));
-  return h;
+// The hash of (seed, x, y), from which each sample's numbers are one more mix.
+uint64_t PixelHash(uint64_t seed, int x, int y) { return Mix64(Mix64(seed) ^ (uint64_t(uint32_t(x)) << 32 | uint32_t(y))); }
+
+uint64_t SampleHash(uint64_t pixel_hash, int sample, int stream) {
+  return Mix64(pixel_hash ^ (uint64_t(uint32_t(sample)) << 8 | uint32_t(stream)));
 }
 
 float UnitFloat(uint64_t h) { return float(h >> 40) * 0x1p-24f; }  // [0, 1)
 
-// Sub-pixel offset in [-0.5, 0.5)^2 of sample `s` of pixel (x, y).
-Eigen::Vector2d SampleOffset(uint64_t seed, int x, int y, int s, int spp, int grid, const std::vector<int>& rooks) {
-  const float jx = UnitFloat(HashSample(seed, x, y, s, 0));
-  const float jy = UnitFloat(HashSample(seed, x, y, s, 1));
+// Sub-pixel offset in [-0.5, 0.5)^2 of sample `s` of the pixel with hash `pixel_hash`: both
+// jitters from one 64-bit hash (its top and middle 24 bits).
+Eigen::Vector2d SampleOffset(uint64_t pixel_hash, int s, int spp, int grid, const std::vector<int>& rooks) {
+  const uint64_t h = SampleHash(pixel_hash, s, 0);
+  const float jx = UnitFloat(h);
+  const float jy = float((h >> 16) & 0xFFFFFF) * 0x1p-24f;
   if (grid > 0) {
     return Eigen::Vector2d((s % grid + jx) / grid - 0.5, (s / grid + jy) / grid - 0.5);
   }
@@ -44,6 +47,7 @@ PixelCentreRays ComputePixelCentreRays(const Camera& camera) {
   const int width = camera.width(), height = camera.height();
   PixelCentreRays rays;
   rays.width = width;
+  rays.interpolate_samples = !IsFisheyeModel(camera.model());
   rays.bearings.assign(size_t(width) * height, Eigen::Vector3f::Zero());
   rays.valid.assign(rays.bearings.size(), 0);
   rays.angle.assign(rays.bearings.size(), 0.0f);
@@ -76,7 +80,36 @@ PixelCentreRays ComputePixelCentreRays(const Camera& camera) {
   return rays;
 }
 
+// The unit bearing of image point (px, py) from the four pixel centres around it (bilinear, then
+// normalised), when they all lie in the image and inside the lens; else nullopt. Between pixel
+// centres the bearing is a smooth function of the image point, so the interpolation's error is of
+// second order in the pixel size: below 1e-6 rad (1/1000 px) for every camera model in the tests,
+// while undistorting each sample exactly (Newton iterations for a distorted lens) would cost a
+// quarter of the instructions of a 4-spp render of the demo rig.
+[[gnu::always_inline]] inline std::optional<Eigen::Vector3f> InterpolatedBearing(const PixelCentreRays& c, int height,
+                                                                                double px, double py) {
+  if (!(px >= 0.0 && py >= 0.0)) return std::nullopt;  // (also NaN) the top-left pixel's centre is (0, 0)
+  const int x0 = int(px), y0 = int(py);                  // floor, as px, py >= 0
+  const double fx = x0, fy = y0;
+  if (x0 + 1 >= c.width || y0 + 1 >= height) return std::nullopt;
+  const size_t i00 = size_t(y0) * c.width + x0, i01 = i00 + c.width;
+  if (!(c.valid[i00] & c.valid[i00 + 1] & c.valid[i01] & c.valid[i01 + 1])) return std::nullopt;
+  const float ax = float(px - fx), ay = float(py - fy);
+  const Eigen::Vector3f top = c.bearings[i00] + ax * (c.bearings[i00 + 1] - c.bearings[i00]);
+  const Eigen::Vector3f bottom = c.bearings[i01] + ax * (c.bearings[i01 + 1] - c.bearings[i01]);
+  return (top + ay * (bottom - top)).normalized();
+}
+
 }  // namespace
+
+std::optional<Eigen::Vector3f> SampleBearing(const Camera& camera, const PixelCentreRays& centres, const Eigen::Vector2d& point) {
+  if (centres.interpolate_samples) {
+    if (const auto b = InterpolatedBearing(centres, camera.height(), point.x(), point.y())) return b;
+  }
+  const auto exact = camera.CamFromImg(point);  // at the image's border or the lens's
+  if (!exact) return std::nullopt;
+  return exact->normalized().cast<float>();
+}
 
 std::shared_ptr<const PixelCentreRays> PixelCentreRayCache::For(const Camera& camera) const {
   std::vector<double> key = {double(int(camera.model())), double(camera.width()), double(camera.height())};
@@ -92,18 +125,24 @@ std::shared_ptr<const PixelCentreRays> PixelCentreRayCache::For(const Camera& ca
   return rays;
 }
 
-CameraRays::CameraRays(const Camera& camera, const PixelCentreRays& centres, const Rigid3d& cam_from_world,
+ViewPoses ViewPoses::Still(const Rigid3d& cam_from_world) {
+  ViewPoses poses;
+  RowPose& row = poses.rows.emplace_back();
+  row.world_from_cam = cam_from_world.rotation.conjugate();
+  row.world_from_cam_f = row.world_from_cam.toRotationMatrix().cast<float>();
+  row.origin = cam_from_world.SourceOriginInTarget().cast<float>();
+  row.begin_rotation = row.end_rotation = row.world_from_cam.cast<float>();
+  row.begin_origin = row.end_origin = row.origin;
+  return poses;
+}
+
+CameraRays::CameraRays(const Camera& camera, const PixelCentreRays& centres, const ViewPoses& poses,
                        const RenderOptions& options)
-    : camera_(camera),
-      centres_(centres),
-      world_from_cam_(cam_from_world.rotation.conjugate()),
-      world_from_cam_f_(world_from_cam_.toRotationMatrix().cast<float>()),
-      origin_(cam_from_world.SourceOriginInTarget().cast<float>()),
-      spp_(options.samples_per_pixel),
-      seed_(options.seed) {
+    : camera_(camera), centres_(centres), poses_(poses), spp_(options.samples_per_pixel), seed_(options.seed) {
   grid_ = int(std::lround(std::sqrt(double(spp_))));
   if (grid_ * grid_ != spp_) grid_ = 0;  // n-rooks
   rooks_.resize(grid_ > 0 ? 0 : spp_);
+  if (poses_.exposure) time_strata_.resize(spp_);
 }
 
 void CameraRays::Batch(const Eigen::Vector2i& tile_corner, int y, int x_begin, int x_end, std::vector<RTCRayHit>* rays,
@@ -111,26 +150,45 @@ void CameraRays::Batch(const Eigen::Vector2i& tile_corner, int y, int x_begin, i
   rays->clear();
   info->clear();
   const int width = centres_.width;
+  const RowPose& pose = poses_.Row(y);
   for (int x = x_begin; x < x_end; ++x) {
     const size_t idx = size_t(y) * width + x;
     if (!centres_.valid[idx]) continue;
     const int pixel = (y - tile_corner.y()) * kTileSize + (x - tile_corner.x());
-    rays->push_back(CameraRay(origin_, world_from_cam_f_ * centres_.bearings[idx]));
+    rays->push_back(CameraRay(pose.origin, pose.world_from_cam_f * centres_.bearings[idx]));
+    rays->back().ray.time = pose.ray_time;
     info->push_back({pixel, centres_.angle[idx], true});
     if (spp_ == 1) continue;
+    const uint64_t pixel_hash = PixelHash(seed_, x, y);
     if (grid_ == 0) {  // n-rooks: a per-pixel random permutation of the y strata
       for (int i = 0; i < spp_; ++i) rooks_[i] = i;
       for (int i = spp_ - 1; i > 0; --i) {
-        const int j = int(HashSample(seed_, x, y, i, 2) % uint64_t(i + 1));
+        const int j = int(SampleHash(pixel_hash, i, 2) % uint64_t(i + 1));
         std::swap(rooks_[i], rooks_[j]);
+      }
+    }
+    if (poses_.exposure) {  // the samples' times: one per stratum of the exposure, strata shuffled per pixel
+      for (int i = 0; i < spp_; ++i) time_strata_[i] = i;
+      for (int i = spp_ - 1; i > 0; --i) {
+        const int j = int(SampleHash(pixel_hash, i, 3) % uint64_t(i + 1));
+        std::swap(time_strata_[i], time_strata_[j]);
       }
     }
     const float sample_angle = centres_.angle[idx] / std::sqrt(float(spp_));
     for (int s = 0; s < spp_; ++s) {
-      const Eigen::Vector2d offset = SampleOffset(seed_, x, y, s, spp_, grid_, rooks_);
-      const auto bearing = camera_.CamFromImg(Eigen::Vector2d(x, y) + offset);
+      const Eigen::Vector2d point = Eigen::Vector2d(x, y) + SampleOffset(pixel_hash, s, spp_, grid_, rooks_);
+      const std::optional<Eigen::Vector3f> bearing = SampleBearing(camera_, centres_, point);
       if (!bearing) continue;  // part of the pixel lies outside the lens
-      rays->push_back(CameraRay(origin_, (world_from_cam_ * *bearing).cast<float>().normalized()));
+      if (poses_.exposure) {
+        const float a = (float(time_strata_[s]) + UnitFloat(SampleHash(pixel_hash, s, 4))) / float(spp_);
+        const Eigen::Quaternionf rotation(Eigen::Vector4f((1 - a) * pose.begin_rotation.coeffs() + a * pose.end_rotation.coeffs()));
+        const Eigen::Vector3f origin = (1 - a) * pose.begin_origin + a * pose.end_origin;
+        rays->push_back(CameraRay(origin, (rotation.normalized() * *bearing).normalized()));
+        rays->back().ray.time = (1 - a) * pose.begin_ray_time + a * pose.end_ray_time;
+      } else {
+        rays->push_back(CameraRay(pose.origin, (pose.world_from_cam_f * *bearing).normalized()));
+        rays->back().ray.time = pose.ray_time;
+      }
       info->push_back({pixel, sample_angle, false});
     }
   }

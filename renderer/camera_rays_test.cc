@@ -1,6 +1,7 @@
 // Rays through the camera model, seen in rendered labels: boundaries land on the pixels the lens
 // model projects them to (pinhole, strong distortion, a rotated pose), pixels outside the lens are
 // empty, and the cached pixel-centre bearings are the model's own.
+#include <algorithm>
 #include <array>
 #include <memory>
 #include <vector>
@@ -8,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "labels/cityscapes.h"
+#include "renderer/camera_rays.h"
 #include "renderer/render_test_scenes.h"
 #include "renderer/renderer.h"
 
@@ -161,6 +163,43 @@ TEST(CameraRaysTest, PixelCentreBearingsAreTheCameraModelsRays) {
     }
   }
   EXPECT_GT(outside, 0);  // the corners lie beyond the lens's valid image circle
+}
+
+}  // namespace
+}  // namespace rigsim
+
+namespace rigsim {
+namespace {
+
+TEST(CameraRaysTest, SampleBearingsInterpolatedBetweenPixelCentresAreTheCameraModelsRays) {
+  const std::vector<Camera> cameras = {
+      Camera(CameraModelId::kPinhole, 160, 120, {100, 100, 79.5, 59.5}),
+      Camera(CameraModelId::kOpenCV, 160, 120, {80, 80, 79.5, 59.5, -0.25, 0.06, 0.001, -0.002}),
+      Camera(CameraModelId::kOpenCVFisheye, 160, 120, {40, 40, 79.5, 59.5, 0.05, -0.01, 0.002, -0.0005})};
+  PixelCentreRayCache cache;
+  for (const Camera& camera : cameras) {
+    const PixelCentreRays& centres = *cache.For(camera);
+    double worst = 0;
+    int exact = 0;
+    const bool fisheye = camera.model() == CameraModelId::kOpenCVFisheye;
+    for (double y = -0.49; y < 119.5; y += 0.73) {
+      for (double x = -0.49; x < 159.5; x += 0.61) {
+        const auto expected = camera.CamFromImg({x, y});
+        const auto got = SampleBearing(camera, centres, {x, y});
+        ASSERT_EQ(expected.has_value(), got.has_value()) << x << "," << y;
+        if (!got) continue;
+        const double error = (got->cast<double>() - expected->normalized()).norm();
+        worst = std::max(worst, error);
+        exact += *got == expected->normalized().cast<float>();
+      }
+    }
+    if (fisheye) {
+      EXPECT_LT(worst, 1e-7);  // computed exactly (in float)
+    } else {
+      EXPECT_LT(worst * camera.fx(), 0.005) << CameraModelName(camera.model());  // in pixels
+      EXPECT_GT(exact, 100);  // the image's border: computed exactly
+    }
+  }
 }
 
 }  // namespace

@@ -60,7 +60,33 @@ void EmbreeScene::Release() {
   }
 }
 
-void EmbreeScene::Build(const std::vector<SceneMesh>& meshes, const std::vector<MeshShading>& shading) {
+namespace {
+
+// Whether mesh i moves between the steps.
+bool Moves(const std::vector<std::vector<SceneMesh>>* steps, size_t i) {
+  if (steps == nullptr) return false;
+  for (const std::vector<SceneMesh>& step : *steps) {
+    if (step[i].positions != steps->front()[i].positions) return true;
+  }
+  return false;
+}
+
+bool FillVertices(RTCGeometry geom, unsigned slot, const std::vector<Eigen::Vector3f>& positions) {
+  auto* vertices = static_cast<float*>(
+      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, slot, RTC_FORMAT_FLOAT3, 3 * sizeof(float), positions.size()));
+  if (vertices == nullptr) return false;
+  for (size_t v = 0; v < positions.size(); ++v) {
+    vertices[3 * v] = positions[v].x();
+    vertices[3 * v + 1] = positions[v].y();
+    vertices[3 * v + 2] = positions[v].z();
+  }
+  return true;
+}
+
+}  // namespace
+
+void EmbreeScene::Build(const std::vector<SceneMesh>& meshes, const std::vector<MeshShading>& shading,
+                        const std::vector<std::vector<SceneMesh>>* steps) {
   Release();
   scene_ = rtcNewScene(device_);
   errors_.ThrowIfAny(source_ + ": creating the Embree scene");
@@ -73,19 +99,19 @@ void EmbreeScene::Build(const std::vector<SceneMesh>& meshes, const std::vector<
     const SceneMesh& mesh = meshes[i];
     if (mesh.indices.empty()) continue;  // nothing to hit; geomIDs stay equal to mesh indices
     RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                                 3 * sizeof(float), mesh.positions.size()));
+    bool allocated = true;
+    if (Moves(steps, i)) {
+      rtcSetGeometryTimeStepCount(geom, unsigned(steps->size()));
+      for (size_t k = 0; k < steps->size(); ++k) allocated = allocated && FillVertices(geom, unsigned(k), (*steps)[k][i].positions);
+    } else {
+      allocated = FillVertices(geom, 0, mesh.positions);
+    }
     auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                                    3 * sizeof(unsigned), mesh.indices.size() / 3));
-    if (vertices == nullptr || indices == nullptr) {
+    if (!allocated || indices == nullptr) {
       rtcReleaseGeometry(geom);
       errors_.ThrowIfAny(source_ + ": mesh '" + mesh.name + "'");
       throw std::runtime_error(source_ + ": mesh '" + mesh.name + "': Embree could not allocate buffers");
-    }
-    for (size_t v = 0; v < mesh.positions.size(); ++v) {
-      vertices[3 * v] = mesh.positions[v].x();
-      vertices[3 * v + 1] = mesh.positions[v].y();
-      vertices[3 * v + 2] = mesh.positions[v].z();
     }
     std::copy(mesh.indices.begin(), mesh.indices.end(), indices);
     if (shading[i].alpha_tested) {

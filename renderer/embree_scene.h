@@ -46,8 +46,11 @@ class EmbreeScene {
 
   // Builds the scene from `meshes` (checked by scene/scene_validation.h): mesh i is geometry i.
   // `shading[i]` is mesh i's shading data, read by the alpha test of MASK and BLEND materials; it
-  // must outlive the scene. Throws std::runtime_error on an Embree failure.
-  void Build(const std::vector<SceneMesh>& meshes, const std::vector<MeshShading>& shading);
+  // must outlive the scene. With `steps` (the same meshes posed at evenly spaced times), a mesh
+  // whose positions differ between the steps gets one vertex buffer per step (Embree motion blur:
+  // rays meet it at their `time`). Throws std::runtime_error on an Embree failure.
+  void Build(const std::vector<SceneMesh>& meshes, const std::vector<MeshShading>& shading,
+             const std::vector<std::vector<SceneMesh>>* steps = nullptr);
 
   // Rays go to Embree in streams, a batch's camera rays in one call and their shadow rays in
   // another, marked coherent: Embree then traverses neighbouring rays together in SIMD packets.
@@ -90,12 +93,15 @@ inline RTCRay ShadowRay(const Eigen::Vector3f& origin, const Eigen::Vector3f& di
 
 inline bool IsOccluded(const RTCRay& ray) { return ray.tfar == -std::numeric_limits<float>::infinity(); }
 
-// The shadow rays of a batch's shaded records, in record order.
+// The shadow rays of a batch's records lit by their own shading, in record order.
 inline void CollectShadowRays(const std::vector<SampleRecord>& records, const ShadeParams& p, std::vector<RTCRay>* shadow) {
   shadow->clear();
   if (!p.shadows) return;
   for (const SampleRecord& r : records) {
-    if (r.hit.hit && r.sun_ray) shadow->push_back(ShadowRay(r.shadow_origin, p.sun_dir));
+    if (r.hit.hit && r.lit_by < 0 && r.sun_ray) {
+      shadow->push_back(ShadowRay(r.shadow_origin, p.sun_dir));
+      shadow->back().time = r.time;
+    }
   }
 }
 

@@ -17,6 +17,19 @@ void PreparedScene::SetMeshes(const std::vector<SceneMesh>& scene_meshes) {
   meshes.reserve(scene_meshes.size());
   for (const SceneMesh& mesh : scene_meshes) meshes.push_back(PrepareMeshShading(mesh, scene, textures));
   embree.Build(scene_meshes, meshes);
+  motion_begin_s = motion_end_s = 0.0;
+}
+
+void PreparedScene::SetMeshesOverTime(const std::vector<std::vector<SceneMesh>>& posed, double t_begin, double t_end) {
+  embree.Release();
+  meshes.clear();
+  meshes.shrink_to_fit();
+  const std::vector<SceneMesh>& middle = posed[posed.size() / 2];
+  meshes.reserve(middle.size());
+  for (const SceneMesh& mesh : middle) meshes.push_back(PrepareMeshShading(mesh, scene, textures));
+  embree.Build(middle, meshes, &posed);
+  motion_begin_s = t_begin;
+  motion_end_s = t_end;
 }
 
 }  // namespace rigsim

@@ -3,6 +3,7 @@
 // internal to the renderer (it holds Embree handles).
 #pragma once
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -21,12 +22,22 @@ struct PreparedScene {
   // Replaces the geometry by `meshes` (checked by ValidateMeshes against `scene`'s materials and
   // textures), which must outlive this object or the next SetMeshes. Textures are kept.
   void SetMeshes(const std::vector<SceneMesh>& meshes);
+  // Replaces the geometry by meshes posed at evenly spaced times over [t_begin, t_end]
+  // (Renderer::SetMeshesOverTime; checked there).
+  void SetMeshesOverTime(const std::vector<std::vector<SceneMesh>>& posed, double t_begin, double t_end);
+
+  // Embree's ray time [0, 1] of a scene time: 0 without moving geometry.
+  float RayTime(double time_s) const {
+    if (!(motion_end_s > motion_begin_s)) return 0.0f;
+    return float(std::clamp((time_s - motion_begin_s) / (motion_end_s - motion_begin_s), 0.0, 1.0));
+  }
 
   const Scene& scene;               // materials and textures; meshes may come from SetMeshes
   MaterialTextures textures;
   std::vector<MeshShading> meshes;  // index == Embree geomID
   EmbreeScene embree;
   PixelCentreRayCache centre_rays;
+  double motion_begin_s = 0.0, motion_end_s = 0.0;  // the moving geometry's time span; equal: none
 };
 
 }  // namespace rigsim

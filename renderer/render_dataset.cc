@@ -1,6 +1,10 @@
 #include "renderer/render_dataset.h"
 
+#include <algorithm>
+#include <cmath>
 #include <map>
+#include <optional>
+#include <utility>
 #include <memory>
 #include <set>
 #include <stdexcept>
@@ -12,10 +16,15 @@
 #include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
 
+#include "common/stable_hash.h"
+#include "dataset/coco.h"
 #include "dataset/ground_truth.h"
 #include "dataset/image_io.h"
 #include "dataset/label_image.h"
+#include "dataset/previews.h"
+#include "dataset/render_shards.h"
 #include "geometry/json_io.h"
+#include "rigs/trajectories.h"
 #include "scene/scene_pose.h"
 
 namespace rigsim {
@@ -51,16 +60,28 @@ void CheckJob(const RenderJob& job) {
   }
 }
 
-void WriteView(const DatasetLayout& layout, const std::string& cam, const std::string& frame, const RenderedView& view) {
-  const fs::path paths[] = {layout.Image(cam, frame), layout.Label(cam, frame), layout.LabelColor(cam, frame),
-                            layout.Instance(cam, frame), layout.Depth(cam, frame)};
+void WriteView(const DatasetLayout& layout, const ExtraOutputs& extras, const std::string& cam, const std::string& frame,
+               const RenderedView& view) {
+  std::vector<fs::path> paths = {layout.Image(cam, frame), layout.Label(cam, frame), layout.LabelColor(cam, frame),
+                                 layout.Instance(cam, frame), layout.Depth(cam, frame)};
+  if (extras.previews) paths.insert(paths.end(), {layout.DepthColor(cam, frame), layout.InstanceColor(cam, frame)});
+  if (extras.normals) paths.push_back(layout.Normal(cam, frame));
   for (const fs::path& p : paths) fs::create_directories(p.parent_path());
-  // In parallel: compressing the five files took longer than rendering a 1-spp view.
+  // In parallel: compressing the five files takes longer than rendering a 1-spp view.
   tbb::parallel_invoke([&] { WriteImage(layout.Image(cam, frame), view.rgb); },
                        [&] { WriteImage(layout.Label(cam, frame), view.label); },
                        [&] { WriteImage(layout.LabelColor(cam, frame), ColorizeLabels(view.label)); },
                        [&] { WriteImage(layout.Instance(cam, frame), view.instance); },
-                       [&] { WriteImage(layout.Depth(cam, frame), view.range); });
+                       [&] { WriteImage(layout.Depth(cam, frame), view.range); },
+                       [&] {
+                         if (extras.previews) WriteImage(layout.DepthColor(cam, frame), ColorizeDepth(view.range));
+                       },
+                       [&] {
+                         if (extras.previews) WriteImage(layout.InstanceColor(cam, frame), ColorizeInstances(view.instance));
+                       },
+                       [&] {
+                         if (extras.normals) WriteImage(layout.Normal(cam, frame), view.normal);
+                       });
 }
 
 // Pixels outside the lens's valid region: the renderer marks them label 0 with range 0 (a surface
@@ -99,6 +120,204 @@ nlohmann::json PhotometryJson(const RenderJob& job, const std::vector<CameraPhot
           {"cameras", cameras}};
 }
 
+// Whether a camera's capture depends on where the rig is between frames.
+bool IsTimed(const RigCamera& cam) { return cam.time_offset_s != 0 || cam.CaptureSpansTime(); }
+
+// When and from where each camera captures. Cameras without a time offset, readout or exposure
+// see from the frame's own rig_from_world, exactly as given; the others from the trajectory.
+class CaptureClock {
+ public:
+  explicit CaptureClock(const RenderJob& job) {
+    for (const RigCamera& cam : job.rig.cameras) {
+      if (IsTimed(cam) && !trajectory_) trajectory_.emplace(job.frames);  // throws on repeated timestamps
+    }
+  }
+  bool timed() const { return trajectory_.has_value(); }
+
+  Rigid3d CamFromWorld(const RigCamera& cam, const Frame& frame, double time_s) const {
+    if (!IsTimed(cam)) return *cam.cam_from_rig * *frame.rig_from_world;
+    return *cam.cam_from_rig * trajectory_->RigFromWorldAt(time_s);
+  }
+
+  // Every row's pose (one for a global shutter), as the renderer computes them.
+  ViewPose PoseOf(const RigCamera& cam, const Frame& frame) const {
+    ViewPose pose;
+    const int rows = cam.readout_s > 0 ? cam.camera.height() : 1;
+    for (int y = 0; y < rows; ++y) pose.cam_from_world_rows.push_back(CamFromWorld(cam, frame, frame.timestamp_s + cam.RowTime(y)));
+    return pose;
+  }
+
+ private:
+  std::optional<RigTrajectory> trajectory_;
+};
+
+// The scene posed at evenly spaced times over a camera's capture span (at most 5 ms apart, at most
+// 9 steps): what the renderer moves the animated meshes between.
+struct PosedSpan {
+  std::vector<std::vector<SceneMesh>> steps;
+  double begin = 0, end = 0;
+};
+PosedSpan PoseOverSpan(const Scene& scene, const RigCamera& cam, const Frame& frame, int spp) {
+  const double exposure = spp > 1 ? cam.exposure_s : 0.0;
+  const double first = std::min(cam.RowTime(0), cam.RowTime(cam.camera.height() - 1));
+  const double last = std::max(cam.RowTime(0), cam.RowTime(cam.camera.height() - 1));
+  PosedSpan span;
+  span.begin = frame.timestamp_s + first - exposure / 2;
+  span.end = frame.timestamp_s + last + exposure / 2;
+  const int steps = std::clamp(int(std::ceil((span.end - span.begin) / 0.005)) + 1, 2, 9);
+  for (int k = 0; k < steps; ++k) {
+    span.steps.push_back(PoseMeshesAt(scene, span.begin + (span.end - span.begin) * k / (steps - 1)));
+  }
+  return span;
+}
+
+nlohmann::json PoseJson(const Rigid3d& pose) { return json_io::PoseToJson(pose); }
+
+// One camera's entry of a frame in poses.json.
+nlohmann::json PosesEntry(const RigCamera& cam, const Frame& frame, const ViewPose& pose) {
+  const int first_row = cam.readout_bottom_to_top ? cam.camera.height() - 1 : 0;
+  nlohmann::json entry{{"frame", frame.name},
+                       {"capture_time_s", frame.timestamp_s + cam.time_offset_s},
+                       {"cam_from_world", PoseJson(pose.Row(first_row))}};
+  if (pose.Rolling()) {
+    nlohmann::json rows = nlohmann::json::array();
+    for (int y = 0; y < cam.camera.height(); ++y) {
+      const Rigid3d& p = pose.Row(y);
+      rows.push_back({frame.timestamp_s + cam.RowTime(y), p.rotation.w(), p.rotation.x(), p.rotation.y(), p.rotation.z(),
+                      p.translation.x(), p.translation.y(), p.translation.z()});
+    }
+    entry["rows"] = std::move(rows);
+  }
+  return entry;
+}
+
+nlohmann::json PosesJsonOf(const RenderJob& job, const std::vector<nlohmann::json>& per_camera) {
+  nlohmann::json cameras = nlohmann::json::array();
+  for (size_t c = 0; c < per_camera.size(); ++c) {
+    const RigCamera& cam = job.rig.cameras[c];
+    cameras.push_back({{"name", cam.name},
+                       {"time_offset_s", cam.time_offset_s},
+                       {"readout_s", cam.readout_s},
+                       {"readout_direction", cam.readout_bottom_to_top ? "bottom-to-top" : "top-to-bottom"},
+                       {"exposure_s", cam.exposure_s},
+                       {"frames", per_camera[c]}});
+  }
+  return {{"description",
+           "true cam_from_world of every camera at its capture time per frame (capture_time_s = timestamp_s + "
+           "time_offset_s, the first row read out, mid exposure); with a rolling shutter 'rows' holds, for image rows "
+           "0..height-1, [time_s, qw, qx, qy, qz, tx, ty, tz]: row r is captured at capture_time_s + k * readout_s / "
+           "height, k = r (top-to-bottom) or height - 1 - r (bottom-to-top)"},
+          {"cameras", cameras}};
+}
+
+// What a rendered view leaves for the ground truth across views.
+struct ViewResult {
+  ImageF range;
+  ViewPose pose;
+};
+
+// Every camera's surface pixels and those visible in every other camera, over one frame. Without rolling shutters and correspondence maps, band by band (CountCoVisible);
+// else from the correspondence maps, which give the same counts and are written when asked for.
+FrameOverlapCounts FrameOverlap(const RenderJob& job, const std::vector<ViewResult>& views,
+                                const std::vector<std::shared_ptr<const std::vector<Eigen::Vector3f>>>& bearings,
+                                const DatasetLayout& layout, const std::string& frame) {
+  const std::vector<RigCamera>& cams = job.rig.cameras;
+  const int num_cams = int(cams.size());
+  bool rolling = false;
+  for (const ViewResult& v : views) rolling = rolling || v.pose.Rolling();
+  std::vector<size_t> surface(num_cams, 0), visible(size_t(num_cams) * num_cams, 0);
+  tbb::task_arena arena(job.options.num_threads > 0 ? job.options.num_threads : tbb::task_arena::automatic);
+  if (rolling || job.extras.correspondence) {
+    std::vector<std::pair<int, int>> pairs;
+    for (int a = 0; a < num_cams; ++a) {
+      for (int b = 0; b < num_cams; ++b) {
+        if (a != b) pairs.push_back({a, b});
+      }
+    }
+    std::vector<size_t> pair_surface(pairs.size());
+    arena.execute([&] {
+      tbb::parallel_for(size_t(0), pairs.size(), [&](size_t i) {
+        const auto [a, b] = pairs[i];
+        const CorrespondenceMap m = ComputeCorrespondence(cams[a].camera, views[a].range, views[a].pose, *bearings[a],
+                                                          cams[b].camera, views[b].range, views[b].pose);
+        pair_surface[i] = m.surface;  // the same for every b
+        visible[size_t(a) * num_cams + b] = m.visible;
+        if (job.extras.correspondence && m.visible > 0) {
+          const fs::path path = layout.Correspondence(cams[a].name, cams[b].name, frame);
+          fs::create_directories(path.parent_path());
+          WriteImage(path, m.map);
+        }
+      });
+    });
+    for (size_t i = 0; i < pairs.size(); ++i) surface[pairs[i].first] = pair_surface[i];
+  } else {
+    // Each camera's surface pixels against every other camera, in bands of rows in parallel,
+    // each into its own slot: a pixel's ray is undistorted once for all the other cameras.
+    constexpr int kBandRows = 32;
+    struct Band {
+      int a, y_begin;
+    };
+    std::vector<Band> bands;
+    for (int a = 0; a < num_cams; ++a) {
+      for (int y = 0; y < views[a].range.height; y += kBandRows) bands.push_back({a, y});
+    }
+    std::vector<CoVisibleCounts> counts(bands.size());
+    arena.execute([&] {
+      tbb::parallel_for(size_t(0), bands.size(), [&](size_t i) {
+        const int a = bands[i].a;
+        std::vector<TransferTarget> targets;
+        for (int b = 0; b < num_cams; ++b) {
+          if (b != a) {
+            targets.push_back({&cams[b].camera, &views[b].range, views[b].pose.Row(0) * views[a].pose.Row(0).Inverse()});
+          }
+        }
+        counts[i] = CountCoVisible(cams[a].camera, views[a].range, targets, bands[i].y_begin, bands[i].y_begin + kBandRows,
+                                   {}, bearings[a].get());
+      });
+    });
+    for (size_t i = 0; i < bands.size(); ++i) {
+      const int a = bands[i].a;
+      surface[a] += counts[i].surface;
+      for (int b = 0, t = 0; b < num_cams; ++b) {
+        if (b != a) visible[size_t(a) * num_cams + b] += counts[i].visible[t++];
+      }
+    }
+  }
+  return {std::move(surface), std::move(visible)};
+}
+
+// flow/<cam>/<frame>.exr: each camera's pixels at the previous frame in its image of this one.
+void WriteFlow(const RenderJob& job, const std::vector<ViewResult>& previous, const std::vector<ViewResult>& current,
+               const std::vector<std::shared_ptr<const std::vector<Eigen::Vector3f>>>& bearings,
+               const DatasetLayout& layout, const std::string& previous_frame) {
+  const std::vector<RigCamera>& cams = job.rig.cameras;
+  tbb::task_arena arena(job.options.num_threads > 0 ? job.options.num_threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(size_t(0), cams.size(), [&](size_t c) {
+      const CorrespondenceMap m = ComputeCorrespondence(cams[c].camera, previous[c].range, previous[c].pose, *bearings[c],
+                                                        cams[c].camera, current[c].range, current[c].pose);
+      const fs::path path = layout.Flow(cams[c].name, previous_frame);
+      fs::create_directories(path.parent_path());
+      WriteImage(path, m.map);
+    });
+  });
+}
+
+// What the shards of one render share: the rig, the whole frames file and what changes the pixels.
+std::string RenderIdentity(const RenderJob& job, const FramesFile& frames) {
+  const RenderOptions& o = job.options;
+  const nlohmann::json options{{"spp", o.samples_per_pixel},
+                               {"seed", o.seed},
+                               {"sun", {o.sun_direction_world.x(), o.sun_direction_world.y(), o.sun_direction_world.z()}},
+                               {"sun_intensity", o.sun_intensity},
+                               {"sky_intensity", o.sky_intensity},
+                               {"exposure", o.exposure},
+                               {"shadows", o.shadows},
+                               {"photometric", job.photometric.enabled() ? PhotometryJson(job, {}) : nlohmann::json()},
+                               {"extras", {job.extras.correspondence, job.extras.normals, job.extras.coco, job.extras.previews}}};
+  return StableHash(RigToJsonText(job.rig) + FramesToJsonText(frames) + options.dump());
+}
+
 }  // namespace
 
 void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
@@ -106,8 +325,9 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
   CheckJob(job);
   const std::vector<RigCamera>& cams = job.rig.cameras;
   const int num_cams = int(cams.size());
-  const int num_frames = int(job.frames.frames.size());
-  const int total = num_cams * num_frames;
+  const FrameRange range = ShardFrames(int(job.frames.frames.size()), job.shard.index, job.shard.count);
+  const int total = num_cams * (range.end - range.begin);
+  const CaptureClock clock(job);  // before anything is built: repeated timestamps are refused
 
   // Built before the staging folder exists so that a bad scene leaves nothing behind.
   Renderer renderer(*job.scene);
@@ -117,27 +337,56 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
   if (photometric) {
     for (int c = 0; c < num_cams; ++c) photometry.push_back(DrawCameraPhotometry(job.photometric, c));
   }
+  RenderOptions options = job.options;
+  options.normals = job.extras.normals;
 
   StagedOutput staged(out_dir, force);
   const DatasetLayout layout(staged.staging_dir());
 
-  // overlap[a * num_cams + b] sums, over frames, the fraction of a's surface seen by b.
-  std::vector<double> overlap(size_t(num_cams) * num_cams, 0.0);
+  std::vector<FrameOverlapCounts> overlap;  // per frame rendered
   int done = 0;
   std::vector<SceneMesh> posed;  // the renderer's meshes while an animated scene is posed
+  PosedSpan posed_span;          // or while it is posed over a camera's capture span
   // Each camera's pixel-centre rays, for the overlap: computed by the renderer, once per run.
   std::vector<std::shared_ptr<const std::vector<Eigen::Vector3f>>> bearings(num_cams);
   for (int c = 0; c < num_cams; ++c) bearings[c] = renderer.PixelCentreBearings(cams[c].camera);
-  for (int frame_index = 0; frame_index < num_frames; ++frame_index) {
+  std::vector<nlohmann::json> poses_json(num_cams, nlohmann::json::array());
+  CocoInstances coco;
+  std::vector<ViewResult> previous;
+  // A shard's flow from the frame before its first needs that frame's views, rendered unwritten.
+  const int first = job.extras.correspondence && range.begin > 0 ? range.begin - 1 : range.begin;
+  for (int frame_index = first; frame_index < range.end; ++frame_index) {
     const Frame& frame = job.frames.frames[frame_index];
-    std::vector<Rigid3d> cam_from_world(num_cams);
-    std::vector<ImageF> ranges(num_cams);
-    // Cameras grouped by capture time (timestamp + time_offset_s): an animated scene is posed once
-    // per distinct time; a static one is never re-posed.
+    const bool written = frame_index >= range.begin;
+    std::vector<ViewResult> views(num_cams);
+    std::vector<CocoInstances> view_coco(job.extras.coco ? num_cams : 0);
+    auto finish = [&](int c, RenderedView view) {
+      if (written) {
+        if (photometric) {
+          const ImageU8 invalid = InvalidPixels(view);
+          ApplyPhotometry(photometry[c], PhotometricNoiseKey{job.photometric.seed, c, frame_index}, cams[c].camera.cx(),
+                          cams[c].camera.cy(), view.rgb, &invalid, job.options.num_threads);
+        }
+        WriteView(layout, job.extras, cams[c].name, frame.name, view);
+        if (job.extras.coco) view_coco[c].AddImage(cams[c].name + "/" + frame.name + ".png", view.label, view.instance);
+        if (clock.timed()) poses_json[c].push_back(PosesEntry(cams[c], frame, views[c].pose));
+      }
+      views[c].range = std::move(view.range);
+      if (!written) return;
+      ++done;
+      if (progress) progress(done, total);
+    };
+    // Cameras that capture at one instant grouped by their time: an animated scene is posed once
+    // per distinct time; a static one is never re-posed. Cameras whose capture spans time each
+    // get the scene posed over their span.
     std::map<double, std::vector<int>> cams_by_time;
+    std::vector<int> spanning;
     for (int c = 0; c < num_cams; ++c) {
-      const double time = animated ? frame.timestamp_s + cams[c].time_offset_s : 0.0;
-      cams_by_time[time].push_back(c);
+      if (cams[c].CaptureSpansTime()) {
+        spanning.push_back(c);
+      } else {
+        cams_by_time[animated ? frame.timestamp_s + cams[c].time_offset_s : 0.0].push_back(c);
+      }
     }
     for (const auto& [time, group] : cams_by_time) {
       if (animated) {
@@ -145,75 +394,50 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
         renderer.SetMeshes(posed);
       }
       for (int c : group) {
-        cam_from_world[c] = *cams[c].cam_from_rig * *frame.rig_from_world;
-        RenderedView view = renderer.Render(cams[c].camera, cam_from_world[c], job.options);
-        if (photometric) {
-          const ImageU8 invalid = InvalidPixels(view);
-          ApplyPhotometry(photometry[c], PhotometricNoiseKey{job.photometric.seed, c, frame_index}, cams[c].camera.cx(),
-                          cams[c].camera.cy(), view.rgb, &invalid, job.options.num_threads);
-        }
-        WriteView(layout, cams[c].name, frame.name, view);
-        ranges[c] = std::move(view.range);
-        ++done;
-        if (progress) progress(done, total);
+        views[c].pose = clock.PoseOf(cams[c], frame);
+        finish(c, renderer.Render(cams[c].camera, views[c].pose.Row(0), options));
       }
     }
-    // Each camera's surface pixels against every other camera, in bands of rows in parallel,
-    // each into its own slot: a pixel's ray is undistorted once for all the other cameras.
-    constexpr int kBandRows = 32;
-    struct Band {
-      int a, y_begin;
-    };
-    std::vector<Band> bands;
-    for (int a = 0; a < num_cams; ++a) {
-      for (int y = 0; y < ranges[a].height; y += kBandRows) bands.push_back({a, y});
-    }
-    std::vector<CoVisibleCounts> counts(bands.size());
-    tbb::task_arena arena(job.options.num_threads > 0 ? job.options.num_threads : tbb::task_arena::automatic);
-    arena.execute([&] {
-      tbb::parallel_for(size_t(0), bands.size(), [&](size_t i) {
-        const int a = bands[i].a;
-        std::vector<TransferTarget> targets;
-        for (int b = 0; b < num_cams; ++b) {
-          if (b != a) targets.push_back({&cams[b].camera, &ranges[b], cam_from_world[b] * cam_from_world[a].Inverse()});
-        }
-        counts[i] = CountCoVisible(cams[a].camera, ranges[a], targets, bands[i].y_begin, bands[i].y_begin + kBandRows, {},
-                                   bearings[a].get());
-      });
-    });
-    std::vector<size_t> surface(num_cams, 0), visible(size_t(num_cams) * num_cams, 0);
-    for (size_t i = 0; i < bands.size(); ++i) {
-      const int a = bands[i].a;
-      surface[a] += counts[i].surface;
-      for (int b = 0, t = 0; b < num_cams; ++b) {
-        if (b != a) visible[size_t(a) * num_cams + b] += counts[i].visible[t++];
+    for (int c : spanning) {
+      if (animated) {
+        posed_span = PoseOverSpan(*job.scene, cams[c], frame, options.samples_per_pixel);
+        renderer.SetMeshesOverTime(posed_span.steps, posed_span.begin, posed_span.end);
       }
+      MovingCameraView moving{&cams[c], frame.timestamp_s,
+                              [&, c](double t) { return clock.CamFromWorld(cams[c], frame, t); }};
+      views[c].pose = clock.PoseOf(cams[c], frame);
+      finish(c, renderer.Render(moving, options));
     }
-    for (int a = 0; a < num_cams; ++a) {
-      for (int b = 0; b < num_cams; ++b) {
-        const size_t ab = size_t(a) * num_cams + b;
-        if (b != a && surface[a] > 0) overlap[ab] += double(visible[ab]) / double(surface[a]);
-      }
+    if (!written) {
+      previous = std::move(views);
+      continue;
     }
+    overlap.push_back(FrameOverlap(job, views, bearings, layout, frame.name));
+    if (job.extras.correspondence && frame_index > 0) {
+      WriteFlow(job, previous, views, bearings, layout, job.frames.frames[frame_index - 1].name);
+    }
+    if (job.extras.correspondence) previous = std::move(views);
+    // COCO's images in frame and rig order, whatever order the cameras were rendered in.
+    for (const CocoInstances& c : view_coco) coco.AddAll(c.ToJson());
   }
 
-  nlohmann::json pairs = nlohmann::json::array();
-  for (int a = 0; a < num_cams; ++a) {
-    for (int b = a + 1; b < num_cams; ++b) {
-      pairs.push_back({{"a", cams[a].name},
-                       {"b", cams[b].name},
-                       {"overlap_a_in_b", overlap[size_t(a) * num_cams + b] / num_frames},
-                       {"overlap_b_in_a", overlap[size_t(b) * num_cams + a] / num_frames}});
-    }
-  }
-  const nlohmann::json overlap_json{{"frames", num_frames}, {"pairs", pairs}};
-  json_io::WriteTextAtomic(layout.OverlapJson(), overlap_json.dump(2) + "\n");
+  std::vector<std::string> names;
+  for (const RigCamera& cam : cams) names.push_back(cam.name);
+  json_io::WriteTextAtomic(layout.OverlapJson(), OverlapJson(names, overlap).dump(2) + "\n");
   if (photometric) json_io::WriteTextAtomic(layout.PhotometricJson(), PhotometryJson(job, photometry).dump(2) + "\n");
+  if (clock.timed()) json_io::WriteTextAtomic(layout.PosesJson(), PosesJsonOf(job, poses_json).dump() + "\n");
+  if (job.extras.coco) json_io::WriteTextAtomic(layout.CocoJson(), coco.ToJson().dump() + "\n");
 
   WriteRig(job.rig, layout.RigJson());
   FramesFile frames = job.frames;
   frames.seed = job.options.seed;
   if (frames.scene.empty()) frames.scene = job.scene_name;
+  if (job.shard.count > 1) {
+    RenderShardInfo shard{job.shard.index, job.shard.count, RenderIdentity(job, frames), int(frames.frames.size()),
+                          range.begin, std::move(overlap)};
+    json_io::WriteTextAtomic(RenderShardJsonPath(layout.root()), RenderShardJson(shard).dump(1) + "\n");
+    frames.frames = std::vector<Frame>(frames.frames.begin() + range.begin, frames.frames.begin() + range.end);
+  }
   WriteFrames(frames, layout.FramesJson());
 
   staged.Commit();

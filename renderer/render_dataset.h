@@ -5,11 +5,16 @@
 // only when everything has been written (StagedOutput): an error or an interruption leaves the
 // previous folder, or nothing.
 //
-// Time: each camera sees the scene at its own capture time, frame.timestamp_s + time_offset_s
-// (rig.json). An animated scene (Scene::IsAnimated) is posed at every distinct capture time
-// (scene/scene_pose.h), so unsynchronised cameras see moving objects in different places; a
-// static scene builds its acceleration structure once. overlap.json compares the ranges each
-// camera saw at its own time (moving objects count where each camera saw them).
+// Time: each camera captures at its own time, frame.timestamp_s + time_offset_s (rig.json), row
+// by row with a rolling shutter (readout_s), each row over its exposure (exposure_s). The rig is
+// where the trajectory puts it at that time (rigs/trajectories.h RigTrajectory: the frames'
+// poses interpolated by their timestamps), and an animated scene (Scene::IsAnimated) is posed at
+// that time (scene/scene_pose.h): at every distinct capture time of cameras that capture at one
+// instant, and for a camera whose capture spans time at evenly spaced steps over the span, at most
+// 5 ms apart and at most 9, between which Embree moves the vertices linearly. A static scene builds
+// its acceleration structure once. overlap.json and the correspondence maps compare the ranges
+// each camera saw at its own time (moving objects count where each camera saw them). With every
+// time_offset_s, readout_s and exposure_s zero, nothing of this changes the output.
 //
 // Photometric variation (RenderJob::photometric, off by default): each camera's RGB images get
 // that camera's exposure, white balance, vignetting and sensor noise (renderer/photometric.h),
@@ -30,6 +35,18 @@
 
 namespace rigsim {
 
+// Ground truth beyond labels, instances and depth, each off unless asked for (dataset layout in
+// README, 'Dataset layout').
+struct ExtraOutputs {
+  // correspondence/<a>/<b>/<frame>.exr for every ordered camera pair of a frame where some pixel
+  // of a is visible in b, and flow/<cam>/<frame>.exr from each frame to the next (same camera):
+  // dataset/ground_truth.h ComputeCorrespondence, 3-channel float EXR (R, G, B = x, y, visible).
+  bool correspondence = false;
+  bool normals = false;   // normals/<cam>/<frame>.exr: camera-frame unit normals (R, G, B = x, y, z)
+  bool coco = false;      // instances_coco.json (dataset/coco.h)
+  bool previews = false;  // depth_color/ and instances_color/ PNGs
+};
+
 struct RenderJob {
   const Scene* scene = nullptr;  // must outlive the call
   std::string scene_name;        // recorded in frames.json ("scene") when frames.scene is empty
@@ -39,6 +56,13 @@ struct RenderJob {
   // Per-camera RGB differences; all zero (the default) = none. Its seed is its own (the CLI passes
   // --seed) and is recorded in photometric.json.
   PhotometricOptions photometric;
+  ExtraOutputs extras;
+  // Shard `index` of `count` renders only its block of the frames (dataset/render_shards.h): its
+  // folder holds those frames' files, frames.json and overlap.json over them, and shard.json,
+  // from which MergeRenderShards writes the one-machine render's bytes. count 1: every frame.
+  struct {
+    int index = 0, count = 1;
+  } shard;
 };
 
 // Writes into out_dir:
@@ -47,6 +71,10 @@ struct RenderJob {
 //                  "overlap_b_in_a": 0.29}, ...]} for every unordered camera pair a < b (rig order);
 //                  overlap_a_in_b is the fraction of a's surface pixels (range > 0) that are visible
 //                  in b (dataset/ground_truth.h CountCoVisible), averaged over the frames.
+//   poses.json (only when some camera has a time offset, rolling shutter or exposure): per camera
+//                 and frame the true pose at its capture time, and per image row with a rolling
+//                 shutter (format in README, 'Dataset layout').
+//   the ExtraOutputs asked for.
 //   photometric.json (only when job.photometric is enabled):
 //                 {"seed": S, "options": {...PhotometricOptions fields}, "model": "...",
 //                  "cameras": [{"name": "cam0", "exposure_stops": 0.1, "gain": 1.07,

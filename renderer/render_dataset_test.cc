@@ -3,14 +3,17 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "dataset/image_io.h"
 #include "dataset/label_image.h"
+#include "dataset/render_shards.h"
 #include "testing/temp_dir.h"
 
 namespace rigsim {
@@ -266,6 +269,97 @@ TEST(RenderDatasetTest, PhotometricVariationChangesOnlyRgbAndIsRecorded) {
   bad.photometric.vignetting_strength = 1.2;
   EXPECT_THROW(RenderDataset(bad, scratch / "bad", false), std::invalid_argument);
   EXPECT_FALSE(fs::exists(scratch / "bad"));
+}
+
+
+// Every file of a dataset folder by relative path, with its bytes.
+std::map<std::string, std::string> FilesOf(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    if (e.is_regular_file()) files[fs::relative(e.path(), dir).string()] = ReadFile(e.path());
+  }
+  return files;
+}
+
+// Five frames, every extra output, photometric differences and a rolling-shutter camera: all that
+// a shard must reproduce of the frames it renders and the merge of what spans frames.
+RenderJob EverythingJob(const Scene& scene) {
+  RenderJob job = WallJob(scene);
+  for (int f = 2; f < 5; ++f) {
+    Frame frame = job.frames.frames[1];
+    frame.name = "00000" + std::to_string(f);
+    frame.rig_from_world = Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.2 * f, 0.05 * f, 0));
+    frame.timestamp_s = 0.1 * f;
+    job.frames.frames.push_back(frame);
+  }
+  job.rig.cameras[1].readout_s = 0.02;
+  job.options.samples_per_pixel = 4;
+  job.photometric.exposure_stops_sigma = 0.3;
+  job.photometric.shot_noise = 1e-4;
+  job.photometric.seed = 7;
+  job.extras = {true, true, true, true};
+  return job;
+}
+
+TEST(RenderShardsTest, MergedShardsAreByteIdenticalToOneRender) {
+  const TempDir dir;
+  const Scene scene = WallScene();
+  const RenderJob whole = EverythingJob(scene);
+  RenderDataset(whole, dir / "whole", false);
+  std::vector<fs::path> shards;
+  for (int i = 0; i < 3; ++i) {
+    RenderJob part = whole;
+    part.shard = {i, 3};
+    RenderDataset(part, dir / ("shard" + std::to_string(i)), false);
+    shards.push_back(dir / ("shard" + std::to_string(i)));
+  }
+  // A shard is a dataset of its own frames.
+  EXPECT_EQ(ReadFrames(DatasetLayout(shards[1]).FramesJson()).frames.size(), 2u);  // frames 1-2 of 0-4 (1, 2, 2)
+  EXPECT_TRUE(fs::exists(DatasetLayout(shards[1]).Image("cam0", "000002")));
+  EXPECT_FALSE(fs::exists(DatasetLayout(shards[1]).Image("cam0", "000003")));
+  MergeRenderShards(dir / "merged", {shards[2], shards[0], shards[1]}, false);
+  const auto expected = FilesOf(dir / "whole"), merged = FilesOf(dir / "merged");
+  ASSERT_GT(expected.size(), 80u);
+  EXPECT_TRUE(expected.count("poses.json") && expected.count("instances_coco.json") && expected.count("photometric.json"));
+  EXPECT_TRUE(expected.count("flow/cam0/000002.exr")) << "the flow from a shard's first frame's predecessor";
+  for (const auto& [name, bytes] : expected) {
+    ASSERT_TRUE(merged.count(name)) << name;
+    EXPECT_TRUE(merged.at(name) == bytes) << name << " differs";
+  }
+  EXPECT_EQ(merged.size(), expected.size());
+}
+
+TEST(RenderShardsTest, TheMergeRefusesGapsRepeatsAndOtherRendersAndWritesNothing) {
+  const TempDir dir;
+  const Scene scene = WallScene();
+  RenderJob job = WallJob(scene);
+  std::vector<fs::path> shards;
+  for (int i = 0; i < 2; ++i) {
+    RenderJob part = job;
+    part.shard = {i, 2};
+    RenderDataset(part, dir / ("s" + std::to_string(i)), false);
+    shards.push_back(dir / ("s" + std::to_string(i)));
+  }
+  RenderJob other = job;
+  other.options.seed = 43;
+  other.shard = {1, 2};
+  RenderDataset(other, dir / "other", false);
+  const auto refused = [&](const std::vector<fs::path>& dirs, const std::string& says) {
+    try {
+      MergeRenderShards(dir / "merged", dirs, false);
+      ADD_FAILURE() << "merged; expected: " << says;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(fs::exists(dir / "merged"));
+  };
+  refused({shards[0]}, "shards 1 of 2 are missing");
+  refused({shards[0], shards[0]}, "shard 0 is also");
+  refused({shards[0], dir / "other"}, (dir / "other").string() + ": a shard of another render");
+  refused({shards[0], dir / "whole_missing"}, "no shard.json");
+  MergeRenderShards(dir / "merged", shards, false);
+  EXPECT_EQ(ReadFrames(DatasetLayout(dir / "merged").FramesJson()).frames.size(), 2u);
+  EXPECT_FALSE(fs::exists(dir / "merged" / "shard.json"));
 }
 
 }  // namespace

@@ -63,6 +63,17 @@ struct TileOutputs {
   }
 };
 
+// The unit normal (world) of the surface a pixel centre's ray hit, turned towards the ray.
+Eigen::Vector3f CentreNormal(const MeshShading& mesh, const RTCRayHit& rh) {
+  Hit hit;
+  hit.prim = rh.hit.primID;
+  hit.u = rh.hit.u;
+  hit.v = rh.hit.v;
+  Eigen::Vector3f ng, n;
+  SurfaceNormals(mesh, hit, Eigen::Vector3f(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z), &ng, &n);
+  return n;
+}
+
 }  // namespace
 
 void RenderOptions::Check() const {
@@ -91,7 +102,56 @@ void Renderer::SetMeshes(const std::vector<SceneMesh>& meshes) {
   prepared_->SetMeshes(meshes);
 }
 
+void Renderer::SetMeshesOverTime(const std::vector<std::vector<SceneMesh>>& posed, double t_begin, double t_end) {
+  if (posed.size() < 2 || !(t_end > t_begin)) {
+    throw std::invalid_argument("SetMeshesOverTime: needs at least 2 steps over a time span of positive length");
+  }
+  for (const std::vector<SceneMesh>& step : posed) ValidateMeshes(prepared_->scene, step);
+  prepared_->SetMeshesOverTime(posed, t_begin, t_end);
+}
+
 RenderedView Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, const RenderOptions& options) const {
+  return RenderView(camera, ViewPoses::Still(cam_from_world), options);
+}
+
+namespace {
+
+// The pose of the camera at `time_s` as a RowPose; `ray_time` maps scene time to Embree's.
+RowPose RowPoseAt(const MovingCameraView& view, double time_s, double exposure_s,
+                  const std::function<float(double)>& ray_time) {
+  const Rigid3d cam_from_world = view.cam_from_world_at(time_s);
+  RowPose row = ViewPoses::Still(cam_from_world).rows[0];
+  row.ray_time = ray_time(time_s);
+  if (exposure_s > 0) {
+    const Rigid3d begin = view.cam_from_world_at(time_s - exposure_s / 2);
+    const Rigid3d end = view.cam_from_world_at(time_s + exposure_s / 2);
+    row.begin_rotation = begin.rotation.conjugate().cast<float>();
+    row.end_rotation = end.rotation.conjugate().cast<float>();
+    if (row.begin_rotation.dot(row.end_rotation) < 0) row.end_rotation.coeffs() *= -1;  // interpolate the short way
+    row.begin_origin = begin.SourceOriginInTarget().cast<float>();
+    row.end_origin = end.SourceOriginInTarget().cast<float>();
+    row.begin_ray_time = ray_time(time_s - exposure_s / 2);
+    row.end_ray_time = ray_time(time_s + exposure_s / 2);
+  }
+  return row;
+}
+
+}  // namespace
+
+RenderedView Renderer::Render(const MovingCameraView& view, const RenderOptions& options) const {
+  if (view.camera == nullptr || !view.cam_from_world_at) throw std::invalid_argument("Render: the moving view has no camera or pose");
+  const RigCamera& cam = *view.camera;
+  const PreparedScene& prepared = *prepared_;
+  auto ray_time = [&](double t) { return prepared.RayTime(t); };
+  ViewPoses poses;
+  poses.exposure = cam.exposure_s > 0 && options.samples_per_pixel > 1;
+  const int rows = cam.readout_s > 0 ? cam.camera.height() : 1;
+  poses.rows.resize(size_t(rows));
+  tbb::parallel_for(0, rows, [&](int y) { poses.rows[size_t(y)] = RowPoseAt(view, view.RowTime(y), cam.exposure_s, ray_time); });
+  return RenderView(cam.camera, poses, options);
+}
+
+RenderedView Renderer::RenderView(const Camera& camera, const ViewPoses& poses, const RenderOptions& options) const {
   options.Check();
   const PreparedScene& prepared = *prepared_;
   const std::vector<MeshShading>& meshes = prepared.meshes;
@@ -102,6 +162,7 @@ RenderedView Renderer::Render(const Camera& camera, const Rigid3d& cam_from_worl
   view.label = ImageU8(width, height, 1, 0);
   view.instance = ImageU16(width, height, 1, 0);
   view.range = ImageF(width, height, 1, 0.0f);
+  if (options.normals) view.normal = ImageF(width, height, 3, 0.0f);
 
   const ShadeParams shade = ShadeParamsOf(options);
   const float exposure = float(options.exposure);
@@ -112,8 +173,7 @@ RenderedView Renderer::Render(const Camera& camera, const Rigid3d& cam_from_worl
     const std::shared_ptr<const PixelCentreRays> centres_ptr = prepared.centre_rays.For(camera);
     const PixelCentreRays& centres = *centres_ptr;
     tbb::parallel_for(tbb::blocked_range<int>(0, NumTiles(width, height)), [&](const tbb::blocked_range<int>& tiles) {
-      CameraRays camera_rays(camera, centres, cam_from_world, options);
-      const Eigen::Vector3f& origin = camera_rays.origin();
+      CameraRays camera_rays(camera, centres, poses, options);
       std::vector<RTCRayHit> rays;
       std::vector<CameraRayInfo> info;
       std::vector<SampleRecord> records;
@@ -133,10 +193,22 @@ RenderedView Renderer::Render(const Camera& camera, const Rigid3d& cam_from_worl
             out.label[centre.pixel] = hit ? meshes[rh.hit.geomID].class_id : kSkyId;
             out.instance[centre.pixel] = hit ? meshes[rh.hit.geomID].instance_id : 0;
             out.range[centre.pixel] = hit ? rh.ray.tfar : 0.0f;
+            if (options.normals && hit) {
+              const int x = corner.x() + centre.pixel % kTileSize;
+              const Eigen::Vector3f n = poses.Row(y).world_from_cam_f.transpose() * CentreNormal(meshes[rh.hit.geomID], rh);
+              for (int c = 0; c < 3; ++c) view.normal.at(x, y, c) = n[c];
+            }
           });
-          // 2. Shading without the sun: no rays traced, so the hits' work can overlap.
+          // 2. Shading without the sun: no rays traced, so the hits' work can overlap. A pixel's
+          // samples on one triangle share one lighting.
+          if (options.samples_per_pixel > 1) ShareShadingWithinPixels(records);
           for (SampleRecord& r : records) {
-            if (r.hit.hit) ShadeWithoutShadow(meshes[r.hit.geom], r, origin, shade);
+            if (!r.hit.hit) continue;
+            if (r.lit_by < 0) {
+              ShadeWithoutShadow(meshes[r.hit.geom], r, shade);
+            } else {
+              AlbedoOnly(meshes[r.hit.geom], r);
+            }
           }
           // 3. Shadow rays, traced together, then each pixel's colour: the mean of its samples.
           CollectShadowRays(records, shade, &shadow);
@@ -150,6 +222,10 @@ RenderedView Renderer::Render(const Camera& camera, const Rigid3d& cam_from_worl
               SampleRecord& r = records[i];
               if (!r.hit.hit) {
                 radiance += SkyRadiance(r.dir, shade);
+                continue;
+              }
+              if (r.lit_by >= 0) {  // lit as an earlier sample on the same triangle, finished before it
+                radiance += LitAs(meshes[r.hit.geom], r, records[size_t(r.lit_by)]);
                 continue;
               }
               const bool sun_visible = !(shade.shadows && r.sun_ray) || !IsOccluded(shadow[next_shadow++]);

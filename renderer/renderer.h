@@ -19,6 +19,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -26,12 +27,14 @@
 
 #include "dataset/image.h"
 #include "geometry/camera.h"
+#include "geometry/rig.h"
 #include "geometry/rigid3.h"
 #include "scene/scene.h"
 
 namespace rigsim {
 
 struct PreparedScene;   // renderer/prepared_scene.h
+struct ViewPoses;       // renderer/camera_rays.h
 struct TraceOnlyStats;  // renderer/trace_only_benchmark.h
 
 struct RenderOptions {
@@ -54,6 +57,8 @@ struct RenderOptions {
   bool shadows = true;
   // Worker threads; 0 = all cores. Does not change the output.
   int num_threads = 0;
+  // Also output each pixel centre's surface normal in the camera frame (RenderedView::normal).
+  bool normals = false;
 
   // Throws std::invalid_argument naming the offending field.
   void Check() const;
@@ -64,6 +69,23 @@ struct RenderedView {
   ImageU8 label;     // 1 channel, Cityscapes label ids (labels/cityscapes.h)
   ImageU16 instance; // 1 channel, SceneMesh::instance_id; 0 = none
   ImageF range;      // 1 channel, metres along the ray from the camera centre; 0 = no surface
+  // With RenderOptions::normals: 3 channels, the unit normal (interpolated vertex normals, else the
+  // face's; no normal map) of the surface at the pixel centre, camera frame (x right, y down,
+  // z forward), turned towards the camera; 0 where there is no surface.
+  ImageF normal;
+};
+
+// A camera on a moving rig capturing one view: when each row is captured (RigCamera's
+// time_offset_s, readout_s, readout direction and exposure_s after the frame's timestamp) and
+// where the camera is at any time.
+struct MovingCameraView {
+  const RigCamera* camera = nullptr;  // must outlive the Render call
+  double frame_time_s = 0.0;          // the frame's timestamp (scene time, s)
+  // cam_from_world at a scene time (e.g. cam_from_rig * RigTrajectory::RigFromWorldAt).
+  std::function<Rigid3d(double time_s)> cam_from_world_at;
+
+  // Scene time at which image row `row` is captured (mid exposure).
+  double RowTime(int row) const { return frame_time_s + camera->RowTime(row); }
 };
 
 class Renderer {
@@ -85,8 +107,25 @@ class Renderer {
   // the renderer as it was when `meshes` are inconsistent.
   void SetMeshes(const std::vector<SceneMesh>& meshes);
 
+  // Replaces the geometry by the scene posed at evenly spaced times: posed[k] at
+  // t_begin + k (t_end - t_begin) / (K - 1), K = posed.size() >= 2, t_end > t_begin (e.g.
+  // PoseMeshesAt at each). A mesh whose positions differ between the steps moves linearly from one
+  // step to the next (Embree motion blur) and every ray meets it at the ray's own time (times
+  // outside [t_begin, t_end] meet the first or last step); the others are static. Shading data
+  // (normals, texel density) is the middle step's. `posed` must outlive the renderer or the next
+  // SetMeshes*. Throws like SetMeshes.
+  void SetMeshesOverTime(const std::vector<std::vector<SceneMesh>>& posed, double t_begin, double t_end);
+
   // Renders one view. Thread-safe (const): several views may render concurrently.
   RenderedView Render(const Camera& camera, const Rigid3d& cam_from_world, const RenderOptions& options) const;
+
+  // Renders one view of a camera on a moving rig: each row's rays leave from where the camera is at
+  // the row's capture time, and label, instance, range and normal are those of the pixel centre's
+  // ray at that time; with exposure_s > 0 the colour samples are spread evenly (stratified,
+  // jittered) over each row's exposure. Motion within one row's exposure is taken as linear
+  // (centre and rotation interpolated between its ends). Without readout and exposure this is
+  // Render(camera, cam_from_world_at(RowTime(0)), options).
+  RenderedView Render(const MovingCameraView& view, const RenderOptions& options) const;
 
   // The unit bearings (camera frame) of the camera's pixel centres, row-major, zero outside the
   // lens: the rays Render traces through them, computed once per camera and kept. For work on
@@ -97,6 +136,11 @@ class Renderer {
   // Times Embree alone on the rays Render would trace (renderer/trace_only_benchmark.h).
   friend TraceOnlyStats TraceOnlyForBenchmark(const Renderer& renderer, const Camera& camera,
                                               const Rigid3d& cam_from_world, const RenderOptions& options);
+  friend RenderedView MinimalFrameForBenchmark(const Renderer& renderer, const Camera& camera,
+                                               const Rigid3d& cam_from_world, const RenderOptions& options);
+
+  // Renders a view whose rows are captured from `poses`.
+  RenderedView RenderView(const Camera& camera, const ViewPoses& poses, const RenderOptions& options) const;
 
   std::unique_ptr<PreparedScene> prepared_;  // Embree handles and per-mesh data stay out of this header
 };

@@ -159,14 +159,46 @@ struct Hit {
 struct SampleRecord {
   Hit hit;
   Eigen::Vector3f dir;    // world direction of the camera ray
+  float time = 0;         // the camera ray's Embree time, which its shadow ray shares
   float angle = 0;        // the ray's angular footprint (radians), for texture filtering
   int pixel = 0;          // in the tile
   Eigen::Vector3f albedo;
   float light = 0;        // without the sun
   float sun_light = 0;    // what the sun adds when the shadow ray is clear
   bool sun_ray = false;   // the sun lights this side: a shadow ray is due
+  // The hit point (world) when collected (CollectRecords), then the shadow ray's origin.
   Eigen::Vector3f shadow_origin;
+  // ShareShadingWithinPixels: -1 when this record is lit by its own shading, else the index (in
+  // the batch's records) of the earlier sample on the same triangle whose light it shares.
+  int lit_by = -1;
 };
+
+// At spp > 1: the samples of one pixel that hit the same triangle share one lighting, computed
+// for the first of them (normals, sky and sun, one shadow ray); each keeps its own albedo (texture
+// look-up at its own point and footprint, AlbedoOnly), so textures are as sharp as with shading per
+// sample. Geometric edges and alpha cut-outs stay anti-aliased by the samples; a shadow edge that
+// crosses a triangle inside a pixel is not. Lighting and shadow rays per sample would be most of
+// the extra time of a sample. `records` are in pixel order (CollectRecords); up to 8 triangles per
+// pixel share (samples beyond are lit alone).
+inline void ShareShadingWithinPixels(std::vector<SampleRecord>& records) {
+  constexpr int kMaxShared = 8;
+  for (size_t i = 0; i < records.size();) {
+    const int pixel = records[i].pixel;
+    int leaders[kMaxShared];
+    int num_leaders = 0;
+    for (; i < records.size() && records[i].pixel == pixel; ++i) {
+      SampleRecord& r = records[i];
+      if (!r.hit.hit) continue;
+      int l = 0;
+      while (l < num_leaders && (records[leaders[l]].hit.geom != r.hit.geom || records[leaders[l]].hit.prim != r.hit.prim)) ++l;
+      if (l < num_leaders) {
+        r.lit_by = leaders[l];
+      } else if (num_leaders < kMaxShared) {
+        leaders[num_leaders++] = int(i);
+      }
+    }
+  }
+}
 
 // Pixel footprint on the surface (major axis), for the textures' mip levels: `angle` is the
 // ray's angular footprint, `ng` the geometric normal.
@@ -200,13 +232,16 @@ inline bool NeedsSunRay(const Eigen::Vector3f& ng, const Eigen::Vector3f& n, con
   return n.dot(p.sun_dir) > 0 && ng.dot(p.sun_dir) > 0;
 }
 
-// Start of the shadow ray: the hit point offset along the geometric normal, scaled with float
+// Start of the shadow ray: the hit `point` offset along the geometric normal, scaled with float
 // precision at this distance.
-inline Eigen::Vector3f ShadowRayOrigin(const Hit& hit, const Eigen::Vector3f& origin, const Eigen::Vector3f& dir,
-                                       const Eigen::Vector3f& ng) {
-  const Eigen::Vector3f point = origin + hit.t * dir;
+inline Eigen::Vector3f ShadowRayOriginAt(const Hit& hit, const Eigen::Vector3f& point, const Eigen::Vector3f& ng) {
   const float eps = 1e-4f * (1.0f + std::max(point.cwiseAbs().maxCoeff(), hit.t));
   return point + eps * ng;
+}
+
+inline Eigen::Vector3f ShadowRayOrigin(const Hit& hit, const Eigen::Vector3f& origin, const Eigen::Vector3f& dir,
+                                       const Eigen::Vector3f& ng) {
+  return ShadowRayOriginAt(hit, origin + hit.t * dir, ng);
 }
 
 // The shading normal `n` (facing the ray) turned by the mesh's normal map. The map's axes are
@@ -221,12 +256,10 @@ inline Eigen::Vector3f ShadowRayOrigin(const Hit& hit, const Eigen::Vector3f& or
 // What an emissive surface gives off towards the camera ray.
 [[gnu::noinline]] Eigen::Vector3f Emission(const MeshShading& m, const SampleRecord& r);
 
-// Everything about a camera ray's hit on mesh `m` except the sun's shadow ray; `origin` is the
-// camera ray's. Shading a batch of hits before tracing their shadow rays lets the CPU overlap the
+// Everything about a camera ray's hit on mesh `m` except the sun's shadow ray. Shading a batch of hits before tracing their shadow rays lets the CPU overlap the
 // hits' independent chains of loads and arithmetic instead of running each between two Embree
 // traversals.
-[[gnu::always_inline]] inline void ShadeWithoutShadow(const MeshShading& m, SampleRecord& r,
-                                                      const Eigen::Vector3f& origin, const ShadeParams& p) {
+[[gnu::always_inline]] inline void ShadeWithoutShadow(const MeshShading& m, SampleRecord& r, const ShadeParams& p) {
   const Hit& hit = r.hit;
   Eigen::Vector3f ng, n;
   SurfaceNormals(m, hit, r.dir, &ng, &n);
@@ -251,14 +284,34 @@ inline Eigen::Vector3f ShadowRayOrigin(const Hit& hit, const Eigen::Vector3f& or
   r.sun_ray = NeedsSunRay(ng, n, p);
   if (r.sun_ray) {
     r.sun_light = p.sun_intensity * n.dot(p.sun_dir);
-    r.shadow_origin = ShadowRayOrigin(hit, origin, r.dir, ng);
+    r.shadow_origin = ShadowRayOriginAt(hit, r.shadow_origin, ng);
   }
+}
+
+// The albedo alone of a sample lit by another's shading (ShareShadingWithinPixels).
+[[gnu::always_inline]] inline void AlbedoOnly(const MeshShading& m, SampleRecord& r) {
+  const Hit& hit = r.hit;
+  Eigen::Vector4f base = BaseColorAt(m, hit.prim, hit.u, hit.v);
+  if (m.texture != nullptr) {
+    Eigen::Vector3f ng = m.triangles[hit.prim].face_normal;  // the footprint ignores its sign
+    if (ng.squaredNorm() == 0.0f) ng = -r.dir;              // as SurfaceNormals
+    const Eigen::Vector2f uv = InterpolateTexcoord(m, hit.prim, hit.u, hit.v);
+    const float texels = FootprintMetres(hit, r.dir, r.angle, ng) * m.triangles[hit.prim].texels_per_metre;
+    base = base.cwiseProduct(SampleTexture(*m.texture, uv.x(), uv.y(), LodOf(texels)));
+  }
+  r.albedo = base.head<3>();
 }
 
 // Radiance leaving the hit on mesh `m` towards the camera, once its shadow ray (if any) is answered.
 [[gnu::always_inline]] inline Eigen::Vector3f FinishShading(const MeshShading& m, SampleRecord& r, bool sun_visible) {
   if (r.sun_ray && sun_visible) r.light += r.sun_light;
   const Eigen::Vector3f reflected = r.albedo * r.light;
+  return m.emits ? Eigen::Vector3f(reflected + Emission(m, r)) : reflected;
+}
+
+// Radiance of a sample lit as `lit` (ShareShadingWithinPixels), whose FinishShading has run.
+[[gnu::always_inline]] inline Eigen::Vector3f LitAs(const MeshShading& m, SampleRecord& r, const SampleRecord& lit) {
+  const Eigen::Vector3f reflected = r.albedo * lit.light;
   return m.emits ? Eigen::Vector3f(reflected + Emission(m, r)) : reflected;
 }
 

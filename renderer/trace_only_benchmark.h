@@ -25,4 +25,13 @@ struct TraceOnlyStats {
 TraceOnlyStats TraceOnlyForBenchmark(const Renderer& renderer, const Camera& camera, const Rigid3d& cam_from_world,
                                      const RenderOptions& options);
 
+// The floor under a labelled frame at 1 spp: the same pixel-centre rays from the cached bearings
+// and the same tiles, batches and Embree streams as Render, label, instance and range written
+// straight into the images, and a flat grey surface lit by a face-normal Lambert with the sun's
+// shadow rays and the sky, sRGB-encoded: the four images allocated and filled with nothing Render
+// could leave out (no textures, materials, vertex normals or tile buffers). Throws
+// std::invalid_argument unless options.samples_per_pixel is 1.
+RenderedView MinimalFrameForBenchmark(const Renderer& renderer, const Camera& camera, const Rigid3d& cam_from_world,
+                                      const RenderOptions& options);
+
 }  // namespace rigsim

@@ -255,8 +255,8 @@ void PerturbRig(Rig& rig, const RigPerturbation& p) {
   Rng rng(p.seed);
   for (RigCamera& c : rig.cameras) {
     if (!c.cam_from_rig) continue;
-    // Draws one by one, z first: as constructor arguments their order was the compiler's choice
-    // (GCC's, last first, is the one kept: the same seed gives the rigs it gave).
+    // Draws one by one, z first (GCC's order for constructor arguments, last first): as arguments
+    // their order would be the compiler's choice, and a seed must give the same rig everywhere.
     auto draw_vector = [&rng] {
       const double z = rng.Uniform(-1, 1), y = rng.Uniform(-1, 1), x = rng.Uniform(-1, 1);
       return Eigen::Vector3d(x, y, z);

@@ -105,4 +105,43 @@ FramesFile MakeTrajectory(const TrajectoryOptions& o) {
   return frames;
 }
 
+RigTrajectory::RigTrajectory(const FramesFile& frames) {
+  for (const Frame& f : frames.frames) {
+    if (!f.rig_from_world) Fail("frame '" + f.name + "' has no rig_from_world");
+    if (!std::isfinite(f.timestamp_s)) Fail("frame '" + f.name + "' has a timestamp that is not finite");
+    keys_.push_back({f.timestamp_s, *f.rig_from_world, f.rig_from_world->rotation.conjugate(),
+                     f.rig_from_world->SourceOriginInTarget()});
+  }
+  if (keys_.empty()) Fail("no frames");
+  std::stable_sort(keys_.begin(), keys_.end(), [](const Key& a, const Key& b) { return a.time_s < b.time_s; });
+  for (size_t k = 1; k < keys_.size(); ++k) {
+    if (keys_[k].time_s == keys_[k - 1].time_s) {
+      Fail("two frames share timestamp_s " + std::to_string(keys_[k].time_s) +
+           ": the rig's pose between frames (for cameras with a time offset, rolling shutter or exposure) needs "
+           "distinct timestamps");
+    }
+  }
+}
+
+Rigid3d RigTrajectory::RigFromWorldAt(double time_s) const {
+  if (keys_.size() == 1) return keys_[0].rig_from_world;
+  // The segment [k, k + 1] that holds time_s, or the first or last one outside.
+  size_t k = size_t(std::upper_bound(keys_.begin(), keys_.end(), time_s,
+                                     [](double t, const Key& key) { return t < key.time_s; }) -
+                    keys_.begin());
+  if (k > 0 && keys_[k - 1].time_s == time_s) return keys_[k - 1].rig_from_world;
+  k = std::clamp<size_t>(k, 1, keys_.size() - 1) - 1;
+  const Key& a = keys_[k];
+  const Key& b = keys_[k + 1];
+  const double s = (time_s - a.time_s) / (b.time_s - a.time_s);  // < 0 or > 1 outside: extrapolation
+  // Slerp as a fraction of the relative rotation's angle, which extrapolates as well.
+  Eigen::Quaterniond delta = a.world_from_rig.conjugate() * b.world_from_rig;
+  if (delta.w() < 0) delta.coeffs() *= -1;  // the short way round
+  const Eigen::AngleAxisd turn(delta);
+  const Eigen::Quaterniond world_from_rig =
+      (a.world_from_rig * Eigen::Quaterniond(Eigen::AngleAxisd(s * turn.angle(), turn.axis()))).normalized();
+  const Eigen::Vector3d centre = a.centre + s * (b.centre - a.centre);
+  return Rigid3d(world_from_rig, centre).Inverse();
+}
+
 }  // namespace rigsim

@@ -61,3 +61,60 @@ TEST(Trajectory, PolylineFollowsWaypoints) {
 
 }  // namespace
 }  // namespace rigsim
+
+namespace rigsim {
+namespace {
+
+TEST(RigTrajectory, IsEachFrameAtItsTimestampAndInterpolatesBetween) {
+  TrajectoryOptions o;
+  o.kind = TrajectoryKind::kCircle;
+  o.circle_radius_m = 6.0;
+  o.num_frames = 3;
+  o.step_m = 1.0;
+  o.frame_interval_s = 0.1;
+  const FramesFile frames = MakeTrajectory(o);
+  const RigTrajectory trajectory(frames);
+  for (const Frame& f : frames.frames) {
+    const Rigid3d at = trajectory.RigFromWorldAt(f.timestamp_s);
+    EXPECT_EQ(at.rotation.coeffs(), f.rig_from_world->rotation.coeffs());
+    EXPECT_EQ(at.translation, f.rig_from_world->translation);
+  }
+  // Half way between frames 0 and 1: the centre half way along the chord, the heading half way.
+  const Eigen::Vector3d c0 = frames.frames[0].rig_from_world->SourceOriginInTarget();
+  const Eigen::Vector3d c1 = frames.frames[1].rig_from_world->SourceOriginInTarget();
+  const Rigid3d mid = trajectory.RigFromWorldAt(0.05);
+  EXPECT_LT((mid.SourceOriginInTarget() - 0.5 * (c0 + c1)).norm(), 1e-12);
+  const double turn_deg = RadToDeg(1.0 / 6.0);  // 1 m of arc on a 6 m circle
+  EXPECT_NEAR(RotationDifferenceDeg(mid.rotation, frames.frames[0].rig_from_world->rotation), turn_deg / 2, 1e-9);
+  EXPECT_NEAR(RotationDifferenceDeg(mid.rotation, frames.frames[1].rig_from_world->rotation), turn_deg / 2, 1e-9);
+}
+
+TEST(RigTrajectory, ExtrapolatesWithTheNearestSegmentsVelocity) {
+  const FramesFile frames = MakeStraightTrajectory(Eigen::Vector3d(0, 1.6, 0), 0.0, 2, 2.0, 0.5);  // 4 m/s along -z
+  const RigTrajectory trajectory(frames);
+  EXPECT_LT((trajectory.RigFromWorldAt(-0.25).SourceOriginInTarget() - Eigen::Vector3d(0, 1.6, 1)).norm(), 1e-12);
+  EXPECT_LT((trajectory.RigFromWorldAt(1.0).SourceOriginInTarget() - Eigen::Vector3d(0, 1.6, -4)).norm(), 1e-12);
+  // Turning: the heading keeps turning at the same rate.
+  TrajectoryOptions o;
+  o.kind = TrajectoryKind::kCircle;
+  o.num_frames = 2;
+  o.frame_interval_s = 1.0;
+  const FramesFile turn = MakeTrajectory(o);
+  const Rigid3d after = RigTrajectory(turn).RigFromWorldAt(2.0);
+  const Rigid3d twice_on_circle = [&] {
+    o.num_frames = 3;
+    return *MakeTrajectory(o).frames[2].rig_from_world;
+  }();
+  EXPECT_LT(RotationDifferenceDeg(after.rotation, twice_on_circle.rotation), 1e-9);
+}
+
+TEST(RigTrajectory, OneFrameStandsStillAndRepeatedTimestampsAreRefused) {
+  const FramesFile one = MakeStraightTrajectory(Eigen::Vector3d(1, 2, 3), 30.0, 1, 2.0);
+  EXPECT_LT((RigTrajectory(one).RigFromWorldAt(5.0).SourceOriginInTarget() - Eigen::Vector3d(1, 2, 3)).norm(), 1e-12);
+  FramesFile repeated = MakeStraightTrajectory(Eigen::Vector3d(0, 1.6, 0), 0.0, 2, 2.0);
+  repeated.frames[1].timestamp_s = repeated.frames[0].timestamp_s;
+  EXPECT_THROW(RigTrajectory{repeated}, std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rigsim

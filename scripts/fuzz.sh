@@ -5,7 +5,7 @@
 # in build-fuzz/artifacts/. Inputs found to reach new code are kept in build-fuzz/corpus/<target>/
 # (not in the source tree), so repeated runs go deeper.
 #
-#   bash scripts/fuzz.sh              # 10 s per target (what scripts/test.sh runs)
+#   bash scripts/fuzz.sh              # 10 s per target (scripts/test.sh runs 5 s)
 #   bash scripts/fuzz.sh 3600         # an hour per target
 #   bash scripts/fuzz.sh 600 fuzz_gltf   # one target
 #

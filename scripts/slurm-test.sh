@@ -7,7 +7,9 @@
 #      the content is deterministic (results.jsonl without timings, the plots);
 #   2. the same sweep with shard 2 made to fail: the array reports the task FAILED, the merge job is
 #      cancelled and writes nothing; the failed task resubmitted alone with a new merge job
-#      completes the sweep, again equal to the single-machine run.
+#      completes the sweep, again equal to the single-machine run;
+#   3. a 6-frame render submitted with `rigsim render --slurm` as 3 array tasks and a render-merge
+#      job: the merged dataset equals a one-machine render byte for byte.
 # Prints the job ids and the states Slurm reports (scontrol show job). Needs root (slurmd runs the
 # jobs as root here), the built binary (scripts/build.sh) and jq. Exits non-zero on any failure.
 #
@@ -64,8 +66,8 @@ expect_states() {
   [ "$actual" = "$2" ] || fail "job $1: expected states '$2', got '$actual'"
 }
 # The job ids `rigsim sweep --slurm` printed.
-array_id() { sed -n 's/^submitted the sweep as job array \([0-9]*\) .*/\1/p' "$1"; }
-merge_id() { sed -n 's/.* and its merge as job \([0-9]*\) .*/\1/p' "$1"; }
+array_id() { sed -n 's/^submitted job array \([0-9]*\) .*/\1/p' "$1"; }
+merge_id() { sed -n 's/.* and the merge as job \([0-9]*\) .*/\1/p' "$1"; }
 
 # The deterministic content of a sweep's results: rows without timings, and the plots.
 same_results() {
@@ -138,6 +140,25 @@ expect_states "$retry" "2 COMPLETED;"
 expect_states "$merge" "- COMPLETED;"
 same_results "$work/single" "$work/failing"
 say "   task 2 resubmitted as job $retry and merge $merge: completed, equal to the single-machine run"
+
+# 3. A render in shards on the cluster.
+"$rigsim" make-rig ring --cameras 2 --width 200 --height 120 --frames 6 --out "$work/rig" > /dev/null
+render=("$rigsim" render --scene "$here/../assets/scenes/street.glb" --rig "$work/rig/rig.json" --frames "$work/rig/frames.json" --spp 2 --coco)
+"${render[@]}" --out "$work/render-single" > "$work/render-single.log" 2>&1 || fail "one-machine render: $(tail -3 "$work/render-single.log")"
+"${render[@]}" --out "$work/render-slurm" --slurm --shards 3 --cpus-per-task 1 > "$work/submit3.log" 2>&1 ||
+  fail "render submission: $(cat "$work/submit3.log")"
+cat "$work/submit3.log"
+array=$(array_id "$work/submit3.log")
+merge=$(merge_id "$work/submit3.log")
+[ -n "$array" ] && [ -n "$merge" ] || fail "no job ids in the render submission's output"
+wait_finished "$array"
+wait_finished "$merge"
+show "$array"
+show "$merge"
+expect_states "$array" "0 COMPLETED;1 COMPLETED;2 COMPLETED;"
+expect_states "$merge" "- COMPLETED;"
+diff -r "$work/render-single" "$work/render-slurm" > /dev/null || fail "the merged render differs from the one-machine render"
+say "3. render job array $array and render-merge $merge completed; the dataset equals the one-machine render byte for byte"
 
 passed=1
 say "PASS in $((SECONDS - t0)) s"

@@ -1,6 +1,5 @@
 #include "sweep/sweep_config.h"
 
-#include <cinttypes>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -12,6 +11,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "common/did_you_mean.h"
+#include "common/stable_hash.h"
 
 namespace rigsim {
 
@@ -410,17 +410,6 @@ std::string FormatParamValue(const Json& v) {
     return buf;
   }
   return v.dump();
-}
-
-std::string StableHash(const std::string& text) {
-  uint64_t h = 14695981039346656037ull;
-  for (unsigned char c : text) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016" PRIx64, h);
-  return buf;
 }
 
 std::vector<SweepCell> ExpandCells(const SweepConfig& config) {

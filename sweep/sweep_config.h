@@ -98,8 +98,6 @@ std::string SweepHash(const SweepConfig& config);
 // null as "unset".
 std::string FormatParamValue(const nlohmann::ordered_json& value);
 
-// 64-bit FNV-1a of a text, as 16 hex digits: stable across machines and builds.
-std::string StableHash(const std::string& text);
 
 // The config as JSON (what was read, normalised), recorded in the results.
 nlohmann::ordered_json SweepConfigToJson(const SweepConfig& config);

@@ -83,8 +83,6 @@ TEST(SweepConfig, HashesDependOnWhatIsComputedOnly) {
   Json d = a;
   d["methods"] = {{"semantics", {"none"}}};
   EXPECT_NE(SweepHash(ParseSweepConfig(a, "a.json")), SweepHash(ParseSweepConfig(d, "d.json")));
-  EXPECT_EQ(StableHash(""), "cbf29ce484222325");  // FNV-1a 64 offset basis
-  EXPECT_EQ(StableHash("a"), "af63dc4c8601ec8c");
 }
 
 TEST(SweepConfig, ItsJsonReadsBackAsTheSameSweep) {

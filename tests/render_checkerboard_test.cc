@@ -7,7 +7,7 @@
 // linearised image; Debian 12, OpenCV 4.6), detected minus projected corners:
 //   PINHOLE 0.031 px RMS / 0.058 max, OPENCV 0.032 / 0.062, FULL_OPENCV 0.032 / 0.057,
 //   OPENCV_FISHEYE (220 deg lens, board straddling 90 deg) 0.031 / 0.049.
-// The same detector on an independently supersampled ideal image of the pinhole board gave the
+// The same detector on an independently supersampled ideal image of the pinhole board gives the
 // same errors within 0.005 px, so what remains is the detector's own error, not the renderer's.
 // The test prints the figures ("[ measured ]") and records them as test properties.
 #include <cmath>

@@ -26,6 +26,7 @@ void AddExportCommand(CLI::App& app);
 void AddEvaluateCommand(CLI::App& app);
 void AddSweepCommand(CLI::App& app);
 void AddSweepMergeCommand(CLI::App& app);
+void AddRenderMergeCommand(CLI::App& app);
 void AddReportCommand(CLI::App& app);
 
 }  // namespace rigsim::cli

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   rigsim::cli::AddDemoCommand(app);
   rigsim::cli::AddMakeRigCommand(app);
   rigsim::cli::AddRenderCommand(app);
+  rigsim::cli::AddRenderMergeCommand(app);
   rigsim::cli::AddCalibrateCommand(app);
   rigsim::cli::AddInspectCommand(app);
   rigsim::cli::AddGenerateSceneCommand(app);

@@ -44,6 +44,8 @@ struct MakeRigArgs {
   std::string from_gltf;
   std::string rig_out, frames_out, out;
   bool force = false;
+  // Capture timing: "SECONDS" for every camera or "CAMERA=SECONDS" for one (repeatable).
+  std::vector<std::string> time_offset, readout, readout_direction, exposure;
 };
 
 constexpr const char* kDescription =
@@ -151,6 +153,65 @@ void AddSourceAndOutputOptions(CLI::App* cmd, MakeRigArgs& a) {
   cmd->add_flag("--force", a.force, "with --out: replace an existing folder");
 }
 
+// Capture timing: when each camera captures relative to the frame, its rolling shutter and exposure.
+void AddTimingOptions(CLI::App* cmd, MakeRigArgs& a) {
+  const std::string group = "Capture timing (per camera: CAMERA=VALUE; a plain VALUE sets every camera; repeatable)";
+  cmd->add_option("--time-offset", a.time_offset,
+                  "capture delay after the frame's timestamp (s): the camera sees from where the moving rig is then")
+      ->group(group);
+  cmd->add_option("--readout", a.readout, "rolling shutter: time to read out all rows (s), 0 = global shutter")->group(group);
+  cmd->add_option("--readout-direction", a.readout_direction, "rolling shutter: top-to-bottom (default) or bottom-to-top")
+      ->group(group);
+  cmd->add_option("--exposure", a.exposure, "exposure time (s): colour samples spread over it (motion blur, needs --spp > 1)")
+      ->group(group);
+}
+
+// Applies "VALUE" (every camera) then "CAMERA=VALUE" entries of one timing option.
+template <class Set>
+void ApplyPerCamera(const std::vector<std::string>& entries, const std::string& option, Rig* rig, Set&& set) {
+  for (const bool named : {false, true}) {
+    for (const std::string& entry : entries) {
+      const size_t eq = entry.find('=');
+      if ((eq != std::string::npos) != named) continue;
+      const std::string value = named ? entry.substr(eq + 1) : entry;
+      for (RigCamera& cam : rig->cameras) {
+        if (named && cam.name != entry.substr(0, eq)) continue;
+        set(cam, value);
+      }
+      if (named && rig->FindCamera(entry.substr(0, eq)) < 0) {
+        throw CLI::ValidationError(option, "no camera named '" + entry.substr(0, eq) + "' in the rig");
+      }
+    }
+  }
+}
+
+void ApplyTiming(const MakeRigArgs& a, Rig* rig) {
+  auto seconds = [](const std::string& option, const std::string& text, bool signed_ok) {
+    size_t used = 0;
+    double v = 0;
+    try {
+      v = std::stod(text, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != text.size() || !std::isfinite(v) || (!signed_ok && v < 0) || std::abs(v) > 3600) {
+      throw CLI::ValidationError(option, "'" + text + "' is not a time in seconds" + (signed_ok ? "" : " >= 0"));
+    }
+    return v;
+  };
+  ApplyPerCamera(a.time_offset, "--time-offset", rig,
+                 [&](RigCamera& c, const std::string& v) { c.time_offset_s = seconds("--time-offset", v, true); });
+  ApplyPerCamera(a.readout, "--readout", rig, [&](RigCamera& c, const std::string& v) { c.readout_s = seconds("--readout", v, false); });
+  ApplyPerCamera(a.exposure, "--exposure", rig,
+                 [&](RigCamera& c, const std::string& v) { c.exposure_s = seconds("--exposure", v, false); });
+  ApplyPerCamera(a.readout_direction, "--readout-direction", rig, [&](RigCamera& c, const std::string& v) {
+    if (v != "top-to-bottom" && v != "bottom-to-top") {
+      throw CLI::ValidationError("--readout-direction", "'" + v + "': use top-to-bottom or bottom-to-top");
+    }
+    c.readout_bottom_to_top = v == "bottom-to-top";
+  });
+}
+
 // Where to write, checked before any work.
 void CheckOutput(const MakeRigArgs& a) {
   if (a.out.empty() && (a.rig_out.empty() || a.frames_out.empty())) {
@@ -191,6 +252,7 @@ void MakeRigFromGltf(const MakeRigArgs& a) {
   SceneCameraRig from_file = RigFromSceneCameras(scene, a.ring.width, a.ring.height);
   for (const std::string& w : from_file.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   PerturbIfAsked(a, &from_file.rig);
+  ApplyTiming(a, &from_file.rig);
   for (const RigCamera& c : from_file.rig.cameras) {
     const Eigen::Vector3d centre = (*c.cam_from_rig * *from_file.frames.frames[0].rig_from_world).SourceOriginInTarget();
     std::printf("  %-12s PINHOLE %dx%d  fx %.2f fy %.2f  at (%.3f, %.3f, %.3f)\n", c.name.c_str(), c.camera.width(),
@@ -255,6 +317,7 @@ void MakeRig(const MakeRigArgs& a, const CLI::App& cmd) {
                 p.position_world.x(), p.position_world.y(), p.position_world.z(), p.heading_deg, 100.0 * p.score);
     placed->frames.scene = std::filesystem::path(a.scene).filename().string();
   }
+  ApplyTiming(a, &placed->rig);
   WriteRigAndFrames(a, placed->rig, placed->frames, a.type);
 }
 
@@ -266,6 +329,7 @@ void AddMakeRigCommand(CLI::App& app) {
   AddRigOptions(cmd, *args);
   AddPathOptions(cmd, *args);
   AddSourceAndOutputOptions(cmd, *args);
+  AddTimingOptions(cmd, *args);
   cmd->callback([args, cmd] { MakeRig(*args, *cmd); });
 }
 

@@ -1,16 +1,37 @@
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
 
 #include "apps/rigsim/commands.h"
 #include "apps/rigsim/progress.h"
 #include "apps/rigsim/render_support.h"
+#include "apps/rigsim/shard_options.h"
 #include "apps/rigsim/version.h"
 #include "geometry/camera_validation.h"
 #include "geometry/rig.h"
 #include "gltf/gltf_loader.h"
+#include "dataset/render_shards.h"
 #include "renderer/render_dataset.h"
 
 namespace rigsim::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string Number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+std::string Absolute(const std::string& path) { return fs::absolute(path).lexically_normal().string(); }
+
+}  // namespace
 
 void AddRenderCommand(CLI::App& app) {
   struct Args {
@@ -18,6 +39,8 @@ void AddRenderCommand(CLI::App& app) {
     RenderSettings settings;
     PhotometricSettings photometric;
     bool force = false;
+    ExtraOutputs extras;
+    ShardSettings shards;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
@@ -36,10 +59,20 @@ void AddRenderCommand(CLI::App& app) {
   cmd->add_flag("--force", args->force, "replace an existing output folder");
   AddRenderSettingsOptions(*cmd, args->settings);
   AddPhotometricOptions(*cmd, args->photometric);
+  const std::string group = "More ground truth (off unless asked for; README, 'Dataset layout')";
+  cmd->add_flag("--correspondence", args->extras.correspondence,
+                "correspondence/<a>/<b>/<frame>.exr for every camera pair that shares a view, flow/<cam>/<frame>.exr to "
+                "the next frame: where each pixel's surface lands in the other image (x, y) and whether it is visible there")
+      ->group(group);
+  cmd->add_flag("--normals", args->extras.normals, "normals/<cam>/<frame>.exr: surface normals in the camera frame")->group(group);
+  cmd->add_flag("--coco", args->extras.coco, "instances_coco.json: instance boxes and masks in the COCO format")->group(group);
+  cmd->add_flag("--previews", args->extras.previews, "depth_color/ and instances_color/ PNGs to look at")->group(group);
+  AddShardOptions(*cmd, args->shards, "frames", "render-merge");
   cmd->callback([args] {
     // The small inputs first, so that their errors come before the scene's loading time.
     RenderJob job;
     job.options = args->settings.ToRenderOptions();
+    job.extras = args->extras;
     job.photometric = args->photometric.ToOptions(args->settings.seed);
     job.rig = ReadRig(args->rig);
     for (const std::string& w : CheckRigCoversImages(job.rig, args->rig)) std::fprintf(stderr, "warning: %s\n", w.c_str());
@@ -49,7 +82,75 @@ void AddRenderCommand(CLI::App& app) {
     job.scene_name = std::filesystem::path(args->scene).filename().string();
     job.frames.label_rules = args->rules.empty() ? "" : std::filesystem::path(args->rules).filename().string();
     job.frames.tool_version = RIGSIM_VERSION_STRING;
+    const int num_frames = int(job.frames.frames.size());
+    if (args->shards.slurm) {
+      if (!args->shards.shard.empty()) throw std::invalid_argument("--slurm makes the shards itself: leave out --shard");
+      SlurmArrayJob slurm = args->shards.job;
+      slurm.binary = fs::read_symlink("/proc/self/exe");
+      slurm.command = "render";
+      slurm.args = {"--scene", Absolute(args->scene), "--rig", Absolute(args->rig), "--frames", Absolute(args->frames),
+                    "--spp", std::to_string(args->settings.samples_per_pixel), "--seed", std::to_string(args->settings.seed)};
+      if (!args->rules.empty()) slurm.args.insert(slurm.args.end(), {"--rules", Absolute(args->rules)});
+      const PhotometricSettings& p = args->photometric;
+      if (p.defaults) slurm.args.push_back("--photometric");
+      for (const auto& [option, value] : {std::pair{"--exposure-sigma", p.exposure_sigma}, {"--white-balance-sigma", p.white_balance_sigma},
+                                          {"--vignetting", p.vignetting}, {"--shot-noise", p.shot_noise}, {"--read-noise", p.read_noise}}) {
+        if (value) slurm.args.insert(slurm.args.end(), {option, Number(*value)});
+      }
+      for (const auto& [flag, on] : {std::pair{"--correspondence", args->extras.correspondence}, {"--normals", args->extras.normals},
+                                     {"--coco", args->extras.coco}, {"--previews", args->extras.previews}}) {
+        if (on) slurm.args.push_back(flag);
+      }
+      slurm.merge_command = "render-merge";
+      slurm.out = Absolute(args->out);
+      slurm.work = slurm.out.string() + ".shards";
+      slurm.name = slurm.out.filename().string();
+      if (fs::exists(slurm.out)) {
+        throw std::invalid_argument("--out " + args->out + ": already exists; the merge job writes the dataset there, so give a new folder");
+      }
+      if (fs::exists(slurm.work)) {
+        throw std::invalid_argument(slurm.work.string() + ": already exists (the shards of an earlier --slurm render?); remove it or give another --out");
+      }
+      if (slurm.num_shards <= 0) slurm.num_shards = std::min(64, num_frames);
+      if (slurm.num_shards > num_frames) {
+        throw std::invalid_argument("--shards " + std::to_string(slurm.num_shards) + ": " + args->frames + " has " +
+                                    std::to_string(num_frames) + " frames; use at most that many shards");
+      }
+      SubmitOrWriteSlurm(slurm, args->shards.dry_run);
+      return;
+    }
+    if (!args->shards.shard.empty()) {
+      std::tie(job.shard.index, job.shard.count) = ParseShard(args->shards.shard);
+      if (job.shard.count > num_frames) {
+        throw std::invalid_argument("--shard " + args->shards.shard + ": " + args->frames + " has " +
+                                    std::to_string(num_frames) + " frames; split it into at most " +
+                                    std::to_string(num_frames) + " shards");
+      }
+    }
     RenderAndReport(job, args->out, args->force);
+  });
+}
+
+void AddRenderMergeCommand(CLI::App& app) {
+  struct Args {
+    std::string out;
+    std::vector<std::string> shards;
+    bool force = false;
+  };
+  auto args = std::make_shared<Args>();
+  CLI::App* cmd = app.add_subcommand(
+      "render-merge",
+      "Combine the folders of a render's shards (rigsim render ... --shard I/N) into one dataset OUT,\n"
+      "byte for byte what rendering every frame on one machine writes. Refuses folders of another render\n"
+      "and names the shards that are missing; writes nothing unless every shard is there.");
+  cmd->add_option("OUT", args->out, "the dataset folder to write (created; see --force)")->required();
+  cmd->add_option("SHARD_DIR", args->shards, "the shards' folders, in any order")->required()->check(CLI::ExistingDirectory);
+  cmd->add_flag("--force", args->force, "replace OUT when rigsim wrote it");
+  cmd->callback([args] {
+    const std::vector<fs::path> shards(args->shards.begin(), args->shards.end());
+    MergeRenderShards(args->out, shards, args->force);
+    const FramesFile frames = ReadFrames(DatasetLayout(args->out).FramesJson());
+    std::printf("merged %zu shards (%zu frames) into %s\n", shards.size(), frames.frames.size(), args->out.c_str());
   });
 }
 

@@ -9,6 +9,7 @@
 #include "apps/rigsim/progress.h"
 #include "pipeline/report_table.h"
 #include "dataset/dataset.h"
+#include "dataset/render_shards.h"
 #include "gltf/gltf_loader.h"
 #include "gltf/label_rules.h"
 
@@ -118,10 +119,15 @@ void RenderAndReport(const RenderJob& job, const std::filesystem::path& out, boo
     });
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const size_t views = job.rig.cameras.size() * job.frames.frames.size();
-  std::printf("rendered %zu views (%zu cameras x %zu frames, %d spp) into %s in %.1f s\n", views,
-              job.rig.cameras.size(), job.frames.frames.size(), job.options.samples_per_pixel, out.string().c_str(),
-              seconds);
+  const FrameRange range = ShardFrames(int(job.frames.frames.size()), job.shard.index, job.shard.count);
+  const size_t frames = size_t(range.end - range.begin);
+  std::printf("rendered %zu views (%zu cameras x %zu frames, %d spp) into %s in %.1f s\n", job.rig.cameras.size() * frames,
+              job.rig.cameras.size(), frames, job.options.samples_per_pixel, out.string().c_str(), seconds);
+  if (job.shard.count > 1) {
+    std::printf("shard %d/%d: frames %s to %s of %zu; combine the shards with: rigsim render-merge OUT SHARD_DIR...\n",
+                job.shard.index, job.shard.count, job.frames.frames[range.begin].name.c_str(),
+                job.frames.frames[range.end - 1].name.c_str(), job.frames.frames.size());
+  }
   if (job.photometric.enabled()) {
     std::printf("photometric differences (seed %llu; %s):\n", static_cast<unsigned long long>(job.photometric.seed),
                 DatasetLayout(out).PhotometricJson().string().c_str());

@@ -9,8 +9,8 @@
 
 #include "apps/rigsim/commands.h"
 #include "apps/rigsim/interrupt.h"
+#include "apps/rigsim/shard_options.h"
 #include "sweep/cell_runner.h"
-#include "sweep/slurm.h"
 #include "sweep/suites.h"
 #include "sweep/sweep_config.h"
 #include "sweep/sweep_runner.h"
@@ -61,22 +61,6 @@ class SweepProgressLine {
   int last_done_ = -1;
 };
 
-// "I/N" of --shard.
-std::pair<int, int> ParseShard(const std::string& text) {
-  const size_t slash = text.find('/');
-  try {
-    size_t used_i = 0, used_n = 0;
-    const int i = std::stoi(text.substr(0, slash), &used_i);
-    const int n = std::stoi(text.substr(slash + 1), &used_n);
-    if (slash == std::string::npos || used_i != slash || used_n != text.size() - slash - 1 || n < 1 || i < 0 || i >= n) {
-      throw std::invalid_argument("");
-    }
-    return {i, n};
-  } catch (const std::exception&) {
-    throw std::invalid_argument("--shard: give I/N with 0 <= I < N, e.g. 0/4 (got '" + text + "')");
-  }
-}
-
 void ListParams() {
   std::printf("Cell parameters (a config's base, set, grid and zip):\n\n");
   for (const ParamSpec& p : CellParamSpecs()) {
@@ -90,11 +74,10 @@ void ListParams() {
 
 void AddSweepCommand(CLI::App& app) {
   struct Args {
-    std::string config, suite, size = "small", out, shard;
-    bool keep_datasets = false, force = false, list_params = false, dry_run = false;
+    std::string config, suite, size = "small", out;
+    bool keep_datasets = false, force = false, list_params = false;
     int threads = 0;
-    bool slurm = false;
-    SlurmSweep slurm_job;
+    ShardSettings shards;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
@@ -120,25 +103,8 @@ void AddSweepCommand(CLI::App& app) {
   cmd->add_flag("--force", args->force, "start over: remove OUT's earlier sweep results (only what a sweep writes)");
   cmd->add_option("--threads", args->threads, "worker threads, 0 = all cores")->capture_default_str()->check(CLI::NonNegativeNumber);
   cmd->add_flag("--list-params", args->list_params, "list the cell parameters and methods, and exit");
-  cmd->add_flag("--dry-run", args->dry_run, "list the cells and exit; with --slurm: write the job scripts, do not submit");
-  cmd->add_option("--shard", args->shard,
-                  "I/N: run only shard I of N (0 <= I < N; every cell is in one shard, the shards balanced by\n"
-                  "their render and calibration cost); combine the shards' folders with `rigsim sweep-merge`");
-  const std::string slurm_group = "Slurm (a job array of shards and a merge job; see README, \"Sweeps on a cluster\")";
-  cmd->add_flag("--slurm", args->slurm, "submit the sweep to Slurm with sbatch instead of running it here")->group(slurm_group);
-  cmd->add_option("--shards", args->slurm_job.num_shards, "--slurm: array tasks (default: one per cell, at most 64)")
-      ->group(slurm_group)
-      ->check(CLI::Range(1, 100000));
-  cmd->add_option("--partition", args->slurm_job.partition, "--slurm: partition (default: the cluster's)")->group(slurm_group);
-  cmd->add_option("--cpus-per-task", args->slurm_job.cpus_per_task, "--slurm: CPUs of each task")
-      ->capture_default_str()
-      ->group(slurm_group)
-      ->check(CLI::Range(1, 4096));
-  cmd->add_option("--time", args->slurm_job.time_limit, "--slurm: time limit of each task, e.g. 02:00:00")->group(slurm_group);
-  cmd->add_option("--max-parallel", args->slurm_job.max_parallel, "--slurm: tasks running at once (0: no limit)")
-      ->capture_default_str()
-      ->group(slurm_group)
-      ->check(CLI::NonNegativeNumber);
+  AddShardOptions(*cmd, args->shards, "cells", "sweep-merge");
+  cmd->get_option("--dry-run")->description("list the cells and exit; with --slurm: write the job scripts, do not submit");
   cmd->callback([args, config, suite] {
     if (args->list_params) {
       ListParams();
@@ -167,42 +133,27 @@ void AddSweepCommand(CLI::App& app) {
     options.keep_datasets = args->keep_datasets;
     options.restart = args->force;
     options.command = command;
-    if (!args->shard.empty()) std::tie(options.shard_index, options.num_shards) = ParseShard(args->shard);
+    if (!args->shards.shard.empty()) std::tie(options.shard_index, options.num_shards) = ParseShard(args->shards.shard);
     std::fprintf(stderr, "sweep %s: %zu cells x %zu methods into %s\n", sweep.name.c_str(), cells.size(),
                  sweep.methods.size(), out.string().c_str());
-    if (args->slurm) {
-      if (!args->shard.empty()) throw std::invalid_argument("--slurm makes the shards itself: leave out --shard");
-      SlurmSweep job = args->slurm_job;
+    if (args->shards.slurm) {
+      if (!args->shards.shard.empty()) throw std::invalid_argument("--slurm makes the shards itself: leave out --shard");
+      SlurmArrayJob job = args->shards.job;
       job.binary = fs::read_symlink("/proc/self/exe");
-      job.sweep_args = sweep_args;
-      job.out = fs::absolute(out).lexically_normal();
+      job.command = "sweep";
+      job.args = sweep_args;
+      if (args->keep_datasets) job.args.push_back("--keep-datasets");
+      job.merge_command = "sweep-merge";
+      job.out = job.work = fs::absolute(out).lexically_normal();
       job.name = sweep.name;
-      job.keep_datasets = args->keep_datasets;
       if (job.num_shards <= 0) job.num_shards = std::max(1, std::min<int>(64, static_cast<int>(cells.size())));
       options.num_shards = job.num_shards;
       PrepareSweepFolder(sweep, options);
-      if (args->dry_run) {
-        WriteSlurmScripts(job);
-        std::printf("wrote %s and %s (not submitted: --dry-run)\n", (job.out / "slurm" / "sweep.sbatch").c_str(),
-                    (job.out / "slurm" / "merge.sbatch").c_str());
-        return;
-      }
-      const SlurmSubmission submitted = SubmitSlurmSweep(job);
-      std::printf("submitted the sweep as job array %s (%d tasks) and its merge as job %s (runs when every task has\n"
-                  "succeeded; a failed task cancels it)\n",
-                  submitted.array_job_id.c_str(), job.num_shards, submitted.merge_job_id.c_str());
-      std::printf("follow:   squeue -j %s,%s    scontrol show job %s    sacct -j %s,%s\n", submitted.array_job_id.c_str(),
-                  submitted.merge_job_id.c_str(), submitted.array_job_id.c_str(), submitted.array_job_id.c_str(),
-                  submitted.merge_job_id.c_str());
-      std::printf("logs:     %s\n", (job.out / "slurm" / "logs").c_str());
-      std::printf("a task I failed? run it again, and the merge after it:\n"
-                  "          sbatch --parsable --array=I %s\n"
-                  "          sbatch --dependency=afterok:<its job id> --kill-on-invalid-dep=yes %s\n",
-                  (job.out / "slurm" / "sweep.sbatch").c_str(), (job.out / "slurm" / "merge.sbatch").c_str());
-      std::printf("results:  %s (report.md, results.csv) once the merge has run\n", job.out.c_str());
+      SubmitOrWriteSlurm(job, args->shards.dry_run);
+      if (!args->shards.dry_run) std::printf("the report: %s once the merge has run\n", (job.out / "report.md").c_str());
       return;
     }
-    if (args->dry_run) {
+    if (args->shards.dry_run) {
       for (const SweepCell& c : cells) std::printf("cell %d %s %s\n", c.index, c.key.c_str(), c.params.dump().c_str());
       return;
     }
