@@ -148,7 +148,7 @@ void RigCalibrationOptions::Check() const {
   auto fail = [](const std::string& why) { throw std::invalid_argument("RigCalibrationOptions: " + why); };
   if (!(max_direction_std_deg > 0)) fail("max_direction_std_deg must be > 0");
   if (!(max_start_disagreement_deg > 0)) fail("max_start_disagreement_deg must be > 0");
-  if (!(ambiguous_cost_margin >= 0)) fail("ambiguous_cost_margin must be >= 0");
+  if (!(min_start_cost_ratio >= 1)) fail("min_start_cost_ratio must be >= 1");
   if (!(max_pair_rotation_disagreement_deg > 0)) fail("max_pair_rotation_disagreement_deg must be > 0");
   if (!(max_pair_direction_disagreement_deg > 0)) fail("max_pair_direction_disagreement_deg must be > 0");
   if (max_rejected_pairs < 0) fail("max_rejected_pairs must be >= 0");
@@ -345,8 +345,8 @@ PositionStage EstimateInitialPoses(const RigObservations& obs, const RotationSta
 }
 
 // Step 5: the bundle adjustment from every start; the one the images agree with best
-// (TruncatedReprojectionCost) is kept. Another start that ends as well explained with a camera
-// elsewhere makes that camera's position ambiguous.
+// (TruncatedReprojectionCost) is kept. Another start that ends with a camera elsewhere makes that
+// camera's position ambiguous (RigCalibrationOptions::max_start_disagreement_deg).
 struct AdjustedRig {
   MultiFrameBundleAdjustmentResult ba;
   std::vector<RigStartSummary> starts;
@@ -391,11 +391,11 @@ AdjustedRig AdjustFromEveryStart(const RigObservations& obs, const std::vector<V
       const auto diff = DirectionDifferenceDeg(adjusted[i].cam_from_rig[c], adjusted[best].cam_from_rig[c]);
       out.starts[i].direction_difference_deg.push_back(diff);
       if (i == best || !diff || *diff <= options.max_start_disagreement_deg) continue;
-      if (out.starts[i].cost <= (1.0 + options.ambiguous_cost_margin) * out.starts[best].cost) {
-        out.ambiguous[c] = "ambiguous: the bundle adjustment started from the " + out.starts[i].source + " ends " +
-                           Fixed(*diff, 1) + " deg away from its start from the " + out.starts[best].source +
-                           ", and the images agree with both about as well";
-      }
+      if (out.starts[i].cost > options.min_start_cost_ratio * out.starts[best].cost) continue;
+      out.ambiguous[c] = "ambiguous: the bundle adjustment started from the " + out.starts[i].source + " puts it " +
+                         Fixed(*diff, 1) + " deg away from where the start from the " + out.starts[best].source +
+                         " does (reprojection cost " + Fixed(out.starts[i].cost, 0) + " against " +
+                         Fixed(out.starts[best].cost, 0) + " px^2; a wrong pair can make the wrong one fit best)";
     }
   }
   out.ba = std::move(adjusted[best]);
