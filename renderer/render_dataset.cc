@@ -318,6 +318,23 @@ std::string RenderIdentity(const RenderJob& job, const FramesFile& frames) {
   return StableHash(RigToJsonText(job.rig) + FramesToJsonText(frames) + options.dump());
 }
 
+// rig.json and frames.json; a shard's frames.json lists its frames, and its shard.json what the
+// merge needs of them.
+void WriteRigAndFrames(const RenderJob& job, FrameRange range, std::vector<FrameOverlapCounts> overlap,
+                       const DatasetLayout& layout) {
+  WriteRig(job.rig, layout.RigJson());
+  FramesFile frames = job.frames;
+  frames.seed = job.options.seed;
+  if (frames.scene.empty()) frames.scene = job.scene_name;
+  if (job.shard.count > 1) {
+    RenderShardInfo shard{job.shard.index, job.shard.count, RenderIdentity(job, frames), int(frames.frames.size()),
+                          range.begin, std::move(overlap)};
+    json_io::WriteTextAtomic(RenderShardJsonPath(layout.root()), RenderShardJson(shard).dump(1) + "\n");
+    frames.frames = std::vector<Frame>(frames.frames.begin() + range.begin, frames.frames.begin() + range.end);
+  }
+  WriteFrames(frames, layout.FramesJson());
+}
+
 }  // namespace
 
 void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
@@ -428,17 +445,7 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
   if (clock.timed()) json_io::WriteTextAtomic(layout.PosesJson(), PosesJsonOf(job, poses_json).dump() + "\n");
   if (job.extras.coco) json_io::WriteTextAtomic(layout.CocoJson(), coco.ToJson().dump() + "\n");
 
-  WriteRig(job.rig, layout.RigJson());
-  FramesFile frames = job.frames;
-  frames.seed = job.options.seed;
-  if (frames.scene.empty()) frames.scene = job.scene_name;
-  if (job.shard.count > 1) {
-    RenderShardInfo shard{job.shard.index, job.shard.count, RenderIdentity(job, frames), int(frames.frames.size()),
-                          range.begin, std::move(overlap)};
-    json_io::WriteTextAtomic(RenderShardJsonPath(layout.root()), RenderShardJson(shard).dump(1) + "\n");
-    frames.frames = std::vector<Frame>(frames.frames.begin() + range.begin, frames.frames.begin() + range.end);
-  }
-  WriteFrames(frames, layout.FramesJson());
+  WriteRigAndFrames(job, range, std::move(overlap), layout);
 
   staged.Commit();
 }

@@ -146,7 +146,7 @@ std::vector<std::string> WriteReport(const CalibrationRun& run, const ReportOpti
     for (const RigCalibrationResult& r : run.results) ctx.aligned.push_back(AlignToTruth(r, *run.inputs.truth, run.inputs.frames));
   }
 
-  for (const char* file : {"index.html", "report.js", "report.css"}) CopyFile(options.web_dir / file, dir / file);
+  for (const char* file : {"index.html", "geometry.js", "report.js", "report.css"}) CopyFile(options.web_dir / file, dir / file);
   CopyThreeJs(options.three_js_dir, dir);
   fs::create_directories(dir / "data");
 
