@@ -82,8 +82,11 @@ struct RigCalibrationOptions {
   // A used pair whose two-view rotation is more than max_pair_rotation_disagreement_deg from the
   // rig's, or whose baseline direction is more than max_pair_direction_disagreement_deg from the
   // rig's, is left out and the rig made again without it (at most max_rejected_pairs times, the
-  // worst first): a wrong pair agrees with the rest only by chance.
-  double max_pair_rotation_disagreement_deg = 1.0;
+  // worst first): a wrong pair agrees with the rest only by chance. The rotation bound is loose:
+  // a fisheye pair's two-view rotation can be 1.6-1.9 deg off a rig that the tracks make right
+  // within 0.1 deg (the surround rig of tests/end_to_end_test.cc), and a wrong pair shows in its
+  // direction (measured 12-20 deg on the surround rig at 960x540, 160 deg on a mirror pose).
+  double max_pair_rotation_disagreement_deg = 3.0;
   double max_pair_direction_disagreement_deg = 10.0;
   int max_rejected_pairs = 3;
   // Keep what a report shows of every stage in RigCalibrationResult::details (matches with their
