@@ -1,6 +1,5 @@
 #include "dataset/label_source.h"
 
-#include <source_location>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -33,8 +32,8 @@ class LabelSourceTest : public ::testing::Test {
   }
   // LoadLabels from `folder` fails with a message naming its file and saying `part`.
   void ExpectFolderFails(const std::string& folder, const std::string& part, int width = 64, int height = 48,
-                         std::source_location where = std::source_location::current()) {
-    const ::testing::ScopedTrace trace(where.file_name(), static_cast<int>(where.line()), folder);
+                         const char* file = __builtin_FILE(), int line = __builtin_LINE()) {
+    const ::testing::ScopedTrace trace(file, line, folder);
     const fs::path file = dir_ / folder / "cam0" / "000000.png";
     auto load = [&] {
       LoadLabels(LabelSource::Folder(dir_ / folder), DatasetLayout(dir_ / "dataset"), "cam0", "000000", width, height);

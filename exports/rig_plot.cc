@@ -60,9 +60,7 @@ double NiceLength(double target) {
   return 10 * p;
 }
 
-}  // namespace
-
-std::string RigTopDownSvg(const RigPlotInput& in) {
+void CheckSameCameras(const RigPlotInput& in) {
   const size_t n = in.estimate.cameras.size();
   if (in.truth && in.truth->cameras.size() != n) {
     throw std::invalid_argument("rig plot: the truth has " + std::to_string(in.truth->cameras.size()) +
@@ -74,26 +72,35 @@ std::string RigTopDownSvg(const RigPlotInput& in) {
                                   "' in the estimate but '" + in.truth->cameras[c].name + "' in the truth");
     }
   }
+}
+
+// Scales the estimate's centres by the s that minimises sum |s * e - t|^2 over the cameras both place.
+void ScaleToTruth(const std::vector<Placed>& truth, std::vector<Placed>* estimate) {
+  double et = 0, ee = 0;
+  for (size_t c = 0; c < truth.size(); ++c) {
+    if ((*estimate)[c].centre && truth[c].centre) {
+      et += (*estimate)[c].centre->dot(*truth[c].centre);
+      ee += (*estimate)[c].centre->squaredNorm();
+    }
+  }
+  const double s = ee > 1e-18 ? et / ee : 1.0;
+  for (Placed& p : *estimate) {
+    if (p.centre) *p.centre *= s;
+  }
+}
+
+}  // namespace
+
+std::string RigTopDownSvg(const RigPlotInput& in) {
+  CheckSameCameras(in);
+  const size_t n = in.estimate.cameras.size();
   std::vector<Placed> estimate = InFirstCameraFrame(in.estimate, "estimate");
   const std::vector<Placed> truth = in.truth ? InFirstCameraFrame(*in.truth, "truth") : std::vector<Placed>(n);
   const Rigid3d cam0_from_rig = *in.estimate.cameras[0].cam_from_rig;
 
-  // A unit-scale estimate takes the truth's scale: s minimises sum |s * e - t|^2.
-  bool in_metres = in.metric;
-  if (!in.metric && in.truth) {
-    double et = 0, ee = 0;
-    for (size_t c = 0; c < n; ++c) {
-      if (estimate[c].centre && truth[c].centre) {
-        et += estimate[c].centre->dot(*truth[c].centre);
-        ee += estimate[c].centre->squaredNorm();
-      }
-    }
-    const double s = ee > 1e-18 ? et / ee : 1.0;
-    for (Placed& p : estimate) {
-      if (p.centre) *p.centre *= s;
-    }
-    in_metres = true;
-  }
+  // A unit-scale estimate takes the truth's scale.
+  const bool in_metres = in.metric || in.truth;
+  if (!in.metric && in.truth) ScaleToTruth(truth, &estimate);
 
   // Extent of every centre drawn, in the page's (x, z).
   double xmin = 1e300, xmax = -1e300, zmin = 1e300, zmax = -1e300;

@@ -28,13 +28,13 @@ bool HasWarning(const Scene& s, const std::string& part) {
 }
 
 void ExpectLoadFails(const std::filesystem::path& path, const GltfLoadOptions& options, const std::string& part,
-                     std::source_location where) {
-  const ::testing::ScopedTrace trace(where.file_name(), static_cast<int>(where.line()), "ExpectLoadFails");
+                     const char* file, int line) {
+  const ::testing::ScopedTrace trace(file, line, "ExpectLoadFails");
   EXPECT_THAT([&] { LoadGltf(path, options); }, ThrowsNaming<std::runtime_error>(path, part));
 }
 
-void ExpectLoadFails(const std::filesystem::path& path, const std::string& part, std::source_location where) {
-  ExpectLoadFails(path, GltfLoadOptions{}, part, where);
+void ExpectLoadFails(const std::filesystem::path& path, const std::string& part, const char* file, int line) {
+  ExpectLoadFails(path, GltfLoadOptions{}, part, file, line);
 }
 
 }  // namespace rigsim::gltf_test

@@ -4,7 +4,6 @@
 
 #include <cstddef>
 #include <filesystem>
-#include <source_location>
 #include <string>
 #include <vector>
 
@@ -25,10 +24,11 @@ Eigen::Vector3f FaceNormal(const SceneMesh& m, size_t tri);
 bool HasWarning(const Scene& s, const std::string& part);
 
 // Expects LoadGltf(path, options) to throw a std::runtime_error whose message starts with the
-// file's name and contains `part`; a failure names the calling line.
+// file's name and contains `part`; a failure names the calling line (the builtins, not
+// std::source_location, which Debian 12's clang does not provide).
 void ExpectLoadFails(const std::filesystem::path& path, const GltfLoadOptions& options, const std::string& part,
-                     std::source_location where = std::source_location::current());
-void ExpectLoadFails(const std::filesystem::path& path, const std::string& part,
-                     std::source_location where = std::source_location::current());
+                     const char* file = __builtin_FILE(), int line = __builtin_LINE());
+void ExpectLoadFails(const std::filesystem::path& path, const std::string& part, const char* file = __builtin_FILE(),
+                     int line = __builtin_LINE());
 
 }  // namespace rigsim::gltf_test
