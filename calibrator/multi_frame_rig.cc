@@ -17,27 +17,10 @@
 
 #include "calibrator/cost_functions.h"
 #include "calibrator/format.h"
+#include "calibrator/union_find.h"
 
 namespace rigsim {
 namespace {
-
-// Union-find over dense ids.
-struct UnionFind {
-  std::vector<int> parent;
-  int Add() {
-    parent.push_back(static_cast<int>(parent.size()));
-    return parent.back();
-  }
-  int Find(int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void Join(int a, int b) {
-    a = Find(a);
-    b = Find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
 
 // Projection onto SO(3) of a 3x3 matrix (the chordal mean of rotations summed into it).
 Eigen::Matrix3d ProjectToRotation(const Eigen::Matrix3d& m) {
@@ -192,284 +175,6 @@ std::vector<std::optional<Eigen::Quaterniond>> EstimateRigRotations(
       if (angle(motions[best], m) < DegToRad(2.0)) sum += m;
     }
     out[k + 1] = Eigen::Quaterniond(ProjectToRotation(sum) * out[k]->toRotationMatrix()).normalized();
-  }
-  return out;
-}
-
-namespace {
-
-// A track's observation as a ray in the world, through its view's known rotation.
-struct Ray {
-  int camera, frame;
-  Eigen::Vector3d dir;
-};
-
-// The rays of each track with >= 2 posed views spanning at least `min_angle` (rad): the tracks
-// whose point, hence whose constraint on the positions, has a determined depth.
-std::vector<std::vector<Ray>> UsableRays(const std::vector<Camera>& cameras, const FrameKeypoints& keypoints,
-                                         const std::vector<ViewTrack>& tracks,
-                                         const std::vector<std::optional<Eigen::Quaterniond>>& cam_from_rig,
-                                         const std::vector<std::optional<Eigen::Quaterniond>>& rig_from_world,
-                                         double min_angle) {
-  std::vector<std::vector<Ray>> rays;
-  for (const ViewTrack& t : tracks) {
-    std::vector<Ray> r;
-    for (const ViewObservation& o : t.observations) {
-      if (!cam_from_rig[o.camera] || !rig_from_world[o.frame]) continue;
-      const auto f = cameras[o.camera].CamFromImg(keypoints[o.frame][o.camera][o.keypoint]);
-      if (!f) continue;
-      const Eigen::Quaterniond world_from_cam = (*cam_from_rig[o.camera] * *rig_from_world[o.frame]).conjugate();
-      r.push_back({o.camera, o.frame, (world_from_cam * *f).normalized()});
-    }
-    if (r.size() < 2) continue;
-    double max_angle = 0.0;
-    for (size_t i = 0; i < r.size() && max_angle < min_angle; ++i) {
-      for (size_t j = i + 1; j < r.size(); ++j) {
-        max_angle = std::max(max_angle, std::atan2(r[i].dir.cross(r[j].dir).norm(), r[i].dir.dot(r[j].dir)));
-      }
-    }
-    if (max_angle >= min_angle) rays.push_back(std::move(r));
-  }
-  return rays;
-}
-
-// The unknowns of the linear position system: the cameras and frames whose views the rays link to
-// view (camera 0, frame 0), and their 3-column blocks in x (frames k > 0 first, then cameras
-// c > 0; -1 for the references and the ones left out).
-struct PositionUnknowns {
-  std::vector<char> cam_in, frame_in;
-  std::vector<int> frame_block, cam_block;
-  int blocks = 0;
-  int cams_solved = 0;  // cameras other than camera 0
-};
-
-PositionUnknowns ChooseUnknowns(int n, int num_frames, const std::vector<std::vector<Ray>>& rays,
-                                const std::vector<std::optional<Eigen::Quaterniond>>& cam_from_rig,
-                                const std::vector<std::optional<Eigen::Quaterniond>>& rig_from_world, bool static_rig) {
-  UnionFind uf;
-  for (int i = 0; i < n * num_frames; ++i) uf.Add();
-  for (const auto& r : rays) {
-    for (size_t i = 1; i < r.size(); ++i) uf.Join(r[0].frame * n + r[0].camera, r[i].frame * n + r[i].camera);
-  }
-  if (static_rig) {  // every frame's rig is at the origin: a camera's views are one
-    for (int k = 1; k < num_frames; ++k) {
-      for (int c = 0; c < n; ++c) uf.Join(c, k * n + c);
-    }
-  }
-  PositionUnknowns u;
-  u.cam_in.assign(n, 0);
-  u.frame_in.assign(num_frames, 0);
-  for (int k = 0; k < num_frames; ++k) {
-    for (int c = 0; c < n; ++c) {
-      if (uf.Find(k * n + c) == uf.Find(0) && cam_from_rig[c] && rig_from_world[k]) u.cam_in[c] = u.frame_in[k] = 1;
-    }
-  }
-  u.frame_block.assign(num_frames, -1);
-  u.cam_block.assign(n, -1);
-  for (int k = 1; k < num_frames; ++k) {
-    if (u.frame_in[k] && !static_rig) u.frame_block[k] = u.blocks++;
-  }
-  for (int c = 1; c < n; ++c) {
-    if (u.cam_in[c]) u.cam_block[c] = u.blocks++;
-  }
-  for (int c = 1; c < n; ++c) u.cams_solved += u.cam_in[c];
-  return u;
-}
-
-// The solution of the position system: x (up to scale) and the eigenvalues of its quadratic form.
-struct PositionSolution {
-  Eigen::VectorXd x;
-  Eigen::VectorXd eigenvalues;
-};
-
-// centre(c, k) = C_k + R_k^T o_c is linear in x; each track's point is eliminated in closed form
-// (a Schur complement per track), leaving a quadratic form whose smallest eigenvector is x. Then
-// re-weighted by depth (the ray constraint's size is depth x angle) and robustly (Cauchy on a
-// track's RMS angular residual), `options.reweighting_iterations` times.
-PositionSolution SolvePositionSystem(const std::vector<std::vector<Ray>>& rays, const PositionUnknowns& u,
-                                     const std::vector<std::optional<Eigen::Quaterniond>>& rig_from_world,
-                                     const RigPositionOptions& options) {
-  const int num_frames = static_cast<int>(rig_from_world.size());
-  const int dim = 3 * u.blocks;
-  std::vector<Eigen::Matrix3d> rig_t(num_frames, Eigen::Matrix3d::Identity());  // R_k^T
-  for (int k = 0; k < num_frames; ++k) {
-    if (rig_from_world[k]) rig_t[k] = rig_from_world[k]->toRotationMatrix().transpose();
-  }
-  // centre(c, k) = sum over its (at most two) blocks of M * x_block.
-  struct Term {
-    int block;
-    Eigen::Matrix3d m;
-  };
-  auto centre_terms = [&](int c, int k) {
-    std::vector<Term> terms;
-    if (u.frame_block[k] >= 0) terms.push_back({u.frame_block[k], Eigen::Matrix3d::Identity()});
-    if (u.cam_block[c] >= 0) terms.push_back({u.cam_block[c], rig_t[k]});
-    return terms;
-  };
-  auto centre_of = [&](const Eigen::VectorXd& x, int c, int k) {
-    Eigen::Vector3d v = Eigen::Vector3d::Zero();
-    for (const Term& t : centre_terms(c, k)) v += t.m * x.segment<3>(3 * t.block);
-    return v;
-  };
-
-  std::vector<std::vector<double>> weight(rays.size());
-  for (size_t i = 0; i < rays.size(); ++i) weight[i].assign(rays[i].size(), 1.0);
-  PositionSolution out;
-  out.x = Eigen::VectorXd::Zero(dim);
-  Eigen::VectorXd& x = out.x;
-  for (int iter = 0; iter <= options.reweighting_iterations; ++iter) {
-    Eigen::MatrixXd q = Eigen::MatrixXd::Zero(dim, dim);
-    for (size_t i = 0; i < rays.size(); ++i) {
-      const auto& r = rays[i];
-      // A = sum w P, B = sum w P J (per block), q += sum w J^T P J - B^T A^-1 B.
-      Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
-      std::map<int, Eigen::Matrix3d> b;
-      for (size_t j = 0; j < r.size(); ++j) {
-        const Eigen::Matrix3d p = weight[i][j] * (Eigen::Matrix3d::Identity() - r[j].dir * r[j].dir.transpose());
-        a += p;
-        const std::vector<Term> terms = centre_terms(r[j].camera, r[j].frame);
-        for (const Term& t1 : terms) {
-          auto [it, inserted] = b.try_emplace(t1.block, Eigen::Matrix3d::Zero());
-          it->second += p * t1.m;
-          for (const Term& t2 : terms) {
-            q.block<3, 3>(3 * t1.block, 3 * t2.block) += t1.m.transpose() * p * t2.m;
-          }
-        }
-      }
-      const Eigen::Matrix3d a_inv = a.inverse();
-      if (!a_inv.allFinite()) continue;
-      for (const auto& [b1, m1] : b) {
-        for (const auto& [b2, m2] : b) q.block<3, 3>(3 * b1, 3 * b2) -= m1.transpose() * a_inv * m2;
-      }
-    }
-    q = 0.5 * (q + q.transpose());
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(q);
-    out.eigenvalues = eig.eigenvalues();
-    x = eig.eigenvectors().col(0);
-
-    // Points, sign (in front of the rays) and the next weights.
-    double front = 0.0;
-    std::vector<std::vector<double>> depth(rays.size()), residual(rays.size());
-    for (size_t i = 0; i < rays.size(); ++i) {
-      const auto& r = rays[i];
-      Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
-      Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
-      std::vector<Eigen::Vector3d> centres;
-      for (size_t j = 0; j < r.size(); ++j) {
-        const Eigen::Matrix3d p = weight[i][j] * (Eigen::Matrix3d::Identity() - r[j].dir * r[j].dir.transpose());
-        centres.push_back(centre_of(x, r[j].camera, r[j].frame));
-        a += p;
-        rhs += p * centres.back();
-      }
-      const Eigen::Vector3d pt = a.ldlt().solve(rhs);
-      for (size_t j = 0; j < r.size(); ++j) {
-        const Eigen::Vector3d d = pt - centres[j];
-        front += r[j].dir.dot(d) > 0 ? 1.0 : -1.0;
-        depth[i].push_back(d.norm());
-        residual[i].push_back(d.norm() > 1e-12 ? r[j].dir.cross(d / d.norm()).norm() : 1.0);
-      }
-    }
-    if (front < 0) x = -x;
-    for (size_t i = 0; i < rays.size(); ++i) {
-      double sq = 0.0;
-      for (double e : residual[i]) sq += e * e;
-      const double rms = std::sqrt(sq / residual[i].size());
-      const double robust = 1.0 / (1.0 + (rms / options.loss_scale_rad) * (rms / options.loss_scale_rad));
-      for (size_t j = 0; j < rays[i].size(); ++j) {
-        // Angular residuals: the ray constraint's size is depth x angle.
-        weight[i][j] = robust / std::max(depth[i][j] * depth[i][j], 1e-12);
-      }
-    }
-  }
-  return out;
-}
-
-}  // namespace
-
-void RigPositionOptions::Check() const {
-  auto fail = [](const std::string& why) { throw std::invalid_argument("RigPositionOptions: " + why); };
-  if (!(min_ray_angle_deg >= 0)) fail("min_ray_angle_deg must be >= 0");
-  if (!(loss_scale_rad > 0)) fail("loss_scale_rad must be > 0");
-  if (reweighting_iterations < 0) fail("reweighting_iterations must be >= 0");
-  if (!(min_eigenvalue_ratio >= 1)) fail("min_eigenvalue_ratio must be >= 1");
-}
-
-RigPositions EstimateRigPositions(const std::vector<Camera>& cameras, const FrameKeypoints& keypoints,
-                                  const std::vector<ViewTrack>& tracks,
-                                  const std::vector<std::optional<Eigen::Quaterniond>>& cam_from_rig,
-                                  const std::vector<std::optional<Eigen::Quaterniond>>& rig_from_world,
-                                  const RigPositionOptions& options, bool static_rig) {
-  options.Check();
-  const int n = static_cast<int>(cameras.size());
-  const int num_frames = static_cast<int>(keypoints.size());
-  if (static_cast<int>(cam_from_rig.size()) != n || static_cast<int>(rig_from_world.size()) != num_frames) {
-    throw std::invalid_argument("EstimateRigPositions: one rotation per camera and per frame");
-  }
-  RigPositions out;
-  out.centre_in_rig.assign(n, std::nullopt);
-  out.rig_centre_in_world.assign(num_frames, std::nullopt);
-  if (n == 0 || num_frames == 0 || !cam_from_rig[0] || !rig_from_world[0]) {
-    out.reason = "camera 0 or frame 0 has no rotation";
-    return out;
-  }
-  std::vector<std::vector<Ray>> rays =
-      UsableRays(cameras, keypoints, tracks, cam_from_rig, rig_from_world, DegToRad(options.min_ray_angle_deg));
-  const PositionUnknowns u = ChooseUnknowns(n, num_frames, rays, cam_from_rig, rig_from_world, static_rig);
-  out.centre_in_rig[0] = Eigen::Vector3d::Zero();
-  out.rig_centre_in_world[0] = Eigen::Vector3d::Zero();
-  if (u.cams_solved == 0) {
-    out.reason = "no track links another camera to camera 0";
-    return out;
-  }
-  std::erase_if(rays, [&](const std::vector<Ray>& r) { return !u.cam_in[r[0].camera] || !u.frame_in[r[0].frame]; });
-  for (auto& r : rays) {
-    std::erase_if(r, [&](const Ray& x) { return !u.cam_in[x.camera] || !u.frame_in[x.frame]; });
-  }
-  std::erase_if(rays, [](const std::vector<Ray>& r) { return r.size() < 2; });
-  out.tracks_used = static_cast<int>(rays.size());
-  const PositionSolution solution = SolvePositionSystem(rays, u, rig_from_world, options);
-  const Eigen::VectorXd& x = solution.x;
-  const Eigen::VectorXd& eigenvalues = solution.eigenvalues;
-
-  const double l0_raw = eigenvalues.size() > 0 ? eigenvalues(0) : 0.0;
-  const double l1 = eigenvalues.size() > 1 ? eigenvalues(1) : std::numeric_limits<double>::infinity();
-  const double lmax = eigenvalues.size() > 0 ? eigenvalues(eigenvalues.size() - 1) : 0.0;
-  // The matrix is positive semi-definite in exact arithmetic; rounding moves its eigenvalues by
-  // about 2e-16 x lmax. A smallest eigenvalue far below zero means near-singular points broke the
-  // elimination, and the system decides nothing (measured: -0.009 against lmax 6e9 on a
-  // forward-moving ring whose positions then came out 57-117 deg wrong; clamped to 0, it had
-  // passed as infinitely determined).
-  const double noise = 1e-13 * lmax;
-  const double l0 = std::max(l0_raw, 0.0);
-  out.eigenvalue_ratio = l0 > 0 ? l1 / l0 : std::numeric_limits<double>::infinity();
-  out.unique = u.blocks > 0 && l0_raw >= -noise && l1 >= options.min_eigenvalue_ratio * l0 && l1 > 1e-12 * lmax;
-  if (!out.unique) {
-    out.reason = l0_raw < -noise ? "the tracks leave the positions undetermined (the linear system is indefinite: "
-                                   "smallest eigenvalue " + std::to_string(l0_raw) + ")"
-                                 : !(l1 > 1e-12 * lmax)
-                                     ? "the tracks leave the positions ambiguous (the two smallest eigenvalues of "
-                                       "the linear system are both next to zero: more than one direction is free)"
-                                     : "the tracks leave the positions ambiguous (the second smallest eigenvalue of "
-                                       "the linear system is " + Fixed(out.eigenvalue_ratio, 1) +
-                                           " times the smallest; determined positions need " +
-                                           Fixed(options.min_eigenvalue_ratio, 1) + ")";
-    return out;
-  }
-  double mean = 0.0;
-  for (int c = 1; c < n; ++c) {
-    if (u.cam_block[c] >= 0) mean += x.segment<3>(3 * u.cam_block[c]).norm() / u.cams_solved;
-  }
-  if (!(mean > 1e-12)) {
-    out.unique = false;
-    out.reason = "every camera centre coincides with camera 0's";
-    return out;
-  }
-  for (int c = 1; c < n; ++c) {
-    if (u.cam_block[c] >= 0) out.centre_in_rig[c] = x.segment<3>(3 * u.cam_block[c]) / mean;
-  }
-  for (int k = 1; k < num_frames; ++k) {
-    if (u.frame_block[k] >= 0) out.rig_centre_in_world[k] = x.segment<3>(3 * u.frame_block[k]) / mean;
-    if (static_rig && u.frame_in[k]) out.rig_centre_in_world[k] = Eigen::Vector3d::Zero();
   }
   return out;
 }
@@ -866,6 +571,62 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
     }
   }
   return result;
+}
+
+double TruncatedReprojectionCost(const std::vector<Camera>& cameras, const FrameKeypoints& keypoints,
+                                 const std::vector<ViewTrack>& tracks,
+                                 const std::vector<std::optional<Rigid3d>>& cam_from_rig,
+                                 const std::vector<std::optional<Rigid3d>>& rig_from_world, double max_error_px,
+                                 double min_angle_deg, int* observations) {
+  auto posed = [&](const ViewObservation& o) {
+    return o.camera < static_cast<int>(cam_from_rig.size()) && o.frame < static_cast<int>(rig_from_world.size()) &&
+           cam_from_rig[o.camera] && rig_from_world[o.frame];
+  };
+  auto view_pose = [&](const ViewObservation& o) { return *cam_from_rig[o.camera] * *rig_from_world[o.frame]; };
+  double far = 0.0;  // the largest distance between two posed views' centres
+  {
+    std::vector<Eigen::Vector3d> centres;
+    for (const auto& r : rig_from_world) {
+      for (const auto& c : cam_from_rig) {
+        if (r && c) centres.push_back((*c * *r).Inverse().translation);
+      }
+    }
+    for (const Eigen::Vector3d& a : centres) {
+      for (const Eigen::Vector3d& b : centres) far = std::max(far, (a - b).norm());
+    }
+    far = 1e6 * std::max(far, 1e-9);
+  }
+  const double cap = max_error_px * max_error_px;
+  const double min_angle = DegToRad(min_angle_deg);
+  double cost = 0.0;
+  int count = 0;
+  for (const ViewTrack& t : tracks) {
+    std::vector<Eigen::Vector3d> origins, dirs;
+    std::vector<const ViewObservation*> used;
+    for (const ViewObservation& o : t.observations) {
+      if (!posed(o)) continue;
+      const auto f = cameras[o.camera].CamFromImg(keypoints[o.frame][o.camera][o.keypoint]);
+      if (!f) continue;
+      const Rigid3d world_from_cam = view_pose(o).Inverse();
+      origins.push_back(world_from_cam.translation);
+      dirs.push_back((world_from_cam.rotation * *f).normalized());
+      used.push_back(&o);
+    }
+    if (used.size() < 2) continue;
+    std::optional<Eigen::Vector3d> x = TriangulateRays(origins, dirs, min_angle);
+    if (!x) {
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      for (const Eigen::Vector3d& d : dirs) mean += d;
+      x = origins[0] + far * mean.normalized();
+    }
+    for (const ViewObservation* o : used) {
+      const auto e = ReprojectionError(cameras[o->camera], view_pose(*o), *x, keypoints[o->frame][o->camera][o->keypoint]);
+      cost += e ? std::min(*e * *e, cap) : cap;
+      ++count;
+    }
+  }
+  if (observations) *observations = count;
+  return cost;
 }
 
 }  // namespace rigsim

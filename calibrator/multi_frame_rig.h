@@ -11,11 +11,7 @@
 //     temporal inliers of each camera between consecutive frames.
 //  2. Rig rotations per frame (EstimateRigRotations) from the temporal rotations conjugated by the
 //     cameras' rotations in the rig, averaged over cameras.
-//  3. Positions (EstimateRigPositions): with all rotations known, every view centre is linear in
-//     the unknowns x = (rig centre in world C_k for k > 0, camera centre in the rig o_c for c > 0):
-//     centre(c, k) = C_k + R_k^T o_c. Each track's point is eliminated in closed form from the
-//     ray constraints (I - f f^T)(X - centre) = 0, leaving a quadratic form in x; the smallest
-//     eigenvector is the solution (up to scale), re-weighted by depth and robustly.
+//  3. Positions (rig_positions.h): initial camera and rig centres.
 //  4. Bundle adjustment (MultiFrameRigBundleAdjust, Ceres; its cost is calibrator/cost_functions.h
 //     RigReprojectionCost, the templated camera model with the intrinsics held constant).
 //
@@ -64,52 +60,6 @@ std::vector<ViewTrack> BuildViewTracks(int num_cameras, int num_frames, const st
 std::vector<std::optional<Eigen::Quaterniond>> EstimateRigRotations(
     int num_frames, const std::vector<std::optional<Eigen::Quaterniond>>& cam_from_rig,
     const std::vector<TemporalPairEstimate>& temporal);
-
-struct RigPositionOptions {
-  // Tracks whose rays (with the known rotations) span less than this angle (deg) are left out:
-  // their point's depth, hence their constraint on the positions, is undetermined.
-  double min_ray_angle_deg = 0.5;
-  // Scale (rad) of the Cauchy weight on a track's RMS angular residual in the re-weighting.
-  double loss_scale_rad = 0.003;
-  // Solve-and-reweight rounds after the first (unweighted) solve.
-  int reweighting_iterations = 4;
-  // The positions are ambiguous when the second smallest eigenvalue is below this many times the
-  // smallest (noise alone gives a ratio near 1; a determined solution a large one). Measured:
-  // determined rigs 160-8218 (the test suite's synthetic and rendered rigs, the demo); the
-  // undetermined one-frame chain 5.5; forward-moving rings 4-16, and 40 for the demo ring at
-  // 640x360 over 3 straight frames, whose positions then came out 48-108 deg wrong at a 0.22 px
-  // reprojection RMS. So 80: weakly determined positions are reported as not observable rather
-  // than guessed.
-  double min_eigenvalue_ratio = 80.0;
-
-  // Throws std::invalid_argument naming the first bad field.
-  void Check() const;
-};
-
-struct RigPositions {
-  // Camera centre in the rig (camera 0 at the origin), per camera; nullopt where not solved for.
-  std::vector<std::optional<Eigen::Vector3d>> centre_in_rig;
-  // Rig centre in the world (frame 0 at the origin), per frame; nullopt where not solved for.
-  std::vector<std::optional<Eigen::Vector3d>> rig_centre_in_world;
-  // False when the tracks leave the positions ambiguous beyond one global scale; the positions
-  // are then not reported (all nullopt except the references).
-  bool unique = false;
-  std::string reason;  // why not unique / not solved; empty otherwise
-  int tracks_used = 0;
-  double eigenvalue_ratio = 0.0;  // second smallest over smallest
-};
-
-// Positions up to one global scale: the mean distance of the solved cameras' centres from camera
-// 0 is 1 (the caller rescales). Cameras without a rotation or without tracks linking their views
-// to view (camera 0, frame 0), and frames without a rig rotation, are not solved for.
-// `static_rig`: the frames are independent captures of a rig that is not tracked between them
-// (no temporal matches): every frame's rig_from_world is taken as given (identity) and fixed, only
-// the camera centres are unknowns; a track never spans frames then.
-RigPositions EstimateRigPositions(const std::vector<Camera>& cameras, const FrameKeypoints& keypoints,
-                                  const std::vector<ViewTrack>& tracks,
-                                  const std::vector<std::optional<Eigen::Quaterniond>>& cam_from_rig,
-                                  const std::vector<std::optional<Eigen::Quaterniond>>& rig_from_world,
-                                  const RigPositionOptions& options, bool static_rig = false);
 
 struct RigBundleAdjustmentOptions {
   // Tracks whose rays meet at less than this angle (deg) are not triangulated: their depth is
@@ -164,12 +114,24 @@ struct MultiFrameBundleAdjustmentResult {
 // (RigBundleAdjustmentOptions). Camera 0's cam_from_rig and frame 0's rig_from_world must be
 // given and are held constant (normally the identity); `scale_camera` (-1: none) keeps |its
 // centre|; `hold_frames` holds every frame's rig_from_world constant (a static rig, see
-// EstimateRigPositions). Throws std::invalid_argument on sizes that do not match or a missing
+// rig_positions.h). Throws std::invalid_argument on sizes that do not match or a missing
 // reference.
 MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
     const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, const std::vector<ViewTrack>& tracks,
     const std::vector<std::optional<Rigid3d>>& initial_cam_from_rig,
     const std::vector<std::optional<Rigid3d>>& initial_rig_from_world, int scale_camera,
     const RigBundleAdjustmentOptions& options, bool hold_frames = false);
+
+// How well poses explain the tracks, comparable between poses of the same views (the starts of
+// the bundle adjustment, rig_calibration.h): every posed observation of every track contributes
+// min(e^2, max_error_px^2), e its reprojection error (px) from the track's point triangulated from
+// its posed views. A point whose rays meet at under min_angle_deg is put far along their mean
+// direction (1e6 times the largest distance between the views' centres), as good as at infinity.
+// Also returns the number of observations summed.
+double TruncatedReprojectionCost(const std::vector<Camera>& cameras, const FrameKeypoints& keypoints,
+                                 const std::vector<ViewTrack>& tracks,
+                                 const std::vector<std::optional<Rigid3d>>& cam_from_rig,
+                                 const std::vector<std::optional<Rigid3d>>& rig_from_world, double max_error_px,
+                                 double min_angle_deg, int* observations = nullptr);
 
 }  // namespace rigsim

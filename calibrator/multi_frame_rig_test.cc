@@ -126,28 +126,38 @@ TEST(MultiFrameRig, KnownDistanceGivesMetricPositions) {
   }
 }
 
-TEST(MultiFrameRig, OneFrameChainReportsPositionsNotObservable) {
+// One frame of a ring of four: no rig motion links the pairs' scales, only the points seen by three
+// cameras do, and they fix the positions weakly (the ring is nearly planar). A camera may be placed
+// only where the images fix it: within the cameras' tolerance (1 deg), or reported not determined.
+TEST(MultiFrameRig, OneFrameChainPlacesOnlyWhatThePointsDetermine) {
   const ChainRing s = MakeChainRing(1, 101u);
   RigCalibrationResult r = EstimateRig(s.observations, {});
   EvaluateRigAgainstTruth(s.truth, &r);
   EXPECT_FALSE(r.rig_motion_estimated);
-  EXPECT_TRUE(r.rig_from_world.empty());  // positions not observable: no frame poses either
-  std::printf("one frame: eigenvalue ratio %.2f\n", r.position_eigenvalue_ratio);
   EXPECT_EQ(r.camera_status[0], "calibrated (reference: rig frame)");
   for (int c = 1; c < 4; ++c) {
-    EXPECT_FALSE(r.rig.cameras[c].cam_from_rig.has_value()) << c;  // no made-up translation
-    EXPECT_EQ(r.camera_status[c].rfind("rotation only: position not observable", 0), 0u) << r.camera_status[c];
+    std::printf("cam%d dir error %.2f deg (std %.2f): %s\n", c,
+                r.camera_stats[c].translation_direction_error_deg.value_or(-1.0),
+                r.camera_stats[c].direction_std_deg.value_or(-1.0), r.camera_status[c].c_str());
     ASSERT_TRUE(r.cam_from_rig_rotation[c].has_value());
     // One frame: a quarter of the matches and no bundle adjustment to refine them. One draw: over
     // 100 seeds the worst camera's error has a median of 0.20 deg and exceeds 0.25 deg for a third.
     EXPECT_LT(r.camera_stats[c].rotation_error_deg.value(), 0.25) << c;
-    EXPECT_FALSE(r.camera_stats[c].translation_direction_error_deg.has_value());
+    if (r.rig.cameras[c].cam_from_rig) {
+      EXPECT_EQ(r.camera_status[c].rfind("calibrated", 0), 0u) << r.camera_status[c];
+      EXPECT_LT(r.camera_stats[c].translation_direction_error_deg.value(), 1.0) << c;
+    } else {
+      EXPECT_EQ(r.camera_status[c].rfind("rotation only: position not", 0), 0u) << r.camera_status[c];
+      EXPECT_FALSE(r.camera_stats[c].translation_direction_error_deg.has_value());
+    }
   }
   const nlohmann::json j = RigCalibrationToJson({r});
-  const auto& cam = j["methods"]["rig"]["cameras"][2];
-  EXPECT_TRUE(cam["cam_from_rig"].is_null());
-  EXPECT_FALSE(cam["position_known"].get<bool>());
-  EXPECT_TRUE(cam["rotation_wxyz"].is_array());
+  for (int c = 1; c < 4; ++c) {
+    const auto& cam = j["methods"]["rig"]["cameras"][c];
+    EXPECT_EQ(cam["cam_from_rig"].is_null(), !r.rig.cameras[c].cam_from_rig.has_value());
+    EXPECT_EQ(cam["position_known"].get<bool>(), r.rig.cameras[c].cam_from_rig.has_value());
+    EXPECT_TRUE(cam["rotation_wxyz"].is_array());
+  }
 }
 
 // Cameras that share one centre: the rig's motion fixes each rotation, and the positions come out

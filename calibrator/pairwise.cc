@@ -306,17 +306,16 @@ std::vector<CalibrationReport> BuildReports(const PairwiseJob& job, const Detect
   return reports;
 }
 
-// CalibrationOptions::keep_match_details: every match of mode m with its inlier flag, and the
-// keypoints' classes (the ground-truth flags come with the match precision, AddMatchPrecision).
-void KeepMatchDetails(const PairwiseJob& job, const std::vector<FeatureSet>& feats, const FrameMatches& matches,
-                      const PairFits& fits, int m, PairwiseMatchData* md) {
+// CalibrationOptions::keep_match_details: every match of mode m's inlier flag (md->matches is
+// filled), and the keypoints' classes (the ground-truth flags come with the match precision, AddMatchPrecision).
+void KeepMatchDetails(const PairwiseJob& job, const std::vector<FeatureSet>& feats, const PairFits& fits, int m,
+                      PairwiseMatchData* md) {
   md->keypoint_classes.assign(job.num_frames, std::vector<std::vector<uint8_t>>(job.num_cams));
   for (int f = 0; f < job.num_frames; ++f) {
     for (int c = 0; c < job.num_cams; ++c) {
       for (const Keypoint& kp : feats[job.Image(c, f)].keypoints) md->keypoint_classes[f][c].push_back(kp.class_id);
     }
   }
-  md->matches.assign(job.num_pairs, std::vector<std::vector<std::pair<int, int>>>(job.num_frames));
   md->match_inlier.assign(job.num_pairs, std::vector<std::vector<char>>(job.num_frames));
   md->match_correct.assign(job.num_pairs, std::vector<std::vector<char>>(job.num_frames));
   for (int p = 0; p < job.num_pairs; ++p) {
@@ -324,7 +323,6 @@ void KeepMatchDetails(const PairwiseJob& job, const std::vector<FeatureSet>& fea
     const TwoViewResult& tv = fits.two_view[mp];
     for (int f = 0; f < job.num_frames; ++f) {
       const int begin = fits.pooled[mp].frame_begin[f];
-      for (const Match& mt : matches.matches[job.ModePairFrame(m, p, f)]) md->matches[p][f].push_back({mt.a, mt.b});
       for (size_t i = 0; i < md->matches[p][f].size(); ++i) {
         md->match_inlier[p][f].push_back(tv.success && tv.inlier_mask[begin + i] ? 1 : 0);
       }
@@ -346,19 +344,22 @@ std::vector<PairwiseMatchData> CollectMatchData(const PairwiseJob& job, const De
         for (const Keypoint& kp : feats[job.Image(c, f)].keypoints) md.keypoints[f][c].push_back(kp.px);
       }
     }
+    md.matches.assign(job.num_pairs, std::vector<std::vector<std::pair<int, int>>>(job.num_frames));
     md.inliers.assign(job.num_pairs, std::vector<std::vector<std::pair<int, int>>>(job.num_frames));
     for (int p = 0; p < job.num_pairs; ++p) {
       const int mp = job.ModePair(m, p);
       const TwoViewResult& tv = fits.two_view[mp];
-      if (!tv.success) continue;
       for (int f = 0; f < job.num_frames; ++f) {
         const std::vector<Match>& mt = matches.matches[job.ModePairFrame(m, p, f)];
         for (size_t i = 0; i < mt.size(); ++i) {
-          if (tv.inlier_mask[fits.pooled[mp].frame_begin[f] + i]) md.inliers[p][f].push_back({mt[i].a, mt[i].b});
+          md.matches[p][f].push_back({mt[i].a, mt[i].b});
+          if (tv.success && tv.inlier_mask[fits.pooled[mp].frame_begin[f] + i]) {
+            md.inliers[p][f].push_back({mt[i].a, mt[i].b});
+          }
         }
       }
     }
-    if (options.keep_match_details) KeepMatchDetails(job, feats, matches, fits, m, &md);
+    if (options.keep_match_details) KeepMatchDetails(job, feats, fits, m, &md);
   }
   return out;
 }
@@ -396,10 +397,9 @@ TemporalFits EstimateTemporalPairs(const PairwiseJob& job, const DetectedFeature
     te.camera = c;
     te.frame = k;
     te.two_view = ToEstimate(tv, static_cast<int>(mt.size()));
-    if (tv.success) {
-      for (size_t j = 0; j < mt.size(); ++j) {
-        if (tv.inlier_mask[j]) te.inliers.push_back({mt[j].a, mt[j].b});
-      }
+    for (size_t j = 0; j < mt.size(); ++j) {
+      te.matches.push_back({mt[j].a, mt[j].b});
+      if (tv.success && tv.inlier_mask[j]) te.inliers.push_back({mt[j].a, mt[j].b});
     }
   });
   return out;
@@ -574,6 +574,13 @@ std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path
   return reports;
 }
 
+std::optional<bool> PairWithinTolerance(const PairResult& pr) {
+  if (!pr.cam_b_from_cam_a_gt) return std::nullopt;
+  if (!pr.two_view.success) return false;
+  return WithinTolerance(pr.rotation_error_deg, pr.two_view.rotation_only ? std::nullopt : pr.translation_direction_error_deg,
+                         PoseTolerance::kPairRotationDeg, PoseTolerance::kPairDirectionDeg);
+}
+
 nlohmann::json PairResultToJson(const PairResult& pr) {
   const TwoViewEstimate& tv = pr.two_view;
   nlohmann::json j;
@@ -591,6 +598,8 @@ nlohmann::json PairResultToJson(const PairResult& pr) {
   j["median_residual_deg"] = tv.success ? nlohmann::json(tv.median_residual_deg) : nlohmann::json(nullptr);
   j["rotation_error_deg"] = json_io::OptionalNumber(pr.rotation_error_deg);
   j["translation_direction_error_deg"] = json_io::OptionalNumber(pr.translation_direction_error_deg);
+  const std::optional<bool> within = PairWithinTolerance(pr);
+  j["within_tolerance"] = within ? nlohmann::json(*within) : nlohmann::json(nullptr);
   j["match_precision"] = json_io::OptionalNumber(pr.match_precision);
   j["matches_evaluated"] = pr.matches_evaluated;
   j["matches_correct"] = pr.matches_correct;
@@ -629,7 +638,7 @@ nlohmann::json ReportToJson(const std::vector<CalibrationReport>& reports) {
     nlohmann::json m;
     nlohmann::json pairs = nlohmann::json::array();
     std::vector<double> pose_errors, rotation_errors;
-    int succeeded = 0, rotation_only = 0, planar = 0;
+    int succeeded = 0, rotation_only = 0, planar = 0, within = 0, succeeded_outside = 0;
     int64_t matches = 0, inliers = 0, evaluated = 0, correct = 0, cross = 0, cross_correct = 0;
     bool has_truth = false, has_cross = false;
     for (const PairResult& pr : rep.pairs) {
@@ -648,6 +657,9 @@ nlohmann::json ReportToJson(const std::vector<CalibrationReport>& reports) {
       correct += pr.matches_correct;
       if (pr.cam_b_from_cam_a_gt) {
         has_truth = true;
+        const bool ok = PairWithinTolerance(pr).value_or(false);
+        within += ok;
+        succeeded_outside += pr.two_view.success && !ok;
         pose_errors.push_back(PoseError(pr));
         rotation_errors.push_back(pr.rotation_error_deg.value_or(std::numeric_limits<double>::infinity()));
       }
@@ -663,6 +675,10 @@ nlohmann::json ReportToJson(const std::vector<CalibrationReport>& reports) {
     summary["match_precision"] = evaluated > 0 ? nlohmann::json(double(correct) / evaluated) : nlohmann::json(nullptr);
     summary["cross_class_matches"] = has_cross ? nlohmann::json(cross) : nlohmann::json(nullptr);
     summary["cross_class_wrong"] = has_cross ? nlohmann::json(cross - cross_correct) : nlohmann::json(nullptr);
+    summary["tolerance"] = {{"rotation_deg", PoseTolerance::kPairRotationDeg},
+                            {"direction_deg", PoseTolerance::kPairDirectionDeg}};
+    summary["pairs_within_tolerance"] = has_truth ? nlohmann::json(within) : nlohmann::json(nullptr);
+    summary["pairs_succeeded_outside_tolerance"] = has_truth ? nlohmann::json(succeeded_outside) : nlohmann::json(nullptr);
     if (has_truth) {
       for (double t : {1.0, 2.0, 5.0, 10.0}) {
         const std::string key = std::to_string(static_cast<int>(t));

@@ -140,8 +140,11 @@ CalibrationReport CalibrateDatasetPairs(const std::filesystem::path& dataset_dir
 struct PairwiseMatchData {
   // Keypoint positions [frame][camera][keypoint] of the features the mode used.
   std::vector<std::vector<std::vector<Eigen::Vector2d>>> keypoints;
-  // [pair (CalibrationReport::pairs order)][frame]: (keypoint index in cam_a, in cam_b) of the
-  // two-view inliers; empty for a failed pair.
+  // [pair (CalibrationReport::pairs order)][frame]: (keypoint index in cam_a, in cam_b) of every
+  // match after the ratio test and mutual check, in the order the two-view estimate saw them
+  // (empty for a pair screened out), and of its inliers (empty for a failed pair). The matches
+  // let a later stage estimate the pair again (other intrinsics).
+  std::vector<std::vector<std::vector<std::pair<int, int>>>> matches;
   std::vector<std::vector<std::vector<std::pair<int, int>>>> inliers;
   // Per camera and frame step (camera-major: camera * (frames - 1) + k), the camera between frames
   // k and k+1: its two-view estimate and inliers. Empty with one frame or temporal_matches off.
@@ -150,9 +153,6 @@ struct PairwiseMatchData {
   // With CalibrationOptions::keep_match_details only (empty otherwise):
   // [frame][camera][keypoint]: the class at the keypoint (kUnlabeledId without labels).
   std::vector<std::vector<std::vector<uint8_t>>> keypoint_classes;
-  // [pair][frame]: every match after the ratio test and mutual check (keypoint index in cam_a, in
-  // cam_b), in the order the two-view estimate saw them; empty for a pair screened out.
-  std::vector<std::vector<std::vector<std::pair<int, int>>>> matches;
   // [pair][frame][match]: 1 when the two-view estimate kept the match as an inlier.
   std::vector<std::vector<std::vector<char>>> match_inlier;
   // [pair][frame][match]: 1 when the match is correct by the ground truth (evaluation.h
@@ -166,6 +166,10 @@ std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path
                                                      const CalibrationOptions& options,
                                                      const std::vector<SemanticMode>& modes,
                                                      std::vector<PairwiseMatchData>* match_data = nullptr);
+
+// The pair's pose against the truth (evaluation.h PoseTolerance, pair bounds): nullopt without
+// the truth, false for a failed pair; a rotation-only pair is judged on its rotation.
+std::optional<bool> PairWithinTolerance(const PairResult& pair);
 
 // One pair's entry of ReportToJson below.
 nlohmann::json PairResultToJson(const PairResult& pair);

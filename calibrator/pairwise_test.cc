@@ -342,3 +342,51 @@ TEST_F(PipelineTest, ScreeningKeepsAnOverlappingPairUnchangedAndReportsOneItDrop
 
 }  // namespace
 }  // namespace rigsim
+
+namespace rigsim {
+namespace {
+
+// What the images say (success) and the verdict against the truth (within_tolerance) are apart:
+// the 2-camera ring at 15 % overlap had a pair at 6.2 deg rotation and 30.5 deg direction error
+// marked success, and counted so.
+TEST(ReportToJson, APairReportedSolvedButFarOffIsNotWithinTolerance) {
+  auto pair = [](double rotation_error, double direction_error) {
+    PairResult p;
+    p.cam_a = "cam0";
+    p.cam_b = "cam1";
+    p.two_view.success = true;
+    p.cam_b_from_cam_a_gt = Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(1, 0, 0));
+    p.rotation_error_deg = rotation_error;
+    p.translation_direction_error_deg = direction_error;
+    return p;
+  };
+  CalibrationReport report;
+  report.semantic_mode = "none";
+  report.pairs = {pair(6.2, 30.5), pair(0.3, 1.0), pair(0.3, 12.0), pair(0.3, 1.0)};
+  report.pairs[3].two_view.success = false;
+  report.pairs[3].rotation_error_deg.reset();
+  report.pairs[3].translation_direction_error_deg.reset();
+  EXPECT_EQ(PairWithinTolerance(report.pairs[0]), false);
+  EXPECT_EQ(PairWithinTolerance(report.pairs[1]), true);
+  EXPECT_EQ(PairWithinTolerance(report.pairs[2]), false);  // direction beyond 5 deg
+  EXPECT_EQ(PairWithinTolerance(report.pairs[3]), false);  // failed: no pose to be right
+  PairResult rotation_only = pair(0.3, 40.0);
+  rotation_only.two_view.rotation_only = true;  // claims no direction: judged on its rotation
+  EXPECT_EQ(PairWithinTolerance(rotation_only), true);
+  PairResult photos = pair(0.3, 1.0);
+  photos.cam_b_from_cam_a_gt.reset();
+  EXPECT_FALSE(PairWithinTolerance(photos).has_value());
+
+  const nlohmann::json j = ReportToJson({report});
+  const nlohmann::json& m = j["methods"]["none"];
+  EXPECT_EQ(m["pairs"][0]["success"], true);
+  EXPECT_EQ(m["pairs"][0]["within_tolerance"], false);
+  EXPECT_EQ(m["pairs"][1]["within_tolerance"], true);
+  EXPECT_EQ(m["summary"]["pairs_succeeded"], 3);
+  EXPECT_EQ(m["summary"]["pairs_within_tolerance"], 1);
+  EXPECT_EQ(m["summary"]["pairs_succeeded_outside_tolerance"], 2);
+  EXPECT_EQ(m["summary"]["tolerance"]["rotation_deg"], 2.0);
+}
+
+}  // namespace
+}  // namespace rigsim

@@ -11,6 +11,7 @@
 #include "calibrator/camera_centres.h"
 #include "calibrator/evaluation.h"
 #include "calibrator/format.h"
+#include "calibrator/rig_positions.h"
 #include "dataset/dataset.h"
 #include "geometry/json_io.h"
 
@@ -102,6 +103,7 @@ RigObservations ObservationsFromPipeline(const Rig& rig, const CalibrationReport
     const PairEstimate e{rig.FindCamera(pr.cam_a), rig.FindCamera(pr.cam_b), pr.two_view};
     obs.pairs.push_back(e);
     obs.inliers.push_back({e.cam_a, e.cam_b, data.inliers[p]});
+    obs.matches.push_back({e.cam_a, e.cam_b, data.matches[p]});
   }
   obs.temporal = data.temporal;
   return obs;
@@ -143,7 +145,13 @@ void RigCalibrationOptions::Check() const {
       throw std::invalid_argument("RigCalibrationOptions: known_distance.metres must be > 0");
     }
   }
-  if (!(max_direction_std_deg > 0)) throw std::invalid_argument("RigCalibrationOptions: max_direction_std_deg must be > 0");
+  auto fail = [](const std::string& why) { throw std::invalid_argument("RigCalibrationOptions: " + why); };
+  if (!(max_direction_std_deg > 0)) fail("max_direction_std_deg must be > 0");
+  if (!(max_start_disagreement_deg > 0)) fail("max_start_disagreement_deg must be > 0");
+  if (!(min_start_cost_ratio >= 1)) fail("min_start_cost_ratio must be >= 1");
+  if (!(max_pair_rotation_disagreement_deg > 0)) fail("max_pair_rotation_disagreement_deg must be > 0");
+  if (!(max_pair_direction_disagreement_deg > 0)) fail("max_pair_direction_disagreement_deg must be > 0");
+  if (max_rejected_pairs < 0) fail("max_rejected_pairs must be >= 0");
 }
 
 std::pair<PairEstimate, PairMatches> EstimatePairFromMatches(
@@ -179,9 +187,13 @@ struct RotationStage {
   RotationAveragingResult rot;
 };
 
-RotationStage AverageCameraRotations(const RigObservations& obs, const RigCalibrationOptions& options) {
+RotationStage AverageCameraRotations(const RigObservations& obs, const RigCalibrationOptions& options,
+                                     const std::vector<std::string>& rejected) {
   RotationStage s;
   s.graph = BuildViewGraph(static_cast<int>(obs.cameras.size()), obs.pairs, options.view_graph);
+  for (int e = 0; e < static_cast<int>(s.graph.edges.size()); ++e) {
+    if (!rejected[e].empty()) s.graph.Deactivate(e, rejected[e]);
+  }
   s.rot = AverageRotations(s.graph, 0, options.rotation_averaging);
   for (int e = 0; e < static_cast<int>(s.graph.edges.size()); ++e) {
     if (s.rot.outlier[e]) {
@@ -238,66 +250,156 @@ std::vector<ViewTrack> TracksOfUsedPairs(const RigObservations& obs, const Rotat
   return BuildViewTracks(static_cast<int>(obs.cameras.size()), num_frames, used, temporal_used, num_conflicting);
 }
 
-// Step 4: positions (linear, up to scale) of the cameras in the rig and of the rig per frame,
-// turned into the bundle adjustment's initial poses.
-struct PositionStage {
-  RigPositions positions;           // after the static-rig check
-  double eigenvalue_ratio = 0.0;    // of the linear solve, before that check
-  std::string position_reason;      // why positions are not observable; empty when they are
-  std::vector<std::optional<Rigid3d>> initial_cam_from_rig, initial_rig_from_world;
-  int scale_camera = -1;            // the camera at distance 1 from camera 0; -1: none
+// Step 4: the bundle adjustment's initial poses, one set per position estimate that found a
+// solution (rig_positions.h): from the two-view directions and from the tracks.
+struct PoseStart {
+  std::string source;
+  std::vector<std::optional<Rigid3d>> cam_from_rig, rig_from_world;
 };
+
+struct PositionStage {
+  std::vector<PoseStart> starts;
+  double eigenvalue_ratio = 0.0;  // of the track solve
+  std::string position_reason;    // why there is no start; empty when there is one
+  std::string remedy;             // what would fix the positions the images leave open
+  int scale_camera = -1;          // the camera at distance 1 from camera 0; -1: none
+};
+
+// What a user can change so that the images fix positions they leave open, from how the rig moved.
+std::string PositionRemedy(const RigMotion& motion, int num_frames) {
+  if (!motion.moving) {
+    return num_frames < 2 ? "to place it: several frames while the rig moves (its motion links the cameras' positions), "
+                            "or more overlap between neighbouring cameras"
+                          : "to place it: matches between consecutive frames (move the rig less between frames), or "
+                            "more overlap between neighbouring cameras";
+  }
+  double turn_deg = 0.0;  // the largest rotation of the rig from frame 0
+  for (const auto& q : motion.rig_rotation) {
+    if (q && motion.rig_rotation[0]) turn_deg = std::max(turn_deg, RotationDifferenceDeg(*q, *motion.rig_rotation[0]));
+  }
+  std::string remedy = "to place it: more frames";
+  if (turn_deg < 10.0) remedy += ", a path that turns (the rig turned " + Fixed(turn_deg, 1) + " deg)";
+  return remedy + ", more overlap between neighbouring cameras, or a higher resolution";
+}
+
+PoseStart ToStart(const std::string& source, const RigPositions& positions, const RotationStage& rs,
+                  const RigMotion& motion, int scale_camera) {
+  const double unit = 1.0 / positions.centre_in_rig[scale_camera]->norm();
+  PoseStart s;
+  s.source = source;
+  s.cam_from_rig.assign(positions.centre_in_rig.size(), std::nullopt);
+  s.rig_from_world.assign(positions.rig_centre_in_world.size(), std::nullopt);
+  for (size_t c = 0; c < s.cam_from_rig.size(); ++c) {
+    if (!positions.centre_in_rig[c] || !rs.rot.cam_from_rig[c]) continue;
+    const Eigen::Quaterniond r = *rs.rot.cam_from_rig[c];
+    s.cam_from_rig[c] = Rigid3d(r, -(r * (unit * *positions.centre_in_rig[c])));
+  }
+  for (size_t k = 0; k < s.rig_from_world.size(); ++k) {
+    if (!positions.rig_centre_in_world[k] || !motion.rig_rotation[k]) continue;
+    const Eigen::Quaterniond r = *motion.rig_rotation[k];
+    s.rig_from_world[k] = Rigid3d(r, -(r * (unit * *positions.rig_centre_in_world[k])));
+  }
+  return s;
+}
 
 PositionStage EstimateInitialPoses(const RigObservations& obs, const RotationStage& rs, const RigMotion& motion,
                                    const std::vector<ViewTrack>& tracks, const RigCalibrationOptions& options) {
-  const int n = static_cast<int>(obs.cameras.size());
-  const int num_frames = static_cast<int>(obs.keypoints.size());
   PositionStage s;
-  const RigPositions positions_raw = EstimateRigPositions(obs.cameras, obs.keypoints, tracks, rs.rot.cam_from_rig,
-                                                          motion.rig_rotation, options.positions, !motion.moving);
-  s.positions = positions_raw;
-  if (!motion.moving && positions_raw.unique) {
+  s.remedy = PositionRemedy(motion, static_cast<int>(obs.keypoints.size()));
+  const RigPositions from_directions = EstimateRigPositionsFromDirections(rs.graph, obs.temporal, rs.rot.cam_from_rig,
+                                                                          motion.rig_rotation, !motion.moving);
+  const RigPositions from_tracks = EstimateRigPositions(obs.cameras, obs.keypoints, tracks, rs.rot.cam_from_rig,
+                                                        motion.rig_rotation, options.positions, !motion.moving);
+  s.eigenvalue_ratio = from_tracks.eigenvalue_ratio;
+  if (!motion.moving) {
     // Static rig: the pairs' scales are linked only by a parallel-rigid graph or by points seen by
-    // three or more cameras; the eigenvalue test alone is too weak against noise here.
+    // three or more cameras.
     int multi_view_tracks = 0;
     for (const ViewTrack& t : tracks) multi_view_tracks += t.observations.size() >= 3;
     if (!EstimateCameraCentres(rs.graph, rs.rot.cam_from_rig, 0).unique && multi_view_tracks < 10) {
-      s.positions = RigPositions{};
-      s.positions.centre_in_rig.assign(n, std::nullopt);
-      s.positions.rig_centre_in_world.assign(num_frames, std::nullopt);
-      s.positions.reason = "only " + std::to_string(multi_view_tracks) + " points seen by three or more cameras";
+      s.position_reason = "not observable: the cameras' pairs do not link their scales (only " +
+                          std::to_string(multi_view_tracks) +
+                          " points seen by three or more cameras) and there is no rig motion to link them (one "
+                          "frame, or no matches between frames); " + s.remedy;
+      return s;
     }
   }
-  s.eigenvalue_ratio = positions_raw.eigenvalue_ratio;
-  const RigPositions& positions = s.positions;
-  if (!positions.unique) {
-    s.position_reason = motion.moving ? "not observable: " + positions.reason
-                                      : "not observable: the view graph is not parallel rigid and there is no rig "
-                                        "motion (one frame or no temporal matches) to link the pairs' scales (" +
-                                            positions.reason + ")";
+  for (const RigPositions* p : {&from_directions, &from_tracks}) {
+    for (int c = 1; c < static_cast<int>(p->centre_in_rig.size()) && p->solved && s.scale_camera < 0; ++c) {
+      if (p->centre_in_rig[c] && p->centre_in_rig[c]->norm() > 1e-9) s.scale_camera = c;
+    }
   }
-  s.initial_cam_from_rig.assign(n, std::nullopt);
-  s.initial_rig_from_world.assign(num_frames, std::nullopt);
-  if (positions.unique) {
-    for (int c = 1; c < n && s.scale_camera < 0; ++c) {
-      if (positions.centre_in_rig[c] && positions.centre_in_rig[c]->norm() > 1e-9) s.scale_camera = c;
+  if (s.scale_camera >= 0) {
+    if (from_directions.solved && from_directions.centre_in_rig[s.scale_camera]) {
+      s.starts.push_back(ToStart("two-view directions", from_directions, rs, motion, s.scale_camera));
     }
-    const double unit = s.scale_camera >= 0 ? 1.0 / positions.centre_in_rig[s.scale_camera]->norm() : 1.0;
-    for (int c = 0; c < n; ++c) {
-      if (!positions.centre_in_rig[c] || !rs.rot.cam_from_rig[c]) continue;
-      const Eigen::Quaterniond r = *rs.rot.cam_from_rig[c];
-      s.initial_cam_from_rig[c] = Rigid3d(r, -(r * (unit * *positions.centre_in_rig[c])));
+    if (from_tracks.solved && from_tracks.centre_in_rig[s.scale_camera]) {
+      s.starts.push_back(ToStart("tracks", from_tracks, rs, motion, s.scale_camera));
     }
-    for (int k = 0; k < num_frames; ++k) {
-      if (!positions.rig_centre_in_world[k] || !motion.rig_rotation[k]) continue;
-      const Eigen::Quaterniond r = *motion.rig_rotation[k];
-      s.initial_rig_from_world[k] = Rigid3d(r, -(r * (unit * *positions.rig_centre_in_world[k])));
-    }
-  } else {
-    s.initial_cam_from_rig[0] = Rigid3d();
-    s.initial_rig_from_world[0] = Rigid3d();
+  }
+  if (s.starts.empty()) {
+    s.position_reason = "not observable: " +
+                        (!from_directions.reason.empty() ? from_directions.reason : from_tracks.reason) + "; " + s.remedy;
   }
   return s;
+}
+
+// Step 5: the bundle adjustment from every start; the one the images agree with best
+// (TruncatedReprojectionCost) is kept. Another start that ends with a camera elsewhere makes that
+// camera's position ambiguous (RigCalibrationOptions::max_start_disagreement_deg).
+struct AdjustedRig {
+  MultiFrameBundleAdjustmentResult ba;
+  std::vector<RigStartSummary> starts;
+  std::vector<std::string> ambiguous;  // per camera: why its position is ambiguous; empty if not
+};
+
+// The angle (deg) between two estimates of the direction of a camera's centre from camera 0's.
+std::optional<double> DirectionDifferenceDeg(const std::optional<Rigid3d>& a, const std::optional<Rigid3d>& b) {
+  if (!a || !b) return std::nullopt;
+  const Eigen::Vector3d ca = a->SourceOriginInTarget(), cb = b->SourceOriginInTarget();
+  if (ca.norm() < 1e-12 || cb.norm() < 1e-12) return std::nullopt;
+  return AngleBetweenDeg(ca, cb);
+}
+
+AdjustedRig AdjustFromEveryStart(const RigObservations& obs, const std::vector<ViewTrack>& tracks,
+                                 const PositionStage& ps, const RigMotion& motion, const RigCalibrationOptions& options) {
+  const int n = static_cast<int>(obs.cameras.size());
+  AdjustedRig out;
+  out.ambiguous.assign(n, "");
+  RigBundleAdjustmentOptions ba_options = options.bundle_adjustment;
+  ba_options.keep_points = ba_options.keep_points || options.keep_details;
+  std::vector<MultiFrameBundleAdjustmentResult> adjusted;
+  for (const PoseStart& start : ps.starts) {
+    adjusted.push_back(MultiFrameRigBundleAdjust(obs.cameras, obs.keypoints, tracks, start.cam_from_rig,
+                                                 start.rig_from_world, ps.scale_camera, ba_options, !motion.moving));
+    RigStartSummary summary;
+    summary.source = start.source;
+    summary.cost = TruncatedReprojectionCost(obs.cameras, obs.keypoints, tracks, adjusted.back().cam_from_rig,
+                                             adjusted.back().rig_from_world,
+                                             options.bundle_adjustment.max_reprojection_error_px,
+                                             options.bundle_adjustment.min_triangulation_angle_deg, &summary.observations);
+    out.starts.push_back(summary);
+  }
+  if (adjusted.empty()) return out;
+  size_t best = 0;
+  for (size_t i = 1; i < adjusted.size(); ++i) {
+    if (out.starts[i].cost < out.starts[best].cost) best = i;
+  }
+  out.starts[best].chosen = true;
+  for (size_t i = 0; i < adjusted.size(); ++i) {
+    for (int c = 1; c < n; ++c) {
+      const auto diff = DirectionDifferenceDeg(adjusted[i].cam_from_rig[c], adjusted[best].cam_from_rig[c]);
+      out.starts[i].direction_difference_deg.push_back(diff);
+      if (i == best || !diff || *diff <= options.max_start_disagreement_deg) continue;
+      if (out.starts[i].cost > options.min_start_cost_ratio * out.starts[best].cost) continue;
+      out.ambiguous[c] = "ambiguous: the bundle adjustment started from the " + out.starts[i].source + " puts it " +
+                         Fixed(*diff, 1) + " deg away from where the start from the " + out.starts[best].source +
+                         " does (reprojection cost " + Fixed(out.starts[i].cost, 0) + " against " +
+                         Fixed(out.starts[best].cost, 0) + " px^2; a wrong pair can make the wrong one fit best)";
+    }
+  }
+  out.ba = std::move(adjusted[best]);
+  return out;
 }
 
 // Step 6: the positions the bundle adjustment's covariance leaves undetermined are dropped
@@ -314,10 +416,10 @@ struct ScaledPoses {
   std::vector<std::string> warnings;
 };
 
-ScaledPoses DropUndeterminedAndScale(const RigObservations& obs, MultiFrameBundleAdjustmentResult& ba,
-                                     const PositionStage& ps, const RigCalibrationOptions& options, int known_a,
-                                     int known_b) {
+ScaledPoses DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& adjusted, const PositionStage& ps,
+                                     const RigCalibrationOptions& options, int known_a, int known_b) {
   const int n = static_cast<int>(obs.cameras.size());
+  MultiFrameBundleAdjustmentResult& ba = adjusted.ba;
   ScaledPoses out;
   out.cam_from_rig = ba.cam_from_rig;
   out.undetermined.assign(n, "");
@@ -329,9 +431,15 @@ ScaledPoses DropUndeterminedAndScale(const RigObservations& obs, MultiFrameBundl
     out.direction_std_deg[c] = std_deg;
     if (std_deg > options.max_direction_std_deg) {
       out.undetermined[c] = "not determined: the images fix its direction from " + obs.camera_names[0] + " to +-" +
-                            Fixed(std_deg, 1) + " deg only (cameras close together for the depth of the scene)";
+                            Fixed(std_deg, 1) + " deg only (cameras close together for the depth of the scene); " +
+                            ps.remedy;
       pose[c].reset();  // its adjusted rotation is kept (from ba)
     }
+  }
+  for (int c = 1; c < n; ++c) {
+    if (!pose[c] || adjusted.ambiguous[c].empty()) continue;
+    out.undetermined[c] = adjusted.ambiguous[c] + "; " + ps.remedy;
+    pose[c].reset();
   }
   int scale_camera = ps.scale_camera;
   if (scale_camera >= 0 && !pose[scale_camera]) {  // the unit was a camera without a position now
@@ -344,8 +452,9 @@ ScaledPoses DropUndeterminedAndScale(const RigObservations& obs, MultiFrameBundl
       ScaleTranslations(out.length_scale, &pose, &ba.rig_from_world);
     }
   }
-  if (ps.positions.unique) out.rig_from_world = ba.rig_from_world;
-  out.scale = scale_camera >= 0 ? "unit scale: |centre of " + obs.camera_names[scale_camera] + "| = 1"
+  if (!ps.starts.empty()) out.rig_from_world = ba.rig_from_world;
+  out.scale = scale_camera >= 0 ? "unit scale: |centre of " + obs.camera_names[scale_camera] +
+                                      "| = 1 (--known-distance CAM_A CAM_B METRES makes it metric)"
                                 : "no scale (no camera with a position besides " + obs.camera_names[0] + ")";
   if (!options.known_distance) return out;
   if (pose[known_a] && pose[known_b]) {
@@ -399,7 +508,8 @@ void SetCameraAndEdgeStatus(const RigObservations& obs, const RotationStage& rs,
            : !position_reason.empty()     ? position_reason
                                           : std::string("not observable: no track links its views to the "
                                                         "calibrated cameras' (only rotation-only pairs or too "
-                                                        "little parallax)"));
+                                                        "little parallax); to place it: more overlap with a "
+                                                        "placed camera, or more frames while the rig moves"));
     } else {
       result->camera_status[c] = NotConnectedReason(graph, c, rotated, obs.camera_names);
     }
@@ -423,29 +533,40 @@ void SetCameraAndEdgeStatus(const RigObservations& obs, const RotationStage& rs,
 
 }  // namespace
 
-RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibrationOptions& options) {
-  options.Check();
-  const int n = static_cast<int>(obs.cameras.size());
-  if (n < 1 || static_cast<int>(obs.camera_names.size()) != n) {
-    throw std::invalid_argument("EstimateRig: one name per camera, at least one camera");
-  }
-  if (obs.pairs.size() != obs.inliers.size()) throw std::invalid_argument("EstimateRig: pairs and inliers differ in size");
-  const int num_frames = static_cast<int>(obs.keypoints.size());
-  for (const auto& frame : obs.keypoints) {
-    if (static_cast<int>(frame.size()) != n) throw std::invalid_argument("EstimateRig: keypoints need every camera per frame");
-  }
-  int known_a = -1, known_b = -1;
-  if (options.known_distance) {
-    std::tie(known_a, known_b) = KnownDistanceCameras(*options.known_distance, obs.camera_names, "EstimateRig");
-  }
+namespace {
 
+// Each used edge's two-view estimate against the rig's: how far its rotation is from the rig's
+// R_b R_a^T and, when both cameras have a position, its translation direction from the rig's.
+void CompareEdgesWithRig(const RigObservations& obs, RigCalibrationResult* result) {
+  for (int e = 0; e < static_cast<int>(result->edges.size()); ++e) {
+    RigEdgeStats& s = result->edges[e];
+    const PairEstimate& p = obs.pairs[e];
+    if (!s.used || !p.two_view.success) continue;
+    const auto& qa = result->cam_from_rig_rotation[p.cam_a];
+    const auto& qb = result->cam_from_rig_rotation[p.cam_b];
+    if (!qa || !qb) continue;
+    s.rotation_disagreement_deg = RotationDifferenceDeg(*qb * qa->conjugate(), p.two_view.cam_b_from_cam_a.rotation);
+    const auto& pa = result->rig.cameras[p.cam_a].cam_from_rig;
+    const auto& pb = result->rig.cameras[p.cam_b].cam_from_rig;
+    if (!pa || !pb || p.two_view.rotation_only) continue;
+    const Eigen::Vector3d t_rig = (*pb * pa->Inverse()).translation;
+    if (t_rig.norm() > 1e-12) s.direction_disagreement_deg = AngleBetweenDeg(t_rig, p.two_view.cam_b_from_cam_a.translation);
+  }
+}
+
+// One pass of the rig stages with the pairs in `rejected` (a reason per pair; empty: not
+// rejected) left out.
+RigCalibrationResult EstimateRigOnce(const RigObservations& obs, const RigCalibrationOptions& options,
+                                     const std::vector<std::string>& rejected, int known_a, int known_b) {
+  const int n = static_cast<int>(obs.cameras.size());
+  const int num_frames = static_cast<int>(obs.keypoints.size());
   RigCalibrationResult result;
   for (int c = 0; c < n; ++c) result.rig.cameras.push_back({obs.camera_names[c], obs.cameras[c], std::nullopt, 0.0});
   result.camera_stats.assign(n, {});
   result.camera_status.assign(n, "");
 
   auto start = Clock::now();
-  const RotationStage rotations = AverageCameraRotations(obs, options);
+  const RotationStage rotations = AverageCameraRotations(obs, options, rejected);
   result.num_rotation_outliers = rotations.rot.num_outliers;
   result.rotation_averaging_time_s = Seconds(start);
 
@@ -465,26 +586,26 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
   for (int k = 0; k < num_frames; ++k) result.num_frames_posed += motion.rig_rotation[k].has_value();
   result.positions_time_s = Seconds(start);
 
-  // Step 5: bundle adjustment over all posed views.
+  // Step 5: bundle adjustment over all posed views, from every start.
   start = Clock::now();
-  MultiFrameBundleAdjustmentResult ba;
-  if (initial.positions.unique) {
-    RigBundleAdjustmentOptions ba_options = options.bundle_adjustment;
-    ba_options.keep_points = ba_options.keep_points || options.keep_details;
-    ba = MultiFrameRigBundleAdjust(obs.cameras, obs.keypoints, tracks, initial.initial_cam_from_rig,
-                                   initial.initial_rig_from_world, initial.scale_camera, ba_options, !motion.moving);
-  } else {
-    ba.cam_from_rig = initial.initial_cam_from_rig;
+  AdjustedRig adjusted = AdjustFromEveryStart(obs, tracks, initial, motion, options);
+  MultiFrameBundleAdjustmentResult& ba = adjusted.ba;
+  if (initial.starts.empty()) {
+    ba.cam_from_rig.assign(n, std::nullopt);
+    ba.cam_from_rig[0] = Rigid3d();
+    ba.rig_from_world.assign(num_frames, std::nullopt);
+    ba.rig_from_world[0] = Rigid3d();
     ba.observations_per_camera.assign(n, 0);
   }
   result.bundle_adjustment_time_s = Seconds(start);
+  result.position_starts = adjusted.starts;
   result.initial_reprojection_rms_px = ba.initial_rms_px;
   result.reprojection_rms_px = ba.reprojection_rms_px;
   result.num_points = ba.num_points;
   result.num_observations = ba.num_observations;
   result.num_filtered_observations = ba.num_filtered_observations;
 
-  const ScaledPoses poses = DropUndeterminedAndScale(obs, ba, initial, options, known_a, known_b);
+  const ScaledPoses poses = DropUndeterminedAndScale(obs, adjusted, initial, options, known_a, known_b);
   for (int c = 0; c < n; ++c) result.camera_stats[c].direction_std_deg = poses.direction_std_deg[c];
   result.rig_from_world = poses.rig_from_world;
   result.scale = poses.scale;
@@ -497,6 +618,7 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
   }
   result.warnings.insert(result.warnings.end(), poses.warnings.begin(), poses.warnings.end());
   SetCameraAndEdgeStatus(obs, rotations, ba, poses, initial.position_reason, &result);
+  CompareEdgesWithRig(obs, &result);
   if (options.keep_details) {
     result.details = std::make_shared<RigCalibrationDetails>();
     RigCalibrationDetails& d = *result.details;
@@ -506,6 +628,65 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
     d.initial_residuals_px = ba.initial_residuals_px;
     d.final_residuals_px = ba.final_residuals_px;
   }
+  return result;
+}
+
+// The used edge that disagrees most with the rig beyond the options' thresholds, and why; -1 when
+// none does.
+std::pair<int, std::string> MostDisagreeingEdge(const RigCalibrationResult& r, const RigCalibrationOptions& options) {
+  int worst = -1;
+  double worst_excess = 1.0;
+  for (int e = 0; e < static_cast<int>(r.edges.size()); ++e) {
+    const RigEdgeStats& s = r.edges[e];
+    if (!s.used) continue;
+    const double excess = std::max(s.rotation_disagreement_deg.value_or(0.0) / options.max_pair_rotation_disagreement_deg,
+                                   s.direction_disagreement_deg.value_or(0.0) / options.max_pair_direction_disagreement_deg);
+    if (excess > worst_excess) {
+      worst_excess = excess;
+      worst = e;
+    }
+  }
+  if (worst < 0) return {-1, ""};
+  const RigEdgeStats& s = r.edges[worst];
+  std::string why = "disagrees with the rig: its rotation is " + Fixed(s.rotation_disagreement_deg.value_or(0.0), 2) +
+                    " deg off the rig's";
+  if (s.direction_disagreement_deg) why += ", its baseline direction " + Fixed(*s.direction_disagreement_deg, 1) + " deg";
+  why += " (a wrong match of repeated structure, or a mirror-image pose)";
+  return {worst, why};
+}
+
+}  // namespace
+
+RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibrationOptions& options) {
+  options.Check();
+  const int n = static_cast<int>(obs.cameras.size());
+  if (n < 1 || static_cast<int>(obs.camera_names.size()) != n) {
+    throw std::invalid_argument("EstimateRig: one name per camera, at least one camera");
+  }
+  if (obs.pairs.size() != obs.inliers.size()) throw std::invalid_argument("EstimateRig: pairs and inliers differ in size");
+  for (const auto& frame : obs.keypoints) {
+    if (frame.size() != obs.cameras.size()) throw std::invalid_argument("EstimateRig: keypoints need every camera per frame");
+  }
+  int known_a = -1, known_b = -1;
+  if (options.known_distance) {
+    std::tie(known_a, known_b) = KnownDistanceCameras(*options.known_distance, obs.camera_names, "EstimateRig");
+  }
+  // Every pair the rig used must agree with the rig it helped make: one that does not is left
+  // out and the rig made again without it, the worst first.
+  std::vector<std::string> rejected(obs.pairs.size());
+  RigCalibrationResult result = EstimateRigOnce(obs, options, rejected, known_a, known_b);
+  for (int round = 0; round < options.max_rejected_pairs; ++round) {
+    const auto [edge, why] = MostDisagreeingEdge(result, options);
+    if (edge < 0) break;
+    rejected[edge] = why;
+    RigCalibrationResult next = EstimateRigOnce(obs, options, rejected, known_a, known_b);
+    next.rotation_averaging_time_s += result.rotation_averaging_time_s;
+    next.tracks_time_s += result.tracks_time_s;
+    next.positions_time_s += result.positions_time_s;
+    next.bundle_adjustment_time_s += result.bundle_adjustment_time_s;
+    result = std::move(next);
+  }
+  for (int e = 0; e < static_cast<int>(result.edges.size()); ++e) result.edges[e].rejected = !rejected[e].empty();
   return result;
 }
 
@@ -565,6 +746,14 @@ std::vector<RigCalibrationResult> CalibrateRig(const std::filesystem::path& data
   return results;
 }
 
+std::optional<bool> CameraWithinTolerance(const RigCalibrationResult& r, size_t c) {
+  if (!r.evaluated) return std::nullopt;
+  const RigCameraStats& s = r.camera_stats[c];
+  if (!s.rotation_error_deg) return false;  // no estimate
+  return WithinTolerance(s.rotation_error_deg, s.translation_direction_error_deg, PoseTolerance::kCameraRotationDeg,
+                         PoseTolerance::kCameraDirectionDeg);
+}
+
 nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& results) {
   std::vector<CalibrationReport> reports;
   for (const RigCalibrationResult& r : results) reports.push_back(r.pairwise);
@@ -572,7 +761,7 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
   nlohmann::json methods = nlohmann::json::object();
   for (const RigCalibrationResult& r : results) {
     nlohmann::json cams = nlohmann::json::array();
-    int calibrated = 0;
+    int calibrated = 0, within = 0, calibrated_outside = 0;
     std::optional<double> max_rot, max_dir;  // worst over the cameras that have the error; none: null
     for (size_t c = 0; c < r.rig.cameras.size(); ++c) {
       const auto& pose = r.rig.cameras[c].cam_from_rig;
@@ -599,6 +788,10 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
       j["rotation_error_deg"] = json_io::OptionalNumber(s.rotation_error_deg);
       j["translation_direction_error_deg"] = json_io::OptionalNumber(s.translation_direction_error_deg);
       j["position_error_m"] = json_io::OptionalNumber(s.position_error_m);
+      const std::optional<bool> ok = CameraWithinTolerance(r, c);
+      j["within_tolerance"] = ok ? nlohmann::json(*ok) : nlohmann::json(nullptr);
+      within += ok.value_or(false);
+      calibrated_outside += pose.has_value() && !ok.value_or(true);
       cams.push_back(j);
     }
     nlohmann::json edges = nlohmann::json::array();
@@ -610,6 +803,9 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
                        {"rotation_only", e.rotation_only},
                        {"rotation_outlier", e.rotation_outlier},
                        {"rotation_residual_deg", json_io::OptionalNumber(e.rotation_residual_deg)},
+                       {"rotation_disagreement_deg", json_io::OptionalNumber(e.rotation_disagreement_deg)},
+                       {"direction_disagreement_deg", json_io::OptionalNumber(e.direction_disagreement_deg)},
+                       {"rejected", e.rejected},
                        {"status", e.status}});
     }
     nlohmann::json summary = {{"cameras", r.rig.cameras.size()},
@@ -631,6 +827,11 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
                               {"position_eigenvalue_ratio", std::isfinite(r.position_eigenvalue_ratio)
                                                                 ? nlohmann::json(r.position_eigenvalue_ratio)
                                                                 : nlohmann::json(nullptr)}};
+    summary["tolerance"] = {{"rotation_deg", PoseTolerance::kCameraRotationDeg},
+                            {"direction_deg", PoseTolerance::kCameraDirectionDeg}};
+    summary["cameras_within_tolerance"] = r.evaluated ? nlohmann::json(within) : nlohmann::json(nullptr);
+    summary["cameras_calibrated_outside_tolerance"] =
+        r.evaluated ? nlohmann::json(calibrated_outside) : nlohmann::json(nullptr);
     summary["max_rotation_error_deg"] = json_io::OptionalNumber(r.evaluated ? max_rot : std::nullopt);
     summary["max_translation_direction_error_deg"] = json_io::OptionalNumber(r.evaluated ? max_dir : std::nullopt);
     nlohmann::json m;
@@ -649,6 +850,17 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
     for (const auto& p : r.rig_from_world) frames.push_back(p ? json_io::PoseToJson(*p) : nlohmann::json(nullptr));
     m["rig_from_world_per_frame"] = frames;
     m["edges"] = edges;
+    nlohmann::json starts = nlohmann::json::array();
+    for (const RigStartSummary& st : r.position_starts) {
+      nlohmann::json diffs = nlohmann::json::array();
+      for (const auto& d : st.direction_difference_deg) diffs.push_back(json_io::OptionalNumber(d));
+      starts.push_back({{"source", st.source},
+                        {"cost_px2", st.cost},
+                        {"observations", st.observations},
+                        {"chosen", st.chosen},
+                        {"direction_difference_deg", diffs}});
+    }
+    m["position_starts"] = starts;
     m["warnings"] = r.warnings;
     const std::string key = r.semantic_mode.empty() ? "rig" : r.semantic_mode;
     // Results of EstimateRig alone have no pairwise report.

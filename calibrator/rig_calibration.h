@@ -33,6 +33,7 @@
 
 #include "calibrator/multi_frame_rig.h"
 #include "calibrator/pairwise.h"
+#include "calibrator/rig_positions.h"
 #include "calibrator/correspondences.h"
 #include "calibrator/rotation_averaging.h"
 #include "calibrator/view_graph.h"
@@ -54,7 +55,7 @@ struct RigCalibrationOptions {
   ViewGraphOptions view_graph;
   // Robust rotation averaging and its outlier threshold.
   RotationAveragingOptions rotation_averaging;
-  // Linear positions from the tracks (initialisation of the bundle adjustment).
+  // Positions from the tracks (one of the bundle adjustment's starts, rig_positions.h).
   RigPositionOptions positions;
   // Triangulation, bundle adjustment and its outlier filter.
   RigBundleAdjustmentOptions bundle_adjustment;
@@ -67,6 +68,27 @@ struct RigCalibrationOptions {
   // the ones whose cameras sit (next to) together: a co-located ring 7-32 deg, a ring of 3 cm
   // radius 1.6-41 deg (errors 9-26 deg).
   double max_direction_std_deg = 1.0;
+  // The bundle adjustment runs from every initial position estimate (rig_positions.h) and keeps
+  // the result the images agree with best. A camera that another start puts more than
+  // max_start_disagreement_deg (direction from camera 0) away is reported ambiguous, not placed,
+  // unless the other start's cost is more than min_start_cost_ratio times the best: a wrong pair
+  // can make a wrong rig fit best. Measured (cost ratios where the starts ended apart): the plaza
+  // ring in mask mode, 960x540, 3 frames, 12 with cameras 34-134 deg off; right rigs 6.7 (a 10 cm
+  // ring), 7.3 (the plaza ring without mask) and 111 (a one-frame synthetic ring); where the
+  // images fix the positions well the starts end together (street rings of 4, 6 and 8 cameras,
+  // the wide-baseline pair, the surround rig).
+  double max_start_disagreement_deg = 2.0;
+  double min_start_cost_ratio = 50.0;
+  // A used pair whose two-view rotation is more than max_pair_rotation_disagreement_deg from the
+  // rig's, or whose baseline direction is more than max_pair_direction_disagreement_deg from the
+  // rig's, is left out and the rig made again without it (at most max_rejected_pairs times, the
+  // worst first): a wrong pair agrees with the rest only by chance. The rotation bound is loose:
+  // a fisheye pair's two-view rotation can be 1.6-1.9 deg off a rig that the tracks make right
+  // within 0.1 deg (the surround rig of tests/end_to_end_test.cc), and a wrong pair shows in its
+  // direction (measured 12-20 deg on the surround rig at 960x540, 160 deg on a mirror pose).
+  double max_pair_rotation_disagreement_deg = 3.0;
+  double max_pair_direction_disagreement_deg = 10.0;
+  int max_rejected_pairs = 3;
   // Keep what a report shows of every stage in RigCalibrationResult::details (matches with their
   // flags, rotations after rotation averaging, points, reprojection errors). Costs memory only.
   bool keep_details = false;
@@ -82,6 +104,9 @@ struct RigObservations {
   FrameKeypoints keypoints;          // [frame][camera][keypoint]
   std::vector<PairEstimate> pairs;   // one per camera pair
   std::vector<PairMatches> inliers;  // the same pairs' two-view inliers per frame (empty when failed)
+  // The same pairs' matches per frame, the inliers' superset; may be empty (then a pair cannot be
+  // estimated again, e.g. with refined intrinsics).
+  std::vector<PairMatches> matches;
   // Each camera between consecutive frames (pairwise.h PairwiseMatchData::temporal). Empty: the
   // frames are independent captures of a static rig (no rig motion is estimated).
   std::vector<TemporalPairEstimate> temporal;
@@ -114,7 +139,23 @@ struct RigEdgeStats {
   bool rotation_only = false;  // no translation direction
   bool rotation_outlier = false;
   std::optional<double> rotation_residual_deg;  // R_b R_a^T vs the pair's rotation at the solution
-  std::string status;                           // "used" or why not
+  // The pair's two-view estimate against the final rig: rotation (deg) and, when both cameras
+  // have a position, baseline direction (deg).
+  std::optional<double> rotation_disagreement_deg;
+  std::optional<double> direction_disagreement_deg;
+  bool rejected = false;  // left out for disagreeing with the rig (status says by how much)
+  std::string status;     // "used" or why not
+};
+
+// One start of the bundle adjustment (RigCalibrationOptions::max_start_disagreement_deg).
+struct RigStartSummary {
+  std::string source;  // "two-view directions", "tracks"
+  double cost = 0.0;   // TruncatedReprojectionCost after the adjustment (px^2)
+  int observations = 0;
+  bool chosen = false;
+  // Per camera c > 0: the angle between this start's and the chosen one's direction of c from
+  // camera 0 after the adjustment; nullopt where either has no position.
+  std::vector<std::optional<double>> direction_difference_deg;
 };
 
 // One camera pair's two-view inliers in the frame where it has the most, in pixels: what a
@@ -173,8 +214,10 @@ struct RigCalibrationResult {
   std::vector<std::optional<Rigid3d>> rig_from_world;
   bool rig_motion_estimated = false;
   int num_temporal_pairs_used = 0;  // successful temporal pairs between cameras with a rotation
-  // Observability of the linear positions (RigPositions::eigenvalue_ratio): large when determined.
+  // How clearly the tracks single out one set of positions (RigPositions::eigenvalue_ratio).
   double position_eigenvalue_ratio = 0.0;
+  // The bundle adjustment's starts and how each ended.
+  std::vector<RigStartSummary> position_starts;
   // Ground truth available and compared.
   bool evaluated = false;
   // Per camera pair with two-view inliers (CalibrationReport::pairs order, failed pairs left out).
@@ -205,6 +248,10 @@ RigCalibrationResult CalibrateRig(const std::filesystem::path& dataset_dir, cons
 std::vector<RigCalibrationResult> CalibrateRig(const std::filesystem::path& dataset_dir,
                                                const RigCalibrationOptions& options,
                                                const std::vector<SemanticMode>& modes);
+
+// Camera c's estimate against the truth (evaluation.h PoseTolerance, camera bounds): nullopt when
+// not evaluated, false without an estimate; a camera without a position is judged on its rotation.
+std::optional<bool> CameraWithinTolerance(const RigCalibrationResult& result, size_t c);
 
 // rig_calibration.json: {"methods": {"<mode>": {"summary": {...}, "timing": {...},
 // "cameras": [{name, status, calibrated, position_known, rotation_wxyz, cam_from_rig, centre_in_rig,

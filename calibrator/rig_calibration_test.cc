@@ -170,6 +170,38 @@ TEST_F(RigCalibrationTest, RotationOutlierEdgeIsDroppedWithItsReason) {
   for (int c = 0; c < 6; ++c) EXPECT_LT(r.camera_stats[c].rotation_error_deg.value(), 0.05) << c;
 }
 
+// A pair whose rotation is right but whose baseline points the other way (the mirror pose that
+// repeated structure or a wrong cheirality gives: the surround rig's back-left pair came out 160
+// deg off and "ok"). Rotation averaging cannot see it; the rig the other pairs make can: the pair
+// is left out, says why, and the rig stays right.
+TEST_F(RigCalibrationTest, PairWhoseDirectionDisagreesWithTheRigIsRejected) {
+  RigObservations obs = *observations_;
+  int e = -1;
+  for (size_t p = 0; p < obs.pairs.size(); ++p) {
+    if (obs.pairs[p].cam_a == 1 && obs.pairs[p].cam_b == 3) e = static_cast<int>(p);
+  }
+  ASSERT_GE(e, 0);
+  ASSERT_TRUE(obs.pairs[e].two_view.success);
+  obs.pairs[e].two_view.cam_b_from_cam_a.translation *= -1.0;
+  RigCalibrationResult r = EstimateRig(obs, {});
+  EvaluateRigAgainstTruth(synthetic_->rig, &r);
+  EXPECT_TRUE(r.edges[e].rejected);
+  EXPECT_FALSE(r.edges[e].used);
+  EXPECT_NE(r.edges[e].status.find("disagrees with the rig"), std::string::npos) << r.edges[e].status;
+  for (int c = 0; c < 6; ++c) {
+    ASSERT_TRUE(r.rig.cameras[c].cam_from_rig.has_value()) << r.camera_status[c];
+    EXPECT_LT(r.camera_stats[c].rotation_error_deg.value(), 0.05) << c;
+    if (c > 0) {
+      EXPECT_LT(r.camera_stats[c].translation_direction_error_deg.value(), 0.5) << c;
+    }
+  }
+  for (size_t p = 0; p < r.edges.size(); ++p) {  // every other used pair agrees with the rig
+    if (static_cast<int>(p) == e || !r.edges[p].used) continue;
+    EXPECT_FALSE(r.edges[p].rejected) << r.edges[p].cam_a << "-" << r.edges[p].cam_b << ": " << r.edges[p].status;
+    EXPECT_LT(r.edges[p].rotation_disagreement_deg.value(), 1.0);
+  }
+}
+
 TEST_F(RigCalibrationTest, CameraZeroAloneCalibratesNothingElse) {
   RigObservations obs = *observations_;
   for (PairEstimate& p : obs.pairs) {

@@ -154,6 +154,53 @@ HomographyFit FitHomography(const std::vector<cv::Point2d>& pa, const std::vecto
   return fit;
 }
 
+// The four poses one essential matrix allows: (R, t), (R, -t) and the "twisted pair" (H R, +-t),
+// H the half turn about the baseline. Their epipolar errors are the same, so neither RANSAC's
+// fit nor the refinement can choose; only the side of the cameras the points lie on can.
+// Counts, per pose, the inliers whose two rays meet in front of both cameras, over the inliers
+// whose rays meet at min_angle_rad or more (closer to parallel, a point could be on either side
+// by noise). Bearings beyond 90 degrees (fisheyes) count: depth is along the ray.
+struct Cheirality {
+  Rigid3d pose;
+  int in_front = 0;       // of `pose`
+  int second_best = 0;    // in front under the best of the other three
+  int informative = 0;    // inliers whose rays meet at min_angle_rad or more
+};
+
+Cheirality ResolveCheirality(const Rigid3d& pose, const std::vector<Eigen::Vector3d>& fa,
+                             const std::vector<Eigen::Vector3d>& fb, const std::vector<int>& inliers,
+                             double min_angle_rad) {
+  const Eigen::Vector3d t = pose.translation.normalized();
+  const Eigen::Matrix3d half_turn = 2.0 * t * t.transpose() - Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d r = pose.rotation.toRotationMatrix();
+  const Rigid3d candidates[4] = {Rigid3d(r, t), Rigid3d(r, -t), Rigid3d(half_turn * r, t), Rigid3d(half_turn * r, -t)};
+  int counts[4] = {0, 0, 0, 0};
+  Cheirality out;
+  for (int i : inliers) {
+    const Eigen::Vector3d rfa = r * fa[i];
+    if (std::atan2(rfa.cross(fb[i]).norm(), rfa.dot(fb[i])) < min_angle_rad) continue;
+    ++out.informative;
+    for (int c = 0; c < 4; ++c) {
+      // lambda_b fb = lambda_a R fa + t, least squares in (lambda_a, lambda_b).
+      Eigen::Matrix<double, 3, 2> a;
+      a.col(0) = candidates[c].rotation * fa[i];
+      a.col(1) = -fb[i];
+      const Eigen::Vector2d depth = (a.transpose() * a).ldlt().solve(-a.transpose() * candidates[c].translation);
+      counts[c] += depth.x() > 0 && depth.y() > 0;
+    }
+  }
+  int best = 0;
+  for (int c = 1; c < 4; ++c) {
+    if (counts[c] > counts[best]) best = c;
+  }
+  out.pose = candidates[best];
+  out.in_front = counts[best];
+  for (int c = 0; c < 4; ++c) {
+    if (c != best) out.second_best = std::max(out.second_best, counts[c]);
+  }
+  return out;
+}
+
 TwoViewResult Fail(TwoViewResult r, const std::string& why) {
   r.success = false;
   r.failure_reason = why;
@@ -181,6 +228,9 @@ TwoViewEstimate ToEstimate(const TwoViewResult& result, int num_matches) {
   e.num_inliers = result.num_inliers;
   e.num_homography_inliers = result.num_homography_inliers;
   e.median_residual_deg = result.median_residual_deg;
+  e.cheirality_points = result.cheirality_points;
+  e.points_in_front = result.points_in_front;
+  e.points_in_front_otherwise = result.points_in_front_otherwise;
   e.failure_reason = result.failure_reason;
   return e;
 }
@@ -198,6 +248,7 @@ void TwoViewOptions::Check() const {
   if (!(rotation_only_ratio > 0)) fail("rotation_only_ratio must be > 0");
   if (!(planar_ratio > 0)) fail("planar_ratio must be > 0");
   if (rotation_ransac_iterations < 1) fail("rotation_ransac_iterations must be >= 1");
+  if (!(cheirality_min_angle_factor > 0)) fail("cheirality_min_angle_factor must be > 0");
 }
 
 Eigen::Vector2d EpipolarAngularResidual(const Rigid3d& cam_b_from_cam_a, const Eigen::Vector3d& bearing_a,
@@ -344,6 +395,14 @@ TwoViewResult EstimateRelativePoseFromBearings(const std::vector<Eigen::Vector3d
       }
     }
     result.num_essential_inliers = static_cast<int>(inliers.size());
+    // Which of the four poses of the essential matrix: the one that puts the most inliers in front
+    // of both cameras, counted over every inlier of every frame (pose recovery saw only the
+    // bearings in front of both image planes, and RANSAC's inliers of them).
+    const Cheirality side = ResolveCheirality(pose, fa, fb, inliers, options.cheirality_min_angle_factor * thr);
+    pose = side.pose;
+    result.cheirality_points = side.informative;
+    result.points_in_front = side.in_front;
+    result.points_in_front_otherwise = side.second_best;
   }
 
   const int required_inliers =

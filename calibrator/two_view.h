@@ -75,6 +75,10 @@ struct TwoViewOptions {
   // RANSAC iterations of the 2-point pure-rotation fit, and its seed (fixed: reproducible).
   int rotation_ransac_iterations = 300;
   unsigned rotation_ransac_seed = 1;
+  // Cheirality (which of the essential matrix's four poses) is decided by the inliers whose rays
+  // meet at this many times the inlier threshold or more; nearer to parallel, noise alone could
+  // put their point on either side.
+  double cheirality_min_angle_factor = 4.0;
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;
@@ -92,6 +96,10 @@ struct TwoViewEstimate {
   int num_inliers = 0;                      // of the reported model
   int num_homography_inliers = 0;           // of the homography the planar test fits
   double median_residual_deg = 0.0;         // median angular residual of the inliers
+  // Cheirality (TwoViewResult below).
+  int cheirality_points = 0;
+  int points_in_front = 0;
+  int points_in_front_otherwise = 0;
   std::string failure_reason;               // empty on success
 };
 
@@ -111,6 +119,12 @@ struct TwoViewResult {
   int num_homography_inliers = 0;   // of the homography (0 when not fitted: rotation-only or no pose)
   int num_valid = 0;                // correspondences with a valid bearing in both cameras
   double median_residual_deg = 0.0;  // median angular residual of the inliers
+  // Cheirality of the essential-matrix pose: the inliers with parallax enough to tell
+  // (TwoViewOptions::cheirality_min_angle_factor), how many of them the reported pose puts in
+  // front of both cameras, and how many the best of the other three poses would.
+  int cheirality_points = 0;
+  int points_in_front = 0;
+  int points_in_front_otherwise = 0;
   std::string failure_reason;        // empty on success
 };
 

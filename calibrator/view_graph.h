@@ -38,6 +38,8 @@ struct TemporalPairEstimate {
   TwoViewEstimate two_view;
   // Two-view inliers: (keypoint index in frame k, in frame k+1); empty when the estimate failed.
   std::vector<std::pair<int, int>> inliers;
+  // Every match the estimate saw (the inliers' superset), in the same form.
+  std::vector<std::pair<int, int>> matches;
 };
 
 struct ViewGraphOptions {

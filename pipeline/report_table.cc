@@ -77,14 +77,14 @@ std::string FormatPairTable(const std::vector<CalibrationReport>& reports, const
       const TwoViewEstimate& tv = p.two_view;
       const std::string type = tv.success ? std::string(PairTypeName(tv.pair_type)) : "-";
       std::string status = tv.success ? "ok" : tv.failure_reason;
-      if (status.size() > 48) status = status.substr(0, 45) + "...";
-      std::snprintf(line, sizeof(line), "%-14s %7s  %-10s %8d %8d %9s %10s %10s  %-13s  %s\n", pair.c_str(), ov.c_str(),
+      if (tv.success && !PairWithinTolerance(p).value_or(true)) status += " (outside tolerance against the truth)";
+      // The status goes last and whole: it says what to do.
+      std::snprintf(line, sizeof(line), "%-14s %7s  %-10s %8d %8d %9s %10s %10s  %-13s  ", pair.c_str(), ov.c_str(),
                     reports[m].semantic_mode.c_str(), tv.num_matches, tv.num_inliers,
                     Opt(Percent(p.match_precision), "%.1f%%").c_str(),
                     tv.success ? Opt(p.rotation_error_deg, "%.3f deg").c_str() : "-",
-                    tv.success ? Opt(p.translation_direction_error_deg, "%.2f deg").c_str() : "-", type.c_str(),
-                    status.c_str());
-      out << line;
+                    tv.success ? Opt(p.translation_direction_error_deg, "%.2f deg").c_str() : "-", type.c_str());
+      out << line << status << "\n";
     }
   }
   return out.str();
@@ -129,13 +129,15 @@ std::string FormatRigTable(const std::vector<RigCalibrationResult>& results) {
       const RigCalibrationResult& r = results[m];
       const RigCameraStats& st = r.camera_stats[c];
       std::string status = r.camera_status[c];
-      if (status.size() > 70) status = status.substr(0, 67) + "...";
-      std::snprintf(line, sizeof(line), "%-10s %-10s %10s %10s %10s %10s %8d  %s\n",
+      if (r.rig.cameras[c].cam_from_rig && !CameraWithinTolerance(r, c).value_or(true)) {
+        status += " (outside tolerance against the truth)";
+      }
+      std::snprintf(line, sizeof(line), "%-10s %-10s %10s %10s %10s %10s %8d  ",
                     m == 0 ? r.rig.cameras[c].name.c_str() : "", r.semantic_mode.c_str(),
                     Opt(st.rotation_error_deg, "%.3f deg").c_str(), Opt(st.translation_direction_error_deg, "%.2f deg").c_str(),
                     Opt(st.direction_std_deg, "%.3f deg").c_str(), Opt(st.position_error_m, "%.3f m").c_str(),
-                    st.observations, status.c_str());
-      out << line;
+                    st.observations);
+      out << line << status << "\n";
     }
   }
   return out.str();
