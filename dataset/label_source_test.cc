@@ -32,13 +32,13 @@ class LabelSourceTest : public ::testing::Test {
   }
   // LoadLabels from `folder` fails with a message naming its file and saying `part`.
   void ExpectFolderFails(const std::string& folder, const std::string& part, int width = 64, int height = 48,
-                         const char* call_file = __builtin_FILE(), int call_line = __builtin_LINE()) {
-    const ::testing::ScopedTrace trace(call_file, call_line, folder);
-    const fs::path file = dir_ / folder / "cam0" / "000000.png";
+                         const char* file = __builtin_FILE(), int line = __builtin_LINE()) {
+    const ::testing::ScopedTrace trace(file, line, folder);
+    const fs::path label_file = dir_ / folder / "cam0" / "000000.png";
     auto load = [&] {
       LoadLabels(LabelSource::Folder(dir_ / folder), DatasetLayout(dir_ / "dataset"), "cam0", "000000", width, height);
     };
-    EXPECT_THAT(load, ThrowsNaming<std::runtime_error>(file.string() + ": ", part));
+    EXPECT_THAT(load, ThrowsNaming<std::runtime_error>(label_file.string() + ": ", part));
   }
   const TempDir dir_;
   ImageU8 truth_;
@@ -86,8 +86,19 @@ TEST_F(LabelSourceTest, BadUserLabelImagesAreErrorsNamingTheFile) {
   ExpectFolderFails("bad_id", "pixel (3, 2) has label id 77");
   Write("two_channels", ImageU8(64, 48, 2, 11));
   ExpectFolderFails("two_channels", "must have 1 channel (Cityscapes label ids) or 3");
-  fs::create_directories(dir_ / "empty");
+  fs::create_directories(dir_ / "empty" / "cam0");
   ExpectFolderFails("empty", "label image missing");
+  // No folder for the camera: the message names the folder, the nearest there is and what there is.
+  fs::create_directories(dir_ / "misnamed" / "CAM0");
+  fs::create_directories(dir_ / "misnamed" / "cam1");
+  try {
+    LoadLabels(LabelSource::Folder(dir_ / "misnamed"), DatasetLayout(dir_ / "dataset"), "cam0", "000000", 64, 48);
+    ADD_FAILURE() << "no error for a missing camera folder";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), (dir_ / "misnamed" / "cam0").string() +
+                                         ": no such folder: the label images of camera 'cam0' of rig.json go in misnamed/cam0/ "
+                                         "(did you mean 'CAM0'?); misnamed/ holds CAM0, cam1 (a folder per camera, named as in rig.json)");
+  }
 }
 
 TEST_F(LabelSourceTest, MissingFolderIsNamedByCheck) {
