@@ -1,12 +1,15 @@
 #include "gltf/readable_gltf.h"
 
+
 #include <cstdint>
 #include <cstring>
 #include <optional>
 #include <stdexcept>
+#include <string_view>
 
 #include <nlohmann/json.hpp>
 
+#include "common/base64.h"
 #include "gltf/gltf_compression.h"
 
 namespace rigsim {
@@ -108,18 +111,8 @@ std::vector<unsigned char> DecodeDataUri(const std::string& uri) {
 }
 
 std::string Base64Uri(const std::vector<unsigned char>& data) {
-  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out = "data:application/octet-stream;base64,";
-  out.reserve(out.size() + (data.size() + 2) / 3 * 4);
-  for (size_t i = 0; i < data.size(); i += 3) {
-    const uint32_t n = (uint32_t(data[i]) << 16) | (i + 1 < data.size() ? uint32_t(data[i + 1]) << 8 : 0) |
-                       (i + 2 < data.size() ? uint32_t(data[i + 2]) : 0);
-    out += k[(n >> 18) & 63];
-    out += k[(n >> 12) & 63];
-    out += i + 1 < data.size() ? k[(n >> 6) & 63] : '=';
-    out += i + 2 < data.size() ? k[n & 63] : '=';
-  }
-  return out;
+  return "data:application/octet-stream;base64," +
+         Base64Encode(std::string_view(reinterpret_cast<const char*>(data.data()), data.size()));
 }
 
 json* ArrayOf(json& doc, const char* key) { return doc.contains(key) && doc[key].is_array() ? &doc[key] : nullptr; }

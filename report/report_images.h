@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "common/base64.h"
 #include "dataset/image.h"
 
 namespace rigsim {
@@ -47,10 +48,9 @@ inline constexpr double kRangeMin = 0.01, kRangeMax = 1.0e5;
 std::vector<uint16_t> QuantiseRanges(const ImageF& range);
 double DequantiseRange(uint16_t q);
 
-std::string Base64(std::string_view bytes);
 template <typename T>
 std::string Base64Of(const std::vector<T>& values) {
-  return Base64(std::string_view(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T)));
+  return Base64Encode(std::string_view(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T)));
 }
 
 }  // namespace rigsim

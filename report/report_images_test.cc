@@ -7,15 +7,6 @@
 namespace rigsim {
 namespace {
 
-TEST(Base64, MatchesTheStandardAlphabetAndPadding) {
-  EXPECT_EQ(Base64(""), "");
-  EXPECT_EQ(Base64("f"), "Zg==");
-  EXPECT_EQ(Base64("fo"), "Zm8=");
-  EXPECT_EQ(Base64("foo"), "Zm9v");
-  EXPECT_EQ(Base64("foobar"), "Zm9vYmFy");
-  EXPECT_EQ(Base64(std::string("\xff\xfe\x00", 3)), "//4A");
-}
-
 TEST(QuantiseRanges, KeepsNoSurfaceAndRoundTripsWithinAFewParts) {
   ImageF range(3, 1, 1);
   range.at(0, 0) = 0.0f;

@@ -28,7 +28,7 @@ bool EmbedScene(ReportContext& ctx) {
     ctx.warnings.push_back(scene.string() + ": not a binary glTF (.glb); the 3D view shows the rig without it");
     return false;
   }
-  WriteDataScript(ctx.dir / "data" / "scene.js", "scene", Base64(bytes));
+  WriteDataScript(ctx.dir / "data" / "scene.js", "scene", Base64Encode(bytes));
   return true;
 }
 

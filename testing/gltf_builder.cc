@@ -8,6 +8,8 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "common/base64.h"
+
 namespace rigsim {
 namespace {
 
@@ -32,17 +34,8 @@ int ComponentsOf(const std::string& type) {
 }  // namespace
 
 std::string DataUri(std::string_view mime_type, const std::vector<uint8_t>& data) {
-  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out = "data:" + std::string(mime_type) + ";base64,";
-  for (size_t i = 0; i < data.size(); i += 3) {
-    const uint32_t n = (uint32_t(data[i]) << 16) | (i + 1 < data.size() ? uint32_t(data[i + 1]) << 8 : 0) |
-                       (i + 2 < data.size() ? uint32_t(data[i + 2]) : 0);
-    out += k[(n >> 18) & 63];
-    out += k[(n >> 12) & 63];
-    out += i + 1 < data.size() ? k[(n >> 6) & 63] : '=';
-    out += i + 2 < data.size() ? k[n & 63] : '=';
-  }
-  return out;
+  return "data:" + std::string(mime_type) + ";base64," +
+         Base64Encode(std::string_view(reinterpret_cast<const char*>(data.data()), data.size()));
 }
 
 std::string TinyPngUri() {
