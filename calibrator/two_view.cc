@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -299,6 +300,53 @@ Rigid3d RefineRelativePose(const std::vector<Eigen::Vector3d>& bearings_a,
   return Rigid3d(q.normalized(), t.normalized());
 }
 
+namespace {
+
+// The essential matrix's pose (unit translation) from normalised coordinates of bearings in front
+// of both cameras, or why there is none.
+struct EssentialFit {
+  std::optional<Rigid3d> pose;
+  std::string failure;
+};
+EssentialFit FitEssential(const std::vector<cv::Point2d>& pa, const std::vector<cv::Point2d>& pb, double thr,
+                          const TwoViewOptions& options) {
+  EssentialFit fit;
+  if (static_cast<int>(pa.size()) < std::max(5, options.min_matches)) {
+    fit.failure = "too few correspondences in front of both cameras for the essential matrix (" +
+                  std::to_string(pa.size()) + ")";
+    return fit;
+  }
+  try {
+    const cv::Mat k = cv::Mat::eye(3, 3, CV_64F);
+    cv::Mat mask;
+    // With K = I, USAC's threshold (pixels divided by the mean focal length) is our angle.
+    cv::Mat e = cv::findEssentialMat(pa, pb, k, cv::USAC_MAGSAC, options.ransac_confidence, thr,
+                                     options.ransac_max_iterations, mask);
+    if (e.rows < 3 || e.cols != 3) {
+      fit.failure = "essential matrix estimation found no model";
+      return fit;
+    }
+    cv::Mat r_cv, t_cv;
+    const int good = cv::recoverPose(e.rowRange(0, 3), pa, pb, k, r_cv, t_cv, mask);
+    if (good < 5) {
+      fit.failure = "pose recovery left " + std::to_string(good) + " points in front of both cameras";
+      return fit;
+    }
+    Eigen::Matrix3d r;
+    Eigen::Vector3d t;
+    for (int y = 0; y < 3; ++y) {
+      for (int x = 0; x < 3; ++x) r(y, x) = r_cv.at<double>(y, x);
+      t(y) = t_cv.at<double>(y);
+    }
+    fit.pose = Rigid3d(r, t.normalized());
+  } catch (const cv::Exception& ex) {
+    fit.failure = std::string("essential matrix estimation failed: ") + ex.what();
+  }
+  return fit;
+}
+
+}  // namespace
+
 TwoViewResult EstimateRelativePoseFromBearings(const std::vector<Eigen::Vector3d>& fa,
                                                const std::vector<Eigen::Vector3d>& fb, double thr,
                                                const TwoViewOptions& options) {
@@ -334,42 +382,10 @@ TwoViewResult EstimateRelativePoseFromBearings(const std::vector<Eigen::Vector3d
       pb.emplace_back(fb[i].x() / fb[i].z(), fb[i].y() / fb[i].z());
     }
   }
-  std::string essential_failure;
-  bool have_pose = false;
-  Rigid3d pose;
-  if (static_cast<int>(front.size()) < std::max(5, options.min_matches)) {
-    essential_failure = "too few correspondences in front of both cameras for the essential matrix (" +
-                        std::to_string(front.size()) + ")";
-  } else {
-    try {
-      const cv::Mat k = cv::Mat::eye(3, 3, CV_64F);
-      cv::Mat mask;
-      // With K = I, USAC's threshold (pixels divided by the mean focal length) is our angle.
-      cv::Mat e = cv::findEssentialMat(pa, pb, k, cv::USAC_MAGSAC, options.ransac_confidence, thr,
-                                       options.ransac_max_iterations, mask);
-      if (e.rows < 3 || e.cols != 3) {
-        essential_failure = "essential matrix estimation found no model";
-      } else {
-        cv::Mat r_cv, t_cv;
-        const int good = cv::recoverPose(e.rowRange(0, 3), pa, pb, k, r_cv, t_cv, mask);
-        if (good < 5) {
-          essential_failure = "pose recovery left " + std::to_string(good) + " points in front of both cameras";
-        } else {
-          Eigen::Matrix3d r;
-          Eigen::Vector3d t;
-          for (int y = 0; y < 3; ++y) {
-            for (int x = 0; x < 3; ++x) r(y, x) = r_cv.at<double>(y, x);
-            t(y) = t_cv.at<double>(y);
-          }
-          pose = Rigid3d(r, t.normalized());
-          have_pose = true;
-        }
-      }
-    } catch (const cv::Exception& ex) {
-      essential_failure = std::string("essential matrix estimation failed: ") + ex.what();
-    }
-  }
-
+  const EssentialFit essential = FitEssential(pa, pb, thr, options);
+  const std::string& essential_failure = essential.failure;
+  const bool have_pose = essential.pose.has_value();
+  Rigid3d pose = essential.pose.value_or(Rigid3d());
   std::vector<int> inliers;
   auto collect_inliers = [&](const Rigid3d& p, double limit) {
     std::vector<int> in;
