@@ -126,7 +126,7 @@ show "$merge"
 expect_states "$array" "0 COMPLETED;1 COMPLETED;2 FAILED;3 COMPLETED;"
 expect_states "$merge" "- CANCELLED;"
 [ ! -e "$work/failing/results.csv" ] || fail "the merge wrote results although a task failed"
-grep -q "exists and is not a folder" "$work/failing/slurm/logs/shard-2.log" || fail "task 2's log does not say why it failed"
+grep -q "is a file, not a folder" "$work/failing/slurm/logs/shard-2.log" || fail "task 2's log does not say why it failed"
 say "2. task 2 of job array $array FAILED, merge $merge CANCELLED, no results written"
 
 rm "$work/failing/shards/2"
