@@ -1,0 +1,36 @@
+// Rigs the calibrator once placed only their first camera of: the demo's ring at a classroom's
+// 640x360 over 2 frames. Every camera must now get a full pose within the evaluation's tolerance,
+// in both default modes, and none may be placed outside it (the calibration may give up on a
+// camera, but must not report a wrong pose as calibrated).
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "testing/temp_dir.h"
+#include "tests/rigsim_cli.h"
+
+namespace rigsim {
+namespace {
+namespace fs = std::filesystem;
+
+TEST(SmallRigCalibration, TheDemoRingAt640x360OverTwoFramesIsCalibratedAndRight) {
+  const TempDir dir;
+  const CliResult demo = RunRigsim({"demo", "--out", (dir / "demo").string(), "--width", "640", "--height", "360",
+                                    "--frames", "2", "--spp", "1", "--no-report"},
+                                   dir / "demo", std::chrono::seconds(300));
+  ASSERT_EQ(demo.code, 0) << demo.out << demo.err;
+  const nlohmann::json evaluation = nlohmann::json::parse(ReadFile(dir / "demo" / "calibration" / "evaluation.json"));
+  for (const std::string mode : {"none", "mask"}) {
+    const nlohmann::json& rig = evaluation.at("methods").at(mode).at("rig");
+    EXPECT_EQ(rig.at("summary").at("cameras_within_tolerance"), 4) << mode << ": " << rig.at("summary").dump();
+    EXPECT_EQ(rig.at("summary").at("cameras_calibrated_outside_tolerance"), 0) << mode;
+    for (const nlohmann::json& camera : rig.at("cameras")) {
+      EXPECT_EQ(camera.at("within_tolerance"), true) << mode << " " << camera.dump();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace rigsim
