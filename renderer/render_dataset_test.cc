@@ -279,14 +279,6 @@ TEST(RenderDatasetTest, PhotometricVariationChangesOnlyRgbAndIsRecorded) {
 }
 
 
-// Every file of a dataset folder by relative path, with its bytes.
-std::map<std::string, std::string> FilesOf(const fs::path& dir) {
-  std::map<std::string, std::string> files;
-  for (const auto& e : fs::recursive_directory_iterator(dir)) {
-    if (e.is_regular_file()) files[fs::relative(e.path(), dir).string()] = ReadFile(e.path());
-  }
-  return files;
-}
 
 // Five frames, every extra output, photometric differences and a rolling-shutter camera: all that
 // a shard must reproduce of the frames it renders and the merge of what spans frames.
@@ -325,7 +317,7 @@ TEST(RenderShardsTest, MergedShardsAreByteIdenticalToOneRender) {
   EXPECT_TRUE(fs::exists(DatasetLayout(shards[1]).Image("cam0", "000002")));
   EXPECT_FALSE(fs::exists(DatasetLayout(shards[1]).Image("cam0", "000003")));
   MergeRenderShards(dir / "merged", {shards[2], shards[0], shards[1]}, false);
-  const auto expected = FilesOf(dir / "whole"), merged = FilesOf(dir / "merged");
+  const auto expected = FilesUnder(dir / "whole"), merged = FilesUnder(dir / "merged");
   ASSERT_GT(expected.size(), 80u);
   EXPECT_TRUE(expected.count("poses.json") && expected.count("instances_coco.json") && expected.count("photometric.json"));
   EXPECT_TRUE(expected.count("flow/cam0/000002.exr")) << "the flow from a shard's first frame's predecessor";

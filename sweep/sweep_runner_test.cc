@@ -167,12 +167,8 @@ TEST(SweepRunner, ResumesOrRestartsOnlyInAFolderASweepWrote) {
 
 // Every file of a sweep folder's results, by relative path (cells/ and sweep.json aside).
 std::map<std::string, std::string> ResultFiles(const fs::path& out) {
-  std::map<std::string, std::string> files;
-  for (const auto& e : fs::recursive_directory_iterator(out)) {
-    const std::string rel = fs::relative(e.path(), out).string();
-    if (!e.is_regular_file() || rel.rfind("cells", 0) == 0 || rel == "sweep.json") continue;
-    files[rel] = ReadFile(e.path());
-  }
+  std::map<std::string, std::string> files = FilesUnder(out);
+  std::erase_if(files, [](const auto& f) { return f.first.rfind("cells", 0) == 0 || f.first == "sweep.json"; });
   return files;
 }
 

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <string>
 
 namespace rigsim {
@@ -39,5 +40,8 @@ class TempDir {
 std::string ReadFile(const std::filesystem::path& path);
 // Writes `bytes` (text or binary) to `path`, replacing it; throws std::runtime_error when it cannot.
 void WriteFile(const std::filesystem::path& path, const std::string& bytes);
+// Every regular file below `dir` by its path relative to `dir`, with its bytes: for comparing two
+// output folders byte for byte.
+std::map<std::string, std::string> FilesUnder(const std::filesystem::path& dir);
 
 }  // namespace rigsim

@@ -15,13 +15,6 @@ namespace rigsim {
 namespace {
 namespace fs = std::filesystem;
 
-std::map<std::string, std::string> FilesOf(const fs::path& dir) {
-  std::map<std::string, std::string> files;
-  for (const auto& e : fs::recursive_directory_iterator(dir)) {
-    if (e.is_regular_file()) files[fs::relative(e.path(), dir).string()] = ReadFile(e.path());
-  }
-  return files;
-}
 
 std::vector<std::string> Render(const TempDir& dir, const std::string& out, std::vector<std::string> more = {}) {
   std::vector<std::string> args = {"render", "--scene", std::string(RIGSIM_SOURCE_DIR) + "/assets/scenes/street.glb",
@@ -50,7 +43,7 @@ TEST(RenderShardsCli, ShardsMergeIntoTheOneMachineRender) {
   const CliResult merged = RunRigsim(merge, dir / "merge");
   ASSERT_EQ(merged.code, 0) << merged.err;
   EXPECT_NE(merged.out.find("merged 3 shards (4 frames)"), std::string::npos) << merged.out;
-  const auto expected = FilesOf(dir / "whole"), got = FilesOf(dir / "merged");
+  const auto expected = FilesUnder(dir / "whole"), got = FilesUnder(dir / "merged");
   ASSERT_EQ(got.size(), expected.size());
   for (const auto& [name, bytes] : expected) EXPECT_TRUE(got.count(name) && got.at(name) == bytes) << name;
 
