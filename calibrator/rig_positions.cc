@@ -231,6 +231,14 @@ PositionSolution SolvePositionSystem(const std::vector<std::vector<Ray>>& rays, 
   return out;
 }
 
+// No camera or frame placed yet: the result both estimates start from.
+RigPositions NoPositions(int num_cameras, int num_frames) {
+  RigPositions out;
+  out.centre_in_rig.assign(num_cameras, std::nullopt);
+  out.rig_centre_in_world.assign(num_frames, std::nullopt);
+  return out;
+}
+
 }  // namespace
 
 void RigPositionOptions::Check() const {
@@ -251,9 +259,7 @@ RigPositions EstimateRigPositions(const std::vector<Camera>& cameras, const Fram
   if (static_cast<int>(cam_from_rig.size()) != n || static_cast<int>(rig_from_world.size()) != num_frames) {
     throw std::invalid_argument("EstimateRigPositions: one rotation per camera and per frame");
   }
-  RigPositions out;
-  out.centre_in_rig.assign(n, std::nullopt);
-  out.rig_centre_in_world.assign(num_frames, std::nullopt);
+  RigPositions out = NoPositions(n, num_frames);
   if (n == 0 || num_frames == 0 || !cam_from_rig[0] || !rig_from_world[0]) {
     out.reason = "camera 0 or frame 0 has no rotation";
     return out;
@@ -308,9 +314,7 @@ RigPositions EstimateRigPositionsFromDirections(const ViewGraph& graph, const st
   if (static_cast<int>(cam_from_rig.size()) != n) {
     throw std::invalid_argument("EstimateRigPositionsFromDirections: one rotation per camera");
   }
-  RigPositions out;
-  out.centre_in_rig.assign(n, std::nullopt);
-  out.rig_centre_in_world.assign(num_frames, std::nullopt);
+  RigPositions out = NoPositions(n, num_frames);
   if (n == 0 || num_frames == 0 || !cam_from_rig[0] || !rig_from_world[0]) {
     out.reason = "camera 0 or frame 0 has no rotation";
     return out;
