@@ -148,6 +148,9 @@ TEST(MultiFrameRig, OneFrameChainPlacesOnlyWhatThePointsDetermine) {
       EXPECT_LT(r.camera_stats[c].translation_direction_error_deg.value(), 1.0) << c;
     } else {
       EXPECT_EQ(r.camera_status[c].rfind("rotation only: position not", 0), 0u) << r.camera_status[c];
+      // What to change, in the user's terms: one frame has no rig motion to link the positions.
+      EXPECT_NE(r.camera_status[c].find("to place it: several frames while the rig moves"), std::string::npos)
+          << r.camera_status[c];
       EXPECT_FALSE(r.camera_stats[c].translation_direction_error_deg.has_value());
     }
   }
@@ -174,6 +177,10 @@ TEST(MultiFrameRig, CoLocatedCamerasGetRotationsNotMadeUpPositions) {
     EXPECT_EQ(r.camera_status[c].rfind("rotation only: position not determined: the images fix its direction from cam0 "
                                        "to +-", 0),
               0u)
+        << r.camera_status[c];
+    // What to change: the rig turned a degree per frame, too little to show each camera's place.
+    EXPECT_NE(r.camera_status[c].find("to place it: more frames, a path that turns (the rig turned 3.0 deg)"),
+              std::string::npos)
         << r.camera_status[c];
     ASSERT_TRUE(r.camera_stats[c].direction_std_deg.has_value()) << c;
     EXPECT_GT(*r.camera_stats[c].direction_std_deg, RigCalibrationOptions{}.max_direction_std_deg) << c;

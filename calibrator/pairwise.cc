@@ -201,8 +201,13 @@ PairScreening ScreenPairs(const PairwiseJob& job, const DetectedFeatures& featur
         px_b.push_back(fb.keypoints[mt.b].px);
       }
     }
+    // Screening asks whether the views share geometry, not which way the baseline points: a few
+    // thousand keypoints may not decide that where the full matches do.
+    TwoViewOptions screen_two_view = options.two_view;
+    screen_two_view.min_cheirality_points = 1;
+    screen_two_view.cheirality_margin = 1.0;
     const TwoViewResult tv = EstimateRelativePose(job.rig.cameras[pair.a].camera, px_a, job.rig.cameras[pair.b].camera,
-                                                  px_b, options.two_view);
+                                                  px_b, screen_two_view);
     if (!tv.success) {
       out.screened_out[mp] = "screened out (no shared view found among the " + std::to_string(options.screen_features) +
                              " strongest keypoints of " + std::to_string(screen_frames.size()) + " frame(s): " +
@@ -596,6 +601,11 @@ nlohmann::json PairResultToJson(const PairResult& pr) {
   j["homography_inliers"] = tv.num_homography_inliers;
   j["inlier_ratio"] = tv.num_matches > 0 ? nlohmann::json(double(tv.num_inliers) / tv.num_matches) : nlohmann::json(nullptr);
   j["median_residual_deg"] = tv.success ? nlohmann::json(tv.median_residual_deg) : nlohmann::json(nullptr);
+  // Which way the baseline points: of the inliers with parallax enough to tell, how many lie in
+  // front of both cameras under the pose and under the best of the other three.
+  j["cheirality"] = {{"points", tv.cheirality_points},
+                     {"in_front", tv.points_in_front},
+                     {"in_front_otherwise", tv.points_in_front_otherwise}};
   j["rotation_error_deg"] = json_io::OptionalNumber(pr.rotation_error_deg);
   j["translation_direction_error_deg"] = json_io::OptionalNumber(pr.translation_direction_error_deg);
   const std::optional<bool> within = PairWithinTolerance(pr);

@@ -250,6 +250,8 @@ void TwoViewOptions::Check() const {
   if (!(planar_ratio > 0)) fail("planar_ratio must be > 0");
   if (rotation_ransac_iterations < 1) fail("rotation_ransac_iterations must be >= 1");
   if (!(cheirality_min_angle_factor > 0)) fail("cheirality_min_angle_factor must be > 0");
+  if (min_cheirality_points < 1) fail("min_cheirality_points must be >= 1");
+  if (!(cheirality_margin >= 1)) fail("cheirality_margin must be >= 1");
 }
 
 Eigen::Vector2d EpipolarAngularResidual(const Rigid3d& cam_b_from_cam_a, const Eigen::Vector3d& bearing_a,
@@ -444,6 +446,14 @@ TwoViewResult EstimateRelativePoseFromBearings(const std::vector<Eigen::Vector3d
     std::ostringstream why;
     why << "no consistent geometry: " << result.num_essential_inliers << " inliers of " << result.num_valid
         << " matches (need " << required_inliers << ")";
+    return Fail(result, why.str());
+  }
+  if (result.points_in_front < options.min_cheirality_points ||
+      result.points_in_front < options.cheirality_margin * result.points_in_front_otherwise) {
+    std::ostringstream why;
+    why << "the matches do not say which way the baseline points: of " << result.cheirality_points
+        << " inliers with parallax, " << result.points_in_front << " lie in front of both cameras under the best pose and "
+        << result.points_in_front_otherwise << " under another (too little parallax, or matches of repeated structure)";
     return Fail(result, why.str());
   }
   result.cam_b_from_cam_a = pose;

@@ -79,6 +79,12 @@ struct TwoViewOptions {
   // meet at this many times the inlier threshold or more; nearer to parallel, noise alone could
   // put their point on either side.
   double cheirality_min_angle_factor = 4.0;
+  // The chosen pose must put at least min_cheirality_points of those inliers in front of both
+  // cameras, and cheirality_margin times as many as any of the other three poses; otherwise the
+  // matches do not say which way the baseline points (the sign, or the twisted pair, would be
+  // a guess) and the pair fails rather than report a direction that may be reversed.
+  int min_cheirality_points = 10;
+  double cheirality_margin = 3.0;
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;

@@ -104,6 +104,11 @@ TEST(TwoView, FisheyeBeyondNinetyDegrees) {
   EXPECT_LT(TranslationDirectionErrorDeg(r.cam_b_from_cam_a, gt).value(), 0.5);
   EXPECT_GT(r.num_inliers, 360);  // the wide-angle bearings are inliers too
   EXPECT_EQ(r.pair_type, PairType::kGeneral);
+  // Cheirality counts every inlier with parallax, those beyond 90 deg included (depth along the
+  // ray): the right pose puts nearly all of them in front of both cameras, the other three few.
+  EXPECT_GT(r.cheirality_points, 300);
+  EXPECT_GT(r.points_in_front, 0.95 * r.cheirality_points);
+  EXPECT_LT(r.points_in_front_otherwise, 0.05 * r.cheirality_points);
 }
 
 // --- Pair type: planar ---------------------------------------------------------------------------
@@ -182,12 +187,40 @@ TEST(TwoViewPairType, GroundPlaneThroughFisheyeIsPlanar) {
   int beyond_90 = 0;
   for (const Eigen::Vector2d& p : s.px_a) beyond_90 += fisheye.CamFromImg(p)->z() < 0;
   ASSERT_GT(beyond_90, 10);
-  const TwoViewResult r = EstimateRelativePose(fisheye, s.px_a, fisheye, s.px_b, TwoViewOptions());
+  // Which way the baseline points is not this test's question: the plane's essential matrix here
+  // is its other solution (32 deg off), which the cheirality test refuses (see below).
+  TwoViewOptions any_side;
+  any_side.cheirality_margin = 1.0;
+  const TwoViewResult r = EstimateRelativePose(fisheye, s.px_a, fisheye, s.px_b, any_side);
   std::printf("  fisheye ground: H/E inliers %d/%d = %.3f (%d bearings beyond 90 deg)\n", r.num_homography_inliers,
               r.num_essential_inliers, HomographyToEssential(r), beyond_90);
   ASSERT_TRUE(r.success) << r.failure_reason;
   EXPECT_EQ(r.pair_type, PairType::kPlanar) << HomographyToEssential(r);
   EXPECT_GT(HomographyToEssential(r), 0.9);
+}
+
+// A pose that puts a third of the inliers with parallax behind a camera is not an answer: the
+// fisheye ground above gives a pose 32 deg and 79 deg off with 225 points in front and 103 in
+// front under another of the essential matrix's poses, which was reported solved. It is refused,
+// saying why.
+TEST(TwoView, PoseThatPutsManyPointsBehindTheCamerasIsRefused) {
+  const Camera fisheye(CameraModelId::kOpenCVFisheye, 800, 800, {170, 170, 399.5, 399.5, 0.02, -0.005, 0.001, 0.0});
+  const Rigid3d gt(Eigen::Quaterniond(Eigen::AngleAxisd(DegToRad(10.0), Eigen::Vector3d::UnitY())),
+                   Eigen::Vector3d(-0.8, 0.0, 0.3));
+  const Eigen::Vector3d n = Eigen::AngleAxisd(DegToRad(-30.0), Eigen::Vector3d::UnitX()) * Eigen::Vector3d::UnitY();
+  const Scenario s = MakePlanarScenario(fisheye, fisheye, gt, n, 1.5, 400, 0.3, 0.1, 12);
+  TwoViewOptions any_side;
+  any_side.cheirality_margin = 1.0;
+  const TwoViewResult loose = EstimateRelativePose(fisheye, s.px_a, fisheye, s.px_b, any_side);
+  ASSERT_TRUE(loose.success);
+  EXPECT_GT(RotationErrorDeg(loose.cam_b_from_cam_a, gt), 10.0);  // the wrong pose the test is about
+  EXPECT_GT(loose.points_in_front_otherwise, loose.points_in_front / 3);
+
+  const TwoViewResult r = EstimateRelativePose(fisheye, s.px_a, fisheye, s.px_b, TwoViewOptions());
+  EXPECT_FALSE(r.success);
+  EXPECT_EQ(r.failure_reason.rfind("the matches do not say which way the baseline points: of ", 0), 0u)
+      << r.failure_reason;
+  EXPECT_EQ(r.points_in_front, loose.points_in_front);
 }
 
 // Points spread in depth (3-12 m) with the same baseline: far from any one plane.

@@ -60,5 +60,22 @@ TEST(FormatRigTable, OneRowPerCameraAndMethod) {
   EXPECT_NE(FormatRigSummary({r}).find("mask: 1/2 cameras calibrated"), std::string::npos) << FormatRigSummary({r});
 }
 
+// The status is what tells a user what to change; the table once cut it at a column width
+// ("the tracks leave the positi...").
+TEST(FormatRigTable, StatusIsPrintedWhole) {
+  RigCalibrationResult r;
+  r.semantic_mode = "none";
+  r.rig.cameras = {{"cam0", Camera(CameraModelId::kPinhole, 64, 48, {50, 50, 32, 24}), Rigid3d(), 0.0},
+                   {"cam1", Camera(CameraModelId::kPinhole, 64, 48, {50, 50, 32, 24}), std::nullopt, 0.0}};
+  const std::string why =
+      "rotation only: position not observable: the tracks leave the positions undetermined (second smallest "
+      "eigenvalue 15.1 times the smallest); to place it: more frames, a path that turns (the rig turned 2.0 deg), "
+      "more overlap between neighbouring cameras, or a higher resolution";
+  r.camera_status = {"calibrated (reference: rig frame)", why};
+  r.camera_stats.assign(2, {});
+  const std::string table = FormatRigTable({r});
+  EXPECT_NE(table.find(why + "\n"), std::string::npos) << table;
+}
+
 }  // namespace
 }  // namespace rigsim
