@@ -579,6 +579,12 @@ std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path
   return reports;
 }
 
+std::string PairStatus(const PairResult& pr) {
+  if (!pr.two_view.success) return pr.two_view.failure_reason;
+  if (!pr.left_out_by_rig.empty()) return "left out by the rig: " + pr.left_out_by_rig;
+  return "ok";
+}
+
 std::optional<bool> PairWithinTolerance(const PairResult& pr) {
   if (!pr.cam_b_from_cam_a_gt) return std::nullopt;
   if (!pr.two_view.success) return false;
@@ -591,10 +597,10 @@ nlohmann::json PairResultToJson(const PairResult& pr) {
   nlohmann::json j;
   j["cam_a"] = pr.cam_a;
   j["cam_b"] = pr.cam_b;
-  j["success"] = tv.success;
+  j["success"] = pr.Solved();
   j["rotation_only"] = tv.rotation_only;
   j["pair_type"] = tv.success ? nlohmann::json(std::string(PairTypeName(tv.pair_type))) : nlohmann::json(nullptr);
-  j["failure_reason"] = tv.failure_reason;
+  j["failure_reason"] = PairStatus(pr) == "ok" ? std::string() : PairStatus(pr);
   j["frames"] = pr.frames;
   j["matches"] = tv.num_matches;
   j["inliers"] = tv.num_inliers;
@@ -603,6 +609,10 @@ nlohmann::json PairResultToJson(const PairResult& pr) {
   j["median_residual_deg"] = tv.success ? nlohmann::json(tv.median_residual_deg) : nlohmann::json(nullptr);
   // Which way the baseline points: of the inliers with parallax enough to tell, how many lie in
   // front of both cameras under the pose and under the best of the other three.
+  // How well the inliers fix the pose (two_view_uncertainty.h); null without an essential-matrix pose.
+  const bool has_spread = tv.success && !tv.rotation_only;
+  j["rotation_std_deg"] = json_io::OptionalNumber(has_spread ? std::optional<double>(tv.rotation_std_deg) : std::nullopt);
+  j["direction_std_deg"] = json_io::OptionalNumber(has_spread ? std::optional<double>(tv.direction_std_deg) : std::nullopt);
   j["cheirality"] = {{"points", tv.cheirality_points},
                      {"in_front", tv.points_in_front},
                      {"in_front_otherwise", tv.points_in_front_otherwise}};
@@ -633,7 +643,7 @@ namespace {
 // and unknown translations (rotation-only estimate of a rig with a baseline) are infinite.
 double PoseError(const PairResult& pr) {
   const double inf = std::numeric_limits<double>::infinity();
-  if (!pr.two_view.success || !pr.rotation_error_deg) return inf;
+  if (!pr.Solved() || !pr.rotation_error_deg) return inf;
   const bool gt_has_baseline = pr.cam_b_from_cam_a_gt && pr.cam_b_from_cam_a_gt->translation.norm() > 1e-9;
   if (!gt_has_baseline) return *pr.rotation_error_deg;
   if (!pr.translation_direction_error_deg) return inf;
@@ -658,7 +668,7 @@ nlohmann::json ReportToJson(const std::vector<CalibrationReport>& reports) {
         cross += *pr.cross_class_matches;
         cross_correct += pr.cross_class_correct;
       }
-      succeeded += pr.two_view.success;
+      succeeded += pr.Solved();
       rotation_only += pr.two_view.rotation_only;
       planar += pr.two_view.success && pr.two_view.pair_type == PairType::kPlanar;
       matches += pr.two_view.num_matches;
@@ -669,7 +679,7 @@ nlohmann::json ReportToJson(const std::vector<CalibrationReport>& reports) {
         has_truth = true;
         const bool ok = PairWithinTolerance(pr).value_or(false);
         within += ok;
-        succeeded_outside += pr.two_view.success && !ok;
+        succeeded_outside += pr.Solved() && !ok;
         pose_errors.push_back(PoseError(pr));
         rotation_errors.push_back(pr.rotation_error_deg.value_or(std::numeric_limits<double>::infinity()));
       }

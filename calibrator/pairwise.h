@@ -87,6 +87,11 @@ struct PairResult {
   // Matches pooled over the frames (two_view.num_matches), the estimate and its inliers; a pair
   // screened out (CalibrationOptions::screen_features) has failure_reason set and no matches.
   TwoViewEstimate two_view;
+  // Why the rig stage did not trust the pair's pose (it disagreed with the rig the other pairs
+  // make, or its rotation was an outlier of rotation averaging); empty when it did, or before it ran.
+  std::string left_out_by_rig;
+  // Solved, and kept by the rig stage: what the calibrator stands by.
+  bool Solved() const { return two_view.success && left_out_by_rig.empty(); }
 
   // Ground truth, when rig.json has the poses.
   std::optional<Rigid3d> cam_b_from_cam_a_gt;  // metric
@@ -166,6 +171,10 @@ std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path
                                                      const CalibrationOptions& options,
                                                      const std::vector<SemanticMode>& modes,
                                                      std::vector<PairwiseMatchData>* match_data = nullptr);
+
+// What the calibrator says of the pair: "ok", the two-view failure reason, or "left out by the rig:
+// <why>" (PairResult::left_out_by_rig).
+std::string PairStatus(const PairResult& pair);
 
 // The pair's pose against the truth (evaluation.h PoseTolerance, pair bounds): nullopt without
 // the truth, false for a failed pair; a rotation-only pair is judged on its rotation.

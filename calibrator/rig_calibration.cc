@@ -717,6 +717,15 @@ RigCalibrationResult CalibrateRig(const std::filesystem::path& dataset_dir, cons
   return CalibrateRig(dataset_dir, options, std::vector<SemanticMode>{mode}).front();
 }
 
+void MarkPairsTheRigLeftOut(RigCalibrationResult* result) {
+  for (const RigEdgeStats& e : result->edges) {
+    if (!e.rejected && !e.rotation_outlier) continue;
+    for (PairResult& pr : result->pairwise.pairs) {
+      if (pr.cam_a == e.cam_a && pr.cam_b == e.cam_b) pr.left_out_by_rig = e.status;
+    }
+  }
+}
+
 std::vector<RigCalibrationResult> CalibrateRig(const std::filesystem::path& dataset_dir,
                                                const RigCalibrationOptions& options,
                                                const std::vector<SemanticMode>& modes) {
@@ -738,6 +747,7 @@ std::vector<RigCalibrationResult> CalibrateRig(const std::filesystem::path& data
     r.semantic_mode = reports[m].semantic_mode;
     for (size_t c = 0; c < truth.cameras.size(); ++c) r.rig.cameras[c].time_offset_s = truth.cameras[c].time_offset_s;
     r.pairwise = reports[m];
+    MarkPairsTheRigLeftOut(&r);
     r.inlier_samples = InlierSamples(truth, reports[m], data[m]);
     if (options.pairwise.evaluate) EvaluateRigAgainstTruth(truth, &r);
     if (r.details) r.details->matches = std::move(data[m]);

@@ -236,6 +236,10 @@ struct RigCalibrationResult {
 // std::invalid_argument on inconsistent observations or a known distance naming an unknown camera.
 RigCalibrationResult EstimateRig(const RigObservations& observations, const RigCalibrationOptions& options);
 
+// Sets PairResult::left_out_by_rig on result->pairwise's pairs whose edge the rig stage rejected or
+// found a rotation outlier: the pair's own pose is then no longer what the calibrator stands by.
+void MarkPairsTheRigLeftOut(RigCalibrationResult* result);
+
 // Fills the per-camera errors from `truth` (every cam_from_rig known); sets result->evaluated.
 void EvaluateRigAgainstTruth(const Rig& truth, RigCalibrationResult* result);
 

@@ -200,6 +200,27 @@ TEST_F(RigCalibrationTest, PairWhoseDirectionDisagreesWithTheRigIsRejected) {
     EXPECT_FALSE(r.edges[p].rejected) << r.edges[p].cam_a << "-" << r.edges[p].cam_b << ": " << r.edges[p].status;
     EXPECT_LT(r.edges[p].rotation_disagreement_deg.value(), 1.0);
   }
+  // The pair's own result says the calibrator no longer stands by it: not "ok", not a success in
+  // evaluation.json (the surround rig's 160 deg pair stayed "ok" there).
+  for (const RigEdgeStats& edge : r.edges) {
+    PairResult pr;
+    pr.cam_a = edge.cam_a;
+    pr.cam_b = edge.cam_b;
+    pr.two_view.success = true;
+    r.pairwise.pairs.push_back(pr);
+  }
+  MarkPairsTheRigLeftOut(&r);
+  for (size_t p = 0; p < r.edges.size(); ++p) {
+    const PairResult& pr = r.pairwise.pairs[p];
+    if (static_cast<int>(p) != e) {
+      EXPECT_EQ(PairStatus(pr), "ok");
+      continue;
+    }
+    EXPECT_EQ(PairStatus(pr).rfind("left out by the rig: disagrees with the rig: its rotation is ", 0), 0u) << PairStatus(pr);
+    const nlohmann::json j = PairResultToJson(pr);
+    EXPECT_FALSE(j["success"].get<bool>());
+    EXPECT_EQ(j["failure_reason"], PairStatus(pr));
+  }
 }
 
 TEST_F(RigCalibrationTest, CameraZeroAloneCalibratesNothingElse) {

@@ -76,8 +76,8 @@ std::string FormatPairTable(const std::vector<CalibrationReport>& reports, const
       // Type: what the matches determine (two_view.h: general, planar, rotation-only).
       const TwoViewEstimate& tv = p.two_view;
       const std::string type = tv.success ? std::string(PairTypeName(tv.pair_type)) : "-";
-      std::string status = tv.success ? "ok" : tv.failure_reason;
-      if (tv.success && !PairWithinTolerance(p).value_or(true)) status += " (outside tolerance against the truth)";
+      std::string status = PairStatus(p);
+      if (p.Solved() && !PairWithinTolerance(p).value_or(true)) status += " (outside tolerance against the truth)";
       // The status goes last and whole: it says what to do.
       std::snprintf(line, sizeof(line), "%-14s %7s  %-10s %8d %8d %9s %10s %10s  %-13s  ", pair.c_str(), ov.c_str(),
                     reports[m].semantic_mode.c_str(), tv.num_matches, tv.num_inliers,
@@ -99,7 +99,7 @@ std::string FormatSummary(const std::vector<CalibrationReport>& reports, const O
       if (!IsNeighbour(overlap, p)) continue;
       ++neighbours;
       if (p.match_precision) prec.push_back(*p.match_precision);
-      if (!p.two_view.success) continue;
+      if (!p.Solved()) continue;
       ++solved;
       if (p.rotation_error_deg) rot.push_back(*p.rotation_error_deg);
       if (p.translation_direction_error_deg) tdir.push_back(*p.translation_direction_error_deg);
