@@ -609,10 +609,6 @@ nlohmann::json PairResultToJson(const PairResult& pr) {
   j["median_residual_deg"] = tv.success ? nlohmann::json(tv.median_residual_deg) : nlohmann::json(nullptr);
   // Which way the baseline points: of the inliers with parallax enough to tell, how many lie in
   // front of both cameras under the pose and under the best of the other three.
-  // How well the inliers fix the pose (two_view_uncertainty.h); null without an essential-matrix pose.
-  const bool has_spread = tv.success && !tv.rotation_only;
-  j["rotation_std_deg"] = json_io::OptionalNumber(has_spread ? std::optional<double>(tv.rotation_std_deg) : std::nullopt);
-  j["direction_std_deg"] = json_io::OptionalNumber(has_spread ? std::optional<double>(tv.direction_std_deg) : std::nullopt);
   j["cheirality"] = {{"points", tv.cheirality_points},
                      {"in_front", tv.points_in_front},
                      {"in_front_otherwise", tv.points_in_front_otherwise}};

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
 #include <random>
 #include <optional>
 #include <sstream>
@@ -17,7 +16,6 @@
 #include <opencv2/core.hpp>
 
 #include "calibrator/cost_functions.h"
-#include "calibrator/two_view_uncertainty.h"
 
 namespace rigsim {
 namespace {
@@ -231,8 +229,6 @@ TwoViewEstimate ToEstimate(const TwoViewResult& result, int num_matches) {
   e.num_inliers = result.num_inliers;
   e.num_homography_inliers = result.num_homography_inliers;
   e.median_residual_deg = result.median_residual_deg;
-  e.rotation_std_deg = result.rotation_std_deg;
-  e.direction_std_deg = result.direction_std_deg;
   e.cheirality_points = result.cheirality_points;
   e.points_in_front = result.points_in_front;
   e.points_in_front_otherwise = result.points_in_front_otherwise;
@@ -255,8 +251,6 @@ void TwoViewOptions::Check() const {
   if (rotation_ransac_iterations < 1) fail("rotation_ransac_iterations must be >= 1");
   if (!(cheirality_min_angle_factor > 0)) fail("cheirality_min_angle_factor must be > 0");
   if (min_cheirality_points < 1) fail("min_cheirality_points must be >= 1");
-  if (!(max_rotation_std_deg > 0)) fail("max_rotation_std_deg must be > 0");
-  if (!(max_direction_std_deg > 0)) fail("max_direction_std_deg must be > 0");
   if (!(cheirality_margin >= 1)) fail("cheirality_margin must be >= 1");
 }
 
@@ -460,16 +454,6 @@ TwoViewResult EstimateRelativePoseFromBearings(const std::vector<Eigen::Vector3d
     why << "the matches do not say which way the baseline points: of " << result.cheirality_points
         << " inliers with parallax, " << result.points_in_front << " lie in front of both cameras under the best pose and "
         << result.points_in_front_otherwise << " under another (too little parallax, or matches of repeated structure)";
-    return Fail(result, why.str());
-  }
-  const TwoViewUncertainty spread = EstimateTwoViewUncertainty(pose, fa, fb, inliers);
-  result.rotation_std_deg = spread.rotation_std_deg;
-  result.direction_std_deg = spread.direction_std_deg;
-  if (spread.rotation_std_deg > options.max_rotation_std_deg || spread.direction_std_deg > options.max_direction_std_deg) {
-    std::ostringstream why;
-    why << std::fixed << std::setprecision(2) << "the matches do not determine the pose: they fix its rotation to +-"
-        << spread.rotation_std_deg << " deg and its baseline direction to +-" << std::setprecision(1)
-        << spread.direction_std_deg << " deg only (too small a shared view, or too little parallax)";
     return Fail(result, why.str());
   }
   result.cam_b_from_cam_a = pose;

@@ -12,7 +12,6 @@
 // pixels as named; radians inside.
 #pragma once
 
-#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -86,10 +85,6 @@ struct TwoViewOptions {
   // a guess) and the pair fails rather than report a direction that may be reversed.
   int min_cheirality_points = 10;
   double cheirality_margin = 3.0;
-  // A pose whose inliers fix its rotation or its baseline direction less well than this (first-order
-  // standard deviation, two_view_uncertainty.h) fails: the matches do not determine it.
-  double max_rotation_std_deg = std::numeric_limits<double>::infinity();
-  double max_direction_std_deg = std::numeric_limits<double>::infinity();
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;
@@ -107,9 +102,6 @@ struct TwoViewEstimate {
   int num_inliers = 0;                      // of the reported model
   int num_homography_inliers = 0;           // of the homography the planar test fits
   double median_residual_deg = 0.0;         // median angular residual of the inliers
-  // How well the inliers fix the pose (TwoViewResult below).
-  double rotation_std_deg = 0.0;
-  double direction_std_deg = 0.0;
   // Cheirality (TwoViewResult below).
   int cheirality_points = 0;
   int points_in_front = 0;
@@ -133,10 +125,6 @@ struct TwoViewResult {
   int num_homography_inliers = 0;   // of the homography (0 when not fitted: rotation-only or no pose)
   int num_valid = 0;                // correspondences with a valid bearing in both cameras
   double median_residual_deg = 0.0;  // median angular residual of the inliers
-  // First-order standard deviations of the essential-matrix pose's rotation and baseline direction
-  // (two_view_uncertainty.h); 0 when not computed (no pose, rotation-only).
-  double rotation_std_deg = 0.0;
-  double direction_std_deg = 0.0;
   // Cheirality of the essential-matrix pose: the inliers with parallax enough to tell
   // (TwoViewOptions::cheirality_min_angle_factor), how many of them the reported pose puts in
   // front of both cameras, and how many the best of the other three poses would.
