@@ -21,6 +21,7 @@ RigObservations ObserveSyntheticRig(SyntheticRig& s, const SyntheticObservationO
       auto [estimate, inliers] = EstimatePairFromMatches(obs.cameras, obs.keypoints, a, b, per_frame, options.two_view);
       obs.pairs.push_back(estimate);
       obs.inliers.push_back(std::move(inliers));
+      obs.matches.push_back({a, b, std::move(per_frame)});
     }
   }
   for (int c = 0; c < cameras && options.temporal_pairs; ++c) {
@@ -37,6 +38,7 @@ RigObservations ObserveSyntheticRig(SyntheticRig& s, const SyntheticObservationO
       t.camera = c;
       t.frame = k;
       t.two_view = ToEstimate(tv, static_cast<int>(m.size()));
+      t.matches = m;
       for (size_t i = 0; i < m.size() && tv.success; ++i) {
         if (tv.inlier_mask[i]) t.inliers.push_back(m[i]);
       }

@@ -12,10 +12,13 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <ceres/autodiff_cost_function.h>
+#include <ceres/cost_function.h>
 #include <ceres/rotation.h>
 #include <ceres/sized_cost_function.h>
 
@@ -158,6 +161,37 @@ class RigReprojectionCostFunction final : public ceres::SizedCostFunction<2, 4, 
 
  private:
   ceres::AutoDiffCostFunction<RigReprojectionHeldIntrinsics, 2, 4, 3, 4, 3, 3> held_;
+};
+
+// Gaussian prior of one camera's intrinsics (intrinsics_refinement.h): residual i is
+// weight_i (p_i - given_i), one per parameter, and one more, aspect_weight (fx - fy - (given fx -
+// given fy)), tying the pixels' aspect ratio to the given one. Linear: the Jacobian is constant.
+class IntrinsicsPriorCost final : public ceres::CostFunction {
+ public:
+  IntrinsicsPriorCost(std::vector<double> given, std::vector<double> weights, double aspect_weight)
+      : given_(std::move(given)), weights_(std::move(weights)), aspect_weight_(aspect_weight) {
+    set_num_residuals(static_cast<int>(given_.size()) + 1);
+    mutable_parameter_block_sizes()->push_back(static_cast<int>(given_.size()));
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const int n = static_cast<int>(given_.size());
+    const double* p = parameters[0];
+    for (int i = 0; i < n; ++i) residuals[i] = weights_[i] * (p[i] - given_[i]);
+    residuals[n] = aspect_weight_ * ((p[0] - p[1]) - (given_[0] - given_[1]));
+    if (jacobians != nullptr && jacobians[0] != nullptr) {
+      double* j = jacobians[0];  // row-major (n + 1) x n
+      std::fill(j, j + (n + 1) * n, 0.0);
+      for (int i = 0; i < n; ++i) j[i * n + i] = weights_[i];
+      j[n * n + 0] = aspect_weight_;
+      j[n * n + 1] = -aspect_weight_;
+    }
+    return true;
+  }
+
+ private:
+  std::vector<double> given_, weights_;
+  double aspect_weight_;
 };
 
 // The cost of one observation of `camera`; its intrinsics block must have camera.params().size()

@@ -81,6 +81,8 @@ void RigBundleAdjustmentOptions::Check() const {
   if (coarse_points < 0) fail("coarse_points must be >= 0");
   if (max_iterations < 1) fail("max_iterations must be >= 1");
   if (num_threads < 1) fail("num_threads must be >= 1");
+  if (intrinsics_passes < 1) fail("intrinsics_passes must be >= 1");
+  intrinsics_priors.Check();
 }
 
 std::vector<ViewTrack> BuildViewTracks(int num_cameras, int num_frames, const std::vector<PairMatches>& pairs,
@@ -181,19 +183,20 @@ std::vector<std::optional<Eigen::Quaterniond>> EstimateRigRotations(
 
 namespace {
 
-// Covariance of each camera's centre in the rig (C = -R^T t of cam_from_rig, whose translation
-// block is `ct[c]`) at the solution: the inverse of J^T J (robustified Jacobian, in the tangent
-// spaces of the manifolds) over the poses after the points are eliminated (Schur complement),
-// scaled by the variance of one residual coordinate estimated from the reprojection RMS. The
-// gauge is fixed by the problem itself (camera 0 and frame 0 constant, the scale camera's |t|).
-// Directions the data barely fix have tiny eigenvalues in the reduced system and come out with a
-// huge variance (a pseudo-inverse, not a failure: a camera next to camera 0 must read as
-// uncertain, not as missing). nullopt for cameras not adjusted.
-std::vector<std::optional<Eigen::Matrix3d>> CentreCovariances(ceres::Problem& problem,
-                                                              const std::vector<double*>& pose_blocks,
-                                                              const std::vector<Eigen::Vector4d>& cq,
-                                                              const std::vector<Eigen::Vector3d>& ct, double rms_px) {
-  std::vector<std::optional<Eigen::Matrix3d>> out(ct.size());
+// The inverse of J^T J (robustified Jacobian, in the tangent spaces of the manifolds) over the
+// pose blocks (and the intrinsics blocks when refined: every block that is not a point) after the
+// points are eliminated (Schur complement), in units of the variance of one residual coordinate.
+// The gauge is fixed by the problem itself (camera 0 and frame 0 constant, the scale camera's
+// |t|). Directions the data barely fix have tiny eigenvalues in the reduced system and come out
+// with a huge variance (a pseudo-inverse, not a failure: a camera next to camera 0 must read as
+// uncertain, not as missing).
+struct ReducedCovariance {
+  Eigen::MatrixXd covariance;
+  std::map<const double*, int> offset;  // tangent column of each adjusted pose block
+};
+
+ReducedCovariance PoseCovariance(ceres::Problem& problem, const std::vector<double*>& pose_blocks) {
+  ReducedCovariance out;
   // The adjusted pose blocks first, in `pose_blocks` order, then the points. Ceres lists its
   // blocks in the order of their addresses, which differ from run to run: summed in that order
   // the reduced system, and so the covariance, would change in its last bits between runs. The
@@ -208,7 +211,7 @@ std::vector<std::optional<Eigen::Matrix3d>> CentreCovariances(ceres::Problem& pr
     if (std::find(pose_blocks.begin(), pose_blocks.end(), block) == pose_blocks.end()) points.push_back(block);
   }
   std::sort(points.begin(), points.end(), std::less<double*>());
-  std::map<const double*, int> offset;  // tangent column of each pose block
+  std::map<const double*, int>& offset = out.offset;
   int pose_dim = 0;
   for (double* block : poses) {
     offset[block] = pose_dim;
@@ -220,7 +223,10 @@ std::vector<std::optional<Eigen::Matrix3d>> CentreCovariances(ceres::Problem& pr
   ceres::Problem::EvaluateOptions evaluate;
   evaluate.parameter_blocks = ordered;
   ceres::CRSMatrix jacobian;
-  if (!problem.Evaluate(evaluate, nullptr, nullptr, nullptr, &jacobian)) return out;
+  if (!problem.Evaluate(evaluate, nullptr, nullptr, nullptr, &jacobian)) {
+    offset.clear();
+    return out;
+  }
 
   // Rows of one point's observations touch its 3 columns and some pose columns.
   const int num_points = static_cast<int>(points.size());
@@ -265,9 +271,19 @@ std::vector<std::optional<Eigen::Matrix3d>> CentreCovariances(ceres::Problem& pr
   const double top = std::max(eig.eigenvalues().maxCoeff(), 1e-300);
   Eigen::VectorXd inv(pose_dim);
   for (int i = 0; i < pose_dim; ++i) inv[i] = 1.0 / std::max(eig.eigenvalues()[i], 1e-12 * top);
-  const Eigen::MatrixXd covariance = eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
+  out.covariance = eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
+  return out;
+}
 
-  const double variance = 0.5 * rms_px * rms_px;  // per image coordinate
+// Covariance of each camera's centre in the rig (C = -R^T t of cam_from_rig, whose translation
+// block is `ct[c]`) at the solution, `variance` being that of one image coordinate. nullopt for
+// cameras not adjusted.
+std::vector<std::optional<Eigen::Matrix3d>> CentreCovariances(ceres::Problem& problem, const ReducedCovariance& reduced,
+                                                              const std::vector<Eigen::Vector4d>& cq,
+                                                              const std::vector<Eigen::Vector3d>& ct, double variance) {
+  std::vector<std::optional<Eigen::Matrix3d>> out(ct.size());
+  const std::map<const double*, int>& offset = reduced.offset;
+  const Eigen::MatrixXd& covariance = reduced.covariance;
   for (size_t c = 0; c < ct.size(); ++c) {
     const auto it = offset.find(ct[c].data());
     if (it == offset.end()) continue;
@@ -292,10 +308,11 @@ std::vector<std::optional<Eigen::Matrix3d>> CentreCovariances(ceres::Problem& pr
 namespace {
 
 // The bundle adjustment's unknowns as Ceres parameter blocks: per camera cam_from_rig (rotation
-// x, y, z, w; translation) and its intrinsics (held constant), per frame rig_from_world; and
-// what the observations refer to.
+// x, y, z, w; translation) and its intrinsics (held constant unless refined), per frame
+// rig_from_world; and what the observations refer to.
 struct BundleProblem {
-  const std::vector<Camera>& cameras;
+  const std::vector<Camera>& given;  // the intrinsics as given: the priors' centres
+  std::vector<Camera> cameras;       // the current intrinsics
   const FrameKeypoints& keypoints;
   const std::vector<ViewTrack>& tracks;
   const std::vector<std::optional<Rigid3d>>& initial_cam_from_rig;
@@ -307,7 +324,8 @@ struct BundleProblem {
   BundleProblem(const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, const std::vector<ViewTrack>& tracks,
                 const std::vector<std::optional<Rigid3d>>& initial_cam_from_rig,
                 const std::vector<std::optional<Rigid3d>>& initial_rig_from_world)
-      : cameras(cameras),
+      : given(cameras),
+        cameras(cameras),
         keypoints(keypoints),
         tracks(tracks),
         initial_cam_from_rig(initial_cam_from_rig),
@@ -327,6 +345,23 @@ struct BundleProblem {
       rq[k] = initial_rig_from_world[k]->rotation.coeffs();
       rt[k] = initial_rig_from_world[k]->translation;
     }
+  }
+
+  // Takes the intrinsics blocks into `cameras`. A block the solver moved to parameters the model
+  // rejects (a distortion that folds inside the image) goes back to the camera's last valid ones;
+  // returns the cameras that did.
+  std::vector<int> UpdateCameras() {
+    std::vector<int> rejected;
+    for (size_t c = 0; c < cameras.size(); ++c) {
+      if (intrinsics[c] == cameras[c].params()) continue;
+      try {
+        cameras[c] = Camera(cameras[c].model(), cameras[c].width(), cameras[c].height(), intrinsics[c]);
+      } catch (const std::invalid_argument&) {
+        intrinsics[c] = cameras[c].params();
+        rejected.push_back(static_cast<int>(c));
+      }
+    }
+    return rejected;
   }
 
   bool Posed(const ViewObservation& o) const { return initial_cam_from_rig[o.camera] && initial_rig_from_world[o.frame]; }
@@ -414,18 +449,22 @@ struct BundleProblem {
 struct BundleRound {
   size_t point_stride = 1;  // every point, or an even subsample (the coarse first solve)
   bool final_round = false;
+  bool refine_intrinsics = false;  // free the intrinsics, under their priors
+  bool covariance = false;         // compute the covariances (the very last solve)
   int scale_camera = -1;
   bool hold_frames = false;
 };
 
 struct BundleRoundResult {
   int iterations = 0;
-  std::vector<std::optional<Eigen::Matrix3d>> centre_covariance;  // final round only
+  // With BundleRound::covariance only.
+  std::vector<std::optional<Eigen::Matrix3d>> centre_covariance;
+  std::vector<std::vector<double>> intrinsics_stddev;  // per camera; empty when not refined
 };
 
 // One Levenberg-Marquardt solve over the points (every `point_stride`-th) and the poses they see,
 // updating the poses in `bp` and the points in place; the final round also yields the camera
-// centres' covariances.
+// centres' covariances (and with refined intrinsics, their standard deviations).
 BundleRoundResult SolveBundle(BundleProblem& bp, std::vector<WorldPoint>& points, const BundleRound& round,
                               const RigBundleAdjustmentOptions& options) {
   const int n = static_cast<int>(bp.cameras.size());
@@ -445,7 +484,19 @@ BundleRoundResult SolveBundle(BundleProblem& bp, std::vector<WorldPoint>& points
   }
   for (int c = 0; c < n; ++c) {
     if (!problem.HasParameterBlock(bp.cq[c].data())) continue;
-    problem.SetParameterBlockConstant(bp.intrinsics[c].data());  // the intrinsics are not refined
+    if (round.refine_intrinsics) {
+      const std::vector<Camera>& centres = options.intrinsics_priors.centres;
+      const Camera& given = centres.empty() ? bp.given[c] : centres.at(c);
+      const std::vector<double> sigma = IntrinsicsPriorSigmas(given, options.intrinsics_priors);
+      std::vector<double> weights;
+      for (double s : sigma) weights.push_back(options.intrinsics_priors.pixel_noise_px / s);
+      const double aspect_weight =
+          options.intrinsics_priors.pixel_noise_px / (options.intrinsics_priors.aspect_fraction * std::abs(given.fx()));
+      problem.AddResidualBlock(new IntrinsicsPriorCost(given.params(), weights, aspect_weight), nullptr,
+                               bp.intrinsics[c].data());
+    } else {
+      problem.SetParameterBlockConstant(bp.intrinsics[c].data());
+    }
     if (c == 0) {  // camera 0 is the rig frame
       problem.SetParameterBlockConstant(bp.cq[c].data());
       problem.SetParameterBlockConstant(bp.ct[c].data());
@@ -480,11 +531,24 @@ BundleRoundResult SolveBundle(BundleProblem& bp, std::vector<WorldPoint>& points
   ceres::Solve(solver_options, &problem, &summary);
   BundleRoundResult out;
   out.iterations = static_cast<int>(summary.iterations.size());
-  if (round.final_round) {
+  if (round.refine_intrinsics) bp.UpdateCameras();
+  if (round.covariance) {
     std::vector<double*> pose_blocks;
     for (int c = 0; c < n; ++c) pose_blocks.insert(pose_blocks.end(), {bp.cq[c].data(), bp.ct[c].data()});
     for (int k = 0; k < num_frames; ++k) pose_blocks.insert(pose_blocks.end(), {bp.rq[k].data(), bp.rt[k].data()});
-    out.centre_covariance = CentreCovariances(problem, pose_blocks, bp.cq, bp.ct, bp.RmsPx(points));
+    for (int c = 0; c < n; ++c) pose_blocks.push_back(bp.intrinsics[c].data());
+    const ReducedCovariance reduced = PoseCovariance(problem, pose_blocks);
+    const double rms_px = bp.RmsPx(points);
+    const double variance = 0.5 * rms_px * rms_px;  // per image coordinate
+    out.centre_covariance = CentreCovariances(problem, reduced, bp.cq, bp.ct, variance);
+    out.intrinsics_stddev.assign(n, {});
+    for (int c = 0; c < n; ++c) {
+      const auto it = reduced.offset.find(bp.intrinsics[c].data());
+      if (it == reduced.offset.end()) continue;
+      for (size_t i = 0; i < bp.intrinsics[c].size(); ++i) {
+        out.intrinsics_stddev[c].push_back(std::sqrt(variance * reduced.covariance(it->second + i, it->second + i)));
+      }
+    }
   }
   return out;
 }
@@ -517,6 +581,7 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
   result.cam_from_rig = initial_cam_from_rig;
   result.rig_from_world = initial_rig_from_world;
   result.observations_per_camera.assign(n, 0);
+  result.cameras = cameras;
 
   BundleProblem bp(cameras, keypoints, tracks, initial_cam_from_rig, initial_rig_from_world);
   const double min_angle = DegToRad(options.min_triangulation_angle_deg);
@@ -529,27 +594,45 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
   // fewer points: solve on an even subsample, then re-triangulate every track from those poses,
   // keeping the observations within max_reprojection_error_px (the poses now tell outliers).
   const bool coarse_first = options.coarse_points > 0 && static_cast<int>(points.size()) > 2 * options.coarse_points;
-  const int first_round = coarse_first ? -1 : 0;
-  for (int round = first_round; round <= options.filter_rounds; ++round) {
-    BundleRound setup;
-    setup.final_round = round == options.filter_rounds;
-    setup.scale_camera = scale_camera;
-    setup.hold_frames = hold_frames;
-    if (round == 0 && first_round < 0) points = bp.Triangulate(min_angle, options.max_reprojection_error_px);
-    if (round > 0) {
-      const int removed = bp.Filter(&points, options.max_reprojection_error_px);
-      result.num_filtered_observations += removed;
-      if (removed == 0) setup.final_round = true;  // nothing left to filter: converge and stop
+  // Solve-and-filter rounds from `first_round` (-1: the coarse one first) until nothing is left to
+  // filter or the rounds run out; `last`: the result's final solve (covariances).
+  auto adjust = [&](int first_round, bool refine, bool last) {
+    for (int round = first_round; round <= options.filter_rounds; ++round) {
+      BundleRound setup;
+      setup.final_round = round == options.filter_rounds;
+      setup.scale_camera = scale_camera;
+      setup.hold_frames = hold_frames;
+      setup.refine_intrinsics = refine;
+      if (round == 0 && first_round < 0) points = bp.Triangulate(min_angle, options.max_reprojection_error_px);
+      if (round > 0) {
+        const int removed = bp.Filter(&points, options.max_reprojection_error_px);
+        result.num_filtered_observations += removed;
+        if (removed == 0) setup.final_round = true;  // nothing left to filter: converge and stop
+      }
+      if (points.empty()) break;
+      setup.point_stride = round < 0 ? points.size() / options.coarse_points : 1;
+      setup.covariance = setup.final_round && last;
+      BundleRoundResult solved = SolveBundle(bp, points, setup, options);
+      result.iterations += solved.iterations;
+      if (setup.final_round) {
+        if (last) {
+          result.centre_covariance = std::move(solved.centre_covariance);
+          if (refine) result.intrinsics_stddev = std::move(solved.intrinsics_stddev);
+        }
+        break;
+      }
     }
-    if (points.empty()) break;
-    setup.point_stride = round < 0 ? points.size() / options.coarse_points : 1;
-    BundleRoundResult solved = SolveBundle(bp, points, setup, options);
-    result.iterations += solved.iterations;
-    if (setup.final_round) {
-      result.centre_covariance = std::move(solved.centre_covariance);
-      break;
-    }
+  };
+  adjust(coarse_first ? -1 : 0, false, !options.refine_intrinsics);
+  // Refining the intrinsics: from the poses the given intrinsics led to, each pass triangulates
+  // every track again (observations the better intrinsics now explain return) and adjusts with
+  // the intrinsics free. The filter's count is the last pass's.
+  for (int pass = 0; options.refine_intrinsics && pass < options.intrinsics_passes; ++pass) {
+    points = bp.Triangulate(min_angle, options.max_reprojection_error_px);
+    result.num_filtered_observations = 0;
+    adjust(0, true, pass + 1 == options.intrinsics_passes);
   }
+  result.cameras = bp.cameras;
 
   for (int c = 0; c < n; ++c) {
     if (initial_cam_from_rig[c]) result.cam_from_rig[c] = Rigid3d(Eigen::Quaterniond(bp.cq[c].data()), bp.ct[c]);

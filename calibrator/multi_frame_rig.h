@@ -13,7 +13,8 @@
 //     cameras' rotations in the rig, averaged over cameras.
 //  3. Positions (rig_positions.h): initial camera and rig centres.
 //  4. Bundle adjustment (MultiFrameRigBundleAdjust, Ceres; its cost is calibrator/cost_functions.h
-//     RigReprojectionCost, the templated camera model with the intrinsics held constant).
+//     RigReprojectionCost, the templated camera model with the intrinsics held constant, or
+//     refined under priors with RigBundleAdjustmentOptions::refine_intrinsics).
 //
 // Gauge: camera 0 in the rig, frame 0's rig in the world; the scale camera's translation is held
 // on a sphere (|its centre| fixed), the caller picks the radius.
@@ -27,6 +28,7 @@
 #include <Eigen/Geometry>
 
 #include "calibrator/correspondences.h"
+#include "calibrator/intrinsics_refinement.h"
 #include "calibrator/view_graph.h"
 #include "geometry/camera.h"
 #include "geometry/rigid3.h"
@@ -82,12 +84,26 @@ struct RigBundleAdjustmentOptions {
   int num_threads = 1;
   // Keep the points and every observation's reprojection error in the result (for a report).
   bool keep_points = false;
+  // Refine each camera's intrinsics too, under Gaussian priors centred on the given ones
+  // (intrinsics_refinement.h). The poses are first adjusted with the given intrinsics held;
+  // then intrinsics_passes times: every track triangulated again from the current poses and
+  // intrinsics, and solved and filtered with the intrinsics free (observations that wrong
+  // intrinsics put beyond max_reprojection_error_px come back as the intrinsics improve).
+  bool refine_intrinsics = false;
+  IntrinsicsPriorOptions intrinsics_priors;
+  int intrinsics_passes = 3;
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;
 };
 
 struct MultiFrameBundleAdjustmentResult {
+  // The cameras as adjusted: the given ones, or with RigBundleAdjustmentOptions::refine_intrinsics
+  // their refined intrinsics (a camera without observations keeps its given ones).
+  std::vector<Camera> cameras;
+  // With refine_intrinsics, per camera that was refined: the standard deviation of each intrinsic
+  // parameter (camera_models.h order) from the covariance at the solution; empty otherwise.
+  std::vector<std::vector<double>> intrinsics_stddev;
   std::vector<std::optional<Rigid3d>> cam_from_rig;    // refined; nullopt where not given
   std::vector<std::optional<Rigid3d>> rig_from_world;  // refined; nullopt where not given
   std::vector<int> observations_per_camera;            // kept in the final solve

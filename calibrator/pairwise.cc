@@ -11,6 +11,7 @@
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
+#include "calibrator/intrinsics_refinement.h"
 #include "dataset/dataset.h"
 #include "dataset/image_io.h"
 #include "dataset/label_image.h"
@@ -47,7 +48,9 @@ struct PairIndex {
 // pairs, and how the stages index their work items.
 struct PairwiseJob {
   DatasetLayout layout;
-  Rig rig;
+  Rig rig;  // with the intrinsics to calibrate with (CalibrationOptions::intrinsics, else rig.json's)
+  // rig.json as read: its intrinsics are the truth the matches are checked with.
+  Rig truth;
   FramesFile frames;
   std::vector<SemanticMode> modes;
   std::vector<PairIndex> pairs;            // every camera pair, a < b in rig order
@@ -109,10 +112,12 @@ struct TemporalFits {
 // 0. Reads rig.json and the frames, and checks that every photo is there and has its camera's
 //    size, from the file headers before any is decoded: a missing or wrong photo stops the run at
 //    once, not after minutes of detection.
-PairwiseJob CheckInputs(const std::filesystem::path& dataset_dir, const std::vector<SemanticMode>& modes) {
+PairwiseJob CheckInputs(const std::filesystem::path& dataset_dir, const std::vector<SemanticMode>& modes,
+                        const CalibrationOptions& options) {
   if (modes.empty()) throw std::invalid_argument("CalibrateDatasetPairs: no semantic mode given");
-  PairwiseJob job{DatasetLayout(dataset_dir), {}, {}, modes, {}, {}};
-  job.rig = ReadRig(job.layout.RigJson());
+  PairwiseJob job{DatasetLayout(dataset_dir), {}, {}, {}, modes, {}, {}};
+  job.truth = ReadRig(job.layout.RigJson());
+  job.rig = CalibrationRig(job.truth, options);
   job.num_cams = static_cast<int>(job.rig.cameras.size());
   if (job.num_cams < 2) throw std::runtime_error(job.layout.RigJson().string() + ": calibration needs at least 2 cameras");
   job.frames = job.layout.ReadFramesOrScan(job.rig.cameras[0].name);
@@ -453,7 +458,7 @@ void AddMatchPrecision(const PairwiseJob& job, const CalibrationOptions& options
     std::vector<ImageU8> labels(job.num_cams);  // the true labels: what a cross-class match is
     for (int c = 0; c < job.num_cams; ++c) {
       if (!have_depth[job.Image(c, f)]) continue;
-      const Camera& camera = job.rig.cameras[c].camera;
+      const Camera& camera = job.truth.cameras[c].camera;
       const auto path = job.layout.Depth(job.rig.cameras[c].name, job.frames.frames[f].name);
       range[c] = ReadImageF(path);
       if (!range[c].SameSize(camera.width(), camera.height()) || range[c].channels != 1) {
@@ -474,7 +479,7 @@ void AddMatchPrecision(const PairwiseJob& job, const CalibrationOptions& options
         Counts& cnt = counts[f * num_mp + mp];
         int at_infinity = 0;
         const std::vector<char> ok =
-            CheckMatches(pa, pb, job.rig.cameras[a].camera, range[a], job.rig.cameras[b].camera, range[b],
+            CheckMatches(pa, pb, job.truth.cameras[a].camera, range[a], job.truth.cameras[b].camera, range[b],
                          *(*reports)[m].pairs[p].cam_b_from_cam_a_gt, options.precision, &at_infinity);
         if (match_data && options.keep_match_details) (*match_data)[m].match_correct[p][f] = ok;
         cnt.evaluated = true;
@@ -526,6 +531,10 @@ void AddMatchPrecision(const PairwiseJob& job, const CalibrationOptions& options
 
 }  // namespace
 
+Rig CalibrationRig(const Rig& rig_json, const CalibrationOptions& options) {
+  return options.intrinsics ? WithGivenIntrinsics(rig_json, options.intrinsics->rig, options.intrinsics->source) : rig_json;
+}
+
 void CalibrationOptions::Check() const {
   features.Check();
   matching.Check();
@@ -545,7 +554,7 @@ std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path
                                                      const std::vector<SemanticMode>& modes,
                                                      std::vector<PairwiseMatchData>* match_data) {
   options.Check();
-  const PairwiseJob job = CheckInputs(dataset_dir, modes);
+  const PairwiseJob job = CheckInputs(dataset_dir, modes, options);
   std::unique_ptr<tbb::global_control> thread_limit;
   if (options.num_threads > 0) {
     thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,

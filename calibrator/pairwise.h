@@ -35,6 +35,7 @@
 #include "calibrator/two_view.h"
 #include "calibrator/view_graph.h"
 #include "dataset/label_source.h"
+#include "geometry/rig.h"
 #include "geometry/rigid3.h"
 #include "labels/cityscapes.h"
 
@@ -56,6 +57,16 @@ struct CalibrationOptions {
   LabelSource labels;
   // Match precision against ground-truth range images.
   MatchPrecisionOptions precision;
+  // Intrinsics to calibrate with instead of rig.json's, e.g. a datasheet's (`rigsim calibrate
+  // --intrinsics FILE`): each camera's model and parameters from the camera of the same name in
+  // `rig`; `source` names it in errors. rig.json's intrinsics stay the truth (what a rendered
+  // dataset's images and depth were made with): matches and refined intrinsics are checked
+  // against them.
+  struct GivenIntrinsics {
+    Rig rig;
+    std::string source;
+  };
+  std::optional<GivenIntrinsics> intrinsics;
   // Compare with the truth when rig.json has every cam_from_rig and depth images exist.
   bool evaluate = true;
   // With match data requested and two or more frames: also match each camera with itself between
@@ -79,6 +90,10 @@ struct CalibrationOptions {
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;
 };
+
+// rig.json's rig with the intrinsics the calibration uses (CalibrationOptions::intrinsics when
+// given). Throws std::invalid_argument when they lack a camera of the rig or differ in size.
+Rig CalibrationRig(const Rig& rig_json, const CalibrationOptions& options);
 
 // One camera pair in the pairwise report: its two-view outcome, errors against the truth and cost.
 struct PairResult {

@@ -11,6 +11,7 @@
 #include "calibrator/camera_centres.h"
 #include "calibrator/evaluation.h"
 #include "calibrator/format.h"
+#include "calibrator/rig_intrinsics.h"
 #include "calibrator/rig_positions.h"
 #include "dataset/dataset.h"
 #include "geometry/json_io.h"
@@ -374,7 +375,7 @@ AdjustedRig AdjustFromEveryStart(const RigObservations& obs, const std::vector<V
                                                  start.rig_from_world, ps.scale_camera, ba_options, !motion.moving));
     RigStartSummary summary;
     summary.source = start.source;
-    summary.cost = TruncatedReprojectionCost(obs.cameras, obs.keypoints, tracks, adjusted.back().cam_from_rig,
+    summary.cost = TruncatedReprojectionCost(adjusted.back().cameras, obs.keypoints, tracks, adjusted.back().cam_from_rig,
                                              adjusted.back().rig_from_world,
                                              options.bundle_adjustment.max_reprojection_error_px,
                                              options.bundle_adjustment.min_triangulation_angle_deg, &summary.observations);
@@ -554,6 +555,20 @@ void CompareEdgesWithRig(const RigObservations& obs, RigCalibrationResult* resul
   }
 }
 
+// The refined intrinsics of the cameras the bundle adjustment refined into the result's rig, with
+// their given values and standard deviations.
+void SetRefinedIntrinsics(const RigObservations& obs, const RigCalibrationOptions& options,
+                          const MultiFrameBundleAdjustmentResult& ba, RigCalibrationResult* result) {
+  const std::vector<Camera>& centres = options.bundle_adjustment.intrinsics_priors.centres;
+  for (size_t c = 0; c < ba.intrinsics_stddev.size() && c < ba.cameras.size(); ++c) {
+    if (ba.observations_per_camera[c] == 0) continue;
+    const Camera& given = centres.empty() ? obs.cameras[c] : centres.at(c);
+    result->rig.cameras[c].camera = ba.cameras[c];
+    result->camera_stats[c].intrinsics = RefinedIntrinsics{given.params(), ba.cameras[c].params(),
+                                                           ba.intrinsics_stddev[c], {}, {}, {}, {}};
+  }
+}
+
 // One pass of the rig stages with the pairs in `rejected` (a reason per pair; empty: not
 // rejected) left out.
 RigCalibrationResult EstimateRigOnce(const RigObservations& obs, const RigCalibrationOptions& options,
@@ -605,6 +620,7 @@ RigCalibrationResult EstimateRigOnce(const RigObservations& obs, const RigCalibr
   result.num_observations = ba.num_observations;
   result.num_filtered_observations = ba.num_filtered_observations;
 
+  SetRefinedIntrinsics(obs, options, ba, &result);
   const ScaledPoses poses = DropUndeterminedAndScale(obs, adjusted, initial, options, known_a, known_b);
   for (int c = 0; c < n; ++c) result.camera_stats[c].direction_std_deg = poses.direction_std_deg[c];
   result.rig_from_world = poses.rig_from_world;
@@ -698,6 +714,7 @@ void EvaluateRigAgainstTruth(const Rig& truth, RigCalibrationResult* result) {
     // The truth with camera 0 as the rig frame (the estimate's gauge).
     const Rigid3d gt = *truth.cameras[c].cam_from_rig * rig_from_cam0;
     RigCameraStats& s = result->camera_stats[c];
+    if (s.intrinsics) CompareIntrinsicsWithTruth(truth.cameras[c].camera, &*s.intrinsics);
     if (!est) {
       if (c < result->cam_from_rig_rotation.size() && result->cam_from_rig_rotation[c]) {
         s.rotation_error_deg = RotationDifferenceDeg(*result->cam_from_rig_rotation[c], gt.rotation);
@@ -741,9 +758,12 @@ std::vector<RigCalibrationResult> CalibrateRig(const std::filesystem::path& data
   CalibrationOptions pairwise = options.pairwise;
   pairwise.keep_match_details = pairwise.keep_match_details || options.keep_details;
   const std::vector<CalibrationReport> reports = CalibrateDatasetPairs(dataset_dir, pairwise, modes, &data);
+  const Rig given = CalibrationRig(truth, options.pairwise);  // the intrinsics to calibrate with
   std::vector<RigCalibrationResult> results;
   for (size_t m = 0; m < modes.size(); ++m) {
-    RigCalibrationResult r = EstimateRig(ObservationsFromPipeline(truth, reports[m], data[m]), options);
+    const RigObservations obs = ObservationsFromPipeline(given, reports[m], data[m]);
+    RigCalibrationResult r =
+        options.bundle_adjustment.refine_intrinsics ? EstimateRigAndIntrinsics(obs, options) : EstimateRig(obs, options);
     r.semantic_mode = reports[m].semantic_mode;
     for (size_t c = 0; c < truth.cameras.size(); ++c) r.rig.cameras[c].time_offset_s = truth.cameras[c].time_offset_s;
     r.pairwise = reports[m];
@@ -798,6 +818,7 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
       j["rotation_error_deg"] = json_io::OptionalNumber(s.rotation_error_deg);
       j["translation_direction_error_deg"] = json_io::OptionalNumber(s.translation_direction_error_deg);
       j["position_error_m"] = json_io::OptionalNumber(s.position_error_m);
+      j["intrinsics"] = s.intrinsics ? RefinedIntrinsicsToJson(*s.intrinsics, r.rig.cameras[c].camera) : nlohmann::json(nullptr);
       const std::optional<bool> ok = CameraWithinTolerance(r, c);
       j["within_tolerance"] = ok ? nlohmann::json(*ok) : nlohmann::json(nullptr);
       within += ok.value_or(false);

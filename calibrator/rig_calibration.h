@@ -35,6 +35,7 @@
 #include "calibrator/pairwise.h"
 #include "calibrator/rig_positions.h"
 #include "calibrator/correspondences.h"
+#include "calibrator/intrinsics_refinement.h"
 #include "calibrator/rotation_averaging.h"
 #include "calibrator/view_graph.h"
 #include "geometry/rig.h"
@@ -131,6 +132,9 @@ struct RigCameraStats {
   // Angle between the estimated and true directions of the camera centre from camera 0's.
   std::optional<double> translation_direction_error_deg;
   std::optional<double> position_error_m;  // metric results only
+  // With RigBundleAdjustmentOptions::refine_intrinsics, for a camera in the bundle adjustment: its
+  // given and refined intrinsics, their standard deviations and, against the truth, their errors.
+  std::optional<RefinedIntrinsics> intrinsics;
 };
 
 struct RigEdgeStats {
@@ -184,7 +188,8 @@ struct RigCalibrationDetails {
 
 struct RigCalibrationResult {
   std::string semantic_mode;
-  // Intrinsics as read; cam_from_rig estimated for calibrated cameras, nullopt otherwise.
+  // Intrinsics as given (refined with RigBundleAdjustmentOptions::refine_intrinsics); cam_from_rig
+  // estimated for calibrated cameras, nullopt otherwise.
   Rig rig;
   // Per camera: the estimated cam_from_rig rotation of calibrated and "rotation only" cameras;
   // nullopt for cameras not connected.
@@ -241,7 +246,8 @@ RigCalibrationResult EstimateRig(const RigObservations& observations, const RigC
 // found a rotation outlier: the pair's own pose is then no longer what the calibrator stands by.
 void MarkPairsTheRigLeftOut(RigCalibrationResult* result);
 
-// Fills the per-camera errors from `truth` (every cam_from_rig known); sets result->evaluated.
+// Fills the per-camera errors from `truth` (every cam_from_rig known), refined intrinsics against
+// its intrinsics; sets result->evaluated.
 void EvaluateRigAgainstTruth(const Rig& truth, RigCalibrationResult* result);
 
 // Whole calibration of a dataset in one semantic mode (overrides options.pairwise.semantic_mode).

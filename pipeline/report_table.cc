@@ -167,4 +167,36 @@ std::string FormatRigSummary(const std::vector<RigCalibrationResult>& results) {
   return out.str();
 }
 
+std::string FormatIntrinsicsTable(const std::vector<RigCalibrationResult>& results) {
+  std::ostringstream out;
+  char line[512];
+  std::snprintf(line, sizeof(line), "%-10s %-10s %18s %18s %16s %16s %10s %10s\n", "camera", "method", "fx change",
+                "fy change", "cx change", "cy change", "focal_err", "pp_err");
+  out << line;
+  if (results.empty()) return out.str();
+  for (size_t c = 0; c < results[0].rig.cameras.size(); ++c) {
+    for (size_t m = 0; m < results.size(); ++m) {
+      const RigCalibrationResult& r = results[m];
+      const std::optional<RefinedIntrinsics>& in = r.camera_stats[c].intrinsics;
+      const char* name = m == 0 ? r.rig.cameras[c].name.c_str() : "";
+      if (!in || in->given.size() < 4 || in->refined.size() < 4) {
+        std::snprintf(line, sizeof(line), "%-10s %-10s not refined (no bundle-adjustment observation)\n", name,
+                      r.semantic_mode.c_str());
+        out << line;
+        continue;
+      }
+      auto stddev = [&](size_t i) { return i < in->stddev.size() ? in->stddev[i] : std::nan(""); };
+      auto focal = [&](size_t i) {
+        return Fmt("%+.3f", 100.0 * (in->refined[i] / in->given[i] - 1.0)) + Fmt(" +-%.3f%%", 100.0 * stddev(i) / in->given[i]);
+      };
+      auto pp = [&](size_t i) { return Fmt("%+.2f", in->refined[i] - in->given[i]) + Fmt(" +-%.2f px", stddev(i)); };
+      std::snprintf(line, sizeof(line), "%-10s %-10s %18s %18s %16s %16s %10s %10s\n", name, r.semantic_mode.c_str(),
+                    focal(0).c_str(), focal(1).c_str(), pp(2).c_str(), pp(3).c_str(),
+                    Opt(in->focal_error_percent, "%.3f%%").c_str(), Opt(in->principal_point_error_px, "%.2f px").c_str());
+      out << line;
+    }
+  }
+  return out.str();
+}
+
 }  // namespace rigsim

@@ -29,5 +29,9 @@ std::string FormatSummary(const std::vector<CalibrationReport>& reports, const O
 std::string FormatRigTable(const std::vector<RigCalibrationResult>& results);
 // One line per method: cameras calibrated, worst errors, reprojection RMS, scale.
 std::string FormatRigSummary(const std::vector<RigCalibrationResult>& results);
+// One row per camera and method with refined intrinsics (RigCameraStats::intrinsics): the change
+// of fx, fy (percent) and cx, cy (px) from the given values with their standard deviations, and
+// the errors against the truth when known.
+std::string FormatIntrinsicsTable(const std::vector<RigCalibrationResult>& results);
 
 }  // namespace rigsim

@@ -6,6 +6,7 @@
 
 #include "apps/rigsim/commands.h"
 #include "apps/rigsim/parse_errors.h"
+#include "calibrator/format.h"
 #include "common/did_you_mean.h"
 #include "dataset/dataset.h"
 #include "dataset/output_folder.h"
@@ -91,6 +92,7 @@ RigCalibrationOptions CalibrateSettings::ToOptions() const {
     }
     o.known_distance = KnownDistance{known_distance[0], known_distance[1], metres};
   }
+  if (!intrinsics.empty()) o.pairwise.intrinsics = CalibrationOptions::GivenIntrinsics{ReadRig(intrinsics), intrinsics};
   o.Check();
   return o;
 }
@@ -117,6 +119,22 @@ void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& s) {
                  "CAM_A CAM_B METRES: distance between two camera centres, the only source of metric\n"
                  "scale; without it the result has unit scale")
       ->expected(3);
+  cmd.add_option("--intrinsics", s.intrinsics,
+                 "FILE: a rig.json whose cameras' intrinsics (model, params; matched by name, same image\n"
+                 "size) are calibrated with instead of DATASET/rig.json's, e.g. a datasheet's. The dataset's\n"
+                 "stay the truth a rendered dataset is compared with")
+      ->check(CLI::ExistingFile);
+  const IntrinsicsPriorOptions priors;
+  cmd.add_flag("--refine-intrinsics", s.options.bundle_adjustment.refine_intrinsics,
+               "refine every camera's intrinsics (focal lengths, principal point, distortion) in the\n"
+               "bundle adjustment, after the poses are found with the given ones, under Gaussian priors\n"
+               "on the given values: sigma " + Fixed(100 * priors.focal_fraction, 0) + "% of the focal length (fx - fy: " +
+                   Fixed(100 * priors.aspect_fraction, 1) + "%), " + Fixed(100 * priors.principal_point_fraction, 1) +
+                   "% of the image's larger side for\n"
+               "the principal point, " + Fixed(priors.first_radial, 2) + " for k1, " + Fixed(priors.higher_radial, 2) +
+                   " for further radial and " + Fixed(priors.tangential, 3) + " for tangential terms. <mode>/rig.json\n"
+               "gets the refined intrinsics; evaluation.json has the given and refined values and their\n"
+               "standard deviations (and errors against the truth for a rendered dataset)");
   FeatureOptions& features = s.options.pairwise.features;
   cmd.add_option("--max-features", features.max_features, "strongest keypoints kept per image (every --features type)")
       ->capture_default_str()
@@ -160,6 +178,7 @@ OutputFolderRequest CalibrationOutputFolder(const std::filesystem::path& dataset
                 {layout.root() / "images", "the dataset's images/"},
                 {layout.root() / "labels", "the dataset's labels/"},
                 {layout.root() / "depth", "the dataset's depth/"}};
+  if (!settings.intrinsics.empty()) out.inputs.push_back({settings.intrinsics, "--intrinsics"});
   const std::string& labels = settings.labels.labels;
   if (labels != "truth" && labels != "noisy" && !labels.empty()) out.inputs.push_back({labels, "--labels"});
   return out;
@@ -225,6 +244,7 @@ CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const Ca
   const CalibrationInputs inputs = ReadCalibrationInputs(dataset);
   for (const std::string& w : inputs.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   CheckKnownDistanceCameras(settings, inputs.rig, DatasetLayout(dataset).RigJson());
+  CalibrationRig(inputs.rig, options.pairwise);  // --intrinsics names every camera, at its size
   StagedOutput staged(out);
 
   std::fprintf(stderr, "calibrating %s (%zu semantic modes%s)...\n", dataset.string().c_str(), modes.size(),
@@ -246,6 +266,11 @@ CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const Ca
               results.empty() || results[0].rig.cameras.empty() ? "camera 0" : results[0].rig.cameras[0].name.c_str());
   std::printf("%s\n", FormatRigTable(results).c_str());
   std::printf("%s", FormatRigSummary(results).c_str());
+  if (options.bundle_adjustment.refine_intrinsics) {
+    std::printf("\nIntrinsics refined in the bundle adjustment (change from the given values, +- one standard "
+                "deviation%s):\n\n%s\n",
+                inputs.truth ? "; error against the truth" : "", FormatIntrinsicsTable(results).c_str());
+  }
   std::printf("calibration took %.1f s; labels: %s; results in %s:\n", run.seconds,
               labels_used ? labels.Describe().c_str() : "not used", out_dir.string().c_str());
   std::printf("  evaluation.json; per mode <mode>/: rig.json, camchain.yaml (Kalibr), opencv.yaml, colmap/, pairs.json,\n"

@@ -44,6 +44,7 @@ struct CalibrateSettings {
   const CLI::Option* semantics_option = nullptr;  // set by AddCalibrateSettingsOptions: given or default
   std::vector<std::string> reliable;        // empty = the defaults of labels/cityscapes.h
   std::vector<std::string> known_distance;  // CAM_A CAM_B METRES, or empty
+  std::string intrinsics;                   // --intrinsics FILE (a rig.json), or empty: the dataset's
   LabelSettings labels;                     // options.pairwise.labels, resolved by ToOptions
   // The options with the names above resolved; throws std::invalid_argument on bad values.
   RigCalibrationOptions ToOptions() const;

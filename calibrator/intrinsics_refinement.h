@@ -1,0 +1,90 @@
+// Refining the cameras' intrinsics in the rig's bundle adjustment (multi_frame_rig.h), from
+// given values a few percent off (a datasheet's): the priors that keep each parameter near its
+// given value, the record of what the refinement made of each camera, its comparison with the
+// true intrinsics of a rendered dataset, and given intrinsics taking the place of rig.json's.
+//
+// The refined parameters are the camera model's own (camera_models.h orders: fx fy cx cy, then
+// the distortion), each with a Gaussian prior centred on its given value, and one more prior
+// tying fx to fy (square pixels).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "geometry/camera.h"
+#include "geometry/rig.h"
+
+namespace rigsim {
+
+// Standard deviations of the priors: how far a datasheet's values may be from a lens's own. Wide
+// enough not to pull on what the images determine (thousands of observations fix a focal length
+// to well under 0.1 %), narrow enough to hold what they do not (a camera with few observations,
+// distortion terms beyond the images' reach).
+struct IntrinsicsPriorOptions {
+  // fx and fy, as a fraction of the given value: a lens's focal length is specified to 1-5 %.
+  double focal_fraction = 0.05;
+  // fx - fy, as a fraction of the given fx: sensors have square pixels to far better than 0.1 %,
+  // and a free aspect ratio would soak up some of the distortion.
+  double aspect_fraction = 0.001;
+  // cx and cy (px), as a fraction of the image's larger side: sensor and lens are centred on each
+  // other to about 1-2 % of the image (30 px on a 1920-pixel image at 2.5 %).
+  double principal_point_fraction = 0.025;
+  // The first radial term (OPENCV/FULL_OPENCV k1, OPENCV_FISHEYE k1): a datasheet without
+  // distortion (0) must still reach a strong barrel lens's k1 of -0.3.
+  double first_radial = 0.3;
+  // Every further radial term (k2.., and FULL_OPENCV's denominator k4 k5 k6).
+  double higher_radial = 0.1;
+  // Tangential terms p1 p2: decentring of a lens is small.
+  double tangential = 0.005;
+  // The priors are weighed against the reprojection errors as if one image coordinate had this
+  // much noise (px): a prior residual is pixel_noise_px * (value - given) / sigma.
+  double pixel_noise_px = 0.5;
+  // Per camera, the intrinsics the priors are centred on; empty: the cameras the bundle
+  // adjustment starts from. Set when it starts from intrinsics refined before (rig_intrinsics.h).
+  std::vector<Camera> centres;
+
+  // Throws std::invalid_argument naming the first bad field.
+  void Check() const;
+};
+
+// The prior's standard deviation of each of `given`'s parameters (camera_models.h order).
+std::vector<double> IntrinsicsPriorSigmas(const Camera& given, const IntrinsicsPriorOptions& options);
+
+// What the refinement made of one camera's intrinsics.
+struct RefinedIntrinsics {
+  std::vector<double> given;    // the parameters the calibration started from (the priors' centres)
+  std::vector<double> refined;  // after the bundle adjustment
+  // Standard deviation of each refined parameter, from the bundle adjustment's covariance; empty
+  // when it could not be computed.
+  std::vector<double> stddev;
+  // Against the truth (a rendered dataset's rig.json), when known: the larger of the fx and fy
+  // errors (percent of the true value) and the principal point's distance from the true one (px).
+  std::optional<double> focal_error_percent;
+  std::optional<double> principal_point_error_px;
+  // The same errors of the given intrinsics, for comparison.
+  std::optional<double> given_focal_error_percent;
+  std::optional<double> given_principal_point_error_px;
+};
+
+// The larger of the fx and fy errors of `estimate` against `truth`, percent of the true value.
+double FocalErrorPercent(const std::vector<double>& estimate, const std::vector<double>& truth);
+// The distance (px) between the principal points of `estimate` and `truth`.
+double PrincipalPointErrorPx(const std::vector<double>& estimate, const std::vector<double>& truth);
+
+// Fills the errors of `refined` against `truth` (same model and size, else nothing is filled).
+void CompareIntrinsicsWithTruth(const Camera& truth, RefinedIntrinsics* refined);
+
+// rig_calibration.json's "intrinsics" entry of a camera: {"model", "given", "refined", "stddev",
+// "focal_change_percent", "principal_point_change_px", errors against the truth or null}.
+nlohmann::json RefinedIntrinsicsToJson(const RefinedIntrinsics& r, const Camera& camera);
+
+// `rig` with each camera's intrinsics (model, size, parameters) taken from the camera of the same
+// name in `intrinsics`, e.g. a datasheet's rig.json (its poses are ignored). Throws
+// std::invalid_argument starting with `source` when a camera of `rig` is not in it, or its image
+// size differs from rig.json's (the photos' size).
+Rig WithGivenIntrinsics(const Rig& rig, const Rig& intrinsics, const std::string& source);
+
+}  // namespace rigsim
