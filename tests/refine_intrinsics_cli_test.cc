@@ -53,13 +53,19 @@ TEST_F(RefineIntrinsicsCli, DatasheetIntrinsicsAreRefinedTowardsTheTruth) {
   const CliResult r = RunRigsim({"calibrate", (Dir() / "demo").string(), "--semantics", "none", "--intrinsics",
                                  (Dir() / "datasheet.json").string(), "--refine-intrinsics", "--out", out.string()},
                                 out, std::chrono::seconds(300));
-  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  // Exit 3: not every camera placed. Two frames at 640x360 leave some positions undetermined once
+  // the intrinsics are free too (a camera placed 6.4 deg off at a direction std of 0.79 deg is
+  // what the 0.5 deg bound on the std now keeps out).
+  ASSERT_TRUE(r.code == 0 || r.code == 3) << r.out << r.err;
   EXPECT_NE(r.out.find("Intrinsics refined in the bundle adjustment"), std::string::npos) << r.out;
   const Json evaluation = Json::parse(ReadFile(out / "evaluation.json"));
   const Json truth = Json::parse(ReadFile(Dir() / "demo" / "rig.json"));
   const Json written = Json::parse(ReadFile(out / "none" / "rig.json"));
   const Json& cameras = evaluation.at("methods").at("none").at("rig").at("cameras");
   ASSERT_EQ(cameras.size(), 4u);
+  int placed = 0;
+  for (const Json& cam : cameras) placed += cam.at("calibrated").get<bool>();
+  EXPECT_GE(placed, 2);  // cam0 and cam2 measured
   for (size_t c = 0; c < cameras.size(); ++c) {
     const Json& in = cameras[c].at("intrinsics");
     ASSERT_FALSE(in.is_null()) << cameras[c].dump();
@@ -72,7 +78,8 @@ TEST_F(RefineIntrinsicsCli, DatasheetIntrinsicsAreRefinedTowardsTheTruth) {
     // rig.json, what a user exports, has the refined values; the given ones are the datasheet's.
     EXPECT_EQ(written.at("cameras")[c].at("params"), in.at("refined")) << c;
     EXPECT_NE(in.at("given"), truth.at("cameras")[c].at("params")) << c;
-    EXPECT_TRUE(cameras[c].at("calibrated").get<bool>()) << cameras[c].dump();
+    // Placed within tolerance, or not placed; never placed wrong. Every rotation is kept, and right.
+    EXPECT_TRUE(cameras[c].at("within_tolerance").get<bool>()) << cameras[c].dump();
     EXPECT_LT(cameras[c].at("rotation_error_deg").get<double>(), 0.5) << cameras[c].dump();
   }
   // The distorted camera's k1 is found from zero.
