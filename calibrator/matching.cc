@@ -7,10 +7,13 @@
 #include <cstring>
 #include <limits>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 #include <Eigen/Core>
+
+#include "calibrator/byte_product.h"
 
 namespace rigsim {
 namespace {
@@ -89,12 +92,19 @@ void MatchSubset(const FeatureSet& a, const std::vector<int>& ia, const FeatureS
   const int block = std::min(options.block_rows, na);
   RowMatrixXf da(block, a.descriptor_size);
   RowMatrixXf d2(block, nb);
+  // The integer product gives the float product's numbers exactly (byte_product.h).
+  std::optional<ByteProductColumns> byte_columns;
+  if (ByteProductAvailable() && DescriptorsAreBytes(a, ia) && DescriptorsAreBytes(b, ib)) byte_columns.emplace(b, ib);
   const float ratio2 = static_cast<float>(options.ratio * options.ratio);
   for (int r0 = 0; r0 < na; r0 += block) {
     const int rows = std::min(block, na - r0);
     GatherRowsInto(a, ia, r0, r0 + rows, &da);
     const Eigen::VectorXf na2 = da.topRows(rows).rowwise().squaredNorm();
-    d2.topRows(rows).noalias() = -2.f * (da.topRows(rows) * db.transpose());
+    if (byte_columns) {
+      byte_columns->MinusTwoDot(a, ia, r0, r0 + rows, d2.data(), nb);
+    } else {
+      d2.topRows(rows).noalias() = -2.f * (da.topRows(rows) * db.transpose());
+    }
     for (int r = 0; r < rows; ++r) {
       float* __restrict row = d2.data() + size_t(r) * nb;
       const float* __restrict nb2p = nb2.data();
