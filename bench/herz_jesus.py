@@ -126,7 +126,8 @@ def fmt(x, spec):
 def summarise(wall, ev, stdout):
     m = ev["methods"]["none"]
     rig = m.get("rig", {})
-    t = rig.get("timing", m.get("timing", {}))
+    t = dict(rig.get("timing", m.get("timing", {})))
+    t["screen_time_s"] = m.get("timing", {}).get("screen_time_s", 0.0)
     took = re.search(r"calibration took ([0-9.]+) s", stdout)
     print(f"  wall {wall:.2f} s (calibration {took.group(1) if took else '?'} s, then the outputs); "
           "stage times summed over threads (s):")

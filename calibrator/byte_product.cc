@@ -100,7 +100,8 @@ void ByteProductColumns::MinusTwoDot(const FeatureSet& a, const std::vector<int>
   std::vector<int8_t> shifted(size_t(rows) * a_stride, 0);  // a - 128; the padding stays 0
   for (int r = 0; r < rows; ++r) {
     const float* d = a.descriptor(ia[begin + r]);
-    for (int k = 0; k < a.descriptor_size; ++k) shifted[size_t(r) * a_stride + k] = static_cast<int8_t>(int(d[k]) - 128);
+    int8_t* row = shifted.data() + size_t(r) * a_stride;
+    for (int k = 0; k < a.descriptor_size; ++k) row[k] = static_cast<int8_t>(int(d[k]) - 128);
   }
   const int groups = (num_columns_ + kGroup - 1) / kGroup;
   const size_t group_bytes = size_t(quads_) * 64;
