@@ -128,9 +128,14 @@ FeatureSet DetectFeatures(const ImageU8& rgb, const ImageU8* labels, const Featu
   int descriptor_size = 0;
   if (sift_like) {
     // detectAndCompute builds the scale space once (detect, then compute for the kept keypoints,
-    // built it twice: 490 against 360 ms for a 1280x720 street view). With no keypoint limit,
-    // OpenCV applies the mask to every keypoint; the strongest are kept below.
-    cv::Ptr<cv::SIFT> sift = cv::SIFT::create(0, options.octave_layers, options.contrast_threshold,
+    // built it twice: 490 against 360 ms for a 1280x720 street view). Without a mask, OpenCV keeps
+    // the strongest max_features (and any tied with the last) before computing descriptors: the
+    // same keypoints as keeping them below, without the descriptors of the rest (a 3072x2048
+    // photo has 20000 keypoints: 2.4 against 1.9 s). With a mask, OpenCV would keep the strongest
+    // before masking, which leaves fewer than max_features, so every keypoint is computed, masked,
+    // and the strongest kept below.
+    const int opencv_budget = mask.empty() ? options.max_features : 0;
+    cv::Ptr<cv::SIFT> sift = cv::SIFT::create(opencv_budget, options.octave_layers, options.contrast_threshold,
                                               options.edge_threshold, options.sigma);
     sift->detectAndCompute(grey, mask, kps, all_desc);
     descriptor_size = sift->descriptorSize();

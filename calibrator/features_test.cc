@@ -91,6 +91,31 @@ TEST(DetectFeatures, MaskKeepsKeypointsOffUnreliableClassesAndSpendsBudgetThere)
   for (const Keypoint& k : limited.keypoints) EXPECT_EQ(k.class_id, 11);
 }
 
+// Without a mask, SIFT's budget goes to OpenCV, which then computes descriptors only for the
+// keypoints it keeps: the result must be the strongest of the unlimited detection, bit for bit.
+TEST(DetectFeatures, SiftBudgetIsTheHeadOfTheUnlimitedDetection) {
+  const ImageU8 img = BlobImage(320, 240, 4);
+  for (FeatureType type : {FeatureType::kSift, FeatureType::kRootSift}) {
+    FeatureOptions options;
+    options.type = type;
+    options.max_features = 0;
+    const FeatureSet all = DetectFeatures(img, nullptr, options);
+    ASSERT_GT(all.size(), 300) << FeatureTypeName(type);
+    for (int n : {1, 97, 250}) {
+      options.max_features = n;
+      const FeatureSet some = DetectFeatures(img, nullptr, options);
+      const FeatureSet head = all.Head(n);
+      ASSERT_EQ(some.size(), n) << FeatureTypeName(type);
+      for (int i = 0; i < n; ++i) {
+        EXPECT_EQ(some.keypoints[i].px, head.keypoints[i].px) << FeatureTypeName(type) << " " << n << " " << i;
+        EXPECT_EQ(some.keypoints[i].size, head.keypoints[i].size);
+        EXPECT_EQ(some.keypoints[i].angle, head.keypoints[i].angle);
+      }
+      EXPECT_EQ(some.descriptors, head.descriptors) << FeatureTypeName(type) << " " << n;
+    }
+  }
+}
+
 TEST(DetectFeatures, DeterministicAndRejectsBadInput) {
   const ImageU8 img = BlobImage(200, 150, 3);
   const FeatureSet a = DetectFeatures(img, nullptr, FeatureOptions());

@@ -7,27 +7,82 @@
 #include <cstring>
 #include <limits>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 #include <Eigen/Core>
+
+#include "calibrator/byte_product.h"
 
 namespace rigsim {
 namespace {
 
 using RowMatrixXf = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-RowMatrixXf GatherRows(const FeatureSet& f, const std::vector<int>& rows) {
-  RowMatrixXf m(rows.size(), f.descriptor_size);
-  for (size_t r = 0; r < rows.size(); ++r) {
-    m.row(r) = Eigen::Map<const Eigen::RowVectorXf>(f.descriptor(rows[r]), f.descriptor_size);
+// Copies the descriptors `rows[begin, end)` of f into the first rows of `out`.
+void GatherRowsInto(const FeatureSet& f, const std::vector<int>& rows, size_t begin, size_t end, RowMatrixXf* out) {
+  for (size_t r = begin; r < end; ++r) {
+    out->row(r - begin) = Eigen::Map<const Eigen::RowVectorXf>(f.descriptor(rows[r]), f.descriptor_size);
   }
-  return m;
+}
+
+// Lanes of the row scan: the top two of each lane are tracked independently, so the compiler can
+// keep a lane per SIMD element instead of a chain of dependent compares.
+constexpr int kScanLanes = 16;
+
+// Nearest and second-nearest of one row of squared distances: ties to the lowest index, and
+// `second` the second smallest value counted with repetition (equal to `best` when the minimum
+// occurs twice), as a plain left-to-right scan gives.
+struct RowTop2 {
+  int index;
+  float best, second;
+};
+
+// One row of the block in a single pass (nb >= 2): each squared distance from the product row
+// `minus_two_dot` and the norms, clamped at 0 (rounding can make it slightly negative); B's
+// column bests updated with row index i (strict '<' in increasing row order: ties go to the
+// lowest index, whatever the blocking); the row's top two.
+RowTop2 ScanRow(const float* __restrict minus_two_dot, float na2, const float* __restrict nb2, int nb, int i,
+                float* __restrict col_best_d2, int* __restrict col_best) {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  float b1[kScanLanes], b2[kScanLanes];
+  int j1[kScanLanes];
+  for (int l = 0; l < kScanLanes; ++l) {
+    b1[l] = b2[l] = kInf;
+    j1[l] = -1;
+  }
+  auto visit = [&](int l, int j) {
+    const float d = std::max((minus_two_dot[j] + na2) + nb2[j], 0.f);
+    const bool below = d < col_best_d2[j];
+    col_best_d2[j] = below ? d : col_best_d2[j];
+    col_best[j] = below ? i : col_best[j];
+    const bool below1 = d < b1[l], below2 = d < b2[l];
+    b2[l] = below1 ? b1[l] : (below2 ? d : b2[l]);
+    j1[l] = below1 ? j : j1[l];
+    b1[l] = below1 ? d : b1[l];
+  };
+  int j0 = 0;
+  for (; j0 + kScanLanes <= nb; j0 += kScanLanes) {
+    for (int l = 0; l < kScanLanes; ++l) visit(l, j0 + l);
+  }
+  for (int j = j0; j < nb; ++j) visit(j - j0, j);
+  int lane = 0;
+  for (int l = 1; l < kScanLanes; ++l) {
+    if (b1[l] < b1[lane] || (b1[l] == b1[lane] && j1[l] >= 0 && (j1[lane] < 0 || j1[l] < j1[lane]))) lane = l;
+  }
+  float second = b2[lane];
+  for (int l = 0; l < kScanLanes; ++l) {
+    if (l != lane) second = std::min(second, b1[l]);
+  }
+  return {j1[lane], b1[lane], second};
 }
 
 // Matches the rows `ia` of A against the rows `ib` of B, appending to `out` (global indices).
 // Squared distances come from |a|^2 + |b|^2 - 2 a.b with one matrix product per block: the product
 // is what brute force costs, and computing it once serves both directions of the mutual check.
+// The block's buffers are allocated once: a fresh 1024 x 12000 block per step costs its page
+// faults again every time.
 void MatchSubset(const FeatureSet& a, const std::vector<int>& ia, const FeatureSet& b, const std::vector<int>& ib,
                  const MatchOptions& options, std::vector<Match>* out, MatchStats* stats) {
   const int na = static_cast<int>(ia.size());
@@ -36,43 +91,37 @@ void MatchSubset(const FeatureSet& a, const std::vector<int>& ia, const FeatureS
   stats->distance_evaluations += int64_t(na) * nb;
   if (nb < 2) return;  // no second-best: the ratio test cannot pass
 
-  const RowMatrixXf db = GatherRows(b, ib);
+  RowMatrixXf db(nb, b.descriptor_size);
+  GatherRowsInto(b, ib, 0, ib.size(), &db);
   const Eigen::VectorXf nb2 = db.rowwise().squaredNorm();
   std::vector<int> best(na, -1);
   std::vector<float> best_d2(na), second_d2(na);
   std::vector<float> col_best_d2(nb, std::numeric_limits<float>::infinity());
   std::vector<int> col_best(nb, -1);
 
+  const int block = std::min(options.block_rows, na);
+  RowMatrixXf da(block, a.descriptor_size);
+  RowMatrixXf d2(block, nb);
+  // The integer product gives the float product's numbers exactly (byte_product.h).
+  std::optional<ByteProductColumns> byte_columns;
+  if (ByteProductAvailable() && DescriptorsAreBytes(a, ia) && DescriptorsAreBytes(b, ib)) byte_columns.emplace(b, ib);
   const float ratio2 = static_cast<float>(options.ratio * options.ratio);
-  for (int r0 = 0; r0 < na; r0 += options.block_rows) {
-    const int rows = std::min(options.block_rows, na - r0);
-    const RowMatrixXf da = GatherRows(a, std::vector<int>(ia.begin() + r0, ia.begin() + r0 + rows));
-    const Eigen::VectorXf na2 = da.rowwise().squaredNorm();
-    RowMatrixXf d2 = -2.f * (da * db.transpose());
-    d2.colwise() += na2;
-    d2.rowwise() += nb2.transpose();
+  for (int r0 = 0; r0 < na; r0 += block) {
+    const int rows = std::min(block, na - r0);
+    GatherRowsInto(a, ia, r0, r0 + rows, &da);
+    const Eigen::VectorXf na2 = da.topRows(rows).rowwise().squaredNorm();
+    if (byte_columns) {
+      byte_columns->MinusTwoDot(a, ia, r0, r0 + rows, d2.data(), nb);
+    } else {
+      d2.topRows(rows).noalias() = -2.f * (da.topRows(rows) * db.transpose());
+    }
     for (int r = 0; r < rows; ++r) {
-      float b1 = std::numeric_limits<float>::infinity(), b2 = b1;
-      int j1 = -1;
-      const float* row = d2.data() + size_t(r) * nb;
-      for (int j = 0; j < nb; ++j) {
-        const float d = std::max(row[j], 0.f);  // rounding can make it slightly negative
-        if (d < b1) {
-          b2 = b1;
-          b1 = d;
-          j1 = j;
-        } else if (d < b2) {
-          b2 = d;
-        }
-        // Strict '<' and increasing row order: ties go to the lowest index, whatever the blocking.
-        if (d < col_best_d2[j]) {
-          col_best_d2[j] = d;
-          col_best[j] = r0 + r;
-        }
-      }
-      best[r0 + r] = j1;
-      best_d2[r0 + r] = b1;
-      second_d2[r0 + r] = b2;
+      const int i = r0 + r;
+      const RowTop2 top = ScanRow(d2.data() + size_t(r) * nb, na2[r], nb2.data(), nb, i, col_best_d2.data(),
+                                  col_best.data());
+      best[i] = top.index;
+      best_d2[i] = top.best;
+      second_d2[i] = top.second;
     }
   }
   for (int i = 0; i < na; ++i) {

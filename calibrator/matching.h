@@ -23,8 +23,9 @@ struct MatchOptions {
   // Match only keypoints of the same class_id (the "gated" semantic modes; the pairwise stage sets it).
   bool gate_by_class = false;
   // Rows of A per block of the distance computation; bounds memory to block_rows * |B| floats
-  // (L2). The Hamming path streams B once per block.
-  int block_rows = 1024;
+  // (L2: 12 MB for 12000 keypoints, under glibc's largest heap block, so that the next call reuses
+  // it instead of page-faulting a fresh mapping). The Hamming path streams B once per block.
+  int block_rows = 256;
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;

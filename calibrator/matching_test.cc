@@ -1,6 +1,8 @@
 #include "calibrator/matching.h"
 
+#include <cmath>
 #include <limits>
+#include <tuple>
 #include <random>
 
 #include <gmock/gmock.h>
@@ -126,6 +128,64 @@ TEST(MatchFeatures, BlockingDoesNotChangeTheResult) {
   other.descriptor_size = 4;
   other.descriptors.resize(4);
   EXPECT_THROW(MatchFeatures(a, other, MatchOptions()), std::invalid_argument);
+}
+
+// Small integer descriptors make distances exact in any summation order and give many ties (equal
+// nearest neighbours, a second-best equal to the best): the matcher must equal the obvious scan,
+// with ties to the lowest index, for sets smaller and larger than its scan lanes and at any blocking.
+TEST(MatchFeatures, L2MatchesEqualThePlainReferenceWithTies) {
+  for (const auto& [na, nb, seed] : {std::tuple{300, 347, 5u}, std::tuple{9, 13, 6u}, std::tuple{40, 2, 7u}}) {
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<int> value(0, 3);
+    FeatureSet a, b;
+    auto random_descriptor = [&] {
+      std::vector<float> d(kDim);
+      for (float& x : d) x = static_cast<float>(value(rng));
+      return d;
+    };
+    for (int i = 0; i < na; ++i) Add(&a, random_descriptor(), 0);
+    for (int j = 0; j < nb; ++j) Add(&b, random_descriptor(), 0);
+    std::vector<std::vector<double>> d(na, std::vector<double>(nb));
+    for (int i = 0; i < na; ++i) {
+      for (int j = 0; j < nb; ++j) {
+        for (int k = 0; k < kDim; ++k) d[i][j] += std::pow(a.descriptor(i)[k] - b.descriptor(j)[k], 2);
+      }
+    }
+    const double ratio = 0.8;
+    std::vector<Match> expected;
+    for (int i = 0; i < na; ++i) {
+      int best = -1;
+      double b1 = std::numeric_limits<double>::infinity(), b2 = b1;
+      for (int j = 0; j < nb; ++j) {
+        if (d[i][j] < b1) {
+          b2 = b1;
+          b1 = d[i][j];
+          best = j;
+        } else if (d[i][j] < b2) {
+          b2 = d[i][j];
+        }
+      }
+      if (!(b1 < ratio * ratio * b2)) continue;
+      int col_best = 0;
+      for (int k = 1; k < na; ++k) col_best = d[k][best] < d[col_best][best] ? k : col_best;
+      if (col_best == i) expected.push_back({i, best, static_cast<float>(std::sqrt(b1))});
+    }
+    for (int block : {1, 7, 1024}) {
+      MatchOptions options;
+      options.ratio = ratio;
+      options.block_rows = block;
+      const std::vector<Match> m = MatchFeatures(a, b, options);
+      ASSERT_EQ(m.size(), expected.size()) << na << "x" << nb << " block " << block;
+      for (size_t k = 0; k < m.size(); ++k) {
+        EXPECT_EQ(m[k].a, expected[k].a) << k;
+        EXPECT_EQ(m[k].b, expected[k].b) << k;
+        EXPECT_EQ(m[k].distance, expected[k].distance) << k;
+      }
+    }
+    if (na == 300) {
+      EXPECT_GT(expected.size(), 10u);
+    }
+  }
 }
 
 // --- Binary descriptors (ORB, AKAZE): Hamming distance ----------------------------------------

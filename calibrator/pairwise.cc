@@ -12,6 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include "calibrator/intrinsics_refinement.h"
+#include "calibrator/keep_freed_memory.h"
 #include "dataset/dataset.h"
 #include "dataset/image_io.h"
 #include "dataset/label_image.h"
@@ -162,6 +163,7 @@ DetectedFeatures DetectAllFeatures(const PairwiseJob& job, const CalibrationOpti
       out.time_s[k].assign(job.NumImages(), 0.0);
     }
   }
+  const KeepFreedMemory keep_freed_memory;  // each image's scale space reuses the last one's memory
   tbb::parallel_for(0, job.NumImages(), [&](int idx) {
     const int cam = idx / job.num_frames, frame = idx % job.num_frames;
     const RigCamera& rc = job.rig.cameras[cam];
