@@ -115,9 +115,9 @@ Json PairEntry(const ReportContext& ctx, size_t p, int a, int b, const std::opti
     const PairResult& pr = run.results[m].pairwise.pairs.at(p);
     Json mode = {{"matches", pr.two_view.num_matches},
                  {"inliers", pr.two_view.num_inliers},
-                 {"success", pr.two_view.success},
+                 {"success", pr.Solved()},
                  {"pair_type", pr.two_view.success ? Json(std::string(PairTypeName(pr.two_view.pair_type))) : Json(nullptr)},
-                 {"failure_reason", pr.two_view.failure_reason},
+                 {"failure_reason", pr.Solved() ? std::string() : PairStatus(pr)},
                  {"matches_correct", pr.matches_correct},
                  {"matches_evaluated", pr.matches_evaluated},
                  {"inliers_correct", pr.inliers_correct},

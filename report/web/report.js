@@ -581,7 +581,7 @@ var RIGSIM = (function () {
       var rows = R.modes.map(function (m) {
         var s = I.P.modes[m];
         return [m, s.matches, s.matches_evaluated ? pct(s.matches_correct, s.matches_evaluated) : '-', s.inliers,
-                s.inliers_evaluated ? pct(s.inliers_correct, s.inliers_evaluated) : '-', s.success ? s.pair_type : 'failed: ' + s.failure_reason,
+                s.inliers_evaluated ? pct(s.inliers_correct, s.inliers_evaluated) : '-', s.success ? s.pair_type : (s.failure_reason || 'failed'),
                 fmt(s.rotation_error_deg, 3, ' deg'), fmt(s.translation_direction_error_deg, 2, ' deg')];
       });
       stats.appendChild(el('h3', {}, 'This pair over all frames (the two-view estimate pools them)'));
