@@ -153,6 +153,7 @@ void RigCalibrationOptions::Check() const {
   if (!(max_pair_rotation_disagreement_deg > 0)) fail("max_pair_rotation_disagreement_deg must be > 0");
   if (!(max_pair_direction_disagreement_deg > 0)) fail("max_pair_direction_disagreement_deg must be > 0");
   if (max_rejected_pairs < 0) fail("max_rejected_pairs must be >= 0");
+  if (!(max_direction_only_disagreement_deg >= 0)) fail("max_direction_only_disagreement_deg must be >= 0");
 }
 
 std::pair<PairEstimate, PairMatches> EstimatePairFromMatches(
@@ -689,20 +690,36 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
   }
   // Every pair the rig used must agree with the rig it helped make: one that does not is left
   // out and the rig made again without it, the worst first.
-  std::vector<std::string> rejected(obs.pairs.size());
-  RigCalibrationResult result = EstimateRigOnce(obs, options, rejected, known_a, known_b);
+  // A pair off in its direction only keeps its rotation and matches (max_direction_only_disagreement_deg):
+  // in `kept` it is a rotation-only pair.
+  std::vector<std::string> rejected(obs.pairs.size()), direction_left_out(obs.pairs.size());
+  RigObservations kept = obs;
+  RigCalibrationResult result = EstimateRigOnce(kept, options, rejected, known_a, known_b);
   for (int round = 0; round < options.max_rejected_pairs; ++round) {
     const auto [edge, why] = MostDisagreeingEdge(result, options);
     if (edge < 0) break;
-    rejected[edge] = why;
-    RigCalibrationResult next = EstimateRigOnce(obs, options, rejected, known_a, known_b);
+    const RigEdgeStats& worst = result.edges[edge];
+    if (worst.rotation_disagreement_deg.value_or(0.0) <= 0.5 * options.max_pair_rotation_disagreement_deg &&
+        worst.direction_disagreement_deg.value_or(0.0) <= options.max_direction_only_disagreement_deg) {
+      direction_left_out[edge] = "rotation used, baseline direction left out: " + why;
+      kept.pairs[edge].two_view.rotation_only = true;
+      kept.pairs[edge].two_view.cam_b_from_cam_a.translation.setZero();
+    } else {
+      rejected[edge] = why;
+    }
+    RigCalibrationResult next = EstimateRigOnce(kept, options, rejected, known_a, known_b);
     next.rotation_averaging_time_s += result.rotation_averaging_time_s;
     next.tracks_time_s += result.tracks_time_s;
     next.positions_time_s += result.positions_time_s;
     next.bundle_adjustment_time_s += result.bundle_adjustment_time_s;
     result = std::move(next);
   }
-  for (int e = 0; e < static_cast<int>(result.edges.size()); ++e) result.edges[e].rejected = !rejected[e].empty();
+  for (int e = 0; e < static_cast<int>(result.edges.size()); ++e) {
+    RigEdgeStats& s = result.edges[e];
+    s.rejected = !rejected[e].empty();
+    s.direction_left_out = !direction_left_out[e].empty();
+    if (s.direction_left_out && s.used) s.status = direction_left_out[e];
+  }
   return result;
 }
 
@@ -736,7 +753,7 @@ RigCalibrationResult CalibrateRig(const std::filesystem::path& dataset_dir, cons
 
 void MarkPairsTheRigLeftOut(RigCalibrationResult* result) {
   for (const RigEdgeStats& e : result->edges) {
-    if (!e.rejected && !e.rotation_outlier) continue;
+    if (!e.rejected && !e.rotation_outlier && !e.direction_left_out) continue;
     for (PairResult& pr : result->pairwise.pairs) {
       if (pr.cam_a == e.cam_a && pr.cam_b == e.cam_b) pr.left_out_by_rig = e.status;
     }

@@ -91,6 +91,13 @@ struct RigCalibrationOptions {
   double max_pair_rotation_disagreement_deg = 3.0;
   double max_pair_direction_disagreement_deg = 10.0;
   int max_rejected_pairs = 3;
+  // A pair whose rotation agrees with the rig's within half max_pair_rotation_disagreement_deg and
+  // whose baseline direction is off by no more than this keeps its rotation and its matches in the
+  // rig, only its direction is left out: a few percent of wrong inliers bias a direction by 10-20
+  // deg (the parking surround rig without masks) while its rotation and matches still serve;
+  // leaving the whole pair out there cut the reference camera off. Farther off (a mirror pose of
+  // repeated structure, 160-175 deg) the whole pair goes.
+  double max_direction_only_disagreement_deg = 30.0;
   // Keep what a report shows of every stage in RigCalibrationResult::details (matches with their
   // flags, rotations after rotation averaging, points, reprojection errors). Costs memory only.
   bool keep_details = false;
@@ -149,6 +156,7 @@ struct RigEdgeStats {
   std::optional<double> rotation_disagreement_deg;
   std::optional<double> direction_disagreement_deg;
   bool rejected = false;  // left out for disagreeing with the rig (status says by how much)
+  bool direction_left_out = false;  // used for its rotation only: its direction disagreed with the rig
   std::string status;     // "used" or why not
 };
 

@@ -223,6 +223,33 @@ TEST_F(RigCalibrationTest, PairWhoseDirectionDisagreesWithTheRigIsRejected) {
   }
 }
 
+// A pair whose rotation agrees but whose direction is biased 15 deg (a share of wrong inliers does
+// that: the parking surround rig without masks) keeps its rotation and its matches in the rig;
+// only its direction is left out. Leaving the whole pair out there cut the reference camera off.
+TEST_F(RigCalibrationTest, PairWhoseDirectionAloneDisagreesKeepsItsRotation) {
+  RigObservations obs = *observations_;
+  int e = -1;
+  for (size_t p = 0; p < obs.pairs.size(); ++p) {
+    if (obs.pairs[p].cam_a == 1 && obs.pairs[p].cam_b == 3) e = static_cast<int>(p);
+  }
+  ASSERT_GE(e, 0);
+  Eigen::Vector3d& t = obs.pairs[e].two_view.cam_b_from_cam_a.translation;
+  t = Eigen::AngleAxisd(DegToRad(15.0), t.unitOrthogonal()) * t;
+  RigCalibrationResult r = EstimateRig(obs, {});
+  EvaluateRigAgainstTruth(synthetic_->rig, &r);
+  EXPECT_FALSE(r.edges[e].rejected);
+  EXPECT_TRUE(r.edges[e].direction_left_out);
+  EXPECT_TRUE(r.edges[e].used);
+  EXPECT_TRUE(r.edges[e].rotation_only);
+  EXPECT_EQ(r.edges[e].status.rfind("rotation used, baseline direction left out: disagrees with the rig: ", 0), 0u)
+      << r.edges[e].status;
+  for (int c = 0; c < 6; ++c) {
+    ASSERT_TRUE(r.rig.cameras[c].cam_from_rig.has_value()) << r.camera_status[c];
+    EXPECT_LT(r.camera_stats[c].rotation_error_deg.value(), 0.05) << c;
+    if (c > 0) EXPECT_LT(r.camera_stats[c].translation_direction_error_deg.value(), 0.5) << c;
+  }
+}
+
 TEST_F(RigCalibrationTest, CameraZeroAloneCalibratesNothingElse) {
   RigObservations obs = *observations_;
   for (PairEstimate& p : obs.pairs) {
