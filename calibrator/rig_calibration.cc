@@ -751,6 +751,23 @@ RigCalibrationResult CalibrateRig(const std::filesystem::path& dataset_dir, cons
   return CalibrateRig(dataset_dir, options, std::vector<SemanticMode>{mode}).front();
 }
 
+void UseReestimatedPairs(RigCalibrationResult* result) {
+  if (result->reestimated_pairs.size() != result->pairwise.pairs.size()) return;
+  for (size_t p = 0; p < result->pairwise.pairs.size(); ++p) {
+    PairResult& pr = result->pairwise.pairs[p];
+    pr.two_view = result->reestimated_pairs[p];
+    pr.rotation_error_deg.reset();
+    pr.translation_direction_error_deg.reset();
+    if (pr.cam_b_from_cam_a_gt && pr.two_view.success) {
+      pr.rotation_error_deg = RotationErrorDeg(pr.two_view.cam_b_from_cam_a, *pr.cam_b_from_cam_a_gt);
+      pr.translation_direction_error_deg = TranslationDirectionErrorDeg(pr.two_view.cam_b_from_cam_a, *pr.cam_b_from_cam_a_gt);
+    }
+    // The inliers changed: their precision (against the first estimate's inliers) no longer applies.
+    pr.inlier_precision.reset();
+    pr.inliers_evaluated = pr.inliers_correct = 0;
+  }
+}
+
 void MarkPairsTheRigLeftOut(RigCalibrationResult* result) {
   for (const RigEdgeStats& e : result->edges) {
     if (!e.rejected && !e.rotation_outlier && !e.direction_left_out) continue;
@@ -784,6 +801,7 @@ std::vector<RigCalibrationResult> CalibrateRig(const std::filesystem::path& data
     r.semantic_mode = reports[m].semantic_mode;
     for (size_t c = 0; c < truth.cameras.size(); ++c) r.rig.cameras[c].time_offset_s = truth.cameras[c].time_offset_s;
     r.pairwise = reports[m];
+    UseReestimatedPairs(&r);
     MarkPairsTheRigLeftOut(&r);
     r.inlier_samples = InlierSamples(truth, reports[m], data[m]);
     if (options.pairwise.evaluate) EvaluateRigAgainstTruth(truth, &r);

@@ -207,6 +207,9 @@ struct RigCalibrationResult {
   std::vector<std::string> camera_status;
   std::vector<RigCameraStats> camera_stats;
   std::vector<RigEdgeStats> edges;  // per camera pair
+  // With refine_intrinsics (rig_intrinsics.h): each pair's two-view estimate made again with the
+  // refined intrinsics, which the rig used (RigObservations::pairs order); empty otherwise.
+  std::vector<TwoViewEstimate> reestimated_pairs;
   bool metric_scale = false;
   std::string scale;  // how the scale was fixed, e.g. "unit scale: |centre of cam1| = 1"
   std::vector<std::string> warnings;
@@ -249,6 +252,10 @@ struct RigCalibrationResult {
 // The rig stages on given observations (no truth, no pairwise report). Throws
 // std::invalid_argument on inconsistent observations or a known distance naming an unknown camera.
 RigCalibrationResult EstimateRig(const RigObservations& observations, const RigCalibrationOptions& options);
+
+// With reestimated_pairs: result->pairwise's two-view estimates replaced by them, with their errors
+// against the truth (the table and evaluation.json then show the pairs the rig used).
+void UseReestimatedPairs(RigCalibrationResult* result);
 
 // Sets PairResult::left_out_by_rig on result->pairwise's pairs whose edge the rig stage rejected or
 // found a rotation outlier: the pair's own pose is then no longer what the calibrator stands by.

@@ -47,7 +47,9 @@ RigCalibrationResult EstimateRigAndIntrinsics(const RigObservations& obs, const 
   RigCalibrationOptions second = options;
   second.bundle_adjustment.refine_intrinsics = true;
   second.bundle_adjustment.intrinsics_priors.centres = obs.cameras;
-  RigCalibrationResult result = EstimateRig(ReestimateWithIntrinsics(obs, refined, options.pairwise.two_view), second);
+  const RigObservations reestimated = ReestimateWithIntrinsics(obs, refined, options.pairwise.two_view);
+  RigCalibrationResult result = EstimateRig(reestimated, second);
+  for (const PairEstimate& p : reestimated.pairs) result.reestimated_pairs.push_back(p.two_view);
   result.rotation_averaging_time_s += rough.rotation_averaging_time_s;
   result.tracks_time_s += rough.tracks_time_s;
   result.positions_time_s += rough.positions_time_s;
