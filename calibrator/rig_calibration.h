@@ -34,6 +34,7 @@
 #include "calibrator/multi_frame_rig.h"
 #include "calibrator/pairwise.h"
 #include "calibrator/rig_positions.h"
+#include "evaluation/rig_estimate.h"
 #include "calibrator/correspondences.h"
 #include "calibrator/intrinsics_refinement.h"
 #include "calibrator/rotation_averaging.h"
@@ -274,6 +275,10 @@ RigCalibrationResult CalibrateRig(const std::filesystem::path& dataset_dir, cons
 std::vector<RigCalibrationResult> CalibrateRig(const std::filesystem::path& dataset_dir,
                                                const RigCalibrationOptions& options,
                                                const std::vector<SemanticMode>& modes);
+
+// What `rigsim evaluate` scores of a calibration (evaluation/rig_estimate.h): per camera the full
+// pose, or the rotation only; the method is the semantic mode.
+RigEstimate RigEstimateOf(const RigCalibrationResult& result);
 
 // Camera c's estimate against the truth (evaluation.h PoseTolerance, camera bounds): nullopt when
 // not evaluated, false without an estimate; a camera without a position is judged on its rotation.

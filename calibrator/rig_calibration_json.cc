@@ -7,8 +7,21 @@
 #include "calibrator/intrinsics_refinement.h"
 #include "geometry/json_io.h"
 
-// The rig calibration's JSON (RigCalibrationToJson) and the verdicts it carries.
+// The rig calibration's JSON (RigCalibrationToJson), the verdicts it carries, and the estimate
+// evaluate scores.
 namespace rigsim {
+
+RigEstimate RigEstimateOf(const RigCalibrationResult& r) {
+  RigEstimate e;
+  e.method = r.semantic_mode;
+  e.metric = r.metric_scale;
+  for (size_t c = 0; c < r.rig.cameras.size(); ++c) {
+    e.cam_from_rig.push_back(r.rig.cameras[c].cam_from_rig);
+    const bool rotation_only = !r.rig.cameras[c].cam_from_rig && c < r.cam_from_rig_rotation.size();
+    e.rotation_only.push_back(rotation_only ? r.cam_from_rig_rotation[c] : std::nullopt);
+  }
+  return e;
+}
 
 std::optional<bool> CameraWithinTolerance(const RigCalibrationResult& r, size_t c) {
   if (!r.evaluated) return std::nullopt;

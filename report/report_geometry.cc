@@ -50,18 +50,6 @@ std::vector<std::optional<Eigen::Vector2d>> EpipolarCurve(const Camera& cam_a, c
   return curve;
 }
 
-RigEstimate RigEstimateOf(const RigCalibrationResult& r) {
-  RigEstimate e;
-  e.method = r.semantic_mode;
-  e.metric = r.metric_scale;
-  for (size_t c = 0; c < r.rig.cameras.size(); ++c) {
-    e.cam_from_rig.push_back(r.rig.cameras[c].cam_from_rig);
-    const bool rotation_only = !r.rig.cameras[c].cam_from_rig && c < r.cam_from_rig_rotation.size();
-    e.rotation_only.push_back(rotation_only ? r.cam_from_rig_rotation[c] : std::nullopt);
-  }
-  return e;
-}
-
 AlignedEstimate AlignToTruth(const RigCalibrationResult& result, const Rig& truth, const FramesFile& frames) {
   if (!truth.HasAllPoses()) throw std::invalid_argument("AlignToTruth: the truth needs every camera's cam_from_rig");
   if (frames.frames.empty() || !frames.frames[0].rig_from_world) {

@@ -59,9 +59,6 @@ struct AlignedEstimate {
   }
 };
 
-// What evaluate reads from a calibration: per camera the full pose, or the rotation only.
-RigEstimate RigEstimateOf(const RigCalibrationResult& result);
-
 // `truth` must have every cam_from_rig and `frames` frame 0's rig_from_world.
 AlignedEstimate AlignToTruth(const RigCalibrationResult& result, const Rig& truth, const FramesFile& frames);
 

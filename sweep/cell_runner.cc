@@ -131,18 +131,6 @@ Json ScoreMetrics(const RigScores& s) {
           {"auc_pairs_10deg", s.auc_pairs[3]}};
 }
 
-RigEstimate EstimateOf(const RigCalibrationResult& r, const std::string& method) {
-  RigEstimate e;
-  e.method = method;
-  e.metric = r.metric_scale;
-  for (size_t c = 0; c < r.rig.cameras.size(); ++c) {
-    e.cam_from_rig.push_back(r.rig.cameras[c].cam_from_rig);
-    const bool rotation_only = !r.rig.cameras[c].cam_from_rig && c < r.cam_from_rig_rotation.size();
-    e.rotation_only.push_back(rotation_only ? r.cam_from_rig_rotation[c] : std::nullopt);
-  }
-  return e;
-}
-
 // What rigsim's calibration reported about its matches and its time.
 void AddCalibrationMetrics(const RigCalibrationResult& r, Json& m) {
   int64_t matches = 0, evaluated = 0, correct = 0, cross = 0, cross_correct = 0;
@@ -194,7 +182,9 @@ MethodRow RunRigsim(const SweepMethod& method, const Json& p, const CalibrationI
   MethodRow row;
   row.method = method.name;
   const RigCalibrationResult& r = run.results.at(0);
-  row.metrics = ScoreMetrics(ScoreRig(*inputs.truth, EstimateOf(r, method.name)));
+  RigEstimate estimate = RigEstimateOf(r);
+  estimate.method = method.name;
+  row.metrics = ScoreMetrics(ScoreRig(*inputs.truth, estimate));
   AddCalibrationMetrics(r, row.metrics);
   row.metrics["time_total_s"] = Since(start);
   return row;
