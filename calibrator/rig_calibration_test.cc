@@ -41,6 +41,14 @@ SyntheticRigOptions RingOptions(uint32_t seed) {
 }
 
 // The synthetic rig and its pairwise estimates are made once: the pairwise stage is the slow part.
+// The index of the pair (cam_a, cam_b) in `obs.pairs`; -1 when there is none.
+int PairIndex(const RigObservations& obs, int cam_a, int cam_b) {
+  for (size_t p = 0; p < obs.pairs.size(); ++p) {
+    if (obs.pairs[p].cam_a == cam_a && obs.pairs[p].cam_b == cam_b) return static_cast<int>(p);
+  }
+  return -1;
+}
+
 class RigCalibrationTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -153,10 +161,7 @@ TEST_F(RigCalibrationTest, RotationOutlierEdgeIsDroppedWithItsReason) {
   // Corrupt the rotation of one good pair by 20 deg, as a wrong two-view fit would. The pair is
   // cam1-cam3 (two fisheyes with four neighbours each): an edge of a camera with only two edges
   // (cam0) could not be told from its partner, every loop through that camera uses both.
-  int e = -1;
-  for (size_t p = 0; p < obs.pairs.size(); ++p) {
-    if (obs.pairs[p].cam_a == 1 && obs.pairs[p].cam_b == 3) e = static_cast<int>(p);
-  }
+  const int e = PairIndex(obs, 1, 3);
   ASSERT_GE(e, 0);
   ASSERT_TRUE(obs.pairs[e].two_view.success);
   obs.pairs[e].two_view.cam_b_from_cam_a.rotation =
@@ -176,10 +181,7 @@ TEST_F(RigCalibrationTest, RotationOutlierEdgeIsDroppedWithItsReason) {
 // is left out, says why, and the rig stays right.
 TEST_F(RigCalibrationTest, PairWhoseDirectionDisagreesWithTheRigIsRejected) {
   RigObservations obs = *observations_;
-  int e = -1;
-  for (size_t p = 0; p < obs.pairs.size(); ++p) {
-    if (obs.pairs[p].cam_a == 1 && obs.pairs[p].cam_b == 3) e = static_cast<int>(p);
-  }
+  const int e = PairIndex(obs, 1, 3);
   ASSERT_GE(e, 0);
   ASSERT_TRUE(obs.pairs[e].two_view.success);
   obs.pairs[e].two_view.cam_b_from_cam_a.translation *= -1.0;
@@ -228,10 +230,7 @@ TEST_F(RigCalibrationTest, PairWhoseDirectionDisagreesWithTheRigIsRejected) {
 // only its direction is left out. Leaving the whole pair out there cut the reference camera off.
 TEST_F(RigCalibrationTest, PairWhoseDirectionAloneDisagreesKeepsItsRotation) {
   RigObservations obs = *observations_;
-  int e = -1;
-  for (size_t p = 0; p < obs.pairs.size(); ++p) {
-    if (obs.pairs[p].cam_a == 1 && obs.pairs[p].cam_b == 3) e = static_cast<int>(p);
-  }
+  const int e = PairIndex(obs, 1, 3);
   ASSERT_GE(e, 0);
   Eigen::Vector3d& t = obs.pairs[e].two_view.cam_b_from_cam_a.translation;
   t = Eigen::AngleAxisd(DegToRad(15.0), t.unitOrthogonal()) * t;
@@ -248,6 +247,32 @@ TEST_F(RigCalibrationTest, PairWhoseDirectionAloneDisagreesKeepsItsRotation) {
     EXPECT_LT(r.camera_stats[c].rotation_error_deg.value(), 0.05) << c;
     if (c > 0) EXPECT_LT(r.camera_stats[c].translation_direction_error_deg.value(), 0.5) << c;
   }
+}
+
+// What evaluate scores: a placed camera's pose, a rotation-only camera's rotation, nothing for a
+// camera not connected.
+TEST(RigEstimateOf, PosesRotationsAndNothing) {
+  RigCalibrationResult r;
+  r.semantic_mode = "mask";
+  r.metric_scale = true;
+  const Camera cam(CameraModelId::kPinhole, 64, 48, {50, 50, 32, 24});
+  const Rigid3d placed(Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY())), Eigen::Vector3d(1, 0, 0));
+  const Eigen::Quaterniond turned(Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitY()));
+  r.rig.cameras = {{"a", cam, Rigid3d(), 0.0}, {"b", cam, placed, 0.0}, {"c", cam, std::nullopt, 0.0},
+                   {"d", cam, std::nullopt, 0.0}};
+  r.cam_from_rig_rotation = {Eigen::Quaterniond::Identity(), placed.rotation, turned, std::nullopt};
+  const RigEstimate e = RigEstimateOf(r);
+  EXPECT_EQ(e.method, "mask");
+  EXPECT_TRUE(e.metric);
+  ASSERT_EQ(e.cam_from_rig.size(), 4u);
+  ASSERT_TRUE(e.cam_from_rig[1].has_value());
+  EXPECT_TRUE(e.cam_from_rig[1]->translation.isApprox(placed.translation));
+  EXPECT_FALSE(e.rotation_only[1].has_value());  // placed: the pose says it all
+  EXPECT_FALSE(e.cam_from_rig[2].has_value());
+  ASSERT_TRUE(e.rotation_only[2].has_value());
+  EXPECT_TRUE(e.rotation_only[2]->isApprox(turned));
+  EXPECT_FALSE(e.cam_from_rig[3].has_value());
+  EXPECT_FALSE(e.rotation_only[3].has_value());
 }
 
 TEST_F(RigCalibrationTest, CameraZeroAloneCalibratesNothingElse) {
