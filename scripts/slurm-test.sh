@@ -68,6 +68,22 @@ expect_states() {
 # The job ids `rigsim sweep --slurm` printed.
 array_id() { sed -n 's/^submitted job array \([0-9]*\) .*/\1/p' "$1"; }
 merge_id() { sed -n 's/.* and the merge as job \([0-9]*\) .*/\1/p' "$1"; }
+# The job array's and the merge job's ids from a submission's output LOG, into $array and $merge.
+read_ids() {
+  array=$(array_id "$1")
+  merge=$(merge_id "$1")
+  [ -n "$array" ] && [ -n "$merge" ] || fail "no job ids in the submission's output $1"
+}
+# Waits for the job (array) $1 and the merge job $2, prints them and checks their states: $3 for
+# $1's tasks, $4 for the merge (expect_states' form).
+expect_finished() {
+  wait_finished "$1"
+  wait_finished "$2"
+  show "$1"
+  show "$2"
+  expect_states "$1" "$3"
+  expect_states "$2" "$4"
+}
 
 # The deterministic content of a sweep's results: rows without timings, and the plots.
 same_results() {
@@ -98,15 +114,8 @@ say "single-machine run done ($((SECONDS - t0)) s)"
 "$rigsim" sweep "$work/tiny.yaml" --slurm --shards 4 --max-parallel 2 --cpus-per-task 1 --out "$work/on-slurm" \
   > "$work/submit.log" 2>&1 || fail "submission: $(cat "$work/submit.log")"
 cat "$work/submit.log"
-array=$(array_id "$work/submit.log")
-merge=$(merge_id "$work/submit.log")
-[ -n "$array" ] && [ -n "$merge" ] || fail "no job ids in the submission's output"
-wait_finished "$array"
-wait_finished "$merge"
-show "$array"
-show "$merge"
-expect_states "$array" "0 COMPLETED;1 COMPLETED;2 COMPLETED;3 COMPLETED;"
-expect_states "$merge" "- COMPLETED;"
+read_ids "$work/submit.log"
+expect_finished "$array" "$merge" "0 COMPLETED;1 COMPLETED;2 COMPLETED;3 COMPLETED;" "- COMPLETED;"
 same_results "$work/single" "$work/on-slurm"
 say "1. job array $array and merge $merge completed; the merged results equal the single-machine run's"
 
@@ -117,14 +126,8 @@ scontrol update PartitionName=debug State=DOWN
 mkdir -p "$work/failing/shards"
 echo "not a folder" > "$work/failing/shards/2"
 scontrol update PartitionName=debug State=UP
-array=$(array_id "$work/submit2.log")
-merge=$(merge_id "$work/submit2.log")
-wait_finished "$array"
-wait_finished "$merge"
-show "$array"
-show "$merge"
-expect_states "$array" "0 COMPLETED;1 COMPLETED;2 FAILED;3 COMPLETED;"
-expect_states "$merge" "- CANCELLED;"
+read_ids "$work/submit2.log"
+expect_finished "$array" "$merge" "0 COMPLETED;1 COMPLETED;2 FAILED;3 COMPLETED;" "- CANCELLED;"
 [ ! -e "$work/failing/results.csv" ] || fail "the merge wrote results although a task failed"
 grep -q "is a file, not a folder" "$work/failing/slurm/logs/shard-2.log" || fail "task 2's log does not say why it failed"
 say "2. task 2 of job array $array FAILED, merge $merge CANCELLED, no results written"
@@ -132,12 +135,7 @@ say "2. task 2 of job array $array FAILED, merge $merge CANCELLED, no results wr
 rm "$work/failing/shards/2"
 retry=$(sbatch --parsable --array=2 "$work/failing/slurm/sweep.sbatch" | cut -d';' -f1)
 merge=$(sbatch --parsable --dependency=afterok:"$retry" --kill-on-invalid-dep=yes "$work/failing/slurm/merge.sbatch" | cut -d';' -f1)
-wait_finished "$retry"
-wait_finished "$merge"
-show "$retry"
-show "$merge"
-expect_states "$retry" "2 COMPLETED;"
-expect_states "$merge" "- COMPLETED;"
+expect_finished "$retry" "$merge" "2 COMPLETED;" "- COMPLETED;"
 same_results "$work/single" "$work/failing"
 say "   task 2 resubmitted as job $retry and merge $merge: completed, equal to the single-machine run"
 
@@ -148,15 +146,8 @@ render=("$rigsim" render --scene "$here/../assets/scenes/street.glb" --rig "$wor
 "${render[@]}" --out "$work/render-slurm" --slurm --shards 3 --cpus-per-task 1 > "$work/submit3.log" 2>&1 ||
   fail "render submission: $(cat "$work/submit3.log")"
 cat "$work/submit3.log"
-array=$(array_id "$work/submit3.log")
-merge=$(merge_id "$work/submit3.log")
-[ -n "$array" ] && [ -n "$merge" ] || fail "no job ids in the render submission's output"
-wait_finished "$array"
-wait_finished "$merge"
-show "$array"
-show "$merge"
-expect_states "$array" "0 COMPLETED;1 COMPLETED;2 COMPLETED;"
-expect_states "$merge" "- COMPLETED;"
+read_ids "$work/submit3.log"
+expect_finished "$array" "$merge" "0 COMPLETED;1 COMPLETED;2 COMPLETED;" "- COMPLETED;"
 diff -r "$work/render-single" "$work/render-slurm" > /dev/null || fail "the merged render differs from the one-machine render"
 say "3. render job array $array and render-merge $merge completed; the dataset equals the one-machine render byte for byte"
 
