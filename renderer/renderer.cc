@@ -157,11 +157,7 @@ RenderedView Renderer::RenderView(const Camera& camera, const ViewPoses& poses, 
   const std::vector<MeshShading>& meshes = prepared.meshes;
   const int width = camera.width(), height = camera.height();
 
-  RenderedView view;
-  view.rgb = ImageU8(width, height, 3, 0);
-  view.label = ImageU8(width, height, 1, 0);
-  view.instance = ImageU16(width, height, 1, 0);
-  view.range = ImageF(width, height, 1, 0.0f);
+  RenderedView view = RenderedView::Blank(width, height);
   if (options.normals) view.normal = ImageF(width, height, 3, 0.0f);
 
   const ShadeParams shade = ShadeParamsOf(options);

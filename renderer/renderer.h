@@ -73,6 +73,16 @@ struct RenderedView {
   // face's; no normal map) of the surface at the pixel centre, camera frame (x right, y down,
   // z forward), turned towards the camera; 0 where there is no surface.
   ImageF normal;
+
+  // The four images of a view, blank (no surface anywhere); no normals.
+  static RenderedView Blank(int width, int height) {
+    RenderedView v;
+    v.rgb = ImageU8(width, height, 3, 0);
+    v.label = ImageU8(width, height, 1, 0);
+    v.instance = ImageU16(width, height, 1, 0);
+    v.range = ImageF(width, height, 1, 0.0f);
+    return v;
+  }
 };
 
 // A camera on a moving rig capturing one view: when each row is captured (RigCamera's

@@ -113,11 +113,7 @@ RenderedView MinimalFrameForBenchmark(const Renderer& renderer, const Camera& ca
   const PreparedScene& prepared = *renderer.prepared_;
   const ShadeParams shade = ShadeParamsOf(options);
   const int width = camera.width(), height = camera.height();
-  RenderedView view;
-  view.rgb = ImageU8(width, height, 3, 0);
-  view.label = ImageU8(width, height, 1, 0);
-  view.instance = ImageU16(width, height, 1, 0);
-  view.range = ImageF(width, height, 1, 0.0f);
+  RenderedView view = RenderedView::Blank(width, height);
   const SrgbEncodeTables& srgb = SrgbEncodeTables::Get();
   const Eigen::Matrix3f world_from_cam = cam_from_world.rotation.conjugate().toRotationMatrix().cast<float>();
   const Eigen::Vector3f origin = cam_from_world.SourceOriginInTarget().cast<float>();
