@@ -611,7 +611,7 @@ nlohmann::json PairResultToJson(const PairResult& pr) {
   j["success"] = pr.Solved();
   j["rotation_only"] = tv.rotation_only;
   j["pair_type"] = tv.success ? nlohmann::json(std::string(PairTypeName(tv.pair_type))) : nlohmann::json(nullptr);
-  j["failure_reason"] = PairStatus(pr) == "ok" ? std::string() : PairStatus(pr);
+  j["failure_reason"] = pr.Solved() ? std::string() : PairStatus(pr);
   j["frames"] = pr.frames;
   j["matches"] = tv.num_matches;
   j["inliers"] = tv.num_inliers;

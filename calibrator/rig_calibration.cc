@@ -691,10 +691,10 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
   // Every pair the rig used must agree with the rig it helped make: one that does not is left
   // out and the rig made again without it, the worst first.
   // A pair off in its direction only keeps its rotation and matches (max_direction_only_disagreement_deg):
-  // in `kept` it is a rotation-only pair.
+  // in `kept`, a copy made only then, it is a rotation-only pair.
   std::vector<std::string> rejected(obs.pairs.size()), direction_left_out(obs.pairs.size());
-  RigObservations kept = obs;
-  RigCalibrationResult result = EstimateRigOnce(kept, options, rejected, known_a, known_b);
+  std::optional<RigObservations> kept;
+  RigCalibrationResult result = EstimateRigOnce(obs, options, rejected, known_a, known_b);
   for (int round = 0; round < options.max_rejected_pairs; ++round) {
     const auto [edge, why] = MostDisagreeingEdge(result, options);
     if (edge < 0) break;
@@ -702,12 +702,13 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
     if (worst.rotation_disagreement_deg.value_or(0.0) <= 0.5 * options.max_pair_rotation_disagreement_deg &&
         worst.direction_disagreement_deg.value_or(0.0) <= options.max_direction_only_disagreement_deg) {
       direction_left_out[edge] = "rotation used, baseline direction left out: " + why;
-      kept.pairs[edge].two_view.rotation_only = true;
-      kept.pairs[edge].two_view.cam_b_from_cam_a.translation.setZero();
+      if (!kept) kept = obs;
+      kept->pairs[edge].two_view.rotation_only = true;
+      kept->pairs[edge].two_view.cam_b_from_cam_a.translation.setZero();
     } else {
       rejected[edge] = why;
     }
-    RigCalibrationResult next = EstimateRigOnce(kept, options, rejected, known_a, known_b);
+    RigCalibrationResult next = EstimateRigOnce(kept ? *kept : obs, options, rejected, known_a, known_b);
     next.rotation_averaging_time_s += result.rotation_averaging_time_s;
     next.tracks_time_s += result.tracks_time_s;
     next.positions_time_s += result.positions_time_s;
