@@ -305,6 +305,49 @@ RigPositions EstimateRigPositions(const std::vector<Camera>& cameras, const Fram
   return out;
 }
 
+std::vector<std::optional<Eigen::Vector3d>> EstimateTrajectoryCentres(
+    const Camera& camera, const std::vector<std::vector<Eigen::Vector2d>>& keypoints,
+    const std::vector<ViewTrack>& tracks, const std::vector<std::optional<Eigen::Quaterniond>>& rotations,
+    const RigPositionOptions& options) {
+  options.Check();
+  const int num_frames = static_cast<int>(keypoints.size());
+  if (static_cast<int>(rotations.size()) != num_frames) {
+    throw std::invalid_argument("EstimateTrajectoryCentres: one rotation per frame");
+  }
+  std::vector<std::optional<Eigen::Vector3d>> centres(num_frames);
+  if (num_frames == 0 || !rotations[0]) return centres;
+  // A rig of this one camera at the rig frame: the frames' rig centres are the camera's.
+  FrameKeypoints one_camera(num_frames);
+  for (int k = 0; k < num_frames; ++k) one_camera[k] = {keypoints[k]};
+  const std::vector<std::optional<Eigen::Quaterniond>> identity{Eigen::Quaterniond::Identity()};
+  std::vector<std::vector<Ray>> rays =
+      UsableRays({camera}, one_camera, tracks, identity, rotations, DegToRad(options.min_ray_angle_deg));
+  std::vector<std::pair<int, int>> links;
+  for (const auto& r : rays) {
+    for (const Ray& x : r) links.emplace_back(1 + r[0].frame, 1 + x.frame);
+  }
+  const PositionUnknowns u = ChooseUnknowns(1, num_frames, links, identity, rotations, false);
+  std::erase_if(rays, [&](const std::vector<Ray>& r) { return !u.frame_in[r[0].frame]; });
+  for (auto& r : rays) std::erase_if(r, [&](const Ray& x) { return !u.frame_in[x.frame]; });
+  std::erase_if(rays, [](const std::vector<Ray>& r) { return r.size() < 2; });
+  if (u.blocks == 0 || rays.empty()) return centres;
+  const PositionSolution solution = SolvePositionSystem(rays, u, rotations, options);
+  double mean = 0.0;
+  int solved = 0;
+  for (int k = 1; k < num_frames; ++k) {
+    if (u.frame_block[k] < 0) continue;
+    mean += solution.x.segment<3>(3 * u.frame_block[k]).norm();
+    ++solved;
+  }
+  mean /= std::max(solved, 1);
+  if (!(mean > 1e-12) || !solution.x.allFinite()) return centres;
+  centres[0] = Eigen::Vector3d::Zero();
+  for (int k = 1; k < num_frames; ++k) {
+    if (u.frame_block[k] >= 0) centres[k] = solution.x.segment<3>(3 * u.frame_block[k]) / mean;
+  }
+  return centres;
+}
+
 RigPositions EstimateRigPositionsFromDirections(const ViewGraph& graph, const std::vector<TemporalPairEstimate>& temporal,
                                                 const std::vector<std::optional<Eigen::Quaterniond>>& cam_from_rig,
                                                 const std::vector<std::optional<Eigen::Quaterniond>>& rig_from_world,

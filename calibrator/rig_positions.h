@@ -71,6 +71,16 @@ RigPositions EstimateRigPositions(const std::vector<Camera>& cameras, const Fram
                                   const std::vector<std::optional<Eigen::Quaterniond>>& rig_from_world,
                                   const RigPositionOptions& options, bool static_rig = false);
 
+// One camera's own centres over the frames (its trajectory, calibrator/camera_trajectory.h), from
+// its tracks across frames with every rotation known: `rotations[k]` is cam(k)_from_cam(0)'s,
+// `keypoints[k]` the camera's keypoints at frame k, the tracks' camera index 0. Frame 0's centre
+// is the origin and the mean distance of the others from it is 1; nullopt for frames the tracks
+// do not link to frame 0.
+std::vector<std::optional<Eigen::Vector3d>> EstimateTrajectoryCentres(
+    const Camera& camera, const std::vector<std::vector<Eigen::Vector2d>>& keypoints,
+    const std::vector<ViewTrack>& tracks, const std::vector<std::optional<Eigen::Quaterniond>>& rotations,
+    const RigPositionOptions& options);
+
 // From the directions of the active, non-rotation-only edges of `graph` and of the successful,
 // non-rotation-only temporal pairs (ignored when `static_rig`). The same unknowns and gauge as
 // EstimateRigPositions.

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include <Eigen/SVD>
+
 namespace rigsim {
 
 Eigen::Matrix<double, 3, 4> Rigid3d::ToMatrix() const {
@@ -26,6 +28,21 @@ double AngleBetweenDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   const double nb = b.norm();
   if (na < 1e-300 || nb < 1e-300) return 0.0;
   return RadToDeg(std::atan2(a.cross(b).norm(), a.dot(b)));
+}
+
+Eigen::Matrix3d NearestRotation(const Eigen::Matrix3d& m) {
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(m, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
+  d(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
+  return svd.matrixU() * d * svd.matrixV().transpose();
+}
+
+Eigen::Vector3d RotationVector(const Eigen::Quaterniond& q) {
+  // The quaternion with w >= 0 gives the angle in [0, pi]; atan2 is stable near 0 and near pi.
+  const Eigen::Quaterniond p = q.w() < 0 ? Eigen::Quaterniond(-q.w(), -q.x(), -q.y(), -q.z()) : q;
+  const double s = p.vec().norm();
+  if (s < 1e-300) return Eigen::Vector3d::Zero();
+  return (2.0 * std::atan2(s, p.w()) / s) * p.vec();
 }
 
 Eigen::Matrix3d CvFromGlRotation() { return Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal(); }

@@ -45,6 +45,14 @@ double RotationDifferenceDeg(const Eigen::Quaterniond& a, const Eigen::Quaternio
 // Angle between two directions in degrees (0..180); 0 if either is (near) zero.
 double AngleBetweenDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b);
 
+// The rotation nearest to `m` in the Frobenius norm (its projection onto SO(3)): the chordal mean
+// of rotations summed into m, or, for m = sum b_i a_i^T, the least-squares rotation taking each a_i
+// to b_i (Kabsch / Wahba).
+Eigen::Matrix3d NearestRotation(const Eigen::Matrix3d& m);
+
+// The rotation vector (axis times angle, radians, angle in [0, pi]) of `q`.
+Eigen::Vector3d RotationVector(const Eigen::Quaterniond& q);
+
 // glTF cameras (and OpenGL) look down -Z with +Y up; rigsim cameras look down +Z with +Y down.
 // This is the one place the two are related: cv_from_gl flips y and z.
 Eigen::Matrix3d CvFromGlRotation();

@@ -102,6 +102,7 @@ void SyntheticRigOptions::Check() const {
     require(c >= 0 && c < static_cast<int>(cameras.size()), "isolated_cameras: " + std::to_string(c) + " is not a camera");
   }
   require(num_frames >= 1, "num_frames must be at least 1");
+  require(path.empty() || static_cast<int>(path.size()) == num_frames, "path: one pose per frame");
   require(num_points >= 0, "num_points must not be negative");
   require(min_distance_m > 0 && max_distance_m >= min_distance_m, "min_distance_m..max_distance_m must be a positive range");
   require(max_elevation_deg >= 0 && max_elevation_deg <= 90, "max_elevation_deg must be in [0, 90]");
@@ -124,6 +125,11 @@ SyntheticRig SynthesizeRig(const SyntheticRigOptions& o) {
   for (int c = 0; c < n; ++c) s.rig.cameras.push_back({"cam" + std::to_string(c), o.cameras[c], cam_from_rig[c], 0.0});
   std::vector<Eigen::Vector3d> rig_centre;
   for (int k = 0; k < o.num_frames; ++k) {
+    if (!o.path.empty()) {
+      s.rig_from_world.push_back(o.path[k]);
+      rig_centre.push_back(o.path[k].SourceOriginInTarget());
+      continue;
+    }
     const Eigen::Matrix3d world_from_rig =
         Eigen::AngleAxisd(DegToRad(o.turn_deg * k), Eigen::Vector3d::UnitY()).toRotationMatrix();
     rig_centre.push_back(k * o.step_m);
@@ -161,6 +167,22 @@ SyntheticRig SynthesizeRig(const SyntheticRigOptions& o) {
     }
   }
   return s;
+}
+
+std::vector<Rigid3d> TurningPath(int frames, double step_m, double yaw_deg, double yaw_variation, double pitch_deg,
+                                 double roll_deg) {
+  std::vector<Rigid3d> path;
+  Rigid3d world_from_rig;
+  for (int k = 0; k < frames; ++k) {
+    path.push_back(world_from_rig.Inverse());
+    const double s = std::sin(0.9 * k + 0.3), c = std::cos(1.3 * k);
+    const Eigen::Quaterniond turn =
+        Eigen::AngleAxisd(DegToRad(yaw_deg * (1.0 + yaw_variation * s)), Eigen::Vector3d::UnitY()) *
+        Eigen::AngleAxisd(DegToRad(pitch_deg * s), Eigen::Vector3d::UnitX()) *
+        Eigen::AngleAxisd(DegToRad(roll_deg * c), Eigen::Vector3d::UnitZ());
+    world_from_rig = world_from_rig * Rigid3d(turn, Eigen::Vector3d(0, 0, step_m));
+  }
+  return path;
 }
 
 Rigid3d SyntheticRig::CamFromWorld(SyntheticView v) const {

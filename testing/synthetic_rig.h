@@ -47,6 +47,9 @@ struct SyntheticRigOptions {
   int num_frames = 1;
   Eigen::Vector3d step_m = Eigen::Vector3d::Zero();
   double turn_deg = 0.0;
+  // Or any path: the rig's pose per frame (rig_from_world, frame 0's the identity), one per frame,
+  // instead of step_m and turn_deg.
+  std::vector<Rigid3d> path;
 
   // The points: num_points around the rig's path, seen in every frame, or, with
   // new_points_every_frame, num_points of its own around each frame's rig. A point lies in a random
@@ -103,6 +106,14 @@ struct SyntheticRig {
 };
 
 SyntheticRig SynthesizeRig(const SyntheticRigOptions& options);
+
+// A path for SyntheticRigOptions::path, rig_from_world per frame (frame 0's the identity): between
+// frames the rig moves step_m along its forward axis (z), then turns about its own axes, by
+// yaw_deg * (1 + yaw_variation * s_k) about y, pitch_deg * s_k about x and roll_deg * c_k about z
+// (s_k, c_k: sines of the frame number, so that no two steps turn alike). yaw_variation 0 and no
+// pitch or roll is a circle.
+std::vector<Rigid3d> TurningPath(int frames, double step_m, double yaw_deg, double yaw_variation, double pitch_deg,
+                                 double roll_deg);
 
 // A seed from the running test's name ("Suite.Name"; "Suite" inside SetUpTestSuite), FNV-1a:
 // reproducible, and independent between tests.

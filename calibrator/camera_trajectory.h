@@ -1,0 +1,26 @@
+// One camera's trajectory from its own images: the hand-eye start of a rig whose cameras share
+// little or nothing of their views (hand_eye.h).
+//
+// Rotations are chained through the camera's temporal pairs (frame k to k+1); centres come from its
+// tracks across frames with those rotations (rig_positions.h EstimateTrajectoryCentres), in a unit
+// of length of the camera's own. A frame the chain does not reach (a failed temporal pair) and
+// every frame after it has no pose.
+#pragma once
+
+#include <vector>
+
+#include "calibrator/correspondences.h"
+#include "calibrator/hand_eye.h"
+#include "calibrator/rig_positions.h"
+#include "calibrator/view_graph.h"
+#include "geometry/camera.h"
+
+namespace rigsim {
+
+// `camera_index` selects the camera's keypoints in `keypoints` ([frame][camera][keypoint]) and its
+// pairs in `temporal` (the rig's temporal pairs, any order). Returns cam(k)_from_cam(0) per frame.
+CameraTrajectory EstimateCameraTrajectory(const Camera& camera, int camera_index, const FrameKeypoints& keypoints,
+                                          const std::vector<TemporalPairEstimate>& temporal,
+                                          const RigPositionOptions& options);
+
+}  // namespace rigsim
