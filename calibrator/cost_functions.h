@@ -79,6 +79,52 @@ struct RelativeRotationCost {
   double weight_;
 };
 
+// Residual of the relative rotation of two views, cam_b(t')_from_cam_a(t) = Q_b R_t' R_t^T Q_a^T,
+// against its measurement as an angle-axis vector, scaled by the weight (rig_rotation_averaging.h).
+// Parameters: Q_a, R_t, Q_b, R_t' (rotations, 4 each). ViewMotionRotationCost is the same for one
+// camera's own motion (a = b): Q, R_t, R_t'.
+struct ViewPairRotationCost {
+  ViewPairRotationCost(const Eigen::Quaterniond& b_from_a, double weight) : inv_(b_from_a.conjugate()), weight_(weight) {}
+
+  template <typename T>
+  bool operator()(const T* qa, const T* rt, const T* qb, const T* rt2, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> a(qa), r(rt), b(qb), r2(rt2);
+    return Residual(inv_.cast<T>() * b * r2 * r.conjugate() * a.conjugate(), weight_, residual);
+  }
+
+  template <typename T>
+  static bool Residual(const Eigen::Quaternion<T>& e, double weight, T* residual) {
+    const T wxyz[4] = {e.w(), e.x(), e.y(), e.z()};
+    ceres::QuaternionToAngleAxis(wxyz, residual);
+    for (int i = 0; i < 3; ++i) residual[i] *= T(weight);
+    return true;
+  }
+
+  static ceres::CostFunction* Create(const Eigen::Quaterniond& b_from_a, double weight) {
+    return new ceres::AutoDiffCostFunction<ViewPairRotationCost, 3, 4, 4, 4, 4>(new ViewPairRotationCost(b_from_a, weight));
+  }
+
+  Eigen::Quaterniond inv_;
+  double weight_;
+};
+
+struct ViewMotionRotationCost {
+  ViewMotionRotationCost(const Eigen::Quaterniond& b_from_a, double weight) : inv_(b_from_a.conjugate()), weight_(weight) {}
+
+  template <typename T>
+  bool operator()(const T* q, const T* rt, const T* rt2, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> c(q), r(rt), r2(rt2);
+    return ViewPairRotationCost::Residual(inv_.cast<T>() * c * r2 * r.conjugate() * c.conjugate(), weight_, residual);
+  }
+
+  static ceres::CostFunction* Create(const Eigen::Quaterniond& b_from_a, double weight) {
+    return new ceres::AutoDiffCostFunction<ViewMotionRotationCost, 3, 4, 4, 4>(new ViewMotionRotationCost(b_from_a, weight));
+  }
+
+  Eigen::Quaterniond inv_;
+  double weight_;
+};
+
 // Reprojection residual of one observation in the multi-frame rig bundle adjustment (pixels,
 // projected minus observed): X_cam = cam_from_rig * (rig_from_world * X_world), through the
 // camera model's ImgFromCam (geometry/camera_models.h). Parameters: cam_from_rig rotation (4) and
