@@ -124,7 +124,8 @@ struct PositionSolution {
 // track's RMS angular residual), `options.reweighting_iterations` times.
 PositionSolution SolvePositionSystem(const std::vector<std::vector<Ray>>& rays, const PositionUnknowns& u,
                                      const std::vector<std::optional<Eigen::Quaterniond>>& rig_from_world,
-                                     const RigPositionOptions& options) {
+                                     const RigPositionOptions& options,
+                                     const std::vector<std::optional<Eigen::Vector3d>>& held_axis = {}) {
   const int num_frames = static_cast<int>(rig_from_world.size());
   const int dim = 3 * u.blocks;
   std::vector<Eigen::Matrix3d> rig_t(num_frames, Eigen::Matrix3d::Identity());  // R_k^T
@@ -179,6 +180,13 @@ PositionSolution SolvePositionSystem(const std::vector<std::vector<Ray>>& rays, 
       }
     }
     q = 0.5 * (q + q.transpose());
+    // A camera whose centre the data leave open along an axis is held at camera 0's along it: the
+    // open direction would otherwise be a second smallest eigenvector, mixed into the solution.
+    const double typical = dim > 0 ? q.trace() / dim : 0.0;
+    for (size_t c = 0; c < held_axis.size(); ++c) {
+      if (!held_axis[c] || u.cam_block[c] < 0) continue;
+      q.block<3, 3>(3 * u.cam_block[c], 3 * u.cam_block[c]) += typical * *held_axis[c] * held_axis[c]->transpose();
+    }
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(q);
     out.eigenvalues = eig.eigenvalues();
     x = eig.eigenvectors().col(0);
@@ -252,9 +260,13 @@ RigPositions EstimateRigPositions(const std::vector<Camera>& cameras, const Fram
                                   const std::vector<ViewTrack>& tracks,
                                   const std::vector<std::optional<Eigen::Quaterniond>>& cam_from_rig,
                                   const std::vector<std::optional<Eigen::Quaterniond>>& rig_from_world,
-                                  const RigPositionOptions& options, bool static_rig) {
+                                  const RigPositionOptions& options, bool static_rig,
+                                  const std::vector<std::optional<Eigen::Vector3d>>& held_axis) {
   options.Check();
   const int n = static_cast<int>(cameras.size());
+  if (!held_axis.empty() && static_cast<int>(held_axis.size()) != n) {
+    throw std::invalid_argument("EstimateRigPositions: held_axis needs one entry per camera");
+  }
   const int num_frames = static_cast<int>(keypoints.size());
   if (static_cast<int>(cam_from_rig.size()) != n || static_cast<int>(rig_from_world.size()) != num_frames) {
     throw std::invalid_argument("EstimateRigPositions: one rotation per camera and per frame");
@@ -286,7 +298,7 @@ RigPositions EstimateRigPositions(const std::vector<Camera>& cameras, const Fram
   }
   std::erase_if(rays, [](const std::vector<Ray>& r) { return r.size() < 2; });
   out.constraints_used = static_cast<int>(rays.size());
-  const PositionSolution solution = SolvePositionSystem(rays, u, rig_from_world, options);
+  const PositionSolution solution = SolvePositionSystem(rays, u, rig_from_world, options, held_axis);
   const Eigen::VectorXd& eigenvalues = solution.eigenvalues;
   const double l0_raw = eigenvalues.size() > 0 ? eigenvalues(0) : 0.0;
   const double l1 = eigenvalues.size() > 1 ? eigenvalues(1) : std::numeric_limits<double>::infinity();

@@ -65,11 +65,15 @@ struct RigPositions {
 // `static_rig`: the frames are independent captures of a rig that is not tracked between them
 // (no temporal matches): every frame's rig_from_world is taken as given (identity) and fixed, only
 // the camera centres are unknowns; a track never spans frames then.
+// `held_axis` (empty, or one entry per camera): a unit direction in the rig along which the
+// camera's centre is held at camera 0's, for a camera the data leave open along it (a planar
+// motion without matches to other cameras, hand_eye.h): not estimated.
 RigPositions EstimateRigPositions(const std::vector<Camera>& cameras, const FrameKeypoints& keypoints,
                                   const std::vector<ViewTrack>& tracks,
                                   const std::vector<std::optional<Eigen::Quaterniond>>& cam_from_rig,
                                   const std::vector<std::optional<Eigen::Quaterniond>>& rig_from_world,
-                                  const RigPositionOptions& options, bool static_rig = false);
+                                  const RigPositionOptions& options, bool static_rig = false,
+                                  const std::vector<std::optional<Eigen::Vector3d>>& held_axis = {});
 
 // One camera's own centres over the frames (its trajectory, calibrator/camera_trajectory.h), from
 // its tracks across frames with every rotation known: `rotations[k]` is cam(k)_from_cam(0)'s,
