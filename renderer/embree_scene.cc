@@ -40,7 +40,11 @@ void EmbreeErrors::ThrowIfAny(const std::string& during) {
 }
 
 EmbreeScene::EmbreeScene(const std::string& source) : source_(source) {
-  device_ = rtcNewDevice(nullptr);
+  // Embree's AVX2 and AVX-512 kernels use fused multiply-adds, so an AVX2 machine writes other
+  // depths and colours than one without. Capped at AVX (no FMA; its SSE paths give the same bytes)
+  // every x86-64 node renders the same bytes, and a render split over mixed nodes merges into
+  // what one machine writes.
+  device_ = rtcNewDevice("max_isa=avx");
   if (device_ == nullptr) {
     throw std::runtime_error(source_ + ": cannot create an Embree device (error " +
                              std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
