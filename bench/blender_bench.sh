@@ -8,9 +8,10 @@
 #
 # Needs Blender and NumPy (Debian: apt-get install blender python3-numpy; Blender 3.4). Blender
 # renders with bench/blender_render.py (one bounce, object-index and depth passes, one multilayer
-# EXR per camera); "blender renders" is the sum of its render calls (rendering and writing each EXR, without starting Blender and
-# importing the glTF), "blender process" the whole process. rigsim is the whole `render` command:
-# loading the scene, rendering, writing the dataset, the ground-truth overlap.
+# EXR per camera); "blender renders" is the sum of its render calls (rendering and writing each
+# EXR, without starting Blender and importing the glTF), "blender process" the whole process.
+# rigsim is the whole `render` command: loading the scene, rendering, writing the dataset, the
+# ground-truth overlap.
 set -euo pipefail
 build_dir=${1:?usage: blender_bench.sh BUILD_DIR [RUNS] [SPP...]}
 runs=${2:-3}
