@@ -202,11 +202,15 @@ bool RunJpegRead(const uint8_t* bytes, size_t size, JpegErrorManager* err, Decod
 DecodedPixels DecodeJpeg(const uint8_t* bytes, size_t size, const std::string& name, const DecodeLimits& limits) {
   DecodedPixels out;
   JpegErrorManager err;
-  if (!RunJpegRead(bytes, size, &err, &out, limits, false)) Fail(name, std::string("cannot read JPEG: ") + err.error.message);
+  if (!RunJpegRead(bytes, size, &err, &out, limits, false)) {
+    Fail(name, std::string("cannot read JPEG: ") + err.error.message);
+  }
   CheckHeader(name, out.width, out.height, out.channels, limits);
   if (limits.header_only) return out;
   out.u8.resize(size_t(out.width) * out.height * out.channels);
-  if (!RunJpegRead(bytes, size, &err, &out, limits, true)) Fail(name, std::string("cannot decode JPEG: ") + err.error.message);
+  if (!RunJpegRead(bytes, size, &err, &out, limits, true)) {
+    Fail(name, std::string("cannot decode JPEG: ") + err.error.message);
+  }
   return out;
 }
 
@@ -263,7 +267,7 @@ DecodedPixels DecodeWebp(const uint8_t* bytes, size_t size, const std::string& n
   return out;
 }
 
-// --- TIFF (photos: 8-bit samples through libtiff's RGBA interface) --------------------------------
+// --- TIFF (photos: integer samples, read as 8-bit through libtiff's RGBA interface) ---------------
 extern "C" void OnTiffMessage(const char*, const char*, va_list) {}
 
 DecodedPixels DecodeTiff(const fs::path& path, const DecodeLimits& limits) {
@@ -286,7 +290,8 @@ DecodedPixels DecodeTiff(const fs::path& path, const DecodeLimits& limits) {
   if (limits.header_only) return out;
   std::vector<uint32_t> rgba(size_t(width) * height);
   if (!TIFFReadRGBAImageOriented(tif.get(), width, height, rgba.data(), ORIENTATION_TOPLEFT, 0)) {
-    Fail(name, "cannot decode TIFF (" + std::to_string(bits) + "-bit samples; 8-bit RGB or grey TIFF is read)");
+    Fail(name, "cannot decode TIFF (" + std::to_string(bits) +
+                   "-bit samples; TIFF is read with 8- or 16-bit integer samples)");
   }
   out.u8.resize(rgba.size() * out.channels);
   for (size_t i = 0; i < rgba.size(); ++i) {
@@ -388,10 +393,13 @@ DecodedPixels DecodeImageFile(const fs::path& path, const DecodeLimits& limits) 
 
 std::vector<uint8_t> EncodePng(const void* samples, int width, int height, int channels, int bits,
                                const PngSettings& settings, const std::string& name) {
-  if (channels < 1 || channels > 4 || (bits != 8 && bits != 16)) Fail(name, "PNG takes 1 to 4 channels of 8 or 16 bits");
+  if (channels < 1 || channels > 4 || (bits != 8 && bits != 16)) {
+    Fail(name, "PNG takes 1 to 4 channels of 8 or 16 bits");
+  }
   const size_t row_bytes = size_t(width) * channels * (bits / 8);
   std::vector<png_bytep> rows(height);
-  for (int y = 0; y < height; ++y) rows[y] = const_cast<png_bytep>(static_cast<const uint8_t*>(samples) + y * row_bytes);
+  const auto* first = static_cast<const uint8_t*>(samples);
+  for (int y = 0; y < height; ++y) rows[y] = const_cast<png_bytep>(first + y * row_bytes);
   std::vector<uint8_t> out;
   CodecError error;
   if (!RunPngWrite(rows, width, height, channels, bits, settings, &out, &error)) {
@@ -416,7 +424,9 @@ std::vector<uint8_t> EncodeJpeg(const uint8_t* samples, int width, int height, i
 
 void WriteExrFile(const fs::path& path, const float* samples, int width, int height, int channels, bool zip) {
   static const char* const kNames[5][4] = {{}, {"Y"}, {}, {"R", "G", "B"}, {"R", "G", "B", "A"}};
-  if (channels != 1 && channels != 3 && channels != 4) Fail(path.string(), "OpenEXR is written with 1, 3 or 4 channels");
+  if (channels != 1 && channels != 3 && channels != 4) {
+    Fail(path.string(), "OpenEXR is written with 1, 3 or 4 channels");
+  }
   try {
     Imf::Header header(width, height);
     header.compression() = zip ? Imf::ZIP_COMPRESSION : Imf::NO_COMPRESSION;
@@ -426,8 +436,8 @@ void WriteExrFile(const fs::path& path, const float* samples, int width, int hei
     Imf::FrameBuffer fb;
     const size_t xs = sizeof(float) * channels;
     for (int c = 0; c < channels; ++c) {
-      fb.insert(kNames[channels][c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(const_cast<float*>(samples) + c), xs,
-                                                xs * width));
+      char* base = reinterpret_cast<char*>(const_cast<float*>(samples) + c);
+      fb.insert(kNames[channels][c], Imf::Slice(Imf::FLOAT, base, xs, xs * width));
     }
     file.setFrameBuffer(fb);
     file.writePixels(height);

@@ -38,7 +38,8 @@ struct DecodeLimits {
 
 // PNG, JPEG or WebP bytes in memory (grey, grey + alpha, RGB or RGBA; PNG may be 16-bit).
 DecodedPixels DecodeImageBytes(const uint8_t* bytes, size_t size, const std::string& name, const DecodeLimits& limits);
-// Any supported file: PNG, JPEG, WebP, TIFF (8-bit samples) or OpenEXR (float; R, G, B, A first).
+// Any supported file: PNG, JPEG, WebP, TIFF (integer samples, read as 8-bit) or OpenEXR (float;
+// R, G, B, A first).
 DecodedPixels DecodeImageFile(const std::filesystem::path& path, const DecodeLimits& limits);
 
 // PNG encoding settings: zlib level and strategy, libpng's row filters (PNG_FILTER_* bits), and

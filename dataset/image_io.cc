@@ -54,7 +54,8 @@ void WriteBytesAtomically(const fs::path& path, const std::vector<uint8_t>& byte
 
 template <typename T>
 void CheckWritable(const fs::path& path, const Image<T>& image) {
-  if (image.width <= 0 || image.height <= 0 || image.data.size() != size_t(image.width) * image.height * image.channels) {
+  if (image.width <= 0 || image.height <= 0 ||
+      image.data.size() != size_t(image.width) * image.height * image.channels) {
     throw std::runtime_error(path.string() + ": refusing to write an empty or inconsistent image");
   }
 }

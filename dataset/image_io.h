@@ -16,7 +16,7 @@ void WriteImage(const std::filesystem::path& path, const ImageU16& image);
 // float EXR: depth (1 channel, uncompressed), or 3 or 4 channels R, G, B(, A) (zip).
 void WriteImage(const std::filesystem::path& path, const ImageF& image);
 
-// Reads PNG, JPEG, WebP, TIFF (8-bit) or OpenEXR, whatever the extension says, converted to the
+// Reads PNG, JPEG, WebP, TIFF (as 8-bit) or OpenEXR, whatever the extension says, converted to the
 // requested type. `channels` > 0 demands
 // that channel count (RGB wanted from an RGBA file drops alpha; grey to RGB replicates);
 // 0 keeps the file's.
