@@ -3,6 +3,7 @@
 #include <cstring>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include "dataset/image_codecs.h"
@@ -66,13 +67,14 @@ WrapMode ToWrap(int gl) {
 
 }  // namespace
 
-// Decodes glTF images with libpng, libjpeg and libwebp (dataset/image_codecs.h) in place of tinygltf's stb_image,
-// after two checks on the encoded bytes: the image is a PNG or a JPEG, the formats glTF 2.0
-// allows, or a WebP (EXT_texture_webp) (stb would also take BMP, PSD, GIF, ...), and its header
-// asks for no more pixels than the limit. stb inflates a PNG's compressed data into a buffer
-// without bound: a 1x1 PNG of a few hundred bytes (found by fuzzing) makes it allocate 1.2 GB.
-// libpng inflates row by row into the image's own size. An image that fails a check or does not
-// decode is left empty, its reason kept in the ImageChecks `user_data`, and tinygltf goes on.
+// Decodes glTF images with libpng, libjpeg and libwebp (dataset/image_codecs.h) in place of
+// tinygltf's stb_image, after two checks on the encoded bytes: the image is a PNG or a JPEG, the
+// formats glTF 2.0 allows, or a WebP (EXT_texture_webp) (stb would also take BMP, PSD, GIF, ...),
+// and its header asks for no more pixels than the limit. stb inflates a PNG's compressed data into
+// a buffer without bound: a 1x1 PNG of a few hundred bytes (found by fuzzing) makes it allocate
+// 1.2 GB. libpng inflates row by row into the image's own size. An image that fails a check or
+// does not decode is left empty, its reason kept in the ImageChecks `user_data`, and tinygltf
+// goes on.
 bool LoadCheckedImage(tinygltf::Image* image, const int index, std::string* /*err*/, std::string* /*warn*/,
                       int /*req_width*/, int /*req_height*/, const unsigned char* bytes, int size, void* user_data) {
   ImageChecks& checks = *static_cast<ImageChecks*>(user_data);
@@ -94,20 +96,19 @@ bool LoadCheckedImage(tinygltf::Image* image, const int index, std::string* /*er
   } catch (const std::runtime_error&) {
     return refuse(": cannot decode it");
   }
-  if (decoded.channels == 2) {  // grey + alpha as RGBA, as the renderer takes colour textures
-    std::vector<uint8_t> rgba(size_t(decoded.width) * decoded.height * 4);
-    std::vector<uint16_t> rgba16(decoded.u16.empty() ? 0 : rgba.size());
-    for (size_t i = 0; i < rgba.size() / 4; ++i) {
-      for (int c = 0; c < 4; ++c) {
-        if (rgba16.empty()) rgba[i * 4 + c] = decoded.u8[i * 2 + (c == 3 ? 1 : 0)];
-        else rgba16[i * 4 + c] = decoded.u16[i * 2 + (c == 3 ? 1 : 0)];
+  const bool wide = decoded.type == DecodedPixels::Type::kU16;
+  if (decoded.channels == 2) {  // grey + alpha as RGBA, as OpenCV gave it and the renderer takes it
+    auto to_rgba = [](const auto& grey_alpha) {
+      std::remove_cvref_t<decltype(grey_alpha)> rgba(grey_alpha.size() * 2);
+      for (size_t i = 0; i < grey_alpha.size() / 2; ++i) {
+        for (int c = 0; c < 4; ++c) rgba[i * 4 + c] = grey_alpha[i * 2 + (c == 3 ? 1 : 0)];
       }
-    }
-    decoded.u8 = std::move(rgba);
-    decoded.u16 = std::move(rgba16);
+      return rgba;
+    };
+    if (wide) decoded.u16 = to_rgba(decoded.u16);
+    else decoded.u8 = to_rgba(decoded.u8);
     decoded.channels = 4;
   }
-  const bool wide = decoded.type == DecodedPixels::Type::kU16;
   image->width = decoded.width;
   image->height = decoded.height;
   image->component = decoded.channels;
