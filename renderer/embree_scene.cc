@@ -40,11 +40,10 @@ void EmbreeErrors::ThrowIfAny(const std::string& during) {
 }
 
 EmbreeScene::EmbreeScene(const std::string& source) : source_(source) {
-  // Embree's AVX2 and AVX-512 kernels use fused multiply-adds, so an AVX2 machine writes other
-  // depths and colours than one without. Capped at AVX (no FMA; its SSE paths give the same bytes)
-  // every x86-64 node renders the same bytes, and a render split over mixed nodes merges into
-  // what one machine writes.
-  device_ = rtcNewDevice("max_isa=avx");
+  // Embree chooses its kernels by CPU: its AVX2 and AVX-512 ones (fused multiply-adds) render
+  // other last bits of depth and colour than its SSE and AVX ones (BENCHMARKS.md), so renders from
+  // nodes of the two kinds differ; "max_isa=avx" here would make them equal.
+  device_ = rtcNewDevice(nullptr);
   if (device_ == nullptr) {
     throw std::runtime_error(source_ + ": cannot create an Embree device (error " +
                              std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
