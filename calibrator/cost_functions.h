@@ -24,6 +24,7 @@
 
 #include "geometry/camera.h"
 #include "geometry/camera_models.h"
+#include "geometry/pose_interpolation.h"
 
 namespace rigsim {
 
@@ -242,6 +243,44 @@ class IntrinsicsPriorCost final : public ceres::CostFunction {
 
 // The cost of one observation of `camera`; its intrinsics block must have camera.params().size()
 // entries. Throws std::invalid_argument for a model with another number of parameters.
+// Reprojection residual of an observation whose camera captures between frames: the rig's pose at
+// the capture time t_frame + offset + row_fraction * readout, interpolated between frames a and b
+// (geometry/pose_interpolation.h) whose times are given relative to frame a's. Parameters:
+// cam_from_rig rotation (4) and translation (3), rig_from_world of frame a (4, 3) and of frame b
+// (4, 3), the camera's timing (offset, readout; seconds) and the point (3); the intrinsics are
+// constants.
+struct TimedRigReprojectionCost {
+  TimedRigReprojectionCost(const Camera& camera, const Eigen::Vector2d& observed, double frame_time, double time_b,
+                           double row_fraction)
+      : cost(camera.model(), camera.params().data(), observed),
+        frame_time(frame_time),
+        time_b(time_b),
+        row_fraction(row_fraction) {}
+
+  template <typename T>
+  bool operator()(const T* cam_q, const T* cam_t, const T* qa, const T* ta, const T* qb, const T* tb, const T* timing,
+                  const T* point, T* residual) const {
+    const T s = (T(frame_time) + timing[0] + T(row_fraction) * timing[1]) / T(time_b);
+    Eigen::Quaternion<T> q;
+    Eigen::Matrix<T, 3, 1> t;
+    InterpolateRigFromWorld<T>(Eigen::Map<const Eigen::Quaternion<T>>(qa), Eigen::Map<const Eigen::Matrix<T, 3, 1>>(ta),
+                               Eigen::Map<const Eigen::Quaternion<T>>(qb), Eigen::Map<const Eigen::Matrix<T, 3, 1>>(tb),
+                               s, &q, &t);
+    return cost(cam_q, cam_t, q.coeffs().data(), t.data(), point, residual);
+  }
+
+  static ceres::CostFunction* Create(const Camera& camera, const Eigen::Vector2d& observed, double frame_time,
+                                     double time_b, double row_fraction) {
+    return new ceres::AutoDiffCostFunction<TimedRigReprojectionCost, 2, 4, 3, 4, 3, 4, 3, 2, 3>(
+        new TimedRigReprojectionCost(camera, observed, frame_time, time_b, row_fraction));
+  }
+
+  RigReprojectionHeldIntrinsics cost;
+  double frame_time;    // the observation's frame, relative to frame a
+  double time_b;        // frame b, relative to frame a
+  double row_fraction;  // the observation's row over the image height, in readout order
+};
+
 inline ceres::CostFunction* CreateRigReprojectionCost(const Camera& camera, const Eigen::Vector2d& observed) {
   switch (camera.params().size()) {
     case 4: return new RigReprojectionCostFunction<4>(camera.model(), camera.params().data(), observed);

@@ -18,6 +18,7 @@
 #include "calibrator/cost_functions.h"
 #include "calibrator/format.h"
 #include "calibrator/union_find.h"
+#include "geometry/pose_interpolation.h"
 
 namespace rigsim {
 namespace {
@@ -317,19 +318,22 @@ struct BundleProblem {
   const std::vector<ViewTrack>& tracks;
   const std::vector<std::optional<Rigid3d>>& initial_cam_from_rig;
   const std::vector<std::optional<Rigid3d>>& initial_rig_from_world;
+  const CaptureTiming* timing;  // nullptr: every camera captures at its frame's timestamp
   std::vector<Eigen::Vector4d> cq, rq;
   std::vector<Eigen::Vector3d> ct, rt;
   std::vector<std::vector<double>> intrinsics;
+  std::vector<Eigen::Vector2d> time;  // per camera (offset, readout), with a timing model
 
   BundleProblem(const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, const std::vector<ViewTrack>& tracks,
                 const std::vector<std::optional<Rigid3d>>& initial_cam_from_rig,
-                const std::vector<std::optional<Rigid3d>>& initial_rig_from_world)
+                const std::vector<std::optional<Rigid3d>>& initial_rig_from_world, const CaptureTiming* timing)
       : given(cameras),
         cameras(cameras),
         keypoints(keypoints),
         tracks(tracks),
         initial_cam_from_rig(initial_cam_from_rig),
         initial_rig_from_world(initial_rig_from_world),
+        timing(timing),
         cq(cameras.size(), Eigen::Vector4d(0, 0, 0, 1)),
         rq(keypoints.size(), Eigen::Vector4d(0, 0, 0, 1)),
         ct(cameras.size(), Eigen::Vector3d::Zero()),
@@ -345,6 +349,48 @@ struct BundleProblem {
       rq[k] = initial_rig_from_world[k]->rotation.coeffs();
       rt[k] = initial_rig_from_world[k]->translation;
     }
+    if (timing) {
+      for (size_t c = 0; c < cameras.size(); ++c) time.emplace_back(timing->time_offset_s[c], timing->readout_s[c]);
+    }
+  }
+
+  // With a timing model: the observation's row in readout order over the image height.
+  double RowFraction(const ViewObservation& o) const {
+    const double h = cameras[o.camera].height();
+    const double y = Observed(o).y();
+    const bool up = !timing->readout_bottom_to_top.empty() && timing->readout_bottom_to_top[o.camera];
+    return (up ? h - 1 - y : y) / h;
+  }
+  // With a timing model: the two posed frames (a, b) around the observation's capture time at the
+  // current timing, and that time relative to frame a's; a == b when fewer than two are posed.
+  struct Bracket {
+    int a = 0, b = 0;
+  };
+  Bracket Around(const ViewObservation& o) const {
+    const std::vector<double>& times = timing->frame_times_s;
+    const double capture = times[o.frame] + time[o.camera][0] + RowFraction(o) * time[o.camera][1];
+    std::vector<int> posed;
+    for (size_t k = 0; k < times.size(); ++k) {
+      if (initial_rig_from_world[k]) posed.push_back(static_cast<int>(k));
+    }
+    std::sort(posed.begin(), posed.end(), [&](int x, int y) { return times[x] < times[y]; });
+    if (posed.size() < 2) return {o.frame, o.frame};
+    size_t i = 0;  // the last posed frame at or before the capture, within [0, size - 2]
+    while (i + 2 < posed.size() && times[posed[i + 1]] <= capture) ++i;
+    return {posed[i], posed[i + 1]};
+  }
+  Rigid3d RigAt(const ViewObservation& o) const {
+    const Rigid3d frame(Eigen::Quaterniond(rq[o.frame].data()), rt[o.frame]);
+    if (!timing) return frame;
+    const Bracket br = Around(o);
+    if (br.a == br.b) return frame;
+    const std::vector<double>& times = timing->frame_times_s;
+    const double s = (times[o.frame] - times[br.a] + time[o.camera][0] + RowFraction(o) * time[o.camera][1]) /
+                     (times[br.b] - times[br.a]);
+    Rigid3d out;
+    InterpolateRigFromWorld<double>(Eigen::Quaterniond(rq[br.a].data()), rt[br.a], Eigen::Quaterniond(rq[br.b].data()),
+                                    rt[br.b], s, &out.rotation, &out.translation);
+    return out;
   }
 
   // Takes the intrinsics blocks into `cameras`. A block the solver moved to parameters the model
@@ -366,8 +412,7 @@ struct BundleProblem {
 
   bool Posed(const ViewObservation& o) const { return initial_cam_from_rig[o.camera] && initial_rig_from_world[o.frame]; }
   Rigid3d ViewPose(const ViewObservation& o) const {
-    return Rigid3d(Eigen::Quaterniond(cq[o.camera].data()), ct[o.camera]) *
-           Rigid3d(Eigen::Quaterniond(rq[o.frame].data()), rt[o.frame]);
+    return Rigid3d(Eigen::Quaterniond(cq[o.camera].data()), ct[o.camera]) * RigAt(o);
   }
   const Eigen::Vector2d& Observed(const ViewObservation& o) const { return keypoints[o.frame][o.camera][o.keypoint]; }
   std::optional<double> Error(const WorldPoint& p, const ViewObservation& o) const {
@@ -460,13 +505,14 @@ struct BundleRoundResult {
   // With BundleRound::covariance only.
   std::vector<std::optional<Eigen::Matrix3d>> centre_covariance;
   std::vector<std::vector<double>> intrinsics_stddev;  // per camera; empty when not refined
+  std::vector<std::optional<double>> time_offset_stddev_s, readout_stddev_s;  // per camera, where estimated
 };
 
 // One Levenberg-Marquardt solve over the points (every `point_stride`-th) and the poses they see,
 // updating the poses in `bp` and the points in place; the final round also yields the camera
 // centres' covariances (and with refined intrinsics, their standard deviations).
-BundleRoundResult SolveBundle(BundleProblem& bp, std::vector<WorldPoint>& points, const BundleRound& round,
-                              const RigBundleAdjustmentOptions& options) {
+BundleRoundResult SolveBundleOnce(BundleProblem& bp, std::vector<WorldPoint>& points, const BundleRound& round,
+                                  const RigBundleAdjustmentOptions& options) {
   const int n = static_cast<int>(bp.cameras.size());
   const int num_frames = static_cast<int>(bp.keypoints.size());
   ceres::Problem::Options problem_options;
@@ -477,9 +523,30 @@ BundleRoundResult SolveBundle(BundleProblem& bp, std::vector<WorldPoint>& points
   for (size_t i = 0; i < points.size(); i += round.point_stride) {
     WorldPoint& p = points[i];
     for (const ViewObservation& o : p.observations) {
+      const BundleProblem::Bracket br = bp.timing ? bp.Around(o) : BundleProblem::Bracket{o.frame, o.frame};
+      if (br.a != br.b) {
+        const std::vector<double>& times = bp.timing->frame_times_s;
+        problem.AddResidualBlock(
+            TimedRigReprojectionCost::Create(bp.cameras[o.camera], bp.Observed(o), times[o.frame] - times[br.a],
+                                             times[br.b] - times[br.a], bp.RowFraction(o)),
+            loss,
+            {bp.cq[o.camera].data(), bp.ct[o.camera].data(), bp.rq[br.a].data(), bp.rt[br.a].data(), bp.rq[br.b].data(),
+             bp.rt[br.b].data(), bp.time[o.camera].data(), p.x.data()});
+        continue;
+      }
       problem.AddResidualBlock(CreateRigReprojectionCost(bp.cameras[o.camera], bp.Observed(o)), loss,
                                {bp.cq[o.camera].data(), bp.ct[o.camera].data(), bp.rq[o.frame].data(),
                                 bp.rt[o.frame].data(), p.x.data(), bp.intrinsics[o.camera].data()});
+    }
+  }
+  for (int c = 0; c < n && bp.timing; ++c) {
+    double* block = bp.time[c].data();
+    if (!problem.HasParameterBlock(block)) continue;
+    const bool offset = bp.timing->estimate_offsets && c > 0, readout = bp.timing->estimate_readout;
+    if (!offset && !readout) {
+      problem.SetParameterBlockConstant(block);
+    } else if (!offset || !readout) {
+      problem.SetManifold(block, new ceres::SubsetManifold(2, {offset ? 1 : 0}));
     }
   }
   for (int c = 0; c < n; ++c) {
@@ -494,7 +561,7 @@ BundleRoundResult SolveBundle(BundleProblem& bp, std::vector<WorldPoint>& points
           options.intrinsics_priors.pixel_noise_px / (options.intrinsics_priors.aspect_fraction * std::abs(given.fx()));
       problem.AddResidualBlock(new IntrinsicsPriorCost(given.params(), weights, aspect_weight), nullptr,
                                bp.intrinsics[c].data());
-    } else {
+    } else if (problem.HasParameterBlock(bp.intrinsics[c].data())) {  // timed costs hold intrinsics themselves
       problem.SetParameterBlockConstant(bp.intrinsics[c].data());
     }
     if (c == 0) {  // camera 0 is the rig frame
@@ -537,10 +604,30 @@ BundleRoundResult SolveBundle(BundleProblem& bp, std::vector<WorldPoint>& points
     for (int c = 0; c < n; ++c) pose_blocks.insert(pose_blocks.end(), {bp.cq[c].data(), bp.ct[c].data()});
     for (int k = 0; k < num_frames; ++k) pose_blocks.insert(pose_blocks.end(), {bp.rq[k].data(), bp.rt[k].data()});
     for (int c = 0; c < n; ++c) pose_blocks.push_back(bp.intrinsics[c].data());
+    for (Eigen::Vector2d& t : bp.time) pose_blocks.push_back(t.data());
     const ReducedCovariance reduced = PoseCovariance(problem, pose_blocks);
     const double rms_px = bp.RmsPx(points);
     const double variance = 0.5 * rms_px * rms_px;  // per image coordinate
     out.centre_covariance = CentreCovariances(problem, reduced, bp.cq, bp.ct, variance);
+    out.time_offset_stddev_s.assign(n, std::nullopt);
+    out.readout_stddev_s.assign(n, std::nullopt);
+    for (int c = 0; c < n && bp.timing; ++c) {
+      double* block = bp.time[c].data();
+      const auto it = reduced.offset.find(block);
+      if (it == reduced.offset.end()) continue;
+      const int size = problem.ParameterBlockTangentSize(block);
+      Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+      if (const ceres::Manifold* manifold = problem.GetManifold(block)) {
+        Eigen::Matrix<double, 2, Eigen::Dynamic, Eigen::RowMajor> plus(2, size);
+        manifold->PlusJacobian(block, plus.data());
+        cov = plus * reduced.covariance.block(it->second, it->second, size, size) * plus.transpose();
+      } else {
+        cov = reduced.covariance.block<2, 2>(it->second, it->second);
+      }
+      cov *= variance;
+      if (bp.timing->estimate_offsets && c > 0) out.time_offset_stddev_s[c] = std::sqrt(std::max(cov(0, 0), 0.0));
+      if (bp.timing->estimate_readout) out.readout_stddev_s[c] = std::sqrt(std::max(cov(1, 1), 0.0));
+    }
     out.intrinsics_stddev.assign(n, {});
     for (int c = 0; c < n; ++c) {
       const auto it = reduced.offset.find(bp.intrinsics[c].data());
@@ -553,13 +640,63 @@ BundleRoundResult SolveBundle(BundleProblem& bp, std::vector<WorldPoint>& points
   return out;
 }
 
+// The frames around each capture time as the timing currently places them, in observation order.
+std::vector<std::pair<int, int>> Brackets(const BundleProblem& bp, const std::vector<WorldPoint>& points, int stride) {
+  std::vector<std::pair<int, int>> out;
+  for (size_t i = 0; i < points.size(); i += stride) {
+    for (const ViewObservation& o : points[i].observations) {
+      const BundleProblem::Bracket br = bp.Around(o);
+      out.emplace_back(br.a, br.b);
+    }
+  }
+  return out;
+}
+
+// SolveBundleOnce, repeated with a timing model while the solved offsets move captures across a
+// frame: each cost interpolates between the frames chosen when it was built.
+BundleRoundResult SolveBundle(BundleProblem& bp, std::vector<WorldPoint>& points, const BundleRound& round,
+                              const RigBundleAdjustmentOptions& options) {
+  if (!bp.timing) return SolveBundleOnce(bp, points, round, options);
+  constexpr int kMaxRebrackets = 4;
+  BundleRoundResult out;
+  for (int pass = 0; pass <= kMaxRebrackets; ++pass) {
+    const std::vector<std::pair<int, int>> before = Brackets(bp, points, round.point_stride);
+    const int iterations = out.iterations;
+    out = SolveBundleOnce(bp, points, round, options);
+    out.iterations += iterations;
+    if (Brackets(bp, points, round.point_stride) == before) break;
+  }
+  return out;
+}
+
 }  // namespace
+
+void CaptureTiming::Check(int cameras, int frames) const {
+  auto fail = [](const std::string& why) { throw std::invalid_argument("CaptureTiming: " + why); };
+  if (static_cast<int>(frame_times_s.size()) != frames) fail("frame_times_s needs one time per frame");
+  if (static_cast<int>(time_offset_s.size()) != cameras || static_cast<int>(readout_s.size()) != cameras) {
+    fail("time_offset_s and readout_s need one value per camera");
+  }
+  if (!readout_bottom_to_top.empty() && static_cast<int>(readout_bottom_to_top.size()) != cameras) {
+    fail("readout_bottom_to_top needs one flag per camera, or none");
+  }
+  std::vector<double> sorted = frame_times_s;
+  std::sort(sorted.begin(), sorted.end());
+  for (size_t k = 0; k < sorted.size(); ++k) {
+    if (!std::isfinite(sorted[k]) || (k > 0 && sorted[k] == sorted[k - 1])) fail("frame times must be finite and distinct");
+  }
+  for (int c = 0; c < cameras; ++c) {
+    if (!std::isfinite(time_offset_s[c]) || !std::isfinite(readout_s[c]) || readout_s[c] < 0) {
+      fail("offsets must be finite and readout times finite and >= 0");
+    }
+  }
+}
 
 MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
     const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, const std::vector<ViewTrack>& tracks,
     const std::vector<std::optional<Rigid3d>>& initial_cam_from_rig,
     const std::vector<std::optional<Rigid3d>>& initial_rig_from_world, int scale_camera,
-    const RigBundleAdjustmentOptions& options, bool hold_frames) {
+    const RigBundleAdjustmentOptions& options, bool hold_frames, const CaptureTiming* timing) {
   options.Check();
   // Ceres reports through glog a failed Cholesky step that Levenberg-Marquardt then recovers from
   // by itself (a larger damping); that is not for the user's terminal. Errors still show.
@@ -583,7 +720,13 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
   result.observations_per_camera.assign(n, 0);
   result.cameras = cameras;
 
-  BundleProblem bp(cameras, keypoints, tracks, initial_cam_from_rig, initial_rig_from_world);
+  if (timing) {
+    timing->Check(n, num_frames);
+    if (options.refine_intrinsics) {
+      throw std::invalid_argument("MultiFrameRigBundleAdjust: refine_intrinsics does not combine with a timing model");
+    }
+  }
+  BundleProblem bp(cameras, keypoints, tracks, initial_cam_from_rig, initial_rig_from_world, timing);
   const double min_angle = DegToRad(options.min_triangulation_angle_deg);
   std::vector<WorldPoint> points = bp.Triangulate(min_angle, std::numeric_limits<double>::infinity());
   result.initial_rms_px = bp.RmsPx(points);
@@ -617,6 +760,8 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
       if (setup.final_round) {
         if (last) {
           result.centre_covariance = std::move(solved.centre_covariance);
+          result.time_offset_stddev_s = std::move(solved.time_offset_stddev_s);
+          result.readout_stddev_s = std::move(solved.readout_stddev_s);
           if (refine) result.intrinsics_stddev = std::move(solved.intrinsics_stddev);
         }
         break;
@@ -633,6 +778,7 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
     adjust(0, true, pass + 1 == options.intrinsics_passes);
   }
   result.cameras = bp.cameras;
+  result.timing = bp.time;
 
   for (int c = 0; c < n; ++c) {
     if (initial_cam_from_rig[c]) result.cam_from_rig[c] = Rigid3d(Eigen::Quaterniond(bp.cq[c].data()), bp.ct[c]);

@@ -97,6 +97,26 @@ struct RigBundleAdjustmentOptions {
   void Check() const;
 };
 
+// When cameras capture at other times than their frame's timestamp (a trigger offset, a rolling
+// shutter): the frames' timestamps and each camera's timing, given or to estimate. A view's pose is
+// then cam_from_rig times the rig's pose at the capture time t_frame + offset + (row / height) *
+// readout (rows in readout order), interpolated between the two posed frames around it
+// (geometry/pose_interpolation.h, the renderer's model of the rig between frames). Intrinsics are
+// held with a timing model (refine_intrinsics is not combined with it).
+struct CaptureTiming {
+  std::vector<double> frame_times_s;     // one per frame, distinct
+  std::vector<double> time_offset_s;     // per camera: given, or the start of the estimate
+  std::vector<double> readout_s;         // per camera: given, or the start of the estimate
+  std::vector<char> readout_bottom_to_top;  // per camera; empty: every camera top to bottom
+  // Estimate every camera's offset but camera 0's (the gauge: offsets are relative to it), and
+  // every camera's readout time.
+  bool estimate_offsets = false;
+  bool estimate_readout = false;
+
+  // Throws std::invalid_argument naming the first bad field, for `cameras` cameras and `frames` frames.
+  void Check(int cameras, int frames) const;
+};
+
 struct MultiFrameBundleAdjustmentResult {
   // The cameras as adjusted: the given ones, or with RigBundleAdjustmentOptions::refine_intrinsics
   // their refined intrinsics (a camera without observations keeps its given ones).
@@ -118,6 +138,10 @@ struct MultiFrameBundleAdjustmentResult {
   // solution, from the Jacobian and the reprojection RMS; nullopt for camera 0 and cameras not
   // adjusted, or when it could not be computed.
   std::vector<std::optional<Eigen::Matrix3d>> centre_covariance;
+  // With a CaptureTiming: per camera its (offset, readout) in seconds as adjusted (or as given), and
+  // the standard deviations of the estimated ones from the covariance (nullopt where held).
+  std::vector<Eigen::Vector2d> timing;
+  std::vector<std::optional<double>> time_offset_stddev_s, readout_stddev_s;
   // With RigBundleAdjustmentOptions::keep_points only: the final solve's points (world frame) and
   // how many views see each, and the reprojection error (px) of every observation triangulated
   // from the initial poses (before any solve) and of every observation kept at the end.
@@ -130,13 +154,13 @@ struct MultiFrameBundleAdjustmentResult {
 // (RigBundleAdjustmentOptions). Camera 0's cam_from_rig and frame 0's rig_from_world must be
 // given and are held constant (normally the identity); `scale_camera` (-1: none) keeps |its
 // centre|; `hold_frames` holds every frame's rig_from_world constant (a static rig, see
-// rig_positions.h). Throws std::invalid_argument on sizes that do not match or a missing
-// reference.
+// rig_positions.h); `timing`, when given, models each camera's capture time (CaptureTiming). Throws
+// std::invalid_argument on sizes that do not match or a missing reference.
 MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
     const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, const std::vector<ViewTrack>& tracks,
     const std::vector<std::optional<Rigid3d>>& initial_cam_from_rig,
     const std::vector<std::optional<Rigid3d>>& initial_rig_from_world, int scale_camera,
-    const RigBundleAdjustmentOptions& options, bool hold_frames = false);
+    const RigBundleAdjustmentOptions& options, bool hold_frames = false, const CaptureTiming* timing = nullptr);
 
 // How well poses explain the tracks, comparable between poses of the same views (the starts of
 // the bundle adjustment, rig_calibration.h): every posed observation of every track contributes

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "geometry/pose_interpolation.h"
+
 namespace rigsim {
 namespace {
 
@@ -109,8 +111,7 @@ RigTrajectory::RigTrajectory(const FramesFile& frames) {
   for (const Frame& f : frames.frames) {
     if (!f.rig_from_world) Fail("frame '" + f.name + "' has no rig_from_world");
     if (!std::isfinite(f.timestamp_s)) Fail("frame '" + f.name + "' has a timestamp that is not finite");
-    keys_.push_back({f.timestamp_s, *f.rig_from_world, f.rig_from_world->rotation.conjugate(),
-                     f.rig_from_world->SourceOriginInTarget()});
+    keys_.push_back({f.timestamp_s, *f.rig_from_world});
   }
   if (keys_.empty()) Fail("no frames");
   std::stable_sort(keys_.begin(), keys_.end(), [](const Key& a, const Key& b) { return a.time_s < b.time_s; });
@@ -134,14 +135,11 @@ Rigid3d RigTrajectory::RigFromWorldAt(double time_s) const {
   const Key& a = keys_[k];
   const Key& b = keys_[k + 1];
   const double s = (time_s - a.time_s) / (b.time_s - a.time_s);  // < 0 or > 1 outside: extrapolation
-  // Slerp as a fraction of the relative rotation's angle, which extrapolates as well.
-  Eigen::Quaterniond delta = a.world_from_rig.conjugate() * b.world_from_rig;
-  if (delta.w() < 0) delta.coeffs() *= -1;  // the short way round
-  const Eigen::AngleAxisd turn(delta);
-  const Eigen::Quaterniond world_from_rig =
-      (a.world_from_rig * Eigen::Quaterniond(Eigen::AngleAxisd(s * turn.angle(), turn.axis()))).normalized();
-  const Eigen::Vector3d centre = a.centre + s * (b.centre - a.centre);
-  return Rigid3d(world_from_rig, centre).Inverse();
+  Rigid3d out;
+  InterpolateRigFromWorld<double>(a.rig_from_world.rotation, a.rig_from_world.translation, b.rig_from_world.rotation,
+                                  b.rig_from_world.translation, s, &out.rotation, &out.translation);
+  out.rotation.normalize();
+  return out;
 }
 
 }  // namespace rigsim

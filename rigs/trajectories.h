@@ -45,8 +45,9 @@ FramesFile MakeTrajectory(const TrajectoryOptions& options);
 
 // The rig's pose at any time, from the poses and timestamps of a trajectory's frames: between two
 // frames the rig's centre moves on the straight line and its orientation turns by slerp, at
-// constant speed over the time between them; before the first frame and after the last it goes on
-// with the velocity (linear and angular) of the nearest pair of frames. A single frame stands
+// constant speed over the time between them (geometry/pose_interpolation.h, which the calibrator
+// shares); before the first frame and after the last it goes on with the velocity (linear and
+// angular) of the nearest pair of frames. A single frame stands
 // still. At a frame's timestamp the pose is that frame's rig_from_world exactly.
 class RigTrajectory {
  public:
@@ -61,8 +62,6 @@ class RigTrajectory {
   struct Key {
     double time_s;
     Rigid3d rig_from_world;
-    Eigen::Quaterniond world_from_rig;  // rotation
-    Eigen::Vector3d centre;             // the rig's origin in the world
   };
   std::vector<Key> keys_;  // by time
 };

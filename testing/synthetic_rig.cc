@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "geometry/pose_interpolation.h"
 #include "testing/test_name.h"
 
 namespace rigsim {
@@ -53,7 +54,10 @@ void AddPoints(const SyntheticRigOptions& o, int count, Anchor anchor, std::mt19
 }
 
 // The keypoints of one view of `visible` (indices into `points`), with distractors, shuffled.
-void Observe(const SyntheticRigOptions& o, const Camera& camera, const Rigid3d& cam_from_world,
+// `cam_from_world_at_row(y)`: the view's pose when image row y is captured (a rolling shutter), the
+// projection iterated to the row it lands on.
+template <typename PoseAtRow>
+void Observe(const SyntheticRigOptions& o, const Camera& camera, PoseAtRow cam_from_world_at_row,
              const std::vector<Eigen::Vector3d>& points, const std::vector<int>& visible, std::mt19937& rng,
              std::vector<Eigen::Vector2d>* keypoints, std::vector<int>* point_of) {
   std::uniform_real_distribution<double> u(0, 1);
@@ -61,7 +65,8 @@ void Observe(const SyntheticRigOptions& o, const Camera& camera, const Rigid3d& 
   std::vector<Eigen::Vector2d> kps;
   std::vector<int> owner;
   for (int i : visible) {
-    const auto px = camera.ImgFromCam(cam_from_world * points[i]);
+    auto px = camera.ImgFromCam(cam_from_world_at_row(0.5 * (camera.height() - 1)) * points[i]);
+    for (int iter = 0; iter < 6 && px; ++iter) px = camera.ImgFromCam(cam_from_world_at_row(px->y()) * points[i]);
     if (!px || !camera.IsInImage(*px)) continue;
     const double nx = noise(rng), ny = noise(rng);
     kps.push_back(*px + o.noise_px * Eigen::Vector2d(nx, ny));
@@ -103,6 +108,9 @@ void SyntheticRigOptions::Check() const {
   }
   require(num_frames >= 1, "num_frames must be at least 1");
   require(path.empty() || static_cast<int>(path.size()) == num_frames, "path: one pose per frame");
+  require(time_offset_s.empty() || time_offset_s.size() == cameras.size(), "time_offset_s: one per camera, or none");
+  require(readout_s.empty() || readout_s.size() == cameras.size(), "readout_s: one per camera, or none");
+  require(frame_interval_s > 0, "frame_interval_s must be > 0");
   require(num_points >= 0, "num_points must not be negative");
   require(min_distance_m > 0 && max_distance_m >= min_distance_m, "min_distance_m..max_distance_m must be a positive range");
   require(max_elevation_deg >= 0 && max_elevation_deg <= 90, "max_elevation_deg must be in [0, 90]");
@@ -163,7 +171,14 @@ SyntheticRig SynthesizeRig(const SyntheticRigOptions& o) {
   for (int k = 0; k < o.num_frames; ++k) {
     for (int c = 0; c < n; ++c) {
       const std::vector<int>& visible = sets[o.new_points_every_frame ? k : 0][set_of_camera[c]];
-      Observe(o, o.cameras[c], s.CamFromWorld({k, c}), s.points, visible, rng, &s.keypoints[k][c], &s.point_of[k][c]);
+      const double offset = o.time_offset_s.empty() ? 0.0 : o.time_offset_s[c];
+      const double readout = o.readout_s.empty() ? 0.0 : o.readout_s[c];
+      auto pose_at_row = [&, k, c, offset, readout](double row) {
+        if (offset == 0.0 && readout == 0.0) return s.CamFromWorld({k, c});
+        return *s.rig.cameras[c].cam_from_rig *
+               s.RigFromWorldAt(k * o.frame_interval_s + offset + row / o.cameras[c].height() * readout);
+      };
+      Observe(o, o.cameras[c], pose_at_row, s.points, visible, rng, &s.keypoints[k][c], &s.point_of[k][c]);
     }
   }
   return s;
@@ -183,6 +198,18 @@ std::vector<Rigid3d> TurningPath(int frames, double step_m, double yaw_deg, doub
     world_from_rig = world_from_rig * Rigid3d(turn, Eigen::Vector3d(0, 0, step_m));
   }
   return path;
+}
+
+Rigid3d SyntheticRig::RigFromWorldAt(double time_s) const {
+  const double dt = options.frame_interval_s;
+  const int frames = static_cast<int>(rig_from_world.size());
+  if (frames == 1) return rig_from_world[0];
+  const int a = std::clamp(static_cast<int>(std::floor(time_s / dt)), 0, frames - 2);
+  Rigid3d out;
+  InterpolateRigFromWorld<double>(rig_from_world[a].rotation, rig_from_world[a].translation,
+                                  rig_from_world[a + 1].rotation, rig_from_world[a + 1].translation,
+                                  time_s / dt - a, &out.rotation, &out.translation);
+  return out;
 }
 
 Rigid3d SyntheticRig::CamFromWorld(SyntheticView v) const {

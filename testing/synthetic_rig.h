@@ -50,6 +50,12 @@ struct SyntheticRigOptions {
   // Or any path: the rig's pose per frame (rig_from_world, frame 0's the identity), one per frame,
   // instead of step_m and turn_deg.
   std::vector<Rigid3d> path;
+  // When each camera captures: frame k at k * frame_interval_s, camera c time_offset_s[c] after it,
+  // row y of its image y / height * readout_s[c] after that (a rolling shutter); the rig between
+  // frames as the renderer moves it (geometry/pose_interpolation.h). Empty: at the frame's time.
+  double frame_interval_s = 0.1;
+  std::vector<double> time_offset_s;
+  std::vector<double> readout_s;
 
   // The points: num_points around the rig's path, seen in every frame, or, with
   // new_points_every_frame, num_points of its own around each frame's rig. A point lies in a random
@@ -97,7 +103,10 @@ struct SyntheticRig {
   // order give the same matches.
   std::mt19937 rng;
 
+  // The pose at the frame's time (what a synchronised camera sees).
   Rigid3d CamFromWorld(SyntheticView v) const;
+  // The rig's pose at any time (frame k at k * frame_interval_s), as the observations took it.
+  Rigid3d RigFromWorldAt(double time_s) const;
   // The true correspondences (keypoint of a, keypoint of b), in the order of the points.
   std::vector<std::pair<int, int>> TrueMatches(SyntheticView a, SyntheticView b) const;
   // The true correspondences and wrong ones (random keypoint pairs; options' outlier_fraction, at
