@@ -24,15 +24,14 @@ void WriteTyped(const fs::path& path, const Image<T>& image, OIIO::TypeDesc type
   auto out = OIIO::ImageOutput::create(path.string());
   if (!out) throw std::runtime_error(path.string() + ": no image writer for this extension: " + OIIO::geterror());
   OIIO::ImageSpec spec(image.width, image.height, image.channels, type);
-  // Float images (depth) uncompressed: zip shrinks a rendered 1280x720 range image by only 16%
-  // (3.1 MB instead of 3.7) and takes 68 ms to write it instead of 13.
-  // Multi-channel float images (correspondence maps, normals: opt-in, 11 MB each uncompressed)
-  // are zip-compressed: their many no-surface pixels are the same value.
+  // Single-channel float images (depth) uncompressed: zip shrinks a range image little and takes
+  // five times as long (BENCHMARKS.md, "Writing a longer dataset"). Multi-channel float images
+  // (correspondence maps, normals: opt-in, large uncompressed) are zip-compressed: their many
+  // no-surface pixels are the same value.
   if (type == OIIO::TypeDesc::FLOAT) spec.attribute("compression", image.channels == 1 ? "none" : "zip");
-  // PNG at zlib's fastest level: a rendered 1280x720 RGB image is written in 51 ms instead of
-  // 170 ms at OpenImageIO's default 6, for files 17% larger (labels and instances barely change).
-  // Rows filtered by Paeth alone rather than libpng's per-row choice among all five filters: the
-  // same size within 1%, written 20-60% faster (RGB 42 -> 34 ms, label colours 17 -> 10 ms).
+  // PNG at zlib's fastest level, rows filtered by Paeth alone rather than libpng's per-row choice
+  // among all five filters: a little larger and much faster to write than the defaults
+  // (BENCHMARKS.md, "Writing a dataset").
   if (type != OIIO::TypeDesc::FLOAT) {
     spec.attribute("png:compressionLevel", 1);
     spec.attribute("png:filter", 0x80);  // PNG_FILTER_PAETH

@@ -36,7 +36,7 @@ Camera LensCamera(const LensOptions& lens, int width, int height, double hfov_de
 
 struct RingRigOptions {
   int num_cameras = 4;           // cameras on the ring, named cam0..cam{N-1} from left to right
-  double yaw_spacing_deg = 60.0; // yaw between neighbours; with hfov 95: 29-34% ground-truth overlap on the street
+  double yaw_spacing_deg = 60.0; // yaw between neighbours: at hfov 95, neighbours share about a third of their view
   double hfov_deg = 95.0;        // horizontal field of view of every camera (distorted ones too)
   double radius_m = 0.5;         // camera centres lie on this circle around the rig origin
   int width = 1280;

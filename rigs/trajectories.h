@@ -70,9 +70,8 @@ class RigTrajectory {
 // The demo's path on the built-in street: from the middle of the street at eye height, 2 m per
 // frame along a gentle left turn (12 m radius, 9.5 deg per frame). The turn is what makes each
 // camera's place in the rig visible in its own images (hand-eye style); on a straight path only
-// the narrow overlaps between neighbours carry it. Measured on the demo ring, 4 frames, every
-// semantic mode: worst camera 0.021 deg / 0.21 deg (rotation / translation direction) against
-// 0.033 deg / 0.35 deg straight, where the gated mode's linear position step also failed.
+// the narrow overlaps between neighbours carry it (VALIDATION.md, "A straight path against a
+// turning one").
 FramesFile MakeDemoTrajectory(int num_frames);
 
 }  // namespace rigsim
