@@ -26,6 +26,8 @@ struct LensOptions {
   double fisheye_fov_deg = 190.0;  // kFisheye: horizontal field of view (Kannala-Brandt, > 180 ok)
   void Check() const;              // throws std::invalid_argument
 };
+inline constexpr LensOptions::Kind kAllLensKinds[] = {LensOptions::Kind::kPreset, LensOptions::Kind::kPinhole,
+                                                     LensOptions::Kind::kOpenCV, LensOptions::Kind::kFisheye};
 // "preset", "pinhole", "opencv", "fisheye".
 std::string_view LensKindName(LensOptions::Kind kind);
 // Throws std::invalid_argument naming the kinds when `name` is none of them.

@@ -5,6 +5,7 @@
 // (rig y = world -Y) and looks along its heading (rig z).
 #pragma once
 
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -26,6 +27,14 @@ FramesFile MakeStraightTrajectory(const Eigen::Vector3d& start_world, double hea
                                   double step_m, double frame_interval_s = 0.1);
 
 enum class TrajectoryKind { kStraight, kCircle, kPolyline };
+
+// The paths a rig's options choose by name (a polyline needs its waypoints).
+inline constexpr TrajectoryKind kNamedTrajectoryKinds[] = {TrajectoryKind::kStraight, TrajectoryKind::kCircle};
+
+// "straight", "circle", "polyline".
+std::string_view TrajectoryKindName(TrajectoryKind kind);
+// Inverse of TrajectoryKindName for kNamedTrajectoryKinds; throws std::invalid_argument naming them.
+TrajectoryKind TrajectoryKindFromName(std::string_view name);
 
 struct TrajectoryOptions {
   TrajectoryKind kind = TrajectoryKind::kStraight;

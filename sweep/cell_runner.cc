@@ -16,6 +16,7 @@
 #include "pipeline/calibration_run.h"
 #include "procedural/presets.h"
 #include "renderer/render_dataset.h"
+#include "rigs/rig_params.h"
 
 namespace rigsim {
 
@@ -28,10 +29,6 @@ using Clock = std::chrono::steady_clock;
 double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 uint64_t Seed(const Json& p) { return p.at("seed").get<uint64_t>(); }
-
-std::optional<double> OptionalNumber(const Json& p, const char* name) {
-  return p.at(name).is_null() ? std::nullopt : std::optional<double>(p.at(name).get<double>());
-}
 
 bool IsPreset(const std::string& scene) {
   try {
@@ -209,31 +206,11 @@ MethodRow RunColmap(const SweepMethod& method, const CalibrationInputs& inputs, 
 }  // namespace
 
 RigSpec CellRigSpec(const Json& p) {
-  RigSpec s;
-  s.type = p.at("rig").get<std::string>();
-  s.width = p.at("width").get<int>();
-  s.height = p.at("height").get<int>();
-  s.ring.num_cameras = p.at("cameras").get<int>();
-  if (s.ring.distorted_camera >= s.ring.num_cameras) s.ring.distorted_camera = -1;
-  s.ring.yaw_spacing_deg = p.at("spacing").get<double>();
-  s.ring.radius_m = p.at("radius").get<double>();
-  s.overlap_percent = OptionalNumber(p, "overlap").value_or(0.0);
-  s.wide.convergence_deg = p.at("convergence").get<double>();
-  s.surround.side_fov_deg = p.at("fisheye_fov").get<double>();
-  s.hfov_deg = OptionalNumber(p, "hfov");
-  s.baseline_m = OptionalNumber(p, "baseline");
-  const std::string lens = p.at("lens").get<std::string>();
-  if (lens != "preset") {
-    LensOptions l;
-    l.kind = LensKindFromName(lens);
-    l.k1 = p.at("distortion").get<double>();
-    l.fisheye_fov_deg = p.at("fisheye_fov").get<double>();
-    s.lens = l;
+  Json values = Json::object();
+  for (const RigParam& r : RigParams()) {
+    if (r.in_sweep) values[r.spec.name] = p.at(r.spec.name);
   }
-  s.trajectory.kind = p.at("trajectory").get<std::string>() == "circle" ? TrajectoryKind::kCircle : TrajectoryKind::kStraight;
-  s.trajectory.num_frames = p.at("frames").get<int>();
-  s.trajectory.step_m = p.at("step").get<double>();
-  s.trajectory.circle_radius_m = p.at("circle_radius").get<double>();
+  RigSpec s = RigSpecFromParams(values);
   s.placement.seed = Seed(p);
   return s;
 }

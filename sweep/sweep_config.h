@@ -12,6 +12,7 @@
 // or, for several sweeps around one base, `studies: [{name, set, grid, zip}, ...]` (`set` fixes
 // parameters for that study only). A cell that several studies share (the base point) runs once.
 // Every parameter has a default (CellParamSpecs); a misspelt one is refused with a suggestion.
+// The rig's parameters are those rigs/rig_params.h describes for make-rig too.
 #pragma once
 
 #include <cstdint>
@@ -21,20 +22,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/param_spec.h"
+
 namespace rigsim {
 
-// One cell parameter: its name in the config and the results, its type and its default.
-struct ParamSpec {
-  enum class Kind { kInt, kNumber, kBool, kChoice, kText };
-  std::string name;
-  Kind kind = Kind::kNumber;
-  nlohmann::ordered_json default_value;       // null: "not set" (e.g. overlap: use spacing)
-  std::vector<std::string> choices;   // kChoice
-  double min = 0.0, max = 0.0;        // kInt, kNumber: the allowed range
-  std::string help;
-};
-
-// Every cell parameter, in the order of the results' columns.
+// Every cell parameter (its name in the config and the results, type, default, range, help), in
+// the order of the results' columns: the scene's, the rig's (rigs/rig_params.h, with the sweep's
+// defaults), the render's, the rig's path, and the images' errors.
 const std::vector<ParamSpec>& CellParamSpecs();
 
 // A sweep axis: a parameter and the values it takes.
@@ -51,6 +45,9 @@ struct SweepStudy {
   // The parameters this study varies, grid first.
   std::vector<std::string> VariedParams() const;
 };
+
+// The peer tools a sweep can run beside rigsim: "colmap".
+std::vector<std::string> SweepPeerNames();
 
 // A way of calibrating a cell's images: rigsim in one semantic mode with one feature type, or a
 // peer tool.
@@ -93,11 +90,6 @@ std::vector<SweepCell> ExpandCells(const SweepConfig& config);
 // Hash (16 hex digits) of what a sweep computes: the cells' parameters and the methods. Shards and
 // resumed runs of one sweep share it.
 std::string SweepHash(const SweepConfig& config);
-
-// A parameter value for people: text as it is, numbers without trailing zeros ("30", "0.5"),
-// null as "unset".
-std::string FormatParamValue(const nlohmann::ordered_json& value);
-
 
 // The config as JSON (what was read, normalised), recorded in the results.
 nlohmann::ordered_json SweepConfigToJson(const SweepConfig& config);

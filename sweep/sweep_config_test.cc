@@ -117,7 +117,7 @@ TEST(SweepConfig, ErrorsNameTheFileTheKeyAndSuggestAFix) {
               ThrowsExactly<E>("sweep.json: base.rig: 'rign' is not one of ring, stereo, surround, wide-baseline "
                                "(did you mean 'ring'?)"));
   EXPECT_THAT(Parsing(R"({"grid": {"overlap": [10, 200]}})"),
-              ThrowsExactly<E>("sweep.json: grid.overlap[1]: 200 is outside 1..95"));
+              ThrowsExactly<E>("sweep.json: grid.overlap[1]: 200 is outside 0 to 99"));
   EXPECT_THAT(Parsing(R"({"grid": {"cameras": [2.5]}})"),
               ThrowsExactly<E>("sweep.json: grid.cameras[0]: must be a whole number, got 2.5"));
   EXPECT_THAT(Parsing(R"({"zip": {"lens": ["pinhole"], "hfov": [60, 90]}})"),
