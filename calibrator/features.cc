@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "calibrator/semantics.h"
+#include "common/param_spec.h"
 
 namespace rigsim {
 namespace {
@@ -71,7 +72,8 @@ FeatureType FeatureTypeFromName(std::string_view name) {
   for (FeatureType t : kAllFeatureTypes) {
     if (FeatureTypeName(t) == name) return t;
   }
-  throw std::invalid_argument("unknown feature type '" + std::string(name) + "' (accepted: sift, rootsift, orb, akaze)");
+  throw std::invalid_argument("unknown feature type '" + std::string(name) + "' (accepted: " +
+                              JoinNames(NamesOf(kAllFeatureTypes, FeatureTypeName)) + ")");
 }
 
 FeatureSet FeatureSet::Head(int n) const {

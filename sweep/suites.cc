@@ -2,7 +2,10 @@
 
 #include <stdexcept>
 
+#include "calibrator/semantics.h"
 #include "common/did_you_mean.h"
+#include "common/param_spec.h"
+#include "procedural/presets.h"
 
 namespace rigsim {
 
@@ -24,14 +27,14 @@ Json Thesis(bool full) {
   })");
   if (full) {
     config["seeds"] = 3;
-    config["methods"] = {{"semantics", {"none", "mask", "gated", "mask+gated"}}, {"peers", {"colmap"}}};
+    config["methods"] = {{"semantics", NamesOf(kAllSemanticModes, SemanticModeName)}, {"peers", {"colmap"}}};
     config["studies"] = Json::parse(R"([
       {"name": "overlap", "grid": {"overlap": [5, 15, 30, 50]}},
       {"name": "baseline", "set": {"rig": "wide-baseline", "convergence": 30}, "grid": {"baseline": [0.1, 0.5, 2, 5]}},
       {"name": "lens", "zip": {"lens": ["pinhole", "opencv", "fisheye", "fisheye"], "fisheye_fov": [190, 190, 150, 190]}},
-      {"name": "label-noise", "zip": {"label_boundary": [0, 3, 6, 10], "label_confusion": [0, 0.1, 0.2, 0.3]}},
-      {"name": "scene", "grid": {"scene": ["street", "plaza", "parking"]}}
+      {"name": "label-noise", "zip": {"label_boundary": [0, 3, 6, 10], "label_confusion": [0, 0.1, 0.2, 0.3]}}
     ])");
+    config["studies"].push_back({{"name", "scene"}, {"grid", {{"scene", NamesOf(AllScenePresets(), ScenePresetName)}}}});
   } else {
     config["seeds"] = 1;
     config["methods"] = {{"semantics", {"none", "mask"}}, {"peers", {"colmap"}}};
