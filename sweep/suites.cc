@@ -14,6 +14,22 @@ using Json = nlohmann::ordered_json;
 std::vector<std::string> SuiteNames() { return {"thesis"}; }
 std::vector<std::string> SuiteSizes() { return {"small", "full"}; }
 
+Json ThesisClaimsJson() {
+  return Json::parse(R"({
+    "title": "The thesis's claims",
+    "list": [
+      {"claim": "gives a larger share of correct matches", "metric": "match_precision", "compare": "difference",
+       "holds": "> 0"},
+      {"claim": "gives fewer wrong matches between different classes", "metric": "cross_class_wrong",
+       "compare": "difference", "holds": "< 0"},
+      {"claim": "makes matching faster", "metric": "time_match_s", "compare": "ratio", "holds": "< 1"},
+      {"claim": "makes calibration faster", "metric": "time_total_s", "compare": "ratio", "holds": "< 1"},
+      {"claim": "keeps pose accuracy equal or better", "metric": "auc_pairs_5deg", "compare": "difference",
+       "holds": ">= -0.02", "note": "Accuracy counts as equal when the AUC of the pair errors at 5 deg is within 0.02."}
+    ]
+  })");
+}
+
 namespace {
 
 Json Thesis(bool full) {
@@ -25,6 +41,7 @@ Json Thesis(bool full) {
     "base": {"scene": "street", "rig": "ring", "cameras": 4, "overlap": 30, "width": 640, "height": 360,
              "frames": 3, "spp": 2, "trajectory": "circle", "circle_radius": 12, "step": 2}
   })");
+  config["claims"] = ThesisClaimsJson();
   if (full) {
     config["seeds"] = 3;
     config["methods"] = {{"semantics", NamesOf(kAllSemanticModes, SemanticModeName)}, {"peers", {"colmap"}}};

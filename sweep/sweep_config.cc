@@ -1,6 +1,7 @@
 #include "sweep/sweep_config.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -16,6 +17,8 @@
 #include "common/stable_hash.h"
 #include "procedural/presets.h"
 #include "rigs/rig_params.h"
+#include "sweep/suites.h"
+#include "sweep/sweep_metrics.h"
 
 namespace rigsim {
 
@@ -212,6 +215,12 @@ std::vector<SweepMethod> ParseMethods(const Json& j, const std::string& source) 
   return methods;
 }
 
+// A config without claims tests the thesis's.
+const ClaimSet& DefaultClaims() {
+  static const ClaimSet claims = ParseClaimSet(ThesisClaimsJson(), "--suite thesis");
+  return claims;
+}
+
 std::vector<uint64_t> ParseSeeds(const Json& j, const std::string& source) {
   if (j.is_number_integer()) {
     const int64_t n = j.get<int64_t>();
@@ -265,6 +274,79 @@ Json YamlNodeToJson(const YAML::Node& node, const std::string& source) {
 
 }  // namespace
 
+bool ClaimSpec::Holds(double d) const {
+  if (op == ">") return d > value;
+  if (op == ">=") return d >= value;
+  if (op == "<") return d < value;
+  return d <= value;
+}
+
+ClaimSet ParseClaimSet(const Json& j, const std::string& source) {
+  static const std::vector<std::string> keys = {"title", "list"};
+  static const std::vector<std::string> claim_keys = {"claim", "metric", "compare", "holds", "note"};
+  if (!j.is_object()) Fail(source, "claims", "must be a mapping with a title and a list of claims");
+  ClaimSet set;
+  for (const auto& [k, v] : j.items()) {
+    if (std::find(keys.begin(), keys.end(), k) == keys.end()) Fail(source, "claims." + k, "unknown key" + DidYouMean(k, keys));
+  }
+  if (!j.contains("title") || !j["title"].is_string() || j["title"].get<std::string>().empty()) {
+    Fail(source, "claims.title", "must be a non-empty text (report.md's heading)");
+  }
+  set.title = j["title"].get<std::string>();
+  if (!j.contains("list") || !j["list"].is_array()) Fail(source, "claims.list", "must be a list of claims");
+  std::vector<std::string> metrics;
+  for (const MethodMetricSpec& m : SweepMetricSpecs()) metrics.push_back(m.name);
+  for (size_t i = 0; i < j["list"].size(); ++i) {
+    const Json& c = j["list"][i];
+    const std::string where = "claims.list[" + std::to_string(i) + "]";
+    if (!c.is_object()) Fail(source, where, "a claim is a mapping (claim, metric, compare, holds, note)");
+    for (const auto& [k, v] : c.items()) {
+      if (std::find(claim_keys.begin(), claim_keys.end(), k) == claim_keys.end()) {
+        Fail(source, where + "." + k, "unknown key" + DidYouMean(k, claim_keys));
+      }
+      if (!v.is_string()) Fail(source, where + "." + k, "must be a text");
+    }
+    ClaimSpec spec;
+    spec.claim = c.value("claim", "");
+    if (spec.claim.empty()) Fail(source, where + ".claim", "say what is claimed");
+    spec.metric = c.value("metric", "");
+    if (std::find(metrics.begin(), metrics.end(), spec.metric) == metrics.end()) {
+      Fail(source, where + ".metric", "'" + spec.metric + "' is no metric of the results" + DidYouMean(spec.metric, metrics));
+    }
+    const std::string compare = c.value("compare", "difference");
+    if (compare != "difference" && compare != "ratio") Fail(source, where + ".compare", "give difference or ratio");
+    spec.ratio = compare == "ratio";
+    // "> 0", ">= -0.02", "< 1": a comparison and a number.
+    const std::string holds = c.value("holds", "");
+    const size_t number = holds.find_first_not_of("<>= ");
+    spec.op = holds.substr(0, std::min(number, holds.find(' ')));
+    char* end = nullptr;
+    spec.value = number == std::string::npos ? 0.0 : std::strtod(holds.c_str() + number, &end);
+    if ((spec.op != ">" && spec.op != ">=" && spec.op != "<" && spec.op != "<=") || number == std::string::npos ||
+        *end != '\0') {
+      Fail(source, where + ".holds", "give a comparison and a number, e.g. \"> 0\" or \"<= 1\" (got '" + holds + "')");
+    }
+    spec.note = c.value("note", "");
+    set.claims.push_back(std::move(spec));
+  }
+  return set;
+}
+
+Json ClaimSetToJson(const ClaimSet& set) {
+  Json list = Json::array();
+  for (const ClaimSpec& c : set.claims) {
+    char value[32];
+    std::snprintf(value, sizeof value, "%g", c.value);
+    Json j = {{"claim", c.claim},
+              {"metric", c.metric},
+              {"compare", c.ratio ? "ratio" : "difference"},
+              {"holds", c.op + " " + value}};
+    if (!c.note.empty()) j["note"] = c.note;
+    list.push_back(std::move(j));
+  }
+  return {{"title", set.title}, {"list", list}};
+}
+
 Json YamlToJson(const std::string& text, const std::string& source) {
   try {
     return YamlNodeToJson(YAML::Load(text), source);
@@ -275,12 +357,13 @@ Json YamlToJson(const std::string& text, const std::string& source) {
 }
 
 SweepConfig ParseSweepConfig(const Json& j, const std::string& source) {
-  static const std::vector<std::string> keys = {"name", "description", "base", "seeds", "methods", "grid", "zip", "studies"};
+  static const std::vector<std::string> keys = {"name",    "description", "base",    "seeds", "methods",
+                                                "grid",    "zip",         "studies", "claims"};
   if (!j.is_object()) Fail(source, "", "a sweep config is a mapping (name, base, seeds, methods, grid/zip or studies)");
   for (const auto& [k, v] : j.items()) {
     if (std::find(keys.begin(), keys.end(), k) == keys.end()) {
       Fail(source, k, "unknown key" + DidYouMean(k, keys) + "; a config has " +
-                          "name, description, base, seeds, methods, grid, zip and studies");
+                          "name, description, base, seeds, methods, grid, zip, studies and claims");
     }
   }
   SweepConfig config;
@@ -293,6 +376,7 @@ SweepConfig ParseSweepConfig(const Json& j, const std::string& source) {
   if (j.contains("base")) config.base = CheckParams(j["base"], source, "base");
   if (j.contains("seeds")) config.seeds = ParseSeeds(j["seeds"], source);
   config.methods = ParseMethods(j.contains("methods") ? j["methods"] : Json(nullptr), source);
+  config.claims = j.contains("claims") ? ParseClaimSet(j["claims"], source) : DefaultClaims();
   const bool top_axes = j.contains("grid") || j.contains("zip");
   if (j.contains("studies")) {
     if (top_axes) Fail(source, "studies", "give either studies or a top-level grid/zip, not both");
@@ -419,11 +503,14 @@ Json SweepConfigToJson(const SweepConfig& config) {
       add(peers, m.tool);
     }
   }
-  return {{"name", config.name},
-          {"base", config.base},
-          {"seeds", config.seeds},
-          {"methods", {{"semantics", semantics}, {"features", features}, {"peers", peers}}},
-          {"studies", studies}};
+  Json j = {{"name", config.name},
+            {"base", config.base},
+            {"seeds", config.seeds},
+            {"methods", {{"semantics", semantics}, {"features", features}, {"peers", peers}}},
+            {"studies", studies}};
+  // The default claims are left out, as a config that names none leaves them out.
+  if (ClaimSetToJson(config.claims) != ClaimSetToJson(DefaultClaims())) j["claims"] = ClaimSetToJson(config.claims);
+  return j;
 }
 
 std::string SweepHash(const SweepConfig& config) {

@@ -11,6 +11,8 @@
 //
 // or, for several sweeps around one base, `studies: [{name, set, grid, zip}, ...]` (`set` fixes
 // parameters for that study only). A cell that several studies share (the base point) runs once.
+// `claims: {title, list: [{claim, metric, compare, holds, note}, ...]}` are what the summary
+// tests, each semantic mode against `none` (default: the thesis's, ThesisClaimsJson()).
 // Every parameter has a default (CellParamSpecs); a misspelt one is refused with a suggestion.
 // The rig's parameters are those rigs/rig_params.h describes for make-rig too.
 #pragma once
@@ -58,6 +60,23 @@ struct SweepMethod {
   std::string features;   // rigsim: sift, rootsift, orb, akaze
 };
 
+// A claim about the semantic modes, tested on a metric of the rows: each cell's row of a mode
+// against its row without semantics, the difference (or ratio) judged by `holds`.
+struct ClaimSpec {
+  std::string claim;      // in words: "gives a larger share of correct matches"
+  std::string metric;     // a metric of SweepMetricSpecs
+  bool ratio = false;     // compare mode / none instead of mode - none
+  std::string op;         // ">", ">=", "<" or "<=": holds when `difference op value`
+  double value = 0.0;
+  std::string note;       // said once above the claims' table (what the threshold means); may be empty
+  bool Holds(double difference) const;
+};
+
+struct ClaimSet {
+  std::string title;  // report.md's heading
+  std::vector<ClaimSpec> claims;
+};
+
 struct SweepConfig {
   std::string name;
   std::filesystem::path source;  // the config file; relative scene paths are relative to its folder
@@ -65,6 +84,7 @@ struct SweepConfig {
   std::vector<uint64_t> seeds = {1};
   std::vector<SweepMethod> methods;
   std::vector<SweepStudy> studies;
+  ClaimSet claims;  // the thesis's unless the config gives its own
 };
 
 struct SweepCell {
@@ -86,6 +106,10 @@ nlohmann::ordered_json YamlToJson(const std::string& text, const std::string& so
 // The cells of every study, in study order, each study's combinations in order (the first axis
 // varying slowest), seeds innermost; a cell already produced by an earlier study is not repeated.
 std::vector<SweepCell> ExpandCells(const SweepConfig& config);
+
+// Claims as a config writes them, and back (std::runtime_error naming `source` and the key).
+nlohmann::ordered_json ClaimSetToJson(const ClaimSet& claims);
+ClaimSet ParseClaimSet(const nlohmann::ordered_json& j, const std::string& source);
 
 // Hash (16 hex digits) of what a sweep computes: the cells' parameters and the methods. Shards and
 // resumed runs of one sweep share it.

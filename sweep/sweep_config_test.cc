@@ -127,7 +127,7 @@ TEST(SweepConfig, ErrorsNameTheFileTheKeyAndSuggestAFix) {
                                "(did you mean 'mask+gated'?)"));
   EXPECT_THAT(Parsing(R"({"sedes": [1]})"),
               ThrowsExactly<E>("sweep.json: sedes: unknown key (did you mean 'seeds'?); a config has name, "
-                               "description, base, seeds, methods, grid, zip and studies"));
+                               "description, base, seeds, methods, grid, zip, studies and claims"));
   EXPECT_THAT(Parsing(R"({"studies": [{"grid": {"frames": [2]}}]})"),
               ThrowsExactly<E>("sweep.json: studies[0]: a study needs a name"));
   EXPECT_THAT(Parsing(R"({"grid": {"frames": [2, 2]}})"),

@@ -290,7 +290,7 @@ std::vector<std::string> WriteSweepResults(const SweepConfig& config, const fs::
   json_io::WriteTextAtomic(out / "results.csv", ResultsCsv(rows));
   json_io::WriteTextAtomic(out / "results.jsonl", ResultsJsonl(rows));
   const std::vector<SummaryRow> summary = Summarise(config, cells, records);
-  const std::vector<ClaimResult> claims = TestThesisClaims(config, cells, records);
+  const std::vector<ClaimResult> claims = TestClaims(config, cells, records);
   json_io::WriteTextAtomic(out / "summary.csv", SummaryCsv(summary));
   json_io::WriteTextAtomic(out / "summary.json",
                            Json{{"groups", SummaryToJson(summary)}, {"claims", ClaimsToJson(claims)}}.dump(1) + "\n");
