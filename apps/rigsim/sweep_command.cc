@@ -91,7 +91,7 @@ void AddSweepCommand(CLI::App& app) {
       "Map where calibration works: vary what makes it hard (overlap, baseline, lens, label noise, scene,\n"
       "...) over seeds, render every cell once, calibrate it by every method (rigsim's semantic modes and\n"
       "feature types, COLMAP) and score each against the truth.\n"
-      "CONFIG is a .json or .yaml file (see README, \"Sweeps\"; --list-params lists the parameters), or\n"
+      "CONFIG is a .json or .yaml file (see docs/sweeps.md; --list-params lists the parameters), or\n"
       "--suite thesis runs the built-in test of the thesis's four claims (--size small: minutes; full).\n"
       "Writes OUT/results.csv and results.jsonl (a row per cell and method), summary.csv, plots/ (PNG\n"
       "and SVG, by gnuplot) and report.md. Finished cells are kept in OUT/cells/: running the same\n"
