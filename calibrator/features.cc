@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "calibrator/semantics.h"
+#include "common/param_spec.h"
 
 namespace rigsim {
 namespace {
@@ -71,7 +72,8 @@ FeatureType FeatureTypeFromName(std::string_view name) {
   for (FeatureType t : kAllFeatureTypes) {
     if (FeatureTypeName(t) == name) return t;
   }
-  throw std::invalid_argument("unknown feature type '" + std::string(name) + "' (accepted: sift, rootsift, orb, akaze)");
+  throw std::invalid_argument("unknown feature type '" + std::string(name) + "' (accepted: " +
+                              JoinNames(NamesOf(kAllFeatureTypes, FeatureTypeName)) + ")");
 }
 
 FeatureSet FeatureSet::Head(int n) const {
@@ -128,10 +130,9 @@ FeatureSet DetectFeatures(const ImageU8& rgb, const ImageU8* labels, const Featu
   int descriptor_size = 0;
   if (sift_like) {
     // detectAndCompute builds the scale space once (detect, then compute for the kept keypoints,
-    // built it twice: 490 against 360 ms for a 1280x720 street view). Without a mask, OpenCV keeps
-    // the strongest max_features (and any tied with the last) before computing descriptors: the
-    // same keypoints as keeping them below, without the descriptors of the rest (a 3072x2048
-    // photo has 20000 keypoints: 2.4 against 1.9 s). With a mask, OpenCV would keep the strongest
+    // built it twice). Without a mask, OpenCV keeps the strongest max_features (and any tied with
+    // the last) before computing descriptors: the same keypoints as keeping them below, without
+    // computing the descriptors of the rest. With a mask, OpenCV would keep the strongest
     // before masking, which leaves fewer than max_features, so every keypoint is computed, masked,
     // and the strongest kept below.
     const int opencv_budget = mask.empty() ? options.max_features : 0;

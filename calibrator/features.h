@@ -39,10 +39,9 @@ struct FeatureOptions {
   // Strongest keypoints kept per image (by detector response: DoG for SIFT, Harris for ORB, Hessian
   // for AKAZE), counted after masking so that with a mask the whole budget goes to reliable
   // regions. 0 keeps all. For ORB it is the detector's own budget (spread over its pyramid
-  // levels), which OpenCV fills inside the mask. Low-overlap rigs need many:
-  // only the keypoints in the shared part of two views can match (on the demo ring, 12000 with
-  // the lower contrast threshold below gives a median pair rotation error of 0.04-0.06 deg, 8000
-  // gives 0.10-0.20 deg).
+  // levels), which OpenCV fills inside the mask. Low-overlap rigs need many: only the keypoints
+  // in the shared part of two views can match (VALIDATION.md, "Where the calibrator's thresholds
+  // come from").
   int max_features = 12000;
   // SIFT and RootSIFT: scale-space layers per octave (OpenCV default 3).
   int octave_layers = 3;

@@ -4,6 +4,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "common/param_spec.h"
+
 namespace rigsim {
 
 std::string_view SemanticModeName(SemanticMode mode) {
@@ -21,7 +23,7 @@ SemanticMode SemanticModeFromName(std::string_view name) {
     if (SemanticModeName(m) == name) return m;
   }
   throw std::invalid_argument("unknown semantic mode '" + std::string(name) +
-                              "' (accepted: none, mask, gated, mask+gated)");
+                              "' (accepted: " + JoinNames(NamesOf(kAllSemanticModes, SemanticModeName)) + ")");
 }
 
 ImageU8 ReliableMask(const ImageU8& labels, const ReliableClasses& reliable, int erosion_px) {

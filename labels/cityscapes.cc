@@ -124,7 +124,7 @@ ReliableClasses ReliableClasses::FromNames(const std::vector<std::string>& names
     const LabelClass* c = FindClassByName(n);
     if (!c) {
       throw std::invalid_argument("unknown class '" + n + "'" + ClassNameSuggestion(n) +
-                                  "; the classes are Cityscapes' (README, Conventions)");
+                                  "; the classes are Cityscapes' (docs/datasets.md, 'Cityscapes classes')");
     }
     r.reliable_[c->id] = true;
   }

@@ -216,7 +216,7 @@ std::vector<SemanticMode> ModesFor(const std::filesystem::path& dataset, const C
   const bool given = settings.semantics_option != nullptr && settings.semantics_option->count() > 0;
   if (given || std::all_of(modes.begin(), modes.end(), NeedsLabels)) {
     throw std::runtime_error(labels.string() + ": no such folder: --semantics " + needing +
-                             " needs a label image per photo (README, 'Labels for the semantic modes'); for photos "
+                             " needs a label image per photo (docs/calibration.md, 'Labels for the semantic modes'); for photos "
                              "without labels use --semantics none, or give labels with --labels DIR");
   }
   std::fprintf(stderr, "warning: %s has no labels/: calibrating with --semantics none only (%s needs a label image per photo; "
