@@ -174,7 +174,11 @@ CellRunner MakeCellRunner(const SweepConfig& config, const CellRunnerOptions& op
       std::optional<PlacedRig> placed = MakePlacedRig(spec, &scene);
       if (!placed) return fail_all("no place in the scene where the rig stands on the ground with every camera clear");
       const double offset_s = p.at("time_offset_ms").get<double>() / 1000.0;
-      for (size_t c = 0; c < placed->rig.cameras.size(); ++c) placed->rig.cameras[c].time_offset_s = c * offset_s;
+      const double readout_s = p.at("readout_ms").get<double>() / 1000.0;
+      for (size_t c = 0; c < placed->rig.cameras.size(); ++c) {
+        placed->rig.cameras[c].time_offset_s = c * offset_s;
+        placed->rig.cameras[c].readout_s = readout_s;
+      }
       RenderJob job;
       job.scene = &scene;
       job.scene_name = scene_file.filename().string();

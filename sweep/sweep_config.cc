@@ -54,7 +54,10 @@ std::vector<ParamSpec> MakeCellParamSpecs() {
            {"label_boundary", K::kInt, 0, {}, 0, 64, "label noise: class boundaries shift by up to this (px)"},
            {"label_confusion", K::kNumber, 0.0, {}, 0, 1, "label noise: share of blobs given a confusable class"},
            {"time_offset_ms", K::kNumber, 0.0, {}, 0, 1000,
-            "camera c captures c times this after camera 0 (ms): moves animated objects, not the rig"},
+            "camera c captures c times this after camera 0 (ms): the rig moves on along its path in between, "
+            "and so do animated objects"},
+           {"readout_ms", K::kNumber, 0.0, {}, 0, 1000,
+            "rolling shutter: every camera reads its rows top to bottom over this time (ms); 0 = global shutter"},
        }) {
     specs.push_back(std::move(p));
   }
