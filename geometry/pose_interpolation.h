@@ -1,4 +1,4 @@
-// The rig's pose between two frames, as the renderer takes it (rigs/trajectories.h RigTrajectory)
+// The rig's pose between two frames, as the renderer takes it (dataset/capture_poses.h RigTrajectory)
 // and the calibrator models it (a camera that captures between frames): the rig's centre moves on
 // the straight line and its orientation turns by slerp, at constant speed over the time between
 // them; a fraction s < 0 or > 1 extrapolates with the same velocities. A template on the scalar

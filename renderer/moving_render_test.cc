@@ -18,6 +18,7 @@
 #include "renderer/render_dataset.h"
 #include "renderer/render_test_scenes.h"
 #include "renderer/renderer.h"
+#include "dataset/capture_poses.h"
 #include "rigs/trajectories.h"
 #include "scene/scene_pose.h"
 #include "scene/test_scenes.h"

@@ -17,6 +17,7 @@
 #include <tbb/task_arena.h>
 
 #include "common/stable_hash.h"
+#include "dataset/capture_poses.h"
 #include "dataset/coco.h"
 #include "dataset/ground_truth.h"
 #include "dataset/image_io.h"
@@ -24,7 +25,6 @@
 #include "dataset/previews.h"
 #include "dataset/render_shards.h"
 #include "geometry/json_io.h"
-#include "rigs/trajectories.h"
 #include "scene/scene_pose.h"
 
 namespace rigsim {
@@ -119,37 +119,6 @@ nlohmann::json PhotometryJson(const RenderJob& job, const std::vector<CameraPhot
             {"read_noise_stddev", o.read_noise_stddev}}},
           {"cameras", cameras}};
 }
-
-// Whether a camera's capture depends on where the rig is between frames.
-bool IsTimed(const RigCamera& cam) { return cam.time_offset_s != 0 || cam.CaptureSpansTime(); }
-
-// When and from where each camera captures. Cameras without a time offset, readout or exposure
-// see from the frame's own rig_from_world, exactly as given; the others from the trajectory.
-class CaptureClock {
- public:
-  explicit CaptureClock(const RenderJob& job) {
-    for (const RigCamera& cam : job.rig.cameras) {
-      if (IsTimed(cam) && !trajectory_) trajectory_.emplace(job.frames);  // throws on repeated timestamps
-    }
-  }
-  bool timed() const { return trajectory_.has_value(); }
-
-  Rigid3d CamFromWorld(const RigCamera& cam, const Frame& frame, double time_s) const {
-    if (!IsTimed(cam)) return *cam.cam_from_rig * *frame.rig_from_world;
-    return *cam.cam_from_rig * trajectory_->RigFromWorldAt(time_s);
-  }
-
-  // Every row's pose (one for a global shutter), as the renderer computes them.
-  ViewPose PoseOf(const RigCamera& cam, const Frame& frame) const {
-    ViewPose pose;
-    const int rows = cam.readout_s > 0 ? cam.camera.height() : 1;
-    for (int y = 0; y < rows; ++y) pose.cam_from_world_rows.push_back(CamFromWorld(cam, frame, frame.timestamp_s + cam.RowTime(y)));
-    return pose;
-  }
-
- private:
-  std::optional<RigTrajectory> trajectory_;
-};
 
 // The scene posed at evenly spaced times over a camera's capture span (at most 5 ms apart, at most
 // 9 steps): what the renderer moves the animated meshes between.
@@ -344,7 +313,7 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
   const int num_cams = int(cams.size());
   const FrameRange range = ShardFrames(int(job.frames.frames.size()), job.shard.index, job.shard.count);
   const int total = num_cams * (range.end - range.begin);
-  const CaptureClock clock(job);  // before anything is built: repeated timestamps are refused
+  const CapturePoses clock(job.rig.cameras, job.frames);  // before anything is built: repeated timestamps are refused
 
   // Built before the staging folder exists so that a bad scene leaves nothing behind.
   Renderer renderer(*job.scene);
@@ -411,7 +380,7 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
         renderer.SetMeshes(posed);
       }
       for (int c : group) {
-        views[c].pose = clock.PoseOf(cams[c], frame);
+        views[c].pose = clock.Of(cams[c], frame);
         finish(c, renderer.Render(cams[c].camera, views[c].pose.Row(0), options));
       }
     }
@@ -422,7 +391,7 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
       }
       MovingCameraView moving{&cams[c], frame.timestamp_s,
                               [&, c](double t) { return clock.CamFromWorld(cams[c], frame, t); }};
-      views[c].pose = clock.PoseOf(cams[c], frame);
+      views[c].pose = clock.Of(cams[c], frame);
       finish(c, renderer.Render(moving, options));
     }
     if (!written) {

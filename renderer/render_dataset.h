@@ -7,7 +7,7 @@
 //
 // Time: each camera captures at its own time, frame.timestamp_s + time_offset_s (rig.json), row
 // by row with a rolling shutter (readout_s), each row over its exposure (exposure_s). The rig is
-// where the trajectory puts it at that time (rigs/trajectories.h RigTrajectory: the frames'
+// where the trajectory puts it at that time (dataset/capture_poses.h RigTrajectory: the frames'
 // poses interpolated by their timestamps), and an animated scene (Scene::IsAnimated) is posed at
 // that time (scene/scene_pose.h): at every distinct capture time of cameras that capture at one
 // instant, and for a camera whose capture spans time at evenly spaced steps over the span, at most

@@ -52,29 +52,6 @@ struct TrajectoryOptions {
 };
 FramesFile MakeTrajectory(const TrajectoryOptions& options);
 
-// The rig's pose at any time, from the poses and timestamps of a trajectory's frames: between two
-// frames the rig's centre moves on the straight line and its orientation turns by slerp, at
-// constant speed over the time between them (geometry/pose_interpolation.h, which the calibrator
-// shares); before the first frame and after the last it goes on with the velocity (linear and
-// angular) of the nearest pair of frames. A single frame stands
-// still. At a frame's timestamp the pose is that frame's rig_from_world exactly.
-class RigTrajectory {
- public:
-  // Throws std::invalid_argument when a frame has no rig_from_world, a timestamp is not finite,
-  // or two frames share a timestamp (the speed between them would be infinite). Frames may come
-  // in any order of time.
-  explicit RigTrajectory(const FramesFile& frames);
-
-  Rigid3d RigFromWorldAt(double time_s) const;
-
- private:
-  struct Key {
-    double time_s;
-    Rigid3d rig_from_world;
-  };
-  std::vector<Key> keys_;  // by time
-};
-
 // The demo's path on the built-in street: from the middle of the street at eye height, 2 m per
 // frame along a gentle left turn (12 m radius, 9.5 deg per frame). The turn is what makes each
 // camera's place in the rig visible in its own images (hand-eye style); on a straight path only

@@ -3,6 +3,8 @@
 #include <Eigen/Core>
 #include <gtest/gtest.h>
 
+#include "dataset/capture_poses.h"
+
 namespace rigsim {
 namespace {
 
