@@ -1,5 +1,6 @@
 #include "calibrator/calibrator_test_support.h"
 
+#include <map>
 #include <utility>
 #include <vector>
 
@@ -46,6 +47,50 @@ RigObservations ObserveSyntheticRig(SyntheticRig& s, const SyntheticObservationO
     }
   }
   return obs;
+}
+
+TimedRing::TimedRing(const std::vector<Rigid3d>& path, double noise_px, uint32_t seed,
+                     const std::vector<double>& offsets_s, const std::vector<double>& readouts_s) {
+  SyntheticRigOptions o;
+  o.cameras.assign(3, Camera(CameraModelId::kPinhole, 640, 480, {300, 300, 319.5, 239.5}));
+  o.ring_radius_m = 0.3;
+  o.yaw_step_deg = 45.0;
+  o.max_tilt_deg = 2.0;
+  o.num_frames = static_cast<int>(path.size());
+  o.path = path;
+  o.num_points = 1500;
+  o.noise_px = noise_px;
+  o.distractor_fraction = 0.0;
+  o.time_offset_s = offsets_s;
+  o.readout_s = readouts_s;
+  o.seed = seed;
+  s = SynthesizeRig(o);
+  std::map<int, ViewTrack> by_point;
+  for (int k = 0; k < o.num_frames; ++k) {
+    for (int c = 0; c < 3; ++c) {
+      for (size_t i = 0; i < s.point_of[k][c].size(); ++i) {
+        if (s.point_of[k][c][i] >= 0) by_point[s.point_of[k][c][i]].observations.push_back({c, k, static_cast<int>(i)});
+      }
+    }
+  }
+  for (auto& [point, track] : by_point) {
+    if (track.observations.size() >= 2) tracks.push_back(track);
+  }
+  for (const RigCamera& rc : s.rig.cameras) cameras.push_back(rc.camera);
+  for (int k = 0; k < o.num_frames; ++k) timing.frame_times_s.push_back(k * o.frame_interval_s);
+  timing.time_offset_s.assign(3, 0.0);
+  timing.readout_s.assign(3, 0.0);
+  timing.estimate_offsets = true;
+  timing.estimate_readout = true;
+}
+
+MultiFrameBundleAdjustmentResult TimedRing::Adjust(const CaptureTiming* with) const {
+  std::vector<std::optional<Rigid3d>> cam_from_rig, rig_from_world;
+  for (const RigCamera& rc : s.rig.cameras) cam_from_rig.push_back(*rc.cam_from_rig);
+  for (const Rigid3d& p : s.rig_from_world) rig_from_world.push_back(p);
+  RigBundleAdjustmentOptions options;
+  options.filter_rounds = 0;
+  return MultiFrameRigBundleAdjust(cameras, s.keypoints, tracks, cam_from_rig, rig_from_world, 1, options, false, with);
 }
 
 }  // namespace rigsim

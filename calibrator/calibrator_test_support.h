@@ -2,6 +2,7 @@
 // observations as the pairwise stage hands them to EstimateRig.
 #pragma once
 
+#include "calibrator/multi_frame_rig.h"
 #include "calibrator/rig_calibration.h"
 #include "calibrator/two_view.h"
 #include "testing/synthetic_rig.h"
@@ -19,5 +20,20 @@ struct SyntheticObservationOptions {
 // and outliers) through EstimatePairFromMatches; with temporal_pairs, each camera's consecutive
 // frames through EstimateRelativePose too.
 RigObservations ObserveSyntheticRig(SyntheticRig& s, const SyntheticObservationOptions& options = {});
+
+// A ring of three overlapping cameras that capture at `offsets_s` from their frame's timestamp with
+// rolling-shutter `readouts_s` (one per camera), along `path`; every point's track from the truth.
+// `timing` starts at zero offsets and readouts, estimating both.
+struct TimedRing {
+  SyntheticRig s;
+  std::vector<ViewTrack> tracks;
+  std::vector<Camera> cameras;
+  CaptureTiming timing;
+
+  TimedRing(const std::vector<Rigid3d>& path, double noise_px, uint32_t seed, const std::vector<double>& offsets_s,
+            const std::vector<double>& readouts_s);
+  // The bundle adjustment from the true poses, without filtering, with `with` (nullptr: synchronised).
+  MultiFrameBundleAdjustmentResult Adjust(const CaptureTiming* with) const;
+};
 
 }  // namespace rigsim

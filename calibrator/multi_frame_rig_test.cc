@@ -218,61 +218,14 @@ TEST(MultiFrameRig, ViewTracksJoinFramesAndDropConflicts) {
 namespace rigsim {
 namespace {
 
-// A ring of three overlapping cameras that capture at different times: camera 1 12 ms and camera 2
-// -20 ms from the frame, cameras 0 and 1 with a rolling shutter. Every point's track from the truth.
-struct TimedRing {
-  SyntheticRig s;
-  std::vector<ViewTrack> tracks;
-  std::vector<Camera> cameras;
-  CaptureTiming timing;
 
-  TimedRing(const std::vector<Rigid3d>& path, double noise_px, uint32_t seed) {
-    SyntheticRigOptions o;
-    o.cameras.assign(3, Camera(CameraModelId::kPinhole, 640, 480, {300, 300, 319.5, 239.5}));
-    o.ring_radius_m = 0.3;
-    o.yaw_step_deg = 45.0;
-    o.max_tilt_deg = 2.0;
-    o.num_frames = static_cast<int>(path.size());
-    o.path = path;
-    o.num_points = 1500;
-    o.noise_px = noise_px;
-    o.distractor_fraction = 0.0;
-    o.time_offset_s = {0.0, 0.012, -0.020};
-    o.readout_s = {0.030, 0.020, 0.0};
-    o.seed = seed;
-    s = SynthesizeRig(o);
-    std::map<int, ViewTrack> by_point;
-    for (int k = 0; k < o.num_frames; ++k) {
-      for (int c = 0; c < 3; ++c) {
-        for (size_t i = 0; i < s.point_of[k][c].size(); ++i) {
-          if (s.point_of[k][c][i] >= 0) by_point[s.point_of[k][c][i]].observations.push_back({c, k, static_cast<int>(i)});
-        }
-      }
-    }
-    for (auto& [point, track] : by_point) {
-      if (track.observations.size() >= 2) tracks.push_back(track);
-    }
-    for (const RigCamera& rc : s.rig.cameras) cameras.push_back(rc.camera);
-    for (int k = 0; k < o.num_frames; ++k) timing.frame_times_s.push_back(k * o.frame_interval_s);
-    timing.time_offset_s.assign(3, 0.0);
-    timing.readout_s.assign(3, 0.0);
-    timing.estimate_offsets = true;
-    timing.estimate_readout = true;
-  }
-  MultiFrameBundleAdjustmentResult Adjust(const CaptureTiming* with) const {
-    std::vector<std::optional<Rigid3d>> cam_from_rig, rig_from_world;
-    for (const RigCamera& rc : s.rig.cameras) cam_from_rig.push_back(*rc.cam_from_rig);
-    for (const Rigid3d& p : s.rig_from_world) rig_from_world.push_back(p);
-    RigBundleAdjustmentOptions options;
-    options.filter_rounds = 0;
-    return MultiFrameRigBundleAdjust(cameras, s.keypoints, tracks, cam_from_rig, rig_from_world, 1, options, false, with);
-  }
-};
+// Camera 1 captures 12 ms and camera 2 -20 ms from the frame; cameras 0 and 1 roll their shutters.
+const std::vector<double> kOffsets = {0.0, 0.012, -0.020}, kReadouts = {0.030, 0.020, 0.0};
 
 // On clean data over a path that turns at a changing rate and pitches, the offsets and readout
 // times come out exact (relative to camera 0's offset), and so does the mounting.
 TEST(MultiFrameRig, TimeOffsetsAndReadoutTimesAreEstimatedExactlyOnCleanData) {
-  const TimedRing ring(TurningPath(6, 1.5, 8.0, 1.5, 3.0, 2.0), 0.0, TestSeed());
+  const TimedRing ring(TurningPath(6, 1.5, 8.0, 1.5, 3.0, 2.0), 0.0, TestSeed(), kOffsets, kReadouts);
   const MultiFrameBundleAdjustmentResult r = ring.Adjust(&ring.timing);
   ASSERT_EQ(r.timing.size(), 3u);
   EXPECT_NEAR(r.timing[0][0], 0.0, 1e-12);  // the gauge
@@ -291,7 +244,7 @@ TEST(MultiFrameRig, TimeOffsetsAndReadoutTimesAreEstimatedExactlyOnCleanData) {
 
 // The same cameras taken as synchronised: the motion during the offsets goes into the mounting.
 TEST(MultiFrameRig, OffsetsLeftOutBendTheMounting) {
-  const TimedRing ring(TurningPath(6, 1.5, 8.0, 1.5, 3.0, 2.0), 0.0, TestSeed());
+  const TimedRing ring(TurningPath(6, 1.5, 8.0, 1.5, 3.0, 2.0), 0.0, TestSeed(), kOffsets, kReadouts);
   const MultiFrameBundleAdjustmentResult r = ring.Adjust(nullptr);
   EXPECT_GT(r.reprojection_rms_px, 0.05);
   EXPECT_GT(RotationDifferenceDeg(r.cam_from_rig[2]->rotation, ring.s.rig.cameras[2].cam_from_rig->rotation), 0.1);
@@ -303,11 +256,11 @@ TEST(MultiFrameRig, OffsetsLeftOutBendTheMounting) {
 // so frames on a circle make a polygon, not a constant twist: its corners fix the offsets, and the
 // estimate is within its standard deviation there too.
 TEST(MultiFrameRig, AConstantVelocityLeavesTheOffsetsOpen) {
-  const TimedRing straight(TurningPath(6, 1.5, 0.0, 0.0, 0.0, 0.0), 0.3, TestSeed());
-  const TimedRing varied(TurningPath(6, 1.5, 8.0, 1.5, 3.0, 2.0), 0.3, TestSeed());
+  const TimedRing straight(TurningPath(6, 1.5, 0.0, 0.0, 0.0, 0.0), 0.3, TestSeed(), kOffsets, kReadouts);
+  const TimedRing varied(TurningPath(6, 1.5, 8.0, 1.5, 3.0, 2.0), 0.3, TestSeed(), kOffsets, kReadouts);
   const MultiFrameBundleAdjustmentResult rs = straight.Adjust(&straight.timing);
   const MultiFrameBundleAdjustmentResult rv = varied.Adjust(&varied.timing);
-  const TimedRing circle(TurningPath(6, 1.5, 8.0, 0.0, 0.0, 0.0), 0.3, TestSeed());
+  const TimedRing circle(TurningPath(6, 1.5, 8.0, 0.0, 0.0, 0.0), 0.3, TestSeed(), kOffsets, kReadouts);
   const MultiFrameBundleAdjustmentResult rc = circle.Adjust(&circle.timing);
   for (int c = 1; c < 3; ++c) {
     ASSERT_TRUE(rs.time_offset_stddev_s[c] && rv.time_offset_stddev_s[c] && rc.time_offset_stddev_s[c]);
