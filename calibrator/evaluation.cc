@@ -7,13 +7,6 @@
 
 namespace rigsim {
 
-std::optional<bool> WithinTolerance(const std::optional<double>& rotation_error_deg,
-                                    const std::optional<double>& direction_error_deg, double max_rotation_deg,
-                                    double max_direction_deg) {
-  if (!rotation_error_deg) return std::nullopt;
-  return *rotation_error_deg <= max_rotation_deg && direction_error_deg.value_or(0.0) <= max_direction_deg;
-}
-
 void MatchPrecisionOptions::Check() const {
   if (!(max_error_px > 0)) throw std::invalid_argument("MatchPrecisionOptions: max_error_px must be > 0");
   if (transfer.abs_tolerance_m < 0 || transfer.rel_tolerance < 0) {

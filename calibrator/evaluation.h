@@ -26,22 +26,6 @@
 
 namespace rigsim {
 
-// The errors within which a reported pose counts as right: evaluation.json keeps what the images
-// say (status, success) apart from this verdict against the truth (within_tolerance), so a pose
-// reported solved but far off counts as wrong, not as success.
-struct PoseTolerance {
-  static constexpr double kCameraRotationDeg = 1.0;
-  static constexpr double kCameraDirectionDeg = 5.0;  // direction of the centre from camera 0's
-  static constexpr double kPairRotationDeg = 2.0;
-  static constexpr double kPairDirectionDeg = 5.0;  // baseline direction
-};
-
-// The verdict on one estimate: true when each error it has is within its bound (a direction that
-// is not estimated is not judged); nullopt without a rotation error (no truth, or no estimate).
-std::optional<bool> WithinTolerance(const std::optional<double>& rotation_error_deg,
-                                    const std::optional<double>& direction_error_deg, double max_rotation_deg,
-                                    double max_direction_deg);
-
 struct MatchPrecisionOptions {
   // A transferred keypoint within this distance (px) of its partner is correct.
   double max_error_px = 2.0;

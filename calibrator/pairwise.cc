@@ -16,6 +16,7 @@
 #include "dataset/dataset.h"
 #include "dataset/image_io.h"
 #include "dataset/label_image.h"
+#include "evaluation/verdicts.h"
 #include "geometry/json_io.h"
 #include "geometry/rig.h"
 
@@ -600,7 +601,7 @@ std::optional<bool> PairWithinTolerance(const PairResult& pr) {
   if (!pr.cam_b_from_cam_a_gt) return std::nullopt;
   if (!pr.two_view.success) return false;
   return WithinTolerance(pr.rotation_error_deg, pr.two_view.rotation_only ? std::nullopt : pr.translation_direction_error_deg,
-                         PoseTolerance::kPairRotationDeg, PoseTolerance::kPairDirectionDeg);
+                         kPairTolerance);
 }
 
 nlohmann::json PairResultToJson(const PairResult& pr) {
@@ -646,15 +647,11 @@ nlohmann::json PairResultToJson(const PairResult& pr) {
 
 namespace {
 
-// Pose error of a pair for the AUC: max of rotation and translation-direction errors; failures
-// and unknown translations (rotation-only estimate of a rig with a baseline) are infinite.
+// Pose error of a pair for the AUC (verdicts.h): a pair the calibrator does not stand by, or a
+// rotation-only estimate of a rig with a baseline, counts as infinite.
 double PoseError(const PairResult& pr) {
-  const double inf = std::numeric_limits<double>::infinity();
-  if (!pr.Solved() || !pr.rotation_error_deg) return inf;
   const bool gt_has_baseline = pr.cam_b_from_cam_a_gt && pr.cam_b_from_cam_a_gt->translation.norm() > 1e-9;
-  if (!gt_has_baseline) return *pr.rotation_error_deg;
-  if (!pr.translation_direction_error_deg) return inf;
-  return std::max(*pr.rotation_error_deg, *pr.translation_direction_error_deg);
+  return PoseErrorDeg(pr.Solved(), pr.rotation_error_deg, pr.translation_direction_error_deg, gt_has_baseline);
 }
 
 }  // namespace
@@ -702,8 +699,7 @@ nlohmann::json ReportToJson(const std::vector<CalibrationReport>& reports) {
     summary["match_precision"] = evaluated > 0 ? nlohmann::json(double(correct) / evaluated) : nlohmann::json(nullptr);
     summary["cross_class_matches"] = has_cross ? nlohmann::json(cross) : nlohmann::json(nullptr);
     summary["cross_class_wrong"] = has_cross ? nlohmann::json(cross - cross_correct) : nlohmann::json(nullptr);
-    summary["tolerance"] = {{"rotation_deg", PoseTolerance::kPairRotationDeg},
-                            {"direction_deg", PoseTolerance::kPairDirectionDeg}};
+    summary["tolerance"] = {{"rotation_deg", kPairTolerance.rotation_deg}, {"direction_deg", kPairTolerance.direction_deg}};
     summary["pairs_within_tolerance"] = has_truth ? nlohmann::json(within) : nlohmann::json(nullptr);
     summary["pairs_succeeded_outside_tolerance"] = has_truth ? nlohmann::json(succeeded_outside) : nlohmann::json(nullptr);
     if (has_truth) {

@@ -191,7 +191,7 @@ std::vector<CalibrationReport> CalibrateDatasetPairs(const std::filesystem::path
 // <why>" (PairResult::left_out_by_rig).
 std::string PairStatus(const PairResult& pair);
 
-// The pair's pose against the truth (evaluation.h PoseTolerance, pair bounds): nullopt without
+// The pair's pose against the truth (evaluation/verdicts.h kPairTolerance): nullopt without
 // the truth, false for a failed pair; a rotation-only pair is judged on its rotation.
 std::optional<bool> PairWithinTolerance(const PairResult& pair);
 

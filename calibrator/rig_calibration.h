@@ -280,7 +280,7 @@ std::vector<RigCalibrationResult> CalibrateRig(const std::filesystem::path& data
 // pose, or the rotation only; the method is the semantic mode.
 RigEstimate RigEstimateOf(const RigCalibrationResult& result);
 
-// Camera c's estimate against the truth (evaluation.h PoseTolerance, camera bounds): nullopt when
+// Camera c's estimate against the truth (evaluation/verdicts.h kCameraTolerance): nullopt when
 // not evaluated, false without an estimate; a camera without a position is judged on its rotation.
 std::optional<bool> CameraWithinTolerance(const RigCalibrationResult& result, size_t c);
 

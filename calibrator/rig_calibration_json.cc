@@ -5,6 +5,7 @@
 
 #include "calibrator/evaluation.h"
 #include "calibrator/intrinsics_refinement.h"
+#include "evaluation/verdicts.h"
 #include "geometry/json_io.h"
 
 // The rig calibration's JSON (RigCalibrationToJson), the verdicts it carries, and the estimate
@@ -27,8 +28,7 @@ std::optional<bool> CameraWithinTolerance(const RigCalibrationResult& r, size_t 
   if (!r.evaluated) return std::nullopt;
   const RigCameraStats& s = r.camera_stats[c];
   if (!s.rotation_error_deg) return false;  // no estimate
-  return WithinTolerance(s.rotation_error_deg, s.translation_direction_error_deg, PoseTolerance::kCameraRotationDeg,
-                         PoseTolerance::kCameraDirectionDeg);
+  return WithinTolerance(s.rotation_error_deg, s.translation_direction_error_deg, kCameraTolerance);
 }
 
 nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& results) {
@@ -105,8 +105,8 @@ nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& res
                               {"position_eigenvalue_ratio", std::isfinite(r.position_eigenvalue_ratio)
                                                                 ? nlohmann::json(r.position_eigenvalue_ratio)
                                                                 : nlohmann::json(nullptr)}};
-    summary["tolerance"] = {{"rotation_deg", PoseTolerance::kCameraRotationDeg},
-                            {"direction_deg", PoseTolerance::kCameraDirectionDeg}};
+    summary["tolerance"] = {{"rotation_deg", kCameraTolerance.rotation_deg},
+                            {"direction_deg", kCameraTolerance.direction_deg}};
     summary["cameras_within_tolerance"] = r.evaluated ? nlohmann::json(within) : nlohmann::json(nullptr);
     summary["cameras_calibrated_outside_tolerance"] =
         r.evaluated ? nlohmann::json(calibrated_outside) : nlohmann::json(nullptr);

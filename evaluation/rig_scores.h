@@ -14,7 +14,7 @@
 //                            a full pose (a rotation-only camera has a rotation error only).
 // Per camera pair (a < b): the same errors of cam_b_from_cam_a (direction of its translation).
 // AUC of the pose errors at 1, 2, 5 and 10 deg (missing poses count as failures), over cameras
-// and over pairs; success at N deg: every camera c > 0 has a full pose within N deg.
+// and over pairs. The pose error, success and confidently wrong are evaluation/verdicts.h's.
 #pragma once
 
 #include <optional>
@@ -60,8 +60,8 @@ struct RigScores {
   std::optional<double> max_position_error_m;
   double auc_cameras[4] = {0, 0, 0, 0};  // at 1, 2, 5, 10 deg
   double auc_pairs[4] = {0, 0, 0, 0};
-  bool success_1deg = false, success_2deg = false;
-  int confidently_wrong = 0;  // cameras with a full pose whose pose error exceeds 5 deg
+  bool success_1deg = false, success_2deg = false;  // RigSucceeds at kSuccessLimitsDeg
+  int confidently_wrong = 0;  // cameras ConfidentlyWrong (verdicts.h)
   std::vector<std::string> notes;
 };
 
