@@ -20,8 +20,8 @@
 
 #include "dataset/ground_truth.h"
 #include "evaluation/pose_errors.h"
-#include "dataset/image.h"
 #include "geometry/camera.h"
+#include "geometry/image.h"
 #include "geometry/rigid3.h"
 
 namespace rigsim {

@@ -12,7 +12,7 @@
 
 #include <Eigen/Core>
 
-#include "dataset/image.h"
+#include "geometry/image.h"
 #include "labels/cityscapes.h"
 
 namespace rigsim {

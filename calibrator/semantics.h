@@ -12,7 +12,7 @@
 #include <string_view>
 #include <vector>
 
-#include "dataset/image.h"
+#include "geometry/image.h"
 #include "labels/cityscapes.h"
 
 namespace rigsim {
