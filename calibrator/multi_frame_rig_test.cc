@@ -8,6 +8,7 @@
 
 #include "calibrator/calibrator_test_support.h"
 #include "calibrator/rig_calibration.h"
+#include "evaluation/pose_errors.h"
 #include "testing/expect_error.h"
 #include "testing/synthetic_rig.h"
 

@@ -16,6 +16,7 @@
 #include "dataset/dataset.h"
 #include "dataset/image_io.h"
 #include "dataset/label_image.h"
+#include "evaluation/pose_errors.h"
 #include "evaluation/verdicts.h"
 #include "geometry/json_io.h"
 #include "geometry/rig.h"

@@ -28,7 +28,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "calibrator/evaluation.h"
+#include "evaluation/match_precision.h"
 #include "calibrator/features.h"
 #include "calibrator/matching.h"
 #include "calibrator/semantics.h"

@@ -9,11 +9,12 @@
 #include <Eigen/Eigenvalues>
 
 #include "calibrator/camera_centres.h"
-#include "calibrator/evaluation.h"
 #include "calibrator/format.h"
 #include "calibrator/rig_intrinsics.h"
 #include "calibrator/rig_positions.h"
 #include "dataset/dataset.h"
+#include "evaluation/match_precision.h"
+#include "evaluation/pose_errors.h"
 #include "geometry/json_io.h"
 
 namespace rigsim {

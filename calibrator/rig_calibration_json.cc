@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "calibrator/evaluation.h"
+#include "evaluation/match_precision.h"
 #include "calibrator/intrinsics_refinement.h"
 #include "evaluation/verdicts.h"
 #include "geometry/json_io.h"

@@ -9,7 +9,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#include "calibrator/evaluation.h"
+#include "evaluation/match_precision.h"
 #include "calibrator/match_image.h"
 #include "dataset/image_io.h"
 #include "exports/colmap.h"
@@ -95,7 +95,7 @@ Json WriteExports(const RigCalibrationResult& r, const CalibrationInputs& inputs
 }
 
 // Per inlier of a sample, whether the ground truth calls it right (1) or wrong (0), by the match
-// precision's own test (calibrator/evaluation.h CheckMatches); empty without the truth or depth.
+// precision's own test (evaluation/match_precision.h CheckMatches); empty without the truth or depth.
 std::vector<signed char> SampleVerdicts(const PairInlierSample& s, const CalibrationInputs& inputs,
                                         const std::string& frame, const MatchPrecisionOptions& precision) {
   if (!inputs.truth) return {};

@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "calibrator/evaluation.h"
+#include "evaluation/match_precision.h"
 #include "calibrator/rig_calibration.h"
 #include "dataset/dataset.h"
 #include "dataset/label_image.h"

@@ -1,5 +1,3 @@
-// Evaluation of calibration results against ground truth: pose errors and match precision.
-//
 // Match precision (DESIGN.md "Evaluation"): a match (keypoint in A, keypoint in B) is correct
 // when A's keypoint, lifted with A's true range image and projected into B with the true pose
 // and camera model, lands within max_error_px of B's keypoint and is not occluded in B
@@ -19,7 +17,6 @@
 #include <Eigen/Core>
 
 #include "dataset/ground_truth.h"
-#include "evaluation/pose_errors.h"
 #include "geometry/camera.h"
 #include "geometry/image.h"
 #include "geometry/rigid3.h"

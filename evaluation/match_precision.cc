@@ -1,4 +1,4 @@
-#include "calibrator/evaluation.h"
+#include "evaluation/match_precision.h"
 
 #include <algorithm>
 #include <cmath>
