@@ -144,6 +144,31 @@ RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate) {
   return s;
 }
 
+std::vector<CameraErrors> CalibrationCameraErrors(const Rig& truth, const RigEstimate& estimate) {
+  const size_t n = truth.cameras.size();
+  if (!truth.HasAllPoses()) throw std::invalid_argument("CalibrationCameraErrors: the truth needs every camera's cam_from_rig");
+  if (estimate.cam_from_rig.size() != n || estimate.rotation_only.size() != n) {
+    throw std::invalid_argument("CalibrationCameraErrors: the estimate needs one entry per camera of the truth");
+  }
+  std::vector<CameraErrors> out(n);
+  const Rigid3d rig_from_cam0 = truth.cameras[0].cam_from_rig->Inverse();
+  for (size_t c = 0; c < n; ++c) {
+    const std::optional<Rigid3d>& est = estimate.cam_from_rig[c];
+    // The truth with camera 0 as the rig frame (the estimate's gauge).
+    const Rigid3d gt = *truth.cameras[c].cam_from_rig * rig_from_cam0;
+    CameraErrors& e = out[c];
+    if (!est) {
+      if (estimate.rotation_only[c]) e.rotation_error_deg = RotationDifferenceDeg(*estimate.rotation_only[c], gt.rotation);
+      continue;
+    }
+    e.rotation_error_deg = RotationErrorDeg(*est, gt);
+    const Eigen::Vector3d c_est = est->SourceOriginInTarget(), c_gt = gt.SourceOriginInTarget();
+    if (c_est.norm() > 1e-9 && c_gt.norm() > 1e-9) e.direction_error_deg = AngleBetweenDeg(c_est, c_gt);
+    if (estimate.metric) e.position_error_m = (c_est - c_gt).norm();
+  }
+  return out;
+}
+
 namespace {
 
 nlohmann::json Opt(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }

@@ -72,6 +72,24 @@ inline constexpr double kAucThresholdsDeg[4] = {1.0, 2.0, 5.0, 10.0};
 // has one entry per truth camera.
 RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate);
 
+// A camera's errors as evaluation.json and the calibrate tables give them, for an estimate whose
+// own camera 0 is its rig frame (a rigsim calibration): the rotation error of a full pose or a
+// rotation only (geometry/rigid3.h RotationDifferenceDeg against the truth with camera 0 as the
+// rig frame), the direction error when both centres are away from camera 0's (1e-9), the
+// position error of a metric estimate (no scale fitted; camera 0's included).
+// ScoreRig measures the same errors another way (any estimate re-expressed in its camera 0's
+// frame, rotations by Eigen's angularDistance, which does not normalise): they agree to about
+// 1e-15 deg, not to the last digit, so one cannot replace the other without changing what
+// evaluation.json or evaluate, the report and the sweep write.
+struct CameraErrors {
+  std::optional<double> rotation_error_deg;
+  std::optional<double> direction_error_deg;
+  std::optional<double> position_error_m;
+};
+// One per camera of `truth`; std::invalid_argument unless the truth has every cam_from_rig and
+// the estimate one entry per camera.
+std::vector<CameraErrors> CalibrationCameraErrors(const Rig& truth, const RigEstimate& estimate);
+
 nlohmann::json RigScoresToJson(const RigScores& scores);
 // The camera and pair tables and a summary line, for a terminal.
 std::string FormatRigScores(const std::vector<RigScores>& scores);

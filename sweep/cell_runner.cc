@@ -131,27 +131,22 @@ Json ScoreMetrics(const RigScores& s) {
           {"auc_pairs_10deg", s.auc_pairs[3]}};
 }
 
-// What rigsim's calibration reported about its matches and its time.
-void AddCalibrationMetrics(const RigCalibrationResult& r, Json& m) {
-  int64_t matches = 0, evaluated = 0, correct = 0, cross = 0, cross_correct = 0;
-  bool has_cross = false;
-  for (const PairResult& pair : r.pairwise.pairs) {
-    matches += pair.two_view.num_matches;
-    evaluated += pair.matches_evaluated;
-    correct += pair.matches_correct;
-    if (pair.cross_class_matches) {
-      has_cross = true;
-      cross += *pair.cross_class_matches;
-      cross_correct += pair.cross_class_correct;
-    }
-  }
-  m["cross_class_matches"] = has_cross ? Json(cross) : Json(nullptr);
-  m["cross_class_wrong"] = has_cross ? Json(cross - cross_correct) : Json(nullptr);
-  m["cross_class_right"] = has_cross ? Json(cross_correct) : Json(nullptr);
+// What rigsim's calibration reported about its matches and its time, and its match precision
+// against the truth (the scorer's, pipeline/calibration_scores.h).
+void AddCalibrationMetrics(const CalibrationRun& run, Json& m) {
+  const RigCalibrationResult& r = run.results.at(0);
+  int64_t matches = 0;
+  for (const PairResult& pair : r.pairwise.pairs) matches += pair.two_view.num_matches;
+  const CalibrationScores* truth = run.Truth(0);
+  const PooledMatchPrecision pooled = truth ? PoolMatchPrecision(*truth) : PooledMatchPrecision{};
+  const std::optional<int64_t>& cross = pooled.cross_class;
+  m["cross_class_matches"] = cross ? Json(*cross) : Json(nullptr);
+  m["cross_class_wrong"] = cross ? Json(*cross - pooled.cross_class_correct) : Json(nullptr);
+  m["cross_class_right"] = cross ? Json(pooled.cross_class_correct) : Json(nullptr);
   m["matches"] = matches;
-  m["match_precision"] = evaluated > 0 ? Json(double(correct) / evaluated) : Json(nullptr);
-  m["wrong_matches"] = evaluated > 0 ? Json(evaluated - correct) : Json(nullptr);
-  m["time_detect_s"] = r.pairwise.detect_time_s;
+  m["match_precision"] = OptionalJson(pooled.Precision());
+  m["wrong_matches"] = pooled.evaluated > 0 ? Json(pooled.evaluated - pooled.correct) : Json(nullptr);
+  m["time_detect_s"] = run.records.at(0).detect_time_s;
   m["time_match_s"] = r.pairwise.screen_time_s + r.pairwise.match_time_s + r.pairwise.temporal_match_time_s;
 }
 
@@ -165,9 +160,9 @@ MethodRow Failed(const std::string& method, const std::string& why) {
 
 MethodRow RunRigsim(const SweepMethod& method, const Json& p, const CalibrationInputs& inputs,
                     const CellRunnerOptions& options) {
-  RigCalibrationOptions o;
-  o.pairwise.features.type = FeatureTypeFromName(method.features);
-  o.pairwise.num_threads = options.num_threads;
+  CalibrationRunOptions o;
+  o.features.type = FeatureTypeFromName(method.features);
+  o.rig.pairwise.num_threads = options.num_threads;
   const int boundary = p.at("label_boundary").get<int>();
   const double confusion = p.at("label_confusion").get<double>();
   if (boundary > 0 || confusion > 0) {
@@ -175,7 +170,7 @@ MethodRow RunRigsim(const SweepMethod& method, const Json& p, const CalibrationI
     noise.boundary_px = boundary;
     noise.confusion_rate = confusion;
     noise.seed = Seed(p);
-    o.pairwise.labels = LabelSource::Noisy(noise);
+    o.labels = LabelSource::Noisy(noise);
   }
   const auto start = Clock::now();
   const CalibrationRun run = CalibrateDataset(inputs, o, {SemanticModeFromName(method.semantics)});
@@ -185,7 +180,7 @@ MethodRow RunRigsim(const SweepMethod& method, const Json& p, const CalibrationI
   RigEstimate estimate = RigEstimateOf(r);
   estimate.method = method.name;
   row.metrics = ScoreMetrics(ScoreRig(*inputs.truth, estimate));
-  AddCalibrationMetrics(r, row.metrics);
+  AddCalibrationMetrics(run, row.metrics);
   row.metrics["time_total_s"] = Since(start);
   return row;
 }
