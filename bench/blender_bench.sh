@@ -6,11 +6,12 @@
 #
 #   bash bench/blender_bench.sh BUILD_DIR [RUNS] [SPP...]     e.g. bash bench/blender_bench.sh build 3 4 16
 #
-# Needs Blender (Debian: apt-get install blender, 3.4). Blender renders with bench/blender_render.py
-# (one bounce, object-index and depth passes, one multilayer EXR per camera); "blender renders" is
-# the sum of its render calls (rendering and writing each EXR, without starting Blender and
-# importing the glTF), "blender process" the whole process. rigsim is the whole `render` command:
-# loading the scene, rendering, writing the dataset, the ground-truth overlap.
+# Needs Blender and NumPy (Debian: apt-get install blender python3-numpy; Blender 3.4). Blender
+# renders with bench/blender_render.py (one bounce, object-index and depth passes, one multilayer
+# EXR per camera); "blender renders" is the sum of its render calls (rendering and writing each
+# EXR, without starting Blender and importing the glTF), "blender process" the whole process.
+# rigsim is the whole `render` command: loading the scene, rendering, writing the dataset, the
+# ground-truth overlap.
 set -euo pipefail
 build_dir=${1:?usage: blender_bench.sh BUILD_DIR [RUNS] [SPP...]}
 runs=${2:-3}
@@ -30,6 +31,7 @@ for spp in "${spps[@]}"; do
     /usr/bin/time -f "%e %U" -o "$scratch/time" blender -b --factory-startup -P "$root/bench/blender_render.py" -- \
       "$scene" "$scratch/rig/rig.json" "$scratch/rig/frames.json" "$spp" "$scratch/blender" > "$scratch/blender.log" 2>&1
     renders=$(sed -n 's/^blender: .* views rendered in \([0-9.]*\) s$/\1/p' "$scratch/blender.log")
+    [ -n "$renders" ] || { tail -n 5 "$scratch/blender.log" >&2; echo "blender_bench: Blender did not render" >&2; exit 1; }
     read -r b_wall b_user < "$scratch/time"
     /usr/bin/time -f "%e %U" -o "$scratch/time" "$rigsim" render --scene "$scene" --rig "$scratch/rig/rig.json" \
       --frames "$scratch/rig/frames.json" --out "$scratch/rigsim" --force --spp "$spp" > /dev/null 2>&1

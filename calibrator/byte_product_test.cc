@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <stdexcept>
+#include <string>
 
 #include <Eigen/Core>
 #include <gtest/gtest.h>
@@ -30,12 +32,18 @@ std::vector<int> AllRows(const FeatureSet& f) {
   return rows;
 }
 
-TEST(ByteProduct, EqualsTheFloatProductBitForBit) {
-  if (!ByteProductAvailable()) GTEST_SKIP() << "no AVX-512 VNNI in this build";
+// Every CPU path with an integer kernel, on the same input: the float product's numbers bit for
+// bit (the baseline path is the float product itself). A path this CPU lacks is skipped.
+class ByteProductPath : public ::testing::TestWithParam<CpuPath> {};
+
+TEST_P(ByteProductPath, EqualsTheFloatProductBitForBit) {
+  const CpuPath path = GetParam();
+  if (!CpuSupports(path)) GTEST_SKIP() << "this CPU has no " << CpuPathName(path) << " (the path still compiles)";
+  ASSERT_TRUE(ByteProductAvailable(path));
   using RowMatrixXf = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  // SIFT's 128 and a length that is not a whole number of 4-byte groups; row and column counts
+  // SIFT's 128 and lengths that are not a whole number of 4-byte groups; row and column counts
   // that fill no tile exactly.
-  for (int dim : {128, 61}) {
+  for (int dim : {128, 61, 3}) {
     const FeatureSet a = RandomByteSet(37, dim, 1), b = RandomByteSet(141, dim, 2);
     std::vector<int> ia = AllRows(a), ib = AllRows(b);
     std::swap(ia[0], ia[5]);  // through the index lists, not the storage order
@@ -47,7 +55,7 @@ TEST(ByteProduct, EqualsTheFloatProductBitForBit) {
     for (int j = 0; j < b.size(); ++j) db.row(j) = Eigen::Map<const Eigen::RowVectorXf>(b.descriptor(ib[j]), dim);
     const RowMatrixXf expected = -2.f * (da * db.transpose());
 
-    const ByteProductColumns columns(b, ib);
+    const ByteProductColumns columns(b, ib, path);
     const size_t stride = b.size() + 3;  // the padding after each row must stay untouched
     std::vector<float> out(size_t(a.size()) * stride, 7.f);
     columns.MinusTwoDot(a, ia, 0, 20, out.data(), stride);  // two calls: rows [0, 20), [20, 37)
@@ -55,6 +63,32 @@ TEST(ByteProduct, EqualsTheFloatProductBitForBit) {
     for (int i = 0; i < a.size(); ++i) {
       for (int j = 0; j < b.size(); ++j) ASSERT_EQ(out[i * stride + j], expected(i, j)) << dim << ": " << i << "," << j;
       for (size_t j = b.size(); j < stride; ++j) ASSERT_EQ(out[i * stride + j], 7.f);
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(IntegerKernels, ByteProductPath, ::testing::Values(CpuPath::kAvx2, CpuPath::kAvx512Vnni),
+                         [](const auto& info) { return info.param == CpuPath::kAvx2 ? "Avx2" : "Avx512Vnni"; });
+
+TEST(ByteProduct, TheBaselinePathHasNoIntegerKernelAndRefusesColumns) {
+  EXPECT_FALSE(ByteProductAvailable(CpuPath::kBaseline));
+  const FeatureSet b = RandomByteSet(4, 8, 1);
+  EXPECT_THROW(ByteProductColumns(b, AllRows(b), CpuPath::kBaseline), std::logic_error);
+}
+
+TEST(CpuPath, TheVariableChoosesAPathOrNamesTheProblem) {
+  const std::vector<CpuPath> supported = SupportedCpuPaths();
+  ASSERT_FALSE(supported.empty());
+  EXPECT_EQ(supported.front(), CpuPath::kBaseline);
+  EXPECT_EQ(CpuPathFor(nullptr), supported.back());  // unset: the fastest
+  EXPECT_EQ(CpuPathFor(""), supported.back());
+  EXPECT_EQ(CpuPathFor("auto"), supported.back());
+  for (CpuPath p : supported) EXPECT_EQ(CpuPathFor(std::string(CpuPathName(p)).c_str()), p);
+  EXPECT_THROW(CpuPathFor("avx3"), std::runtime_error);
+  EXPECT_THROW(CpuPathFor("AVX2"), std::runtime_error);
+  for (CpuPath p : {CpuPath::kAvx2, CpuPath::kAvx512Vnni}) {
+    if (!CpuSupports(p)) {
+      EXPECT_THROW(CpuPathFor(std::string(CpuPathName(p)).c_str()), std::runtime_error);
     }
   }
 }

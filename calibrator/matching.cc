@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 
 #include "calibrator/byte_product.h"
+#include "calibrator/cpu_path.h"
 
 namespace rigsim {
 namespace {
@@ -104,7 +105,10 @@ void MatchSubset(const FeatureSet& a, const std::vector<int>& ia, const FeatureS
   RowMatrixXf d2(block, nb);
   // The integer product gives the float product's numbers exactly (byte_product.h).
   std::optional<ByteProductColumns> byte_columns;
-  if (ByteProductAvailable() && DescriptorsAreBytes(a, ia) && DescriptorsAreBytes(b, ib)) byte_columns.emplace(b, ib);
+  const CpuPath path = SelectedCpuPath();
+  if (ByteProductAvailable(path) && DescriptorsAreBytes(a, ia) && DescriptorsAreBytes(b, ib)) {
+    byte_columns.emplace(b, ib, path);
+  }
   const float ratio2 = static_cast<float>(options.ratio * options.ratio);
   for (int r0 = 0; r0 < na; r0 += block) {
     const int rows = std::min(block, na - r0);

@@ -1,5 +1,5 @@
-// Reading and writing images through OpenImageIO. Every error throws std::runtime_error whose
-// message starts with the file name.
+// Reading and writing images (dataset/image_codecs.h: PNG, JPEG, WebP, TIFF, OpenEXR). Every
+// error throws std::runtime_error whose message starts with the file name.
 #pragma once
 
 #include <filesystem>
@@ -8,14 +8,16 @@
 
 namespace rigsim {
 
-// PNG/JPEG/... with 1..4 channels of 8 bits. Writes atomically (temporary file, rename).
+// PNG or JPEG (by the extension) with 1..4 channels of 8 bits (JPEG: 1 or 3). Writes atomically
+// (temporary file, rename).
 void WriteImage(const std::filesystem::path& path, const ImageU8& image);
 // 16-bit single-channel PNG (instance ids).
 void WriteImage(const std::filesystem::path& path, const ImageU16& image);
-// float EXR: depth (1 channel, uncompressed), or 3 channels R, G, B (zip).
+// float EXR: depth (1 channel, uncompressed), or 3 or 4 channels R, G, B(, A) (zip).
 void WriteImage(const std::filesystem::path& path, const ImageF& image);
 
-// Reads any format OpenImageIO knows, converted to the requested type. `channels` > 0 demands
+// Reads PNG, JPEG, WebP, TIFF (as 8-bit) or OpenEXR, whatever the extension says, converted to the
+// requested type. `channels` > 0 demands
 // that channel count (RGB wanted from an RGBA file drops alpha; grey to RGB replicates);
 // 0 keeps the file's.
 ImageU8 ReadImageU8(const std::filesystem::path& path, int channels = 0);

@@ -1,13 +1,12 @@
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <utility>
 
-#include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
-
+#include "dataset/image_codecs.h"
 #include "gltf/loader.h"
 
 namespace rigsim::gltf {
@@ -68,13 +67,14 @@ WrapMode ToWrap(int gl) {
 
 }  // namespace
 
-// Decodes glTF images with OpenCV (libpng, libjpeg, libwebp) in place of tinygltf's stb_image,
-// after two checks on the encoded bytes: the image is a PNG or a JPEG, the formats glTF 2.0
-// allows, or a WebP (EXT_texture_webp) (stb would also take BMP, PSD, GIF, ...), and its header
-// asks for no more pixels than the limit. stb inflates a PNG's compressed data into a buffer
-// without bound: a 1x1 PNG of a few hundred bytes (found by fuzzing) makes it allocate 1.2 GB.
-// libpng inflates row by row into the image's own size. An image that fails a check or does not
-// decode is left empty, its reason kept in the ImageChecks `user_data`, and tinygltf goes on.
+// Decodes glTF images with libpng, libjpeg and libwebp (dataset/image_codecs.h) in place of
+// tinygltf's stb_image, after two checks on the encoded bytes: the image is a PNG or a JPEG, the
+// formats glTF 2.0 allows, or a WebP (EXT_texture_webp) (stb would also take BMP, PSD, GIF, ...),
+// and its header asks for no more pixels than the limit. stb inflates a PNG's compressed data into
+// a buffer without bound: a 1x1 PNG of a few hundred bytes (found by fuzzing) makes it allocate
+// 1.2 GB. libpng inflates row by row into the image's own size. An image that fails a check or
+// does not decode is left empty, its reason kept in the ImageChecks `user_data`, and tinygltf
+// goes on.
 bool LoadCheckedImage(tinygltf::Image* image, const int index, std::string* /*err*/, std::string* /*warn*/,
                       int /*req_width*/, int /*req_height*/, const unsigned char* bytes, int size, void* user_data) {
   ImageChecks& checks = *static_cast<ImageChecks*>(user_data);
@@ -89,25 +89,37 @@ bool LoadCheckedImage(tinygltf::Image* image, const int index, std::string* /*er
                   " pixels, more than the limit of " + std::to_string(checks.max_pixels) +
                   " (GltfLoadOptions::max_image_pixels)");
   }
-  cv::Mat decoded;
+  DecodedPixels decoded;
   try {
-    decoded = cv::imdecode(cv::Mat(1, size, CV_8U, const_cast<unsigned char*>(bytes)), cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception&) {
-    decoded.release();
-  }
-  const int channels = decoded.empty() ? 0 : decoded.channels();
-  if (decoded.empty() || (decoded.depth() != CV_8U && decoded.depth() != CV_16U) || channels > 4) {
+    const DecodeLimits limits{int64_t(std::min<uint64_t>(checks.max_pixels, INT64_MAX)), false};
+    decoded = DecodeImageBytes(bytes, size_t(size), "image " + std::to_string(index), limits);
+  } catch (const std::runtime_error&) {
     return refuse(": cannot decode it");
   }
-  if (channels == 3) cv::cvtColor(decoded, decoded, cv::COLOR_BGR2RGB);
-  if (channels == 4) cv::cvtColor(decoded, decoded, cv::COLOR_BGRA2RGBA);
-  if (!decoded.isContinuous()) decoded = decoded.clone();
-  image->width = decoded.cols;
-  image->height = decoded.rows;
-  image->component = channels;
-  image->bits = decoded.depth() == CV_16U ? 16 : 8;
-  image->pixel_type = decoded.depth() == CV_16U ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-  image->image.assign(decoded.data, decoded.data + decoded.total() * decoded.elemSize());
+  const bool wide = decoded.type == DecodedPixels::Type::kU16;
+  if (decoded.channels == 2) {  // grey + alpha as RGBA, as OpenCV gave it and the renderer takes it
+    auto to_rgba = [](const auto& grey_alpha) {
+      std::remove_cvref_t<decltype(grey_alpha)> rgba(grey_alpha.size() * 2);
+      for (size_t i = 0; i < grey_alpha.size() / 2; ++i) {
+        for (int c = 0; c < 4; ++c) rgba[i * 4 + c] = grey_alpha[i * 2 + (c == 3 ? 1 : 0)];
+      }
+      return rgba;
+    };
+    if (wide) decoded.u16 = to_rgba(decoded.u16);
+    else decoded.u8 = to_rgba(decoded.u8);
+    decoded.channels = 4;
+  }
+  image->width = decoded.width;
+  image->height = decoded.height;
+  image->component = decoded.channels;
+  image->bits = wide ? 16 : 8;
+  image->pixel_type = wide ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+  if (wide) {
+    const auto* b = reinterpret_cast<const unsigned char*>(decoded.u16.data());
+    image->image.assign(b, b + decoded.u16.size() * sizeof(uint16_t));
+  } else {
+    image->image = std::move(decoded.u8);
+  }
   return true;
 }
 

@@ -6,10 +6,7 @@
 
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
-#include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
-
+#include "dataset/image_codecs.h"
 #include "labels/cityscapes.h"
 
 namespace rigsim {
@@ -42,22 +39,20 @@ std::vector<uint8_t> EncodeImage(const std::string& name, int width, int height,
   if (channels == 4) {
     for (size_t i = 3; i < pixels.size() && opaque; i += 4) opaque = pixels[i] == 255;
   }
-  // OpenCV wants BGR(A); the pixels are RGB(A).
-  cv::Mat rgb(height, width, channels == 4 ? CV_8UC4 : CV_8UC3, const_cast<uint8_t*>(pixels.data()));
-  cv::Mat bgr;
-  std::vector<uint8_t> out;
-  bool ok = false;
   if (opaque) {
-    cv::cvtColor(rgb, bgr, channels == 4 ? cv::COLOR_RGBA2BGR : cv::COLOR_RGB2BGR);
-    ok = cv::imencode(".jpg", bgr, out, {cv::IMWRITE_JPEG_QUALITY, quality, cv::IMWRITE_JPEG_OPTIMIZE, 1});
+    // Quality as asked, optimised Huffman tables, as OpenCV's encoder wrote them before.
+    std::vector<uint8_t> rgb = pixels;
+    if (channels == 4) {
+      rgb.resize(size_t(width) * height * 3);
+      for (size_t i = 0; i < rgb.size() / 3; ++i) std::memcpy(&rgb[i * 3], &pixels[i * 4], 3);
+    }
     *mime = "image/jpeg";
-  } else {
-    cv::cvtColor(rgb, bgr, cv::COLOR_RGBA2BGRA);
-    ok = cv::imencode(".png", bgr, out);
-    *mime = "image/png";
+    return EncodeJpeg(rgb.data(), width, height, 3, {quality, true, false}, "texture '" + name + "'");
   }
-  if (!ok) throw std::runtime_error("texture '" + name + "': image encoding failed");
-  return out;
+  // OpenCV's PNG defaults, which wrote the shipped scenes: zlib's fastest level, run-length
+  // strategy (Z_RLE), the Sub filter on every row.
+  *mime = "image/png";
+  return EncodePng(pixels.data(), width, height, 4, 8, {1, 3, 0x10 /* PNG_FILTER_SUB */, false}, "texture '" + name + "'");
 }
 
 // One primitive of a node's mesh: its vertex attributes and its indices (16-bit when they fit) as

@@ -40,6 +40,9 @@ void EmbreeErrors::ThrowIfAny(const std::string& during) {
 }
 
 EmbreeScene::EmbreeScene(const std::string& source) : source_(source) {
+  // Embree chooses its kernels by CPU: its AVX2 and AVX-512 ones (fused multiply-adds) render
+  // other last bits of depth and colour than its SSE and AVX ones (BENCHMARKS.md), so renders from
+  // nodes of the two kinds differ; "max_isa=avx" here would make them equal.
   device_ = rtcNewDevice(nullptr);
   if (device_ == nullptr) {
     throw std::runtime_error(source_ + ": cannot create an Embree device (error " +

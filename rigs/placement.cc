@@ -13,7 +13,7 @@
 namespace rigsim {
 namespace {
 
-void Fail(const std::string& what, const std::string& why) { throw std::invalid_argument(what + ": " + why); }
+void FailPlacing(const std::string& what, const std::string& why) { throw std::invalid_argument(what + ": " + why); }
 
 // Fraction of a's surface samples (rays that hit the scene) that b sees unoccluded.
 double PredictedOverlapOneWay(const GridCaster& caster, const RigCamera& a, const RigCamera& b, const Rigid3d& rig_from_world) {
@@ -52,13 +52,13 @@ double PredictedOverlapWith(const GridCaster& caster, const Rig& rig, int a, int
 
 double PredictedOverlap(const Scene& scene, const Rig& rig, int a, int b, const Rigid3d& rig_from_world) {
   if (a < 0 || b < 0 || a >= int(rig.cameras.size()) || b >= int(rig.cameras.size()) || !rig.HasAllPoses()) {
-    Fail("predicted overlap", "camera index out of range or camera without cam_from_rig");
+    FailPlacing("predicted overlap", "camera index out of range or camera without cam_from_rig");
   }
   return PredictedOverlapWith(GridCaster(scene), rig, a, b, rig_from_world);
 }
 
 Eigen::MatrixXd PredictedOverlaps(const Scene& scene, const Rig& rig, const Rigid3d& rig_from_world) {
-  if (!rig.HasAllPoses()) Fail("predicted overlap", "every camera needs cam_from_rig");
+  if (!rig.HasAllPoses()) FailPlacing("predicted overlap", "every camera needs cam_from_rig");
   const GridCaster caster(scene);
   const int n = int(rig.cameras.size());
   Eigen::MatrixXd overlap = Eigen::MatrixXd::Zero(n, n);
@@ -70,7 +70,7 @@ Eigen::MatrixXd PredictedOverlaps(const Scene& scene, const Rig& rig, const Rigi
 
 Rig MakeRingRigInScene(const RingRigOptions& options, const Scene& scene, const Rigid3d& rig_from_world) {
   options.Check();
-  if (!(options.target_overlap > 0)) Fail("ring rig", "MakeRingRigInScene needs target_overlap in (0, 1)");
+  if (!(options.target_overlap > 0)) FailPlacing("ring rig", "MakeRingRigInScene needs target_overlap in (0, 1)");
   Rig rig = MakeRingRig(options);  // the angular solution: intrinsics, and cam0's yaw
   const GridCaster caster(scene);
   auto yaw_of = [&](int i) {
@@ -93,16 +93,16 @@ Rig MakeRingRigInScene(const RingRigOptions& options, const Scene& scene, const 
 
 void PlacementOptions::Check() const {
   const std::string w = "rig placement";
-  if (!(height_m > 0)) Fail(w, "height_m must be > 0");
-  if (!(min_clearance_m >= 0)) Fail(w, "min_clearance_m must be >= 0");
-  if (!(travel_m >= 0)) Fail(w, "travel_m must be >= 0");
-  if (!(max_range_m > min_clearance_m)) Fail(w, "max_range_m must exceed min_clearance_m");
-  if (num_candidates < 1 || num_headings < 1) Fail(w, "num_candidates and num_headings must be >= 1");
+  if (!(height_m > 0)) FailPlacing(w, "height_m must be > 0");
+  if (!(min_clearance_m >= 0)) FailPlacing(w, "min_clearance_m must be >= 0");
+  if (!(travel_m >= 0)) FailPlacing(w, "travel_m must be >= 0");
+  if (!(max_range_m > min_clearance_m)) FailPlacing(w, "max_range_m must exceed min_clearance_m");
+  if (num_candidates < 1 || num_headings < 1) FailPlacing(w, "num_candidates and num_headings must be >= 1");
 }
 
 std::optional<RigPlacement> PlaceRig(const Scene& scene, const Rig& rig, const PlacementOptions& o) {
   o.Check();
-  if (!rig.HasAllPoses()) Fail("rig placement", "every camera needs cam_from_rig");
+  if (!rig.HasAllPoses()) FailPlacing("rig placement", "every camera needs cam_from_rig");
   const GridCaster caster(scene);
   if (caster.empty()) return std::nullopt;
   const Eigen::Vector3d lo = caster.lo(), hi = caster.hi();

@@ -8,12 +8,14 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libembree-dev
-  libopenimageio-dev openimageio-tools   # OIIO's CMake config needs the tools (see DESIGN.md)
+  libpng-dev libjpeg-dev libtiff-dev libopenexr-dev libwebp-dev  # image files (dataset/image_codecs.h)
   libtinygltf-dev
   libdraco-dev                           # Draco-compressed glTF meshes (gltf/gltf_compression.h)
   libmeshoptimizer-dev                   # meshopt-compressed glTF buffers (gltf/gltf_compression.h)
   libglm-dev
-  libopencv-dev
+  # The OpenCV modules rigsim links, not the libopencv-dev meta package (every module, with VTK,
+  # GDAL, HDF5, FFmpeg). Debian's features2d headers still pull in highgui's (Qt, FFmpeg headers).
+  libopencv-core-dev libopencv-imgproc-dev libopencv-features2d-dev libopencv-calib3d-dev
   libeigen3-dev
   libceres-dev
   nlohmann-json3-dev
@@ -28,6 +30,7 @@ packages=(
 # Large, and used by tests only.
 test_packages=(
   clang libclang-rt-14-dev               # fuzzing: clang and libFuzzer (libclang_rt.fuzzer), scripts/fuzz.sh
+  libopencv-imgcodecs-dev                # tests encode their input images (PNG, JPEG, WebP) with OpenCV
   colmap                                 # the COLMAP export through COLMAP's tools (tests/colmap_interop_cli_test.cc)
   chromium                               # the report in a real browser (tests/report_browser_test.cc)
 )

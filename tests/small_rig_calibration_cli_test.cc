@@ -15,15 +15,19 @@ namespace rigsim {
 namespace {
 namespace fs = std::filesystem;
 
-TEST(SmallRigCalibration, TheDemoRingAt640x360OverTwoFramesIsCalibratedAndRight) {
+// Two frames at 640x360 and 1 spp leave a camera's place near the bound of what the images fix
+// (its direction's standard deviation about RigCalibrationOptions::max_direction_std_deg): such a
+// camera may be reported not determined (exit code 3), never placed outside tolerance.
+TEST(SmallRigCalibration, TheDemoRingAt640x360OverTwoFramesIsRightWhereverItIsPlaced) {
   const TempDir dir;
   const CliResult demo = RunRigsim({"demo", "--out", (dir / "demo").string(), "--width", "640", "--height", "360",
                                     "--frames", "2", "--spp", "1", "--no-report"},
                                    dir / "demo", std::chrono::seconds(300));
-  ASSERT_EQ(demo.code, 0) << demo.out << demo.err;
+  ASSERT_TRUE(demo.code == 0 || demo.code == 3) << demo.out << demo.err;
   const nlohmann::json evaluation = nlohmann::json::parse(ReadFile(dir / "demo" / "calibration" / "evaluation.json"));
   for (const std::string mode : {"none", "mask"}) {
     const nlohmann::json& rig = evaluation.at("methods").at(mode).at("rig");
+    EXPECT_GE(rig.at("summary").at("cameras_calibrated"), 3) << mode << ": " << rig.at("summary").dump();
     EXPECT_EQ(rig.at("summary").at("cameras_within_tolerance"), 4) << mode << ": " << rig.at("summary").dump();
     EXPECT_EQ(rig.at("summary").at("cameras_calibrated_outside_tolerance"), 0) << mode;
     for (const nlohmann::json& camera : rig.at("cameras")) {
