@@ -170,6 +170,7 @@ CalibrationReport BuildReport(const PairwiseJob& job, const FrameMatches& matche
     pr.cam_b = job.views.camera_names[job.pairs[p].b];
     pr.frames = job.num_frames;
     pr.two_view = ToEstimate(fits.two_view[p], static_cast<int>(fits.pooled[p].px_a.size()));
+    pr.screened_out = !screening.screened_out[p].empty();
     for (int f = 0; f < job.num_frames; ++f) {
       const MatchStats& s = matches.stats[job.PairFrame(p, f)];
       pr.distance_evaluations += s.distance_evaluations;
@@ -307,9 +308,19 @@ PairwiseResult MatchRigPairs(const RigViews& views, const PairwiseOptions& optio
   return out;
 }
 
+PairOutcome PairResult::Outcome() const {
+  if (!two_view.success) return screened_out ? PairOutcome::kScreenedOut : PairOutcome::kTwoViewFailed;
+  if (left_out_by_rig) return PairOutcome::kLeftOutByRig;
+  return PairOutcome::kSolved;
+}
+
 std::string PairStatus(const PairResult& pr) {
-  if (!pr.two_view.success) return pr.two_view.failure_reason;
-  if (!pr.left_out_by_rig.empty()) return "left out by the rig: " + pr.left_out_by_rig;
+  switch (pr.Outcome()) {
+    case PairOutcome::kSolved: return "ok";
+    case PairOutcome::kScreenedOut:
+    case PairOutcome::kTwoViewFailed: return pr.two_view.failure_reason;
+    case PairOutcome::kLeftOutByRig: return "left out by the rig: " + *pr.left_out_by_rig;
+  }
   return "ok";
 }
 

@@ -67,18 +67,28 @@ struct RigViews {
   void Check() const;
 };
 
+// What the calibrator says of a camera pair.
+enum class PairOutcome {
+  kSolved,         // a two-view estimate, kept by the rig stage: what the calibrator stands by
+  kScreenedOut,    // not matched in full: screening found no shared view (PairwiseOptions::screen_features)
+  kTwoViewFailed,  // matched, but no two-view estimate (TwoViewEstimate::failure_reason says why)
+  kLeftOutByRig,   // estimated, but the rig stage did not trust it (PairResult::left_out_by_rig says why)
+};
+
 // One camera pair in the pairwise report: its two-view outcome and cost.
 struct PairResult {
   std::string cam_a, cam_b;
   int frames = 0;  // frames pooled
   // Matches pooled over the frames (two_view.num_matches), the estimate and its inliers; a pair
-  // screened out (PairwiseOptions::screen_features) has failure_reason set and no matches.
+  // screened out has failure_reason set and no matches.
   TwoViewEstimate two_view;
+  bool screened_out = false;  // PairwiseOptions::screen_features
   // Why the rig stage did not trust the pair's pose (it disagreed with the rig the other pairs
-  // make, or its rotation was an outlier of rotation averaging); empty when it did, or before it ran.
-  std::string left_out_by_rig;
-  // Solved, and kept by the rig stage: what the calibrator stands by.
-  bool Solved() const { return two_view.success && left_out_by_rig.empty(); }
+  // make, or its rotation was an outlier of rotation averaging); nullopt when it did, or before it ran.
+  std::optional<std::string> left_out_by_rig;
+
+  PairOutcome Outcome() const;
+  bool Solved() const { return Outcome() == PairOutcome::kSolved; }
 
   // Cost.
   int64_t distance_evaluations = 0;  // descriptor comparisons (what gating saves)
@@ -133,8 +143,8 @@ struct PairwiseResult {
 // The stages above on `views`. Deterministic whatever the thread count.
 PairwiseResult MatchRigPairs(const RigViews& views, const PairwiseOptions& options);
 
-// What the calibrator says of the pair: "ok", the two-view failure reason, or "left out by the rig:
-// <why>" (PairResult::left_out_by_rig).
+// What the calibrator says of the pair, in words: "ok", the two-view failure reason (a screened-out
+// pair's says so), or "left out by the rig: <why>" (PairResult::left_out_by_rig).
 std::string PairStatus(const PairResult& pair);
 
 }  // namespace rigsim

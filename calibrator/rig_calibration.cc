@@ -96,6 +96,15 @@ RigObservations ObservationsOfPairs(const RigViews& views, const PairwiseResult&
 
 }  // namespace
 
+std::string CameraStatus::Text() const {
+  switch (outcome) {
+    case CameraOutcome::kCalibrated: return reason.empty() ? "calibrated" : "calibrated (" + reason + ")";
+    case CameraOutcome::kRotationOnly: return "rotation only: position " + reason;
+    case CameraOutcome::kNotConnected: return "not connected: " + reason;
+  }
+  return reason;
+}
+
 std::pair<int, int> KnownDistanceCameras(const KnownDistance& known, const std::vector<std::string>& names,
                                          const std::string& where) {
   auto index = [&](const std::string& name) {
@@ -387,6 +396,7 @@ AdjustedRig AdjustFromEveryStart(const RigObservations& obs, const std::vector<V
 struct ScaledPoses {
   std::vector<std::optional<Rigid3d>> cam_from_rig;  // nullopt: no position
   std::vector<std::string> undetermined;             // why a camera's adjusted position is dropped
+  std::vector<PositionOutcome> position;              // kPlaced, or which of the two dropped it
   std::vector<std::optional<double>> direction_std_deg;
   std::vector<std::optional<Rigid3d>> rig_from_world;  // empty when positions are not observable
   double length_scale = 1.0;  // the bundle adjustment's unit of length in the result's
@@ -402,6 +412,7 @@ ScaledPoses DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& ad
   ScaledPoses out;
   out.cam_from_rig = ba.cam_from_rig;
   out.undetermined.assign(n, "");
+  out.position.assign(n, PositionOutcome::kPlaced);
   out.direction_std_deg.assign(n, std::nullopt);
   std::vector<std::optional<Rigid3d>>& pose = out.cam_from_rig;
   for (int c = 1; c < n && c < static_cast<int>(ba.centre_covariance.size()); ++c) {
@@ -412,12 +423,14 @@ ScaledPoses DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& ad
       out.undetermined[c] = "not determined: the images fix its direction from " + obs.camera_names[0] + " to +-" +
                             Fixed(std_deg, 1) + " deg only (cameras close together for the depth of the scene); " +
                             ps.remedy;
+      out.position[c] = PositionOutcome::kNotDetermined;
       pose[c].reset();  // its adjusted rotation is kept (from ba)
     }
   }
   for (int c = 1; c < n; ++c) {
     if (!pose[c] || adjusted.ambiguous[c].empty()) continue;
     out.undetermined[c] = adjusted.ambiguous[c] + "; " + ps.remedy;
+    out.position[c] = PositionOutcome::kAmbiguous;
     pose[c].reset();
   }
   int scale_camera = ps.scale_camera;
@@ -475,22 +488,25 @@ void SetCameraAndEdgeStatus(const RigObservations& obs, const RotationStage& rs,
     result->camera_stats[c].observations = ba.observations_per_camera[c];
     if (poses.cam_from_rig[c]) {
       result->rig.cameras[c].cam_from_rig = poses.cam_from_rig[c];
-      result->camera_status[c] = c == 0 ? "calibrated (reference: rig frame)" : "calibrated";
+      result->camera_status[c] = {CameraOutcome::kCalibrated, PositionOutcome::kPlaced,
+                                  c == 0 ? "reference: rig frame" : ""};
       if (c != 0 && ba.observations_per_camera[c] == 0) {
         result->warnings.push_back(obs.camera_names[c] + " has no bundle-adjustment observation: its pose comes "
                                    "from the view graph alone");
       }
     } else if (rotated[c]) {
-      result->camera_status[c] =
-          "rotation only: position " +
-          (!poses.undetermined[c].empty() ? poses.undetermined[c]
-           : !position_reason.empty()     ? position_reason
-                                          : std::string("not observable: no track links its views to the "
-                                                        "calibrated cameras' (only rotation-only pairs or too "
-                                                        "little parallax); to place it: more overlap with a "
-                                                        "placed camera, or more frames while the rig moves"));
+      const bool dropped = !poses.undetermined[c].empty();
+      result->camera_status[c] = {
+          CameraOutcome::kRotationOnly, dropped ? poses.position[c] : PositionOutcome::kNotObservable,
+          dropped                    ? poses.undetermined[c]
+          : !position_reason.empty() ? position_reason
+                                     : std::string("not observable: no track links its views to the calibrated "
+                                                   "cameras' (only rotation-only pairs or too little parallax); to "
+                                                   "place it: more overlap with a placed camera, or more frames "
+                                                   "while the rig moves")};
     } else {
-      result->camera_status[c] = NotConnectedReason(graph, c, rotated, obs.camera_names);
+      result->camera_status[c] = {CameraOutcome::kNotConnected, PositionOutcome::kNotObservable,
+                                  NotConnectedReason(graph, c, rotated, obs.camera_names)};
     }
   }
   WarnAboutCamerasHeldByOneWeakPair(graph, obs, rotated, reached, &result->warnings);
@@ -556,7 +572,7 @@ RigCalibrationResult EstimateRigOnce(const RigObservations& obs, const RigCalibr
   RigCalibrationResult result;
   for (int c = 0; c < n; ++c) result.rig.cameras.push_back({obs.camera_names[c], obs.cameras[c], std::nullopt, 0.0});
   result.camera_stats.assign(n, {});
-  result.camera_status.assign(n, "");
+  result.camera_status.assign(n, CameraStatus{});
 
   auto start = Clock::now();
   const RotationStage rotations = AverageCameraRotations(obs, options, rejected);

@@ -25,6 +25,7 @@
 
 #include <memory>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -183,6 +184,34 @@ struct RigCalibrationDetails {
   std::vector<double> initial_residuals_px, final_residuals_px;
 };
 
+// What the calibration made of a camera.
+enum class CameraOutcome {
+  kCalibrated,    // a full pose (camera 0: the rig frame)
+  kRotationOnly,  // a rotation, no position (CameraStatus::position says why)
+  kNotConnected,  // no pair links it to camera 0's part of the view graph: no pose at all
+};
+
+// The position of a camera with a rotation: placed, or why not.
+enum class PositionOutcome {
+  kPlaced,
+  kNotObservable,  // nothing links its position to the placed cameras' (no start for it)
+  kNotDetermined,  // the images fix its direction from camera 0 too loosely (max_direction_std_deg)
+  kAmbiguous,      // bundle adjustments from different starts put it in different places
+};
+
+struct CameraStatus {
+  CameraOutcome outcome = CameraOutcome::kNotConnected;
+  PositionOutcome position = PositionOutcome::kNotObservable;  // kPlaced when calibrated
+  // Why, in words: for a rotation-only camera why it has no position and what would place it; for a
+  // camera not connected its pairs with the connected cameras; "reference: rig frame" for camera 0.
+  std::string reason;
+
+  // The status as evaluation.json and the tables give it: "calibrated", "calibrated (reference:
+  // rig frame)", "rotation only: position <reason>" or "not connected: <reason>".
+  std::string Text() const;
+};
+inline std::ostream& operator<<(std::ostream& os, const CameraStatus& s) { return os << s.Text(); }
+
 // Images fix no scale: the result's unit of length is none (no camera placed besides camera 0),
 // the distance of one camera from camera 0 (unit), or metres from a known distance (metric).
 enum class ScaleKind { kNone, kUnit, kMetric };
@@ -195,9 +224,8 @@ struct RigCalibrationResult {
   // Per camera: the estimated cam_from_rig rotation of calibrated and "rotation only" cameras;
   // nullopt for cameras not connected.
   std::vector<std::optional<Eigen::Quaterniond>> cam_from_rig_rotation;
-  // Per camera: "calibrated", "calibrated (reference: rig frame)", "rotation only: <why the
-  // position is not observable>" or "not connected: <reason>".
-  std::vector<std::string> camera_status;
+  // Per camera: what the calibration made of it, and why.
+  std::vector<CameraStatus> camera_status;
   std::vector<RigCameraStats> camera_stats;
   std::vector<RigEdgeStats> edges;  // per camera pair
   // With refine_intrinsics (rig_intrinsics.h): each pair's two-view estimate made again with the

@@ -175,7 +175,7 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
     if (e.translation_direction_error_deg) max_dir = std::max(max_dir.value_or(0.0), *e.translation_direction_error_deg);
     Json j;
     j["name"] = r.rig.cameras[c].name;
-    j["status"] = r.camera_status[c];
+    j["status"] = r.camera_status[c].Text();
     j["calibrated"] = pose.has_value();
     j["position_known"] = pose.has_value();
     const auto& rq = c < r.cam_from_rig_rotation.size() ? r.cam_from_rig_rotation[c] : std::nullopt;

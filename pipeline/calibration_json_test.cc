@@ -151,7 +151,7 @@ TEST(PairResultToJson, APairTheRigLeftOutIsNoSuccess) {
   pr.left_out_by_rig = "disagrees with the rig: its rotation is 5.00 deg off the rig's";
   const Json j = PairResultToJson(pr, nullptr);
   EXPECT_FALSE(j["success"].get<bool>());
-  EXPECT_EQ(j["failure_reason"], "left out by the rig: " + pr.left_out_by_rig);
+  EXPECT_EQ(j["failure_reason"], "left out by the rig: " + *pr.left_out_by_rig);
 }
 
 // The core states the scale; the pipeline says, in the command line's words, how to make a unit

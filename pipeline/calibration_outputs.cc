@@ -45,7 +45,7 @@ Json WriteExports(const RigCalibrationResult& r, const CalibrationInputs& inputs
                   std::vector<std::string>* notes) {
   const ExportSelection selection = SelectExports(r, inputs.frames);
   Json omitted = Json::array(), notes_json = Json::array(), colmap_frames = Json::array();
-  for (const auto& [name, status] : selection.cameras_omitted) omitted.push_back({{"name", name}, {"status", status}});
+  for (const auto& [name, status] : selection.cameras_omitted) omitted.push_back({{"name", name}, {"status", status.Text()}});
   Json files = {"rig.json", "pairs.json"};
   auto note = [&](const std::string& text) {
     notes->push_back(r.semantic_mode + ": " + text);
@@ -171,7 +171,7 @@ ExportSelection SelectExports(const RigCalibrationResult& r, const FramesFile& f
     if (rc.cam_from_rig) {
       out.cameras_exported.push_back(rc.name);
     } else {
-      out.cameras_omitted.emplace_back(rc.name, c < r.camera_status.size() ? r.camera_status[c] : "");
+      out.cameras_omitted.emplace_back(rc.name, c < r.camera_status.size() ? r.camera_status[c] : CameraStatus{});
     }
   }
   for (size_t k = 0; k < frames.frames.size(); ++k) {

@@ -40,7 +40,7 @@ namespace rigsim {
 struct ExportSelection {
   Rig calibrated;  // the cameras with cam_from_rig, in rig order
   std::vector<std::string> cameras_exported;
-  std::vector<std::pair<std::string, std::string>> cameras_omitted;  // (name, camera status)
+  std::vector<std::pair<std::string, CameraStatus>> cameras_omitted;  // (name, what the calibration made of it)
   // Frames with a rig pose, rig_from_world = the estimate's (the calibration's world is the rig
   // frame at frame 0; without estimated frame poses only frame 0 has one, the identity).
   FramesFile colmap_frames;

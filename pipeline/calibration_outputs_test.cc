@@ -24,7 +24,7 @@ TEST(SelectExports, LeavesOutCamerasWithoutAFullPoseAndFramesWithoutARigPose) {
   EXPECT_EQ(s.cameras_exported, (std::vector<std::string>{"cam0", "cam1"}));
   ASSERT_EQ(s.cameras_omitted.size(), 1u);
   EXPECT_EQ(s.cameras_omitted[0].first, "cam2");
-  EXPECT_EQ(s.cameras_omitted[0].second.rfind("rotation only", 0), 0u) << s.cameras_omitted[0].second;
+  EXPECT_EQ(s.cameras_omitted[0].second.outcome, CameraOutcome::kRotationOnly) << s.cameras_omitted[0].second.Text();
   ASSERT_EQ(s.colmap_frames.frames.size(), 2u);
   EXPECT_EQ(s.colmap_frames.frames[1].name, "000001");
   ASSERT_TRUE(s.colmap_frames.frames[1].rig_from_world.has_value());

@@ -22,8 +22,10 @@ RigCalibrationResult ThreeCameraResult() {
                    {"cam2", Pinhole(), std::nullopt, 0.0}};
   r.cam_from_rig_rotation = {Eigen::Quaterniond::Identity(), Yaw(60, Eigen::Vector3d::Zero()).rotation,
                              Yaw(120, Eigen::Vector3d::Zero()).rotation};
-  r.camera_status = {"calibrated (reference: rig frame)", "calibrated",
-                     "rotation only: position not observable: too little parallax"};
+  r.camera_status = {{CameraOutcome::kCalibrated, PositionOutcome::kPlaced, "reference: rig frame"},
+                     {CameraOutcome::kCalibrated, PositionOutcome::kPlaced, ""},
+                     {CameraOutcome::kRotationOnly, PositionOutcome::kNotObservable,
+                      "not observable: too little parallax"}};
   r.camera_stats.assign(3, {});
   r.rig_from_world = {Rigid3d(), Yaw(5, {0, 0, -2})};
   r.scale = "unit scale: |centre of cam1| = 1";

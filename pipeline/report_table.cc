@@ -125,7 +125,7 @@ std::string FormatRigTable(const CalibrationRun& run) {
       const CameraAgainstTruth* truth = scores ? &scores->cameras[c] : nullptr;
       const CameraAgainstTruth none;
       const CameraAgainstTruth& t = truth ? *truth : none;
-      std::string status = r.camera_status[c];
+      std::string status = r.camera_status[c].Text();
       if (r.rig.cameras[c].cam_from_rig && !CameraWithinTolerance(truth).value_or(true)) {
         status += " (outside tolerance against the truth)";
       }

@@ -60,7 +60,8 @@ TEST(FormatRigTable, OneRowPerCameraAndMethod) {
   r.semantic_mode = "mask";
   r.rig.cameras = {{"cam0", Camera(CameraModelId::kPinhole, 64, 48, {50, 50, 32, 24}), Rigid3d(), 0.0},
                    {"cam1", Camera(CameraModelId::kPinhole, 64, 48, {50, 50, 32, 24}), std::nullopt, 0.0}};
-  r.camera_status = {"calibrated (reference: rig frame)", "not connected: cam0-cam1: two-view failed"};
+  r.camera_status = {{CameraOutcome::kCalibrated, PositionOutcome::kPlaced, "reference: rig frame"},
+                     {CameraOutcome::kNotConnected, PositionOutcome::kNotObservable, "cam0-cam1: two-view failed"}};
   r.camera_stats.assign(2, {});
   r.scale = "no scale";
   CalibrationRun run = RunOf({r});
@@ -82,13 +83,14 @@ TEST(FormatRigTable, StatusIsPrintedWhole) {
   r.rig.cameras = {{"cam0", Camera(CameraModelId::kPinhole, 64, 48, {50, 50, 32, 24}), Rigid3d(), 0.0},
                    {"cam1", Camera(CameraModelId::kPinhole, 64, 48, {50, 50, 32, 24}), std::nullopt, 0.0}};
   const std::string why =
-      "rotation only: position not observable: the tracks leave the positions undetermined (second smallest "
+      "not observable: the tracks leave the positions undetermined (second smallest "
       "eigenvalue 15.1 times the smallest); to place it: more frames, a path that turns (the rig turned 2.0 deg), "
       "more overlap between neighbouring cameras, or a higher resolution";
-  r.camera_status = {"calibrated (reference: rig frame)", why};
+  r.camera_status = {{CameraOutcome::kCalibrated, PositionOutcome::kPlaced, "reference: rig frame"},
+                     {CameraOutcome::kRotationOnly, PositionOutcome::kNotObservable, why}};
   r.camera_stats.assign(2, {});
   const std::string table = FormatRigTable(RunOf({r}));
-  EXPECT_NE(table.find(why + "\n"), std::string::npos) << table;
+  EXPECT_NE(table.find("rotation only: position " + why + "\n"), std::string::npos) << table;
 }
 
 }  // namespace

@@ -97,7 +97,7 @@ Json PipelineData(ReportContext& ctx) {
       const CalibrationScores* truth = run.Truth(m);
       const CameraAgainstTruth t = truth ? truth->cameras.at(c) : CameraAgainstTruth{};
       Json cam = {{"name", rig.cameras[c].name},
-                  {"status", r.camera_status[c]},
+                  {"status", r.camera_status[c].Text()},
                   {"observations", s.observations},
                   {"direction_std_deg", json_io::OptionalNumber(s.direction_std_deg)},
                   {"rotation_error_deg", json_io::OptionalNumber(t.rotation_error_deg)},

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <random>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "dataset/dataset.h"
@@ -125,9 +126,10 @@ TEST_F(Degenerate, FeaturelessImagesAreDiagnosed) {
   const RigCalibrationResult& r = run.results.at(0);
   ASSERT_EQ(r.pairwise.pairs.size(), 1u);
   EXPECT_FALSE(r.pairwise.pairs[0].two_view.success);
-  EXPECT_NE(r.pairwise.pairs[0].two_view.failure_reason.find("too few"), std::string::npos) << r.pairwise.pairs[0].two_view.failure_reason;
+  EXPECT_THAT(r.pairwise.pairs[0].Outcome(), testing::AnyOf(PairOutcome::kScreenedOut, PairOutcome::kTwoViewFailed))
+      << r.pairwise.pairs[0].two_view.failure_reason;
   EXPECT_FALSE(r.rig.cameras[1].cam_from_rig.has_value());
-  EXPECT_NE(r.camera_status[1].find("not connected"), std::string::npos) << r.camera_status[1];
+  EXPECT_EQ(r.camera_status[1].outcome, CameraOutcome::kNotConnected) << r.camera_status[1];
 }
 
 TEST_F(Degenerate, EverythingMaskedAwayIsDiagnosed) {
@@ -144,7 +146,7 @@ TEST_F(Degenerate, EverythingMaskedAwayIsDiagnosed) {
   EXPECT_EQ(r.pairwise.mean_keypoints_per_image, 0.0);
   EXPECT_FALSE(r.pairwise.pairs[0].two_view.success);
   EXPECT_FALSE(r.pairwise.pairs[0].two_view.failure_reason.empty());
-  EXPECT_NE(r.camera_status[1].find("not connected"), std::string::npos) << r.camera_status[1];
+  EXPECT_EQ(r.camera_status[1].outcome, CameraOutcome::kNotConnected) << r.camera_status[1];
 }
 
 TEST_F(Degenerate, ViewsThatShareNothingAreNotConnected) {
@@ -156,7 +158,7 @@ TEST_F(Degenerate, ViewsThatShareNothingAreNotConnected) {
   const RigCalibrationResult& r = run.results.at(0);
   EXPECT_FALSE(r.pairwise.pairs[0].two_view.success) << "a pose between views that share nothing";
   EXPECT_FALSE(r.rig.cameras[1].cam_from_rig.has_value());
-  EXPECT_NE(r.camera_status[1].find("not connected"), std::string::npos) << r.camera_status[1];
+  EXPECT_EQ(r.camera_status[1].outcome, CameraOutcome::kNotConnected) << r.camera_status[1];
 }
 
 TEST_F(Degenerate, PureRotationGivesTheRotationAndNoPosition) {
@@ -173,7 +175,7 @@ TEST_F(Degenerate, PureRotationGivesTheRotationAndNoPosition) {
   EXPECT_FALSE(truth.translation_direction_error_deg.has_value());
   // The rig has no position for cam1, only its rotation.
   EXPECT_FALSE(r.rig.cameras[1].cam_from_rig.has_value());
-  EXPECT_NE(r.camera_status[1].find("rotation only"), std::string::npos) << r.camera_status[1];
+  EXPECT_EQ(r.camera_status[1].outcome, CameraOutcome::kRotationOnly) << r.camera_status[1];
 }
 
 TEST_F(Degenerate, PlanarSceneIsSolvedOrDiagnosedNeverWrong) {
@@ -226,7 +228,7 @@ TEST_F(Degenerate, WeakRigMotionGivesRotationsNotWrongPositions) {
         ASSERT_TRUE(s.translation_direction_error_deg.has_value());
         EXPECT_LT(*s.translation_direction_error_deg, 5.0) << rig.cameras[c].name << ": " << r.camera_status[c];
       } else {
-        EXPECT_NE(r.camera_status[c].find("rotation only"), std::string::npos) << r.camera_status[c];
+        EXPECT_EQ(r.camera_status[c].outcome, CameraOutcome::kRotationOnly) << r.camera_status[c];
       }
     }
   }
