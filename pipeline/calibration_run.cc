@@ -67,7 +67,7 @@ std::vector<PairInlierSample> InlierSamples(const Rig& rig, const CalibrationRep
     if (per_frame.empty() || per_frame[best].empty()) continue;
     const int a = rig.FindCamera(report.pairs[p].cam_a), b = rig.FindCamera(report.pairs[p].cam_b);
     if (a < 0 || b < 0 || best >= data.keypoints.size()) continue;
-    PairInlierSample s{static_cast<int>(p), report.pairs[p].cam_a, report.pairs[p].cam_b, int(best), {}};
+    PairInlierSample s{static_cast<int>(p), report.pairs[p].cam_a, report.pairs[p].cam_b, int(best), {}, {}};
     for (const auto& [ka, kb] : per_frame[best]) {
       s.points.emplace_back(data.keypoints[best][a].at(ka), data.keypoints[best][b].at(kb));
     }
