@@ -91,6 +91,8 @@ MultiFrameBundleAdjustmentResult TimedRing::Adjust(const CaptureTiming* with) co
   RigBundleAdjustmentOptions options;
   options.filter_rounds = 0;
   return MultiFrameRigBundleAdjust(cameras, s.keypoints, tracks, cam_from_rig, rig_from_world, 1, options, false, with);
+}
+
 std::vector<CameraErrors> ErrorsAgainst(const Rig& truth, const RigCalibrationResult& result) {
   RigEstimate e;
   e.metric = result.scale_kind == ScaleKind::kMetric;
