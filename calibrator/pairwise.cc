@@ -284,6 +284,12 @@ void RigViews::Check() const {
   if (camera_names.size() != n) throw std::invalid_argument("RigViews: one name per camera");
   if (num_frames < 1) throw std::invalid_argument("RigViews: no frames");
   if (features.size() != n * num_frames) throw std::invalid_argument("RigViews: one feature set per camera and frame");
+  if (!frame_times_s.empty() && static_cast<int>(frame_times_s.size()) != num_frames) {
+    throw std::invalid_argument("RigViews: one timestamp per frame, or none");
+  }
+  if (!readout_bottom_to_top.empty() && readout_bottom_to_top.size() != n) {
+    throw std::invalid_argument("RigViews: one readout order per camera, or none");
+  }
 }
 
 PairwiseResult MatchRigPairs(const RigViews& views, const PairwiseOptions& options) {

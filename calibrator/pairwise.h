@@ -61,6 +61,10 @@ struct RigViews {
   int num_frames = 0;
   // View (camera c, frame f) is features[c * num_frames + f]; not owned.
   std::span<const FeatureSet> features;
+  // Each frame's timestamp (s); empty when unknown. Per camera: its rolling shutter reads the
+  // bottom row first; empty: every one top to bottom (rig_calibration.h capture times).
+  std::vector<double> frame_times_s;
+  std::vector<char> readout_bottom_to_top;
 
   const FeatureSet& Of(int camera, int frame) const { return features[camera * num_frames + frame]; }
   // Throws std::invalid_argument on fewer than two cameras, no frame, or sizes that disagree.

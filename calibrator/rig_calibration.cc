@@ -91,6 +91,8 @@ RigObservations ObservationsOfPairs(const RigViews& views, const PairwiseResult&
     obs.matches.push_back({e.cam_a, e.cam_b, data.matches[p]});
   }
   obs.temporal = data.temporal;
+  obs.frame_times_s = views.frame_times_s;
+  obs.readout_bottom_to_top = views.readout_bottom_to_top;
   return obs;
 }
 
@@ -101,6 +103,7 @@ std::string CameraStatus::Text() const {
     case CameraOutcome::kCalibrated: return reason.empty() ? "calibrated" : "calibrated (" + reason + ")";
     case CameraOutcome::kRotationOnly: return "rotation only: position " + reason;
     case CameraOutcome::kNotConnected: return "not connected: " + reason;
+    case CameraOutcome::kUnsynchronised: return "not calibrated: " + reason;
   }
   return reason;
 }
@@ -121,6 +124,10 @@ std::pair<int, int> KnownDistanceCameras(const KnownDistance& known, const std::
 
 void RigCalibrationOptions::Check() const {
   pairwise.Check();
+  capture_time.Check();
+  if ((capture_time.estimate_offsets || capture_time.estimate_readout) && bundle_adjustment.refine_intrinsics) {
+    throw std::invalid_argument("RigCalibrationOptions: capture times are not estimated together with refined intrinsics");
+  }
   view_graph.Check();
   rotation_averaging.Check();
   bundle_adjustment.Check();
@@ -332,6 +339,27 @@ PositionStage EstimateInitialPoses(const RigObservations& obs, const RotationSta
   return s;
 }
 
+// The bundle adjustment's model of capture times when offsets or readouts are estimated: the
+// frames' timestamps, the offsets started from each camera's own turns; nullopt otherwise. Throws
+// std::invalid_argument when they are asked for and the frames cannot carry them.
+std::optional<CaptureTiming> TimingModel(const RigObservations& obs, const RigMotion& motion,
+                                         const CaptureTimeOptions& options) {
+  if (!options.estimate_offsets && !options.estimate_readout) return std::nullopt;
+  if (const auto why = WhyNoTimingModel(obs.frame_times_s)) throw std::invalid_argument("capture times: " + *why);
+  if (!motion.moving) throw std::invalid_argument("capture times: the rig's motion between frames is not tracked");
+  const int n = static_cast<int>(obs.cameras.size());
+  CaptureTiming timing;
+  timing.frame_times_s = obs.frame_times_s;
+  timing.time_offset_s = options.estimate_offsets
+                             ? StartTimeOffsets(n, obs.frame_times_s, obs.temporal, options.search)
+                             : std::vector<double>(n, 0.0);
+  timing.readout_s.assign(n, 0.0);
+  timing.readout_bottom_to_top = obs.readout_bottom_to_top;
+  timing.estimate_offsets = options.estimate_offsets;
+  timing.estimate_readout = options.estimate_readout;
+  return timing;
+}
+
 // Step 5: the bundle adjustment from every start; the one the images agree with best
 // (TruncatedReprojectionCost) is kept. Another start that ends with a camera elsewhere makes that
 // camera's position ambiguous (RigCalibrationOptions::max_start_disagreement_deg).
@@ -357,9 +385,11 @@ AdjustedRig AdjustFromEveryStart(const RigObservations& obs, const std::vector<V
   RigBundleAdjustmentOptions ba_options = options.bundle_adjustment;
   ba_options.keep_points = ba_options.keep_points || options.keep_details;
   std::vector<MultiFrameBundleAdjustmentResult> adjusted;
+  const std::optional<CaptureTiming> timing = TimingModel(obs, motion, options.capture_time);
   for (const PoseStart& start : ps.starts) {
     adjusted.push_back(MultiFrameRigBundleAdjust(obs.cameras, obs.keypoints, tracks, start.cam_from_rig,
-                                                 start.rig_from_world, ps.scale_camera, ba_options, !motion.moving));
+                                                 start.rig_from_world, ps.scale_camera, ba_options, !motion.moving,
+                                                 timing ? &*timing : nullptr));
     RigStartSummary summary;
     summary.source = start.source;
     summary.cost = TruncatedReprojectionCost(adjusted.back().cameras, obs.keypoints, tracks, adjusted.back().cam_from_rig,
@@ -565,6 +595,67 @@ void SetRefinedIntrinsics(const RigObservations& obs, const RigCalibrationOption
 
 // One pass of the rig stages with the pairs in `rejected` (a reason per pair; empty: not
 // rejected) left out.
+// Step 8: capture times. Estimated, each camera's offset and readout go into its stats and the
+// rig; not estimated, the synchronisation check (run on the adjustment before it is scaled) takes
+// the pose of every camera that did not capture with camera 0.
+void SetCaptureTimes(const RigObservations& obs, const RigCalibrationOptions& options,
+                     const MultiFrameBundleAdjustmentResult& ba, const std::vector<CameraSynchronisation>& checked,
+                     RigCalibrationResult* result) {
+  const int n = static_cast<int>(obs.cameras.size());
+  const CaptureTimeOptions& o = options.capture_time;
+  if (o.estimate_offsets || o.estimate_readout) {
+    if (static_cast<int>(ba.timing.size()) != n) return;  // no bundle adjustment ran
+    for (int c = 0; c < n; ++c) {
+      if (!ba.cam_from_rig[c]) continue;
+      RigCameraStats& stats = result->camera_stats[c];
+      RigCamera& camera = result->rig.cameras[c];
+      camera.time_offset_s = ba.timing[c][0];
+      camera.readout_s = ba.timing[c][1];
+      camera.readout_bottom_to_top = !obs.readout_bottom_to_top.empty() && obs.readout_bottom_to_top[c];
+      if (o.estimate_offsets) {
+        stats.time_offset_s = ba.timing[c][0];
+        stats.time_offset_stddev_s = c == 0 ? std::optional<double>(0.0) : ba.time_offset_stddev_s[c];
+      }
+      if (o.estimate_readout) {
+        stats.readout_s = ba.timing[c][1];
+        stats.readout_stddev_s = ba.readout_stddev_s[c];
+      }
+    }
+    return;
+  }
+  for (int c = 1; c < n && c < static_cast<int>(checked.size()); ++c) {
+    const CameraSynchronisation& v = checked[c];
+    if (!v.offset_s) continue;
+    result->camera_stats[c].time_offset_s = v.offset_s;
+    result->camera_stats[c].time_offset_stddev_s = v.offset_stddev_s;
+    if (!v.unsynchronised || result->camera_status[c].outcome == CameraOutcome::kNotConnected) continue;
+    const double ms = 1000.0 * *v.offset_s;
+    result->camera_status[c] = {
+        CameraOutcome::kUnsynchronised, PositionOutcome::kNotObservable,
+        "it captures " + Fixed(std::abs(ms), 1) + " +- " + Fixed(1000.0 * *v.offset_stddev_s, 1) + " ms " +
+            (ms > 0 ? "after " : "before ") + obs.camera_names[0] +
+            " while the rig moves, so a pose taken as synchronised would hold the rig's motion; to calibrate it: "
+            "estimate the time offsets, synchronise the cameras, or move slower"};
+    result->rig.cameras[c].cam_from_rig.reset();
+    result->cam_from_rig_rotation[c].reset();
+  }
+}
+
+// The synchronisation check of a result taken as synchronised (CaptureTimeOptions); empty when it
+// does not apply (offsets estimated, the check off, a static rig, frames without distinct times,
+// no bundle adjustment).
+std::vector<CameraSynchronisation> CheckCaptureTimes(const RigObservations& obs, const RigCalibrationOptions& options,
+                                                     const RigMotion& motion, const std::vector<ViewTrack>& tracks,
+                                                     int scale_camera, const MultiFrameBundleAdjustmentResult& ba) {
+  const CaptureTimeOptions& o = options.capture_time;
+  if (o.estimate_offsets || o.estimate_readout || !o.check_synchronisation || !motion.moving) return {};
+  if (WhyNoTimingModel(obs.frame_times_s) || ba.cam_from_rig.empty() || ba.num_points == 0) return {};
+  const int n = static_cast<int>(obs.cameras.size());
+  return CheckSynchronisation(ba.cameras, obs.keypoints, tracks, ba, scale_camera, options.bundle_adjustment,
+                              obs.frame_times_s, StartTimeOffsets(n, obs.frame_times_s, obs.temporal, o.search),
+                              obs.readout_bottom_to_top, o);
+}
+
 RigCalibrationResult EstimateRigOnce(const RigObservations& obs, const RigCalibrationOptions& options,
                                      const std::vector<std::string>& rejected, int known_a, int known_b) {
   const int n = static_cast<int>(obs.cameras.size());
@@ -614,6 +705,8 @@ RigCalibrationResult EstimateRigOnce(const RigObservations& obs, const RigCalibr
   result.num_observations = ba.num_observations;
   result.num_filtered_observations = ba.num_filtered_observations;
 
+  const std::vector<CameraSynchronisation> synchronisation =
+      CheckCaptureTimes(obs, options, motion, tracks, initial.scale_camera, ba);
   SetRefinedIntrinsics(obs, options, ba, &result);
   const ScaledPoses poses = DropUndeterminedAndScale(obs, adjusted, initial, options, known_a, known_b);
   for (int c = 0; c < n; ++c) result.camera_stats[c].direction_std_deg = poses.direction_std_deg[c];
@@ -628,6 +721,7 @@ RigCalibrationResult EstimateRigOnce(const RigObservations& obs, const RigCalibr
   }
   result.warnings.insert(result.warnings.end(), poses.warnings.begin(), poses.warnings.end());
   SetCameraAndEdgeStatus(obs, rotations, ba, poses, initial.position_reason, &result);
+  SetCaptureTimes(obs, options, ba, synchronisation, &result);
   CompareEdgesWithRig(obs, &result);
   if (options.keep_details) {
     result.details = std::make_shared<RigCalibrationDetails>();

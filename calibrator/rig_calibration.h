@@ -30,6 +30,7 @@
 #include <utility>
 #include <vector>
 
+#include "calibrator/capture_time.h"
 #include "calibrator/correspondences.h"
 #include "calibrator/intrinsics_refinement.h"
 #include "calibrator/multi_frame_rig.h"
@@ -105,6 +106,9 @@ struct RigCalibrationOptions {
   // Keep what a report shows of every stage in RigCalibrationResult::details (matches with their
   // flags, rotations after rotation averaging, points, reprojection errors). Costs memory only.
   bool keep_details = false;
+  // Capture times: offsets and rolling-shutter readouts estimated, or checked (capture_time.h).
+  // Uses RigObservations::frame_times_s.
+  CaptureTimeOptions capture_time;
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;
@@ -123,6 +127,10 @@ struct RigObservations {
   // Each camera between consecutive frames (pairwise.h PairwiseMatchData::temporal). Empty: the
   // frames are independent captures of a static rig (no rig motion is estimated).
   std::vector<TemporalPairEstimate> temporal;
+  // Each frame's timestamp (s); empty when unknown (then capture times are not modelled).
+  std::vector<double> frame_times_s;
+  // Per camera: its rolling shutter reads the bottom row first; empty: every one top to bottom.
+  std::vector<char> readout_bottom_to_top;
 };
 
 // Pools one pair's matches over the frames, estimates the relative pose (two_view.h) and keeps
@@ -140,6 +148,11 @@ struct RigCameraStats {
   // With RigBundleAdjustmentOptions::refine_intrinsics, for a camera in the bundle adjustment: its
   // given and refined intrinsics and their standard deviations.
   std::optional<RefinedIntrinsics> intrinsics;
+  // Relative to camera 0's (s), with their standard deviations: estimated with
+  // CaptureTimeOptions::estimate_offsets / estimate_readout, or, for the offset, measured by the
+  // synchronisation check; nullopt otherwise.
+  std::optional<double> time_offset_s, time_offset_stddev_s;
+  std::optional<double> readout_s, readout_stddev_s;
 };
 
 struct RigEdgeStats {
@@ -189,6 +202,7 @@ enum class CameraOutcome {
   kCalibrated,    // a full pose (camera 0: the rig frame)
   kRotationOnly,  // a rotation, no position (CameraStatus::position says why)
   kNotConnected,  // no pair links it to camera 0's part of the view graph: no pose at all
+  kUnsynchronised,  // it did not capture with camera 0 and offsets were not estimated: no pose
 };
 
 // The position of a camera with a rotation: placed, or why not.

@@ -195,6 +195,15 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
     j["intrinsics"] = s.intrinsics ? RefinedIntrinsicsToJson(*s.intrinsics, r.rig.cameras[c].camera,
                                                              e.intrinsics ? &*e.intrinsics : nullptr)
                                    : Json(nullptr);
+    if (s.time_offset_s || s.readout_s) {
+      const auto ms = [](const std::optional<double>& v) { return v ? Json(1000.0 * *v) : Json(nullptr); };
+      j["capture_time"] = {{"time_offset_ms", ms(s.time_offset_s)},
+                           {"time_offset_stddev_ms", ms(s.time_offset_stddev_s)},
+                           {"time_offset_error_ms", ms(e.time_offset_error_s)},
+                           {"readout_ms", ms(s.readout_s)},
+                           {"readout_stddev_ms", ms(s.readout_stddev_s)},
+                           {"readout_error_ms", ms(e.readout_error_s)}};
+    }
     const std::optional<bool> ok = CameraWithinTolerance(t);
     j["within_tolerance"] = ok ? Json(*ok) : Json(nullptr);
     within += ok.value_or(false);

@@ -22,8 +22,9 @@ CalibrationScores ScoresOf(const std::vector<std::pair<double, double>>& pair_er
     }
     s.pairs.push_back(t);
   }
-  s.cameras = {{0.0, std::nullopt, std::nullopt, std::nullopt}, {0.3, 1.0, std::nullopt, std::nullopt},
-               {2.0, std::nullopt, std::nullopt, std::nullopt}};
+  s.cameras = {{0.0, std::nullopt, std::nullopt, std::nullopt, std::nullopt, std::nullopt},
+               {0.3, 1.0, std::nullopt, std::nullopt, std::nullopt, std::nullopt},
+               {2.0, std::nullopt, std::nullopt, std::nullopt, std::nullopt, std::nullopt}};
   return s;
 }
 

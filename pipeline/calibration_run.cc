@@ -173,6 +173,8 @@ CalibrationRun CalibrateDataset(const CalibrationInputs& inputs, const Calibrati
     }
     views.num_frames = static_cast<int>(inputs.frames.frames.size());
     views.features = features.Of(modes[m]);
+    for (const Frame& frame : inputs.frames.frames) views.frame_times_s.push_back(frame.timestamp_s);
+    for (const RigCamera& rc : rig.cameras) views.readout_bottom_to_top.push_back(rc.readout_bottom_to_top);
     RigCalibrationOptions o = options.rig;
     o.pairwise.matching.gate_by_class = UsesGating(modes[m]);
     o.pairwise.keep_match_details = o.pairwise.keep_match_details || o.keep_details;
@@ -180,7 +182,6 @@ CalibrationRun CalibrateDataset(const CalibrationInputs& inputs, const Calibrati
     RigCalibrationResult& r = run.results[m];
     r = EstimateRigFromPairs(views, pairwise, o);
     r.semantic_mode = std::string(SemanticModeName(modes[m]));
-    for (size_t c = 0; c < inputs.rig.cameras.size(); ++c) r.rig.cameras[c].time_offset_s = inputs.rig.cameras[c].time_offset_s;
     run.records[m].detect_time_s = features.DetectTimeS(modes[m]);
     run.records[m].inlier_samples = InlierSamples(inputs.rig, pairwise.report, pairwise.matches);
     matches[m] = std::move(pairwise.matches);

@@ -45,10 +45,15 @@ CalibrationScores ScorePoses(const Rig& truth, const RigCalibrationResult& resul
   }
   const std::vector<CameraErrors> errors = CalibrationCameraErrors(truth, RigEstimateOf(result));
   for (size_t c = 0; c < errors.size(); ++c) {
-    CameraAgainstTruth cam{errors[c].rotation_error_deg, errors[c].direction_error_deg, errors[c].position_error_m, {}};
+    CameraAgainstTruth cam{errors[c].rotation_error_deg, errors[c].direction_error_deg, errors[c].position_error_m, {}, {}, {}};
     if (const auto& in = result.camera_stats.at(c).intrinsics) {
       cam.intrinsics = ScoreIntrinsics(in->given, in->refined, truth.cameras[c].camera);
     }
+    const RigCameraStats& stats = result.camera_stats.at(c);
+    if (stats.time_offset_s) {
+      cam.time_offset_error_s = *stats.time_offset_s - (truth.cameras[c].time_offset_s - truth.cameras[0].time_offset_s);
+    }
+    if (stats.readout_s) cam.readout_error_s = *stats.readout_s - truth.cameras[c].readout_s;
     s.cameras.push_back(cam);
   }
   return s;

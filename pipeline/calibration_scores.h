@@ -53,6 +53,9 @@ struct CameraAgainstTruth {
   std::optional<double> position_error_m;  // metric results only
   // Given and refined intrinsics against the true ones (RigCameraStats::intrinsics).
   std::optional<IntrinsicsErrors> intrinsics;
+  // The estimated (or, by the synchronisation check, measured) time offset from camera 0 and
+  // readout time against rig.json's (the offset relative to camera 0's), in seconds.
+  std::optional<double> time_offset_error_s, readout_error_s;
 };
 
 // One semantic mode's calibration against the truth.

@@ -135,6 +135,15 @@ void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& s) {
                    " for further radial and " + Fixed(priors.tangential, 3) + " for tangential terms. <mode>/rig.json\n"
                "gets the refined intrinsics; evaluation.json has the given and refined values and their\n"
                "standard deviations (and errors against the truth for a rendered dataset)");
+  CaptureTimeOptions& time = s.options.rig.capture_time;
+  cmd.add_flag("--estimate-time-offsets", time.estimate_offsets,
+               "the cameras are not synchronised: estimate each camera's capture time relative to the\n"
+               "first camera's in the bundle adjustment (needs 3 or more frames of a moving rig with\n"
+               "distinct timestamp_s in frames.json, and a path whose turn rate or speed changes). Without\n"
+               "it a camera the images show capturing at another time than the first is not calibrated");
+  cmd.add_flag("--rolling-shutter", time.estimate_readout,
+               "estimate each camera's rolling-shutter readout time (first row to last) in the bundle\n"
+               "adjustment; rig.json's readout_direction gives the order of the rows");
   FeatureOptions& features = s.options.features;
   cmd.add_option("--max-features", features.max_features, "strongest keypoints kept per image (every --features type)")
       ->capture_default_str()
@@ -185,6 +194,25 @@ OutputFolderRequest CalibrationOutputFolder(const std::filesystem::path& dataset
 }
 
 // --known-distance names cameras of the rig, or says which it has.
+// --estimate-time-offsets and --rolling-shutter need frames at distinct times of a moving rig, and
+// do not combine with --refine-intrinsics.
+void CheckCaptureTimeOptions(const CalibrationRunOptions& options, const CalibrationInputs& inputs,
+                             const std::filesystem::path& frames_json) {
+  const CaptureTimeOptions& time = options.rig.capture_time;
+  if (!time.estimate_offsets && !time.estimate_readout) return;
+  const std::string flag = time.estimate_offsets ? "--estimate-time-offsets" : "--rolling-shutter";
+  if (options.rig.bundle_adjustment.refine_intrinsics) {
+    throw std::invalid_argument(flag + " does not combine with --refine-intrinsics: calibrate the intrinsics first, "
+                                "then the capture times with them (--intrinsics)");
+  }
+  std::vector<double> times;
+  for (const Frame& f : inputs.frames.frames) times.push_back(f.timestamp_s);
+  if (const auto why = WhyNoTimingModel(times)) {
+    throw std::invalid_argument(flag + ": " + frames_json.string() + ": " + *why +
+                                "; capture times are estimated from a moving rig's frames and their timestamps");
+  }
+}
+
 void CheckKnownDistanceCameras(const CalibrateSettings& settings, const Rig& rig, const std::filesystem::path& rig_json) {
   if (settings.known_distance.size() != 3) return;
   std::vector<std::string> names;
@@ -244,6 +272,7 @@ CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const Ca
   const CalibrationInputs inputs = ReadCalibrationInputs(dataset);
   for (const std::string& w : inputs.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   CheckKnownDistanceCameras(settings, inputs.rig, DatasetLayout(dataset).RigJson());
+  CheckCaptureTimeOptions(options, inputs, DatasetLayout(dataset).FramesJson());
   StagedOutput staged(out);
 
   std::fprintf(stderr, "calibrating %s (%zu semantic modes%s)...\n", dataset.string().c_str(), modes.size(),
