@@ -9,6 +9,7 @@
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "calibrator/cpu_path.h"
 #include "calibrator/semantics.h"
 #include "common/param_spec.h"
 
@@ -115,6 +116,7 @@ FeatureSet DetectFeatures(const ImageU8& rgb, const ImageU8* labels, const Featu
     throw std::invalid_argument("DetectFeatures: detection on reliable classes needs a label image");
   }
 
+  UseOpenCvBaselinePaths();
   // Every detector gets 8-bit grey (AKAZE requires one channel; SIFT and ORB convert anyway).
   const cv::Mat grey = GreyFromImage(rgb);
   cv::Mat mask;
