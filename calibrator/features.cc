@@ -1,6 +1,7 @@
 #include "calibrator/features.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -8,8 +9,11 @@
 
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
+#include <tbb/parallel_for.h>
 
 #include "calibrator/cpu_path.h"
+#include "calibrator/keep_freed_memory.h"
+#include "calibrator/parallel_scope.h"
 #include "calibrator/semantics.h"
 #include "common/param_spec.h"
 
@@ -104,7 +108,7 @@ void FeatureOptions::Check() const {
 }
 
 FeatureSet DetectFeatures(const ImageU8& rgb, const ImageU8* labels, const FeatureOptions& options,
-                          const ReliableClasses* detect_only_on) {
+                          const LabelIdSet* detect_only_on) {
   options.Check();
   if (rgb.empty()) throw std::invalid_argument("DetectFeatures: empty image");
   if (labels != nullptr) {
@@ -220,6 +224,28 @@ FeatureSet DetectFeatures(const ImageU8& rgb, const ImageU8* labels, const Featu
     }
     out.keypoints.push_back(kp);
   }
+  return out;
+}
+
+std::vector<std::vector<FeatureSet>> DetectFeaturesInImages(int num_images,
+                                                           const std::function<LabelledImage(int)>& load,
+                                                           const FeatureOptions& options,
+                                                           const std::vector<const LabelIdSet*>& detect_only_on,
+                                                           int num_threads, std::vector<std::vector<double>>* time_s) {
+  options.Check();
+  const size_t kinds = detect_only_on.size();
+  std::vector<std::vector<FeatureSet>> out(kinds, std::vector<FeatureSet>(std::max(num_images, 0)));
+  if (time_s) time_s->assign(kinds, std::vector<double>(std::max(num_images, 0), 0.0));
+  const ParallelScope parallel(num_threads);
+  const KeepFreedMemory keep_freed_memory;  // each image's scale space reuses the last one's memory
+  tbb::parallel_for(0, num_images, [&](int i) {
+    const LabelledImage image = load(i);
+    for (size_t k = 0; k < kinds; ++k) {
+      const auto start = std::chrono::steady_clock::now();
+      out[k][i] = DetectFeatures(image.rgb, image.labels.empty() ? nullptr : &image.labels, options, detect_only_on[k]);
+      if (time_s) (*time_s)[k][i] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+  });
   return out;
 }
 

@@ -131,4 +131,10 @@ ReliableClasses ReliableClasses::FromNames(const std::vector<std::string>& names
   return r;
 }
 
+std::bitset<256> ReliableClasses::Ids() const {
+  std::bitset<256> ids;
+  for (size_t id = 0; id < reliable_.size(); ++id) ids[id] = reliable_[id];
+  return ids;
+}
+
 }  // namespace rigsim

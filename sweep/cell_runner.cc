@@ -103,9 +103,9 @@ MethodRow Failed(const std::string& method, const std::string& why) {
 
 MethodRow RunRigsim(const SweepMethod& method, const Json& p, const CalibrationInputs& inputs,
                     const CellRunnerOptions& options) {
-  RigCalibrationOptions o;
-  o.pairwise.features.type = FeatureTypeFromName(method.features);
-  o.pairwise.num_threads = options.num_threads;
+  CalibrationRunOptions o;
+  o.features.type = FeatureTypeFromName(method.features);
+  o.rig.pairwise.num_threads = options.num_threads;
   const int boundary = p.at("label_boundary").get<int>();
   const double confusion = p.at("label_confusion").get<double>();
   if (boundary > 0 || confusion > 0) {
@@ -113,7 +113,7 @@ MethodRow RunRigsim(const SweepMethod& method, const Json& p, const CalibrationI
     noise.boundary_px = boundary;
     noise.confusion_rate = confusion;
     noise.seed = Seed(p);
-    o.pairwise.labels = LabelSource::Noisy(noise);
+    o.labels = LabelSource::Noisy(noise);
   }
   const auto start = Clock::now();
   const CalibrationRun run = CalibrateDataset(inputs, o, {SemanticModeFromName(method.semantics)});
@@ -123,7 +123,7 @@ MethodRow RunRigsim(const SweepMethod& method, const Json& p, const CalibrationI
   const RigScores scores = ScoreRig(*inputs.truth, estimate);
   MethodRow row;
   row.method = method.name;
-  row.metrics = MethodMetrics({&scores, &r, nullptr, Since(start)});
+  row.metrics = MethodMetrics({&scores, &r, nullptr, Since(start), &run.records.at(0)});
   return row;
 }
 

@@ -7,6 +7,8 @@
 #include "calibrator/rig_calibration.h"
 #include "evaluation/colmap_peer.h"
 #include "evaluation/rig_scores.h"
+#include "pipeline/calibration_run.h"
+#include "pipeline/calibration_scores.h"
 
 namespace rigsim {
 
@@ -33,18 +35,16 @@ struct MatchTotals {
   int64_t matches = 0, evaluated = 0, correct = 0, cross = 0, cross_correct = 0;
   bool has_cross = false;  // true labels were there to tell the classes
 };
-MatchTotals MatchTotalsOf(const RigCalibrationResult& r) {
+MatchTotals MatchTotalsOf(const MethodRun& run) {
   MatchTotals t;
-  for (const PairResult& pair : r.pairwise.pairs) {
-    t.matches += pair.two_view.num_matches;
-    t.evaluated += pair.matches_evaluated;
-    t.correct += pair.matches_correct;
-    if (pair.cross_class_matches) {
-      t.has_cross = true;
-      t.cross += *pair.cross_class_matches;
-      t.cross_correct += pair.cross_class_correct;
-    }
-  }
+  for (const PairResult& pair : run.rigsim->pairwise.pairs) t.matches += pair.two_view.num_matches;
+  if (!run.record || !run.record->truth) return t;
+  const PooledMatchPrecision pooled = PoolMatchPrecision(*run.record->truth);
+  t.evaluated = pooled.evaluated;
+  t.correct = pooled.correct;
+  t.has_cross = pooled.cross_class.has_value();
+  t.cross = pooled.cross_class.value_or(0);
+  t.cross_correct = pooled.cross_class_correct;
   return t;
 }
 
@@ -53,7 +53,7 @@ template <class F>
 std::function<std::optional<Json>(const MethodRun&)> FromMatches(F f) {
   return [f](const MethodRun& run) -> std::optional<Json> {
     if (!run.rigsim) return std::nullopt;
-    return f(MatchTotalsOf(*run.rigsim));
+    return f(MatchTotalsOf(run));
   };
 }
 
@@ -140,7 +140,8 @@ std::vector<MethodMetricSpec> MakeSweepMetricSpecs() {
   add("wrong_matches", "matches wrong by the ground truth", true, {}, {},
       FromMatches([](const MatchTotals& t) { return t.evaluated > 0 ? Json(t.evaluated - t.correct) : Json(nullptr); }));
   add("time_detect_s", "feature detection, summed over images", false, {}, {}, [](const MethodRun& run) -> std::optional<Json> {
-    return run.rigsim ? run.rigsim->pairwise.detect_time_s : run.colmap->extract_time_s;
+    if (!run.rigsim) return run.colmap->extract_time_s;
+    return run.record ? Json(run.record->detect_time_s) : Json(nullptr);
   });
   add("time_match_s", "matching, summed over pairs and frames", false, Median(G::kTime, "match time", "%.3g", " s"), {},
       [](const MethodRun& run) -> std::optional<Json> {

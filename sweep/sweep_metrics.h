@@ -18,6 +18,7 @@ namespace rigsim {
 struct RigScores;
 struct RigCalibrationResult;
 struct ColmapPeerResult;
+struct ModeRecord;
 
 // What one method's run on a cell gives, for its metrics to read.
 struct MethodRun {
@@ -25,6 +26,8 @@ struct MethodRun {
   const RigCalibrationResult* rigsim = nullptr;  // rigsim's calibration; null for a peer
   const ColmapPeerResult* colmap = nullptr;      // the COLMAP peer's run; null for rigsim
   double time_total_s = 0.0;                     // wall time of the whole method
+  // rigsim's: feature detection time and its matches checked against the truth (pipeline/).
+  const ModeRecord* record = nullptr;
 };
 
 // What a cell's render gives, for the cell's metrics (shared by its methods' rows).

@@ -7,6 +7,7 @@
 #include "calibrator/rig_calibration.h"
 #include "evaluation/colmap_peer.h"
 #include "evaluation/rig_scores.h"
+#include "pipeline/calibration_run.h"
 #include "testing/temp_dir.h"
 
 namespace rigsim {
@@ -47,7 +48,9 @@ TEST(SweepResults, ARunGivesEveryMetricOfTheTableInItsOrder) {
   scores.cameras.resize(3);
   scores.median_rotation_error_deg = 0.25;
   RigCalibrationResult rigsim;
-  const Json rigsim_row = MethodMetrics({&scores, &rigsim, nullptr, 12.5});
+  ModeRecord record;
+  record.detect_time_s = 1.5;
+  const Json rigsim_row = MethodMetrics({&scores, &rigsim, nullptr, 12.5, &record});
   std::vector<std::string> names;
   for (const auto& [name, value] : rigsim_row.items()) names.push_back(name);
   std::vector<std::string> table;
@@ -57,6 +60,8 @@ TEST(SweepResults, ARunGivesEveryMetricOfTheTableInItsOrder) {
   EXPECT_EQ(rigsim_row["median_rotation_error_deg"], 0.25);
   EXPECT_TRUE(rigsim_row["max_rotation_error_deg"].is_null());
   EXPECT_EQ(rigsim_row["time_total_s"], 12.5);
+  EXPECT_EQ(rigsim_row["time_detect_s"], 1.5);
+  EXPECT_TRUE(rigsim_row["match_precision"].is_null());  // no truth in the record
   ColmapPeerResult colmap;
   colmap.match_time_s = 2.0;
   const Json colmap_row = MethodMetrics({&scores, nullptr, &colmap, 30.0});

@@ -45,7 +45,7 @@ void AddCalibrateCommand(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::IsMember(NamesOf(kAllFeatureTypes, FeatureTypeName)));
   cmd->callback([args] {
-    args->settings.options.pairwise.features.type = FeatureTypeFromName(args->features);
+    args->settings.options.features.type = FeatureTypeFromName(args->features);
     const std::filesystem::path out =
         args->out.empty() ? std::filesystem::path(args->dataset) / "calibration" : std::filesystem::path(args->out);
     ThrowUnlessEveryCameraCalibrated(CalibrateAndReport(args->dataset, args->settings, out, args->force).results);

@@ -123,9 +123,9 @@ void AddReportCommand(CLI::App& app) {
   cmd->callback([args] {
     const fs::path dataset = args->dataset;
     if (!args->calibration.empty()) TakeModesAndLabelsFrom(args->calibration, &args->settings);
-    RigCalibrationOptions options = args->settings.ToOptions();
-    options.pairwise.features.type = FeatureTypeFromName(args->features);
-    options.keep_details = true;
+    CalibrationRunOptions options = args->settings.ToOptions();
+    options.features.type = FeatureTypeFromName(args->features);
+    options.rig.keep_details = true;
     const std::vector<SemanticMode> modes = args->settings.Modes();
     const CalibrationInputs inputs = ReadCalibrationInputs(dataset);
     for (const std::string& w : inputs.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
