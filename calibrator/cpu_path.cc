@@ -1,8 +1,11 @@
 #include "calibrator/cpu_path.h"
 
 #include <cstdlib>
+#include <mutex>
 #include <stdexcept>
 #include <string>
+
+#include <opencv2/core/utility.hpp>
 
 namespace rigsim {
 
@@ -63,6 +66,11 @@ CpuPath CpuPathFor(const char* forced) {
 CpuPath SelectedCpuPath() {
   static const CpuPath path = CpuPathFor(std::getenv("RIGSIM_CPU_PATH"));
   return path;
+}
+
+void UseOpenCvBaselinePaths() {
+  static std::once_flag once;
+  std::call_once(once, [] { cv::setUseOptimized(false); });
 }
 
 }  // namespace rigsim

@@ -32,4 +32,10 @@ CpuPath SelectedCpuPath();
 // What SelectedCpuPath decides for the variable's value `forced` (nullptr: unset); for tests.
 CpuPath CpuPathFor(const char* forced);
 
+// Turns off OpenCV's own run-time choice of SIMD paths (cv::setUseOptimized(false)) for the
+// process, once: its AVX2 paths (SIFT's, image filtering's) detect other keypoints than its
+// baseline ones, so without this two machines calibrate the same images differently. Called
+// before feature detection, and where the program starts.
+void UseOpenCvBaselinePaths();
+
 }  // namespace rigsim

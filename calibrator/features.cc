@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 #include <tbb/parallel_for.h>
 
+#include "calibrator/cpu_path.h"
 #include "calibrator/keep_freed_memory.h"
 #include "calibrator/parallel_scope.h"
 #include "calibrator/semantics.h"
@@ -119,6 +120,7 @@ FeatureSet DetectFeatures(const ImageU8& rgb, const ImageU8* labels, const Featu
     throw std::invalid_argument("DetectFeatures: detection on reliable classes needs a label image");
   }
 
+  UseOpenCvBaselinePaths();
   // Every detector gets 8-bit grey (AKAZE requires one channel; SIFT and ORB convert anyway).
   const cv::Mat grey = GreyFromImage(rgb);
   cv::Mat mask;

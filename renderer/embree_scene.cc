@@ -40,10 +40,12 @@ void EmbreeErrors::ThrowIfAny(const std::string& during) {
 }
 
 EmbreeScene::EmbreeScene(const std::string& source) : source_(source) {
-  // Embree chooses its kernels by CPU: its AVX2 and AVX-512 ones (fused multiply-adds) render
-  // other last bits of depth and colour than its SSE and AVX ones (BENCHMARKS.md), so renders from
-  // nodes of the two kinds differ; "max_isa=avx" here would make them equal.
-  device_ = rtcNewDevice(nullptr);
+  // Embree's SSE2 kernels on every node, the same code: left to choose by CPU, Embree traces with
+  // its AVX2 kernels (fused multiply-adds) on one node and its SSE ones on another, which render
+  // other depths and colours, and its 8-wide AVX ones meet a ray's ties between two surfaces in
+  // another order than its 4-wide SSE ones (another instance id), so a render split over mixed
+  // nodes would not merge into what one machine writes (BENCHMARKS.md has the cost).
+  device_ = rtcNewDevice("max_isa=sse2");
   if (device_ == nullptr) {
     throw std::runtime_error(source_ + ": cannot create an Embree device (error " +
                              std::to_string(int(rtcGetDeviceError(nullptr))) + ")");

@@ -59,6 +59,12 @@ class EmbreeScene {
   void Intersect(std::vector<RTCRayHit>& rays) const;
   void Occlude(std::vector<RTCRay>& rays) const;
 
+  // Whether Embree traces with its 8-wide (AVX or wider) kernels on this device: never, as the
+  // device is held to SSE2 (embree_scene.cc), whatever the CPU.
+  bool UsesWideKernels() const {
+    return rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED) != 0;
+  }
+
   // Throws std::runtime_error "<during>: <first Embree error>" when Embree reported one.
   void ThrowIfAny(const std::string& during) const { errors_.ThrowIfAny(during); }
 

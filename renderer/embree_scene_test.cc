@@ -4,11 +4,21 @@
 
 #include <gtest/gtest.h>
 
+#include "renderer/embree_scene.h"
 #include "renderer/render_test_scenes.h"
 #include "renderer/renderer.h"
 
 namespace rigsim {
 namespace {
+
+// Embree's 8-wide kernels render other bytes than its SSE ones (AVX2: other depths and colours;
+// AVX: another instance where a ray meets two surfaces at one distance), so on a CPU that has them
+// this fails if the renderer stops holding Embree to SSE2. Embree's own report of the device's
+// native ray packets says which kernels it chose.
+TEST(EmbreeSceneTest, EmbreeRunsItsSse2KernelsWhateverTheCpu) {
+  const EmbreeScene scene("test");
+  EXPECT_FALSE(scene.UsesWideKernels());
+}
 
 // Rays through the edge two triangles share hit one of them: no crack lets the backdrop show
 // through. Every quad of the grid is split along a diagonal that passes exactly through pixel

@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
   rigsim::cli::AddReportCommand(app);
   try {
     rigsim::SelectedCpuPath();  // a bad RIGSIM_CPU_PATH stops every command before it writes anything
+    rigsim::UseOpenCvBaselinePaths();  // every command's OpenCV calls (the report's images too) take one path
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);  // --help, --version
