@@ -15,9 +15,9 @@
 
 #include <benchmark/benchmark.h>
 
-#include "calibrator/rig_calibration.h"
 #include "geometry/json_io.h"
 #include "gltf/gltf_loader.h"
+#include "pipeline/calibration_run.h"
 #include "renderer/render_dataset.h"
 #include "rigs/rig_presets.h"
 #include "rigs/trajectories.h"
@@ -54,26 +54,27 @@ const fs::path& SixCameraDataset() {
 
 void BM_CalibrateSixCameraRing(benchmark::State& state) {
   const fs::path& dir = SixCameraDataset();
-  RigCalibrationOptions options;
-  options.pairwise.evaluate = false;
-  RigCalibrationResult result;
+  CalibrationRunOptions options;
+  options.evaluate = false;
+  CalibrationRun run;
   for (auto _ : state) {
-    result = CalibrateRig(dir, options, SemanticMode::kNone);
-    benchmark::DoNotOptimize(result);
+    run = CalibrateDataset(dir, options, {SemanticMode::kNone});
+    benchmark::DoNotOptimize(run);
   }
+  const RigCalibrationResult& result = run.results.at(0);
   const CalibrationReport& p = result.pairwise;
-  state.counters["detect_s"] = p.detect_time_s;
+  state.counters["detect_s"] = run.records.at(0).detect_time_s;
   state.counters["screen_s"] = p.screen_time_s;
   state.counters["match_s"] = p.match_time_s + p.temporal_match_time_s;
   state.counters["pose_s"] = p.pose_time_s + p.temporal_pose_time_s;
   state.counters["rig_s"] = result.rotation_averaging_time_s + result.tracks_time_s + result.positions_time_s;
   state.counters["ba_s"] = result.bundle_adjustment_time_s;
 
-  EvaluateRigAgainstTruth(ReadRig(dir / "rig.json"), &result);
+  const CalibrationScores truth = ScorePoses(ReadRig(dir / "rig.json"), result);
   double worst_rot = 0.0, worst_dir = 0.0;
   int calibrated = 0;
-  for (size_t c = 0; c < result.camera_stats.size(); ++c) {
-    const RigCameraStats& s = result.camera_stats[c];
+  for (size_t c = 0; c < truth.cameras.size(); ++c) {
+    const CameraAgainstTruth& s = truth.cameras[c];
     calibrated += result.rig.cameras[c].cam_from_rig.has_value();
     worst_rot = std::max(worst_rot, s.rotation_error_deg.value_or(1e9));
     if (c > 0) worst_dir = std::max(worst_dir, s.translation_direction_error_deg.value_or(1e9));

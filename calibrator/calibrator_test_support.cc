@@ -48,4 +48,14 @@ RigObservations ObserveSyntheticRig(SyntheticRig& s, const SyntheticObservationO
   return obs;
 }
 
+std::vector<CameraErrors> ErrorsAgainst(const Rig& truth, const RigCalibrationResult& result) {
+  RigEstimate e;
+  e.metric = result.scale_kind == ScaleKind::kMetric;
+  for (size_t c = 0; c < result.rig.cameras.size(); ++c) {
+    e.cam_from_rig.push_back(result.rig.cameras[c].cam_from_rig);
+    e.rotation_only.push_back(e.cam_from_rig.back() ? std::nullopt : result.cam_from_rig_rotation.at(c));
+  }
+  return CalibrationCameraErrors(truth, e);
+}
+
 }  // namespace rigsim

@@ -1,6 +1,7 @@
 #include "calibrator/features.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -8,8 +9,12 @@
 
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
+#include <tbb/parallel_for.h>
 
+#include "calibrator/keep_freed_memory.h"
+#include "calibrator/parallel_scope.h"
 #include "calibrator/semantics.h"
+#include "common/param_spec.h"
 
 namespace rigsim {
 namespace {
@@ -71,7 +76,8 @@ FeatureType FeatureTypeFromName(std::string_view name) {
   for (FeatureType t : kAllFeatureTypes) {
     if (FeatureTypeName(t) == name) return t;
   }
-  throw std::invalid_argument("unknown feature type '" + std::string(name) + "' (accepted: sift, rootsift, orb, akaze)");
+  throw std::invalid_argument("unknown feature type '" + std::string(name) + "' (accepted: " +
+                              JoinNames(NamesOf(kAllFeatureTypes, FeatureTypeName)) + ")");
 }
 
 FeatureSet FeatureSet::Head(int n) const {
@@ -101,7 +107,7 @@ void FeatureOptions::Check() const {
 }
 
 FeatureSet DetectFeatures(const ImageU8& rgb, const ImageU8* labels, const FeatureOptions& options,
-                          const ReliableClasses* detect_only_on) {
+                          const LabelIdSet* detect_only_on) {
   options.Check();
   if (rgb.empty()) throw std::invalid_argument("DetectFeatures: empty image");
   if (labels != nullptr) {
@@ -128,10 +134,9 @@ FeatureSet DetectFeatures(const ImageU8& rgb, const ImageU8* labels, const Featu
   int descriptor_size = 0;
   if (sift_like) {
     // detectAndCompute builds the scale space once (detect, then compute for the kept keypoints,
-    // built it twice: 490 against 360 ms for a 1280x720 street view). Without a mask, OpenCV keeps
-    // the strongest max_features (and any tied with the last) before computing descriptors: the
-    // same keypoints as keeping them below, without the descriptors of the rest (a 3072x2048
-    // photo has 20000 keypoints: 2.4 against 1.9 s). With a mask, OpenCV would keep the strongest
+    // built it twice). Without a mask, OpenCV keeps the strongest max_features (and any tied with
+    // the last) before computing descriptors: the same keypoints as keeping them below, without
+    // computing the descriptors of the rest. With a mask, OpenCV would keep the strongest
     // before masking, which leaves fewer than max_features, so every keypoint is computed, masked,
     // and the strongest kept below.
     const int opencv_budget = mask.empty() ? options.max_features : 0;
@@ -217,6 +222,28 @@ FeatureSet DetectFeatures(const ImageU8& rgb, const ImageU8* labels, const Featu
     }
     out.keypoints.push_back(kp);
   }
+  return out;
+}
+
+std::vector<std::vector<FeatureSet>> DetectFeaturesInImages(int num_images,
+                                                           const std::function<LabelledImage(int)>& load,
+                                                           const FeatureOptions& options,
+                                                           const std::vector<const LabelIdSet*>& detect_only_on,
+                                                           int num_threads, std::vector<std::vector<double>>* time_s) {
+  options.Check();
+  const size_t kinds = detect_only_on.size();
+  std::vector<std::vector<FeatureSet>> out(kinds, std::vector<FeatureSet>(std::max(num_images, 0)));
+  if (time_s) time_s->assign(kinds, std::vector<double>(std::max(num_images, 0), 0.0));
+  const ParallelScope parallel(num_threads);
+  const KeepFreedMemory keep_freed_memory;  // each image's scale space reuses the last one's memory
+  tbb::parallel_for(0, num_images, [&](int i) {
+    const LabelledImage image = load(i);
+    for (size_t k = 0; k < kinds; ++k) {
+      const auto start = std::chrono::steady_clock::now();
+      out[k][i] = DetectFeatures(image.rgb, image.labels.empty() ? nullptr : &image.labels, options, detect_only_on[k]);
+      if (time_s) (*time_s)[k][i] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+  });
   return out;
 }
 

@@ -6,14 +6,15 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
 
-#include "dataset/image.h"
-#include "labels/cityscapes.h"
+#include "calibrator/semantics.h"
+#include "geometry/image.h"
 
 namespace rigsim {
 
@@ -39,10 +40,9 @@ struct FeatureOptions {
   // Strongest keypoints kept per image (by detector response: DoG for SIFT, Harris for ORB, Hessian
   // for AKAZE), counted after masking so that with a mask the whole budget goes to reliable
   // regions. 0 keeps all. For ORB it is the detector's own budget (spread over its pyramid
-  // levels), which OpenCV fills inside the mask. Low-overlap rigs need many:
-  // only the keypoints in the shared part of two views can match (on the demo ring, 12000 with
-  // the lower contrast threshold below gives a median pair rotation error of 0.04-0.06 deg, 8000
-  // gives 0.10-0.20 deg).
+  // levels), which OpenCV fills inside the mask. Low-overlap rigs need many: only the keypoints
+  // in the shared part of two views can match (VALIDATION.md, "Where the calibrator's thresholds
+  // come from").
   int max_features = 12000;
   // SIFT and RootSIFT: scale-space layers per octave (OpenCV default 3).
   int octave_layers = 3;
@@ -71,7 +71,7 @@ struct Keypoint {
   Eigen::Vector2d px;  // pixel position (OpenCV convention)
   float size = 0.f;    // diameter of the meaningful neighbourhood (px)
   float angle = 0.f;   // orientation (deg, OpenCV's)
-  uint8_t class_id = kUnlabeledId;  // label at the nearest pixel; kUnlabeledId without labels
+  uint8_t class_id = 0;  // label id at the nearest pixel; 0 (unlabelled) without labels
 };
 
 // Float descriptors are compared by L2 distance, binary ones by Hamming distance; the two never
@@ -103,6 +103,24 @@ struct FeatureSet {
 // Deterministic: keypoints are ordered by decreasing response, ties by position.
 // Throws std::invalid_argument on bad inputs.
 FeatureSet DetectFeatures(const ImageU8& rgb, const ImageU8* labels, const FeatureOptions& options,
-                          const ReliableClasses* detect_only_on = nullptr);
+                          const LabelIdSet* detect_only_on = nullptr);
+
+// An image to detect features in and its label image (empty when there is none).
+struct LabelledImage {
+  ImageU8 rgb;
+  ImageU8 labels;
+};
+
+// The features of `num_images` images, detected in parallel (parallel_scope.h): each image is
+// obtained once from `load` (called from worker threads; what it throws is rethrown) and detected
+// once per entry of `detect_only_on` (nullptr: everywhere; a set: on those classes only, which
+// needs labels), as DetectFeatures. Returns [entry][image]; with `time_s`, each detection's time
+// (s) in the same shape.
+std::vector<std::vector<FeatureSet>> DetectFeaturesInImages(int num_images,
+                                                           const std::function<LabelledImage(int)>& load,
+                                                           const FeatureOptions& options,
+                                                           const std::vector<const LabelIdSet*>& detect_only_on,
+                                                           int num_threads = 0,
+                                                           std::vector<std::vector<double>>* time_s = nullptr);
 
 }  // namespace rigsim

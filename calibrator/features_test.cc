@@ -11,6 +11,7 @@
 
 #include "calibrator/matching.h"
 #include "calibrator/semantics.h"
+#include "labels/cityscapes.h"
 #include "testing/expect_error.h"
 
 namespace rigsim {
@@ -73,12 +74,12 @@ TEST(DetectFeatures, MaskKeepsKeypointsOffUnreliableClassesAndSpendsBudgetThere)
   const ImageU8 labels = SplitLabels(320, 240, 192);
   FeatureOptions options;
   options.mask_erosion_px = 4;
-  const ReliableClasses reliable;
+  const LabelIdSet reliable = ReliableClasses().Ids();
   const FeatureSet all = DetectFeatures(img, &labels, options);
   const FeatureSet masked = DetectFeatures(img, &labels, options, &reliable);
   ASSERT_GT(masked.size(), 20);
   for (const Keypoint& k : masked.keypoints) {
-    EXPECT_TRUE(reliable.IsReliable(k.class_id));
+    EXPECT_TRUE(reliable[k.class_id]);
     EXPECT_LT(k.px.x(), 192 - options.mask_erosion_px + 0.5) << "keypoint inside the eroded band";
   }
   int left_unmasked = 0;
@@ -122,7 +123,7 @@ TEST(DetectFeatures, DeterministicAndRejectsBadInput) {
   const FeatureSet b = DetectFeatures(img, nullptr, FeatureOptions());
   ASSERT_EQ(a.size(), b.size());
   EXPECT_EQ(a.descriptors, b.descriptors);
-  const ReliableClasses reliable;
+  const LabelIdSet reliable = ReliableClasses().Ids();
   EXPECT_THROW(DetectFeatures(img, nullptr, FeatureOptions(), &reliable), std::invalid_argument);
   const ImageU8 wrong(10, 10, 1);
   EXPECT_THROW(DetectFeatures(img, &wrong, FeatureOptions()), std::invalid_argument);
@@ -258,7 +259,7 @@ TEST_P(EveryFeatureType, DeterministicAndMaskRespectedWithClassLabels) {
   }
   ASSERT_GT(right, 20) << "without the mask the unreliable class has keypoints";
 
-  const ReliableClasses reliable;
+  const LabelIdSet reliable = ReliableClasses().Ids();
   const FeatureSet masked = DetectFeatures(img, &labels, options, &reliable);
   ASSERT_GT(masked.size(), 20);
   EXPECT_EQ(masked.kind, a.kind);

@@ -1,21 +1,16 @@
 // Refining the cameras' intrinsics in the rig's bundle adjustment (multi_frame_rig.h), from
 // given values a few percent off (a datasheet's): the priors that keep each parameter near its
-// given value, the record of what the refinement made of each camera, its comparison with the
-// true intrinsics of a rendered dataset, and given intrinsics taking the place of rig.json's.
+// given value, and the record of what the refinement made of each camera (its comparison with
+// the true intrinsics is evaluation/intrinsics_errors.h's).
 //
 // The refined parameters are the camera model's own (camera_models.h orders: fx fy cx cy, then
 // the distortion), each with a Gaussian prior centred on its given value, and one more prior
 // tying fx to fy (square pixels).
 #pragma once
 
-#include <optional>
-#include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "geometry/camera.h"
-#include "geometry/rig.h"
 
 namespace rigsim {
 
@@ -60,31 +55,6 @@ struct RefinedIntrinsics {
   // Standard deviation of each refined parameter, from the bundle adjustment's covariance; empty
   // when it could not be computed.
   std::vector<double> stddev;
-  // Against the truth (a rendered dataset's rig.json), when known: the larger of the fx and fy
-  // errors (percent of the true value) and the principal point's distance from the true one (px).
-  std::optional<double> focal_error_percent;
-  std::optional<double> principal_point_error_px;
-  // The same errors of the given intrinsics, for comparison.
-  std::optional<double> given_focal_error_percent;
-  std::optional<double> given_principal_point_error_px;
 };
-
-// The larger of the fx and fy errors of `estimate` against `truth`, percent of the true value.
-double FocalErrorPercent(const std::vector<double>& estimate, const std::vector<double>& truth);
-// The distance (px) between the principal points of `estimate` and `truth`.
-double PrincipalPointErrorPx(const std::vector<double>& estimate, const std::vector<double>& truth);
-
-// Fills the errors of `refined` against `truth` (same model and size, else nothing is filled).
-void CompareIntrinsicsWithTruth(const Camera& truth, RefinedIntrinsics* refined);
-
-// rig_calibration.json's "intrinsics" entry of a camera: {"model", "given", "refined", "stddev",
-// "focal_change_percent", "principal_point_change_px", errors against the truth or null}.
-nlohmann::json RefinedIntrinsicsToJson(const RefinedIntrinsics& r, const Camera& camera);
-
-// `rig` with each camera's intrinsics (model, size, parameters) taken from the camera of the same
-// name in `intrinsics`, e.g. a datasheet's rig.json (its poses are ignored). Throws
-// std::invalid_argument starting with `source` when a camera of `rig` is not in it, or its image
-// size differs from rig.json's (the photos' size).
-Rig WithGivenIntrinsics(const Rig& rig, const Rig& intrinsics, const std::string& source);
 
 }  // namespace rigsim

@@ -213,8 +213,8 @@ template <int kWords>
 }
 
 // The build targets baseline x86-64, where popcount is a library call; the POPCNT instruction
-// (every x86-64 CPU since 2008) makes matching 7-9x faster (12000 x 12000 ORB descriptors: 2.3 s
-// -> 0.3 s; AKAZE: 4.3 s -> 0.46 s), so use it when the CPU has it.
+// (every x86-64 CPU since 2008) makes binary matching several times faster (BENCHMARKS.md), so
+// use it when the CPU has it.
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 __attribute__((target("popcnt"))) void HammingBlockPopcnt(const uint64_t* da, int r0, int rows, const uint64_t* db,
                                                           int nb, int words, HammingState* s) {

@@ -519,10 +519,8 @@ BundleRoundResult SolveBundle(BundleProblem& bp, std::vector<WorldPoint>& points
   solver_options.linear_solver_type = ceres::DENSE_SCHUR;
   solver_options.max_num_iterations = options.max_iterations;
   // The rounds before the last only decide which observations to filter: a coarse solve is
-  // enough there (with the final tolerance it takes 150 of 155 iterations on the demo ring).
-  // The last stops at a relative cost change of 1e-6: beyond it Levenberg-Marquardt crawls
-  // 100 iterations (4.6 s on a 6-camera ring) for 3e-5 of the cost and no change in the
-  // poses at 0.001 deg.
+  // enough there. The last stops at a relative cost change of 1e-6: beyond it Levenberg-Marquardt
+  // crawls for many iterations without changing the poses (BENCHMARKS.md, "Calibration").
   solver_options.function_tolerance = round.final_round ? 1e-6 : 1e-5;
   solver_options.parameter_tolerance = round.final_round ? 1e-10 : 1e-5;
   solver_options.num_threads = options.num_threads;

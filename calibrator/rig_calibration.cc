@@ -9,34 +9,15 @@
 #include <Eigen/Eigenvalues>
 
 #include "calibrator/camera_centres.h"
-#include "calibrator/evaluation.h"
 #include "calibrator/format.h"
 #include "calibrator/rig_intrinsics.h"
 #include "calibrator/rig_positions.h"
-#include "dataset/dataset.h"
-#include "geometry/json_io.h"
 
 namespace rigsim {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 double Seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
-
-// Index of each known-distance camera in `names`; throws std::invalid_argument naming a camera
-// that is not there, and the cameras that are.
-std::pair<int, int> KnownDistanceCameras(const KnownDistance& known, const std::vector<std::string>& names,
-                                         const std::string& where) {
-  auto index = [&](const std::string& name) {
-    for (size_t c = 0; c < names.size(); ++c) {
-      if (names[c] == name) return int(c);
-    }
-    std::string list;
-    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
-    throw std::invalid_argument(where + ": the known distance names camera '" + name + "', which is not in the rig (" +
-                                list + ")");
-  };
-  return {index(known.cam_a), index(known.cam_b)};
-}
 
 // Standard deviation (deg) of the direction of `centre` (from camera 0 at the origin) under the
 // covariance `cov` of the centre: the largest spread across the direction, over the distance.
@@ -90,18 +71,21 @@ void WarnAboutCamerasHeldByOneWeakPair(const ViewGraph& graph, const RigObservat
   }
 }
 
-// Observations of one dataset mode, from the pairwise report and match data.
-RigObservations ObservationsFromPipeline(const Rig& rig, const CalibrationReport& report,
-                                         const PairwiseMatchData& data) {
+// The rig stages' observations: the views' cameras and the pairwise stage's outcome.
+RigObservations ObservationsOfPairs(const RigViews& views, const PairwiseResult& pairwise) {
   RigObservations obs;
-  for (const RigCamera& rc : rig.cameras) {
-    obs.camera_names.push_back(rc.name);
-    obs.cameras.push_back(rc.camera);
-  }
+  obs.camera_names = views.camera_names;
+  obs.cameras = views.cameras;
+  const PairwiseMatchData& data = pairwise.matches;
   obs.keypoints = data.keypoints;
-  for (size_t p = 0; p < report.pairs.size(); ++p) {
-    const PairResult& pr = report.pairs[p];
-    const PairEstimate e{rig.FindCamera(pr.cam_a), rig.FindCamera(pr.cam_b), pr.two_view};
+  for (size_t p = 0; p < pairwise.report.pairs.size(); ++p) {
+    const PairResult& pr = pairwise.report.pairs[p];
+    int a = -1, b = -1;
+    for (int c = 0; c < static_cast<int>(views.camera_names.size()); ++c) {
+      if (views.camera_names[c] == pr.cam_a) a = c;
+      if (views.camera_names[c] == pr.cam_b) b = c;
+    }
+    const PairEstimate e{a, b, pr.two_view};
     obs.pairs.push_back(e);
     obs.inliers.push_back({e.cam_a, e.cam_b, data.inliers[p]});
     obs.matches.push_back({e.cam_a, e.cam_b, data.matches[p]});
@@ -110,28 +94,30 @@ RigObservations ObservationsFromPipeline(const Rig& rig, const CalibrationReport
   return obs;
 }
 
-// Each pair's inliers in its best frame (the most inliers; the first of equals).
-std::vector<PairInlierSample> InlierSamples(const Rig& rig, const CalibrationReport& report, const PairwiseMatchData& data) {
-  std::vector<PairInlierSample> samples;
-  for (size_t p = 0; p < report.pairs.size() && p < data.inliers.size(); ++p) {
-    const auto& per_frame = data.inliers[p];
-    size_t best = 0;
-    for (size_t k = 1; k < per_frame.size(); ++k) {
-      if (per_frame[k].size() > per_frame[best].size()) best = k;
-    }
-    if (per_frame.empty() || per_frame[best].empty()) continue;
-    const int a = rig.FindCamera(report.pairs[p].cam_a), b = rig.FindCamera(report.pairs[p].cam_b);
-    if (a < 0 || b < 0 || best >= data.keypoints.size()) continue;
-    PairInlierSample s{report.pairs[p].cam_a, report.pairs[p].cam_b, int(best), {}};
-    for (const auto& [ka, kb] : per_frame[best]) {
-      s.points.emplace_back(data.keypoints[best][a].at(ka), data.keypoints[best][b].at(kb));
-    }
-    samples.push_back(std::move(s));
+}  // namespace
+
+std::string CameraStatus::Text() const {
+  switch (outcome) {
+    case CameraOutcome::kCalibrated: return reason.empty() ? "calibrated" : "calibrated (" + reason + ")";
+    case CameraOutcome::kRotationOnly: return "rotation only: position " + reason;
+    case CameraOutcome::kNotConnected: return "not connected: " + reason;
   }
-  return samples;
+  return reason;
 }
 
-}  // namespace
+std::pair<int, int> KnownDistanceCameras(const KnownDistance& known, const std::vector<std::string>& names,
+                                         const std::string& where) {
+  auto index = [&](const std::string& name) {
+    for (size_t c = 0; c < names.size(); ++c) {
+      if (names[c] == name) return int(c);
+    }
+    std::string list;
+    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+    throw std::invalid_argument(where + ": the known distance names camera '" + name + "', which is not in the rig (" +
+                                list + ")");
+  };
+  return {index(known.cam_a), index(known.cam_b)};
+}
 
 void RigCalibrationOptions::Check() const {
   pairwise.Check();
@@ -410,10 +396,11 @@ AdjustedRig AdjustFromEveryStart(const RigObservations& obs, const std::vector<V
 struct ScaledPoses {
   std::vector<std::optional<Rigid3d>> cam_from_rig;  // nullopt: no position
   std::vector<std::string> undetermined;             // why a camera's adjusted position is dropped
+  std::vector<PositionOutcome> position;              // kPlaced, or which of the two dropped it
   std::vector<std::optional<double>> direction_std_deg;
   std::vector<std::optional<Rigid3d>> rig_from_world;  // empty when positions are not observable
   double length_scale = 1.0;  // the bundle adjustment's unit of length in the result's
-  bool metric_scale = false;
+  ScaleKind scale_kind = ScaleKind::kNone;
   std::string scale;
   std::vector<std::string> warnings;
 };
@@ -425,6 +412,7 @@ ScaledPoses DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& ad
   ScaledPoses out;
   out.cam_from_rig = ba.cam_from_rig;
   out.undetermined.assign(n, "");
+  out.position.assign(n, PositionOutcome::kPlaced);
   out.direction_std_deg.assign(n, std::nullopt);
   std::vector<std::optional<Rigid3d>>& pose = out.cam_from_rig;
   for (int c = 1; c < n && c < static_cast<int>(ba.centre_covariance.size()); ++c) {
@@ -435,12 +423,14 @@ ScaledPoses DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& ad
       out.undetermined[c] = "not determined: the images fix its direction from " + obs.camera_names[0] + " to +-" +
                             Fixed(std_deg, 1) + " deg only (cameras close together for the depth of the scene); " +
                             ps.remedy;
+      out.position[c] = PositionOutcome::kNotDetermined;
       pose[c].reset();  // its adjusted rotation is kept (from ba)
     }
   }
   for (int c = 1; c < n; ++c) {
     if (!pose[c] || adjusted.ambiguous[c].empty()) continue;
     out.undetermined[c] = adjusted.ambiguous[c] + "; " + ps.remedy;
+    out.position[c] = PositionOutcome::kAmbiguous;
     pose[c].reset();
   }
   int scale_camera = ps.scale_camera;
@@ -455,8 +445,8 @@ ScaledPoses DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& ad
     }
   }
   if (!ps.starts.empty()) out.rig_from_world = ba.rig_from_world;
-  out.scale = scale_camera >= 0 ? "unit scale: |centre of " + obs.camera_names[scale_camera] +
-                                      "| = 1 (--known-distance CAM_A CAM_B METRES makes it metric)"
+  out.scale_kind = scale_camera >= 0 ? ScaleKind::kUnit : ScaleKind::kNone;
+  out.scale = scale_camera >= 0 ? "unit scale: |centre of " + obs.camera_names[scale_camera] + "| = 1"
                                 : "no scale (no camera with a position besides " + obs.camera_names[0] + ")";
   if (!options.known_distance) return out;
   if (pose[known_a] && pose[known_b]) {
@@ -464,7 +454,7 @@ ScaledPoses DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& ad
     if (d > 1e-12) {
       out.length_scale *= options.known_distance->metres / d;
       ScaleTranslations(options.known_distance->metres / d, &pose, &out.rig_from_world);
-      out.metric_scale = true;
+      out.scale_kind = ScaleKind::kMetric;
       out.scale = "metric: |" + obs.camera_names[known_a] + " - " + obs.camera_names[known_b] +
                   "| = " + Fixed(options.known_distance->metres, 4) + " m";
     } else {
@@ -498,22 +488,25 @@ void SetCameraAndEdgeStatus(const RigObservations& obs, const RotationStage& rs,
     result->camera_stats[c].observations = ba.observations_per_camera[c];
     if (poses.cam_from_rig[c]) {
       result->rig.cameras[c].cam_from_rig = poses.cam_from_rig[c];
-      result->camera_status[c] = c == 0 ? "calibrated (reference: rig frame)" : "calibrated";
+      result->camera_status[c] = {CameraOutcome::kCalibrated, PositionOutcome::kPlaced,
+                                  c == 0 ? "reference: rig frame" : ""};
       if (c != 0 && ba.observations_per_camera[c] == 0) {
         result->warnings.push_back(obs.camera_names[c] + " has no bundle-adjustment observation: its pose comes "
                                    "from the view graph alone");
       }
     } else if (rotated[c]) {
-      result->camera_status[c] =
-          "rotation only: position " +
-          (!poses.undetermined[c].empty() ? poses.undetermined[c]
-           : !position_reason.empty()     ? position_reason
-                                          : std::string("not observable: no track links its views to the "
-                                                        "calibrated cameras' (only rotation-only pairs or too "
-                                                        "little parallax); to place it: more overlap with a "
-                                                        "placed camera, or more frames while the rig moves"));
+      const bool dropped = !poses.undetermined[c].empty();
+      result->camera_status[c] = {
+          CameraOutcome::kRotationOnly, dropped ? poses.position[c] : PositionOutcome::kNotObservable,
+          dropped                    ? poses.undetermined[c]
+          : !position_reason.empty() ? position_reason
+                                     : std::string("not observable: no track links its views to the calibrated "
+                                                   "cameras' (only rotation-only pairs or too little parallax); to "
+                                                   "place it: more overlap with a placed camera, or more frames "
+                                                   "while the rig moves")};
     } else {
-      result->camera_status[c] = NotConnectedReason(graph, c, rotated, obs.camera_names);
+      result->camera_status[c] = {CameraOutcome::kNotConnected, PositionOutcome::kNotObservable,
+                                  NotConnectedReason(graph, c, rotated, obs.camera_names)};
     }
   }
   WarnAboutCamerasHeldByOneWeakPair(graph, obs, rotated, reached, &result->warnings);
@@ -565,8 +558,8 @@ void SetRefinedIntrinsics(const RigObservations& obs, const RigCalibrationOption
     if (ba.observations_per_camera[c] == 0) continue;
     const Camera& given = centres.empty() ? obs.cameras[c] : centres.at(c);
     result->rig.cameras[c].camera = ba.cameras[c];
-    result->camera_stats[c].intrinsics = RefinedIntrinsics{given.params(), ba.cameras[c].params(),
-                                                           ba.intrinsics_stddev[c], {}, {}, {}, {}};
+    result->camera_stats[c].intrinsics =
+        RefinedIntrinsics{given.params(), ba.cameras[c].params(), ba.intrinsics_stddev[c]};
   }
 }
 
@@ -579,7 +572,7 @@ RigCalibrationResult EstimateRigOnce(const RigObservations& obs, const RigCalibr
   RigCalibrationResult result;
   for (int c = 0; c < n; ++c) result.rig.cameras.push_back({obs.camera_names[c], obs.cameras[c], std::nullopt, 0.0});
   result.camera_stats.assign(n, {});
-  result.camera_status.assign(n, "");
+  result.camera_status.assign(n, CameraStatus{});
 
   auto start = Clock::now();
   const RotationStage rotations = AverageCameraRotations(obs, options, rejected);
@@ -626,7 +619,7 @@ RigCalibrationResult EstimateRigOnce(const RigObservations& obs, const RigCalibr
   for (int c = 0; c < n; ++c) result.camera_stats[c].direction_std_deg = poses.direction_std_deg[c];
   result.rig_from_world = poses.rig_from_world;
   result.scale = poses.scale;
-  result.metric_scale = poses.metric_scale;
+  result.scale_kind = poses.scale_kind;
   if (motion.moving && result.num_frames_posed < num_frames) {
     result.warnings.push_back(std::to_string(num_frames - result.num_frames_posed) + " of " +
                               std::to_string(num_frames) +
@@ -724,49 +717,9 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
   return result;
 }
 
-void EvaluateRigAgainstTruth(const Rig& truth, RigCalibrationResult* result) {
-  if (!truth.HasAllPoses() || truth.cameras.size() != result->rig.cameras.size()) return;
-  const Rigid3d rig_from_cam0 = truth.cameras[0].cam_from_rig->Inverse();
-  for (size_t c = 0; c < truth.cameras.size(); ++c) {
-    const auto& est = result->rig.cameras[c].cam_from_rig;
-    // The truth with camera 0 as the rig frame (the estimate's gauge).
-    const Rigid3d gt = *truth.cameras[c].cam_from_rig * rig_from_cam0;
-    RigCameraStats& s = result->camera_stats[c];
-    if (s.intrinsics) CompareIntrinsicsWithTruth(truth.cameras[c].camera, &*s.intrinsics);
-    if (!est) {
-      if (c < result->cam_from_rig_rotation.size() && result->cam_from_rig_rotation[c]) {
-        s.rotation_error_deg = RotationDifferenceDeg(*result->cam_from_rig_rotation[c], gt.rotation);
-      }
-      continue;
-    }
-    s.rotation_error_deg = RotationErrorDeg(*est, gt);
-    const Eigen::Vector3d c_est = est->SourceOriginInTarget(), c_gt = gt.SourceOriginInTarget();
-    if (c_est.norm() > 1e-9 && c_gt.norm() > 1e-9) s.translation_direction_error_deg = AngleBetweenDeg(c_est, c_gt);
-    if (result->metric_scale) s.position_error_m = (c_est - c_gt).norm();
-  }
-  result->evaluated = true;
-}
-
-RigCalibrationResult CalibrateRig(const std::filesystem::path& dataset_dir, const RigCalibrationOptions& options,
-                                  SemanticMode mode) {
-  return CalibrateRig(dataset_dir, options, std::vector<SemanticMode>{mode}).front();
-}
-
 void UseReestimatedPairs(RigCalibrationResult* result) {
   if (result->reestimated_pairs.size() != result->pairwise.pairs.size()) return;
-  for (size_t p = 0; p < result->pairwise.pairs.size(); ++p) {
-    PairResult& pr = result->pairwise.pairs[p];
-    pr.two_view = result->reestimated_pairs[p];
-    pr.rotation_error_deg.reset();
-    pr.translation_direction_error_deg.reset();
-    if (pr.cam_b_from_cam_a_gt && pr.two_view.success) {
-      pr.rotation_error_deg = RotationErrorDeg(pr.two_view.cam_b_from_cam_a, *pr.cam_b_from_cam_a_gt);
-      pr.translation_direction_error_deg = TranslationDirectionErrorDeg(pr.two_view.cam_b_from_cam_a, *pr.cam_b_from_cam_a_gt);
-    }
-    // The inliers changed: their precision (against the first estimate's inliers) no longer applies.
-    pr.inlier_precision.reset();
-    pr.inliers_evaluated = pr.inliers_correct = 0;
-  }
+  for (size_t p = 0; p < result->pairwise.pairs.size(); ++p) result->pairwise.pairs[p].two_view = result->reestimated_pairs[p];
 }
 
 void MarkPairsTheRigLeftOut(RigCalibrationResult* result) {
@@ -778,38 +731,23 @@ void MarkPairsTheRigLeftOut(RigCalibrationResult* result) {
   }
 }
 
-std::vector<RigCalibrationResult> CalibrateRig(const std::filesystem::path& dataset_dir,
-                                               const RigCalibrationOptions& options,
-                                               const std::vector<SemanticMode>& modes) {
+RigCalibrationResult EstimateRigFromPairs(const RigViews& views, const PairwiseResult& pairwise,
+                                          const RigCalibrationOptions& options) {
+  const RigObservations obs = ObservationsOfPairs(views, pairwise);
+  RigCalibrationResult r =
+      options.bundle_adjustment.refine_intrinsics ? EstimateRigAndIntrinsics(obs, options) : EstimateRig(obs, options);
+  r.pairwise = pairwise.report;
+  UseReestimatedPairs(&r);
+  MarkPairsTheRigLeftOut(&r);
+  if (r.details) r.details->matches = pairwise.matches;
+  return r;
+}
+
+RigCalibrationResult CalibrateRig(const RigViews& views, const RigCalibrationOptions& options) {
   options.Check();
-  const std::filesystem::path rig_json = DatasetLayout(dataset_dir).RigJson();
-  const Rig truth = ReadRig(rig_json);
-  if (options.known_distance) {  // before the long run, not after it
-    std::vector<std::string> names;
-    for (const RigCamera& rc : truth.cameras) names.push_back(rc.name);
-    KnownDistanceCameras(*options.known_distance, names, rig_json.string());
-  }
-  std::vector<PairwiseMatchData> data;
-  CalibrationOptions pairwise = options.pairwise;
+  PairwiseOptions pairwise = options.pairwise;
   pairwise.keep_match_details = pairwise.keep_match_details || options.keep_details;
-  const std::vector<CalibrationReport> reports = CalibrateDatasetPairs(dataset_dir, pairwise, modes, &data);
-  const Rig given = CalibrationRig(truth, options.pairwise);  // the intrinsics to calibrate with
-  std::vector<RigCalibrationResult> results;
-  for (size_t m = 0; m < modes.size(); ++m) {
-    const RigObservations obs = ObservationsFromPipeline(given, reports[m], data[m]);
-    RigCalibrationResult r =
-        options.bundle_adjustment.refine_intrinsics ? EstimateRigAndIntrinsics(obs, options) : EstimateRig(obs, options);
-    r.semantic_mode = reports[m].semantic_mode;
-    for (size_t c = 0; c < truth.cameras.size(); ++c) r.rig.cameras[c].time_offset_s = truth.cameras[c].time_offset_s;
-    r.pairwise = reports[m];
-    UseReestimatedPairs(&r);
-    MarkPairsTheRigLeftOut(&r);
-    r.inlier_samples = InlierSamples(truth, reports[m], data[m]);
-    if (options.pairwise.evaluate) EvaluateRigAgainstTruth(truth, &r);
-    if (r.details) r.details->matches = std::move(data[m]);
-    results.push_back(std::move(r));
-  }
-  return results;
+  return EstimateRigFromPairs(views, MatchRigPairs(views, pairwise), options);
 }
 
 }  // namespace rigsim

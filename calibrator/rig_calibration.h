@@ -1,14 +1,16 @@
-// Targetless rig calibration: from a dataset's images to every camera's cam_from_rig.
+// Targetless rig calibration, in memory: from every view's features to every camera's cam_from_rig.
+// No file is read and no truth is seen; pipeline/ reads a dataset, scores the result against the
+// truth (evaluation/) and writes it.
 //
-// Stages: the pairwise stage (pairwise.h: features, matches per frame, one two-view estimate
-// per pair over pooled frames, and each camera matched with itself between consecutive frames)
-// -> view graph (view_graph.h) -> robust rotation averaging (rotation_averaging.h) -> rig
-// rotation per frame from the temporal pairs -> tracks over all views (camera, frame) -> camera
-// and rig positions by linear translation averaging over the tracks -> multi-frame bundle
-// adjustment (multi_frame_rig.h). The rig's motion links the scales of the camera pairs, so a
-// ring where only neighbours overlap (a chain, not parallel rigid) is determined once it moves.
-// Without temporal pairs (one frame, or none given) every frame is an independent capture of a
-// static rig and only same-frame tracks constrain the positions.
+// Stages: the pairwise stage (pairwise.h: matches per frame, one two-view estimate per pair over
+// pooled frames, and each camera matched with itself between consecutive frames) -> view graph
+// (view_graph.h) -> robust rotation averaging (rotation_averaging.h) -> rig rotation per frame
+// from the temporal pairs -> tracks over all views (camera, frame) -> camera and rig positions by
+// linear translation averaging over the tracks -> multi-frame bundle adjustment
+// (multi_frame_rig.h). The rig's motion links the scales of the camera pairs, so a ring where
+// only neighbours overlap (a chain, not parallel rigid) is determined once it moves. Without
+// temporal pairs (one frame, or none given) every frame is an independent capture of a static rig
+// and only same-frame tracks constrain the positions.
 //
 // Gauge: camera 0 is the rig frame (its cam_from_rig is the identity); frame 0's rig frame is the
 // world. Only camera 0's component of the view graph gets rotations; every other camera is
@@ -19,24 +21,20 @@
 // Scale: images fix none. Without a known distance the centre of the first calibrated camera
 // after camera 0 is at distance 1 ("unit scale"); with one, the two named cameras' centres are
 // that many metres apart ("metric").
-// Truth, when rig.json has it, is re-expressed with camera 0 as the rig frame before comparing.
 #pragma once
 
-#include <filesystem>
 #include <memory>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
+#include "calibrator/correspondences.h"
+#include "calibrator/intrinsics_refinement.h"
 #include "calibrator/multi_frame_rig.h"
 #include "calibrator/pairwise.h"
 #include "calibrator/rig_positions.h"
-#include "evaluation/rig_estimate.h"
-#include "calibrator/correspondences.h"
-#include "calibrator/intrinsics_refinement.h"
 #include "calibrator/rotation_averaging.h"
 #include "calibrator/view_graph.h"
 #include "geometry/rig.h"
@@ -50,9 +48,14 @@ struct KnownDistance {
   double metres = 0.0;
 };
 
+// The indices in `names` of the known distance's two cameras. Throws std::invalid_argument starting
+// with `where` when it names a camera that is not there, listing the cameras that are.
+std::pair<int, int> KnownDistanceCameras(const KnownDistance& known, const std::vector<std::string>& names,
+                                         const std::string& where);
+
 struct RigCalibrationOptions {
-  // Features, matching and two-view estimation of every pair.
-  CalibrationOptions pairwise;
+  // Matching and two-view estimation of every pair (pairwise.h).
+  PairwiseOptions pairwise;
   // Which pairs become edges.
   ViewGraphOptions view_graph;
   // Robust rotation averaging and its outlier threshold.
@@ -134,14 +137,8 @@ struct RigCameraStats {
   // Standard deviation of the direction of the camera's centre from camera 0's (deg), from the
   // bundle adjustment's covariance: how well the images fix where the camera is, without truth.
   std::optional<double> direction_std_deg;
-  // Against the truth (with camera 0 as the rig frame), for calibrated cameras; the rotation
-  // error also for "rotation only" cameras.
-  std::optional<double> rotation_error_deg;
-  // Angle between the estimated and true directions of the camera centre from camera 0's.
-  std::optional<double> translation_direction_error_deg;
-  std::optional<double> position_error_m;  // metric results only
   // With RigBundleAdjustmentOptions::refine_intrinsics, for a camera in the bundle adjustment: its
-  // given and refined intrinsics, their standard deviations and, against the truth, their errors.
+  // given and refined intrinsics and their standard deviations.
   std::optional<RefinedIntrinsics> intrinsics;
 };
 
@@ -172,18 +169,10 @@ struct RigStartSummary {
   std::vector<std::optional<double>> direction_difference_deg;
 };
 
-// One camera pair's two-view inliers in the frame where it has the most, in pixels: what a
-// person looks at to judge a pair (calibrator/match_image.h draws them).
-struct PairInlierSample {
-  std::string cam_a, cam_b;
-  int frame = -1;  // index into the dataset's frames, in the order the pairwise stage read them
-  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> points;  // (in cam_a, in cam_b)
-};
-
 // The stages of one calibration as a report shows them (RigCalibrationOptions::keep_details).
 struct RigCalibrationDetails {
-  // The pairwise stage's keypoints, every match with its inlier and ground-truth flags (pairwise.h,
-  // kept with CalibrationOptions::keep_match_details); empty for EstimateRig on given observations.
+  // The pairwise stage's keypoints, every match with its inlier flag (pairwise.h, kept with
+  // PairwiseOptions::keep_match_details); empty for EstimateRig on given observations.
   PairwiseMatchData matches;
   // Per camera: cam_from_rig's rotation after rotation averaging, before the bundle adjustment.
   std::vector<std::optional<Eigen::Quaterniond>> rotation_averaging;
@@ -195,6 +184,38 @@ struct RigCalibrationDetails {
   std::vector<double> initial_residuals_px, final_residuals_px;
 };
 
+// What the calibration made of a camera.
+enum class CameraOutcome {
+  kCalibrated,    // a full pose (camera 0: the rig frame)
+  kRotationOnly,  // a rotation, no position (CameraStatus::position says why)
+  kNotConnected,  // no pair links it to camera 0's part of the view graph: no pose at all
+};
+
+// The position of a camera with a rotation: placed, or why not.
+enum class PositionOutcome {
+  kPlaced,
+  kNotObservable,  // nothing links its position to the placed cameras' (no start for it)
+  kNotDetermined,  // the images fix its direction from camera 0 too loosely (max_direction_std_deg)
+  kAmbiguous,      // bundle adjustments from different starts put it in different places
+};
+
+struct CameraStatus {
+  CameraOutcome outcome = CameraOutcome::kNotConnected;
+  PositionOutcome position = PositionOutcome::kNotObservable;  // kPlaced when calibrated
+  // Why, in words: for a rotation-only camera why it has no position and what would place it; for a
+  // camera not connected its pairs with the connected cameras; "reference: rig frame" for camera 0.
+  std::string reason;
+
+  // The status as evaluation.json and the tables give it: "calibrated", "calibrated (reference:
+  // rig frame)", "rotation only: position <reason>" or "not connected: <reason>".
+  std::string Text() const;
+};
+inline std::ostream& operator<<(std::ostream& os, const CameraStatus& s) { return os << s.Text(); }
+
+// Images fix no scale: the result's unit of length is none (no camera placed besides camera 0),
+// the distance of one camera from camera 0 (unit), or metres from a known distance (metric).
+enum class ScaleKind { kNone, kUnit, kMetric };
+
 struct RigCalibrationResult {
   std::string semantic_mode;
   // Intrinsics as given (refined with RigBundleAdjustmentOptions::refine_intrinsics); cam_from_rig
@@ -203,16 +224,16 @@ struct RigCalibrationResult {
   // Per camera: the estimated cam_from_rig rotation of calibrated and "rotation only" cameras;
   // nullopt for cameras not connected.
   std::vector<std::optional<Eigen::Quaterniond>> cam_from_rig_rotation;
-  // Per camera: "calibrated", "calibrated (reference: rig frame)", "rotation only: <why the
-  // position is not observable>" or "not connected: <reason>".
-  std::vector<std::string> camera_status;
+  // Per camera: what the calibration made of it, and why.
+  std::vector<CameraStatus> camera_status;
   std::vector<RigCameraStats> camera_stats;
   std::vector<RigEdgeStats> edges;  // per camera pair
   // With refine_intrinsics (rig_intrinsics.h): each pair's two-view estimate made again with the
   // refined intrinsics, which the rig used (RigObservations::pairs order); empty otherwise.
   std::vector<TwoViewEstimate> reestimated_pairs;
-  bool metric_scale = false;
-  std::string scale;  // how the scale was fixed, e.g. "unit scale: |centre of cam1| = 1"
+  // How the unit of length was fixed, and in words, e.g. "unit scale: |centre of cam1| = 1".
+  ScaleKind scale_kind = ScaleKind::kNone;
+  std::string scale;
   std::vector<std::string> warnings;
   double initial_reprojection_rms_px = 0.0;
   double reprojection_rms_px = 0.0;
@@ -236,10 +257,6 @@ struct RigCalibrationResult {
   double position_eigenvalue_ratio = 0.0;
   // The bundle adjustment's starts and how each ended.
   std::vector<RigStartSummary> position_starts;
-  // Ground truth available and compared.
-  bool evaluated = false;
-  // Per camera pair with two-view inliers (CalibrationReport::pairs order, failed pairs left out).
-  std::vector<PairInlierSample> inlier_samples;
   CalibrationReport pairwise;
   // Wall time of the rig stages (the pairwise ones are in `pairwise`).
   double rotation_averaging_time_s = 0.0;
@@ -254,43 +271,23 @@ struct RigCalibrationResult {
 // std::invalid_argument on inconsistent observations or a known distance naming an unknown camera.
 RigCalibrationResult EstimateRig(const RigObservations& observations, const RigCalibrationOptions& options);
 
-// With reestimated_pairs: result->pairwise's two-view estimates replaced by them, with their errors
-// against the truth (the table and evaluation.json then show the pairs the rig used).
+// The rig stages on the pairwise stage's outcome (pairwise.h MatchRigPairs) of `views`. The
+// result has the pairwise report, its pairs as the rig used them (re-estimated with the refined
+// intrinsics under RigBundleAdjustmentOptions::refine_intrinsics; marked where the rig left them
+// out) and, with keep_details, the match data. Throws like EstimateRig.
+RigCalibrationResult EstimateRigFromPairs(const RigViews& views, const PairwiseResult& pairwise,
+                                          const RigCalibrationOptions& options);
+
+// The whole calibration of `views`: MatchRigPairs, then EstimateRigFromPairs. Throws
+// std::invalid_argument on bad options or views.
+RigCalibrationResult CalibrateRig(const RigViews& views, const RigCalibrationOptions& options);
+
+// With reestimated_pairs: result->pairwise's two-view estimates replaced by them (the report then
+// shows the pairs the rig used).
 void UseReestimatedPairs(RigCalibrationResult* result);
 
 // Sets PairResult::left_out_by_rig on result->pairwise's pairs whose edge the rig stage rejected or
 // found a rotation outlier: the pair's own pose is then no longer what the calibrator stands by.
 void MarkPairsTheRigLeftOut(RigCalibrationResult* result);
-
-// Fills the per-camera errors from `truth` (every cam_from_rig known), refined intrinsics against
-// its intrinsics; sets result->evaluated.
-void EvaluateRigAgainstTruth(const Rig& truth, RigCalibrationResult* result);
-
-// Whole calibration of a dataset in one semantic mode (overrides options.pairwise.semantic_mode).
-// Throws like CalibrateDatasetPairs.
-RigCalibrationResult CalibrateRig(const std::filesystem::path& dataset_dir, const RigCalibrationOptions& options,
-                                  SemanticMode mode);
-
-// Several modes on the same images: features are detected once and shared. Results in `modes` order.
-std::vector<RigCalibrationResult> CalibrateRig(const std::filesystem::path& dataset_dir,
-                                               const RigCalibrationOptions& options,
-                                               const std::vector<SemanticMode>& modes);
-
-// What `rigsim evaluate` scores of a calibration (evaluation/rig_estimate.h): per camera the full
-// pose, or the rotation only; the method is the semantic mode.
-RigEstimate RigEstimateOf(const RigCalibrationResult& result);
-
-// Camera c's estimate against the truth (evaluation.h PoseTolerance, camera bounds): nullopt when
-// not evaluated, false without an estimate; a camera without a position is judged on its rotation.
-std::optional<bool> CameraWithinTolerance(const RigCalibrationResult& result, size_t c);
-
-// rig_calibration.json: {"methods": {"<mode>": {"summary": {...}, "timing": {...},
-// "cameras": [{name, status, calibrated, position_known, rotation_wxyz, cam_from_rig, centre_in_rig,
-// observations,
-// rotation_error_deg, translation_direction_error_deg, position_error_m}], "edges": [...],
-// (a "rotation only" camera: rotation_wxyz set, position_known false, cam_from_rig and
-// centre_in_rig null),
-// "warnings": [...], "pairwise": <ReportToJson's entry for the mode>}}}. Unknowns are null.
-nlohmann::json RigCalibrationToJson(const std::vector<RigCalibrationResult>& results);
 
 }  // namespace rigsim

@@ -295,8 +295,8 @@ RigPositions EstimateRigPositions(const std::vector<Camera>& cameras, const Fram
   out.eigenvalue_ratio = l0 > 0 ? l1 / l0 : std::numeric_limits<double>::infinity();
   // The matrix is positive semi-definite in exact arithmetic; rounding moves its eigenvalues by
   // about 2e-16 x lmax. A smallest eigenvalue far below zero means near-singular points broke the
-  // elimination, and the solution means nothing (measured: -0.009 against lmax 6e9 on a
-  // forward-moving ring whose positions then came out 57-117 deg wrong).
+  // elimination, and the solution means nothing (VALIDATION.md, "Where the calibrator's
+  // thresholds come from").
   if (l0_raw < -1e-13 * lmax) {
     out.reason = "the tracks' linear system is indefinite (smallest eigenvalue " + Fixed(l0_raw, 6) + ")";
     return out;

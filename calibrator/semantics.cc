@@ -4,6 +4,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "common/param_spec.h"
+
 namespace rigsim {
 
 std::string_view SemanticModeName(SemanticMode mode) {
@@ -21,14 +23,14 @@ SemanticMode SemanticModeFromName(std::string_view name) {
     if (SemanticModeName(m) == name) return m;
   }
   throw std::invalid_argument("unknown semantic mode '" + std::string(name) +
-                              "' (accepted: none, mask, gated, mask+gated)");
+                              "' (accepted: " + JoinNames(NamesOf(kAllSemanticModes, SemanticModeName)) + ")");
 }
 
-ImageU8 ReliableMask(const ImageU8& labels, const ReliableClasses& reliable, int erosion_px) {
+ImageU8 ReliableMask(const ImageU8& labels, const LabelIdSet& reliable, int erosion_px) {
   if (labels.channels != 1) throw std::invalid_argument("ReliableMask: label image must have 1 channel");
   if (erosion_px < 0) throw std::invalid_argument("ReliableMask: erosion_px must be >= 0");
   ImageU8 mask(labels.width, labels.height, 1, 0);
-  for (size_t i = 0; i < labels.data.size(); ++i) mask.data[i] = reliable.IsReliable(labels.data[i]) ? 255 : 0;
+  for (size_t i = 0; i < labels.data.size(); ++i) mask.data[i] = reliable[labels.data[i]] ? 255 : 0;
   if (erosion_px > 0 && !mask.empty()) {
     cv::Mat m(mask.height, mask.width, CV_8UC1, mask.data.data());
     const cv::Mat disc =

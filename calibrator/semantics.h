@@ -3,17 +3,18 @@
 //
 // The four modes the evaluation compares:
 //   none        baseline: detect everywhere, match everything with everything
-//   mask        detect only on reliable classes (labels/cityscapes.h ReliableClasses)
+//   mask        detect only on reliable classes (the caller's choice of label ids: LabelIdSet;
+//               rigsim's is labels/cityscapes.h ReliableClasses)
 //   gated       detect everywhere, match only keypoints of the same class
 //   mask+gated  both
 #pragma once
 
+#include <bitset>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "dataset/image.h"
-#include "labels/cityscapes.h"
+#include "geometry/image.h"
 
 namespace rigsim {
 
@@ -31,9 +32,12 @@ inline bool UsesMask(SemanticMode m) { return m == SemanticMode::kMask || m == S
 inline bool UsesGating(SemanticMode m) { return m == SemanticMode::kGated || m == SemanticMode::kMaskGated; }
 inline bool NeedsLabels(SemanticMode m) { return m != SemanticMode::kNone; }
 
+// A set of label ids, the values of a 1-channel label image: the classes the mask modes detect on.
+using LabelIdSet = std::bitset<256>;
+
 // Detection mask from a 1-channel label image: 255 where the class is reliable, 0 elsewhere,
 // then eroded by `erosion_px` (a disc) so that no keypoint sits on a class boundary. The image
 // border is not eroded: it is no class boundary.
-ImageU8 ReliableMask(const ImageU8& labels, const ReliableClasses& reliable, int erosion_px);
+ImageU8 ReliableMask(const ImageU8& labels, const LabelIdSet& reliable, int erosion_px);
 
 }  // namespace rigsim

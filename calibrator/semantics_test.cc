@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "labels/cityscapes.h"
+
 namespace rigsim {
 namespace {
 
@@ -23,13 +25,13 @@ TEST(ReliableMask, ErodesClassBoundaryButNotImageBorder) {
   for (int y = 0; y < 20; ++y) {
     for (int x = 20; x < 40; ++x) labels.at(x, y) = kSkyId;
   }
-  const ImageU8 mask = ReliableMask(labels, ReliableClasses(), 3);
+  const ImageU8 mask = ReliableMask(labels, ReliableClasses().Ids(), 3);
   EXPECT_EQ(mask.at(0, 0), 255);    // image corner: not eroded
   EXPECT_EQ(mask.at(16, 10), 255);  // 4 px from the boundary
   EXPECT_EQ(mask.at(17, 10), 0);    // 3 px from the boundary
   EXPECT_EQ(mask.at(19, 10), 0);
   EXPECT_EQ(mask.at(25, 10), 0);  // sky
-  const ImageU8 raw = ReliableMask(labels, ReliableClasses(), 0);
+  const ImageU8 raw = ReliableMask(labels, ReliableClasses().Ids(), 0);
   EXPECT_EQ(raw.at(19, 10), 255);
   EXPECT_EQ(raw.at(20, 10), 0);
 }

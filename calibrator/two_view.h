@@ -64,13 +64,9 @@ struct TwoViewOptions {
   // as the essential matrix (an inlier-ratio rule, as COLMAP's max_H_inlier_ratio). The
   // homography's inlier threshold is the essential matrix's times sqrt(5.99 / 3.84): its transfer
   // error has two degrees of freedom, the epipolar error one, so both keep 95% of noisy true
-  // matches. Measured H/E inlier ratios: points on one plane 0.973-0.990 (two_view_test.cc:
-  // 0.3-0.5 px noise, a fisheye seeing the ground beyond 90 deg) and 0.977 (the rendered textured
-  // ground of tests/degenerate_calibration_test.cc); general 3D points at 3-12 m 0.10; the
-  // demo's street pairs 0.53-0.92 with SIFT, 0.63-0.94 with ORB, all of them solved to 0.04-0.06
-  // deg with SIFT, so a facade filling 92% of the matches still leaves enough off-plane support.
-  // COLMAP's 0.8 would flag the street's cam2-cam3 (and with ORB cam0-cam1, 0.80); 0.95 separates
-  // the two groups.
+  // matches. 0.95 lies between the ratios of points on one plane and those of the street's pairs,
+  // whose facades fill most of the matches but leave enough off-plane support (VALIDATION.md,
+  // "Where the calibrator's thresholds come from"); COLMAP's 0.8 would flag street pairs.
   double planar_ratio = 0.95;
   // RANSAC iterations of the 2-point pure-rotation fit, and its seed (fixed: reproducible).
   int rotation_ransac_iterations = 300;

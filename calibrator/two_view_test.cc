@@ -5,7 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include "calibrator/evaluation.h"
+#include "evaluation/match_precision.h"
+#include "evaluation/pose_errors.h"
 
 namespace rigsim {
 namespace {

@@ -90,7 +90,7 @@ std::string NotConnectedReason(const ViewGraph& graph, int camera, const std::ve
                      : e.inactive_reason);
   }
   if (why.empty()) why = "no pair with any calibrated camera";
-  return "not connected: " + why;
+  return why;
 }
 
 }  // namespace rigsim

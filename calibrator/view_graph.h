@@ -77,8 +77,8 @@ ViewGraph BuildViewGraph(int num_cameras, const std::vector<PairEstimate>& pairs
 // have a translation direction): one label per camera, the smallest camera index of its component.
 std::vector<int> ConnectedComponents(const ViewGraph& graph, bool translation_only = false);
 
-// "not connected: ..." for a camera outside `reached` (one flag per camera): each of its pairs
-// with a reached camera and why that pair is not used; or that it has no pair with them at all.
+// Why a camera outside `reached` (one flag per camera) is not connected: each of its pairs with a
+// reached camera and why that pair is not used; or that it has no pair with them at all.
 std::string NotConnectedReason(const ViewGraph& graph, int camera, const std::vector<char>& reached,
                                const std::vector<std::string>& camera_names);
 

@@ -36,9 +36,9 @@ TEST(ViewGraph, EdgesKeepEveryPairWithItsReason) {
   const std::vector<char> reached = {1, 1, 0, 0, 0};
   const std::vector<std::string> names = {"c0", "c1", "c2", "c3", "c4"};
   const std::string why2 = NotConnectedReason(g, 2, reached, names);
-  EXPECT_EQ(why2, "not connected: c1-c2: too few inliers (10 < 30)");
-  EXPECT_EQ(NotConnectedReason(g, 3, reached, names), "not connected: c0-c3: two-view failed: too few matches");
-  EXPECT_EQ(NotConnectedReason(g, 4, reached, names), "not connected: no pair with any calibrated camera");
+  EXPECT_EQ(why2, "c1-c2: too few inliers (10 < 30)");
+  EXPECT_EQ(NotConnectedReason(g, 3, reached, names), "c0-c3: two-view failed: too few matches");
+  EXPECT_EQ(NotConnectedReason(g, 4, reached, names), "no pair with any calibrated camera");
 }
 
 TEST(ViewGraph, ReversedPairsAreStoredLowToHigh) {

@@ -19,7 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "dataset/image.h"
+#include "geometry/image.h"
 
 namespace rigsim {
 

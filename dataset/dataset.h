@@ -8,7 +8,7 @@
 //   DATASET/instances/<cam>/<frame>.png     uint16 instance ids, 0 = none
 //   DATASET/depth/<cam>/<frame>.exr         float32 range along the pixel's ray (m), 0 = no surface
 //   DATASET/overlap.json                    ground-truth co-visibility per camera pair
-//   Only when asked for (README, 'Dataset layout'): depth_color/ instances_color/ normals/
+//   Only when asked for (docs/datasets.md): depth_color/ instances_color/ normals/
 //   correspondence/<a>/<b>/ flow/ per camera and frame, instances_coco.json; poses.json when
 //   cameras capture over time.
 //   DATASET/photometric.json                per-camera exposure, white balance, vignetting, noise

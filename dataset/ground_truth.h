@@ -8,8 +8,8 @@
 
 #include <Eigen/Core>
 
-#include "dataset/image.h"
 #include "geometry/camera.h"
+#include "geometry/image.h"
 #include "geometry/rigid3.h"
 
 namespace rigsim {

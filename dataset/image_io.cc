@@ -18,11 +18,10 @@ namespace rigsim {
 namespace fs = std::filesystem;
 namespace {
 
-// PNG at zlib's fastest level: a rendered 1280x720 RGB image is written in 51 ms instead of
-// 170 ms at level 6, for files 17% larger (labels and instances barely change). Rows filtered by
-// Paeth alone rather than libpng's per-row choice among all five filters: the same size within 1%,
-// written 20-60% faster. The zero oFFs chunk is what OpenImageIO, which wrote rigsim's images
-// before, adds: kept so that the bytes stay the same.
+// PNG at zlib's fastest level, rows filtered by Paeth alone rather than libpng's per-row choice
+// among all five filters: a little larger and much faster to write than the defaults
+// (BENCHMARKS.md, "Writing a dataset"). The zero oFFs chunk is what OpenImageIO, which wrote
+// rigsim's images before, adds: kept so that the bytes stay the same.
 constexpr PngSettings kPngSettings{1, 0, 0x80 /* PNG_FILTER_PAETH */, true};
 // JPEG (the teaching report's pictures) as OpenImageIO wrote it: quality 98, with an empty Exif segment.
 constexpr JpegSettings kJpegSettings{98, false, true};
@@ -142,10 +141,10 @@ void WriteImage(const fs::path& path, const ImageU16& image) {
 void WriteImage(const fs::path& path, const ImageF& image) {
   CheckWritable(path, image);
   if (Extension(path) != ".exr") throw std::runtime_error(path.string() + ": float images are written as .exr only");
-  // Depth uncompressed: zip shrinks a rendered 1280x720 range image by only 16% (3.1 MB instead
-  // of 3.7) and takes 68 ms to write it instead of 13. Multi-channel float images (correspondence
-  // maps, normals: opt-in, 11 MB each uncompressed) are zip-compressed: their many no-surface
-  // pixels are the same value.
+  // Depth uncompressed: zip shrinks a range image little and takes five times as long to write
+  // (BENCHMARKS.md, "Writing a longer dataset"). Multi-channel float images (correspondence maps,
+  // normals: opt-in, large uncompressed) are zip-compressed: their many no-surface pixels are the
+  // same value.
   const fs::path tmp = TemporaryFor(path);
   try {
     WriteExrFile(tmp, image.data.data(), image.width, image.height, image.channels, image.channels != 1);

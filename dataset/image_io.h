@@ -4,7 +4,7 @@
 
 #include <filesystem>
 
-#include "dataset/image.h"
+#include "geometry/image.h"
 
 namespace rigsim {
 

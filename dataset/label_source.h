@@ -15,8 +15,8 @@
 #include <string>
 
 #include "dataset/dataset.h"
-#include "dataset/image.h"
 #include "dataset/segmentation_noise.h"
+#include "geometry/image.h"
 
 namespace rigsim {
 

@@ -2,7 +2,7 @@
 // depth (float metres) and instances (uint16 ids). The exact files stay the ones to compute with.
 #pragma once
 
-#include "dataset/image.h"
+#include "geometry/image.h"
 
 namespace rigsim {
 

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/splitmix64.h"
 #include "labels/cityscapes.h"
 
 namespace rigsim {
@@ -15,15 +16,8 @@ namespace {
 // Streams of random numbers, so that the choices of one step never depend on those of another.
 enum Salt : uint64_t { kCellJitter = 1, kConfusion = 2, kConfusedClass = 3, kClassBias = 4, kBoundaryWobble = 5 };
 
-uint64_t Mix(uint64_t x) {  // splitmix64's finaliser
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
-
 uint64_t Hash(uint64_t seed, uint64_t salt, uint64_t a, uint64_t b = 0, uint64_t c = 0) {
-  return Mix(Mix(Mix(Mix(seed) ^ salt) ^ a) ^ (b * 0xD1B54A32D192ED03ull + c));
+  return SplitMix64(SplitMix64(SplitMix64(SplitMix64(seed) ^ salt) ^ a) ^ (b * 0xD1B54A32D192ED03ull + c));
 }
 
 // Uniform in [0, 1).
@@ -213,7 +207,7 @@ void SegmentationNoiseOptions::Check() const {
 }
 
 uint64_t SegmentationNoiseImageSeed(uint64_t seed, std::string_view camera, std::string_view frame) {
-  return Mix(Mix(Mix(seed) ^ Fnv1a(camera)) ^ Fnv1a(frame));
+  return SplitMix64(SplitMix64(SplitMix64(seed) ^ Fnv1a(camera)) ^ Fnv1a(frame));
 }
 
 LabelBlobs FindLabelBlobs(const ImageU8& labels, int blob_size_px, uint64_t image_seed) {

@@ -31,7 +31,7 @@
 #include <string_view>
 #include <vector>
 
-#include "dataset/image.h"
+#include "geometry/image.h"
 
 namespace rigsim {
 

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "evaluation/pose_errors.h"
+#include "evaluation/verdicts.h"
 
 namespace rigsim {
 
@@ -100,12 +101,9 @@ RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate) {
     }
     // A camera at camera 0's centre has no direction: its rotation is its whole pose.
     const bool true_has_direction = Centre(true_from_cam0[c]).norm() > 1e-9;
-    cs.pose_error_deg = !cs.posed ? kInf
-                        : !true_has_direction ? *cs.rotation_error_deg
-                        : cs.direction_error_deg ? std::max(*cs.rotation_error_deg, *cs.direction_error_deg)
-                                                 : kInf;
+    cs.pose_error_deg = PoseErrorDeg(cs.posed, cs.rotation_error_deg, cs.direction_error_deg, true_has_direction);
     camera_pose_errors.push_back(cs.pose_error_deg);
-    if (cs.posed && cs.pose_error_deg > 5.0) ++s.confidently_wrong;
+    s.confidently_wrong += ConfidentlyWrong(cs.posed, cs.pose_error_deg);
     s.cameras.push_back(cs);
   }
 
@@ -120,16 +118,13 @@ RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate) {
         ps.rotation_error_deg =
             RadToDeg((*est_rotation[b] * est_rotation[a]->inverse()).angularDistance(true_ba.rotation));
       }
-      ps.pose_error_deg = kInf;
-      if (est_from_cam0[a] && est_from_cam0[b]) {
+      const bool posed = est_from_cam0[a] && est_from_cam0[b];
+      if (posed) {
         const Rigid3d est_ba = *est_from_cam0[b] * est_from_cam0[a]->Inverse();
         ps.direction_error_deg = TranslationDirectionErrorDeg(est_ba, true_ba);
-        if (ps.direction_error_deg) {
-          ps.pose_error_deg = std::max(*ps.rotation_error_deg, *ps.direction_error_deg);
-        } else if (true_ba.translation.norm() <= 1e-9) {
-          ps.pose_error_deg = *ps.rotation_error_deg;
-        }
       }
+      ps.pose_error_deg =
+          PoseErrorDeg(posed, ps.rotation_error_deg, ps.direction_error_deg, true_ba.translation.norm() > 1e-9);
       pair_pose_errors.push_back(ps.pose_error_deg);
       s.pairs.push_back(ps);
     }
@@ -144,12 +139,34 @@ RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate) {
     s.auc_cameras[t] = PoseAuc(camera_pose_errors, kAucThresholdsDeg[t]);
     s.auc_pairs[t] = PoseAuc(pair_pose_errors, kAucThresholdsDeg[t]);
   }
-  const auto all_within = [&](double limit) {
-    return std::all_of(camera_pose_errors.begin(), camera_pose_errors.end(), [&](double e) { return e <= limit; });
-  };
-  s.success_1deg = est_cam0 && all_within(1.0);
-  s.success_2deg = est_cam0 && all_within(2.0);
+  s.success_1deg = RigSucceeds(est_cam0.has_value(), camera_pose_errors, kSuccessLimitsDeg[0]);
+  s.success_2deg = RigSucceeds(est_cam0.has_value(), camera_pose_errors, kSuccessLimitsDeg[1]);
   return s;
+}
+
+std::vector<CameraErrors> CalibrationCameraErrors(const Rig& truth, const RigEstimate& estimate) {
+  const size_t n = truth.cameras.size();
+  if (!truth.HasAllPoses()) throw std::invalid_argument("CalibrationCameraErrors: the truth needs every camera's cam_from_rig");
+  if (estimate.cam_from_rig.size() != n || estimate.rotation_only.size() != n) {
+    throw std::invalid_argument("CalibrationCameraErrors: the estimate needs one entry per camera of the truth");
+  }
+  std::vector<CameraErrors> out(n);
+  const Rigid3d rig_from_cam0 = truth.cameras[0].cam_from_rig->Inverse();
+  for (size_t c = 0; c < n; ++c) {
+    const std::optional<Rigid3d>& est = estimate.cam_from_rig[c];
+    // The truth with camera 0 as the rig frame (the estimate's gauge).
+    const Rigid3d gt = *truth.cameras[c].cam_from_rig * rig_from_cam0;
+    CameraErrors& e = out[c];
+    if (!est) {
+      if (estimate.rotation_only[c]) e.rotation_error_deg = RotationDifferenceDeg(*estimate.rotation_only[c], gt.rotation);
+      continue;
+    }
+    e.rotation_error_deg = RotationErrorDeg(*est, gt);
+    const Eigen::Vector3d c_est = est->SourceOriginInTarget(), c_gt = gt.SourceOriginInTarget();
+    if (c_est.norm() > 1e-9 && c_gt.norm() > 1e-9) e.direction_error_deg = AngleBetweenDeg(c_est, c_gt);
+    if (estimate.metric) e.position_error_m = (c_est - c_gt).norm();
+  }
+  return out;
 }
 
 namespace {
@@ -235,11 +252,13 @@ std::string FormatRigScores(const std::vector<RigScores>& all) {
   for (const RigScores& s : all) {
     std::snprintf(line, sizeof line,
                   "%s: %d/%zu cameras with a full pose, worst rotation %s, worst direction %s; pose AUC over pairs "
-                  "@1/2/5/10 deg %.2f/%.2f/%.2f/%.2f; every camera within 2 deg: %s%s\n",
+                  "@1/2/5/10 deg %.2f/%.2f/%.2f/%.2f; every camera within %g deg: %s%s\n",
                   s.method.c_str(), s.cameras_posed, s.cameras.size(), Deg(s.max_rotation_error_deg).c_str(),
                   Deg(s.max_direction_error_deg).c_str(), s.auc_pairs[0], s.auc_pairs[1], s.auc_pairs[2], s.auc_pairs[3],
-                  s.success_2deg ? "yes" : "no",
-                  s.confidently_wrong > 0 ? (", " + std::to_string(s.confidently_wrong) + " camera(s) placed > 5 deg off").c_str() : "");
+                  kSuccessLimitsDeg[1], s.success_2deg ? "yes" : "no",
+                  s.confidently_wrong > 0 ? (", " + std::to_string(s.confidently_wrong) + " camera(s) placed > " +
+                                             Deg(kConfidentlyWrongDeg, "%g deg") + " off").c_str()
+                                          : "");
     out += line;
     for (const std::string& note : s.notes) out += "  note: " + note + "\n";
   }

@@ -14,7 +14,7 @@
 //                            a full pose (a rotation-only camera has a rotation error only).
 // Per camera pair (a < b): the same errors of cam_b_from_cam_a (direction of its translation).
 // AUC of the pose errors at 1, 2, 5 and 10 deg (missing poses count as failures), over cameras
-// and over pairs; success at N deg: every camera c > 0 has a full pose within N deg.
+// and over pairs. The pose error, success and confidently wrong are evaluation/verdicts.h's.
 #pragma once
 
 #include <optional>
@@ -60,8 +60,8 @@ struct RigScores {
   std::optional<double> max_position_error_m;
   double auc_cameras[4] = {0, 0, 0, 0};  // at 1, 2, 5, 10 deg
   double auc_pairs[4] = {0, 0, 0, 0};
-  bool success_1deg = false, success_2deg = false;
-  int confidently_wrong = 0;  // cameras with a full pose whose pose error exceeds 5 deg
+  bool success_1deg = false, success_2deg = false;  // RigSucceeds at kSuccessLimitsDeg
+  int confidently_wrong = 0;  // cameras ConfidentlyWrong (verdicts.h)
   std::vector<std::string> notes;
 };
 
@@ -71,6 +71,24 @@ inline constexpr double kAucThresholdsDeg[4] = {1.0, 2.0, 5.0, 10.0};
 // `truth` must give every camera's cam_from_rig (std::invalid_argument otherwise); `estimate`
 // has one entry per truth camera.
 RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate);
+
+// A camera's errors as evaluation.json and the calibrate tables give them, for an estimate whose
+// own camera 0 is its rig frame (a rigsim calibration): the rotation error of a full pose or a
+// rotation only (geometry/rigid3.h RotationDifferenceDeg against the truth with camera 0 as the
+// rig frame), the direction error when both centres are away from camera 0's (1e-9), the
+// position error of a metric estimate (no scale fitted; camera 0's included).
+// ScoreRig measures the same errors another way (any estimate re-expressed in its camera 0's
+// frame, rotations by Eigen's angularDistance, which does not normalise): they agree to about
+// 1e-15 deg, not to the last digit, so one cannot replace the other without changing what
+// evaluation.json or evaluate, the report and the sweep write.
+struct CameraErrors {
+  std::optional<double> rotation_error_deg;
+  std::optional<double> direction_error_deg;
+  std::optional<double> position_error_m;
+};
+// One per camera of `truth`; std::invalid_argument unless the truth has every cam_from_rig and
+// the estimate one entry per camera.
+std::vector<CameraErrors> CalibrationCameraErrors(const Rig& truth, const RigEstimate& estimate);
 
 nlohmann::json RigScoresToJson(const RigScores& scores);
 // The camera and pair tables and a summary line, for a terminal.

@@ -124,11 +124,17 @@ ReliableClasses ReliableClasses::FromNames(const std::vector<std::string>& names
     const LabelClass* c = FindClassByName(n);
     if (!c) {
       throw std::invalid_argument("unknown class '" + n + "'" + ClassNameSuggestion(n) +
-                                  "; the classes are Cityscapes' (README, Conventions)");
+                                  "; the classes are Cityscapes' (docs/datasets.md, 'Cityscapes classes')");
     }
     r.reliable_[c->id] = true;
   }
   return r;
+}
+
+std::bitset<256> ReliableClasses::Ids() const {
+  std::bitset<256> ids;
+  for (size_t id = 0; id < reliable_.size(); ++id) ids[id] = reliable_[id];
+  return ids;
 }
 
 }  // namespace rigsim

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <array>
+#include <bitset>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -55,6 +56,8 @@ class ReliableClasses {
   static ReliableClasses FromNames(const std::vector<std::string>& names);
   bool IsReliable(uint8_t id) const { return reliable_[id]; }
   void Set(uint8_t id, bool reliable) { reliable_[id] = reliable; }
+  // The reliable ids as a set, as the calibrator's mask modes take them (calibrator/semantics.h).
+  std::bitset<256> Ids() const;
 
  private:
   std::array<bool, 256> reliable_{};

@@ -65,5 +65,13 @@ TEST(Cityscapes, UserCanOverrideReliableClasses) {
   EXPECT_THROW(ReliableClasses::FromNames({"spaceship"}), std::invalid_argument);
 }
 
+// The set the calibrator's mask modes take holds the same ids.
+TEST(Cityscapes, ReliableIdsAreTheReliableClasses) {
+  const ReliableClasses r = ReliableClasses::FromNames({"car", "road"});
+  const std::bitset<256> ids = r.Ids();
+  EXPECT_EQ(ids.count(), 2u);
+  for (int id = 0; id < 256; ++id) EXPECT_EQ(ids[id], r.IsReliable(static_cast<uint8_t>(id))) << id;
+}
+
 }  // namespace
 }  // namespace rigsim

@@ -9,14 +9,14 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#include "calibrator/evaluation.h"
-#include "calibrator/match_image.h"
 #include "dataset/image_io.h"
 #include "exports/colmap.h"
 #include "exports/kalibr.h"
 #include "exports/opencv_yaml.h"
 #include "exports/rig_plot.h"
 #include "geometry/json_io.h"
+#include "pipeline/calibration_json.h"
+#include "pipeline/match_image.h"
 
 namespace rigsim {
 namespace {
@@ -29,7 +29,7 @@ RigPlotInput TopDownPlot(const RigCalibrationResult& r, const std::optional<Rig>
   RigPlotInput plot;
   plot.estimate = r.rig;
   plot.truth = truth;
-  plot.metric = r.metric_scale;
+  plot.metric = r.scale_kind == ScaleKind::kMetric;
   for (size_t c = 0; c < r.rig.cameras.size(); ++c) {
     const bool rotation_only = !r.rig.cameras[c].cam_from_rig && c < r.cam_from_rig_rotation.size();
     plot.rotation_only.push_back(rotation_only ? r.cam_from_rig_rotation[c] : std::nullopt);
@@ -45,7 +45,7 @@ Json WriteExports(const RigCalibrationResult& r, const CalibrationInputs& inputs
                   std::vector<std::string>* notes) {
   const ExportSelection selection = SelectExports(r, inputs.frames);
   Json omitted = Json::array(), notes_json = Json::array(), colmap_frames = Json::array();
-  for (const auto& [name, status] : selection.cameras_omitted) omitted.push_back({{"name", name}, {"status", status}});
+  for (const auto& [name, status] : selection.cameras_omitted) omitted.push_back({{"name", name}, {"status", status.Text()}});
   Json files = {"rig.json", "pairs.json"};
   auto note = [&](const std::string& text) {
     notes->push_back(r.semantic_mode + ": " + text);
@@ -94,27 +94,6 @@ Json WriteExports(const RigCalibrationResult& r, const CalibrationInputs& inputs
           {"notes", notes_json}};
 }
 
-// Per inlier of a sample, whether the ground truth calls it right (1) or wrong (0), by the match
-// precision's own test (calibrator/evaluation.h CheckMatches); empty without the truth or depth.
-std::vector<signed char> SampleVerdicts(const PairInlierSample& s, const CalibrationInputs& inputs,
-                                        const std::string& frame, const MatchPrecisionOptions& precision) {
-  if (!inputs.truth) return {};
-  const DatasetLayout layout(inputs.dataset_dir);
-  const fs::path depth_a = layout.Depth(s.cam_a, frame), depth_b = layout.Depth(s.cam_b, frame);
-  if (!fs::exists(depth_a) || !fs::exists(depth_b)) return {};
-  const Rig& truth = *inputs.truth;
-  const RigCamera& a = truth.cameras.at(truth.FindCamera(s.cam_a));
-  const RigCamera& b = truth.cameras.at(truth.FindCamera(s.cam_b));
-  std::vector<Eigen::Vector2d> px_a, px_b;
-  for (const auto& [pa, pb] : s.points) {
-    px_a.push_back(pa);
-    px_b.push_back(pb);
-  }
-  const std::vector<char> ok = CheckMatches(px_a, px_b, a.camera, ReadImageF(depth_a), b.camera, ReadImageF(depth_b),
-                                            *b.cam_from_rig * a.cam_from_rig->Inverse(), precision);
-  return std::vector<signed char>(ok.begin(), ok.end());
-}
-
 // Photos decoded once each, on first use, however many pairs show them (Herz-Jesus-P8: 8 photos
 // of 3072x2048 in 21 pairs, 42 decodes otherwise). Safe to use from several threads.
 class DecodedPhotos {
@@ -144,15 +123,15 @@ class DecodedPhotos {
 // the two photos with the cameras' names, right and wrong by the ground truth when it is known,
 // pairs in parallel (decoding the photos is most of the work).
 // Returns the files written (relative to `dir`), in the pairs' order.
-std::vector<std::string> WriteMatchImages(const RigCalibrationResult& r, const CalibrationInputs& inputs,
-                                          const fs::path& dir, int num_threads, const MatchPrecisionOptions& precision) {
+std::vector<std::string> WriteMatchImages(const std::vector<PairInlierSample>& samples, const CalibrationInputs& inputs,
+                                          const fs::path& dir, int num_threads) {
   const DatasetLayout layout(inputs.dataset_dir);
   const FramesFile& frames = inputs.frames;
-  std::vector<std::string> written(r.inlier_samples.size());
-  std::vector<std::optional<std::pair<fs::path, fs::path>>> paths(r.inlier_samples.size());
+  std::vector<std::string> written(samples.size());
+  std::vector<std::optional<std::pair<fs::path, fs::path>>> paths(samples.size());
   std::vector<fs::path> all_paths;
-  for (size_t i = 0; i < r.inlier_samples.size(); ++i) {
-    const PairInlierSample& s = r.inlier_samples[i];
+  for (size_t i = 0; i < samples.size(); ++i) {
+    const PairInlierSample& s = samples[i];
     if (s.frame < 0 || size_t(s.frame) >= frames.frames.size()) continue;
     const std::string& frame = frames.frames[s.frame].name;
     const auto path_a = layout.FindImage(s.cam_a, frame), path_b = layout.FindImage(s.cam_b, frame);
@@ -165,12 +144,11 @@ std::vector<std::string> WriteMatchImages(const RigCalibrationResult& r, const C
   fs::create_directories(dir / "matches");
   tbb::task_arena arena(num_threads > 0 ? num_threads : tbb::task_arena::automatic);
   arena.execute([&] {
-    tbb::parallel_for(size_t(0), r.inlier_samples.size(), [&](size_t i) {
+    tbb::parallel_for(size_t(0), samples.size(), [&](size_t i) {
       if (!paths[i]) return;
-      const PairInlierSample& s = r.inlier_samples[i];
-      const std::string& frame = frames.frames[s.frame].name;
+      const PairInlierSample& s = samples[i];
       const std::string name = "matches/" + s.cam_a + "-" + s.cam_b + ".jpg";
-      const MatchAnnotation note{s.cam_a, s.cam_b, SampleVerdicts(s, inputs, frame, precision)};
+      const MatchAnnotation note{s.cam_a, s.cam_b, s.correct};
       WriteImage(dir / name, DrawMatches(photos.Get(paths[i]->first), photos.Get(paths[i]->second), s.points, {}, note));
       written[i] = name;
     });
@@ -193,7 +171,7 @@ ExportSelection SelectExports(const RigCalibrationResult& r, const FramesFile& f
     if (rc.cam_from_rig) {
       out.cameras_exported.push_back(rc.name);
     } else {
-      out.cameras_omitted.emplace_back(rc.name, c < r.camera_status.size() ? r.camera_status[c] : "");
+      out.cameras_omitted.emplace_back(rc.name, c < r.camera_status.size() ? r.camera_status[c] : CameraStatus{});
     }
   }
   for (size_t k = 0; k < frames.frames.size(); ++k) {
@@ -213,80 +191,20 @@ ExportSelection SelectExports(const RigCalibrationResult& r, const FramesFile& f
   return out;
 }
 
-const RigEdgeStats* RigEdgeOf(const RigCalibrationResult& result, const PairResult& pair) {
-  const RigEdgeStats* found = nullptr;
-  for (const RigEdgeStats& e : result.edges) {
-    if (e.cam_a == pair.cam_a && e.cam_b == pair.cam_b) found = &e;
-  }
-  return found;
-}
-
-Json LabelSourceJson(const LabelSource& source, bool used) {
-  Json j = {{"kind", source.KindName()}, {"description", source.Describe()}, {"used", used}};
-  if (source.kind == LabelSource::Kind::kFolder) j["folder"] = fs::absolute(source.folder).lexically_normal().string();
-  if (source.kind == LabelSource::Kind::kNoisy) {
-    j["noise"] = {{"boundary_px", source.noise.boundary_px},
-                  {"confusion_rate", source.noise.confusion_rate},
-                  {"blob_size_px", source.noise.blob_size_px},
-                  {"seed", source.noise.seed}};
-  }
-  return j;
-}
-
-Json PairsJson(const RigCalibrationResult& result, const Json& label_source, const OverlapTable& overlap) {
-  Json pairs = Json::array();
-  for (const PairResult& pr : result.pairwise.pairs) {
-    Json pair = PairResultToJson(pr);
-    pair["pair_type"] = pr.two_view.success ? std::string(PairTypeName(pr.two_view.pair_type)) : "failed";
-    const auto ov = overlap.find({pr.cam_a, pr.cam_b});
-    pair["overlap"] = ov != overlap.end() ? Json(ov->second) : Json(nullptr);
-    pair["rig_edge"] = nullptr;
-    if (const RigEdgeStats* e = RigEdgeOf(result, pr)) {
-      pair["rig_edge"] = {{"used", e->used},
-                          {"status", e->status},
-                          {"rotation_outlier", e->rotation_outlier},
-                          {"rotation_residual_deg", json_io::OptionalNumber(e->rotation_residual_deg)}};
-    }
-    pairs.push_back(std::move(pair));
-  }
-  return {{"semantic_mode", result.semantic_mode},
-          {"label_source", label_source},
-          {"num_frames", result.pairwise.num_frames},
-          {"units",
-           {{"median_residual_deg", "median angular epipolar residual of the pair's two-view inliers (deg)"},
-            {"rotation_error_deg", "angle of R_est R_true^T (deg), when rig.json has the truth"},
-            {"translation_direction_error_deg", "angle between estimated and true baseline directions (deg)"},
-            {"rig_edge.rotation_residual_deg", "the final rig's relative rotation vs this pair's (deg)"}}},
-          {"pairs", pairs}};
-}
-
-Json EvaluationJson(const std::vector<RigCalibrationResult>& results) {
-  std::vector<CalibrationReport> pairwise;
-  for (const RigCalibrationResult& r : results) pairwise.push_back(r.pairwise);
-  Json evaluation = ReportToJson(pairwise);
-  const Json rig = RigCalibrationToJson(results);
-  for (const RigCalibrationResult& r : results) {
-    Json entry = rig["methods"][r.semantic_mode];
-    entry.erase("pairwise");  // already the method's own entry
-    evaluation["methods"][r.semantic_mode]["rig"] = entry;
-  }
-  return evaluation;
-}
-
 std::vector<std::string> WriteCalibrationResults(const CalibrationRun& run, const std::filesystem::path& dir) {
   std::vector<std::string> notes;
-  Json evaluation = EvaluationJson(run.results);
-  evaluation["label_source"] = LabelSourceJson(run.options.pairwise.labels, run.labels_used);
-  for (const RigCalibrationResult& r : run.results) {
+  Json evaluation = EvaluationJson(run);
+  evaluation["label_source"] = LabelSourceJson(run.options.labels, run.labels_used);
+  for (size_t m = 0; m < run.results.size(); ++m) {
+    const RigCalibrationResult& r = run.results[m];
     const fs::path mode_dir = dir / r.semantic_mode;
     fs::create_directories(mode_dir);
     WriteRig(r.rig, mode_dir / "rig.json");
-    json_io::WriteTextAtomic(mode_dir / "pairs.json",
-                             PairsJson(r, evaluation["label_source"], run.inputs.overlap).dump(2) + "\n");
+    json_io::WriteTextAtomic(mode_dir / "pairs.json", PairsJson(run, m, evaluation["label_source"]).dump(2) + "\n");
     Json& outputs = evaluation["methods"][r.semantic_mode]["outputs"];
     outputs = WriteExports(r, run.inputs, mode_dir, &notes);
-    for (const std::string& file : WriteMatchImages(r, run.inputs, mode_dir, run.options.pairwise.num_threads,
-                                                       run.options.pairwise.precision)) {
+    for (const std::string& file :
+         WriteMatchImages(run.records.at(m).inlier_samples, run.inputs, mode_dir, run.options.rig.pairwise.num_threads)) {
       outputs["files"].push_back(file);
     }
   }

@@ -16,9 +16,9 @@
 //                          rig.json has it, ground-truth overlap, and the rig stage's use of it
 //   <mode>/rig_topdown.svg the rig seen from above, the estimate over the truth when known
 //   <mode>/matches/        <cam_a>-<cam_b>.jpg: each solved pair's inliers over its photos
+//                          (match_image.h), right and wrong by the truth when the run has it
 //
-// The pieces are public so that other reports (an HTML page, a sweep over datasets) build the
-// same records from the same code.
+// The JSON records are calibration_json.h's.
 #pragma once
 
 #include <filesystem>
@@ -30,10 +30,8 @@
 
 #include "calibrator/rig_calibration.h"
 #include "dataset/dataset.h"
-#include "dataset/label_source.h"
 #include "geometry/rig.h"
 #include "pipeline/calibration_run.h"
-#include "pipeline/report_table.h"
 
 namespace rigsim {
 
@@ -42,30 +40,13 @@ namespace rigsim {
 struct ExportSelection {
   Rig calibrated;  // the cameras with cam_from_rig, in rig order
   std::vector<std::string> cameras_exported;
-  std::vector<std::pair<std::string, std::string>> cameras_omitted;  // (name, camera status)
+  std::vector<std::pair<std::string, CameraStatus>> cameras_omitted;  // (name, what the calibration made of it)
   // Frames with a rig pose, rig_from_world = the estimate's (the calibration's world is the rig
   // frame at frame 0; without estimated frame poses only frame 0 has one, the identity).
   FramesFile colmap_frames;
   std::vector<std::string> colmap_frames_omitted;  // frame names without a rig pose
 };
 ExportSelection SelectExports(const RigCalibrationResult& result, const FramesFile& frames);
-
-// The rig stage's edge of a pairwise pair (same camera names), nullptr when it has none.
-const RigEdgeStats* RigEdgeOf(const RigCalibrationResult& result, const PairResult& pair);
-
-// evaluation.json's "label_source": kind, description, whether a mode used the labels, and the
-// folder (absolute) or the noise model.
-nlohmann::json LabelSourceJson(const LabelSource& source, bool used);
-
-// pairs.json of one mode: every camera pair's entry of the pairwise report with its pair_type
-// (failed when there is no estimate), the ground-truth overlap (null when unknown) and
-// "rig_edge", what the rig stage made of it (null when it has no edge).
-nlohmann::json PairsJson(const RigCalibrationResult& result, const nlohmann::json& label_source,
-                         const OverlapTable& overlap);
-
-// evaluation.json without "label_source" and the "outputs" records: per method the pairwise
-// report (ReportToJson) with the rig result of the same method under "rig".
-nlohmann::json EvaluationJson(const std::vector<RigCalibrationResult>& results);
 
 // Writes every file above into `dir`, an existing folder (the caller stages and commits it, see
 // dataset/dataset.h StagedOutput). Returns the notes on what was left out, each prefixed with its

@@ -4,9 +4,97 @@
 #include <chrono>
 #include <stdexcept>
 
+#include <tbb/parallel_for.h>
+
+#include "calibrator/parallel_scope.h"
+#include "dataset/image_io.h"
 #include "geometry/camera_validation.h"
+#include "geometry/json_io.h"
+#include "pipeline/feature_cache.h"
 
 namespace rigsim {
+namespace {
+
+// The rig the calibration uses: rig.json's, with the given intrinsics when there are some.
+// Checks what can be checked before the long run: two cameras or more, a known distance between
+// cameras of the rig, given intrinsics for every camera at its size.
+Rig CalibrationRig(const CalibrationInputs& inputs, const CalibrationRunOptions& options) {
+  const std::filesystem::path rig_json = DatasetLayout(inputs.dataset_dir).RigJson();
+  if (options.rig.known_distance) {
+    std::vector<std::string> names;
+    for (const RigCamera& rc : inputs.rig.cameras) names.push_back(rc.name);
+    KnownDistanceCameras(*options.rig.known_distance, names, rig_json.string());
+  }
+  const Rig rig =
+      options.intrinsics ? WithGivenIntrinsics(inputs.rig, options.intrinsics->rig, options.intrinsics->source) : inputs.rig;
+  if (rig.cameras.size() < 2) throw std::runtime_error(rig_json.string() + ": calibration needs at least 2 cameras");
+  if (inputs.frames.frames.empty()) throw std::runtime_error(inputs.dataset_dir.string() + ": no frames found");
+  return rig;
+}
+
+// Every photo (camera-major: camera * frames + frame), checked to be there and of its camera's
+// size from the file headers before any is decoded: a missing or wrong photo stops the run at
+// once, not after minutes of detection.
+std::vector<std::filesystem::path> CheckPhotos(const CalibrationInputs& inputs, const Rig& rig) {
+  const DatasetLayout layout(inputs.dataset_dir);
+  std::vector<std::filesystem::path> paths;
+  for (const RigCamera& rc : rig.cameras) {
+    for (const Frame& frame : inputs.frames.frames) {
+      const std::filesystem::path path = layout.RequireImage(rc.name, frame.name);
+      const ImageSize size = ReadImageSize(path);
+      const int w = rc.camera.width(), h = rc.camera.height();
+      if (size.width != w || size.height != h) {
+        throw std::runtime_error(path.string() + ": image is " + std::to_string(size.width) + "x" +
+                                 std::to_string(size.height) + ", camera '" + rc.name + "' is " + std::to_string(w) +
+                                 "x" + std::to_string(h));
+      }
+      paths.push_back(path);
+    }
+  }
+  return paths;
+}
+
+// Each pair's inliers in its best frame (the most inliers; the first of equals).
+std::vector<PairInlierSample> InlierSamples(const Rig& rig, const CalibrationReport& report,
+                                            const PairwiseMatchData& data) {
+  std::vector<PairInlierSample> samples;
+  for (size_t p = 0; p < report.pairs.size() && p < data.inliers.size(); ++p) {
+    const auto& per_frame = data.inliers[p];
+    size_t best = 0;
+    for (size_t k = 1; k < per_frame.size(); ++k) {
+      if (per_frame[k].size() > per_frame[best].size()) best = k;
+    }
+    if (per_frame.empty() || per_frame[best].empty()) continue;
+    const int a = rig.FindCamera(report.pairs[p].cam_a), b = rig.FindCamera(report.pairs[p].cam_b);
+    if (a < 0 || b < 0 || best >= data.keypoints.size()) continue;
+    PairInlierSample s{static_cast<int>(p), report.pairs[p].cam_a, report.pairs[p].cam_b, int(best), {}, {}};
+    for (const auto& [ka, kb] : per_frame[best]) {
+      s.points.emplace_back(data.keypoints[best][a].at(ka), data.keypoints[best][b].at(kb));
+    }
+    samples.push_back(std::move(s));
+  }
+  return samples;
+}
+
+}  // namespace
+
+OverlapTable ReadOverlap(const std::filesystem::path& overlap_json) {
+  OverlapTable table;
+  if (!std::filesystem::exists(overlap_json)) return table;
+  const json_io::Json j = json_io::ReadFile(overlap_json);
+  if (!j.contains("pairs") || !j["pairs"].is_array()) {
+    throw std::runtime_error(overlap_json.string() + ": expected a 'pairs' array");
+  }
+  for (const auto& p : j["pairs"]) {
+    const std::string src = overlap_json.string();
+    const auto a = json_io::Get<std::string>(p, "a", src, "pairs[]");
+    const auto b = json_io::Get<std::string>(p, "b", src, "pairs[]");
+    const double ab = json_io::Get<double>(p, "overlap_a_in_b", src, "pairs[]");
+    const double ba = json_io::Get<double>(p, "overlap_b_in_a", src, "pairs[]");
+    table[{a, b}] = table[{b, a}] = std::min(ab, ba);
+  }
+  return table;
+}
 
 CalibrationInputs ReadCalibrationInputs(const std::filesystem::path& dataset_dir) {
   const DatasetLayout layout(dataset_dir);
@@ -26,21 +114,92 @@ CalibrationInputs ReadCalibrationInputs(const std::filesystem::path& dataset_dir
   return in;
 }
 
-CalibrationRun CalibrateDataset(const CalibrationInputs& inputs, const RigCalibrationOptions& options,
+void CalibrationRunOptions::Check() const {
+  rig.Check();
+  features.Check();
+  precision.Check();
+  labels.Check();
+}
+
+Rig WithGivenIntrinsics(const Rig& rig, const Rig& intrinsics, const std::string& source) {
+  Rig out = rig;
+  for (RigCamera& rc : out.cameras) {
+    const int i = intrinsics.FindCamera(rc.name);
+    if (i < 0) {
+      std::string names;
+      for (const RigCamera& c : intrinsics.cameras) names += (names.empty() ? "" : ", ") + c.name;
+      throw std::invalid_argument(source + ": no camera '" + rc.name + "' (it has " + (names.empty() ? "none" : names) +
+                                  "); give the intrinsics of every camera of the dataset");
+    }
+    const Camera& given = intrinsics.cameras[i].camera;
+    if (given.width() != rc.camera.width() || given.height() != rc.camera.height()) {
+      throw std::invalid_argument(source + ": camera '" + rc.name + "' is " + std::to_string(given.width()) + "x" +
+                                  std::to_string(given.height()) + ", the dataset's photos are " +
+                                  std::to_string(rc.camera.width()) + "x" + std::to_string(rc.camera.height()));
+    }
+    rc.camera = given;
+  }
+  return out;
+}
+
+CalibrationRun CalibrateDataset(const CalibrationInputs& inputs, const CalibrationRunOptions& options,
                                 const std::vector<SemanticMode>& modes) {
   if (modes.empty()) throw std::invalid_argument("CalibrateDataset: no semantic mode given");
+  options.Check();
+  const auto start = std::chrono::steady_clock::now();
   CalibrationRun run;
   run.inputs = inputs;
   run.options = options;
   run.modes = modes;
   run.labels_used = std::any_of(modes.begin(), modes.end(), NeedsLabels);
-  const auto start = std::chrono::steady_clock::now();
-  run.results = CalibrateRig(inputs.dataset_dir, options, modes);
+  const Rig rig = CalibrationRig(inputs, options);
+  const std::vector<std::filesystem::path> photos = CheckPhotos(inputs, rig);
+  const int num_threads = options.rig.pairwise.num_threads;
+  const ParallelScope parallel(num_threads);
+  const FeatureCache features(DatasetLayout(inputs.dataset_dir), rig, inputs.frames, photos, modes, options.features,
+                              options.reliable.Ids(), options.labels, num_threads);
+
+  // The modes side by side: each one's stages run in parallel too, and a mode's result does not
+  // depend on the others'.
+  const size_t n = modes.size();
+  run.results.resize(n);
+  run.records.resize(n);
+  std::vector<PairwiseMatchData> matches(n);
+  tbb::parallel_for(size_t(0), n, [&](size_t m) {
+    RigViews views;
+    for (const RigCamera& rc : rig.cameras) {
+      views.camera_names.push_back(rc.name);
+      views.cameras.push_back(rc.camera);
+    }
+    views.num_frames = static_cast<int>(inputs.frames.frames.size());
+    views.features = features.Of(modes[m]);
+    RigCalibrationOptions o = options.rig;
+    o.pairwise.matching.gate_by_class = UsesGating(modes[m]);
+    o.pairwise.keep_match_details = o.pairwise.keep_match_details || o.keep_details;
+    PairwiseResult pairwise = MatchRigPairs(views, o.pairwise);
+    RigCalibrationResult& r = run.results[m];
+    r = EstimateRigFromPairs(views, pairwise, o);
+    r.semantic_mode = std::string(SemanticModeName(modes[m]));
+    for (size_t c = 0; c < inputs.rig.cameras.size(); ++c) r.rig.cameras[c].time_offset_s = inputs.rig.cameras[c].time_offset_s;
+    run.records[m].detect_time_s = features.DetectTimeS(modes[m]);
+    run.records[m].inlier_samples = InlierSamples(inputs.rig, pairwise.report, pairwise.matches);
+    matches[m] = std::move(pairwise.matches);
+  });
+
+  if (options.evaluate && inputs.truth) {
+    std::vector<CalibrationScores> scores;
+    for (const RigCalibrationResult& r : run.results) scores.push_back(ScorePoses(*inputs.truth, r));
+    ScoreMatches(inputs.dataset_dir, *inputs.truth, inputs.frames, run.results, matches, options.precision, &scores);
+    for (size_t m = 0; m < n; ++m) {
+      for (PairInlierSample& s : run.records[m].inlier_samples) s.correct = InlierVerdicts(scores[m], matches[m], s.pair, s.frame);
+      run.records[m].truth = std::move(scores[m]);
+    }
+  }
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return run;
 }
 
-CalibrationRun CalibrateDataset(const std::filesystem::path& dataset_dir, const RigCalibrationOptions& options,
+CalibrationRun CalibrateDataset(const std::filesystem::path& dataset_dir, const CalibrationRunOptions& options,
                                 const std::vector<SemanticMode>& modes) {
   return CalibrateDataset(ReadCalibrationInputs(dataset_dir), options, modes);
 }

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
-#include "geometry/json_io.h"
+#include "pipeline/calibration_json.h"
 
 namespace rigsim {
 namespace {
@@ -43,81 +43,74 @@ std::optional<double> Median(std::vector<double> v) {
 
 }  // namespace
 
-OverlapTable ReadOverlap(const std::filesystem::path& overlap_json) {
-  OverlapTable table;
-  if (!std::filesystem::exists(overlap_json)) return table;
-  const json_io::Json j = json_io::ReadFile(overlap_json);
-  if (!j.contains("pairs") || !j["pairs"].is_array()) {
-    throw std::runtime_error(overlap_json.string() + ": expected a 'pairs' array");
-  }
-  for (const auto& p : j["pairs"]) {
-    const std::string src = overlap_json.string();
-    const auto a = json_io::Get<std::string>(p, "a", src, "pairs[]");
-    const auto b = json_io::Get<std::string>(p, "b", src, "pairs[]");
-    const double ab = json_io::Get<double>(p, "overlap_a_in_b", src, "pairs[]");
-    const double ba = json_io::Get<double>(p, "overlap_b_in_a", src, "pairs[]");
-    table[{a, b}] = table[{b, a}] = std::min(ab, ba);
-  }
-  return table;
-}
-
-std::string FormatPairTable(const std::vector<CalibrationReport>& reports, const OverlapTable& overlap) {
+std::string FormatPairTable(const CalibrationRun& run) {
+  const OverlapTable& overlap = run.inputs.overlap;
   std::ostringstream out;
   char line[256];
   std::snprintf(line, sizeof(line), "%-14s %7s  %-10s %8s %8s %9s %10s %10s  %-13s  %s\n", "pair", "overlap",
                 "method", "matches", "inliers", "precision", "rot_err", "t_dir_err", "type", "status");
   out << line;
-  if (reports.empty()) return out.str();
-  for (size_t i = 0; i < reports[0].pairs.size(); ++i) {
-    for (size_t m = 0; m < reports.size(); ++m) {
-      const PairResult& p = reports[m].pairs[i];
+  if (run.results.empty()) return out.str();
+  for (size_t i = 0; i < run.results[0].pairwise.pairs.size(); ++i) {
+    for (size_t m = 0; m < run.results.size(); ++m) {
+      const PairResult& p = run.results[m].pairwise.pairs[i];
+      const CalibrationScores* scores = run.Truth(m);
+      const PairAgainstTruth* truth = scores ? &scores->pairs[i] : nullptr;
+      const PairAgainstTruth none;
+      const PairAgainstTruth& t = truth ? *truth : none;
       const std::string pair = m == 0 ? p.cam_a + "-" + p.cam_b : "";
       const std::string ov = m == 0 ? Opt(Percent(OverlapOf(overlap, p)), "%.0f%%") : "";
       // Type: what the matches determine (two_view.h: general, planar, rotation-only).
       const TwoViewEstimate& tv = p.two_view;
       const std::string type = tv.success ? std::string(PairTypeName(tv.pair_type)) : "-";
       std::string status = PairStatus(p);
-      if (p.Solved() && !PairWithinTolerance(p).value_or(true)) status += " (outside tolerance against the truth)";
+      if (p.Solved() && !PairWithinTolerance(p, truth).value_or(true)) status += " (outside tolerance against the truth)";
       // The status goes last and whole: it says what to do.
       std::snprintf(line, sizeof(line), "%-14s %7s  %-10s %8d %8d %9s %10s %10s  %-13s  ", pair.c_str(), ov.c_str(),
-                    reports[m].semantic_mode.c_str(), tv.num_matches, tv.num_inliers,
-                    Opt(Percent(p.match_precision), "%.1f%%").c_str(),
-                    tv.success ? Opt(p.rotation_error_deg, "%.3f deg").c_str() : "-",
-                    tv.success ? Opt(p.translation_direction_error_deg, "%.2f deg").c_str() : "-", type.c_str());
+                    run.results[m].semantic_mode.c_str(), tv.num_matches, tv.num_inliers,
+                    Opt(Percent(t.match_precision), "%.1f%%").c_str(),
+                    tv.success ? Opt(t.rotation_error_deg, "%.3f deg").c_str() : "-",
+                    tv.success ? Opt(t.translation_direction_error_deg, "%.2f deg").c_str() : "-", type.c_str());
       out << line << status << "\n";
     }
   }
   return out.str();
 }
 
-std::string FormatSummary(const std::vector<CalibrationReport>& reports, const OverlapTable& overlap) {
+std::string FormatSummary(const CalibrationRun& run) {
+  const OverlapTable& overlap = run.inputs.overlap;
   std::ostringstream out;
-  for (const CalibrationReport& r : reports) {
+  for (size_t m = 0; m < run.results.size(); ++m) {
+    const CalibrationReport& r = run.results[m].pairwise;
+    const CalibrationScores* truth = run.Truth(m);
     std::vector<double> rot, tdir, prec;
     int neighbours = 0, solved = 0;
-    for (const PairResult& p : r.pairs) {
+    for (size_t i = 0; i < r.pairs.size(); ++i) {
+      const PairResult& p = r.pairs[i];
       if (!IsNeighbour(overlap, p)) continue;
       ++neighbours;
-      if (p.match_precision) prec.push_back(*p.match_precision);
+      const PairAgainstTruth* t = truth ? &truth->pairs[i] : nullptr;
+      if (t && t->match_precision) prec.push_back(*t->match_precision);
       if (!p.Solved()) continue;
       ++solved;
-      if (p.rotation_error_deg) rot.push_back(*p.rotation_error_deg);
-      if (p.translation_direction_error_deg) tdir.push_back(*p.translation_direction_error_deg);
+      if (t && t->rotation_error_deg) rot.push_back(*t->rotation_error_deg);
+      if (t && t->translation_direction_error_deg) tdir.push_back(*t->translation_direction_error_deg);
     }
     // Without overlap.json (photos) every pair counts: whether two views overlap is not known.
-    out << r.semantic_mode << ": " << solved << "/" << neighbours
+    out << run.results[m].semantic_mode << ": " << solved << "/" << neighbours
         << (overlap.empty() ? " pairs solved" : " overlapping pairs solved") << ", median rotation error " << Opt(Median(rot), "%.4f deg")
         << ", median translation direction error " << Opt(Median(tdir), "%.2f deg") << ", median match precision "
         << Opt(Percent(Median(prec)), "%.1f%%") << "; "
         << Fmt("%.0f", r.mean_keypoints_per_image) << " keypoints/image; time detect "
-        << Fmt("%.2f s", r.detect_time_s) << ", screen " << Fmt("%.2f s", r.screen_time_s) << ", match "
+        << Fmt("%.2f s", m < run.records.size() ? run.records[m].detect_time_s : 0.0) << ", screen " << Fmt("%.2f s", r.screen_time_s) << ", match "
         << Fmt("%.2f s", r.match_time_s + r.temporal_match_time_s) << ", pose "
         << Fmt("%.2f s", r.pose_time_s + r.temporal_pose_time_s) << " (summed over threads)\n";
   }
   return out.str();
 }
 
-std::string FormatRigTable(const std::vector<RigCalibrationResult>& results) {
+std::string FormatRigTable(const CalibrationRun& run) {
+  const std::vector<RigCalibrationResult>& results = run.results;
   std::ostringstream out;
   char line[512];
   std::snprintf(line, sizeof(line), "%-10s %-10s %10s %10s %10s %10s %8s  %s\n", "camera", "method", "rot_err",
@@ -128,14 +121,18 @@ std::string FormatRigTable(const std::vector<RigCalibrationResult>& results) {
     for (size_t m = 0; m < results.size(); ++m) {
       const RigCalibrationResult& r = results[m];
       const RigCameraStats& st = r.camera_stats[c];
-      std::string status = r.camera_status[c];
-      if (r.rig.cameras[c].cam_from_rig && !CameraWithinTolerance(r, c).value_or(true)) {
+      const CalibrationScores* scores = run.Truth(m);
+      const CameraAgainstTruth* truth = scores ? &scores->cameras[c] : nullptr;
+      const CameraAgainstTruth none;
+      const CameraAgainstTruth& t = truth ? *truth : none;
+      std::string status = r.camera_status[c].Text();
+      if (r.rig.cameras[c].cam_from_rig && !CameraWithinTolerance(truth).value_or(true)) {
         status += " (outside tolerance against the truth)";
       }
       std::snprintf(line, sizeof(line), "%-10s %-10s %10s %10s %10s %10s %8d  ",
                     m == 0 ? r.rig.cameras[c].name.c_str() : "", r.semantic_mode.c_str(),
-                    Opt(st.rotation_error_deg, "%.3f deg").c_str(), Opt(st.translation_direction_error_deg, "%.2f deg").c_str(),
-                    Opt(st.direction_std_deg, "%.3f deg").c_str(), Opt(st.position_error_m, "%.3f m").c_str(),
+                    Opt(t.rotation_error_deg, "%.3f deg").c_str(), Opt(t.translation_direction_error_deg, "%.2f deg").c_str(),
+                    Opt(st.direction_std_deg, "%.3f deg").c_str(), Opt(t.position_error_m, "%.3f m").c_str(),
                     st.observations);
       out << line << status << "\n";
     }
@@ -143,31 +140,36 @@ std::string FormatRigTable(const std::vector<RigCalibrationResult>& results) {
   return out.str();
 }
 
-std::string FormatRigSummary(const std::vector<RigCalibrationResult>& results) {
+std::string FormatRigSummary(const CalibrationRun& run) {
   std::ostringstream out;
-  for (const RigCalibrationResult& r : results) {
+  for (size_t m = 0; m < run.results.size(); ++m) {
+    const RigCalibrationResult& r = run.results[m];
+    const CalibrationScores* truth = run.Truth(m);
     int calibrated = 0;
     std::optional<double> worst_rot, worst_dir;
     // Over every camera with an estimate, "rotation only" ones included, as evaluation.json's summary.
     for (size_t c = 0; c < r.camera_stats.size(); ++c) {
-      const RigCameraStats& st = r.camera_stats[c];
-      if (st.rotation_error_deg) worst_rot = std::max(worst_rot.value_or(0.0), *st.rotation_error_deg);
-      if (st.translation_direction_error_deg) worst_dir = std::max(worst_dir.value_or(0.0), *st.translation_direction_error_deg);
+      if (truth) {
+        const CameraAgainstTruth& t = truth->cameras[c];
+        if (t.rotation_error_deg) worst_rot = std::max(worst_rot.value_or(0.0), *t.rotation_error_deg);
+        if (t.translation_direction_error_deg) worst_dir = std::max(worst_dir.value_or(0.0), *t.translation_direction_error_deg);
+      }
       calibrated += r.rig.cameras[c].cam_from_rig.has_value();
     }
     out << r.semantic_mode << ": " << calibrated << "/" << r.rig.cameras.size() << " cameras calibrated";
-    if (r.evaluated) {
+    if (truth) {
       out << ", worst rotation error " << Opt(worst_rot, "%.4f deg") << ", worst translation direction error "
           << Opt(worst_dir, "%.2f deg");
     }
     out << ", reprojection RMS " << Fmt("%.2f px", r.reprojection_rms_px) << " over " << r.num_observations
-        << " observations; " << r.scale << "\n";
+        << " observations; " << ScaleText(r) << "\n";
     for (const std::string& w : r.warnings) out << "  warning: " << w << "\n";
   }
   return out.str();
 }
 
-std::string FormatIntrinsicsTable(const std::vector<RigCalibrationResult>& results) {
+std::string FormatIntrinsicsTable(const CalibrationRun& run) {
+  const std::vector<RigCalibrationResult>& results = run.results;
   std::ostringstream out;
   char line[512];
   std::snprintf(line, sizeof(line), "%-10s %-10s %18s %18s %16s %16s %10s %10s\n", "camera", "method", "fx change",
@@ -178,6 +180,8 @@ std::string FormatIntrinsicsTable(const std::vector<RigCalibrationResult>& resul
     for (size_t m = 0; m < results.size(); ++m) {
       const RigCalibrationResult& r = results[m];
       const std::optional<RefinedIntrinsics>& in = r.camera_stats[c].intrinsics;
+      const CalibrationScores* scores = run.Truth(m);
+      const IntrinsicsErrors* errors = scores && scores->cameras[c].intrinsics ? &*scores->cameras[c].intrinsics : nullptr;
       const char* name = m == 0 ? r.rig.cameras[c].name.c_str() : "";
       if (!in || in->given.size() < 4 || in->refined.size() < 4) {
         std::snprintf(line, sizeof(line), "%-10s %-10s not refined (no bundle-adjustment observation)\n", name,
@@ -192,7 +196,8 @@ std::string FormatIntrinsicsTable(const std::vector<RigCalibrationResult>& resul
       auto pp = [&](size_t i) { return Fmt("%+.2f", in->refined[i] - in->given[i]) + Fmt(" +-%.2f px", stddev(i)); };
       std::snprintf(line, sizeof(line), "%-10s %-10s %18s %18s %16s %16s %10s %10s\n", name, r.semantic_mode.c_str(),
                     focal(0).c_str(), focal(1).c_str(), pp(2).c_str(), pp(3).c_str(),
-                    Opt(in->focal_error_percent, "%.3f%%").c_str(), Opt(in->principal_point_error_px, "%.2f px").c_str());
+                    errors ? Fmt("%.3f%%", errors->focal_error_percent).c_str() : "-",
+                    errors ? Fmt("%.2f px", errors->principal_point_error_px).c_str() : "-");
       out << line;
     }
   }

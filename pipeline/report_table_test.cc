@@ -2,32 +2,43 @@
 
 #include <gtest/gtest.h>
 
+#include "pipeline/pipeline_test_support.h"
+
 namespace rigsim {
 namespace {
 
-PairResult Pair(const std::string& a, const std::string& b, bool success, double rot_err) {
+PairResult Pair(const std::string& a, const std::string& b, bool success) {
   PairResult p;
   p.cam_a = a;
   p.cam_b = b;
   p.two_view.success = success;
   p.two_view.num_matches = 100;
   p.two_view.num_inliers = success ? 80 : 0;
-  if (success) p.rotation_error_deg = rot_err;
   if (!success) p.two_view.failure_reason = "too few inliers";
   return p;
 }
 
-CalibrationReport Report() {
-  CalibrationReport r;
+// Three pairs of which cam0-cam2 failed; the others 0.1 and 0.3 deg off the truth.
+CalibrationRun PairsRun(const OverlapTable& overlap) {
+  RigCalibrationResult r;
   r.semantic_mode = "none";
-  r.pairs = {Pair("cam0", "cam1", true, 0.1), Pair("cam0", "cam2", false, 0), Pair("cam1", "cam2", true, 0.3)};
-  return r;
+  r.pairwise.pairs = {Pair("cam0", "cam1", true), Pair("cam0", "cam2", false), Pair("cam1", "cam2", true)};
+  CalibrationRun run;
+  run.inputs.overlap = overlap;
+  run.results = {r};
+  run.records.resize(1);
+  CalibrationScores truth;
+  truth.pairs.resize(3);
+  truth.pairs[0].rotation_error_deg = 0.1;
+  truth.pairs[2].rotation_error_deg = 0.3;
+  run.records[0].truth = truth;
+  return run;
 }
 
 TEST(FormatPairTable, OneRowPerPairAndMethod) {
   OverlapTable overlap;
   overlap[{"cam0", "cam1"}] = 0.34;
-  const std::string table = FormatPairTable({Report()}, overlap);
+  const std::string table = FormatPairTable(PairsRun(overlap));
   EXPECT_NE(table.find("cam0-cam1"), std::string::npos) << table;
   EXPECT_NE(table.find("34%"), std::string::npos) << table;
   EXPECT_NE(table.find("0.100 deg"), std::string::npos) << table;
@@ -39,10 +50,9 @@ TEST(FormatSummary, CountsOnlyOverlappingPairsWhenOverlapIsKnown) {
   OverlapTable overlap;
   overlap[{"cam0", "cam1"}] = overlap[{"cam1", "cam0"}] = 0.34;
   overlap[{"cam1", "cam2"}] = overlap[{"cam2", "cam1"}] = 0.01;  // below kNeighbourOverlap
-  EXPECT_NE(FormatSummary({Report()}, overlap).find("none: 1/1 overlapping pairs solved"), std::string::npos);
-  EXPECT_NE(FormatSummary({Report()}, {}).find("none: 2/3 pairs solved, median rotation error 0.2000 deg"),
-            std::string::npos)
-      << FormatSummary({Report()}, {});
+  EXPECT_NE(FormatSummary(PairsRun(overlap)).find("none: 1/1 overlapping pairs solved"), std::string::npos);
+  EXPECT_NE(FormatSummary(PairsRun({})).find("none: 2/3 pairs solved, median rotation error 0.2000 deg"), std::string::npos)
+      << FormatSummary(PairsRun({}));
 }
 
 TEST(FormatRigTable, OneRowPerCameraAndMethod) {
@@ -50,14 +60,19 @@ TEST(FormatRigTable, OneRowPerCameraAndMethod) {
   r.semantic_mode = "mask";
   r.rig.cameras = {{"cam0", Camera(CameraModelId::kPinhole, 64, 48, {50, 50, 32, 24}), Rigid3d(), 0.0},
                    {"cam1", Camera(CameraModelId::kPinhole, 64, 48, {50, 50, 32, 24}), std::nullopt, 0.0}};
-  r.camera_status = {"calibrated (reference: rig frame)", "not connected: cam0-cam1: two-view failed"};
+  r.camera_status = {{CameraOutcome::kCalibrated, PositionOutcome::kPlaced, "reference: rig frame"},
+                     {CameraOutcome::kNotConnected, PositionOutcome::kNotObservable, "cam0-cam1: two-view failed"}};
   r.camera_stats.assign(2, {});
-  r.camera_stats[0].rotation_error_deg = 0.0;
-  r.evaluated = true;
   r.scale = "no scale";
-  const std::string table = FormatRigTable({r});
+  CalibrationRun run = RunOf({r});
+  CalibrationScores truth;
+  truth.cameras.resize(2);
+  truth.cameras[0].rotation_error_deg = 0.0;
+  run.records[0].truth = truth;
+  const std::string table = FormatRigTable(run);
   EXPECT_NE(table.find("not connected"), std::string::npos) << table;
-  EXPECT_NE(FormatRigSummary({r}).find("mask: 1/2 cameras calibrated"), std::string::npos) << FormatRigSummary({r});
+  EXPECT_NE(FormatRigSummary(run).find("mask: 1/2 cameras calibrated, worst rotation error 0.0000 deg"), std::string::npos)
+      << FormatRigSummary(run);
 }
 
 // The status is what tells a user what to change; the table once cut it at a column width
@@ -68,13 +83,14 @@ TEST(FormatRigTable, StatusIsPrintedWhole) {
   r.rig.cameras = {{"cam0", Camera(CameraModelId::kPinhole, 64, 48, {50, 50, 32, 24}), Rigid3d(), 0.0},
                    {"cam1", Camera(CameraModelId::kPinhole, 64, 48, {50, 50, 32, 24}), std::nullopt, 0.0}};
   const std::string why =
-      "rotation only: position not observable: the tracks leave the positions undetermined (second smallest "
+      "not observable: the tracks leave the positions undetermined (second smallest "
       "eigenvalue 15.1 times the smallest); to place it: more frames, a path that turns (the rig turned 2.0 deg), "
       "more overlap between neighbouring cameras, or a higher resolution";
-  r.camera_status = {"calibrated (reference: rig frame)", why};
+  r.camera_status = {{CameraOutcome::kCalibrated, PositionOutcome::kPlaced, "reference: rig frame"},
+                     {CameraOutcome::kRotationOnly, PositionOutcome::kNotObservable, why}};
   r.camera_stats.assign(2, {});
-  const std::string table = FormatRigTable({r});
-  EXPECT_NE(table.find(why + "\n"), std::string::npos) << table;
+  const std::string table = FormatRigTable(RunOf({r}));
+  EXPECT_NE(table.find("rotation only: position " + why + "\n"), std::string::npos) << table;
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 
+#include "common/param_spec.h"
 #include "gltf/scene_builder.h"
 #include "procedural/motion.h"
 #include "procedural/objects.h"
@@ -479,7 +480,8 @@ ScenePreset ScenePresetFromName(std::string_view name) {
   for (ScenePreset p : AllScenePresets()) {
     if (ScenePresetName(p) == name) return p;
   }
-  throw std::invalid_argument("unknown scene preset '" + std::string(name) + "' (expected street, plaza or parking)");
+  throw std::invalid_argument("unknown scene preset '" + std::string(name) + "' (expected " +
+                              JoinNames(NamesOf(AllScenePresets(), ScenePresetName)) + ")");
 }
 
 std::vector<ScenePreset> AllScenePresets() { return {ScenePreset::kStreet, ScenePreset::kPlaza, ScenePreset::kParking}; }

@@ -397,15 +397,8 @@ class StreetGenerator {
       }
       AddNoise(c, rng.Fork(), 0.05f, 16);
       const int mat = Material("person_" + std::to_string(i), c);
-      const UvRect shirt{0, 0, 1, 0.5f}, trousers{0, 0.5f, 0.75f, 1}, skin{0.75f, 0.5f, 1, 1};
       const float s = rng.Uniform(0.9f, 1.08f);  // body scale
-      MeshData m;
-      AddBox(m, s * Vector3f(-0.2f, 0, -0.1f), s * Vector3f(-0.03f, 0.85f, 0.1f), trousers);
-      AddBox(m, s * Vector3f(0.03f, 0, -0.1f), s * Vector3f(0.2f, 0.85f, 0.1f), trousers);
-      AddBox(m, s * Vector3f(-0.23f, 0.85f, -0.12f), s * Vector3f(0.23f, 1.5f, 0.12f), shirt);
-      AddBox(m, s * Vector3f(-0.32f, 0.8f, -0.06f), s * Vector3f(-0.23f, 1.45f, 0.06f), shirt);
-      AddBox(m, s * Vector3f(0.23f, 0.8f, -0.06f), s * Vector3f(0.32f, 1.45f, 0.06f), shirt);
-      AddBlob(m, s * Vector3f(0, 1.63f, 0), s * Vector3f(0.1f, 0.12f, 0.11f), 0.05f, rng.Fork(), skin);
+      MeshData m = PersonMesh(s, rng.Fork());
       const float yaw = rng.Uniform(0, 2 * kPi);
       Eigen::Matrix4d place = Placement(spots[i][0], spots[i][1], yaw);
       place(1, 3) = kCurbHeight;  // standing on the sidewalk

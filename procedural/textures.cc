@@ -9,7 +9,7 @@ namespace rigsim::procedural {
 
 
 float Lattice(int x, int y, uint64_t seed) {
-  const uint64_t h = Mix(seed ^ (uint64_t(uint32_t(x)) * 0x9E3779B97F4A7C15ull) ^ (uint64_t(uint32_t(y)) * 0xC2B2AE3D27D4EB4Full));
+  const uint64_t h = SplitMix64(seed ^ (uint64_t(uint32_t(x)) * 0x9E3779B97F4A7C15ull) ^ (uint64_t(uint32_t(y)) * 0xC2B2AE3D27D4EB4Full));
   return float(h >> 40) * (1.0f / 16777216.0f);
 }
 

@@ -15,6 +15,8 @@
 
 #include <Eigen/Core>
 
+#include "common/splitmix64.h"
+
 namespace rigsim::procedural {
 
 using Eigen::Vector2f;
@@ -27,17 +29,10 @@ inline constexpr float kPi = 3.14159265358979f;
 // Never draw twice from one Rng within one function-argument list or one arithmetic expression:
 // their evaluation order is unspecified and differs between compilers (GCC vs Clang).
 
-inline uint64_t Mix(uint64_t z) {  // splitmix64 finaliser
-  z += 0x9E3779B97F4A7C15ull;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
 class Rng {
  public:
-  explicit Rng(uint64_t seed) : state_(Mix(seed)) {}
-  uint64_t Next() { return Mix(state_++); }
+  explicit Rng(uint64_t seed) : state_(SplitMix64(seed)) {}
+  uint64_t Next() { return SplitMix64(state_++); }
   float Uniform() { return float(Next() >> 40) * (1.0f / 16777216.0f); }
   float Uniform(float a, float b) { return a + (b - a) * Uniform(); }
   int Int(int lo, int hi) { return lo + int(Next() % uint64_t(hi - lo + 1)); }  // inclusive

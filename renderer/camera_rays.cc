@@ -7,6 +7,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "common/splitmix64.h"
 #include "renderer/tiles.h"
 
 namespace rigsim {
@@ -15,18 +16,11 @@ namespace {
 // Counter-based random numbers: a pure function of (seed, pixel, sample), so the image does not
 // depend on which thread renders which tile.
 
-uint64_t Mix64(uint64_t z) {
-  z += 0x9e3779b97f4a7c15ull;
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
-
 // The hash of (seed, x, y), from which each sample's numbers are one more mix.
-uint64_t PixelHash(uint64_t seed, int x, int y) { return Mix64(Mix64(seed) ^ (uint64_t(uint32_t(x)) << 32 | uint32_t(y))); }
+uint64_t PixelHash(uint64_t seed, int x, int y) { return SplitMix64(SplitMix64(seed) ^ (uint64_t(uint32_t(x)) << 32 | uint32_t(y))); }
 
 uint64_t SampleHash(uint64_t pixel_hash, int sample, int stream) {
-  return Mix64(pixel_hash ^ (uint64_t(uint32_t(sample)) << 8 | uint32_t(stream)));
+  return SplitMix64(pixel_hash ^ (uint64_t(uint32_t(sample)) << 8 | uint32_t(stream)));
 }
 
 float UnitFloat(uint64_t h) { return float(h >> 40) * 0x1p-24f; }  // [0, 1)

@@ -53,9 +53,9 @@ class EmbreeScene {
              const std::vector<std::vector<SceneMesh>>* steps = nullptr);
 
   // Rays go to Embree in streams, a batch's camera rays in one call and their shadow rays in
-  // another, marked coherent: Embree then traverses neighbouring rays together in SIMD packets.
-  // On the street that traces a frame's rays 4.5x as fast as one rtcIntersect1 / rtcOccluded1
-  // call per ray, hitting the same triangles at the same points. Thread-safe.
+  // another, marked coherent: Embree then traverses neighbouring rays together in SIMD packets,
+  // much faster than a call per ray and hitting the same triangles at the same points
+  // (BENCHMARKS.md, "Ray streams"). Thread-safe.
   void Intersect(std::vector<RTCRayHit>& rays) const;
   void Occlude(std::vector<RTCRay>& rays) const;
 

@@ -14,18 +14,11 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "common/splitmix64.h"
 #include "renderer/srgb.h"
 
 namespace rigsim {
 namespace {
-
-// splitmix64's finaliser: a well-mixed 64-bit hash of a 64-bit input.
-uint64_t Mix(uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
 
 // Streams keep the per-camera draws and the noise independent of each other.
 enum Stream : uint64_t { kExposure = 1, kWhiteRed = 2, kWhiteBlue = 3, kNoise = 4 };
@@ -41,7 +34,7 @@ std::pair<double, double> GaussianPair(uint64_t bits) {
 double Gaussian(uint64_t bits) { return GaussianPair(bits).first; }
 
 uint64_t CameraKey(uint64_t seed, int camera_index, uint64_t stream) {
-  return Mix(Mix(Mix(seed) ^ uint64_t(uint32_t(camera_index))) ^ stream);
+  return SplitMix64(SplitMix64(SplitMix64(seed) ^ uint64_t(uint32_t(camera_index))) ^ stream);
 }
 
 
@@ -116,7 +109,7 @@ void ApplyPhotometry(const CameraPhotometry& p, const PhotometricNoiseKey& key, 
   const bool noisy = p.shot_noise > 0.0 || p.read_noise_stddev > 0.0;
   const double read_var = p.read_noise_stddev * p.read_noise_stddev;
   const Eigen::Vector3d channel_gain = p.gain() * p.white_balance;
-  const uint64_t frame_key = Mix(Mix(Mix(Mix(key.seed) ^ uint64_t(uint32_t(key.camera_index))) ^ uint64_t(uint32_t(key.frame_index))) ^ kNoise);
+  const uint64_t frame_key = SplitMix64(SplitMix64(SplitMix64(SplitMix64(key.seed) ^ uint64_t(uint32_t(key.camera_index))) ^ uint64_t(uint32_t(key.frame_index))) ^ kNoise);
   const std::array<float, 256>& decode = LinearFromSrgbCodeTable();
   // V(r) = 1 / (1 + k r^2)^2 (CameraPhotometry::Vignetting), evaluated from r^2 directly.
   const double k = p.vignetting_strength > 0 ? 1.0 / std::sqrt(1.0 - p.vignetting_strength) - 1.0 : 0.0;
@@ -131,8 +124,8 @@ void ApplyPhotometry(const CameraPhotometry& p, const PhotometricNoiseKey& key, 
         double z[3] = {0.0, 0.0, 0.0};
         if (noisy) {
           const uint64_t pixel = uint64_t(y) * rgb.width + x;
-          std::tie(z[0], z[1]) = GaussianPair(Mix(frame_key ^ (2 * pixel)));
-          z[2] = Gaussian(Mix(frame_key ^ (2 * pixel + 1)));
+          std::tie(z[0], z[1]) = GaussianPair(SplitMix64(frame_key ^ (2 * pixel)));
+          z[2] = Gaussian(SplitMix64(frame_key ^ (2 * pixel + 1)));
         }
         uint8_t* px = &rgb.at(x, y, 0);
         for (int c = 0; c < 3; ++c) {

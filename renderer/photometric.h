@@ -21,7 +21,7 @@
 
 #include <Eigen/Core>
 
-#include "dataset/image.h"
+#include "geometry/image.h"
 
 namespace rigsim {
 

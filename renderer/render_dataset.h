@@ -36,7 +36,7 @@
 namespace rigsim {
 
 // Ground truth beyond labels, instances and depth, each off unless asked for (dataset layout in
-// README, 'Dataset layout').
+// docs/datasets.md).
 struct ExtraOutputs {
   // correspondence/<a>/<b>/<frame>.exr for every ordered camera pair of a frame where some pixel
   // of a is visible in b, and flow/<cam>/<frame>.exr from each frame to the next (same camera):
@@ -73,7 +73,7 @@ struct RenderJob {
 //                  in b (dataset/ground_truth.h CountCoVisible), averaged over the frames.
 //   poses.json (only when some camera has a time offset, rolling shutter or exposure): per camera
 //                 and frame the true pose at its capture time, and per image row with a rolling
-//                 shutter (format in README, 'Dataset layout').
+//                 shutter (format in docs/datasets.md).
 //   the ExtraOutputs asked for.
 //   photometric.json (only when job.photometric is enabled):
 //                 {"seed": S, "options": {...PhotometricOptions fields}, "model": "...",

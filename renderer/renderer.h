@@ -25,8 +25,8 @@
 
 #include <Eigen/Core>
 
-#include "dataset/image.h"
 #include "geometry/camera.h"
+#include "geometry/image.h"
 #include "geometry/rig.h"
 #include "geometry/rigid3.h"
 #include "scene/scene.h"

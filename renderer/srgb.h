@@ -11,7 +11,7 @@ namespace rigsim {
 double SrgbToLinear(double encoded);
 
 // Tables for SrgbCodeFromLinear, built once. The encoder is inline because the renderer calls it
-// three times per pixel (as a call into another file it costs 6 ms of a 210 ms one-thread frame).
+// three times per pixel, where a call into another file costs time (BENCHMARKS.md).
 struct SrgbEncodeTables {
   static constexpr int kBuckets = 4096;
   // Code i + 1 starts at thresholds[i] (the smallest float at or above the midpoint between the

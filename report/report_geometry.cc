@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "pipeline/calibration_scores.h"
+
 namespace rigsim {
 
 std::vector<Eigen::Vector3d> FieldOfViewOutline(const Camera& camera, int per_side) {

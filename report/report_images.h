@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "common/base64.h"
-#include "dataset/image.h"
+#include "geometry/image.h"
 
 namespace rigsim {
 

@@ -79,7 +79,8 @@ Json SelfTestReference(const ReportContext& ctx, size_t p, int f, int a, int b, 
     for (size_t i = 0; i < md.matches[p][f].size() && !px; ++i) {
       if (!md.match_inlier[p][f][i]) continue;
       const Eigen::Vector2d& pa = md.keypoints[f][a][md.matches[p][f][i].first];
-      const bool correct = i < md.match_correct[p][f].size() && md.match_correct[p][f][i];
+      const std::vector<char>& checked = ctx.MatchCorrect(0, p, f);
+      const bool correct = i < checked.size() && checked[i];
       if (pass == 1 || (correct && !ranges[a].empty() && SmoothRange(ranges[a], pa))) px = pa;
     }
   }
@@ -113,17 +114,19 @@ Json PairEntry(const ReportContext& ctx, size_t p, int a, int b, const std::opti
   Json est = Json::object();
   for (size_t m = 0; m < run.modes.size(); ++m) {
     const PairResult& pr = run.results[m].pairwise.pairs.at(p);
+    const CalibrationScores* truth = run.Truth(m);
+    const PairAgainstTruth t = truth ? truth->pairs.at(p) : PairAgainstTruth{};
     Json mode = {{"matches", pr.two_view.num_matches},
                  {"inliers", pr.two_view.num_inliers},
                  {"success", pr.Solved()},
                  {"pair_type", pr.two_view.success ? Json(std::string(PairTypeName(pr.two_view.pair_type))) : Json(nullptr)},
                  {"failure_reason", pr.Solved() ? std::string() : PairStatus(pr)},
-                 {"matches_correct", pr.matches_correct},
-                 {"matches_evaluated", pr.matches_evaluated},
-                 {"inliers_correct", pr.inliers_correct},
-                 {"inliers_evaluated", pr.inliers_evaluated},
-                 {"rotation_error_deg", json_io::OptionalNumber(pr.rotation_error_deg)},
-                 {"translation_direction_error_deg", json_io::OptionalNumber(pr.translation_direction_error_deg)}};
+                 {"matches_correct", t.matches_correct},
+                 {"matches_evaluated", t.matches_evaluated},
+                 {"inliers_correct", t.inliers_correct},
+                 {"inliers_evaluated", t.inliers_evaluated},
+                 {"rotation_error_deg", json_io::OptionalNumber(t.rotation_error_deg)},
+                 {"translation_direction_error_deg", json_io::OptionalNumber(t.translation_direction_error_deg)}};
     Json rig_pose = nullptr;
     if (ctx.HasTruth()) {
       const AlignedEstimate& al = ctx.aligned[m];
@@ -207,7 +210,7 @@ Json WritePairs(ReportContext& ctx, Json* selftest) {
         if (!d || d->matches.matches.empty()) continue;
         const PairwiseMatchData& md = d->matches;
         const auto& mt = md.matches.at(p).at(f);
-        const auto& correct = md.match_correct.at(p).at(f);
+        const std::vector<char>& correct = ctx.MatchCorrect(m, p, f);
         std::vector<float> xy_a, xy_b;
         std::vector<uint8_t> flags;
         for (size_t i = 0; i < mt.size(); ++i) {

@@ -28,6 +28,13 @@ struct ReportContext {
   int NumCameras() const { return static_cast<int>(run.inputs.rig.cameras.size()); }
   int NumFrames() const { return static_cast<int>(run.inputs.frames.frames.size()); }
   const RigCalibrationDetails* Details(size_t mode) const { return run.results.at(mode).details.get(); }
+  // Per match of pair p in frame f, whether the truth calls it right (calibration_scores.h);
+  // empty where it was not checked.
+  const std::vector<char>& MatchCorrect(size_t mode, size_t p, int f) const {
+    static const std::vector<char> kNone;
+    const CalibrationScores* truth = run.Truth(mode);
+    return truth && p < truth->match_correct.size() ? truth->match_correct[p].at(f) : kNone;
+  }
 };
 
 // A data file the page loads with <script src>: `RIGSIM.put("<key>", <json>);`.

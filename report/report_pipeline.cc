@@ -3,6 +3,7 @@
 #include <map>
 
 #include "geometry/json_io.h"
+#include "pipeline/calibration_json.h"
 #include "pipeline/report_table.h"
 #include "report/report_parts.h"
 
@@ -64,7 +65,7 @@ Json PipelineData(ReportContext& ctx) {
   for (size_t m = 0; m < run.results.size(); ++m) {
     const RigCalibrationResult& r = run.results[m];
     const RigCalibrationDetails* d = ctx.Details(m);
-    Json mode = {{"name", r.semantic_mode}, {"scale", r.scale}, {"warnings", r.warnings}};
+    Json mode = {{"name", r.semantic_mode}, {"scale", ScaleText(r)}, {"warnings", r.warnings}};
     // 1. Keypoints.
     long keypoints = 0;
     if (d) {
@@ -93,12 +94,14 @@ Json PipelineData(ReportContext& ctx) {
     Json cameras = Json::array();
     for (size_t c = 0; c < rig.cameras.size(); ++c) {
       const RigCameraStats& s = r.camera_stats[c];
+      const CalibrationScores* truth = run.Truth(m);
+      const CameraAgainstTruth t = truth ? truth->cameras.at(c) : CameraAgainstTruth{};
       Json cam = {{"name", rig.cameras[c].name},
-                  {"status", r.camera_status[c]},
+                  {"status", r.camera_status[c].Text()},
                   {"observations", s.observations},
                   {"direction_std_deg", json_io::OptionalNumber(s.direction_std_deg)},
-                  {"rotation_error_deg", json_io::OptionalNumber(s.rotation_error_deg)},
-                  {"translation_direction_error_deg", json_io::OptionalNumber(s.translation_direction_error_deg)},
+                  {"rotation_error_deg", json_io::OptionalNumber(t.rotation_error_deg)},
+                  {"translation_direction_error_deg", json_io::OptionalNumber(t.translation_direction_error_deg)},
                   {"position_error_m", nullptr},
                   {"rotation_averaging_error_deg", nullptr}};
       if (ctx.HasTruth()) {
@@ -141,11 +144,7 @@ Json PipelineData(ReportContext& ctx) {
   }
   // The CLI's tables, as calibrate and evaluate print them; not the pairwise summary line, whose
   // stage times would make two reports of the same seed differ.
-  std::vector<CalibrationReport> reports;
-  for (const RigCalibrationResult& r : run.results) reports.push_back(r.pairwise);
-  Json tables = {{"pairs", FormatPairTable(reports, run.inputs.overlap)},
-                 {"rig", FormatRigTable(run.results)},
-                 {"rig_summary", FormatRigSummary(run.results)}};
+  Json tables = {{"pairs", FormatPairTable(run)}, {"rig", FormatRigTable(run)}, {"rig_summary", FormatRigSummary(run)}};
   if (ctx.HasTruth()) {
     std::vector<RigScores> scores;
     for (const AlignedEstimate& a : ctx.aligned) scores.push_back(a.scores);

@@ -29,7 +29,7 @@ std::string ViewStem(int c, int f) {
 // used labels; empty when there are none.
 ImageU8 RunLabels(const ReportContext& ctx, const std::string& cam, const std::string& frame, int w, int h) {
   const DatasetLayout layout = ctx.Layout();
-  const LabelSource source = ctx.run.labels_used ? ctx.run.options.pairwise.labels : LabelSource::Truth();
+  const LabelSource source = ctx.run.labels_used ? ctx.run.options.labels : LabelSource::Truth();
   if (source.kind == LabelSource::Kind::kTruth && !fs::exists(layout.Label(cam, frame))) return {};
   return LoadLabels(source, layout, cam, frame, w, h);
 }
@@ -90,7 +90,7 @@ Json WriteViews(ReportContext& ctx) {
       // Which pixels the mask modes may detect on (the eroded reliable-class mask of features.cc).
       ImageU8 mask;
       if (!labels.empty()) {
-        mask = ReliableMask(labels, ctx.run.options.pairwise.reliable, ctx.run.options.pairwise.features.mask_erosion_px);
+        mask = ReliableMask(labels, ctx.run.options.reliable.Ids(), ctx.run.options.features.mask_erosion_px);
       }
       Json keypoints = Json::object();
       for (size_t m = 0; m < ctx.run.modes.size(); ++m) {

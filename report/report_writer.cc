@@ -163,8 +163,8 @@ std::vector<std::string> WriteReport(const CalibrationRun& run, const ReportOpti
   Json modes = Json::array();
   for (const RigCalibrationResult& r : run.results) modes.push_back(r.semantic_mode);
   report["modes"] = modes;
-  report["labels"] = run.labels_used ? run.options.pairwise.labels.Describe() : "not used";
-  report["class_legend"] = ClassLegend(run.options.pairwise.reliable);
+  report["labels"] = run.labels_used ? run.options.labels.Describe() : "not used";
+  report["class_legend"] = ClassLegend(run.options.reliable);
   report["views"] = report_parts::WriteViews(ctx);
   Json selftest = nullptr;
   report["pairs"] = report_parts::WritePairs(ctx, &selftest);

@@ -10,6 +10,7 @@
 
 #include <Eigen/Geometry>
 
+#include "common/param_spec.h"
 #include "geometry/camera_models.h"
 #include "rigs/rng.h"
 
@@ -76,11 +77,10 @@ std::string_view LensKindName(LensOptions::Kind kind) {
 }
 
 LensOptions::Kind LensKindFromName(std::string_view name) {
-  for (auto k : {LensOptions::Kind::kPreset, LensOptions::Kind::kPinhole, LensOptions::Kind::kOpenCV,
-                 LensOptions::Kind::kFisheye}) {
+  for (LensOptions::Kind k : kAllLensKinds) {
     if (LensKindName(k) == name) return k;
   }
-  throw std::invalid_argument("unknown lens '" + std::string(name) + "': give preset, pinhole, opencv or fisheye");
+  throw std::invalid_argument("unknown lens '" + std::string(name) + "': give " + JoinNames(NamesOf(kAllLensKinds, LensKindName)));
 }
 
 Camera LensCamera(const LensOptions& lens, int width, int height, double hfov_deg) {

@@ -26,6 +26,8 @@ struct LensOptions {
   double fisheye_fov_deg = 190.0;  // kFisheye: horizontal field of view (Kannala-Brandt, > 180 ok)
   void Check() const;              // throws std::invalid_argument
 };
+inline constexpr LensOptions::Kind kAllLensKinds[] = {LensOptions::Kind::kPreset, LensOptions::Kind::kPinhole,
+                                                     LensOptions::Kind::kOpenCV, LensOptions::Kind::kFisheye};
 // "preset", "pinhole", "opencv", "fisheye".
 std::string_view LensKindName(LensOptions::Kind kind);
 // Throws std::invalid_argument naming the kinds when `name` is none of them.
@@ -36,7 +38,7 @@ Camera LensCamera(const LensOptions& lens, int width, int height, double hfov_de
 
 struct RingRigOptions {
   int num_cameras = 4;           // cameras on the ring, named cam0..cam{N-1} from left to right
-  double yaw_spacing_deg = 60.0; // yaw between neighbours; with hfov 95: 29-34% ground-truth overlap on the street
+  double yaw_spacing_deg = 60.0; // yaw between neighbours: at hfov 95, neighbours share about a third of their view
   double hfov_deg = 95.0;        // horizontal field of view of every camera (distorted ones too)
   double radius_m = 0.5;         // camera centres lie on this circle around the rig origin
   int width = 1280;

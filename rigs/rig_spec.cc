@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "common/param_spec.h"
 
 namespace rigsim {
 
@@ -12,7 +16,8 @@ RingRigOptions RingOf(const RigSpec& s) {
   o.width = s.width;
   o.height = s.height;
   if (s.hfov_deg) o.hfov_deg = *s.hfov_deg;
-  if (s.lens) o.lens = *s.lens;
+  o.distorted_camera = s.distorted_camera.value_or(o.num_cameras >= 2 ? 1 : -1);
+  o.lens = s.lens;
   o.target_overlap = s.overlap_percent / 100.0;
   return o;
 }
@@ -23,35 +28,55 @@ void PerturbIfAsked(const RigSpec& s, Rig* rig) {
 
 }  // namespace
 
+std::string_view RigTypeName(RigType type) {
+  switch (type) {
+    case RigType::kRing: return "ring";
+    case RigType::kStereo: return "stereo";
+    case RigType::kSurround: return "surround";
+    case RigType::kWideBaseline: return "wide-baseline";
+  }
+  throw std::invalid_argument("RigTypeName: invalid rig type " + std::to_string(static_cast<int>(type)));
+}
+
+RigType RigTypeFromName(std::string_view name) {
+  for (RigType t : kAllRigTypes) {
+    if (RigTypeName(t) == name) return t;
+  }
+  throw std::invalid_argument("unknown rig type '" + std::string(name) + "': give " +
+                              JoinNames(NamesOf(kAllRigTypes, RigTypeName)));
+}
+
 Rig BuildPresetRig(const RigSpec& s) {
-  if (s.type == "ring") return MakeRingRig(RingOf(s));
-  if (s.type == "stereo") {
-    StereoRigOptions o = s.stereo;
-    o.width = s.width;
-    o.height = s.height;
-    if (s.hfov_deg) o.hfov_deg = *s.hfov_deg;
-    if (s.baseline_m) o.baseline_m = *s.baseline_m;
-    if (s.lens) o.lens = *s.lens;
-    return MakeStereoRig(o);
+  switch (s.type) {
+    case RigType::kRing: return MakeRingRig(RingOf(s));
+    case RigType::kStereo: {
+      StereoRigOptions o = s.stereo;
+      o.width = s.width;
+      o.height = s.height;
+      if (s.hfov_deg) o.hfov_deg = *s.hfov_deg;
+      if (s.baseline_m) o.baseline_m = *s.baseline_m;
+      o.lens = s.lens;
+      return MakeStereoRig(o);
+    }
+    case RigType::kSurround: {
+      SurroundRigOptions o = s.surround;
+      o.width = s.width;
+      o.height = s.height;
+      if (s.hfov_deg) o.front_hfov_deg = *s.hfov_deg;
+      o.lens = s.lens;
+      return MakeSurroundRig(o);
+    }
+    case RigType::kWideBaseline: {
+      WideBaselineRigOptions o = s.wide;
+      o.width = s.width;
+      o.height = s.height;
+      if (s.hfov_deg) o.hfov_deg = *s.hfov_deg;
+      if (s.baseline_m) o.baseline_m = *s.baseline_m;
+      o.lens = s.lens;
+      return MakeWideBaselineRig(o);
+    }
   }
-  if (s.type == "surround") {
-    SurroundRigOptions o = s.surround;
-    o.width = s.width;
-    o.height = s.height;
-    if (s.hfov_deg) o.front_hfov_deg = *s.hfov_deg;
-    if (s.lens) o.lens = *s.lens;
-    return MakeSurroundRig(o);
-  }
-  if (s.type == "wide-baseline") {
-    WideBaselineRigOptions o = s.wide;
-    o.width = s.width;
-    o.height = s.height;
-    if (s.hfov_deg) o.hfov_deg = *s.hfov_deg;
-    if (s.baseline_m) o.baseline_m = *s.baseline_m;
-    if (s.lens) o.lens = *s.lens;
-    return MakeWideBaselineRig(o);
-  }
-  throw std::invalid_argument("unknown rig type '" + s.type + "': give ring, stereo, surround or wide-baseline");
+  throw std::invalid_argument("BuildPresetRig: invalid rig type " + std::to_string(static_cast<int>(s.type)));
 }
 
 std::optional<PlacedRig> MakePlacedRig(const RigSpec& s, const Scene* scene) {
@@ -66,7 +91,7 @@ std::optional<PlacedRig> MakePlacedRig(const RigSpec& s, const Scene* scene) {
     if (!out.placement) return std::nullopt;
     trajectory.start_world = out.placement->position_world;
     trajectory.heading_deg = out.placement->heading_deg;
-    if (s.type == "ring" && s.overlap_percent > 0) {
+    if (s.type == RigType::kRing && s.overlap_percent > 0) {
       // The spacing for the ground-truth overlap in this scene at this place: sky and occluders
       // change it from the angular value.
       out.rig = MakeRingRigInScene(RingOf(s), *scene, RigFromWorldAt(trajectory.start_world, trajectory.heading_deg));

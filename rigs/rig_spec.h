@@ -1,11 +1,13 @@
 // A rig as `rigsim make-rig` builds it: a preset type with its options, mounting errors, and its
 // path over the frames, placed in a scene when one is given (where it stands and, for a ring with
 // a target overlap, the spacing that gives that overlap there). The one place where type, lens,
-// placement, overlap and trajectory meet: the command line and sweeps both build rigs here.
+// placement, overlap and trajectory meet: the command line and sweeps both build rigs here, from
+// the values of the parameters rigs/rig_params.h describes.
 #pragma once
 
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "dataset/dataset.h"
@@ -17,8 +19,17 @@
 
 namespace rigsim {
 
+enum class RigType { kRing, kStereo, kSurround, kWideBaseline };
+
+inline constexpr RigType kAllRigTypes[] = {RigType::kRing, RigType::kStereo, RigType::kSurround, RigType::kWideBaseline};
+
+// "ring", "stereo", "surround", "wide-baseline".
+std::string_view RigTypeName(RigType type);
+// Inverse of RigTypeName; throws std::invalid_argument naming the types.
+RigType RigTypeFromName(std::string_view name);
+
 struct RigSpec {
-  std::string type = "ring";  // ring, stereo, surround, wide-baseline
+  RigType type = RigType::kRing;
   RingRigOptions ring;
   StereoRigOptions stereo;
   SurroundRigOptions surround;
@@ -28,7 +39,9 @@ struct RigSpec {
   int height = 720;
   std::optional<double> hfov_deg;    // the type's perspective cameras (surround: the front camera)
   std::optional<double> baseline_m;  // stereo, wide-baseline
-  std::optional<LensOptions> lens;   // every camera's lens instead of the type's own
+  LensOptions lens;                  // every camera's lens; kPreset keeps the type's own
+  // Ring: the camera with barrel distortion (ring.k1, ring.k2); unset: cam1 from two cameras on.
+  std::optional<int> distorted_camera;
   // Ring: the overlap of neighbours (percent); placed in a scene, the ground-truth overlap there.
   double overlap_percent = 0.0;
   RigPerturbation perturbation;

@@ -13,21 +13,24 @@ TEST(RigSpec, OverridesReachEveryType) {
   s.height = 200;
   s.hfov_deg = 70.0;
   s.baseline_m = 0.5;
-  for (const char* type : {"ring", "stereo", "surround", "wide-baseline"}) {
+  for (RigType type : kAllRigTypes) {
     s.type = type;
     const Rig rig = BuildPresetRig(s);
     for (const RigCamera& c : rig.cameras) {
-      EXPECT_EQ(c.camera.width(), 320) << type;
-      EXPECT_EQ(c.camera.height(), 200) << type;
+      EXPECT_EQ(c.camera.width(), 320) << RigTypeName(type);
+      EXPECT_EQ(c.camera.height(), 200) << RigTypeName(type);
     }
   }
-  s.type = "wide-baseline";
+  s.type = RigType::kWideBaseline;
   const Rig wide = BuildPresetRig(s);
   const double baseline = (wide.cameras[0].cam_from_rig->Inverse().translation -
                            wide.cameras[1].cam_from_rig->Inverse().translation).norm();
   EXPECT_NEAR(baseline, 0.5, 1e-12);
-  s.type = "tri";
-  EXPECT_THROW(BuildPresetRig(s), std::invalid_argument);
+}
+
+TEST(RigSpec, RigTypesHaveOneNameEach) {
+  for (RigType type : kAllRigTypes) EXPECT_EQ(RigTypeFromName(RigTypeName(type)), type);
+  EXPECT_THROW(RigTypeFromName("tri"), std::invalid_argument);
 }
 
 TEST(RigSpec, ALensReplacesEveryCamerasOwn) {
@@ -38,21 +41,21 @@ TEST(RigSpec, ALensReplacesEveryCamerasOwn) {
   fisheye.kind = LensOptions::Kind::kFisheye;
   fisheye.fisheye_fov_deg = 190.0;
   s.lens = fisheye;
-  for (const char* type : {"ring", "stereo", "surround", "wide-baseline"}) {
+  for (RigType type : kAllRigTypes) {
     s.type = type;
     for (const RigCamera& c : BuildPresetRig(s).cameras) {
-      EXPECT_EQ(c.camera.model(), CameraModelId::kOpenCVFisheye) << type;
+      EXPECT_EQ(c.camera.model(), CameraModelId::kOpenCVFisheye) << RigTypeName(type);
       // The side edges of the image see 95 deg off the axis.
       const auto ray = c.camera.CamFromImg(Eigen::Vector2d(-0.5, 179.5));
       ASSERT_TRUE(ray.has_value());
-      EXPECT_NEAR(RadToDeg(std::atan2(std::abs(ray->x()), ray->z())), 95.0, 0.01) << type;
+      EXPECT_NEAR(RadToDeg(std::atan2(std::abs(ray->x()), ray->z())), 95.0, 0.01) << RigTypeName(type);
     }
   }
   LensOptions opencv;
   opencv.kind = LensOptions::Kind::kOpenCV;
   opencv.k1 = -0.3;
   s.lens = opencv;
-  s.type = "ring";
+  s.type = RigType::kRing;
   const Rig ring = BuildPresetRig(s);
   for (const RigCamera& c : ring.cameras) {
     ASSERT_EQ(c.camera.model(), CameraModelId::kOpenCV);
@@ -60,7 +63,7 @@ TEST(RigSpec, ALensReplacesEveryCamerasOwn) {
     EXPECT_DOUBLE_EQ(c.camera.params()[5], 0.072);
   }
   // Without a lens the ring keeps its own: pinhole but one barrel-distorted camera.
-  s.lens.reset();
+  s.lens = LensOptions{};
   const Rig preset = BuildPresetRig(s);
   EXPECT_EQ(preset.cameras[0].camera.model(), CameraModelId::kPinhole);
   EXPECT_EQ(preset.cameras[1].camera.model(), CameraModelId::kOpenCV);

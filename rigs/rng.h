@@ -4,16 +4,17 @@
 
 #include <cstdint>
 
+#include "common/splitmix64.h"
+
 namespace rigsim {
 
 class Rng {
  public:
   explicit Rng(uint64_t seed) : state_(seed) {}
   uint64_t Next() {
-    uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
+    const uint64_t x = state_;
+    state_ += kSplitMix64Increment;
+    return SplitMix64(x);
   }
   double Uniform() { return double(Next() >> 11) * (1.0 / 9007199254740992.0); }
   double Uniform(double a, double b) { return a + (b - a) * Uniform(); }

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/param_spec.h"
+
 namespace rigsim {
 namespace {
 
@@ -18,6 +20,23 @@ std::string FrameName(int k) {
 }
 
 }  // namespace
+
+std::string_view TrajectoryKindName(TrajectoryKind kind) {
+  switch (kind) {
+    case TrajectoryKind::kStraight: return "straight";
+    case TrajectoryKind::kCircle: return "circle";
+    case TrajectoryKind::kPolyline: return "polyline";
+  }
+  throw std::invalid_argument("TrajectoryKindName: invalid kind " + std::to_string(static_cast<int>(kind)));
+}
+
+TrajectoryKind TrajectoryKindFromName(std::string_view name) {
+  for (TrajectoryKind k : kNamedTrajectoryKinds) {
+    if (TrajectoryKindName(k) == name) return k;
+  }
+  throw std::invalid_argument("unknown trajectory '" + std::string(name) + "': give " +
+                              JoinNames(NamesOf(kNamedTrajectoryKinds, TrajectoryKindName)));
+}
 
 Eigen::Vector3d HeadingDirection(double heading_deg) {
   const double h = DegToRad(heading_deg);

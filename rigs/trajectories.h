@@ -5,6 +5,7 @@
 // (rig y = world -Y) and looks along its heading (rig z).
 #pragma once
 
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -26,6 +27,14 @@ FramesFile MakeStraightTrajectory(const Eigen::Vector3d& start_world, double hea
                                   double step_m, double frame_interval_s = 0.1);
 
 enum class TrajectoryKind { kStraight, kCircle, kPolyline };
+
+// The paths a rig's options choose by name (a polyline needs its waypoints).
+inline constexpr TrajectoryKind kNamedTrajectoryKinds[] = {TrajectoryKind::kStraight, TrajectoryKind::kCircle};
+
+// "straight", "circle", "polyline".
+std::string_view TrajectoryKindName(TrajectoryKind kind);
+// Inverse of TrajectoryKindName for kNamedTrajectoryKinds; throws std::invalid_argument naming them.
+TrajectoryKind TrajectoryKindFromName(std::string_view name);
 
 struct TrajectoryOptions {
   TrajectoryKind kind = TrajectoryKind::kStraight;
@@ -70,9 +79,8 @@ class RigTrajectory {
 // The demo's path on the built-in street: from the middle of the street at eye height, 2 m per
 // frame along a gentle left turn (12 m radius, 9.5 deg per frame). The turn is what makes each
 // camera's place in the rig visible in its own images (hand-eye style); on a straight path only
-// the narrow overlaps between neighbours carry it. Measured on the demo ring, 4 frames, every
-// semantic mode: worst camera 0.021 deg / 0.21 deg (rotation / translation direction) against
-// 0.033 deg / 0.35 deg straight, where the gated mode's linear position step also failed.
+// the narrow overlaps between neighbours carry it (VALIDATION.md, "A straight path against a
+// turning one").
 FramesFile MakeDemoTrajectory(int num_frames);
 
 }  // namespace rigsim

@@ -2,7 +2,10 @@
 
 #include <stdexcept>
 
+#include "calibrator/semantics.h"
 #include "common/did_you_mean.h"
+#include "common/param_spec.h"
+#include "procedural/presets.h"
 
 namespace rigsim {
 
@@ -10,6 +13,22 @@ using Json = nlohmann::ordered_json;
 
 std::vector<std::string> SuiteNames() { return {"thesis"}; }
 std::vector<std::string> SuiteSizes() { return {"small", "full"}; }
+
+Json ThesisClaimsJson() {
+  return Json::parse(R"({
+    "title": "The thesis's claims",
+    "list": [
+      {"claim": "gives a larger share of correct matches", "metric": "match_precision", "compare": "difference",
+       "holds": "> 0"},
+      {"claim": "gives fewer wrong matches between different classes", "metric": "cross_class_wrong",
+       "compare": "difference", "holds": "< 0"},
+      {"claim": "makes matching faster", "metric": "time_match_s", "compare": "ratio", "holds": "< 1"},
+      {"claim": "makes calibration faster", "metric": "time_total_s", "compare": "ratio", "holds": "< 1"},
+      {"claim": "keeps pose accuracy equal or better", "metric": "auc_pairs_5deg", "compare": "difference",
+       "holds": ">= -0.02", "note": "Accuracy counts as equal when the AUC of the pair errors at 5 deg is within 0.02."}
+    ]
+  })");
+}
 
 namespace {
 
@@ -22,16 +41,17 @@ Json Thesis(bool full) {
     "base": {"scene": "street", "rig": "ring", "cameras": 4, "overlap": 30, "width": 640, "height": 360,
              "frames": 3, "spp": 2, "trajectory": "circle", "circle_radius": 12, "step": 2}
   })");
+  config["claims"] = ThesisClaimsJson();
   if (full) {
     config["seeds"] = 3;
-    config["methods"] = {{"semantics", {"none", "mask", "gated", "mask+gated"}}, {"peers", {"colmap"}}};
+    config["methods"] = {{"semantics", NamesOf(kAllSemanticModes, SemanticModeName)}, {"peers", {"colmap"}}};
     config["studies"] = Json::parse(R"([
       {"name": "overlap", "grid": {"overlap": [5, 15, 30, 50]}},
       {"name": "baseline", "set": {"rig": "wide-baseline", "convergence": 30}, "grid": {"baseline": [0.1, 0.5, 2, 5]}},
       {"name": "lens", "zip": {"lens": ["pinhole", "opencv", "fisheye", "fisheye"], "fisheye_fov": [190, 190, 150, 190]}},
-      {"name": "label-noise", "zip": {"label_boundary": [0, 3, 6, 10], "label_confusion": [0, 0.1, 0.2, 0.3]}},
-      {"name": "scene", "grid": {"scene": ["street", "plaza", "parking"]}}
+      {"name": "label-noise", "zip": {"label_boundary": [0, 3, 6, 10], "label_confusion": [0, 0.1, 0.2, 0.3]}}
     ])");
+    config["studies"].push_back({{"name", "scene"}, {"grid", {{"scene", NamesOf(AllScenePresets(), ScenePresetName)}}}});
   } else {
     config["seeds"] = 1;
     config["methods"] = {{"semantics", {"none", "mask"}}, {"peers", {"colmap"}}};

@@ -22,4 +22,7 @@ std::vector<std::string> SuiteSizes();
 // the suites (or sizes) when `name` (or `size`) is unknown.
 nlohmann::ordered_json SuiteConfig(const std::string& name, const std::string& size);
 
+// The thesis's claims as a config's `claims` holds them; also what a config without claims tests.
+nlohmann::ordered_json ThesisClaimsJson();
+
 }  // namespace rigsim

@@ -1,6 +1,7 @@
 #include "sweep/sweep_config.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -10,58 +11,68 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "calibrator/features.h"
+#include "calibrator/semantics.h"
 #include "common/did_you_mean.h"
 #include "common/stable_hash.h"
+#include "procedural/presets.h"
+#include "rigs/rig_params.h"
+#include "sweep/suites.h"
+#include "sweep/sweep_metrics.h"
 
 namespace rigsim {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
-const std::vector<ParamSpec>& CellParamSpecs() {
+namespace {
+
+// Appends the sweep's rig parameters of `group`.
+void AddRigParams(RigParamGroup group, std::vector<ParamSpec>& specs) {
+  for (const RigParam& p : RigParams()) {
+    if (p.in_sweep && p.group == group) specs.push_back(p.SweepSpec());
+  }
+}
+
+std::vector<ParamSpec> MakeCellParamSpecs() {
   using K = ParamSpec::Kind;
-  static const std::vector<ParamSpec> specs = {
+  std::vector<ParamSpec> specs = {
       {"scene", K::kText, "street", {}, 0, 0,
-       "scene preset (street, plaza, parking) or a .glb/.gltf file (relative to the config file)"},
+       "scene preset (" + JoinNames(NamesOf(AllScenePresets(), ScenePresetName)) +
+           ") or a .glb/.gltf file (relative to the config file)"},
       {"scene_seed", K::kInt, nullptr, {}, 0, 2147483647, "seed of a preset scene; default: the cell's seed"},
       {"animated", K::kBool, false, {}, 0, 0,
        "preset scenes move: people walk, cars drive (traffic), buses drive to their stop, trees sway (see time_offset_ms)"},
-      {"traffic", K::kNumber, 2.0, {}, 0, 15,
+      {"traffic", K::kNumber, kDefaultTraffic, {}, 0, kMaxTraffic,
        "animated preset scenes: moving cars per 100 m of lane (street 240 m, parking 120 m; the plaza's bus drives "
        "when above 0); 0: no vehicle moves"},
-      {"rig", K::kChoice, "ring", {"ring", "stereo", "surround", "wide-baseline"}, 0, 0, "rig type (make-rig)"},
-      {"cameras", K::kInt, 4, {}, 2, 16, "ring: number of cameras"},
-      {"overlap", K::kNumber, nullptr, {}, 1, 95,
-       "ring: ground-truth overlap of neighbours (percent), solved where the rig stands; unset: spacing"},
-      {"spacing", K::kNumber, 60.0, {}, 1, 180, "ring: yaw between neighbours (deg), when overlap is unset"},
-      {"radius", K::kNumber, 0.5, {}, 0, 10, "ring: radius (m)"},
-      {"baseline", K::kNumber, nullptr, {}, 0.01, 100,
-       "stereo, wide-baseline: distance between the cameras (m); unset: 0.12 and 2.0"},
-      {"convergence", K::kNumber, 30.0, {}, 0, 120, "wide-baseline: angle between the optical axes (deg)"},
-      {"hfov", K::kNumber, nullptr, {}, 10, 170,
-       "horizontal field of view of the perspective lenses (deg); unset: the rig's default"},
-      {"lens", K::kChoice, "preset", {"preset", "pinhole", "opencv", "fisheye"}, 0, 0,
-       "preset: the rig type's own lenses (ring: cam1 barrel-distorted); pinhole, opencv (k1 = distortion, "
-       "k2 = -0.24 k1) or fisheye (Kannala-Brandt over fisheye_fov): every camera"},
-      {"distortion", K::kNumber, -0.25, {}, -1, 1, "opencv lens: k1 (negative: barrel)"},
-      {"fisheye_fov", K::kNumber, 190.0, {}, 60, 240,
-       "fisheye lens, and the surround rig's side cameras: horizontal field of view (deg)"},
-      {"width", K::kInt, 640, {}, 32, 8192, "image width (px)"},
-      {"height", K::kInt, 360, {}, 32, 8192, "image height (px)"},
-      {"spp", K::kInt, 2, {}, 1, 256, "samples per pixel"},
-      {"frames", K::kInt, 3, {}, 1, 100, "frames along the trajectory"},
-      {"trajectory", K::kChoice, "circle", {"circle", "straight"}, 0, 0, "path of the rig over the frames"},
-      {"step", K::kNumber, 2.0, {}, 0, 100, "distance travelled between frames (m)"},
-      {"circle_radius", K::kNumber, 12.0, {}, 1, 10000, "circle: radius of the path (m), turning left"},
-      {"photometric", K::kNumber, 0.0, {}, 0, 3,
-       "per-camera exposure, white balance, vignetting and noise: 0 none, 1 render --photometric's spread"},
-      {"label_boundary", K::kInt, 0, {}, 0, 64, "label noise: class boundaries shift by up to this (px)"},
-      {"label_confusion", K::kNumber, 0.0, {}, 0, 1, "label noise: share of blobs given a confusable class"},
-      {"time_offset_ms", K::kNumber, 0.0, {}, 0, 1000,
-       "camera c captures c times this after camera 0 (ms): moves animated objects, not the rig"},
   };
+  AddRigParams(RigParamGroup::kRig, specs);
+  AddRigParams(RigParamGroup::kImage, specs);
+  AddRigParams(RigParamGroup::kMounting, specs);
+  specs.push_back({"spp", K::kInt, 2, {}, 1, 256, "samples per pixel"});
+  AddRigParams(RigParamGroup::kPath, specs);
+  for (ParamSpec p : std::vector<ParamSpec>{
+           {"photometric", K::kNumber, 0.0, {}, 0, 3,
+            "per-camera exposure, white balance, vignetting and noise: 0 none, 1 render --photometric's spread"},
+           {"label_boundary", K::kInt, 0, {}, 0, 64, "label noise: class boundaries shift by up to this (px)"},
+           {"label_confusion", K::kNumber, 0.0, {}, 0, 1, "label noise: share of blobs given a confusable class"},
+           {"time_offset_ms", K::kNumber, 0.0, {}, 0, 1000,
+            "camera c captures c times this after camera 0 (ms): moves animated objects, not the rig"},
+       }) {
+    specs.push_back(std::move(p));
+  }
   return specs;
 }
+
+}  // namespace
+
+const std::vector<ParamSpec>& CellParamSpecs() {
+  static const std::vector<ParamSpec> specs = MakeCellParamSpecs();
+  return specs;
+}
+
+std::vector<std::string> SweepPeerNames() { return {"colmap"}; }
 
 std::vector<std::string> SweepStudy::VariedParams() const {
   std::vector<std::string> names;
@@ -91,54 +102,14 @@ const ParamSpec& FindParam(const std::string& name, const std::string& source, c
                           "; `rigsim sweep --list-params` lists them");
 }
 
-std::string Describe(const Json& v) { return v.dump(); }
-
 // A value checked against its parameter and normalised (numbers as doubles, so 30 and 30.0 are
 // one cell).
 Json CheckValue(const ParamSpec& spec, const Json& v, const std::string& source, const std::string& where) {
-  using K = ParamSpec::Kind;
-  if (v.is_null()) {
-    if (!spec.default_value.is_null()) Fail(source, where, "'" + spec.name + "' cannot be unset (null)");
-    return nullptr;
+  try {
+    return CheckParamValue(spec, v);
+  } catch (const std::invalid_argument& e) {
+    Fail(source, where, e.what());
   }
-  switch (spec.kind) {
-    case K::kInt: {
-      if (!v.is_number_integer()) Fail(source, where, "must be a whole number, got " + Describe(v));
-      const double x = v.get<double>();
-      if (x < spec.min || x > spec.max) {
-        Fail(source, where, Describe(v) + " is outside " + std::to_string(int64_t(spec.min)) + ".." +
-                                std::to_string(int64_t(spec.max)));
-      }
-      return v.get<int64_t>();
-    }
-    case K::kNumber: {
-      if (!v.is_number()) Fail(source, where, "must be a number, got " + Describe(v));
-      const double x = v.get<double>();
-      if (!std::isfinite(x) || x < spec.min || x > spec.max) {
-        std::ostringstream range;
-        range << spec.min << ".." << spec.max;
-        Fail(source, where, Describe(v) + " is outside " + range.str());
-      }
-      return x;
-    }
-    case K::kBool:
-      if (!v.is_boolean()) Fail(source, where, "must be true or false, got " + Describe(v));
-      return v;
-    case K::kChoice: {
-      if (!v.is_string()) Fail(source, where, "must be one of the names listed by --list-params, got " + Describe(v));
-      const std::string s = v.get<std::string>();
-      for (const std::string& c : spec.choices) {
-        if (c == s) return v;
-      }
-      std::string all;
-      for (const std::string& c : spec.choices) all += (all.empty() ? "" : ", ") + c;
-      Fail(source, where, "'" + s + "' is not one of " + all + DidYouMean(s, spec.choices));
-    }
-    case K::kText:
-      if (!v.is_string() || v.get<std::string>().empty()) Fail(source, where, "must be a non-empty text");
-      return v;
-  }
-  return v;
 }
 
 Json CheckParams(const Json& j, const std::string& source, const std::string& where) {
@@ -214,9 +185,9 @@ SweepStudy ParseStudy(const Json& j, const std::string& source, const std::strin
 
 std::vector<SweepMethod> ParseMethods(const Json& j, const std::string& source) {
   static const std::vector<std::string> keys = {"semantics", "features", "peers"};
-  static const std::vector<std::string> modes = {"none", "mask", "gated", "mask+gated"};
-  static const std::vector<std::string> features = {"sift", "rootsift", "orb", "akaze"};
-  static const std::vector<std::string> peers = {"colmap"};
+  static const std::vector<std::string> modes = NamesOf(kAllSemanticModes, SemanticModeName);
+  static const std::vector<std::string> features = NamesOf(kAllFeatureTypes, FeatureTypeName);
+  static const std::vector<std::string> peers = SweepPeerNames();
   std::vector<std::string> sem = {"none", "mask"}, feat = {"sift"}, peer;
   if (!j.is_null()) {
     if (!j.is_object()) Fail(source, "methods", "must be a mapping with semantics, features and peers");
@@ -246,6 +217,12 @@ std::vector<SweepMethod> ParseMethods(const Json& j, const std::string& source) 
   for (const std::string& p : peer) methods.push_back({p, p, "", ""});
   if (methods.empty()) Fail(source, "methods", "no method to run: give semantics (and features) or peers");
   return methods;
+}
+
+// A config without claims tests the thesis's.
+const ClaimSet& DefaultClaims() {
+  static const ClaimSet claims = ParseClaimSet(ThesisClaimsJson(), "--suite thesis");
+  return claims;
 }
 
 std::vector<uint64_t> ParseSeeds(const Json& j, const std::string& source) {
@@ -301,6 +278,79 @@ Json YamlNodeToJson(const YAML::Node& node, const std::string& source) {
 
 }  // namespace
 
+bool ClaimSpec::Holds(double d) const {
+  if (op == ">") return d > value;
+  if (op == ">=") return d >= value;
+  if (op == "<") return d < value;
+  return d <= value;
+}
+
+ClaimSet ParseClaimSet(const Json& j, const std::string& source) {
+  static const std::vector<std::string> keys = {"title", "list"};
+  static const std::vector<std::string> claim_keys = {"claim", "metric", "compare", "holds", "note"};
+  if (!j.is_object()) Fail(source, "claims", "must be a mapping with a title and a list of claims");
+  ClaimSet set;
+  for (const auto& [k, v] : j.items()) {
+    if (std::find(keys.begin(), keys.end(), k) == keys.end()) Fail(source, "claims." + k, "unknown key" + DidYouMean(k, keys));
+  }
+  if (!j.contains("title") || !j["title"].is_string() || j["title"].get<std::string>().empty()) {
+    Fail(source, "claims.title", "must be a non-empty text (report.md's heading)");
+  }
+  set.title = j["title"].get<std::string>();
+  if (!j.contains("list") || !j["list"].is_array()) Fail(source, "claims.list", "must be a list of claims");
+  std::vector<std::string> metrics;
+  for (const MethodMetricSpec& m : SweepMetricSpecs()) metrics.push_back(m.name);
+  for (size_t i = 0; i < j["list"].size(); ++i) {
+    const Json& c = j["list"][i];
+    const std::string where = "claims.list[" + std::to_string(i) + "]";
+    if (!c.is_object()) Fail(source, where, "a claim is a mapping (claim, metric, compare, holds, note)");
+    for (const auto& [k, v] : c.items()) {
+      if (std::find(claim_keys.begin(), claim_keys.end(), k) == claim_keys.end()) {
+        Fail(source, where + "." + k, "unknown key" + DidYouMean(k, claim_keys));
+      }
+      if (!v.is_string()) Fail(source, where + "." + k, "must be a text");
+    }
+    ClaimSpec spec;
+    spec.claim = c.value("claim", "");
+    if (spec.claim.empty()) Fail(source, where + ".claim", "say what is claimed");
+    spec.metric = c.value("metric", "");
+    if (std::find(metrics.begin(), metrics.end(), spec.metric) == metrics.end()) {
+      Fail(source, where + ".metric", "'" + spec.metric + "' is no metric of the results" + DidYouMean(spec.metric, metrics));
+    }
+    const std::string compare = c.value("compare", "difference");
+    if (compare != "difference" && compare != "ratio") Fail(source, where + ".compare", "give difference or ratio");
+    spec.ratio = compare == "ratio";
+    // "> 0", ">= -0.02", "< 1": a comparison and a number.
+    const std::string holds = c.value("holds", "");
+    const size_t number = holds.find_first_not_of("<>= ");
+    spec.op = holds.substr(0, std::min(number, holds.find(' ')));
+    char* end = nullptr;
+    spec.value = number == std::string::npos ? 0.0 : std::strtod(holds.c_str() + number, &end);
+    if ((spec.op != ">" && spec.op != ">=" && spec.op != "<" && spec.op != "<=") || number == std::string::npos ||
+        *end != '\0') {
+      Fail(source, where + ".holds", "give a comparison and a number, e.g. \"> 0\" or \"<= 1\" (got '" + holds + "')");
+    }
+    spec.note = c.value("note", "");
+    set.claims.push_back(std::move(spec));
+  }
+  return set;
+}
+
+Json ClaimSetToJson(const ClaimSet& set) {
+  Json list = Json::array();
+  for (const ClaimSpec& c : set.claims) {
+    char value[32];
+    std::snprintf(value, sizeof value, "%g", c.value);
+    Json j = {{"claim", c.claim},
+              {"metric", c.metric},
+              {"compare", c.ratio ? "ratio" : "difference"},
+              {"holds", c.op + " " + value}};
+    if (!c.note.empty()) j["note"] = c.note;
+    list.push_back(std::move(j));
+  }
+  return {{"title", set.title}, {"list", list}};
+}
+
 Json YamlToJson(const std::string& text, const std::string& source) {
   try {
     return YamlNodeToJson(YAML::Load(text), source);
@@ -311,12 +361,13 @@ Json YamlToJson(const std::string& text, const std::string& source) {
 }
 
 SweepConfig ParseSweepConfig(const Json& j, const std::string& source) {
-  static const std::vector<std::string> keys = {"name", "description", "base", "seeds", "methods", "grid", "zip", "studies"};
+  static const std::vector<std::string> keys = {"name",    "description", "base",    "seeds", "methods",
+                                                "grid",    "zip",         "studies", "claims"};
   if (!j.is_object()) Fail(source, "", "a sweep config is a mapping (name, base, seeds, methods, grid/zip or studies)");
   for (const auto& [k, v] : j.items()) {
     if (std::find(keys.begin(), keys.end(), k) == keys.end()) {
       Fail(source, k, "unknown key" + DidYouMean(k, keys) + "; a config has " +
-                          "name, description, base, seeds, methods, grid, zip and studies");
+                          "name, description, base, seeds, methods, grid, zip, studies and claims");
     }
   }
   SweepConfig config;
@@ -329,6 +380,7 @@ SweepConfig ParseSweepConfig(const Json& j, const std::string& source) {
   if (j.contains("base")) config.base = CheckParams(j["base"], source, "base");
   if (j.contains("seeds")) config.seeds = ParseSeeds(j["seeds"], source);
   config.methods = ParseMethods(j.contains("methods") ? j["methods"] : Json(nullptr), source);
+  config.claims = j.contains("claims") ? ParseClaimSet(j["claims"], source) : DefaultClaims();
   const bool top_axes = j.contains("grid") || j.contains("zip");
   if (j.contains("studies")) {
     if (top_axes) Fail(source, "studies", "give either studies or a top-level grid/zip, not both");
@@ -405,17 +457,6 @@ std::vector<Json> Combinations(const SweepStudy& study) {
 
 }  // namespace
 
-std::string FormatParamValue(const Json& v) {
-  if (v.is_null()) return "unset";
-  if (v.is_string()) return v.get<std::string>();
-  if (v.is_number_float()) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%g", v.get<double>());
-    return buf;
-  }
-  return v.dump();
-}
-
 std::vector<SweepCell> ExpandCells(const SweepConfig& config) {
   std::vector<SweepCell> cells;
   std::map<std::string, size_t> by_key;
@@ -466,11 +507,14 @@ Json SweepConfigToJson(const SweepConfig& config) {
       add(peers, m.tool);
     }
   }
-  return {{"name", config.name},
-          {"base", config.base},
-          {"seeds", config.seeds},
-          {"methods", {{"semantics", semantics}, {"features", features}, {"peers", peers}}},
-          {"studies", studies}};
+  Json j = {{"name", config.name},
+            {"base", config.base},
+            {"seeds", config.seeds},
+            {"methods", {{"semantics", semantics}, {"features", features}, {"peers", peers}}},
+            {"studies", studies}};
+  // The default claims are left out, as a config that names none leaves them out.
+  if (ClaimSetToJson(config.claims) != ClaimSetToJson(DefaultClaims())) j["claims"] = ClaimSetToJson(config.claims);
+  return j;
 }
 
 std::string SweepHash(const SweepConfig& config) {

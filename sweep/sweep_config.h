@@ -11,7 +11,10 @@
 //
 // or, for several sweeps around one base, `studies: [{name, set, grid, zip}, ...]` (`set` fixes
 // parameters for that study only). A cell that several studies share (the base point) runs once.
+// `claims: {title, list: [{claim, metric, compare, holds, note}, ...]}` are what the summary
+// tests, each semantic mode against `none` (default: the thesis's, ThesisClaimsJson()).
 // Every parameter has a default (CellParamSpecs); a misspelt one is refused with a suggestion.
+// The rig's parameters are those rigs/rig_params.h describes for make-rig too.
 #pragma once
 
 #include <cstdint>
@@ -21,20 +24,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/param_spec.h"
+
 namespace rigsim {
 
-// One cell parameter: its name in the config and the results, its type and its default.
-struct ParamSpec {
-  enum class Kind { kInt, kNumber, kBool, kChoice, kText };
-  std::string name;
-  Kind kind = Kind::kNumber;
-  nlohmann::ordered_json default_value;       // null: "not set" (e.g. overlap: use spacing)
-  std::vector<std::string> choices;   // kChoice
-  double min = 0.0, max = 0.0;        // kInt, kNumber: the allowed range
-  std::string help;
-};
-
-// Every cell parameter, in the order of the results' columns.
+// Every cell parameter (its name in the config and the results, type, default, range, help), in
+// the order of the results' columns: the scene's, the rig's (rigs/rig_params.h, with the sweep's
+// defaults), the render's, the rig's path, and the images' errors.
 const std::vector<ParamSpec>& CellParamSpecs();
 
 // A sweep axis: a parameter and the values it takes.
@@ -52,6 +48,9 @@ struct SweepStudy {
   std::vector<std::string> VariedParams() const;
 };
 
+// The peer tools a sweep can run beside rigsim: "colmap".
+std::vector<std::string> SweepPeerNames();
+
 // A way of calibrating a cell's images: rigsim in one semantic mode with one feature type, or a
 // peer tool.
 struct SweepMethod {
@@ -61,6 +60,23 @@ struct SweepMethod {
   std::string features;   // rigsim: sift, rootsift, orb, akaze
 };
 
+// A claim about the semantic modes, tested on a metric of the rows: each cell's row of a mode
+// against its row without semantics, the difference (or ratio) judged by `holds`.
+struct ClaimSpec {
+  std::string claim;      // in words: "gives a larger share of correct matches"
+  std::string metric;     // a metric of SweepMetricSpecs
+  bool ratio = false;     // compare mode / none instead of mode - none
+  std::string op;         // ">", ">=", "<" or "<=": holds when `difference op value`
+  double value = 0.0;
+  std::string note;       // said once above the claims' table (what the threshold means); may be empty
+  bool Holds(double difference) const;
+};
+
+struct ClaimSet {
+  std::string title;  // report.md's heading
+  std::vector<ClaimSpec> claims;
+};
+
 struct SweepConfig {
   std::string name;
   std::filesystem::path source;  // the config file; relative scene paths are relative to its folder
@@ -68,6 +84,7 @@ struct SweepConfig {
   std::vector<uint64_t> seeds = {1};
   std::vector<SweepMethod> methods;
   std::vector<SweepStudy> studies;
+  ClaimSet claims;  // the thesis's unless the config gives its own
 };
 
 struct SweepCell {
@@ -90,14 +107,13 @@ nlohmann::ordered_json YamlToJson(const std::string& text, const std::string& so
 // varying slowest), seeds innermost; a cell already produced by an earlier study is not repeated.
 std::vector<SweepCell> ExpandCells(const SweepConfig& config);
 
+// Claims as a config writes them, and back (std::runtime_error naming `source` and the key).
+nlohmann::ordered_json ClaimSetToJson(const ClaimSet& claims);
+ClaimSet ParseClaimSet(const nlohmann::ordered_json& j, const std::string& source);
+
 // Hash (16 hex digits) of what a sweep computes: the cells' parameters and the methods. Shards and
 // resumed runs of one sweep share it.
 std::string SweepHash(const SweepConfig& config);
-
-// A parameter value for people: text as it is, numbers without trailing zeros ("30", "0.5"),
-// null as "unset".
-std::string FormatParamValue(const nlohmann::ordered_json& value);
-
 
 // The config as JSON (what was read, normalised), recorded in the results.
 nlohmann::ordered_json SweepConfigToJson(const SweepConfig& config);

@@ -117,7 +117,7 @@ TEST(SweepConfig, ErrorsNameTheFileTheKeyAndSuggestAFix) {
               ThrowsExactly<E>("sweep.json: base.rig: 'rign' is not one of ring, stereo, surround, wide-baseline "
                                "(did you mean 'ring'?)"));
   EXPECT_THAT(Parsing(R"({"grid": {"overlap": [10, 200]}})"),
-              ThrowsExactly<E>("sweep.json: grid.overlap[1]: 200 is outside 1..95"));
+              ThrowsExactly<E>("sweep.json: grid.overlap[1]: 200 is outside 0 to 99"));
   EXPECT_THAT(Parsing(R"({"grid": {"cameras": [2.5]}})"),
               ThrowsExactly<E>("sweep.json: grid.cameras[0]: must be a whole number, got 2.5"));
   EXPECT_THAT(Parsing(R"({"zip": {"lens": ["pinhole"], "hfov": [60, 90]}})"),
@@ -127,7 +127,7 @@ TEST(SweepConfig, ErrorsNameTheFileTheKeyAndSuggestAFix) {
                                "(did you mean 'mask+gated'?)"));
   EXPECT_THAT(Parsing(R"({"sedes": [1]})"),
               ThrowsExactly<E>("sweep.json: sedes: unknown key (did you mean 'seeds'?); a config has name, "
-                               "description, base, seeds, methods, grid, zip and studies"));
+                               "description, base, seeds, methods, grid, zip, studies and claims"));
   EXPECT_THAT(Parsing(R"({"studies": [{"grid": {"frames": [2]}}]})"),
               ThrowsExactly<E>("sweep.json: studies[0]: a study needs a name"));
   EXPECT_THAT(Parsing(R"({"grid": {"frames": [2, 2]}})"),

@@ -4,9 +4,11 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <stdexcept>
 
 #include "common/run_program.h"
+#include "sweep/sweep_metrics.h"
 
 namespace rigsim {
 
@@ -51,6 +53,78 @@ void WriteFile(const fs::path& path, const std::string& text) {
   if (!out) throw std::runtime_error(path.string() + ": cannot write");
 }
 
+// A metric drawn in a plot: its column in the data (1-based; errorbars take three) and how.
+struct Series {
+  const MetricSpec* metric;
+  MetricPlot::Style style;
+  int column = 0;
+};
+
+struct PlotSeries {
+  const SweepPlotSpec* plot;
+  std::vector<Series> series;  // the plot's line (or error bars) first, then its dashed companions
+};
+
+// The plots that have metrics, in SweepPlotSpecs' order, with their data columns after x.
+std::vector<PlotSeries> PlotsWithSeries() {
+  std::vector<PlotSeries> plots;
+  int column = 2;
+  for (const SweepPlotSpec& plot : SweepPlotSpecs()) {
+    PlotSeries ps{&plot, {}};
+    for (bool dashed : {false, true}) {
+      for (const SummarisedMetric& m : SummarisedMetrics()) {
+        if (!m.spec->plot || m.spec->plot->plot != plot.name) continue;
+        if ((m.spec->plot->style == MetricPlot::Style::kDashed) != dashed) continue;
+        ps.series.push_back({m.spec, m.spec->plot->style, column});
+        column += m.spec->plot->style == MetricPlot::Style::kErrorBars ? 3 : 1;
+      }
+    }
+    if (!ps.series.empty()) plots.push_back(std::move(ps));
+  }
+  return plots;
+}
+
+// The data columns of one summary row: each series' value (error bars: median, min, max).
+std::string SeriesValues(const std::vector<PlotSeries>& plots, const SummaryRow& r) {
+  std::vector<std::optional<double>> values;
+  for (const PlotSeries& p : plots) {
+    for (const Series& s : p.series) {
+      if (s.metric->summary.kind != SummaryKind::kMedian) {
+        values.push_back(r.Total(s.metric->name));
+        continue;
+      }
+      const MetricSpread& spread = r.Spread(s.metric->name);
+      values.push_back(spread.median);
+      if (s.style == MetricPlot::Style::kErrorBars) values.insert(values.end(), {spread.min, spread.max});
+    }
+  }
+  std::string line;
+  for (const std::optional<double>& v : values) line.append(" ").append(Num(v));
+  return line;
+}
+
+// One method's part of a plot command: its series from `src`, in colour `colour`.
+std::string MethodPlot(const PlotSeries& p, const std::string& src, const std::string& title, const std::string& colour) {
+  std::string out;
+  for (const Series& s : p.series) {
+    const std::string c = std::to_string(s.column);
+    out += (out.empty() ? "" : ", \\\n     ") + src;
+    switch (s.style) {
+      case MetricPlot::Style::kLine:
+        out += " using 1:" + c + " with linespoints lw 2 pt 7" + colour + " title " + title;
+        break;
+      case MetricPlot::Style::kDashed:
+        out += " using 1:" + c + " with lines dt 2" + colour + " notitle";
+        break;
+      case MetricPlot::Style::kErrorBars:
+        out += " using 1:" + c + ":" + std::to_string(s.column + 1) + ":" + std::to_string(s.column + 2) +
+               " with yerrorlines lw 2 pt 7" + colour + " title " + title;
+        break;
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 SweepPlots WriteSweepPlots(const SweepConfig& config, const std::vector<SummaryRow>& summary, const fs::path& out_dir) {
@@ -61,6 +135,11 @@ SweepPlots WriteSweepPlots(const SweepConfig& config, const std::vector<SummaryR
   if (gnuplot.empty()) {
     result.warnings.push_back("gnuplot is not installed (apt-get install gnuplot-nox): plots/ has the data and "
                               "gnuplot scripts but no images");
+  }
+  const std::vector<PlotSeries> plots = PlotsWithSeries();
+  std::string labels;
+  for (const PlotSeries& p : plots) {
+    for (const Series& s : p.series) labels += " " + s.metric->plot->data_label;
   }
   for (const SweepStudy& study : config.studies) {
     const std::vector<std::string> varied = study.VariedParams();
@@ -74,14 +153,12 @@ SweepPlots WriteSweepPlots(const SweepConfig& config, const std::vector<SummaryR
     const int num_methods = static_cast<int>(config.methods.size());
     std::string data;
     for (int m = 0; m < num_methods; ++m) {
-      data += "# method " + config.methods[m].name + "\n# x success_2deg success_1deg median_rot min_rot max_rot\n";
+      data += "# method " + config.methods[m].name + "\n# x" + labels + "\n";
       for (const SummaryRow& r : summary) {
         if (r.study != study.name || r.method != config.methods[m].name) continue;
         // Methods side by side around each point, so their bars do not hide each other.
         const double x = r.point_index + (m - (num_methods - 1) / 2.0) * 0.06;
-        data += Num(x) + " " + Num(r.success_2deg) + " " + Num(r.success_1deg) + " " +
-                Num(r.median_rotation_error_deg.median) + " " + Num(r.median_rotation_error_deg.min) + " " +
-                Num(r.median_rotation_error_deg.max) + "\n";
+        data += Num(x) + SeriesValues(plots, r) + "\n";
       }
       data += "\n\n";
     }
@@ -97,28 +174,21 @@ SweepPlots WriteSweepPlots(const SweepConfig& config, const std::vector<SummaryR
     const std::string common = "set datafile missing \"?\"\nset grid ytics\nset key outside right top\n" +
                                std::string("set xrange [-0.5:") + std::to_string(points.size() - 0.5) + "]\n" + xtics +
                                "set xlabel " + Quoted(xlabel) + "\n";
-    std::string success_plot = "plot ", error_plot = "plot ";
-    for (int m = 0; m < num_methods; ++m) {
-      const std::string src = Quoted(stem + ".dat") + " index " + std::to_string(m);
-      const std::string title = Quoted(config.methods[m].name);
-      const std::string colour = " lc " + std::to_string(m + 1);
-      success_plot += (m ? ", \\\n     " : "") + src + " using 1:2 with linespoints lw 2 pt 7" + colour + " title " +
-                      title + ", \\\n     " + src + " using 1:3 with lines dt 2" + colour + " notitle";
-      error_plot += (m ? ", \\\n     " : "") + src + " using 1:4:5:6 with yerrorlines lw 2 pt 7" + colour +
-                    " title " + title;
-    }
-    const std::string success_setup = common + "set title " + Quoted(study.name + ": calibration success") +
-                                      "\nset ylabel \"share of seeds: every camera within 2 deg (dashed: 1 deg)\"\n"
-                                      "set yrange [-0.05:1.05]\n";
-    const std::string error_setup = common + "set title " + Quoted(study.name + ": rotation error") +
-                                    "\nset ylabel \"median rotation error of the cameras (deg)\"\nset logscale y\n"
-                                    "set yrange [*:*]\n";
     std::string script = "# Drawn by rigsim sweep; run `gnuplot " + stem + ".gp` in this folder to redraw.\n";
     for (const auto& [ext, terminal] : std::vector<std::pair<std::string, std::string>>{
              {"png", "pngcairo size 960,540 font \"sans,11\""}, {"svg", "svg size 960,540 font \"sans,11\""}}) {
-      script += "set terminal " + terminal + "\nset output " + Quoted(stem + "_success." + ext) + "\n" + success_setup +
-                success_plot + "\nunset logscale y\nset output " + Quoted(stem + "_rotation_error." + ext) + "\n" +
-                error_setup + error_plot + "\nunset logscale y\nunset output\n";
+      script += "set terminal " + terminal + "\n";
+      for (const PlotSeries& p : plots) {
+        std::string command = "plot ";
+        for (int m = 0; m < num_methods; ++m) {
+          command += (m ? ", \\\n     " : "") + MethodPlot(p, Quoted(stem + ".dat") + " index " + std::to_string(m),
+                                                          Quoted(config.methods[m].name), " lc " + std::to_string(m + 1));
+        }
+        script += "set output " + Quoted(stem + "_" + p.plot->name + "." + ext) + "\n" + common + "set title " +
+                  Quoted(study.name + ": " + p.plot->title) + "\nset ylabel " + Quoted(p.plot->ylabel) + "\n" +
+                  p.plot->y_axis + command + "\nunset logscale y\n";
+      }
+      script += "unset output\n";
     }
     WriteFile(dir / (stem + ".gp"), script);
     if (gnuplot.empty()) continue;
@@ -131,8 +201,7 @@ SweepPlots WriteSweepPlots(const SweepConfig& config, const std::vector<SummaryR
       continue;
     }
     fs::remove(dir / (stem + ".log"));
-    result.images.push_back("plots/" + stem + "_success.png");
-    result.images.push_back("plots/" + stem + "_rotation_error.png");
+    for (const PlotSeries& p : plots) result.images.push_back("plots/" + stem + "_" + p.plot->name + ".png");
   }
   return result;
 }

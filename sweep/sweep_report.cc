@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <map>
 
+#include "sweep/sweep_metrics.h"
 #include "sweep/sweep_plots.h"
 
 namespace rigsim {
@@ -30,18 +31,29 @@ std::string Cell(std::string s) {
   return s;
 }
 
-std::string ClaimSection(const std::vector<ClaimResult>& claims) {
+// Whether the table says `metric` is a whole number.
+bool IsCount(const std::string& metric) {
+  for (const MethodMetricSpec& m : SweepMetricSpecs()) {
+    if (m.name == metric) return m.count;
+  }
+  return false;
+}
+
+std::string ClaimSection(const ClaimSet& set, const std::vector<ClaimResult>& claims) {
   if (claims.empty()) return "";
+  std::string notes;
+  for (const ClaimSpec& c : set.claims) {
+    if (!c.note.empty() && notes.find(c.note) == std::string::npos) notes += " " + c.note;
+  }
   std::string md =
-      "## The thesis's claims\n\n"
+      "## " + set.title + "\n\n"
       "Semantic masking, compared with no semantics on the same images (each cell's method row paired with its "
       "baseline row): a claim *holds* when the median over the paired cells favours it. Differences are method "
-      "minus baseline; ratios method over baseline; the range is over all paired cells. Accuracy counts as equal "
-      "when the AUC of the pair errors at 5 deg is within 0.02.\n\n"
+      "minus baseline; ratios method over baseline; the range is over all paired cells." + notes + "\n\n"
       "| method vs baseline | claim | metric | held | median (range) | cells in favour | does not hold at |\n"
       "|---|---|---|---|---|---|---|\n";
   for (const ClaimResult& c : claims) {
-    const char* format = c.metric == "cross_class_wrong" ? "%.0f" : "%.3g";
+    const char* format = IsCount(c.metric) ? "%.0f" : "%.3g";
     std::string value = "-";
     if (c.median_difference) {
       value = Fmt(*c.median_difference, format) + " (" + Fmt(*c.low, format) + " to " + Fmt(*c.high, format) + ")";
@@ -66,20 +78,29 @@ std::string StudySection(const SweepStudy& study, const std::vector<SummaryRow>&
   for (const std::string& p : plots) {
     if (p.rfind("plots/" + PlotFileStem(study.name) + "_", 0) == 0) md += "![" + p + "](" + p + ")\n";
   }
-  md += "\n| " + std::string(varied.empty() ? "point" : "swept values") +
-        " | method | cells | failed | all within 1° | all within 2° | confidently wrong | AUC@5° (pairs) | "
-        "median rotation error | median direction error | match precision | wrong cross-class matches | "
-        "match time | total time | overlap achieved |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  const std::vector<SummarisedMetric> metrics = SummarisedMetrics();
+  md += "\n| " + std::string(varied.empty() ? "point" : "swept values") + " | method | cells | failed |";
+  std::string rule = "|---|---|---|---|";
+  for (const SummarisedMetric& m : metrics) {
+    md += " " + m.spec->summary.heading + " |";
+    rule += "---|";
+  }
+  md += "\n" + rule + "\n";
   for (const SummaryRow& r : summary) {
     if (r.study != study.name) continue;
-    md += "| " + Cell(r.point) + " | " + r.method + " | " + std::to_string(r.cells) + " | " + std::to_string(r.failed) +
-          " | " + Percent(r.success_1deg) + " | " + Percent(r.success_2deg) + " | " +
-          std::to_string(r.confidently_wrong) + " | " + MedianRange(r.auc_pairs_5deg, "%.2f") + " | " +
-          MedianRange(r.median_rotation_error_deg, "%.3g", "°") + " | " +
-          MedianRange(r.median_translation_direction_error_deg, "%.3g", "°") + " | " +
-          MedianRange(r.match_precision, "%.2f") + " | " + MedianRange(r.cross_class_wrong, "%.0f") + " | " +
-          MedianRange(r.time_match_s, "%.3g", " s") + " | " + MedianRange(r.time_total_s, "%.3g", " s") + " | " +
-          MedianRange(r.overlap_pct, "%.0f", "%") + " |\n";
+    md += "| " + Cell(r.point) + " | " + r.method + " | " + std::to_string(r.cells) + " | " + std::to_string(r.failed) + " |";
+    for (const SummarisedMetric& m : metrics) {
+      const MetricSummary& how = m.spec->summary;
+      switch (how.kind) {
+        case SummaryKind::kShare: md += " " + Percent(r.Total(m.spec->name)) + " |"; break;
+        case SummaryKind::kSum: md += " " + std::to_string(static_cast<int64_t>(r.Total(m.spec->name))) + " |"; break;
+        case SummaryKind::kMedian:
+          md += " " + MedianRange(r.Spread(m.spec->name), how.format.c_str(), how.unit) + " |";
+          break;
+        case SummaryKind::kNone: break;
+      }
+    }
+    md += "\n";
   }
   return md + "\n";
 }
@@ -114,7 +135,7 @@ std::string SweepReportMarkdown(const SweepReportInput& in) {
         "*Confidently wrong*: cameras reported with a full pose that are more than 5 deg off. Values are medians over "
         "a point's seeds, with their range in brackets. Files: `results.csv` and `results.jsonl` (a row per cell and "
         "method), `summary.csv`, `summary.json`, `plots/`.\n\n";
-  md += ClaimSection(*in.claims);
+  md += ClaimSection(config.claims, *in.claims);
   for (const SweepStudy& study : config.studies) md += StudySection(study, *in.summary, in.plot_images);
   if (failed_rows > 0) md += "## Failed runs\n\n" + failures + "\n";
   md += "## Columns of results.csv\n\n| column | meaning |\n|---|---|\n";

@@ -12,47 +12,6 @@ namespace rigsim {
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
-const std::vector<MetricSpec>& SweepMetricSpecs() {
-  static const std::vector<MetricSpec> specs = {
-      {"cameras", "cameras in the rig"},
-      {"cameras_posed", "cameras the method gave a full pose (rotation and position)"},
-      {"cameras_rotation_only", "cameras given a rotation but no position"},
-      {"success_1deg", "1 when every camera has a full pose within 1 deg (pose error: max of rotation and "
-                       "translation-direction error), else 0"},
-      {"success_2deg", "the same within 2 deg"},
-      {"confidently_wrong", "cameras reported with a full pose whose pose error exceeds 5 deg"},
-      {"max_rotation_error_deg", "worst rotation error of the cameras with a rotation"},
-      {"median_rotation_error_deg", "median rotation error of the cameras with a rotation (camera 0 excluded)"},
-      {"max_translation_direction_error_deg", "worst error of the direction of a camera's centre from camera 0's"},
-      {"median_translation_direction_error_deg", "median of the same"},
-      {"max_position_error_m", "worst camera position error after aligning the scale (metric estimates: none)"},
-      {"auc_cameras_5deg", "AUC of the cameras' pose errors up to 5 deg (missing cameras count as failures)"},
-      {"auc_pairs_1deg", "AUC of the relative pose errors of every camera pair up to 1 deg"},
-      {"auc_pairs_2deg", "... up to 2 deg"},
-      {"auc_pairs_5deg", "... up to 5 deg"},
-      {"auc_pairs_10deg", "... up to 10 deg"},
-      {"matches", "matches of the overlapping pairs, pooled over frames"},
-      {"match_precision", "share of those matches that are correct by the ground-truth depth"},
-      {"cross_class_matches", "matches joining keypoints of two different classes (true labels)"},
-      {"cross_class_wrong", "of those, wrong by the ground truth"},
-      {"cross_class_right", "of those, right by the ground truth (a class boundary, not an error)"},
-      {"wrong_matches", "matches wrong by the ground truth"},
-      {"time_detect_s", "feature detection, summed over images"},
-      {"time_match_s", "matching, summed over pairs and frames"},
-      {"time_total_s", "wall time of the whole method (calibration, or the peer's run)"},
-  };
-  return specs;
-}
-
-const std::vector<MetricSpec>& CellMetricSpecs() {
-  static const std::vector<MetricSpec> specs = {
-      {"overlap_pct", "mean ground-truth overlap of the camera pairs that share a view (over 1%), percent"},
-      {"overlapping_pairs", "camera pairs that share a view (over 1%)"},
-      {"render_time_s", "wall time of the cell's render"},
-  };
-  return specs;
-}
-
 Json CellRecordToJson(const CellRecord& r) {
   Json rows = Json::array();
   for (const MethodRow& m : r.rows) {

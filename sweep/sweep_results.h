@@ -19,18 +19,9 @@
 #include <nlohmann/json.hpp>
 
 #include "sweep/sweep_config.h"
+#include "sweep/sweep_metrics.h"
 
 namespace rigsim {
-
-// A metric of a (cell, method) row: its column name and what it means.
-struct MetricSpec {
-  std::string name;
-  std::string help;
-};
-// Every metric of a method's row, in the order of the results' columns.
-const std::vector<MetricSpec>& SweepMetricSpecs();
-// What a cell's render measured, shared by its methods' rows.
-const std::vector<MetricSpec>& CellMetricSpecs();
 
 struct MethodRow {
   std::string method;

@@ -4,6 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include "calibrator/rig_calibration.h"
+#include "evaluation/colmap_peer.h"
+#include "evaluation/rig_scores.h"
+#include "pipeline/calibration_run.h"
 #include "testing/temp_dir.h"
 
 namespace rigsim {
@@ -35,6 +39,42 @@ TEST(SweepResults, CsvHasEveryParameterAndMetricQuotedAsRfc4180) {
   EXPECT_DOUBLE_EQ(first["match_precision"].get<double>(), 0.6123456789);
   EXPECT_EQ(jsonl.substr(0, 9), "{\"cell\":0");
   EXPECT_TRUE(first["max_rotation_error_deg"].is_null());
+}
+
+// The rows are made from the metric table: a run gives every metric of the table, in its order
+// (a peer leaves out rigsim's matches), and every one has its column.
+TEST(SweepResults, ARunGivesEveryMetricOfTheTableInItsOrder) {
+  RigScores scores;
+  scores.cameras.resize(3);
+  scores.median_rotation_error_deg = 0.25;
+  RigCalibrationResult rigsim;
+  ModeRecord record;
+  record.detect_time_s = 1.5;
+  const Json rigsim_row = MethodMetrics({&scores, &rigsim, nullptr, 12.5, &record});
+  std::vector<std::string> names;
+  for (const auto& [name, value] : rigsim_row.items()) names.push_back(name);
+  std::vector<std::string> table;
+  for (const MethodMetricSpec& m : SweepMetricSpecs()) table.push_back(m.name);
+  EXPECT_EQ(names, table);
+  EXPECT_EQ(rigsim_row["cameras"], 3);
+  EXPECT_EQ(rigsim_row["median_rotation_error_deg"], 0.25);
+  EXPECT_TRUE(rigsim_row["max_rotation_error_deg"].is_null());
+  EXPECT_EQ(rigsim_row["time_total_s"], 12.5);
+  EXPECT_EQ(rigsim_row["time_detect_s"], 1.5);
+  EXPECT_TRUE(rigsim_row["match_precision"].is_null());  // no truth in the record
+  ColmapPeerResult colmap;
+  colmap.match_time_s = 2.0;
+  const Json colmap_row = MethodMetrics({&scores, nullptr, &colmap, 30.0});
+  EXPECT_FALSE(colmap_row.contains("matches"));
+  EXPECT_FALSE(colmap_row.contains("match_precision"));
+  EXPECT_EQ(colmap_row["time_match_s"], 2.0);
+  CellRun render;
+  render.overlap = {{{"cam0", "cam1"}, 0.3}, {{"cam1", "cam2"}, 0.005}};
+  render.render_time_s = 4.0;
+  const Json cell = CellMetrics(render);
+  EXPECT_DOUBLE_EQ(cell["overlap_pct"].get<double>(), 30.0);
+  EXPECT_EQ(cell["overlapping_pairs"], 1);
+  EXPECT_EQ(cell.size(), CellMetricSpecs().size());
 }
 
 TEST(SweepResults, AFinishedCellIsReadBackOnlyWhenItMatchesTheConfig) {

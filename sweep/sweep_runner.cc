@@ -24,9 +24,8 @@ double CellCost(const SweepCell& cell, const std::vector<SweepMethod>& methods) 
   const double cameras = rig == "ring" ? p.at("cameras").get<double>() : rig == "surround" ? 4.0 : 2.0;
   const double views = cameras * p.at("frames").get<double>();
   const double megapixels = p.at("width").get<double>() * p.at("height").get<double>() / 1e6;
-  // Measured on 2 cores at 640x360: rendering a view costs about a tenth of a second per sample
-  // and megapixel; calibrating it about one second per megapixel and method, COLMAP three times
-  // that.
+  // Rough relative weights, enough to estimate the time left and balance shards: a view's render
+  // costs a tenth of its calibration by one method per sample, COLMAP three times rigsim.
   double cost = views * megapixels * 0.1 * p.at("spp").get<double>();
   for (const SweepMethod& m : methods) cost += views * megapixels * (m.tool == "colmap" ? 3.0 : 1.0);
   return cost;
@@ -291,7 +290,7 @@ std::vector<std::string> WriteSweepResults(const SweepConfig& config, const fs::
   json_io::WriteTextAtomic(out / "results.csv", ResultsCsv(rows));
   json_io::WriteTextAtomic(out / "results.jsonl", ResultsJsonl(rows));
   const std::vector<SummaryRow> summary = Summarise(config, cells, records);
-  const std::vector<ClaimResult> claims = TestThesisClaims(config, cells, records);
+  const std::vector<ClaimResult> claims = TestClaims(config, cells, records);
   json_io::WriteTextAtomic(out / "summary.csv", SummaryCsv(summary));
   json_io::WriteTextAtomic(out / "summary.json",
                            Json{{"groups", SummaryToJson(summary)}, {"claims", ClaimsToJson(claims)}}.dump(1) + "\n");

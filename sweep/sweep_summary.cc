@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <functional>
 #include <map>
 
 namespace rigsim {
@@ -81,8 +80,20 @@ Json SpreadJson(const MetricSpread& s) {
 
 }  // namespace
 
+double SummaryRow::Total(const std::string& metric) const {
+  const auto it = totals.find(metric);
+  return it == totals.end() ? 0.0 : it->second;
+}
+
+const MetricSpread& SummaryRow::Spread(const std::string& metric) const {
+  static const MetricSpread none;
+  const auto it = spreads.find(metric);
+  return it == spreads.end() ? none : it->second;
+}
+
 std::vector<SummaryRow> Summarise(const SweepConfig& config, const std::vector<SweepCell>& cells,
                                   const std::vector<CellRecord>& records) {
+  const std::vector<SummarisedMetric> metrics = SummarisedMetrics();
   std::vector<SummaryRow> rows;
   for (const SweepStudy& study : config.studies) {
     const StudyPoints sp = PointsOf(study, cells);
@@ -95,35 +106,29 @@ std::vector<SummaryRow> Summarise(const SweepConfig& config, const std::vector<S
         row.point_values = sp.values[p];
         row.method = method.name;
         std::map<std::string, std::vector<double>> values;
-        auto add = [&](const std::string& name, const Json& metrics) {
-          if (const auto v = Number(metrics, name)) values[name].push_back(*v);
-        };
+        for (const SummarisedMetric& m : metrics) row.totals[m.spec->name] = 0.0;
         for (size_t c : sp.cells[p]) {
           const MethodRow* r = RowOf(records[c], method.name);
           if (!r) continue;
           ++row.cells;
           if (r->status != "ok") ++row.failed;
-          row.success_1deg += Number(r->metrics, "success_1deg").value_or(0.0);
-          row.success_2deg += Number(r->metrics, "success_2deg").value_or(0.0);
-          row.confidently_wrong += static_cast<int>(Number(r->metrics, "confidently_wrong").value_or(0.0));
-          for (const char* m : {"auc_pairs_5deg", "median_rotation_error_deg", "median_translation_direction_error_deg",
-                                "match_precision", "cross_class_wrong", "time_match_s", "time_total_s"}) {
-            add(m, r->metrics);
+          for (const SummarisedMetric& m : metrics) {
+            const std::optional<double> v = Number(m.of_cell ? records[c].cell_metrics : r->metrics, m.spec->name);
+            if (m.spec->summary.kind == SummaryKind::kMedian) {
+              if (v) values[m.spec->name].push_back(*v);
+            } else {
+              row.totals[m.spec->name] += v.value_or(0.0);
+            }
           }
-          add("overlap_pct", records[c].cell_metrics);
         }
-        if (row.cells > 0) {
-          row.success_1deg /= row.cells;
-          row.success_2deg /= row.cells;
+        for (const SummarisedMetric& m : metrics) {
+          if (m.spec->summary.kind == SummaryKind::kMedian) {
+            row.totals.erase(m.spec->name);
+            row.spreads[m.spec->name] = Spread(values[m.spec->name]);
+          } else if (m.spec->summary.kind == SummaryKind::kShare && row.cells > 0) {
+            row.totals[m.spec->name] /= row.cells;
+          }
         }
-        row.auc_pairs_5deg = Spread(values["auc_pairs_5deg"]);
-        row.median_rotation_error_deg = Spread(values["median_rotation_error_deg"]);
-        row.median_translation_direction_error_deg = Spread(values["median_translation_direction_error_deg"]);
-        row.match_precision = Spread(values["match_precision"]);
-        row.cross_class_wrong = Spread(values["cross_class_wrong"]);
-        row.time_match_s = Spread(values["time_match_s"]);
-        row.time_total_s = Spread(values["time_total_s"]);
-        row.overlap_pct = Spread(values["overlap_pct"]);
         rows.push_back(std::move(row));
       }
     }
@@ -132,25 +137,21 @@ std::vector<SummaryRow> Summarise(const SweepConfig& config, const std::vector<S
 }
 
 Json SummaryToJson(const std::vector<SummaryRow>& rows) {
+  const std::vector<SummarisedMetric> metrics = SummarisedMetrics();
   Json out = Json::array();
   for (const SummaryRow& r : rows) {
-    out.push_back({{"study", r.study},
-                   {"point", r.point},
-                   {"point_values", r.point_values},
-                   {"method", r.method},
-                   {"cells", r.cells},
-                   {"failed", r.failed},
-                   {"success_1deg", r.success_1deg},
-                   {"success_2deg", r.success_2deg},
-                   {"confidently_wrong", r.confidently_wrong},
-                   {"auc_pairs_5deg", SpreadJson(r.auc_pairs_5deg)},
-                   {"median_rotation_error_deg", SpreadJson(r.median_rotation_error_deg)},
-                   {"median_translation_direction_error_deg", SpreadJson(r.median_translation_direction_error_deg)},
-                   {"match_precision", SpreadJson(r.match_precision)},
-                   {"cross_class_wrong", SpreadJson(r.cross_class_wrong)},
-                   {"time_match_s", SpreadJson(r.time_match_s)},
-                   {"time_total_s", SpreadJson(r.time_total_s)},
-                   {"overlap_pct", SpreadJson(r.overlap_pct)}});
+    Json j = {{"study", r.study},   {"point", r.point},   {"point_values", r.point_values},
+              {"method", r.method}, {"cells", r.cells},   {"failed", r.failed}};
+    for (const SummarisedMetric& m : metrics) {
+      const std::string& name = m.spec->name;
+      switch (m.spec->summary.kind) {
+        case SummaryKind::kShare: j[name] = r.Total(name); break;
+        case SummaryKind::kSum: j[name] = static_cast<int64_t>(r.Total(name)); break;
+        case SummaryKind::kMedian: j[name] = SpreadJson(r.Spread(name)); break;
+        case SummaryKind::kNone: break;
+      }
+    }
+    out.push_back(std::move(j));
   }
   return out;
 }
@@ -168,44 +169,35 @@ std::string SummaryCsv(const std::vector<SummaryRow>& rows) {
     for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
     return q + "\"";
   };
-  std::string out =
-      "study,point,method,cells,failed,success_1deg,success_2deg,confidently_wrong,auc_pairs_5deg,"
-      "median_rotation_error_deg,median_rotation_error_deg_min,median_rotation_error_deg_max,"
-      "median_translation_direction_error_deg,match_precision,cross_class_wrong,time_match_s,time_total_s,overlap_pct\n";
+  const std::vector<SummarisedMetric> metrics = SummarisedMetrics();
+  std::string out = "study,point,method,cells,failed";
+  for (const SummarisedMetric& m : metrics) {
+    out += "," + m.spec->name;
+    if (m.spec->summary.csv_range) out += "," + m.spec->name + "_min," + m.spec->name + "_max";
+  }
+  out += "\n";
   for (const SummaryRow& r : rows) {
     out += quote(r.study) + "," + quote(r.point) + "," + quote(r.method) + "," + std::to_string(r.cells) + "," +
-           std::to_string(r.failed) + "," + num(r.success_1deg) + "," + num(r.success_2deg) + "," +
-           std::to_string(r.confidently_wrong) + "," + num(r.auc_pairs_5deg.median) + "," +
-           num(r.median_rotation_error_deg.median) + "," + num(r.median_rotation_error_deg.min) + "," +
-           num(r.median_rotation_error_deg.max) + "," + num(r.median_translation_direction_error_deg.median) + "," +
-           num(r.match_precision.median) + "," + num(r.cross_class_wrong.median) + "," + num(r.time_match_s.median) +
-           "," + num(r.time_total_s.median) + "," + num(r.overlap_pct.median) + "\n";
+           std::to_string(r.failed);
+    for (const SummarisedMetric& m : metrics) {
+      const std::string& name = m.spec->name;
+      if (m.spec->summary.kind == SummaryKind::kSum) {
+        out += "," + std::to_string(static_cast<int64_t>(r.Total(name)));
+      } else if (m.spec->summary.kind == SummaryKind::kShare) {
+        out += "," + num(r.Total(name));
+      } else {
+        const MetricSpread& s = r.Spread(name);
+        out += "," + num(s.median);
+        if (m.spec->summary.csv_range) out += "," + num(s.min) + "," + num(s.max);
+      }
+    }
+    out += "\n";
   }
   return out;
 }
 
-namespace {
-
-struct ClaimSpec {
-  std::string claim;
-  std::string metric;
-  bool ratio = false;           // compare method / baseline instead of method - baseline
-  // Whether a difference (or ratio) supports the claim.
-  std::function<bool(double)> holds;
-};
-
-}  // namespace
-
-std::vector<ClaimResult> TestThesisClaims(const SweepConfig& config, const std::vector<SweepCell>& cells,
-                                          const std::vector<CellRecord>& records) {
-  const std::vector<ClaimSpec> specs = {
-      {"gives a larger share of correct matches", "match_precision", false, [](double d) { return d > 0; }},
-      {"gives fewer wrong matches between different classes", "cross_class_wrong", false,
-       [](double d) { return d < 0; }},
-      {"makes matching faster", "time_match_s", true, [](double r) { return r < 1; }},
-      {"makes calibration faster", "time_total_s", true, [](double r) { return r < 1; }},
-      {"keeps pose accuracy equal or better", "auc_pairs_5deg", false, [](double d) { return d >= -0.02; }},
-  };
+std::vector<ClaimResult> TestClaims(const SweepConfig& config, const std::vector<SweepCell>& cells,
+                                    const std::vector<CellRecord>& records) {
   std::vector<ClaimResult> results;
   const auto has = [&](const std::string& name) {
     return std::any_of(config.methods.begin(), config.methods.end(),
@@ -215,7 +207,7 @@ std::vector<ClaimResult> TestThesisClaims(const SweepConfig& config, const std::
     if (method.tool != "rigsim" || method.semantics == "none") continue;
     const std::string baseline = method.features == "sift" ? "none" : method.features + ":none";
     if (!has(baseline)) continue;
-    for (const ClaimSpec& spec : specs) {
+    for (const ClaimSpec& spec : config.claims.claims) {
       ClaimResult cr;
       cr.claim = spec.claim;
       cr.metric = spec.metric;
@@ -235,7 +227,7 @@ std::vector<ClaimResult> TestThesisClaims(const SweepConfig& config, const std::
       for (size_t c = 0; c < cells.size(); ++c) {
         if (const auto d = compare(c)) {
           all.push_back(*d);
-          cr.favourable += spec.holds(*d);
+          cr.favourable += spec.Holds(*d);
         }
       }
       cr.pairs = static_cast<int>(all.size());
@@ -245,7 +237,7 @@ std::vector<ClaimResult> TestThesisClaims(const SweepConfig& config, const std::
         cr.low = s.min;
         cr.high = s.max;
         cr.decided = true;
-        cr.held = spec.holds(*s.median);
+        cr.held = spec.Holds(*s.median);
       }
       for (const SweepStudy& study : config.studies) {
         const StudyPoints sp = PointsOf(study, cells);
@@ -255,7 +247,7 @@ std::vector<ClaimResult> TestThesisClaims(const SweepConfig& config, const std::
           for (size_t c : sp.cells[p]) {
             if (const auto d = compare(c)) at.push_back(*d);
           }
-          if (!at.empty() && !spec.holds(Median(at))) cr.fails_at.push_back(study.name + ": " + PointLabel(sp.values[p]));
+          if (!at.empty() && !spec.Holds(Median(at))) cr.fails_at.push_back(study.name + ": " + PointLabel(sp.values[p]));
         }
       }
       results.push_back(std::move(cr));

@@ -1,10 +1,12 @@
-// A sweep's results summarised per study, per value of what the study sweeps, and per method;
-// and the thesis's four claims about semantic masking tested on them.
+// A sweep's results summarised per study, per value of what the study sweeps, and per method,
+// metric by metric as their table says (sweep/sweep_metrics.h); and the config's claims (the
+// thesis's, unless it gives its own) tested on them.
 //
 // A group is one study's cells with the same swept values: one cell per seed. Rates and means are
 // over the group's cells; a "spread" is the range (min..max) of the per-seed values.
 #pragma once
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -12,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "sweep/sweep_config.h"
+#include "sweep/sweep_metrics.h"
 #include "sweep/sweep_results.h"
 
 namespace rigsim {
@@ -29,17 +32,13 @@ struct SummaryRow {
   std::string method;
   int cells = 0;
   int failed = 0;                 // rows with status "failed"
-  double success_1deg = 0.0;      // share of cells
-  double success_2deg = 0.0;
-  int confidently_wrong = 0;      // cameras, summed over cells
-  MetricSpread auc_pairs_5deg;
-  MetricSpread median_rotation_error_deg;
-  MetricSpread median_translation_direction_error_deg;
-  MetricSpread match_precision;
-  MetricSpread cross_class_wrong;
-  MetricSpread time_match_s;
-  MetricSpread time_total_s;
-  MetricSpread overlap_pct;       // achieved, from the render
+  // Every summarised metric (SummarisedMetrics) by name: a share of the cells or a sum
+  // (SummaryKind::kShare, kSum) in `totals`, a median and range (kMedian) in `spreads`.
+  std::map<std::string, double> totals;
+  std::map<std::string, MetricSpread> spreads;
+
+  double Total(const std::string& metric) const;               // 0 when not summarised
+  const MetricSpread& Spread(const std::string& metric) const;  // empty when not summarised
 };
 
 // Rows per study, point (in the study's order) and method (config order).
@@ -49,7 +48,8 @@ std::vector<SummaryRow> Summarise(const SweepConfig& config, const std::vector<S
 nlohmann::ordered_json SummaryToJson(const std::vector<SummaryRow>& rows);
 std::string SummaryCsv(const std::vector<SummaryRow>& rows);
 
-// One claim of the thesis, tested by pairing each cell's `method` row with its `baseline` row.
+// One claim of the config (SweepConfig::claims), tested by pairing each cell's `method` row with
+// its `baseline` row.
 struct ClaimResult {
   std::string claim;          // what is claimed, in words
   std::string metric;         // the metric compared
@@ -63,12 +63,10 @@ struct ClaimResult {
   std::vector<std::string> fails_at;  // study points whose median goes against the claim
 };
 
-// The thesis's claims for every semantic method other than `none`, against `none` (needs both in
-// the config): more correct matches (match precision), fewer wrong cross-class matches, faster
-// matching and calibration, and pose accuracy equal or better (AUC of the pair errors at 5 deg
-// within 0.02, or higher).
-std::vector<ClaimResult> TestThesisClaims(const SweepConfig& config, const std::vector<SweepCell>& cells,
-                                          const std::vector<CellRecord>& records);
+// The config's claims for every rigsim method whose semantic mode is not `none`, against the
+// method with the same features and no semantics (needs both in the config).
+std::vector<ClaimResult> TestClaims(const SweepConfig& config, const std::vector<SweepCell>& cells,
+                                    const std::vector<CellRecord>& records);
 nlohmann::ordered_json ClaimsToJson(const std::vector<ClaimResult>& claims);
 
 }  // namespace rigsim

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "sweep/sweep_report.h"
+
 namespace rigsim {
 namespace {
 
@@ -53,13 +55,13 @@ TEST(SweepSummary, GroupsCellsByStudyPointAndMethod) {
   EXPECT_EQ(rows[1].method, "mask");
   EXPECT_EQ(rows[2].point, "overlap=20");
   EXPECT_EQ(rows[0].cells, 2);
-  EXPECT_DOUBLE_EQ(rows[0].success_2deg, 0.5);
-  EXPECT_DOUBLE_EQ(rows[2].success_2deg, 1.0);
-  EXPECT_DOUBLE_EQ(*rows[0].match_precision.median, 0.45);
-  EXPECT_DOUBLE_EQ(*rows[0].match_precision.min, 0.40);
-  EXPECT_DOUBLE_EQ(*rows[0].match_precision.max, 0.50);
-  EXPECT_DOUBLE_EQ(*rows[1].median_rotation_error_deg.median, 1.15);  // (1.1 + 1.2) / 2
-  EXPECT_DOUBLE_EQ(*rows[2].overlap_pct.median, 18.0);
+  EXPECT_DOUBLE_EQ(rows[0].Total("success_2deg"), 0.5);
+  EXPECT_DOUBLE_EQ(rows[2].Total("success_2deg"), 1.0);
+  EXPECT_DOUBLE_EQ(*rows[0].Spread("match_precision").median, 0.45);
+  EXPECT_DOUBLE_EQ(*rows[0].Spread("match_precision").min, 0.40);
+  EXPECT_DOUBLE_EQ(*rows[0].Spread("match_precision").max, 0.50);
+  EXPECT_DOUBLE_EQ(*rows[1].Spread("median_rotation_error_deg").median, 1.15);  // (1.1 + 1.2) / 2
+  EXPECT_DOUBLE_EQ(*rows[2].Spread("overlap_pct").median, 18.0);
   const std::string csv = SummaryCsv(rows);
   EXPECT_EQ(csv.substr(0, csv.find('\n')).substr(0, 30), "study,point,method,cells,faile");
   EXPECT_NE(csv.find("\nt,overlap=10,none,2,0,0,0.5,0,0.75,0.15,"), std::string::npos) << csv;
@@ -67,7 +69,7 @@ TEST(SweepSummary, GroupsCellsByStudyPointAndMethod) {
 
 TEST(SweepSummary, ClaimsPairEachCellsMethodWithItsBaseline) {
   const Fixture f;
-  const std::vector<ClaimResult> claims = TestThesisClaims(f.config, f.cells, f.records);
+  const std::vector<ClaimResult> claims = TestClaims(f.config, f.cells, f.records);
   ASSERT_EQ(claims.size(), 5u);  // mask vs none: five claims
   // Precision differences: +0.10, +0.05, -0.05, +0.02 -> median +0.035, held, 3 of 4.
   EXPECT_EQ(claims[0].metric, "match_precision");
@@ -92,10 +94,61 @@ TEST(SweepSummary, ClaimsPairEachCellsMethodWithItsBaseline) {
   EXPECT_EQ(claims[4].favourable, 3);
 }
 
+// The summary is made from the metric table: every summarised metric has its columns in
+// summary.csv, its entry in summary.json and its column in report.md, in the table's order.
+TEST(SweepSummary, EverySummarisedMetricReachesTheCsvTheJsonAndTheReport) {
+  const Fixture f;
+  const std::vector<SummaryRow> rows = Summarise(f.config, f.cells, f.records);
+  const std::string csv = SummaryCsv(rows);
+  const std::string header = csv.substr(0, csv.find('\n'));
+  const Json json = SummaryToJson(rows);
+  SweepReportInput report;
+  const std::vector<ClaimResult> claims = TestClaims(f.config, f.cells, f.records);
+  report.config = &f.config;
+  report.cells = &f.cells;
+  report.records = &f.records;
+  report.summary = &rows;
+  report.claims = &claims;
+  const std::string md = SweepReportMarkdown(report);
+  const std::vector<SummarisedMetric> metrics = SummarisedMetrics();
+  ASSERT_FALSE(metrics.empty());
+  size_t last_column = 0, last_heading = 0;
+  for (const SummarisedMetric& m : metrics) {
+    const size_t column = header.find("," + m.spec->name);
+    ASSERT_NE(column, std::string::npos) << m.spec->name;
+    EXPECT_GT(column, last_column) << m.spec->name;
+    last_column = column;
+    EXPECT_TRUE(json[0].contains(m.spec->name)) << m.spec->name;
+    const size_t heading = md.find("| " + m.spec->summary.heading + " |");
+    ASSERT_NE(heading, std::string::npos) << m.spec->name;
+    EXPECT_GT(heading, last_heading) << m.spec->name;
+    last_heading = heading;
+  }
+  // And the summarised metrics are the table's, nothing else.
+  size_t summarised = 0;
+  for (const MethodMetricSpec& m : SweepMetricSpecs()) summarised += m.summary.kind != SummaryKind::kNone;
+  for (const CellMetricSpec& m : CellMetricSpecs()) summarised += m.summary.kind != SummaryKind::kNone;
+  EXPECT_EQ(metrics.size(), summarised);
+}
+
+TEST(SweepSummary, ClaimsAreTheConfigsOwnWhenItGivesThem) {
+  Fixture f;
+  f.config.claims = ParseClaimSet(Json::parse(R"({"title": "Mine", "list": [
+      {"claim": "matches more", "metric": "match_precision", "compare": "difference", "holds": ">= 0.2"}]})"),
+                                  "t.json");
+  const std::vector<ClaimResult> claims = TestClaims(f.config, f.cells, f.records);
+  ASSERT_EQ(claims.size(), 1u);
+  EXPECT_EQ(claims[0].claim, "matches more");
+  EXPECT_FALSE(claims[0].held);        // median difference +0.035
+  EXPECT_EQ(claims[0].favourable, 0);  // no cell gains 0.2
+  f.config.claims.claims.clear();
+  EXPECT_TRUE(TestClaims(f.config, f.cells, f.records).empty());
+}
+
 TEST(SweepSummary, NoClaimsWithoutTheBaseline) {
   Fixture f;
   f.config.methods.erase(f.config.methods.begin());  // only mask
-  EXPECT_TRUE(TestThesisClaims(f.config, f.cells, f.records).empty());
+  EXPECT_TRUE(TestClaims(f.config, f.cells, f.records).empty());
 }
 
 }  // namespace

@@ -23,11 +23,11 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 
-#include "calibrator/pairwise.h"
 #include "dataset/dataset.h"
 #include "dataset/image_io.h"
 #include "dataset/label_image.h"
 #include "geometry/rig.h"
+#include "pipeline/calibration_run.h"
 #include "testing/expect_error.h"
 #include "testing/temp_dir.h"
 #include "tests/rigsim_cli.h"
@@ -444,10 +444,9 @@ TEST_F(CalibrateIo, LibraryNamesABadUserLabelImage) {
   const fs::path small = LabelFolder("small", [](const ImageU8& l, const std::string& cam, const std::string&) {
     return cam == "cam0" ? ImageU8(320, 200, 1, 11) : l;
   });
-  CalibrationOptions options;
-  options.semantic_mode = SemanticMode::kMask;
+  CalibrationRunOptions options;
   options.labels = LabelSource::Folder(small);
-  EXPECT_THAT([&] { CalibrateDatasetPairs(dataset(), options); },
+  EXPECT_THAT([&] { CalibrateDataset(dataset(), options, {SemanticMode::kMask}); },
               ThrowsNaming<std::runtime_error>(small / "cam0", "label image is 320x200, its image is 320x240"));
 }
 

@@ -6,12 +6,12 @@
 
 #include <gtest/gtest.h>
 
-#include "calibrator/rig_calibration.h"
 #include "dataset/dataset.h"
 #include "dataset/image_io.h"
 #include "geometry/json_io.h"
 #include "gltf/gltf_loader.h"
 #include "labels/cityscapes.h"
+#include "pipeline/calibration_run.h"
 #include "renderer/render_dataset.h"
 #include "rigs/rig_presets.h"
 #include "rigs/trajectories.h"
@@ -62,14 +62,19 @@ TempDir* StreetFirstFrame::dir_ = nullptr;
 // within 0.05 deg in rotation and 0.5 deg in translation direction, in every semantic mode.
 TEST_F(StreetEndToEnd, DemoRigCalibratesAccuratelyInEverySemanticMode) {
   const std::vector<SemanticMode> modes(std::begin(kAllSemanticModes), std::end(kAllSemanticModes));
-  const auto results = CalibrateRig(*dir_, RigCalibrationOptions{}, modes);
-  ASSERT_EQ(results.size(), 4u);
-  for (const RigCalibrationResult& result : results) {
+  const CalibrationRun run = CalibrateDataset(*dir_, CalibrationRunOptions{}, modes);
+  ASSERT_EQ(run.results.size(), 4u);
+  for (size_t m = 0; m < run.results.size(); ++m) {
+    const RigCalibrationResult& result = run.results[m];
     SCOPED_TRACE(result.semantic_mode);
+    const CalibrationScores* truth = run.Truth(m);
+    ASSERT_NE(truth, nullptr);
     const CalibrationReport& report = result.pairwise;
     ASSERT_EQ(report.pairs.size(), 6u);
     std::vector<double> rotation;
-    for (const PairResult& pair : report.pairs) {
+    for (size_t p = 0; p < report.pairs.size(); ++p) {
+      const PairResult& pair = report.pairs[p];
+      const PairAgainstTruth& pair_truth = truth->pairs[p];
       SCOPED_TRACE(pair.cam_a + "-" + pair.cam_b);
       const bool neighbours = pair.cam_a.back() + 1 == pair.cam_b.back();
       if (!neighbours) {
@@ -77,23 +82,22 @@ TEST_F(StreetEndToEnd, DemoRigCalibratesAccuratelyInEverySemanticMode) {
         continue;
       }
       ASSERT_TRUE(pair.two_view.success) << pair.two_view.failure_reason;
-      ASSERT_TRUE(pair.rotation_error_deg.has_value());
-      rotation.push_back(*pair.rotation_error_deg);
+      ASSERT_TRUE(pair_truth.rotation_error_deg.has_value());
+      rotation.push_back(*pair_truth.rotation_error_deg);
       // Ground-truth precision of the ratio-tested matches: about 55-70% in these overlaps.
-      ASSERT_TRUE(pair.match_precision.has_value());
-      EXPECT_GT(*pair.match_precision, 0.4);
+      ASSERT_TRUE(pair_truth.match_precision.has_value());
+      EXPECT_GT(*pair_truth.match_precision, 0.4);
       EXPECT_GT(pair.two_view.num_inliers, 500);
     }
     ASSERT_EQ(rotation.size(), 3u);
     std::sort(rotation.begin(), rotation.end());
     EXPECT_LT(rotation[1], 0.1);
 
-    ASSERT_TRUE(result.evaluated);
     for (size_t c = 1; c < result.rig.cameras.size(); ++c) {
       SCOPED_TRACE(result.rig.cameras[c].name);
       ASSERT_TRUE(result.rig.cameras[c].cam_from_rig.has_value()) << result.camera_status[c];
-      EXPECT_LT(result.camera_stats[c].rotation_error_deg.value(), 0.05);
-      EXPECT_LT(result.camera_stats[c].translation_direction_error_deg.value(), 0.5);
+      EXPECT_LT(truth->cameras[c].rotation_error_deg.value(), 0.05);
+      EXPECT_LT(truth->cameras[c].translation_direction_error_deg.value(), 0.5);
     }
   }
 }
@@ -150,15 +154,17 @@ TEST(SurroundEndToEnd, RigWithTwoFisheyesCalibratesWithinATenthOfADegree) {
   job.options.samples_per_pixel = 4;
   job.options.seed = 1;
   RenderDataset(job, dir, true);
-  const RigCalibrationResult result = CalibrateRig(dir, RigCalibrationOptions{}, SemanticMode::kNone);
-  ASSERT_TRUE(result.evaluated);
+  const CalibrationRun run = CalibrateDataset(dir.path(), CalibrationRunOptions{}, {SemanticMode::kNone});
+  const RigCalibrationResult& result = run.results.at(0);
+  ASSERT_NE(run.Truth(0), nullptr);
+  const std::vector<CameraAgainstTruth>& truth = run.Truth(0)->cameras;
   int fisheyes = 0;
   for (size_t c = 1; c < result.rig.cameras.size(); ++c) {
     SCOPED_TRACE(result.rig.cameras[c].name);
     fisheyes += result.rig.cameras[c].camera.model() == CameraModelId::kOpenCVFisheye;
     ASSERT_TRUE(result.rig.cameras[c].cam_from_rig.has_value()) << result.camera_status[c];
-    EXPECT_LT(result.camera_stats[c].rotation_error_deg.value(), 0.1);  // measured 0.028-0.057
-    EXPECT_LT(result.camera_stats[c].translation_direction_error_deg.value(), 0.5);  // measured <= 0.18
+    EXPECT_LT(truth[c].rotation_error_deg.value(), 0.1);  // measured 0.028-0.057
+    EXPECT_LT(truth[c].translation_direction_error_deg.value(), 0.5);  // measured <= 0.18
   }
   EXPECT_EQ(fisheyes, 2);
 }

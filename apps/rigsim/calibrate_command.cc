@@ -1,5 +1,7 @@
 #include "apps/rigsim/calibrate_support.h"
 #include "apps/rigsim/commands.h"
+#include "calibrator/features.h"
+#include "common/param_spec.h"
 #include "dataset/dataset.h"
 
 namespace rigsim::cli {
@@ -41,9 +43,9 @@ void AddCalibrateCommand(CLI::App& app) {
                   "several times faster to match). --max-features applies to all, --sift-contrast to\n"
                   "sift and rootsift only")
       ->capture_default_str()
-      ->check(CLI::IsMember({"sift", "rootsift", "orb", "akaze"}));
+      ->check(CLI::IsMember(NamesOf(kAllFeatureTypes, FeatureTypeName)));
   cmd->callback([args] {
-    args->settings.options.pairwise.features.type = FeatureTypeFromName(args->features);
+    args->settings.options.features.type = FeatureTypeFromName(args->features);
     const std::filesystem::path out =
         args->out.empty() ? std::filesystem::path(args->dataset) / "calibration" : std::filesystem::path(args->out);
     ThrowUnlessEveryCameraCalibrated(CalibrateAndReport(args->dataset, args->settings, out, args->force).results);

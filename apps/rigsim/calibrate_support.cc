@@ -66,12 +66,12 @@ void AddLabelSourceOptions(CLI::App& cmd, LabelSettings& s) {
           ->default_str(std::to_string(d.seed)));
 }
 
-RigCalibrationOptions CalibrateSettings::ToOptions() const {
-  RigCalibrationOptions o = options;
-  o.pairwise.labels = labels.ToSource();
+CalibrationRunOptions CalibrateSettings::ToOptions() const {
+  CalibrationRunOptions o = options;
+  o.labels = labels.ToSource();
   if (!reliable.empty()) {
     try {
-      o.pairwise.reliable = ReliableClasses::FromNames(reliable);
+      o.reliable = ReliableClasses::FromNames(reliable);
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(std::string("--reliable: ") + e.what());
     }
@@ -90,9 +90,9 @@ RigCalibrationOptions CalibrateSettings::ToOptions() const {
     if (known_distance[0] == known_distance[1]) {
       throw std::invalid_argument("--known-distance: give two different cameras (got '" + known_distance[0] + "' twice)");
     }
-    o.known_distance = KnownDistance{known_distance[0], known_distance[1], metres};
+    o.rig.known_distance = KnownDistance{known_distance[0], known_distance[1], metres};
   }
-  if (!intrinsics.empty()) o.pairwise.intrinsics = CalibrationOptions::GivenIntrinsics{ReadRig(intrinsics), intrinsics};
+  if (!intrinsics.empty()) o.intrinsics = CalibrationRunOptions::GivenIntrinsics{ReadRig(intrinsics), intrinsics};
   o.Check();
   return o;
 }
@@ -125,7 +125,7 @@ void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& s) {
                  "stay the truth a rendered dataset is compared with")
       ->check(CLI::ExistingFile);
   const IntrinsicsPriorOptions priors;
-  cmd.add_flag("--refine-intrinsics", s.options.bundle_adjustment.refine_intrinsics,
+  cmd.add_flag("--refine-intrinsics", s.options.rig.bundle_adjustment.refine_intrinsics,
                "refine every camera's intrinsics (focal lengths, principal point, distortion) in the\n"
                "bundle adjustment, after the poses are found with the given ones, under Gaussian priors\n"
                "on the given values: sigma " + Fixed(100 * priors.focal_fraction, 0) + "% of the focal length (fx - fy: " +
@@ -135,7 +135,7 @@ void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& s) {
                    " for further radial and " + Fixed(priors.tangential, 3) + " for tangential terms. <mode>/rig.json\n"
                "gets the refined intrinsics; evaluation.json has the given and refined values and their\n"
                "standard deviations (and errors against the truth for a rendered dataset)");
-  FeatureOptions& features = s.options.pairwise.features;
+  FeatureOptions& features = s.options.features;
   cmd.add_option("--max-features", features.max_features, "strongest keypoints kept per image (every --features type)")
       ->capture_default_str()
       ->check(Positive());
@@ -143,21 +143,21 @@ void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& s) {
                  "SIFT contrast threshold; lower finds more, weaker keypoints")
       ->capture_default_str()
       ->check(Positive());
-  cmd.add_option("--screen-features", s.options.pairwise.screen_features,
+  cmd.add_option("--screen-features", s.options.rig.pairwise.screen_features,
                  "pair screening: match only this many strongest keypoints of two frames first and\n"
                  "skip the full matching of pairs that show no shared view; 0 matches every pair in full")
       ->capture_default_str()
       ->check(NonNegative());
-  cmd.add_option("--ratio", s.options.pairwise.matching.ratio,
+  cmd.add_option("--ratio", s.options.rig.pairwise.matching.ratio,
                  "Lowe's ratio test: keep a match when best < ratio x second best")
       ->capture_default_str()
       ->check(CLI::Range(0.1, 1.0));
-  cmd.add_option("--max-error-px", s.options.pairwise.two_view.max_error_px,
+  cmd.add_option("--max-error-px", s.options.rig.pairwise.two_view.max_error_px,
                  "inlier threshold of the robust relative-pose fit (px)")
       ->capture_default_str()
       ->check(Positive());
   if (cmd.get_option_no_throw("--threads") == nullptr) {
-    cmd.add_option("--threads", s.options.pairwise.num_threads, "worker threads, 0 = all cores")
+    cmd.add_option("--threads", s.options.rig.pairwise.num_threads, "worker threads, 0 = all cores")
         ->capture_default_str()
         ->check(NonNegative());
   }
@@ -216,7 +216,7 @@ std::vector<SemanticMode> ModesFor(const std::filesystem::path& dataset, const C
   const bool given = settings.semantics_option != nullptr && settings.semantics_option->count() > 0;
   if (given || std::all_of(modes.begin(), modes.end(), NeedsLabels)) {
     throw std::runtime_error(labels.string() + ": no such folder: --semantics " + needing +
-                             " needs a label image per photo (README, 'Labels for the semantic modes'); for photos "
+                             " needs a label image per photo (docs/calibration.md, 'Labels for the semantic modes'); for photos "
                              "without labels use --semantics none, or give labels with --labels DIR");
   }
   std::fprintf(stderr, "warning: %s has no labels/: calibrating with --semantics none only (%s needs a label image per photo; "
@@ -229,10 +229,10 @@ std::vector<SemanticMode> ModesFor(const std::filesystem::path& dataset, const C
 
 CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const CalibrateSettings& settings,
                                   const std::filesystem::path& out_dir, bool force) {
-  const RigCalibrationOptions options = settings.ToOptions();
+  const CalibrationRunOptions options = settings.ToOptions();
   const std::vector<SemanticMode> modes = ModesFor(dataset, settings);
   const bool labels_used = std::any_of(modes.begin(), modes.end(), NeedsLabels);
-  const LabelSource& labels = options.pairwise.labels;
+  const LabelSource& labels = options.labels;
   if (!labels_used && labels.kind != LabelSource::Kind::kTruth) {
     std::fprintf(stderr, "warning: --labels %s is not used: no semantic mode given needs labels\n",
                  settings.labels.labels.c_str());
@@ -244,7 +244,6 @@ CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const Ca
   const CalibrationInputs inputs = ReadCalibrationInputs(dataset);
   for (const std::string& w : inputs.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   CheckKnownDistanceCameras(settings, inputs.rig, DatasetLayout(dataset).RigJson());
-  CalibrationRig(inputs.rig, options.pairwise);  // --intrinsics names every camera, at its size
   StagedOutput staged(out);
 
   std::fprintf(stderr, "calibrating %s (%zu semantic modes%s)...\n", dataset.string().c_str(), modes.size(),
@@ -256,20 +255,18 @@ CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const Ca
   staged.Commit();
 
   const std::vector<RigCalibrationResult>& results = run.results;
-  std::vector<CalibrationReport> pairwise;
-  for (const RigCalibrationResult& r : results) pairwise.push_back(r.pairwise);
   std::printf("\nRelative pose of every camera pair (matches of %d frame(s) pooled):\n\n",
-              pairwise.empty() ? 0 : pairwise[0].num_frames);
-  std::printf("%s\n", FormatPairTable(pairwise, inputs.overlap).c_str());
-  std::printf("%s\n", FormatSummary(pairwise, inputs.overlap).c_str());
+              results.empty() ? 0 : results[0].pairwise.num_frames);
+  std::printf("%s\n", FormatPairTable(run).c_str());
+  std::printf("%s\n", FormatSummary(run).c_str());
   std::printf("Rig: every camera's pose (gauge: %s is the rig frame; errors after aligning it):\n\n",
               results.empty() || results[0].rig.cameras.empty() ? "camera 0" : results[0].rig.cameras[0].name.c_str());
-  std::printf("%s\n", FormatRigTable(results).c_str());
-  std::printf("%s", FormatRigSummary(results).c_str());
-  if (options.bundle_adjustment.refine_intrinsics) {
+  std::printf("%s\n", FormatRigTable(run).c_str());
+  std::printf("%s", FormatRigSummary(run).c_str());
+  if (options.rig.bundle_adjustment.refine_intrinsics) {
     std::printf("\nIntrinsics refined in the bundle adjustment (change from the given values, +- one standard "
                 "deviation%s):\n\n%s\n",
-                inputs.truth ? "; error against the truth" : "", FormatIntrinsicsTable(results).c_str());
+                inputs.truth ? "; error against the truth" : "", FormatIntrinsicsTable(run).c_str());
   }
   std::printf("calibration took %.1f s; labels: %s; results in %s:\n", run.seconds,
               labels_used ? labels.Describe().c_str() : "not used", out_dir.string().c_str());

@@ -39,15 +39,15 @@ void AddLabelSourceOptions(CLI::App& cmd, LabelSettings& settings);
 
 struct CalibrateSettings {
   // Numeric options are bound to these fields directly, so the library's defaults are the CLI's.
-  RigCalibrationOptions options;
+  CalibrationRunOptions options;
   std::vector<std::string> semantics = {"none", "mask"};
   const CLI::Option* semantics_option = nullptr;  // set by AddCalibrateSettingsOptions: given or default
   std::vector<std::string> reliable;        // empty = the defaults of labels/cityscapes.h
   std::vector<std::string> known_distance;  // CAM_A CAM_B METRES, or empty
   std::string intrinsics;                   // --intrinsics FILE (a rig.json), or empty: the dataset's
-  LabelSettings labels;                     // options.pairwise.labels, resolved by ToOptions
+  LabelSettings labels;                     // options.labels, resolved by ToOptions
   // The options with the names above resolved; throws std::invalid_argument on bad values.
-  RigCalibrationOptions ToOptions() const;
+  CalibrationRunOptions ToOptions() const;
   std::vector<SemanticMode> Modes() const;
 };
 
@@ -57,7 +57,7 @@ void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& settings);
 // modes without those that need labels when the dataset has none, with a warning), writes the
 // results into `out_dir` (pipeline/calibration_outputs.h; atomically, replaced only with `force`)
 // and prints the pair and camera tables and a summary, warnings to stderr. Returns the run (with
-// each stage's details when settings.options.keep_details, for a report).
+// each stage's details when settings.options.rig.keep_details, for a report).
 CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const CalibrateSettings& settings,
                                   const std::filesystem::path& out_dir, bool force);
 

@@ -48,7 +48,7 @@ void AddDemoCommand(CLI::App& app) {
   AddCalibrateSettingsOptions(*cmd, args->calibrate);
   cmd->callback([args] {
     const auto start = std::chrono::steady_clock::now();
-    args->calibrate.options.pairwise.num_threads = args->render.threads;  // one --threads for both stages
+    args->calibrate.options.rig.pairwise.num_threads = args->render.threads;  // one --threads for both stages
     // Fail on bad calibration options before spending time on rendering.
     args->calibrate.ToOptions();
     args->calibrate.Modes();
@@ -70,7 +70,7 @@ void AddDemoCommand(CLI::App& app) {
 
     const std::filesystem::path calibration = std::filesystem::path(args->out) / "calibration";
     CalibrateSettings calibrate = args->calibrate;
-    calibrate.options.keep_details = args->report;  // what the report shows of every stage
+    calibrate.options.rig.keep_details = args->report;  // what the report shows of every stage
     const CalibrationRun run = CalibrateAndReport(args->out, calibrate, calibration, true);
     // The evaluation also beside the images, where the dataset's other ground truth is.
     std::filesystem::copy_file(calibration / "evaluation.json", DatasetLayout(args->out).EvaluationJson(),

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "apps/rigsim/commands.h"
+#include "common/param_spec.h"
 #include "procedural/presets.h"
 
 namespace rigsim::cli {
@@ -25,9 +26,9 @@ void AddGenerateSceneCommand(CLI::App& app) {
       "  plaza    open square: distant buildings, much sky and vegetation (alpha-masked foliage), people\n"
       "  parking  parking lot: ground-dominated views, rows of identical car models\n"
       "Every preset puts the same poster on a wall and on a bus (a semantic distractor).");
-  cmd->add_option("--preset", args->preset, "street, plaza or parking")
+  cmd->add_option("--preset", args->preset, "the world to generate (above)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"street", "plaza", "parking"}));
+      ->check(CLI::IsMember(NamesOf(AllScenePresets(), ScenePresetName)));
   cmd->add_option("--seed", args->seed, "random seed; the same seed gives the same bytes")->capture_default_str();
   CLI::Option* animated = cmd->add_flag(
       "--animated", args->animated,

@@ -1,6 +1,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -17,37 +18,34 @@
 #include "geometry/rig.h"
 #include "gltf/gltf_loader.h"
 #include "gltf/scene_cameras.h"
+#include "rigs/rig_params.h"
 #include "rigs/rig_spec.h"
 
 namespace rigsim::cli {
 namespace {
 
-// What make-rig's options set.
+// What make-rig's options set: the rig's parameters (rigs/rig_params.h) as typed, and make-rig's own.
 struct MakeRigArgs {
-  std::string type = "ring";
-  RingRigOptions ring;  // also the image size of every type
-  StereoRigOptions stereo;
-  SurroundRigOptions surround;
-  WideBaselineRigOptions wide;
-  double overlap_percent = 0.0;
-  double hfov_deg = 95.0;
-  RigPerturbation perturb;
+  std::map<std::string, std::string> rig_text;         // parameter name -> the text given
+  std::map<std::string, CLI::Option*> rig_options;     // parameter name -> its option
   std::vector<double> position = {0.0, 1.6, 0.0};
-  double heading_deg = 0.0;
-  std::string trajectory = "straight";
-  double circle_radius_m = 10.0;
-  int frames = 1;
-  double step_m = 2.0;
+  uint64_t seed = 1;
   std::string scene;
-  PlacementOptions placement;
-  std::string lens = "preset";
-  double lens_k1 = -0.25;
-  double fisheye_fov_deg = 190.0;
   std::string from_gltf;
   std::string rig_out, frames_out, out;
   bool force = false;
+  bool rig_position_given = false;  // --position, after parsing
   // Capture timing: "SECONDS" for every camera or "CAMERA=SECONDS" for one (repeatable).
   std::vector<std::string> time_offset, readout, readout_direction, exposure;
+
+  // The rig parameters given, checked (each option's check already passed).
+  nlohmann::ordered_json RigValues() const {
+    nlohmann::ordered_json values = nlohmann::ordered_json::object();
+    for (const RigParam& p : RigParams()) {
+      if (rig_options.at(p.spec.name)->count() > 0) values[p.spec.name] = ParamValueFromText(p.spec, rig_text.at(p.spec.name));
+    }
+    return values;
+  }
 };
 
 constexpr const char* kDescription =
@@ -65,72 +63,47 @@ constexpr const char* kDescription =
     "file puts it, so `rigsim render` reproduces the file's views.\n"
     "Output: --rig-out and --frames-out, or --out DIR for DIR/rig.json and DIR/frames.json.";
 
-// The rig: its type and the options of each type, image size, mounting errors.
-void AddRigOptions(CLI::App* cmd, MakeRigArgs& a) {
-  cmd->add_option("type,--type", a.type, "rig type")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"ring", "stereo", "surround", "wide-baseline"}));
-  RingRigOptions& r = a.ring;
-  cmd->add_option("--cameras", r.num_cameras, "ring: number of cameras")->capture_default_str()->check(CLI::Range(1, 64));
-  cmd->add_option("--spacing", r.yaw_spacing_deg, "ring: yaw between neighbouring cameras (deg)")->capture_default_str();
-  cmd->add_option("--overlap", a.overlap_percent,
-                  "ring: overlap between neighbours, percent of the image (the smaller of the two directions, as render reports it):\n"
-                  "ground truth at the place found with --scene, else the angular one at infinity; overrides --spacing")
-      ->check(CLI::Range(0.0, 99.0));
-  cmd->add_option("--hfov", a.hfov_deg, "horizontal field of view of the perspective cameras (deg; ring default 95, "
-                                        "stereo 80, wide-baseline 70, surround front 100)");
-  cmd->add_option("--radius", r.radius_m, "ring: radius (m)")->capture_default_str();
-  cmd->add_option("--distorted", r.distorted_camera,
-                  "ring: index of the camera with barrel distortion (-1 = none; a one-camera ring has none unless given)")
-      ->capture_default_str();
-  cmd->add_option("--k1", r.k1, "ring: its OPENCV k1")->capture_default_str();
-  cmd->add_option("--k2", r.k2, "ring: its OPENCV k2")->capture_default_str();
-  cmd->add_option("--baseline", a.stereo.baseline_m, "stereo / wide-baseline: distance between the cameras (m; "
-                                                     "defaults 0.12 and 2.0)");
-  cmd->add_option("--convergence", a.wide.convergence_deg, "wide-baseline: angle between the optical axes (deg)")
-      ->capture_default_str();
-  cmd->add_option("--side-fov", a.surround.side_fov_deg, "surround: field of view of the side fisheyes (deg)")
-      ->capture_default_str();
-  cmd->add_option("--vehicle", a.surround.length_m, "surround: distance between front and back cameras (m)")
-      ->capture_default_str();
-  cmd->add_option("--lens", a.lens,
-                  "every camera's lens instead of the type's own: pinhole, opencv (barrel distortion --lens-k1)\n"
-                  "or fisheye (Kannala-Brandt over --fisheye-fov); preset keeps the type's lenses")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"preset", "pinhole", "opencv", "fisheye"}));
-  cmd->add_option("--lens-k1", a.lens_k1, "--lens opencv: k1 (k2 = -0.24 k1)")->capture_default_str();
-  cmd->add_option("--fisheye-fov", a.fisheye_fov_deg, "--lens fisheye: horizontal field of view (deg, > 180 ok)")
-      ->capture_default_str();
-  cmd->add_option("--width", r.width, "image width (px)")->capture_default_str();
-  cmd->add_option("--height", r.height, "image height (px)")->capture_default_str();
-  cmd->add_option("--jitter-deg", a.perturb.rotation_deg, "random mounting error: rotation up to this (deg)")
-      ->capture_default_str();
-  cmd->add_option("--jitter-m", a.perturb.translation_m, "random mounting error: translation up to this (m)")
-      ->capture_default_str();
-  cmd->add_option("--seed", a.perturb.seed, "seed of the mounting error and of the automatic placement")
-      ->capture_default_str();
+// A parameter's check as an option's validator: the refusal reads as the sweep's does.
+CLI::Validator CheckOf(const ParamSpec& spec) {
+  std::string description;
+  if (spec.kind == ParamSpec::Kind::kChoice) {
+    for (const std::string& c : spec.choices) description += (description.empty() ? "{" : ",") + c;
+    description += "}";
+  } else if (spec.kind == ParamSpec::Kind::kInt || spec.kind == ParamSpec::Kind::kNumber) {
+    description = "in [" + FormatParamValue(spec.min) + " - " + FormatParamValue(spec.max) + "]";
+  }
+  return CLI::Validator(
+      [spec](std::string& text) -> std::string {
+        try {
+          ParamValueFromText(spec, text);
+          return "";
+        } catch (const std::invalid_argument& e) {
+          return e.what();
+        }
+      },
+      description);
 }
 
-// Where the rig stands and how it moves: position and heading, trajectory, automatic placement.
-void AddPathOptions(CLI::App* cmd, MakeRigArgs& a) {
-  cmd->add_option("--position", a.position, "rig position in the world at frame 0: x,y,z (m, glTF +Y up)")
+// The rig and its path: an option for every rig parameter, then where the rig stands without a scene.
+void AddRigOptions(CLI::App* cmd, MakeRigArgs& a) {
+  for (const RigParam& p : RigParams()) {
+    CLI::Option* option = cmd->add_option(p.Flags(), a.rig_text[p.spec.name], p.spec.help)
+                              ->check(CheckOf(p.spec))
+                              ->type_name(p.spec.kind == ParamSpec::Kind::kInt      ? "INT"
+                                          : p.spec.kind == ParamSpec::Kind::kNumber ? "FLOAT"
+                                                                                    : "TEXT");
+    if (!p.spec.default_value.is_null()) option->default_str(FormatParamValue(p.spec.default_value));
+    a.rig_options[p.spec.name] = option;
+  }
+  cmd->add_option("--position", a.position, "rig position in the world at frame 0 without a scene: x,y,z (m, glTF +Y up)")
       ->delimiter(',')
       ->expected(3)
       ->capture_default_str();
-  cmd->add_option("--heading", a.heading_deg, "rig heading (deg; 0 = world -Z, 90 = world +X)")
-      ->capture_default_str();
-  cmd->add_option("--trajectory", a.trajectory, "path over the frames: straight or circle")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"straight", "circle"}));
-  cmd->add_option("--circle-radius", a.circle_radius_m, "circle: radius (m; > 0 turns left, < 0 right)")
-      ->capture_default_str();
-  cmd->add_option("--frames", a.frames, "number of frames; the rig moves --step along the path between them")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 100000));
-  cmd->add_option("--step", a.step_m, "distance moved per frame (m)")->capture_default_str();
-  cmd->add_option("--scene", a.scene, "place the rig automatically in this glTF scene")->check(CLI::ExistingFile);
-  cmd->add_option("--clearance", a.placement.min_clearance_m, "placement: no surface closer along a camera axis (m)")
-      ->capture_default_str();
+  cmd->add_option("--seed", a.seed, "seed of the mounting error and of the automatic placement")->capture_default_str();
+  cmd->add_option("--scene", a.scene,
+                  "place the rig automatically in this glTF scene: on the ground where every camera sees structure "
+                  "(overrides --position and --heading)")
+      ->check(CLI::ExistingFile);
 }
 
 // --from-gltf, which replaces the rig and path options, and where to write.
@@ -140,12 +113,11 @@ void AddSourceAndOutputOptions(CLI::App* cmd, MakeRigArgs& a) {
                       "take the rig from the perspective cameras of this glTF file (see above); rig type, "
                       "camera, placement and trajectory options do not apply")
           ->check(CLI::ExistingFile);
-  for (const char* name : {"type", "--cameras", "--spacing", "--overlap", "--hfov", "--radius", "--distorted", "--k1", "--k2",
-                           "--lens", "--lens-k1", "--fisheye-fov",
-                           "--baseline", "--convergence", "--side-fov", "--vehicle", "--position", "--heading",
-                           "--trajectory", "--circle-radius", "--frames", "--step", "--scene", "--clearance"}) {
-    from_gltf->excludes(cmd->get_option(name));
+  // The image size and mounting errors apply to the file's cameras too.
+  for (const RigParam& p : RigParams()) {
+    if (p.group == RigParamGroup::kRig || p.group == RigParamGroup::kPath) from_gltf->excludes(a.rig_options.at(p.spec.name));
   }
+  for (const char* name : {"--position", "--scene"}) from_gltf->excludes(cmd->get_option(name));
   CLI::Option* rig_out = cmd->add_option("--rig-out", a.rig_out, "rig.json to write");
   CLI::Option* frames_out = cmd->add_option("--frames-out", a.frames_out, "frames.json to write");
   cmd->add_option("--out", a.out,
@@ -239,8 +211,9 @@ void CheckOutput(const MakeRigArgs& a) {
 }
 
 // Writes rig.json and frames.json (into --out, complete or not at all, or to --rig-out and
-// --frames-out) and says so; `what` names the rig.
-void WriteRigAndFrames(const MakeRigArgs& a, const Rig& rig, const FramesFile& frames, const std::string& what) {
+// --frames-out) and says so; `what` names the rig and `path` its path.
+void WriteRigAndFrames(const MakeRigArgs& a, const Rig& rig, const FramesFile& frames, const std::string& what,
+                       const std::string& path) {
   std::string rig_path = a.rig_out, frames_path = a.frames_out;
   if (!a.out.empty()) {
     StagedOutput staged(OutputFolder(a));
@@ -254,67 +227,39 @@ void WriteRigAndFrames(const MakeRigArgs& a, const Rig& rig, const FramesFile& f
     WriteFrames(frames, frames_path);
   }
   std::printf("wrote %s (%s, %zu cameras) and %s (%zu frames, %s)\n", rig_path.c_str(), what.c_str(),
-              rig.cameras.size(), frames_path.c_str(), frames.frames.size(),
-              a.from_gltf.empty() ? a.trajectory.c_str() : "the file's camera poses");
+              rig.cameras.size(), frames_path.c_str(), frames.frames.size(), path.c_str());
 }
 
-void PerturbIfAsked(const MakeRigArgs& a, Rig* rig) {
-  if (a.perturb.rotation_deg > 0 || a.perturb.translation_m > 0) PerturbRig(*rig, a.perturb);
+// The rig, its path and its placement as the options give them.
+RigSpec SpecOf(const MakeRigArgs& a) {
+  RigSpec s = RigSpecFromParams(a.RigValues());
+  s.perturbation.seed = a.seed;
+  s.trajectory.start_world = Eigen::Vector3d(a.position[0], a.position[1], a.position[2]);
+  if (a.position[1] > 0 && a.rig_position_given) s.placement.height_m = a.position[1];
+  s.placement.seed = a.seed;
+  return s;
 }
 
 // --from-gltf: the file's perspective cameras, where the file puts them.
 void MakeRigFromGltf(const MakeRigArgs& a) {
+  const RigSpec spec = SpecOf(a);
   const Scene scene = LoadSceneVerbose(a.from_gltf);  // its warnings name the cameras it skipped
-  SceneCameraRig from_file = RigFromSceneCameras(scene, a.ring.width, a.ring.height);
+  SceneCameraRig from_file = RigFromSceneCameras(scene, spec.width, spec.height);
   for (const std::string& w : from_file.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-  PerturbIfAsked(a, &from_file.rig);
+  if (spec.perturbation.rotation_deg > 0 || spec.perturbation.translation_m > 0) PerturbRig(from_file.rig, spec.perturbation);
   ApplyTiming(a, &from_file.rig);
   for (const RigCamera& c : from_file.rig.cameras) {
     const Eigen::Vector3d centre = (*c.cam_from_rig * *from_file.frames.frames[0].rig_from_world).SourceOriginInTarget();
     std::printf("  %-12s PINHOLE %dx%d  fx %.2f fy %.2f  at (%.3f, %.3f, %.3f)\n", c.name.c_str(), c.camera.width(),
                 c.camera.height(), c.camera.fx(), c.camera.fy(), centre.x(), centre.y(), centre.z());
   }
-  WriteRigAndFrames(a, from_file.rig, from_file.frames, "from " + std::filesystem::path(a.from_gltf).filename().string());
-}
-
-// The rig, its path and its placement as the options give them.
-RigSpec SpecOf(const MakeRigArgs& a, const CLI::App& cmd) {
-  RigSpec s;
-  s.type = a.type;
-  s.ring = a.ring;
-  // The default distorted camera (index 1) only exists from two cameras on.
-  if (cmd.count("--distorted") == 0 && s.ring.distorted_camera >= s.ring.num_cameras) s.ring.distorted_camera = -1;
-  s.stereo = a.stereo;
-  s.surround = a.surround;
-  s.wide = a.wide;
-  s.width = a.ring.width;
-  s.height = a.ring.height;
-  if (cmd.count("--hfov") > 0) s.hfov_deg = a.hfov_deg;
-  if (cmd.count("--baseline") > 0) s.baseline_m = a.stereo.baseline_m;
-  if (a.lens != "preset") {
-    LensOptions lens;
-    lens.kind = LensKindFromName(a.lens);
-    lens.k1 = a.lens_k1;
-    lens.fisheye_fov_deg = a.fisheye_fov_deg;
-    s.lens = lens;
-  }
-  s.overlap_percent = a.overlap_percent;
-  s.perturbation = a.perturb;
-  s.trajectory.kind = a.trajectory == "circle" ? TrajectoryKind::kCircle : TrajectoryKind::kStraight;
-  s.trajectory.start_world = Eigen::Vector3d(a.position[0], a.position[1], a.position[2]);
-  s.trajectory.heading_deg = a.heading_deg;
-  s.trajectory.num_frames = a.frames;
-  s.trajectory.step_m = a.step_m;
-  s.trajectory.circle_radius_m = a.circle_radius_m;
-  s.placement = a.placement;
-  s.placement.height_m = a.position[1] > 0 && cmd.count("--position") ? a.position[1] : s.placement.height_m;
-  s.placement.seed = a.perturb.seed;
-  return s;
+  WriteRigAndFrames(a, from_file.rig, from_file.frames, "from " + std::filesystem::path(a.from_gltf).filename().string(),
+                    "the file's camera poses");
 }
 
 // What the rig will see: the overlap of each pair that shares a view at the first frame, and a
 // warning when a neighbour pair misses the --overlap asked for.
-void ReportOverlaps(const MakeRigArgs& a, const PlacedRig& placed, const Scene* scene) {
+void ReportOverlaps(const RigSpec& spec, const PlacedRig& placed, const Scene* scene) {
   if (placed.rig.cameras.size() < 2 || !placed.rig.HasAllPoses()) return;
   const std::vector<PairOverlap> pairs = RigPairOverlaps(placed.rig, scene, *placed.frames.frames[0].rig_from_world);
   std::printf("%s\n", scene ? "overlap predicted at the first frame (the smaller of the two directions, the figure render "
@@ -331,7 +276,7 @@ void ReportOverlaps(const MakeRigArgs& a, const PlacedRig& placed, const Scene* 
     if (++shown % 4 == 0) line += "\n";
     // Neighbours on the ring (camera i and i+1) are what --overlap solves for, pair by pair in a scene.
     const bool neighbours = placed.rig.FindCamera(p.b) == placed.rig.FindCamera(p.a) + 1;
-    if (scene && a.overlap_percent > 0 && neighbours && std::abs(100 * p.overlap - a.overlap_percent) > 2.0) {
+    if (scene && spec.overlap_percent > 0 && neighbours && std::abs(100 * p.overlap - spec.overlap_percent) > 2.0) {
       missed += (missed.empty() ? "" : ", ") + p.a + "-" + p.b;
     }
   }
@@ -340,17 +285,17 @@ void ReportOverlaps(const MakeRigArgs& a, const PlacedRig& placed, const Scene* 
   std::printf("%s\n", line.c_str());
   if (!missed.empty()) {
     std::fprintf(stderr, "warning: %s: more than 2 points from the --overlap %g%% asked for: no spacing gives it at this "
-                 "place (near walls or open sky); try another --seed\n", missed.c_str(), a.overlap_percent);
+                 "place (near walls or open sky); try another --seed\n", missed.c_str(), spec.overlap_percent);
   }
 }
 
-void MakeRig(const MakeRigArgs& a, const CLI::App& cmd) {
+void MakeRig(const MakeRigArgs& a) {
   CheckOutput(a);
   if (!a.from_gltf.empty()) {
     MakeRigFromGltf(a);
     return;
   }
-  const RigSpec spec = SpecOf(a, cmd);
+  const RigSpec spec = SpecOf(a);
   std::optional<Scene> scene;
   if (!a.scene.empty()) scene = LoadGltf(a.scene);
   if (scene && scene->NumTriangles() == 0) {
@@ -376,8 +321,9 @@ void MakeRig(const MakeRigArgs& a, const CLI::App& cmd) {
     placed->frames.scene = std::filesystem::path(a.scene).filename().string();
   }
   ApplyTiming(a, &placed->rig);
-  ReportOverlaps(a, *placed, scene ? &*scene : nullptr);
-  WriteRigAndFrames(a, placed->rig, placed->frames, a.type);
+  ReportOverlaps(spec, *placed, scene ? &*scene : nullptr);
+  WriteRigAndFrames(a, placed->rig, placed->frames, std::string(RigTypeName(spec.type)),
+                    std::string(TrajectoryKindName(spec.trajectory.kind)));
 }
 
 }  // namespace
@@ -386,10 +332,12 @@ void AddMakeRigCommand(CLI::App& app) {
   auto args = std::make_shared<MakeRigArgs>();
   CLI::App* cmd = app.add_subcommand("make-rig", kDescription);
   AddRigOptions(cmd, *args);
-  AddPathOptions(cmd, *args);
   AddSourceAndOutputOptions(cmd, *args);
   AddTimingOptions(cmd, *args);
-  cmd->callback([args, cmd] { MakeRig(*args, *cmd); });
+  cmd->callback([args, cmd] {
+    args->rig_position_given = cmd->count("--position") > 0;
+    MakeRig(*args);
+  });
 }
 
 }  // namespace rigsim::cli

@@ -1,6 +1,6 @@
 // What the option parser (CLI11) reports, in rigsim's words: which option is wrong and why, with
 // "did you mean" for a misspelt command, option or choice. main() prints it and exits with 1, as
-// README documents for bad input (CLI11's own exit codes, 105, 109, 114, ..., are not rigsim's).
+// docs/command-line.md documents for bad input (CLI11's own exit codes, 105, 109, 114, ..., are not rigsim's).
 #pragma once
 
 #include <string>

@@ -47,7 +47,7 @@ void AddRenderCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "render",
       "Render a dataset: every camera of RIG at every frame of FRAMES, with labels, instances, depth,\n"
-      "the rig and frames files and the ground-truth overlap (see README, 'Dataset layout').");
+      "the rig and frames files and the ground-truth overlap (see docs/datasets.md).");
   cmd->add_option("--scene", args->scene, "glTF 2.0 scene (.gltf or .glb)")->required()->check(CLI::ExistingFile);
   AddLabelRulesOption(*cmd, args->rules);
   cmd->add_option("--rig", args->rig, "rig.json with every camera's cam_from_rig (rigsim make-rig writes one)")
@@ -60,7 +60,7 @@ void AddRenderCommand(CLI::App& app) {
   cmd->add_flag("--force", args->force, "replace an existing output folder");
   AddRenderSettingsOptions(*cmd, args->settings);
   AddPhotometricOptions(*cmd, args->photometric);
-  const std::string group = "More ground truth (off unless asked for; README, 'Dataset layout')";
+  const std::string group = "More ground truth (off unless asked for; docs/datasets.md)";
   cmd->add_flag("--correspondence", args->extras.correspondence,
                 "correspondence/<a>/<b>/<frame>.exr for every camera pair that shares a view, flow/<cam>/<frame>.exr to "
                 "the next frame: where each pixel's surface lands in the other image (x, y) and whether it is visible there")

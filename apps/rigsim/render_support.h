@@ -37,7 +37,7 @@ struct PhotometricSettings {
 void AddPhotometricOptions(CLI::App& cmd, PhotometricSettings& settings);
 
 // --rules RULES.json: Cityscapes classes for a glTF without extras.class, from node, mesh or
-// material names (gltf/label_rules.h; README, 'Labelling a foreign glTF with a rules file').
+// material names (gltf/label_rules.h; docs/scenes-and-rigs.md, 'Labelling a foreign glTF with a rules file').
 void AddLabelRulesOption(CLI::App& cmd, std::string& rules_path);
 
 // Loads a glTF file, labelled by the rules file when `rules_path` is not empty, and prints its

@@ -8,6 +8,9 @@
 #include "apps/rigsim/commands.h"
 #include "apps/rigsim/report_support.h"
 #include "apps/rigsim/version.h"
+#include "calibrator/features.h"
+#include "calibrator/semantics.h"
+#include "common/param_spec.h"
 #include "dataset/dataset.h"
 #include "pipeline/calibration_run.h"
 
@@ -33,7 +36,7 @@ void TakeModesAndLabelsFrom(const fs::path& calibration, CalibrateSettings* sett
     throw std::runtime_error(path.string() + ": no \"methods\": not written by rigsim calibrate");
   }
   settings->semantics.clear();
-  for (const char* mode : {"none", "mask", "gated", "mask+gated"}) {
+  for (const std::string& mode : NamesOf(kAllSemanticModes, SemanticModeName)) {
     if (j["methods"].contains(mode)) settings->semantics.push_back(mode);
   }
   if (settings->semantics.empty()) throw std::runtime_error(path.string() + ": no semantic mode rigsim knows");
@@ -114,15 +117,15 @@ void AddReportCommand(CLI::App& app) {
       ->check(CLI::Range(64, 8192));
   cmd->add_option("--features", args->features, "keypoints and descriptors: sift, rootsift, orb or akaze (as calibrate)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"sift", "rootsift", "orb", "akaze"}));
+      ->check(CLI::IsMember(NamesOf(kAllFeatureTypes, FeatureTypeName)));
   AddCalibrateSettingsOptions(*cmd, args->settings);
   AddLabelSourceOptions(*cmd, args->settings.labels);
   cmd->callback([args] {
     const fs::path dataset = args->dataset;
     if (!args->calibration.empty()) TakeModesAndLabelsFrom(args->calibration, &args->settings);
-    RigCalibrationOptions options = args->settings.ToOptions();
-    options.pairwise.features.type = FeatureTypeFromName(args->features);
-    options.keep_details = true;
+    CalibrationRunOptions options = args->settings.ToOptions();
+    options.features.type = FeatureTypeFromName(args->features);
+    options.rig.keep_details = true;
     const std::vector<SemanticMode> modes = args->settings.Modes();
     const CalibrationInputs inputs = ReadCalibrationInputs(dataset);
     for (const std::string& w : inputs.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());

@@ -9,7 +9,7 @@ void AddShardOptions(CLI::App& cmd, ShardSettings& s, const std::string& what, c
   cmd.add_option("--shard", s.shard,
                  "I/N: run only share I of N of the " + what + " (0 <= I < N; every one is in exactly one share)\n"
                  "into --out; combine the shares' folders with `rigsim " + merge_command + "`");
-  const std::string group = "Slurm (a job array of shards and a merge job; see README, \"Running on a cluster\")";
+  const std::string group = "Slurm (a job array of shards and a merge job; see docs/sweeps.md, \"Running on a cluster\")";
   cmd.add_flag("--slurm", s.slurm, "submit the work to Slurm with sbatch instead of running it here")->group(group);
   cmd.add_flag("--dry-run", s.dry_run, "with --slurm: write the job scripts, do not submit them")->group(group);
   cmd.add_option("--shards", s.job.num_shards, "--slurm: array tasks (default: one per " + what.substr(0, what.size() - 1) +

@@ -11,6 +11,8 @@
 #include "apps/rigsim/parse_errors.h"
 #include "apps/rigsim/interrupt.h"
 #include "apps/rigsim/shard_options.h"
+#include "calibrator/features.h"
+#include "calibrator/semantics.h"
 #include "sweep/cell_runner.h"
 #include "sweep/suites.h"
 #include "sweep/sweep_config.h"
@@ -66,9 +68,12 @@ void ListParams() {
   std::printf("Cell parameters (a config's base, set, grid and zip):\n\n");
   for (const ParamSpec& p : CellParamSpecs()) {
     std::string def = p.default_value.is_null() ? "unset" : FormatParamValue(p.default_value);
-    std::printf("  %-16s default %-8s %s\n", p.name.c_str(), def.c_str(), p.help.c_str());
+    std::string help = p.help;
+    if (p.kind == ParamSpec::Kind::kChoice) help += " {" + JoinNames(p.choices) + "}";
+    std::printf("  %-16s default %-8s %s\n", p.name.c_str(), def.c_str(), help.c_str());
   }
-  std::printf("\nMethods: semantics none, mask, gated, mask+gated; features sift, rootsift, orb, akaze; peers colmap\n");
+  std::printf("\nMethods: semantics %s; features %s; peers %s\n", JoinNames(NamesOf(kAllSemanticModes, SemanticModeName)).c_str(),
+              JoinNames(NamesOf(kAllFeatureTypes, FeatureTypeName)).c_str(), JoinNames(SweepPeerNames()).c_str());
 }
 
 }  // namespace
@@ -86,7 +91,7 @@ void AddSweepCommand(CLI::App& app) {
       "Map where calibration works: vary what makes it hard (overlap, baseline, lens, label noise, scene,\n"
       "...) over seeds, render every cell once, calibrate it by every method (rigsim's semantic modes and\n"
       "feature types, COLMAP) and score each against the truth.\n"
-      "CONFIG is a .json or .yaml file (see README, \"Sweeps\"; --list-params lists the parameters), or\n"
+      "CONFIG is a .json or .yaml file (see docs/sweeps.md; --list-params lists the parameters), or\n"
       "--suite thesis runs the built-in test of the thesis's four claims (--size small: minutes; full).\n"
       "Writes OUT/results.csv and results.jsonl (a row per cell and method), summary.csv, plots/ (PNG\n"
       "and SVG, by gnuplot) and report.md. Finished cells are kept in OUT/cells/: running the same\n"

@@ -1,4 +1,4 @@
-#include "calibrator/evaluation.h"
+#include "evaluation/match_precision.h"
 
 #include <cmath>
 #include <limits>

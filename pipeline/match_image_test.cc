@@ -1,4 +1,4 @@
-#include "calibrator/match_image.h"
+#include "pipeline/match_image.h"
 
 #include <array>
 #include <cstdlib>

@@ -8,7 +8,7 @@
 
 #include <Eigen/Core>
 
-#include "dataset/image.h"
+#include "geometry/image.h"
 
 namespace rigsim {
 

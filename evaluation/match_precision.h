@@ -1,5 +1,3 @@
-// Evaluation of calibration results against ground truth: pose errors and match precision.
-//
 // Match precision (DESIGN.md "Evaluation"): a match (keypoint in A, keypoint in B) is correct
 // when A's keypoint, lifted with A's true range image and projected into B with the true pose
 // and camera model, lands within max_error_px of B's keypoint and is not occluded in B
@@ -19,28 +17,11 @@
 #include <Eigen/Core>
 
 #include "dataset/ground_truth.h"
-#include "evaluation/pose_errors.h"
-#include "dataset/image.h"
 #include "geometry/camera.h"
+#include "geometry/image.h"
 #include "geometry/rigid3.h"
 
 namespace rigsim {
-
-// The errors within which a reported pose counts as right: evaluation.json keeps what the images
-// say (status, success) apart from this verdict against the truth (within_tolerance), so a pose
-// reported solved but far off counts as wrong, not as success.
-struct PoseTolerance {
-  static constexpr double kCameraRotationDeg = 1.0;
-  static constexpr double kCameraDirectionDeg = 5.0;  // direction of the centre from camera 0's
-  static constexpr double kPairRotationDeg = 2.0;
-  static constexpr double kPairDirectionDeg = 5.0;  // baseline direction
-};
-
-// The verdict on one estimate: true when each error it has is within its bound (a direction that
-// is not estimated is not judged); nullopt without a rotation error (no truth, or no estimate).
-std::optional<bool> WithinTolerance(const std::optional<double>& rotation_error_deg,
-                                    const std::optional<double>& direction_error_deg, double max_rotation_deg,
-                                    double max_direction_deg);
 
 struct MatchPrecisionOptions {
   // A transferred keypoint within this distance (px) of its partner is correct.

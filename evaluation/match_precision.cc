@@ -1,4 +1,4 @@
-#include "calibrator/evaluation.h"
+#include "evaluation/match_precision.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,13 +6,6 @@
 #include <stdexcept>
 
 namespace rigsim {
-
-std::optional<bool> WithinTolerance(const std::optional<double>& rotation_error_deg,
-                                    const std::optional<double>& direction_error_deg, double max_rotation_deg,
-                                    double max_direction_deg) {
-  if (!rotation_error_deg) return std::nullopt;
-  return *rotation_error_deg <= max_rotation_deg && direction_error_deg.value_or(0.0) <= max_direction_deg;
-}
 
 void MatchPrecisionOptions::Check() const {
   if (!(max_error_px > 0)) throw std::invalid_argument("MatchPrecisionOptions: max_error_px must be > 0");

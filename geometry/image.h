@@ -1,5 +1,7 @@
 // A plain in-memory image: row-major, channels interleaved. Pixel (x, y) is the pixel whose
-// centre has coordinates (x, y) in the OpenCV convention (top-left pixel centre = (0, 0)).
+// centre has coordinates (x, y) in the OpenCV convention (top-left pixel centre = (0, 0)), the
+// camera models' (camera_models.h); it sits beside them so that the calibration core, which
+// takes images in memory, needs nothing above geometry/. Reading and writing: dataset/image_io.h.
 #pragma once
 
 #include <cassert>

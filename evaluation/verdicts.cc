@@ -1,0 +1,29 @@
+#include "evaluation/verdicts.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace rigsim {
+
+std::optional<bool> WithinTolerance(const std::optional<double>& rotation_error_deg,
+                                    const std::optional<double>& direction_error_deg, const PoseTolerance& tolerance) {
+  if (!rotation_error_deg) return std::nullopt;
+  return *rotation_error_deg <= tolerance.rotation_deg && direction_error_deg.value_or(0.0) <= tolerance.direction_deg;
+}
+
+double PoseErrorDeg(bool full_pose, const std::optional<double>& rotation_error_deg,
+                    const std::optional<double>& direction_error_deg, bool truth_has_direction) {
+  const double inf = std::numeric_limits<double>::infinity();
+  if (!full_pose || !rotation_error_deg) return inf;
+  if (!truth_has_direction) return *rotation_error_deg;
+  return direction_error_deg ? std::max(*rotation_error_deg, *direction_error_deg) : inf;
+}
+
+bool RigSucceeds(bool reference_posed, const std::vector<double>& other_camera_pose_errors_deg, double limit_deg) {
+  return reference_posed && std::all_of(other_camera_pose_errors_deg.begin(), other_camera_pose_errors_deg.end(),
+                                        [&](double e) { return e <= limit_deg; });
+}
+
+bool ConfidentlyWrong(bool full_pose, double pose_error_deg) { return full_pose && pose_error_deg > kConfidentlyWrongDeg; }
+
+}  // namespace rigsim

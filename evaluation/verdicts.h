@@ -1,0 +1,53 @@
+// Every verdict on an estimate against the truth, defined once: within tolerance, the pose error
+// that success and the AUC are measured on, success, and confidently wrong. evaluation.json,
+// pairs.json, the calibrate and evaluate tables, the report, the sweep's rows (and through them
+// the thesis claims) take their verdicts from here.
+//
+// The verdicts answer different questions and so have different bounds:
+//   within tolerance    one pose: rotation and (where the estimate has one) direction each within
+//                       its bound; a camera 1 and 5 deg, a camera pair's two-view estimate 2 and
+//                       5 deg. What evaluation.json's "within_tolerance" and the tables' "(outside
+//                       tolerance against the truth)" say.
+//   pose error          one pose: max(rotation error, direction error); +inf without a full pose.
+//   success at N deg    a whole rig: the reference camera posed and every other camera's pose
+//                       error at most N (the sweep's success_1deg and success_2deg).
+//   confidently wrong   one camera reported with a full pose whose pose error exceeds 5 deg.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+namespace rigsim {
+
+// The bounds of "within tolerance" (deg).
+struct PoseTolerance {
+  double rotation_deg = 0.0;
+  double direction_deg = 0.0;  // of a camera's centre seen from camera 0, or of a pair's baseline
+};
+inline constexpr PoseTolerance kCameraTolerance{1.0, 5.0};  // a camera's pose in the rig
+inline constexpr PoseTolerance kPairTolerance{2.0, 5.0};    // a camera pair's two-view estimate
+
+// True when the rotation error and, when given, the direction error are within `tolerance` (a
+// direction the estimate does not have is not judged); nullopt without a rotation error (no truth,
+// or no estimate).
+std::optional<bool> WithinTolerance(const std::optional<double>& rotation_error_deg,
+                                    const std::optional<double>& direction_error_deg, const PoseTolerance& tolerance);
+
+// The pose error (deg) of an estimate: +inf without a full pose or a rotation error; the rotation
+// error alone when the truth has no direction to judge (a camera at camera 0's centre, a pair
+// without a baseline); otherwise max(rotation, direction), +inf when the direction is missing.
+double PoseErrorDeg(bool full_pose, const std::optional<double>& rotation_error_deg,
+                    const std::optional<double>& direction_error_deg, bool truth_has_direction);
+
+// The limits (deg) of the sweep's success_1deg and success_2deg.
+inline constexpr double kSuccessLimitsDeg[2] = {1.0, 2.0};
+
+// Success of a whole rig at `limit_deg`: the reference camera has a full pose and every other
+// camera's pose error (PoseErrorDeg) is at most the limit.
+bool RigSucceeds(bool reference_posed, const std::vector<double>& other_camera_pose_errors_deg, double limit_deg);
+
+// A camera reported with a full pose whose pose error exceeds this (deg) is confidently wrong.
+inline constexpr double kConfidentlyWrongDeg = 5.0;
+bool ConfidentlyWrong(bool full_pose, double pose_error_deg);
+
+}  // namespace rigsim

@@ -1,0 +1,55 @@
+#include "evaluation/verdicts.h"
+
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+namespace rigsim {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+TEST(Verdicts, WithinToleranceJudgesTheDirectionOnlyWhereThereIsOne) {
+  EXPECT_EQ(WithinTolerance(0.9, 4.9, kCameraTolerance), true);
+  EXPECT_EQ(WithinTolerance(1.1, 0.0, kCameraTolerance), false);
+  EXPECT_EQ(WithinTolerance(0.5, 5.1, kCameraTolerance), false);
+  EXPECT_EQ(WithinTolerance(1.5, 3.0, kPairTolerance), true);   // a pair's rotation bound is 2 deg
+  EXPECT_EQ(WithinTolerance(0.5, std::nullopt, kCameraTolerance), true);  // rotation only: its rotation
+  EXPECT_FALSE(WithinTolerance(std::nullopt, 1.0, kCameraTolerance).has_value());  // no truth
+}
+
+TEST(Verdicts, PoseErrorIsTheWorseOfRotationAndDirection) {
+  EXPECT_EQ(PoseErrorDeg(true, 0.5, 3.0, true), 3.0);
+  EXPECT_EQ(PoseErrorDeg(true, 4.0, 3.0, true), 4.0);
+  EXPECT_EQ(PoseErrorDeg(false, 0.5, std::nullopt, true), kInf);  // no full pose: a failure
+  EXPECT_EQ(PoseErrorDeg(true, 0.5, std::nullopt, true), kInf);   // the direction is missing
+  EXPECT_EQ(PoseErrorDeg(true, 0.5, std::nullopt, false), 0.5);   // the truth has no direction to judge
+}
+
+TEST(Verdicts, SuccessNeedsTheReferenceAndEveryCameraWithinTheLimit) {
+  EXPECT_TRUE(RigSucceeds(true, {0.5, 0.9}, kSuccessLimitsDeg[0]));
+  EXPECT_FALSE(RigSucceeds(true, {0.5, 1.5}, kSuccessLimitsDeg[0]));
+  EXPECT_TRUE(RigSucceeds(true, {0.5, 1.5}, kSuccessLimitsDeg[1]));
+  EXPECT_FALSE(RigSucceeds(true, {0.5, kInf}, kSuccessLimitsDeg[1]));  // a camera without a full pose
+  EXPECT_FALSE(RigSucceeds(false, {}, kSuccessLimitsDeg[1]));
+}
+
+TEST(Verdicts, ConfidentlyWrongIsAFullPoseBeyondFiveDegrees) {
+  EXPECT_TRUE(ConfidentlyWrong(true, 5.7));
+  EXPECT_FALSE(ConfidentlyWrong(true, 5.0));
+  EXPECT_FALSE(ConfidentlyWrong(false, kInf));  // not reported as placed: not confident
+}
+
+// The verdicts answer different questions: one camera can be within tolerance and still fail
+// success at 2 deg (its direction is 3 deg off), or be outside tolerance and not confidently
+// wrong (3 deg of rotation).
+TEST(Verdicts, WithinToleranceSuccessAndConfidentlyWrongAreDifferentQuestions) {
+  EXPECT_EQ(WithinTolerance(0.5, 3.0, kCameraTolerance), true);
+  EXPECT_FALSE(RigSucceeds(true, {PoseErrorDeg(true, 0.5, 3.0, true)}, kSuccessLimitsDeg[1]));
+  EXPECT_EQ(WithinTolerance(3.0, 1.0, kCameraTolerance), false);
+  EXPECT_FALSE(ConfidentlyWrong(true, PoseErrorDeg(true, 3.0, 1.0, true)));
+}
+
+}  // namespace
+}  // namespace rigsim
