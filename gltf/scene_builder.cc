@@ -1,5 +1,6 @@
 #include "gltf/scene_builder.h"
 
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <stdexcept>
@@ -160,17 +161,36 @@ void SceneBuilder::SetAlphaMask(int material, float cutoff) {
   materials_[material].alpha_cutoff = cutoff;
 }
 
-void SceneBuilder::AddTranslationAnimation(int node, std::vector<float> times_s, std::vector<Eigen::Vector3f> translations) {
-  const std::string who = "SceneBuilder::AddTranslationAnimation: ";
+void SceneBuilder::CheckAnimation(const std::string& who, int node, const std::string& path, const std::vector<float>& times_s,
+                                  size_t keys) const {
   if (node < 0 || node >= int(nodes_.size())) throw std::invalid_argument(who + "node index out of range");
-  if (times_s.empty() || times_s.size() != translations.size()) throw std::invalid_argument(who + "needs as many times as translations");
-  for (size_t k = 1; k < times_s.size(); ++k) {
-    if (!(times_s[k] > times_s[k - 1])) throw std::invalid_argument(who + "times must increase strictly");
+  if (times_s.empty() || times_s.size() != keys) throw std::invalid_argument(who + "needs as many times as values");
+  for (size_t k = 0; k < times_s.size(); ++k) {
+    if (!std::isfinite(times_s[k])) throw std::invalid_argument(who + "times must be finite");
+    if (k > 0 && !(times_s[k] > times_s[k - 1])) throw std::invalid_argument(who + "times must increase strictly");
   }
   for (const AnimationData& a : animations_) {
-    if (a.node == node) throw std::invalid_argument(who + "node already animated");
+    if (a.node == node && a.path == path) throw std::invalid_argument(who + "node's " + path + " already animated");
   }
-  animations_.push_back({node, std::move(times_s), std::move(translations)});
+}
+
+void SceneBuilder::AddTranslationAnimation(int node, std::vector<float> times_s, std::vector<Eigen::Vector3f> translations) {
+  CheckAnimation("SceneBuilder::AddTranslationAnimation: ", node, "translation", times_s, translations.size());
+  std::vector<float> values;
+  for (const Eigen::Vector3f& t : translations) values.insert(values.end(), {t.x(), t.y(), t.z()});
+  animations_.push_back({node, "translation", std::move(times_s), std::move(values)});
+}
+
+void SceneBuilder::AddRotationAnimation(int node, std::vector<float> times_s, std::vector<Eigen::Quaternionf> rotations) {
+  const std::string who = "SceneBuilder::AddRotationAnimation: ";
+  CheckAnimation(who, node, "rotation", times_s, rotations.size());
+  std::vector<float> values;
+  for (const Eigen::Quaternionf& q : rotations) {
+    if (!(q.norm() > 0.f) || !std::isfinite(q.norm())) throw std::invalid_argument(who + "rotations must be finite and non-zero");
+    const Eigen::Quaternionf u = q.normalized();
+    values.insert(values.end(), {u.x(), u.y(), u.z(), u.w()});
+  }
+  animations_.push_back({node, "rotation", std::move(times_s), std::move(values)});
 }
 
 int SceneBuilder::AddNode(const std::string& name, const std::string& class_name, MeshData mesh, int material,
@@ -249,10 +269,11 @@ std::vector<uint8_t> SceneBuilder::ToGlb() const {
     accessors.push_back({{"bufferView", view}, {"componentType", kFloat}, {"count", a.times.size()}, {"type", "SCALAR"},
                          {"min", {t0}}, {"max", {t1}}});
     const size_t input = accessors.size() - 1;
-    view = AddView(&bin, &views, a.translations.data(), a.translations.size() * sizeof(Eigen::Vector3f), 0);
-    accessors.push_back({{"bufferView", view}, {"componentType", kFloat}, {"count", a.translations.size()}, {"type", "VEC3"}});
+    view = AddView(&bin, &views, a.values.data(), a.values.size() * sizeof(float), 0);
+    accessors.push_back({{"bufferView", view}, {"componentType", kFloat}, {"count", a.times.size()},
+                         {"type", a.path == "rotation" ? "VEC4" : "VEC3"}});
     animation_samplers.push_back({{"input", input}, {"output", accessors.size() - 1}, {"interpolation", "LINEAR"}});
-    animation_channels.push_back({{"sampler", animation_samplers.size() - 1}, {"target", {{"node", a.node}, {"path", "translation"}}}});
+    animation_channels.push_back({{"sampler", animation_samplers.size() - 1}, {"target", {{"node", a.node}, {"path", a.path}}}});
   }
   while (bin.size() % 4 != 0) bin.push_back(0);
 

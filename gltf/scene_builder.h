@@ -14,6 +14,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 namespace rigsim {
 
@@ -54,6 +55,10 @@ class SceneBuilder {
   // is at translations[k] (world, since nodes are roots). The node is written with TRS instead of
   // a matrix, as glTF requires for animated nodes. Throws std::invalid_argument on bad input.
   void AddTranslationAnimation(int node, std::vector<float> times_s, std::vector<Eigen::Vector3f> translations);
+  // Animates `node`'s rotation the same way (LINEAR, i.e. slerp between keys): at times_s[k] the
+  // node's world_from_node rotation is rotations[k] (normalised when written). A node may have one
+  // translation and one rotation animation.
+  void AddRotationAnimation(int node, std::vector<float> times_s, std::vector<Eigen::Quaternionf> rotations);
 
   // Writes a .glb; throws std::runtime_error("<path>: ...") on failure.
   void WriteGlb(const std::filesystem::path& path) const;
@@ -88,9 +93,13 @@ class SceneBuilder {
   std::vector<NodeData> nodes_;
   struct AnimationData {
     int node;
+    std::string path;           // glTF target path: "translation" or "rotation"
     std::vector<float> times;
-    std::vector<Eigen::Vector3f> translations;
+    std::vector<float> values;  // per key 3 (translation) or 4 (rotation x, y, z, w) floats
   };
+  // Checks a new animation of `path` on `node` with `keys` values; throws std::invalid_argument.
+  void CheckAnimation(const std::string& who, int node, const std::string& path, const std::vector<float>& times_s,
+                      size_t keys) const;
   std::vector<AnimationData> animations_;
 };
 

@@ -1,5 +1,6 @@
 #include "gltf/scene_builder.h"
 
+#include <cmath>
 #include <filesystem>
 #include <stdexcept>
 
@@ -7,6 +8,7 @@
 
 #include "gltf/gltf_loader.h"
 #include "labels/cityscapes.h"
+#include "scene/scene_pose.h"
 #include "testing/temp_dir.h"
 
 namespace rigsim {
@@ -91,6 +93,36 @@ TEST(SceneBuilder, SameCallsGiveSameBytes) {
   ASSERT_GE(a.size(), 12u);
   EXPECT_EQ(std::string(a.begin(), a.begin() + 4), "glTF");
   EXPECT_EQ(a.size() % 4, 0u);
+}
+
+// A node with a translation and a rotation animation: both channels load, and posing the scene
+// moves and turns the node's vertices as the keys say (rotation about the node's origin).
+TEST(SceneBuilder, TranslationAndRotationAnimationsPoseTheNode) {
+  SceneBuilder b;
+  const int node = b.AddNode("walker", "person", Triangle(), -1);
+  b.AddNode("ground", "road", Triangle(), -1);
+  const Eigen::Quaternionf quarter(Eigen::AngleAxisf(float(M_PI / 2), Eigen::Vector3f::UnitY()));
+  b.AddTranslationAnimation(node, {0.f, 2.f}, {Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(4, 0, 0)});
+  b.AddRotationAnimation(node, {0.f, 2.f}, {Eigen::Quaternionf::Identity(), quarter});
+  EXPECT_THROW(b.AddRotationAnimation(node, {0.f}, {quarter}), std::invalid_argument);  // one per path
+  EXPECT_THROW(b.AddRotationAnimation(1, {0.f, 1.f}, {quarter}), std::invalid_argument);
+  EXPECT_THROW(b.AddRotationAnimation(1, {1.f, 1.f}, {quarter, quarter}), std::invalid_argument);
+  EXPECT_THROW(b.AddRotationAnimation(1, {0.f}, {Eigen::Quaternionf(0, 0, 0, 0)}), std::invalid_argument);
+  const TempDir dir;
+  b.WriteGlb(dir / "moving.glb");
+  const Scene s = LoadGltf(dir / "moving.glb");
+  EXPECT_TRUE(s.warnings.empty()) << s.warnings.front();
+  ASSERT_EQ(s.animation_channels.size(), 2u);
+  EXPECT_EQ(s.animation_channels[0].path, AnimationPath::kTranslation);
+  EXPECT_EQ(s.animation_channels[1].path, AnimationPath::kRotation);
+  // At t = 2: turned 90 degrees about +Y (x -> -z), then moved 4 m along x.
+  const std::vector<SceneMesh> end = PoseMeshesAt(s, 2.0);
+  EXPECT_TRUE(end[0].positions[1].isApprox(Eigen::Vector3f(4, 0, -1), 1e-5f)) << end[0].positions[1].transpose();
+  // Half way: 2 m along x and turned 45 degrees (slerp).
+  const std::vector<SceneMesh> half = PoseMeshesAt(s, 1.0);
+  const float c = std::sqrt(0.5f);
+  EXPECT_TRUE(half[0].positions[1].isApprox(Eigen::Vector3f(2 + c, 0, -c), 1e-5f)) << half[0].positions[1].transpose();
+  EXPECT_TRUE(end[1].positions[1].isApprox(Eigen::Vector3f(1, 0, 0)));  // the static node stays
 }
 
 TEST(SceneBuilder, RejectsBadInput) {

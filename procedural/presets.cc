@@ -10,6 +10,7 @@
 
 #include "common/param_spec.h"
 #include "gltf/scene_builder.h"
+#include "procedural/motion.h"
 #include "procedural/objects.h"
 #include "procedural/street_scene.h"
 #include "procedural/textures.h"
@@ -34,7 +35,15 @@ float RectDistance(float x0, float z0, float x1, float z1) {
 // ground tiles, buildings, trees with foliage cards, people, lamps and animations.
 class PresetGenerator {
  protected:
-  PresetGenerator(uint64_t seed, bool animated) : rng_(seed), animated_(animated) {}
+  struct Placed {  // a node and where it stands
+    int node;
+    Eigen::Matrix4d place;
+    float yaw;
+  };
+
+  // The motion draws from its own stream, so that the static scene is the same with and without it.
+  PresetGenerator(uint64_t seed, bool animated, double traffic)
+      : rng_(seed), motion_rng_(seed ^ 0x9e3779b97f4a7c15ull), animated_(animated), traffic_(traffic) {}
 
   int Material(const std::string& name, const Canvas& c) {
     const int tex = b_.AddTexture(name, c.w, c.h, 3, c.ToRgb8());
@@ -124,9 +133,11 @@ class PresetGenerator {
     std::vector<MeshPart> parts;
     parts.push_back({std::move(trunk), bark_});
     parts.push_back({std::move(crown), leaves});
-    Eigen::Matrix4d place = Placement(x, z, rng.Uniform(0, 2 * kPi));
+    const float yaw = rng.Uniform(0, 2 * kPi);
+    Eigen::Matrix4d place = Placement(x, z, yaw);
     place(1, 3) = y0;
-    b_.AddNode(name, "vegetation", std::move(parts), place);
+    trees_.push_back({b_.AddNode(name, "vegetation", std::move(parts), place), place, yaw});
+    obstacles_.push_back({x, z, 1.f});
   }
 
   void Person(const std::string& name, float x, float z, float y0 = 0.f) {
@@ -135,8 +146,7 @@ class PresetGenerator {
     const float yaw = rng.Uniform(0, 2 * kPi), scale = rng.Uniform(0.9f, 1.08f);
     Eigen::Matrix4d place = Placement(x, z, yaw);
     place(1, 3) = y0;
-    const int node = b_.AddNode(name, "person", PersonMesh(scale, rng.Fork()), mat, place);
-    movers_.push_back({node, place, 1.4f});
+    people_.push_back({b_.AddNode(name, "person", PersonMesh(scale, rng.Fork()), mat, place), place, yaw});
   }
 
   void Lamp(const std::string& name, float x, float z, float height) {
@@ -145,6 +155,7 @@ class PresetGenerator {
     AddCylinder(m, Vector3f(0, 0, 0), 0.1f, height, 10);
     AddBox(m, Vector3f(-0.6f, height - 0.2f, -0.2f), Vector3f(0.6f, height, 0.2f));
     b_.AddNode(name, "pole", std::move(m), lamp_material_, Placement(x, z, rng_.Uniform(0, kPi)));
+    obstacles_.push_back({x, z, 0.3f});
   }
 
   // A free-standing advertising wall carrying `poster` on both faces (class wall).
@@ -158,14 +169,14 @@ class PresetGenerator {
     parts.push_back({std::move(face), poster});
     parts.push_back({std::move(frame), concrete});
     b_.AddNode(name, "wall", std::move(parts), Placement(x, z, yaw));
+    for (float a = -width / 2; a <= width / 2 + 0.01f; a += 1.f) obstacles_.push_back({x + a * std::cos(yaw), z - a * std::sin(yaw), 0.5f});
   }
 
   void Bus(const std::string& name, float x, float z, float yaw, int poster) {
     const Vector3f colour = RandomColor(rng_, 0.5f, 0.95f);  // before the fork, as GCC ordered the arguments
     const int paint = Material(name + "_paint", PaintPlain(rng_.Fork(), 128, 128, colour, 0.05f, 10));
     const Eigen::Matrix4d place = Placement(x, z, yaw);
-    const int node = b_.AddNode(name, "bus", BusParts(11.f, 2.5f, 3.1f, paint, poster), place);
-    movers_.push_back({node, place, 6.f});
+    buses_.push_back({b_.AddNode(name, "bus", BusParts(11.f, 2.5f, 3.1f, paint, poster), place), place, yaw});
   }
 
   // Cars in the scene share a few atlases and one body shape: identical models.
@@ -177,32 +188,73 @@ class PresetGenerator {
     return car_materials_[variant];
   }
 
-  void Car(const std::string& name, float x, float z, float yaw, int variant, bool moves) {
-    const Eigen::Matrix4d place = Placement(x, z, yaw);
-    const int node = b_.AddNode(name, "car", CarMesh(4.3f, 1.8f, 1.55f), CarMaterial(variant), place);
-    if (moves) movers_.push_back({node, place, 8.f});
+  // A car; `in_lane` ones drive first when the world moves (the rest stay parked).
+  void Car(const std::string& name, float x, float z, float yaw, int variant, bool in_lane) {
+    const int node = b_.AddNode(name, "car", CarMesh(4.3f, 1.8f, 1.55f), CarMaterial(variant), Placement(x, z, yaw));
+    if (in_lane) lane_cars_.push_back(node);
   }
 
-  // Movers drive or walk forward (node +z) for 10 s.
-  void Animate() {
-    if (!animated_) return;
-    for (const Mover& m : movers_) {
-      const Eigen::Vector3f start = m.place.topRightCorner<3, 1>().cast<float>();
-      const Eigen::Vector3f forward = m.place.block<3, 1>(0, 2).cast<float>().normalized();
-      b_.AddTranslationAnimation(m.node, {0.f, 10.f}, {start, start + forward * m.speed * 10.f});
+  // Trees sway in one wind.
+  void SwayTrees() {
+    const Eigen::Vector3f wind = RandomWind(motion_rng_);
+    for (const Placed& t : trees_) AddMotion(&b_, t.node, SwayKeys(RandomSway(t.yaw, wind, motion_rng_)));
+  }
+
+  // A person paces along `yaw` from `start` as far as the obstacles and the box |x| <= half_x,
+  // |z| <= half_z let it (at most 10 m), or the other way when that is longer; one hemmed in on
+  // both sides (under 1 m) stands still.
+  void WalkFrom(const Placed& person, const Eigen::Vector3f& start, float yaw, float half_x, float half_z) {
+    const Eigen::Vector2f at(start.x(), start.z());
+    const float ahead = ClearLength(at, {std::sin(yaw), std::cos(yaw)}, 10.f, 0.4f, obstacles_, half_x, half_z);
+    const float behind = ClearLength(at, {-std::sin(yaw), -std::cos(yaw)}, 10.f, 0.4f, obstacles_, half_x, half_z);
+    Walk w;
+    w.start = start;
+    w.yaw = ahead >= behind ? yaw : yaw + kPi;
+    w.leg_m = std::max(ahead, behind);
+    w.speed_mps = motion_rng_.Uniform(1.2f, 1.5f);
+    w.phase = motion_rng_.Uniform();
+    if (w.leg_m >= 1.f) AddMotion(&b_, person.node, WalkKeys(w));
+  }
+
+  // Vehicles on `lanes` at the traffic density (`lane_length_m` of lane in view): the lane cars
+  // first, then new cars of the scene's models.
+  void DriveLanes(const std::vector<LaneDrive>& lanes, float lane_length_m) {
+    std::vector<LaneDrive> spread_lanes = lanes;
+    for (LaneDrive& lane : spread_lanes) lane.offset_m = motion_rng_.Uniform(0, (lane.to - lane.from).norm());
+    const std::vector<LaneDrive> drives = SpreadOnLanes(VehiclesOnLanes(traffic_, lane_length_m), spread_lanes);
+    for (size_t k = 0; k < drives.size(); ++k) {
+      const int node = k < lane_cars_.size() ? lane_cars_[k]
+                                             : b_.AddNode("car_traffic_" + std::to_string(k), "car", CarMesh(4.3f, 1.8f, 1.55f),
+                                                          CarMaterial(int(k % 3)), Placement(drives[k].from.x(), drives[k].from.z(), 0));
+      AddMotion(&b_, node, LaneDriveKeys(drives[k]));
     }
   }
 
-  struct Mover {
-    int node;
-    Eigen::Matrix4d place;
-    float speed;
-  };
-  Rng rng_;
+  // Buses drive `distance_m` ahead at 6 m/s to their stop when there is traffic.
+  void DriveBuses(float distance_m) {
+    if (traffic_ <= 0) return;
+    for (const Placed& bus : buses_) {
+      const Eigen::Vector3f start = bus.place.topRightCorner<3, 1>().cast<float>();
+      AddMotion(&b_, bus.node, DriveToStopKeys(start, bus.yaw, distance_m, 6.f));
+    }
+  }
+
+  // Keeps walkers off a bus and the `distance_m` it drives: discs along it.
+  void BusRouteObstacles(float distance_m) {
+    for (const Placed& bus : buses_) {
+      for (float d = -6.f; d <= distance_m + 6.f; d += 2.f) {
+        obstacles_.push_back({float(bus.place(0, 3)) + d * std::sin(bus.yaw), float(bus.place(2, 3)) + d * std::cos(bus.yaw), 1.6f});
+      }
+    }
+  }
+
+  Rng rng_, motion_rng_;
   bool animated_;
+  double traffic_;
   SceneBuilder b_;
-  std::vector<int> foliage_, car_materials_;
-  std::vector<Mover> movers_;
+  std::vector<int> foliage_, car_materials_, lane_cars_;
+  std::vector<Placed> trees_, people_, buses_;
+  std::vector<Obstacle> obstacles_;
   int bark_ = -1, lamp_material_ = -1;
 };
 
@@ -210,7 +262,7 @@ class PresetGenerator {
 // people, lamps, a poster wall and a bus with the same poster.
 class PlazaGenerator : public PresetGenerator {
  public:
-  PlazaGenerator(uint64_t seed, bool animated) : PresetGenerator(seed, animated) {}
+  PlazaGenerator(uint64_t seed, bool animated, double traffic) : PresetGenerator(seed, animated, traffic) {}
 
   SceneBuilder Build() {
     Ground();
@@ -238,11 +290,21 @@ class PlazaGenerator : public PresetGenerator {
     const int poster = Material("poster", PaintPoster(rng_.Fork(), 512, 192));
     PosterWall("poster_wall", -9.f, -17.f, 0.3f, 6.f, 2.6f, poster);
     Bus("bus", 26.f, -6.f, 0.f, poster);
-    Animate();
+    if (animated_) Animate();  // after everything else: the static scene is the same either way
     return std::move(b_);
   }
 
  private:
+  // The bus crosses the square to z = 30, people walk in the directions they face, trees sway.
+  void Animate() {
+    constexpr float kBusRoute = 36.f;
+    SwayTrees();
+    obstacles_.push_back({2.f, -12.f, 2.2f});  // the monument
+    BusRouteObstacles(traffic_ > 0 ? kBusRoute : 0.f);
+    for (const Placed& p : people_) WalkFrom(p, p.place.topRightCorner<3, 1>().cast<float>(), p.yaw, 40.f, 40.f);
+    DriveBuses(kBusRoute);
+  }
+
   void Ground() {
     for (float z0 = -50.f; z0 < 50.f; z0 += 10.f) {
       for (float x0 = -50.f; x0 < 50.f; x0 += 10.f) {
@@ -277,7 +339,7 @@ class PlazaGenerator : public PresetGenerator {
 // models, light poles, fences, a supermarket with a poster and a bus with the same poster.
 class ParkingGenerator : public PresetGenerator {
  public:
-  ParkingGenerator(uint64_t seed, bool animated) : PresetGenerator(seed, animated) {}
+  ParkingGenerator(uint64_t seed, bool animated, double traffic) : PresetGenerator(seed, animated, traffic) {}
 
   SceneBuilder Build() {
     Ground();
@@ -292,7 +354,7 @@ class ParkingGenerator : public PresetGenerator {
         ++car;
       }
     }
-    // Cars moving along the lanes (animated only).
+    // Cars in the driving lane: the first to drive when the world moves.
     Car("car_lane_0", -12.f, -1.6f, 0.5f * kPi, 0, true);
     Car("car_lane_1", 14.f, 1.6f, -0.5f * kPi, 1, true);
     for (int i = 0; i < 3; ++i) {
@@ -313,11 +375,29 @@ class ParkingGenerator : public PresetGenerator {
       const float z = rng_.Chance(0.5f) ? rng_.Uniform(-2.5f, -1.f) : rng_.Uniform(12.5f, 13.5f);
       Person("person_" + std::to_string(i), x, z);
     }
-    Animate();
+    if (animated_) Animate();  // after everything else: the static scene is the same either way
     return std::move(b_);
   }
 
  private:
+  // Cars drive the middle lane (z = -1.6 towards +x, z = +1.6 towards -x; the lane's ends inside the
+  // buildings east and west), the bus drives up the west road to z = 36, people walk along the
+  // bays (z = -3.8) and the aisle (z = 12) beside them, trees sway.
+  void Animate() {
+    SwayTrees();
+    LaneDrive east, west;
+    east.from = Eigen::Vector3f(-50.f, 0, -1.6f);
+    east.to = Eigen::Vector3f(44.f, 0, -1.6f);
+    west.from = Eigen::Vector3f(44.f, 0, 1.6f);
+    west.to = Eigen::Vector3f(-50.f, 0, 1.6f);
+    DriveLanes({east, west}, 2 * 60.f);
+    DriveBuses(31.f);
+    for (const Placed& p : people_) {
+      const float x = float(p.place(0, 3)), z = float(p.place(2, 3));
+      WalkFrom(p, Eigen::Vector3f(x, 0, z < 0 ? -3.8f : 12.f), std::sin(p.yaw) >= 0 ? 0.5f * kPi : -0.5f * kPi, 28.f, 40.f);
+    }
+  }
+
   void Ground() {
     for (float z0 = -40.f; z0 < 40.f; z0 += 10.f) {
       for (float x0 = -30.f; x0 < 30.f; x0 += 10.f) {
@@ -410,14 +490,18 @@ void ScenePresetOptions::Check() const {
   if (preset != ScenePreset::kStreet && preset != ScenePreset::kPlaza && preset != ScenePreset::kParking) {
     throw std::invalid_argument("scene preset: unknown preset");
   }
+  if (!(traffic >= 0 && traffic <= kMaxTraffic)) {
+    throw std::invalid_argument("scene preset: traffic must be between 0 and " + std::to_string(int(kMaxTraffic)) +
+                                " vehicles per 100 m of lane");
+  }
 }
 
 std::vector<uint8_t> ScenePresetGlb(const ScenePresetOptions& o) {
   o.Check();
   switch (o.preset) {
-    case ScenePreset::kStreet: return StreetSceneGlb(o.seed, o.animated);
-    case ScenePreset::kPlaza: return PlazaGenerator(o.seed, o.animated).Build().ToGlb();
-    case ScenePreset::kParking: return ParkingGenerator(o.seed, o.animated).Build().ToGlb();
+    case ScenePreset::kStreet: return StreetSceneGlb(o.seed, o.animated, o.traffic);
+    case ScenePreset::kPlaza: return PlazaGenerator(o.seed, o.animated, o.traffic).Build().ToGlb();
+    case ScenePreset::kParking: return ParkingGenerator(o.seed, o.animated, o.traffic).Build().ToGlb();
   }
   return {};
 }

@@ -7,8 +7,13 @@
 //   parking  a parking lot: ground-dominated views, rows of identical car models, light poles,
 //            a supermarket whose poster also covers a bus.
 // All presets share the generated, never-tiled textures of procedural/textures.h. With
-// `animated`, cars and people get glTF translation animations (LINEAR); the static geometry is
-// the same as without. World: glTF (+Y up, metres); the origin is a free spot on the ground from
+// `animated` the world moves (procedural/motion.h, glTF LINEAR translation and rotation channels
+// over 60 s): people walk back and forth with a gait, cars drive their lanes at `traffic` vehicles
+// per 100 m of lane (the street's and the parking's lane cars first, then more cars; those not
+// driving stay parked), buses drive to their stop when there is traffic, trees sway in the wind.
+// The sky is the renderer's, not geometry: it has no clouds to drift. The static scene is the
+// same with and without animation (the motion draws from its own random stream and extra cars
+// come last). World: glTF (+Y up, metres); the origin is a free spot on the ground from
 // which a rig at 1.6 m sees structure in every direction. Deterministic: same options, same bytes.
 #pragma once
 
@@ -19,6 +24,12 @@
 #include <vector>
 
 namespace rigsim {
+
+// Traffic in animated presets: moving vehicles per 100 m of lane. The default keeps the moving
+// cars the presets had before traffic was a parameter (street 5, parking 2); the maximum keeps
+// 6 m between cars.
+inline constexpr double kDefaultTraffic = 2.0;
+inline constexpr double kMaxTraffic = 15.0;
 
 enum class ScenePreset { kStreet, kPlaza, kParking };
 
@@ -31,7 +42,8 @@ std::vector<ScenePreset> AllScenePresets();
 struct ScenePresetOptions {
   ScenePreset preset = ScenePreset::kStreet;
   uint64_t seed = 1;      // every random choice derives from it
-  bool animated = false;  // add translation animations to cars and people
+  bool animated = false;  // people walk, vehicles drive, trees sway
+  double traffic = kDefaultTraffic;  // animated only: 0 (no vehicle moves) to kMaxTraffic
   void Check() const;     // throws std::invalid_argument
 };
 

@@ -1,5 +1,7 @@
 #include "procedural/presets.h"
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -11,9 +13,14 @@
 
 #include "gltf/gltf_loader.h"
 #include "labels/cityscapes.h"
+#include "procedural/textures.h"
+#include "scene/scene_pose.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
+
+using procedural::kPi;
 
 std::vector<uint8_t> ReadBytes(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -101,24 +108,123 @@ TEST(ScenePresets, SemanticDistractorsAndIdenticalCars) {
   }
 }
 
-TEST(ScenePresets, AnimatedWritesTranslationChannelsAndKeepsTheGeometry) {
+TEST(ScenePresets, AnimatedWritesLinearChannelsAndKeepsTheGeometry) {
   for (ScenePreset p : AllScenePresets()) {
     SCOPED_TRACE(std::string(ScenePresetName(p)));
     const nlohmann::json doc = GlbJson(ScenePresetGlb({p, 3, true}));
     ASSERT_TRUE(doc.contains("animations"));
     const auto& anim = doc["animations"][0];
     ASSERT_GE(anim["channels"].size(), 2u);
+    std::set<std::string> paths;
     for (const auto& ch : anim["channels"]) {
-      EXPECT_EQ(ch["target"]["path"], "translation");
+      paths.insert(ch["target"]["path"].get<std::string>());
       const auto& node = doc["nodes"][ch["target"]["node"].get<int>()];
       EXPECT_TRUE(node.contains("translation"));
       EXPECT_FALSE(node.contains("matrix"));  // glTF: animated nodes use TRS
     }
+    EXPECT_EQ(paths, (std::set<std::string>{"translation", "rotation"}));
     for (const auto& smp : anim["samplers"]) EXPECT_EQ(smp["interpolation"], "LINEAR");
     const nlohmann::json still = GlbJson(ScenePresetGlb({p, 3, false}));
     EXPECT_FALSE(still.contains("animations"));
-    EXPECT_EQ(still["nodes"].size(), doc["nodes"].size());
+    EXPECT_EQ(still["nodes"].size(), doc["nodes"].size());  // the default traffic adds no car
+    // Every static node is the same node in the animated file (names in order).
+    for (size_t i = 0; i < still["nodes"].size(); ++i) ASSERT_EQ(still["nodes"][i]["name"], doc["nodes"][i]["name"]) << i;
   }
+}
+
+// How an animated preset moves between two times: per class, the nodes' displacement of their
+// origins (world, metres) and the largest tilt of their up axis from the vertical.
+struct NodeMotion {
+  std::string name;
+  float moved_m = 0;      // horizontal distance between the two times
+  float lean_rad = 0;     // up axis from the vertical at the first time
+  bool turned = false;    // the rotation differs between the times
+};
+std::map<std::string, std::vector<NodeMotion>> MotionBetween(const Scene& s, double t0, double t1) {
+  std::map<int, std::string> class_of_node;
+  for (const SceneMesh& m : s.meshes) {
+    if (m.node >= 0) class_of_node[m.node] = std::string(FindClassById(m.class_id)->name);
+  }
+  const std::vector<Eigen::Matrix4d> a = NodeWorldTransformsAt(s, t0), b = NodeWorldTransformsAt(s, t1);
+  std::map<std::string, std::vector<NodeMotion>> out;
+  for (const auto& [node, cls] : class_of_node) {
+    NodeMotion m;
+    m.name = s.nodes[node].name;
+    m.moved_m = float(std::hypot(b[node](0, 3) - a[node](0, 3), b[node](2, 3) - a[node](2, 3)));
+    m.lean_rad = float(std::acos(std::min(1.0, a[node](1, 1))));
+    m.turned = !a[node].topLeftCorner<3, 3>().isApprox(b[node].topLeftCorner<3, 3>(), 1e-9);
+    out[cls].push_back(m);
+  }
+  return out;
+}
+
+const std::vector<NodeMotion>& Of(const std::map<std::string, std::vector<NodeMotion>>& motion, const std::string& cls) {
+  static const std::vector<NodeMotion> none;
+  const auto it = motion.find(cls);
+  return it == motion.end() ? none : it->second;
+}
+
+Scene LoadPreset(const ScenePresetOptions& o) {
+  const TempDir dir;
+  WriteScenePreset(o, dir / "scene.glb");
+  return LoadGltf(dir / "scene.glb");
+}
+
+// Between 1.0 s and 1.5 s: people walk 0.6 to 0.75 m (1.2 to 1.5 m/s), driving cars 4 m (8 m/s),
+// trees lean by at most 3 degrees and turn; at traffic 0 no vehicle moves.
+TEST(ScenePresets, AnimatedWorldsMoveAsTheyShould) {
+  const std::map<ScenePreset, int> cars_at_default = {{ScenePreset::kStreet, 5}, {ScenePreset::kPlaza, 0}, {ScenePreset::kParking, 2}};
+  for (ScenePreset p : AllScenePresets()) {
+    SCOPED_TRACE(std::string(ScenePresetName(p)));
+    const Scene s = LoadPreset({p, 4, true});
+    EXPECT_TRUE(s.warnings.empty()) << s.warnings.front();
+    const auto motion = MotionBetween(s, 1.0, 1.5);
+    int walking = 0;
+    for (const NodeMotion& m : motion.at("person")) {
+      EXPECT_LE(m.moved_m, 0.75f + 1e-3f) << m.name;
+      walking += m.moved_m > 0.6f - 1e-3f;
+    }
+    EXPECT_GE(walking, int(0.7 * motion.at("person").size())) << "people at walking speed";
+    int driving = 0;
+    for (const NodeMotion& m : Of(motion, "car")) {
+      if (m.moved_m == 0) continue;
+      if (m.moved_m < 50) {  // else it looped back to its lane's start
+        EXPECT_NEAR(m.moved_m, 4.f, 1e-3f) << m.name;
+      }
+      ++driving;
+    }
+    EXPECT_EQ(driving, cars_at_default.at(p));
+    for (const NodeMotion& m : Of(motion, "bus")) EXPECT_NEAR(m.moved_m, 3.f, 1e-3f) << m.name;  // 6 m/s
+    for (const NodeMotion& m : motion.at("vegetation")) {
+      EXPECT_EQ(m.moved_m, 0.f) << m.name;  // about its base
+      EXPECT_LE(m.lean_rad, 3.f * kPi / 180 + 1e-4f) << m.name;
+      EXPECT_TRUE(m.turned) << m.name;
+    }
+    // The same world without traffic: no car or bus is animated, people still walk.
+    const auto calm = MotionBetween(LoadPreset({p, 4, true, 0.0}), 1.0, 1.5);
+    EXPECT_TRUE(Of(calm, "car").empty());
+    EXPECT_TRUE(Of(calm, "bus").empty());
+    EXPECT_EQ(Of(calm, "person").size(), motion.at("person").size());
+  }
+}
+
+TEST(ScenePresets, MoreTrafficMovesMoreCars) {
+  for (ScenePreset p : {ScenePreset::kStreet, ScenePreset::kParking}) {
+    SCOPED_TRACE(std::string(ScenePresetName(p)));
+    const auto motion = MotionBetween(LoadPreset({p, 4, true, 6.0}), 1.0, 1.5);
+    int driving = 0;
+    for (const NodeMotion& m : Of(motion, "car")) driving += m.moved_m > 3.99f;
+    EXPECT_EQ(driving, p == ScenePreset::kStreet ? 14 : 7);  // 6 per 100 m of 240 m and 120 m of lane
+  }
+  EXPECT_THROW(ScenePresetGlb({ScenePreset::kStreet, 1, true, -1.0}), std::invalid_argument);
+  EXPECT_THROW(ScenePresetGlb({ScenePreset::kStreet, 1, true, kMaxTraffic + 1}), std::invalid_argument);
+}
+
+TEST(ScenePresets, AnimationIsDeterministicPerSeed) {
+  const ScenePresetOptions o{ScenePreset::kStreet, 5, true, 4.0};
+  EXPECT_TRUE(ScenePresetGlb(o) == ScenePresetGlb(o));
+  const nlohmann::json a = GlbJson(ScenePresetGlb(o)), b = GlbJson(ScenePresetGlb({ScenePreset::kStreet, 6, true, 4.0}));
+  EXPECT_NE(a["animations"], b["animations"]);
 }
 
 TEST(ScenePresets, SeedChangesTheScene) {

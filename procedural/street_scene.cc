@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "gltf/scene_builder.h"
+#include "procedural/motion.h"
 #include "procedural/objects.h"
 #include "procedural/textures.h"
 
@@ -143,9 +144,10 @@ Canvas PaintSidewalk(uint64_t seed, float len, float ppm) {
 
 class StreetGenerator {
  public:
-  explicit StreetGenerator(uint64_t seed) : rng_(seed) {}
+  // The motion draws from its own stream, so that the static scene is the same with and without it.
+  explicit StreetGenerator(uint64_t seed) : rng_(seed), motion_rng_(seed ^ 0x9e3779b97f4a7c15ull) {}
 
-  SceneBuilder Build(bool animated = false) {
+  SceneBuilder Build(bool animated = false, double traffic = 0) {
     Road();
     Sidewalks();
     Buildings();
@@ -156,7 +158,7 @@ class StreetGenerator {
     Cars();
     People();
     Trees();
-    if (animated) Animate();  // after everything else: the static scene is the same either way
+    if (animated) Animate(traffic);  // after everything else: the static scene is the same either way
     return std::move(b_);
   }
 
@@ -376,7 +378,7 @@ class StreetGenerator {
       float yaw = rng.Uniform(-0.05f, 0.05f);
       if (rng.Chance(0.5f)) yaw += kPi;
       const Eigen::Matrix4d place = Placement(side * (kRoadHalfWidth - 1.1f), z, yaw);
-      movers_.push_back({b_.AddNode("car_" + std::to_string(i), "car", std::move(m), mat, place), place, 8.f});
+      cars_.push_back({b_.AddNode("car_" + std::to_string(i), "car", std::move(m), mat, place), place, yaw});
     }
   }
 
@@ -397,9 +399,10 @@ class StreetGenerator {
       const int mat = Material("person_" + std::to_string(i), c);
       const float s = rng.Uniform(0.9f, 1.08f);  // body scale
       MeshData m = PersonMesh(s, rng.Fork());
-      Eigen::Matrix4d place = Placement(spots[i][0], spots[i][1], rng.Uniform(0, 2 * kPi));
+      const float yaw = rng.Uniform(0, 2 * kPi);
+      Eigen::Matrix4d place = Placement(spots[i][0], spots[i][1], yaw);
       place(1, 3) = kCurbHeight;  // standing on the sidewalk
-      movers_.push_back({b_.AddNode("person_" + std::to_string(i), "person", std::move(m), mat, place), place, 1.4f});
+      people_.push_back({b_.AddNode("person_" + std::to_string(i), "person", std::move(m), mat, place), place, yaw});
     }
   }
 
@@ -426,29 +429,65 @@ class StreetGenerator {
         const float cx = rng.Uniform(-0.7f, 0.7f), cy = trunk_h + rng.Uniform(0.6f, 1.8f), cz = rng.Uniform(-0.7f, 0.7f);
         AddBlob(m, Vector3f(cx, cy, cz), Vector3f(r, r * 0.85f, r), 0.35f, rng.Fork(), leaves);
       }
-      Eigen::Matrix4d place = Placement(spots[i][0], spots[i][1], rng.Uniform(0, 2 * kPi));
+      const float yaw = rng.Uniform(0, 2 * kPi);
+      Eigen::Matrix4d place = Placement(spots[i][0], spots[i][1], yaw);
       place(1, 3) = kCurbHeight;
-      b_.AddNode("tree_" + std::to_string(i), "vegetation", std::move(m), mat, place);
+      trees_.push_back({b_.AddNode("tree_" + std::to_string(i), "vegetation", std::move(m), mat, place), place, yaw});
     }
   }
 
-  // Cars drive and people walk along the street (z) for 10 s, in the direction they face.
-  void Animate() {
-    for (const Mover& m : movers_) {
-      const Eigen::Vector3f start = m.place.topRightCorner<3, 1>().cast<float>();
-      const float dir = m.place(2, 2) >= 0 ? 1.f : -1.f;  // node +z in the world
-      const Eigen::Vector3f end = start + Eigen::Vector3f(0, 0, dir * m.speed * 10.f);
-      b_.AddTranslationAnimation(m.node, {0.f, 10.f}, {start, end});
+  // Trees sway in one wind; people pace along their sidewalk in the direction (+-z) they face
+  // most; cars drive the two lanes (+z at x = -2, -z at x = +2) at `traffic` vehicles per 100 m,
+  // the parked cars first, then more, each lane's ends 4 m behind the end facades.
+  void Animate(double traffic) {
+    const Eigen::Vector3f wind = RandomWind(motion_rng_);
+    std::vector<Obstacle> trunks;
+    for (const Placed& t : trees_) {
+      AddMotion(&b_, t.node, SwayKeys(RandomSway(t.yaw, wind, motion_rng_)));
+      trunks.push_back({float(t.place(0, 3)), float(t.place(2, 3)), 0.3f});
+    }
+    for (const Placed& p : people_) {
+      Walk w;
+      w.start = p.place.topRightCorner<3, 1>().cast<float>();
+      w.yaw = p.place(2, 2) >= 0 ? 0.f : kPi;
+      w.leg_m = ClearLength({w.start.x(), w.start.z()}, {0.f, p.place(2, 2) >= 0 ? 1.f : -1.f}, 12.f, 0.4f, trunks, kFacadeX,
+                            kStreetHalfLength - 5.f);
+      w.speed_mps = motion_rng_.Uniform(1.2f, 1.5f);
+      w.phase = motion_rng_.Uniform();
+      if (w.leg_m >= 1.f) AddMotion(&b_, p.node, WalkKeys(w));
+    }
+    const float end = kStreetHalfLength + 4.f;
+    std::vector<LaneDrive> lanes(2);
+    lanes[0].from = Vector3f(-2.f, 0, -end);
+    lanes[0].to = Vector3f(-2.f, 0, end);
+    lanes[1].from = Vector3f(2.f, 0, end);
+    lanes[1].to = Vector3f(2.f, 0, -end);
+    for (LaneDrive& lane : lanes) lane.offset_m = motion_rng_.Uniform(0, 2 * end);
+    const std::vector<LaneDrive> drives = SpreadOnLanes(VehiclesOnLanes(traffic, 2 * 2 * kStreetHalfLength), lanes);
+    std::vector<int> extra_paint;  // three more car models for the cars beyond the parked ones
+    for (size_t k = 0; k < drives.size(); ++k) {
+      int node = k < cars_.size() ? cars_[k].node : -1;
+      if (node < 0) {
+        const size_t extra = k - cars_.size();
+        if (extra < 3) {
+          const Vector3f paint = RandomColor(motion_rng_, 0.05f, 0.9f);
+          extra_paint.push_back(Material("car_traffic_paint_" + std::to_string(extra_paint.size()), PaintCarAtlas(motion_rng_.Fork(), paint)));
+        }
+        node = b_.AddNode("car_traffic_" + std::to_string(k), "car", CarMesh(4.3f, 1.8f, 1.55f), extra_paint[extra % 3],
+                          Placement(drives[k].from.x(), drives[k].from.z(), 0));
+      }
+      AddMotion(&b_, node, LaneDriveKeys(drives[k]));
     }
   }
 
-  struct Mover {
+  struct Placed {
     int node;
     Eigen::Matrix4d place;
-    float speed;  // m/s
+    float yaw;
   };
-  std::vector<Mover> movers_;
+  std::vector<Placed> cars_, people_, trees_;
   Rng rng_;
+  Rng motion_rng_;
   SceneBuilder b_;
 };
 
@@ -456,7 +495,9 @@ class StreetGenerator {
 
 std::vector<uint8_t> StreetSceneGlb(uint64_t seed) { return StreetGenerator(seed).Build().ToGlb(); }
 
-std::vector<uint8_t> StreetSceneGlb(uint64_t seed, bool animated) { return StreetGenerator(seed).Build(animated).ToGlb(); }
+std::vector<uint8_t> StreetSceneGlb(uint64_t seed, bool animated, double traffic) {
+  return StreetGenerator(seed).Build(animated, traffic).ToGlb();
+}
 
 void WriteStreetScene(const std::filesystem::path& glb_path, uint64_t seed) { StreetGenerator(seed).Build().WriteGlb(glb_path); }
 

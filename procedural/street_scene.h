@@ -24,7 +24,8 @@ void WriteStreetScene(const std::filesystem::path& glb_path, uint64_t seed);
 
 // Returns the same bytes WriteStreetScene would write.
 std::vector<uint8_t> StreetSceneGlb(uint64_t seed);
-// With `animated`, cars and people also move along the street (glTF translation animations).
-std::vector<uint8_t> StreetSceneGlb(uint64_t seed, bool animated);
+// With `animated`, the street moves (procedural/presets.h says how): people walk, `traffic` cars
+// per 100 m of lane drive, trees sway.
+std::vector<uint8_t> StreetSceneGlb(uint64_t seed, bool animated, double traffic);
 
 }  // namespace rigsim

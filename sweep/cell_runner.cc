@@ -53,7 +53,9 @@ fs::path SceneFile(const Json& p, const CellRunnerOptions& options) {
   preset.preset = ScenePresetFromName(scene);
   preset.seed = p.at("scene_seed").is_null() ? Seed(p) : p.at("scene_seed").get<uint64_t>();
   preset.animated = p.at("animated").get<bool>();
-  const fs::path path = options.scene_dir / (scene + "-" + std::to_string(preset.seed) + (preset.animated ? "-animated" : "") + ".glb");
+  preset.traffic = p.at("traffic").get<double>();
+  const fs::path path = options.scene_dir / (scene + "-" + std::to_string(preset.seed) +
+                                             (preset.animated ? "-animated-traffic" + FormatParamValue(p.at("traffic")) : "") + ".glb");
   if (!fs::exists(path)) {
     fs::create_directories(options.scene_dir);
     const fs::path tmp = path.string() + ".partial";

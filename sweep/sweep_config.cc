@@ -41,7 +41,11 @@ std::vector<ParamSpec> MakeCellParamSpecs() {
        "scene preset (" + JoinNames(NamesOf(AllScenePresets(), ScenePresetName)) +
            ") or a .glb/.gltf file (relative to the config file)"},
       {"scene_seed", K::kInt, nullptr, {}, 0, 2147483647, "seed of a preset scene; default: the cell's seed"},
-      {"animated", K::kBool, false, {}, 0, 0, "preset scenes: cars and people move (see time_offset_ms)"},
+      {"animated", K::kBool, false, {}, 0, 0,
+       "preset scenes move: people walk, cars drive (traffic), buses drive to their stop, trees sway (see time_offset_ms)"},
+      {"traffic", K::kNumber, kDefaultTraffic, {}, 0, kMaxTraffic,
+       "animated preset scenes: moving cars per 100 m of lane (street 240 m, parking 120 m; the plaza's bus drives "
+       "when above 0); 0: no vehicle moves"},
   };
   AddRigParams(RigParamGroup::kRig, specs);
   AddRigParams(RigParamGroup::kImage, specs);

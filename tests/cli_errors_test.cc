@@ -130,6 +130,22 @@ TEST_F(RigsimCli, RendersTheValidInputs) {
   EXPECT_TRUE(StagingFolders(base() / "dataset").empty());
 }
 
+// --traffic moves the cars of an animated preset: without --animated, or outside 0..15 vehicles
+// per 100 m of lane, generate-scene stops before writing anything.
+TEST_F(RigsimCli, GenerateSceneTrafficNeedsAnAnimatedSceneAndARange) {
+  const fs::path out = dir_ / "street.glb";
+  for (const std::vector<std::string>& extra : std::vector<std::vector<std::string>>{
+           {"--traffic", "3"}, {"--animated", "--traffic", "16"}, {"--animated", "--traffic", "-1"}}) {
+    std::vector<std::string> args = {"generate-scene", "--preset", "street", "--out", out.string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const CliResult r = Run(args);
+    EXPECT_NE(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("--traffic"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_FALSE(fs::exists(out.string() + ".tmp"));
+  }
+}
+
 TEST_F(RigsimCli, TruncatedGlb) {
   const std::string glb = ReadFile(base() / "scene.glb");
   const fs::path cut = dir_ / "cut.glb";

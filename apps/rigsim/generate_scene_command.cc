@@ -1,4 +1,4 @@
-// rigsim generate-scene --preset street|plaza|parking --seed S --out FILE.glb [--animated]
+// rigsim generate-scene --preset street|plaza|parking --seed S --out FILE.glb [--animated [--traffic N]]
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -14,6 +14,7 @@ void AddGenerateSceneCommand(CLI::App& app) {
     std::string preset = "street";
     uint64_t seed = 1;
     bool animated = false;
+    double traffic = kDefaultTraffic;
     bool force = false;
     std::string out;
   };
@@ -29,7 +30,18 @@ void AddGenerateSceneCommand(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::IsMember(NamesOf(AllScenePresets(), ScenePresetName)));
   cmd->add_option("--seed", args->seed, "random seed; the same seed gives the same bytes")->capture_default_str();
-  cmd->add_flag("--animated", args->animated, "cars and people move (glTF translation animations, LINEAR, 10 s)");
+  CLI::Option* animated = cmd->add_flag(
+      "--animated", args->animated,
+      "the world moves for 60 s (glTF LINEAR translation and rotation channels; the static scene is unchanged): "
+      "people walk back and forth with a gait, cars drive their lanes (--traffic), buses drive to their stop, "
+      "trees sway in the wind. The sky is not geometry and does not move");
+  cmd->add_option("--traffic", args->traffic,
+                  "with --animated: moving cars per 100 m of lane (0 = no vehicle moves; the street has 240 m of lane, "
+                  "the parking 120 m, the plaza none: its bus drives when this is above 0); cars beyond the scene's "
+                  "lane cars are added")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, kMaxTraffic))
+      ->needs(animated);
   cmd->add_option("--out", args->out, "output .glb")->required();
   cmd->add_flag("--force", args->force, "replace an existing file");
   cmd->callback([args] {
@@ -43,6 +55,7 @@ void AddGenerateSceneCommand(CLI::App& app) {
     o.preset = ScenePresetFromName(args->preset);
     o.seed = args->seed;
     o.animated = args->animated;
+    o.traffic = args->traffic;
     WriteScenePreset(o, tmp);
     std::error_code ec;
     std::filesystem::rename(tmp, out, ec);
@@ -50,8 +63,10 @@ void AddGenerateSceneCommand(CLI::App& app) {
       std::filesystem::remove(tmp);
       throw std::runtime_error(out.string() + ": cannot move the written scene into place: " + ec.message());
     }
+    char motion[64] = "";
+    if (args->animated) std::snprintf(motion, sizeof motion, ", animated, traffic %g", args->traffic);
     std::printf("wrote %s (%s, seed %llu%s, %.1f MB); check it with `rigsim inspect %s`\n", out.string().c_str(),
-                args->preset.c_str(), static_cast<unsigned long long>(args->seed), args->animated ? ", animated" : "",
+                args->preset.c_str(), static_cast<unsigned long long>(args->seed), motion,
                 std::filesystem::file_size(out) / 1e6, out.string().c_str());
   });
 }
