@@ -60,7 +60,7 @@ std::optional<Solution> SolveOne(const ViewPairRotation& m, const Rotations& q, 
   return Solution{false, m.frame_a, (qa->conjugate() * mm.conjugate() * *qb * *rb).normalized()};
 }
 
-double AngleDeg(const Eigen::Quaterniond& e) { return RadToDeg(2.0 * std::atan2(e.vec().norm(), std::abs(e.w()))); }
+double RotationAngleDeg(const Eigen::Quaterniond& e) { return RadToDeg(2.0 * std::atan2(e.vec().norm(), std::abs(e.w()))); }
 
 // Propagation from the gauge, by consensus: each step fixes the unknown that the most measurements
 // can fix now, to the value the most of them agree on (within the loss scale; then the most
@@ -96,7 +96,7 @@ void Propagate(const std::vector<ViewPairRotation>& ms, const std::vector<char>&
     for (size_t i = 0; i < values.size(); ++i) {
       std::pair<int, long> support{0, 0};
       for (const auto& [v, inliers] : values) {
-        if (AngleDeg(v * values[i].first.conjugate()) <= agree_deg) support.first += 1, support.second += inliers;
+        if (RotationAngleDeg(v * values[i].first.conjugate()) <= agree_deg) support.first += 1, support.second += inliers;
       }
       if (support > best_support) best_support = support, best = i;
     }
@@ -217,7 +217,7 @@ RigRotationAveragingResult AverageRigRotations(int num_cameras, int num_frames,
     for (size_t i = 0; i < ms.size(); ++i) {
       const auto predicted = Predicted(ms[i], q, r);
       result.residual_deg[i] =
-          predicted ? AngleDeg(ms[i].b_from_a.conjugate() * *predicted) : std::numeric_limits<double>::quiet_NaN();
+          predicted ? RotationAngleDeg(ms[i].b_from_a.conjugate() * *predicted) : std::numeric_limits<double>::quiet_NaN();
       if (!result.outlier[i] && predicted && result.residual_deg[i] > options.outlier_threshold_deg) {
         result.outlier[i] = 1;
         ++fresh;
