@@ -27,8 +27,10 @@ struct CaptureTimeOptions {
   bool estimate_readout = false;
   // Not estimating offsets, a moving rig with frames at distinct times is checked: a camera whose
   // freed offset is farther from zero than both min_offset_s and min_sigmas standard deviations
-  // did not capture with camera 0, and is not calibrated.
-  bool check_synchronisation = true;
+  // did not capture with camera 0, and is not calibrated. Off by default: on a synchronised rig
+  // with weak motion (tests/degenerate_calibration_test.cc) the freed offset came out 91.5 +- 10.4
+  // ms, so the standard deviation is too optimistic to decide on its own.
+  bool check_synchronisation = false;
   double min_offset_s = 0.005;
   double min_sigmas = 5.0;
   TimeOffsetSearchOptions search;

@@ -106,7 +106,9 @@ struct UnsynchronisedRing {
 
 TEST(EstimateRigWithCaptureTimes, UnsynchronisedCamerasAreNotCalibratedUnlessTheirOffsetsAreEstimated) {
   const UnsynchronisedRing ring;
-  const RigCalibrationResult taken_as_synchronised = EstimateRig(ring.obs, {});
+  RigCalibrationOptions checked;
+  checked.capture_time.check_synchronisation = true;
+  const RigCalibrationResult taken_as_synchronised = EstimateRig(ring.obs, checked);
   for (int c = 1; c < 3; ++c) {
     EXPECT_EQ(taken_as_synchronised.camera_status[c].outcome, CameraOutcome::kUnsynchronised)
         << taken_as_synchronised.camera_status[c];
