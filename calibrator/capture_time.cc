@@ -62,17 +62,24 @@ std::vector<double> StartTimeOffsets(int num_cameras, const std::vector<double>&
   return out;
 }
 
-double OffsetVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_world,
-                          const std::vector<double>& frame_times_s, double offset_s, double pixels_per_radian,
-                          double scene_depth) {
+namespace {
+
+// Per frame whose capture at `offset_s` falls within the path's frames, D = rig(t + o)_from_rig(t),
+// and their mean (quaternions on one side of the sphere); empty with fewer than two such frames or
+// three posed ones.
+struct RigChanges {
+  std::vector<Rigid3d> per_frame;
+  Rigid3d mean;
+};
+RigChanges ChangesOverOffset(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+                             const std::vector<double>& frame_times_s, double offset_s) {
   std::vector<TimedPose> path;
   for (size_t k = 0; k < rig_from_world.size() && k < frame_times_s.size(); ++k) {
     if (rig_from_world[k]) path.push_back({frame_times_s[k], *rig_from_world[k]});
   }
-  if (path.size() < 3 || !(scene_depth > 0)) return 0.0;
+  RigChanges out;
+  if (path.size() < 3) return out;
   path = SortedByTime(std::move(path));
-  // D per frame, and its mean (quaternions on one side of the sphere).
-  std::vector<Rigid3d> change;
   Eigen::Vector4d q_sum = Eigen::Vector4d::Zero();
   Eigen::Vector3d t_sum = Eigen::Vector3d::Zero();
   for (const TimedPose& p : path) {
@@ -80,20 +87,40 @@ double OffsetVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_wo
     // the images of those captures say more about that model than about time.
     const double t = p.time_s + offset_s;
     if (t < path.front().time_s || t > path.back().time_s) continue;
-    change.push_back(RigFromWorldOnPath(path, t) * p.rig_from_world.Inverse());
-    const Eigen::Vector4d q = change.back().rotation.coeffs();
-    q_sum += q.dot(change.front().rotation.coeffs()) < 0 ? -q : q;
-    t_sum += change.back().translation;
+    out.per_frame.push_back(RigFromWorldOnPath(path, t) * p.rig_from_world.Inverse());
+    const Eigen::Vector4d q = out.per_frame.back().rotation.coeffs();
+    q_sum += q.dot(out.per_frame.front().rotation.coeffs()) < 0 ? -q : q;
+    t_sum += out.per_frame.back().translation;
   }
-  if (change.size() < 2) return 0.0;
-  const Rigid3d mean(Eigen::Quaterniond(q_sum.normalized()), t_sum / double(change.size()));
+  if (out.per_frame.size() < 2) {
+    out.per_frame.clear();
+    return out;
+  }
+  out.mean = Rigid3d(Eigen::Quaterniond(q_sum.normalized()), t_sum / double(out.per_frame.size()));
+  return out;
+}
+
+}  // namespace
+
+double OffsetVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+                          const std::vector<double>& frame_times_s, double offset_s, double pixels_per_radian,
+                          double scene_depth) {
+  if (!(scene_depth > 0)) return 0.0;
+  const RigChanges changes = ChangesOverOffset(rig_from_world, frame_times_s, offset_s);
   double worst = 0.0;
-  for (const Rigid3d& d : change) {
-    const Rigid3d departure = d * mean.Inverse();
+  for (const Rigid3d& d : changes.per_frame) {
+    const Rigid3d departure = d * changes.mean.Inverse();
     const double angle = Eigen::AngleAxisd(departure.rotation).angle();
     worst = std::max(worst, pixels_per_radian * (angle + departure.translation.norm() / scene_depth));
   }
   return worst;
+}
+
+std::optional<Rigid3d> MeanRigChange(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+                                     const std::vector<double>& frame_times_s, double offset_s) {
+  const RigChanges changes = ChangesOverOffset(rig_from_world, frame_times_s, offset_s);
+  if (changes.per_frame.empty()) return std::nullopt;
+  return changes.mean;
 }
 
 double IntervalVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_world,

@@ -65,6 +65,12 @@ double OffsetVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_wo
                           const std::vector<double>& frame_times_s, double offset_s, double pixels_per_radian,
                           double scene_depth);
 
+// The mean over those frames of D = rig(t + offset)_from_rig(t): the rig's motion between two
+// captures `offset_s` apart, as a pair of cameras pooled over the frames sees it on average; nullopt
+// where OffsetVisibilityPx has nothing to compare.
+std::optional<Rigid3d> MeanRigChange(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+                                     const std::vector<double>& frame_times_s, double offset_s);
+
 // OffsetVisibilityPx of an offset of one frame interval (the median time between frames): the most
 // any offset within a frame can show.
 double IntervalVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_world,

@@ -571,11 +571,19 @@ void CompareEdgesWithRig(const RigObservations& obs, RigCalibrationResult* resul
     const auto& qa = result->cam_from_rig_rotation[p.cam_a];
     const auto& qb = result->cam_from_rig_rotation[p.cam_b];
     if (!qa || !qb) continue;
-    s.rotation_disagreement_deg = RotationDifferenceDeg(*qb * qa->conjugate(), p.two_view.cam_b_from_cam_a.rotation);
-    const auto& pa = result->rig.cameras[p.cam_a].cam_from_rig;
-    const auto& pb = result->rig.cameras[p.cam_b].cam_from_rig;
+    // Cameras that capture at different times (estimated offsets) see each other across the rig's
+    // motion between their captures, on average over the frames the pair pooled.
+    const RigCamera& ca = result->rig.cameras[p.cam_a];
+    const RigCamera& cb = result->rig.cameras[p.cam_b];
+    const double apart_s = cb.time_offset_s + 0.5 * cb.readout_s - ca.time_offset_s - 0.5 * ca.readout_s;
+    const Rigid3d between =
+        apart_s != 0 ? MeanRigChange(result->rig_from_world, obs.frame_times_s, apart_s).value_or(Rigid3d()) : Rigid3d();
+    s.rotation_disagreement_deg =
+        RotationDifferenceDeg(*qb * between.rotation * qa->conjugate(), p.two_view.cam_b_from_cam_a.rotation);
+    const auto& pa = ca.cam_from_rig;
+    const auto& pb = cb.cam_from_rig;
     if (!pa || !pb || p.two_view.rotation_only) continue;
-    const Eigen::Vector3d t_rig = (*pb * pa->Inverse()).translation;
+    const Eigen::Vector3d t_rig = (*pb * between * pa->Inverse()).translation;
     if (t_rig.norm() > 1e-12) s.direction_disagreement_deg = AngleBetweenDeg(t_rig, p.two_view.cam_b_from_cam_a.translation);
   }
 }
