@@ -1,16 +1,21 @@
 #include "calibrator/capture_time.h"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <stdexcept>
+#include <utility>
 
 #include <Eigen/Geometry>
+
+#include "geometry/pose_interpolation.h"
 
 namespace rigsim {
 
 void CaptureTimeOptions::Check() const {
   if (!(min_offset_s >= 0) || !std::isfinite(min_offset_s)) throw std::invalid_argument("min_offset_s must be >= 0");
   if (!(min_sigmas > 0)) throw std::invalid_argument("min_sigmas must be > 0");
+  if (!(min_visible_px >= 0) || !std::isfinite(min_visible_px)) throw std::invalid_argument("min_visible_px must be >= 0");
   search.Check();
 }
 
@@ -24,6 +29,20 @@ std::optional<std::string> WhyNoTimingModel(const std::vector<double>& frame_tim
   if (distinct.size() != frame_times_s.size()) return "two frames share a timestamp (frames.json timestamp_s)";
   return std::nullopt;
 }
+
+namespace {
+
+// The median time between consecutive frames (s).
+double FrameInterval(std::vector<double> times) {
+  std::sort(times.begin(), times.end());
+  std::vector<double> steps;
+  for (size_t k = 1; k < times.size(); ++k) steps.push_back(times[k] - times[k - 1]);
+  if (steps.empty()) return 0.0;
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  return steps[steps.size() / 2];
+}
+
+}  // namespace
 
 std::vector<double> StartTimeOffsets(int num_cameras, const std::vector<double>& frame_times_s,
                                      const std::vector<TemporalPairEstimate>& temporal,
@@ -41,6 +60,82 @@ std::vector<double> StartTimeOffsets(int num_cameras, const std::vector<double>&
     if (found[c].determined) out[c] = found[c].offset_s;
   }
   return out;
+}
+
+namespace {
+
+// Per frame whose capture at `offset_s` falls within the path's frames, D = rig(t + o)_from_rig(t),
+// and their mean (quaternions on one side of the sphere); empty with fewer than two such frames or
+// three posed ones.
+struct RigChanges {
+  std::vector<Rigid3d> per_frame;
+  Rigid3d mean;
+};
+RigChanges ChangesOverOffset(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+                             const std::vector<double>& frame_times_s, double offset_s) {
+  std::vector<TimedPose> path;
+  for (size_t k = 0; k < rig_from_world.size() && k < frame_times_s.size(); ++k) {
+    if (rig_from_world[k]) path.push_back({frame_times_s[k], *rig_from_world[k]});
+  }
+  RigChanges out;
+  if (path.size() < 3) return out;
+  path = SortedByTime(std::move(path));
+  Eigen::Vector4d q_sum = Eigen::Vector4d::Zero();
+  Eigen::Vector3d t_sum = Eigen::Vector3d::Zero();
+  for (const TimedPose& p : path) {
+    // Beyond the first and last frames the path goes on straight, which a rig that turns does not:
+    // the images of those captures say more about that model than about time.
+    const double t = p.time_s + offset_s;
+    if (t < path.front().time_s || t > path.back().time_s) continue;
+    out.per_frame.push_back(RigFromWorldOnPath(path, t) * p.rig_from_world.Inverse());
+    const Eigen::Vector4d q = out.per_frame.back().rotation.coeffs();
+    q_sum += q.dot(out.per_frame.front().rotation.coeffs()) < 0 ? -q : q;
+    t_sum += out.per_frame.back().translation;
+  }
+  if (out.per_frame.size() < 2) {
+    out.per_frame.clear();
+    return out;
+  }
+  out.mean = Rigid3d(Eigen::Quaterniond(q_sum.normalized()), t_sum / double(out.per_frame.size()));
+  return out;
+}
+
+}  // namespace
+
+double OffsetVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+                          const std::vector<double>& frame_times_s, double offset_s, double pixels_per_radian,
+                          double scene_depth) {
+  if (!(scene_depth > 0)) return 0.0;
+  const RigChanges changes = ChangesOverOffset(rig_from_world, frame_times_s, offset_s);
+  double worst = 0.0;
+  for (const Rigid3d& d : changes.per_frame) {
+    const Rigid3d departure = d * changes.mean.Inverse();
+    const double angle = Eigen::AngleAxisd(departure.rotation).angle();
+    worst = std::max(worst, pixels_per_radian * (angle + departure.translation.norm() / scene_depth));
+  }
+  return worst;
+}
+
+std::optional<Rigid3d> MeanRigChange(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+                                     const std::vector<double>& frame_times_s, double offset_s) {
+  const RigChanges changes = ChangesOverOffset(rig_from_world, frame_times_s, offset_s);
+  if (changes.per_frame.empty()) return std::nullopt;
+  return changes.mean;
+}
+
+double IntervalVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+                            const std::vector<double>& frame_times_s, double pixels_per_radian, double scene_depth) {
+  return OffsetVisibilityPx(rig_from_world, frame_times_s, FrameInterval(frame_times_s), pixels_per_radian,
+                            scene_depth);
+}
+
+double PixelsPerRadian(const Camera& camera) {
+  const Eigen::Vector2d centre(0.5 * (camera.width() - 1), 0.5 * (camera.height() - 1));
+  const auto left = camera.CamFromImg(centre - Eigen::Vector2d(0.5, 0.0));
+  const auto right = camera.CamFromImg(centre + Eigen::Vector2d(0.5, 0.0));
+  if (!left || !right) return 0.0;
+  const double angle = std::atan2(left->cross(*right).norm(), left->dot(*right));
+  return angle > 0 ? 1.0 / angle : 0.0;
 }
 
 std::vector<CameraSynchronisation> CheckSynchronisation(
@@ -66,8 +161,14 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
     CameraSynchronisation& s = out[c];
     s.offset_s = freed.timing[c][0];
     s.offset_stddev_s = *freed.time_offset_stddev_s[c];
+    const double scale = PixelsPerRadian(adjusted.cameras[c]);
+    s.offset_visibility_px =
+        OffsetVisibilityPx(adjusted.rig_from_world, frame_times_s, *s.offset_s, scale, adjusted.median_depth);
+    s.interval_visibility_px =
+        IntervalVisibilityPx(adjusted.rig_from_world, frame_times_s, scale, adjusted.median_depth);
     const double magnitude = std::abs(*s.offset_s);
-    s.unsynchronised = magnitude > options.min_offset_s && magnitude > options.min_sigmas * *s.offset_stddev_s;
+    s.unsynchronised = magnitude > options.min_offset_s && magnitude > options.min_sigmas * *s.offset_stddev_s &&
+                       s.offset_visibility_px >= options.min_visible_px;
   }
   return out;
 }

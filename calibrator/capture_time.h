@@ -26,13 +26,15 @@ struct CaptureTimeOptions {
   bool estimate_offsets = false;
   bool estimate_readout = false;
   // Not estimating offsets, a moving rig with frames at distinct times is checked: a camera whose
-  // freed offset is farther from zero than both min_offset_s and min_sigmas standard deviations
-  // did not capture with camera 0, and is not calibrated. Off by default: on a synchronised rig
-  // with weak motion (tests/degenerate_calibration_test.cc) the freed offset came out 91.5 +- 10.4
-  // ms, so the standard deviation is too optimistic to decide on its own.
-  bool check_synchronisation = false;
+  // freed offset is farther from zero than both min_offset_s and min_sigmas standard deviations,
+  // and that the rig's path would show by at least min_visible_px (OffsetVisibilityPx), did not
+  // capture with camera 0 and is not calibrated. The standard deviation alone does not decide: where
+  // the path hides offsets (a straight line or a circle at constant speed) the freed offset follows
+  // the noise in the rig's poses, with a standard deviation that claims it is determined.
+  bool check_synchronisation = true;
   double min_offset_s = 0.005;
   double min_sigmas = 5.0;
+  double min_visible_px = 1.0;
   TimeOffsetSearchOptions search;
 
   // Throws std::invalid_argument naming the first bad field.
@@ -49,9 +51,41 @@ std::vector<double> StartTimeOffsets(int num_cameras, const std::vector<double>&
 // Otherwise the reason, in words.
 std::optional<std::string> WhyNoTimingModel(const std::vector<double>& frame_times_s);
 
+// How much the rig's path would show a camera that captures `offset_s` after camera 0 (px). Taken as
+// synchronised, that camera sees from rig(t + o) where the rig model puts it at rig(t); one constant
+// change of its mounting, D = rig(t + o)_from_rig(t), explains this wherever the path moves alike
+// at every frame (a straight line or a circle at constant speed), so the images cannot tell the
+// offset from the mounting there. What they can see is how D varies over the frames: the largest
+// departure of a frame's D from the mean, as the image motion it causes in a camera of
+// `pixels_per_radian` looking at the scene at `scene_depth` (the path's unit):
+// pixels_per_radian * (angle + shift / scene_depth), over the frames whose capture falls within the
+// path's frames (beyond them the path is extrapolated straight, a model, not a motion the images
+// show). 0 with fewer than two such frames of three or more posed ones.
+double OffsetVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+                          const std::vector<double>& frame_times_s, double offset_s, double pixels_per_radian,
+                          double scene_depth);
+
+// The mean over those frames of D = rig(t + offset)_from_rig(t): the rig's motion between two
+// captures `offset_s` apart, as a pair of cameras pooled over the frames sees it on average; nullopt
+// where OffsetVisibilityPx has nothing to compare.
+std::optional<Rigid3d> MeanRigChange(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+                                     const std::vector<double>& frame_times_s, double offset_s);
+
+// OffsetVisibilityPx of an offset of one frame interval (the median time between frames): the most
+// any offset within a frame can show.
+double IntervalVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+                            const std::vector<double>& frame_times_s, double pixels_per_radian, double scene_depth);
+
+// The camera's image scale at its centre: pixels per radian of view.
+double PixelsPerRadian(const Camera& camera);
+
 // What the images say of one camera's capture time relative to camera 0's.
 struct CameraSynchronisation {
   std::optional<double> offset_s, offset_stddev_s;  // the freed offset; nullopt: not estimated
+  // How much the path shows the freed offset (OffsetVisibilityPx), and the frames' interval's worth
+  // of offset: below min_visible_px the path cannot show whether the camera captured with camera 0.
+  double offset_visibility_px = 0.0;
+  double interval_visibility_px = 0.0;
   bool unsynchronised = false;
 };
 

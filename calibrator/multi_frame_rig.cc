@@ -461,6 +461,17 @@ struct BundleProblem {
     return count > 0 ? std::sqrt(sum / count) : 0.0;
   }
 
+  // The median distance (along the optical axis) of the points from the views that see them.
+  double MedianDepth(const std::vector<WorldPoint>& points) const {
+    std::vector<double> depths;
+    for (const WorldPoint& p : points) {
+      for (const ViewObservation& o : p.observations) depths.push_back((ViewPose(o) * p.x).z());
+    }
+    if (depths.empty()) return 0.0;
+    std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
+    return depths[depths.size() / 2];
+  }
+
   // Every observation's reprojection error (px); behind the camera counts as infinite.
   std::vector<double> Residuals(const std::vector<WorldPoint>& points) const {
     std::vector<double> out;
@@ -790,6 +801,7 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
     result.num_observations += static_cast<int>(p.observations.size());
   }
   result.reprojection_rms_px = bp.RmsPx(points);
+  result.median_depth = bp.MedianDepth(points);
   if (options.keep_points) {
     result.final_residuals_px = bp.Residuals(points);
     for (const WorldPoint& p : points) {

@@ -133,6 +133,8 @@ struct MultiFrameBundleAdjustmentResult {
   int num_filtered_observations = 0;
   double initial_rms_px = 0.0;
   double reprojection_rms_px = 0.0;
+  // The median depth of the points in the views that see them (the result's unit); 0 without points.
+  double median_depth = 0.0;
   int iterations = 0;
   // Per camera: covariance of its centre in the rig (in the result's units, squared) at the
   // solution, from the Jacobian and the reprojection RMS; nullopt for camera 0 and cameras not

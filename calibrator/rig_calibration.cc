@@ -103,7 +103,8 @@ std::string CameraStatus::Text() const {
     case CameraOutcome::kCalibrated: return reason.empty() ? "calibrated" : "calibrated (" + reason + ")";
     case CameraOutcome::kRotationOnly: return "rotation only: position " + reason;
     case CameraOutcome::kNotConnected: return "not connected: " + reason;
-    case CameraOutcome::kUnsynchronised: return "not calibrated: " + reason;
+    case CameraOutcome::kUnsynchronised:
+    case CameraOutcome::kTimeNotDetermined: return "not calibrated: " + reason;
   }
   return reason;
 }
@@ -570,11 +571,19 @@ void CompareEdgesWithRig(const RigObservations& obs, RigCalibrationResult* resul
     const auto& qa = result->cam_from_rig_rotation[p.cam_a];
     const auto& qb = result->cam_from_rig_rotation[p.cam_b];
     if (!qa || !qb) continue;
-    s.rotation_disagreement_deg = RotationDifferenceDeg(*qb * qa->conjugate(), p.two_view.cam_b_from_cam_a.rotation);
-    const auto& pa = result->rig.cameras[p.cam_a].cam_from_rig;
-    const auto& pb = result->rig.cameras[p.cam_b].cam_from_rig;
+    // Cameras that capture at different times (estimated offsets) see each other across the rig's
+    // motion between their captures, on average over the frames the pair pooled.
+    const RigCamera& ca = result->rig.cameras[p.cam_a];
+    const RigCamera& cb = result->rig.cameras[p.cam_b];
+    const double apart_s = cb.time_offset_s + 0.5 * cb.readout_s - ca.time_offset_s - 0.5 * ca.readout_s;
+    const Rigid3d between =
+        apart_s != 0 ? MeanRigChange(result->rig_from_world, obs.frame_times_s, apart_s).value_or(Rigid3d()) : Rigid3d();
+    s.rotation_disagreement_deg =
+        RotationDifferenceDeg(*qb * between.rotation * qa->conjugate(), p.two_view.cam_b_from_cam_a.rotation);
+    const auto& pa = ca.cam_from_rig;
+    const auto& pb = cb.cam_from_rig;
     if (!pa || !pb || p.two_view.rotation_only) continue;
-    const Eigen::Vector3d t_rig = (*pb * pa->Inverse()).translation;
+    const Eigen::Vector3d t_rig = (*pb * between * pa->Inverse()).translation;
     if (t_rig.norm() > 1e-12) s.direction_disagreement_deg = AngleBetweenDeg(t_rig, p.two_view.cam_b_from_cam_a.translation);
   }
 }
@@ -593,8 +602,29 @@ void SetRefinedIntrinsics(const RigObservations& obs, const RigCalibrationOption
   }
 }
 
-// One pass of the rig stages with the pairs in `rejected` (a reason per pair; empty: not
-// rejected) left out.
+// With offsets estimated: a camera whose offset the rig's path cannot show (a frame interval's worth
+// moves its view by less than min_visible_px) has an offset, and so a mounting, the images do not
+// fix: it is not calibrated.
+void TakePoseWhenThePathHidesTime(const RigObservations& obs, const RigCalibrationOptions& options,
+                                  const MultiFrameBundleAdjustmentResult& ba, int c, RigCalibrationResult* result) {
+  if (result->camera_status[c].outcome != CameraOutcome::kCalibrated &&
+      result->camera_status[c].outcome != CameraOutcome::kRotationOnly) {
+    return;
+  }
+  const double shown =
+      IntervalVisibilityPx(ba.rig_from_world, obs.frame_times_s, PixelsPerRadian(ba.cameras[c]), ba.median_depth);
+  result->camera_stats[c].interval_visibility_px = shown;
+  if (shown >= options.capture_time.min_visible_px) return;
+  result->camera_status[c] = {
+      CameraOutcome::kTimeNotDetermined, PositionOutcome::kNotObservable,
+      "its time offset is not determined: the rig's path moves alike at every frame (constant speed and turn "
+      "rate), so a time offset looks like a different mounting (an offset of one frame interval changes its view "
+      "by " + Fixed(shown, 2) + " px); to calibrate it: drive a path that changes speed or turn rate, or "
+      "synchronise the cameras"};
+  result->rig.cameras[c].cam_from_rig.reset();
+  result->cam_from_rig_rotation[c].reset();
+}
+
 // Step 8: capture times. Estimated, each camera's offset and readout go into its stats and the
 // rig; not estimated, the synchronisation check (run on the adjustment before it is scaled) takes
 // the pose of every camera that did not capture with camera 0.
@@ -620,8 +650,24 @@ void SetCaptureTimes(const RigObservations& obs, const RigCalibrationOptions& op
         stats.readout_s = ba.timing[c][1];
         stats.readout_stddev_s = ba.readout_stddev_s[c];
       }
+      if (c > 0 && o.estimate_offsets) TakePoseWhenThePathHidesTime(obs, options, ba, c, result);
     }
     return;
+  }
+  std::vector<std::string> hidden;  // cameras whose offset the path cannot show
+  for (int c = 1; c < n && c < static_cast<int>(checked.size()); ++c) {
+    if (!checked[c].offset_s) continue;
+    result->camera_stats[c].interval_visibility_px = checked[c].interval_visibility_px;
+    if (checked[c].interval_visibility_px < o.min_visible_px) hidden.push_back(obs.camera_names[c]);
+  }
+  if (!hidden.empty()) {
+    std::string names;
+    for (const std::string& name : hidden) names += (names.empty() ? "" : ", ") + name;
+    result->warnings.push_back(
+        "the rig's path cannot show whether " + names + " captured together with " + obs.camera_names[0] +
+        ": it moves alike at every frame (constant speed and turn rate), so a time offset would look like a "
+        "different mounting; these poses hold only if the cameras are synchronised. A path that changes speed or "
+        "turn rate would show it");
   }
   for (int c = 1; c < n && c < static_cast<int>(checked.size()); ++c) {
     const CameraSynchronisation& v = checked[c];

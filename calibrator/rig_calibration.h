@@ -153,6 +153,10 @@ struct RigCameraStats {
   // synchronisation check; nullopt otherwise.
   std::optional<double> time_offset_s, time_offset_stddev_s;
   std::optional<double> readout_s, readout_stddev_s;
+  // With the synchronisation check or offsets estimated: how much an offset of one frame interval
+  // would change the camera's view on the rig's path (px, capture_time.h IntervalVisibilityPx);
+  // below CaptureTimeOptions::min_visible_px the images cannot show its capture time.
+  std::optional<double> interval_visibility_px;
 };
 
 struct RigEdgeStats {
@@ -203,6 +207,7 @@ enum class CameraOutcome {
   kRotationOnly,  // a rotation, no position (CameraStatus::position says why)
   kNotConnected,  // no pair links it to camera 0's part of the view graph: no pose at all
   kUnsynchronised,  // it did not capture with camera 0 and offsets were not estimated: no pose
+  kTimeNotDetermined,  // its offset was to be estimated and the rig's path cannot show it: no pose
 };
 
 // The position of a camera with a rotation: placed, or why not.

@@ -10,17 +10,14 @@
 
 #include "dataset/dataset.h"
 #include "dataset/ground_truth.h"
+#include "geometry/pose_interpolation.h"
 #include "geometry/rig.h"
 #include "geometry/rigid3.h"
 
 namespace rigsim {
 
-// The rig's pose at any time, from the poses and timestamps of a trajectory's frames: between two
-// frames the rig's centre moves on the straight line and its orientation turns by slerp, at
-// constant speed over the time between them (geometry/pose_interpolation.h, which the calibrator
-// shares); before the first frame and after the last it goes on with the velocity (linear and
-// angular) of the nearest pair of frames. A single frame stands
-// still. At a frame's timestamp the pose is that frame's rig_from_world exactly.
+// The rig's pose at any time, from the poses and timestamps of a trajectory's frames
+// (geometry/pose_interpolation.h RigFromWorldOnPath, which the calibrator shares).
 class RigTrajectory {
  public:
   // Throws std::invalid_argument when a frame has no rig_from_world, a timestamp is not finite,
@@ -31,16 +28,13 @@ class RigTrajectory {
   Rigid3d RigFromWorldAt(double time_s) const;
 
  private:
-  struct Key {
-    double time_s;
-    Rigid3d rig_from_world;
-  };
-  std::vector<Key> keys_;  // by time
+  std::vector<TimedPose> path_;  // by time
 };
 
 // Each camera's pose at its capture times. A camera without a time offset, readout or exposure
-// sees from its frame's rig_from_world exactly as given; the others from the RigTrajectory, built
-// only when some camera needs it.
+// sees from its frame's rig_from_world exactly as given (a frame without one, as photographs have,
+// stands at the world's origin: the poses within the frame hold); the others from the
+// RigTrajectory, built only when some camera needs it.
 class CapturePoses {
  public:
   // Throws std::invalid_argument as RigTrajectory does, when some camera is timed.

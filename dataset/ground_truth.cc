@@ -104,11 +104,28 @@ std::optional<ViewProjection> ProjectIntoView(const Eigen::Vector3d& x_in_world,
     const auto px = camera.ImgFromCam(x_in_cam);
     if (!px) return found;
     found = ViewProjection{*px, x_in_cam};
-    const int next = int(std::clamp<long>(std::lround(px->y()), 0, last));
+    const int next = RowOfPixel(*px, camera);
     if (next == row) break;
     row = next;
   }
   return found;
+}
+
+int RowOfPixel(const Eigen::Vector2d& px, const Camera& camera) {
+  return int(std::clamp<long>(std::lround(px.y()), 0, camera.height() - 1));
+}
+
+std::optional<Eigen::Vector2d> TransferPixel(const Eigen::Vector2d& px_a, const Camera& cam_a, const ImageF& range_a,
+                                             const ViewPose& pose_a, const Camera& cam_b, const ImageF& range_b,
+                                             const ViewPose& pose_b, const DepthTransferOptions& options) {
+  const float r_a = RangeAt(range_a, px_a);
+  if (r_a <= 0) return std::nullopt;
+  const auto ray_a = cam_a.CamFromImg(px_a);
+  if (!ray_a) return std::nullopt;
+  const int row_a = RowOfPixel(px_a, cam_a);
+  const auto in_b = ProjectIntoView(pose_a.Row(row_a).Inverse() * (*ray_a * r_a), cam_b, pose_b, row_a);
+  if (!in_b || !VisibleInB(in_b->x_in_cam, in_b->px, cam_b, range_b, options)) return std::nullopt;
+  return in_b->px;
 }
 
 CorrespondenceMap ComputeCorrespondence(const Camera& cam_a, const ImageF& range_a, const ViewPose& pose_a,

@@ -70,6 +70,17 @@ struct ViewProjection {
 std::optional<ViewProjection> ProjectIntoView(const Eigen::Vector3d& x_in_world, const Camera& camera, const ViewPose& pose,
                                               int first_row_guess = -1);
 
+// TransferPixel between two views, each posed at its capture time: A's point is lifted from A's
+// pose at px_a's row and projected into B at the row that sees it (ProjectIntoView), so two cameras
+// that capture while the rig moves, or rolling shutters, are checked where they were. The surface
+// is taken as static between the two captures.
+std::optional<Eigen::Vector2d> TransferPixel(const Eigen::Vector2d& px_a, const Camera& cam_a, const ImageF& range_a,
+                                             const ViewPose& pose_a, const Camera& cam_b, const ImageF& range_b,
+                                             const ViewPose& pose_b, const DepthTransferOptions& options = {});
+
+// The image row (clamped into the image) of a pixel: the row whose pose captured it.
+int RowOfPixel(const Eigen::Vector2d& px, const Camera& camera);
+
 // Ground-truth correspondence from view A to view B (another camera, or the same camera at
 // another frame: optical flow). Per pixel of A, 3 channels: x, y = where the surface point seen at
 // A's pixel centre (lifted by its range along the pixel's ray, from A's pose at the pixel's row)

@@ -40,9 +40,9 @@ std::vector<char> CrossClassMatches(const std::vector<Eigen::Vector2d>& px_a, co
 }
 
 std::vector<char> CheckMatches(const std::vector<Eigen::Vector2d>& px_a, const std::vector<Eigen::Vector2d>& px_b,
-                               const Camera& cam_a, const ImageF& range_a, const Camera& cam_b,
-                               const ImageF& range_b, const Rigid3d& cam_b_from_cam_a,
-                               const MatchPrecisionOptions& options, int* num_at_infinity) {
+                               const Camera& cam_a, const ImageF& range_a, const ViewPose& pose_a, const Camera& cam_b,
+                               const ImageF& range_b, const ViewPose& pose_b, const MatchPrecisionOptions& options,
+                               int* num_at_infinity) {
   options.Check();
   if (px_a.size() != px_b.size()) throw std::invalid_argument("CheckMatches: size mismatch");
   if (!range_a.SameSize(cam_a.width(), cam_a.height()) || !range_b.SameSize(cam_b.width(), cam_b.height())) {
@@ -53,13 +53,16 @@ std::vector<char> CheckMatches(const std::vector<Eigen::Vector2d>& px_a, const s
   for (size_t i = 0; i < px_a.size(); ++i) {
     std::optional<Eigen::Vector2d> in_b;
     if (RangeAt(range_a, px_a[i]) > 0.f) {
-      in_b = TransferPixel(px_a[i], cam_a, range_a, cam_b, range_b, cam_b_from_cam_a, options.transfer);
+      in_b = TransferPixel(px_a[i], cam_a, range_a, pose_a, cam_b, range_b, pose_b, options.transfer);
     } else {
       ++at_infinity;
-      // A point at infinity moves with the rotation only, and B must see no surface there.
+      // A point at infinity moves with the rotation only, and B must see no surface there; each
+      // view turned as at its keypoint's row (a correct match is captured at that row).
       const auto bearing_a = cam_a.CamFromImg(px_a[i]);
       if (bearing_a) {
-        const auto px = cam_b.ImgFromCam(cam_b_from_cam_a.rotation * *bearing_a);
+        const Eigen::Quaterniond b_from_a = pose_b.Row(RowOfPixel(px_b[i], cam_b)).rotation *
+                                            pose_a.Row(RowOfPixel(px_a[i], cam_a)).rotation.inverse();
+        const auto px = cam_b.ImgFromCam(b_from_a * *bearing_a);
         if (px && cam_b.IsInImage(*px) && RangeAt(range_b, *px) <= 0.f) in_b = px;
       }
     }
@@ -70,12 +73,12 @@ std::vector<char> CheckMatches(const std::vector<Eigen::Vector2d>& px_a, const s
 }
 
 MatchPrecisionCounts MatchPrecision(const std::vector<Eigen::Vector2d>& px_a, const std::vector<Eigen::Vector2d>& px_b,
-                                    const Camera& cam_a, const ImageF& range_a, const Camera& cam_b,
-                                    const ImageF& range_b, const Rigid3d& cam_b_from_cam_a,
+                                    const Camera& cam_a, const ImageF& range_a, const ViewPose& pose_a,
+                                    const Camera& cam_b, const ImageF& range_b, const ViewPose& pose_b,
                                     const MatchPrecisionOptions& options) {
   MatchPrecisionCounts counts;
   const std::vector<char> ok =
-      CheckMatches(px_a, px_b, cam_a, range_a, cam_b, range_b, cam_b_from_cam_a, options, &counts.at_infinity);
+      CheckMatches(px_a, px_b, cam_a, range_a, pose_a, cam_b, range_b, pose_b, options, &counts.at_infinity);
   counts.evaluated = static_cast<int>(ok.size());
   counts.correct = static_cast<int>(std::count(ok.begin(), ok.end(), 1));
   return counts;

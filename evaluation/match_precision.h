@@ -1,6 +1,6 @@
 // Match precision (DESIGN.md "Evaluation"): a match (keypoint in A, keypoint in B) is correct
 // when A's keypoint, lifted with A's true range image and projected into B with the true pose
-// and camera model, lands within max_error_px of B's keypoint and is not occluded in B
+// (at the two views' capture times) and camera model, lands within max_error_px of B's keypoint and is not occluded in B
 // (dataset/ground_truth.h TransferPixel). Every match is decided, none is dropped:
 //   - lifted point outside B's image or occluded in B: incorrect (B cannot see that point, so
 //     whatever B's keypoint shows, it is another point);
@@ -52,15 +52,17 @@ std::vector<char> CrossClassMatches(const std::vector<Eigen::Vector2d>& px_a, co
                                     const ImageU8& labels_a, const ImageU8& labels_b);
 
 // One flag per match (1 = correct). `range_a`, `range_b`: the true range images of A and B;
-// `cam_b_from_cam_a`: the true relative pose (metric).
+// `pose_a`, `pose_b`: the views' true poses at their capture times (metric; per row for a rolling
+// shutter, dataset/capture_poses.h), so that a match between cameras that capture at different
+// times, or while the rig moves, is checked against where each camera was.
 std::vector<char> CheckMatches(const std::vector<Eigen::Vector2d>& px_a, const std::vector<Eigen::Vector2d>& px_b,
-                               const Camera& cam_a, const ImageF& range_a, const Camera& cam_b,
-                               const ImageF& range_b, const Rigid3d& cam_b_from_cam_a,
-                               const MatchPrecisionOptions& options, int* num_at_infinity = nullptr);
+                               const Camera& cam_a, const ImageF& range_a, const ViewPose& pose_a, const Camera& cam_b,
+                               const ImageF& range_b, const ViewPose& pose_b, const MatchPrecisionOptions& options,
+                               int* num_at_infinity = nullptr);
 
 MatchPrecisionCounts MatchPrecision(const std::vector<Eigen::Vector2d>& px_a, const std::vector<Eigen::Vector2d>& px_b,
-                                    const Camera& cam_a, const ImageF& range_a, const Camera& cam_b,
-                                    const ImageF& range_b, const Rigid3d& cam_b_from_cam_a,
+                                    const Camera& cam_a, const ImageF& range_a, const ViewPose& pose_a,
+                                    const Camera& cam_b, const ImageF& range_b, const ViewPose& pose_b,
                                     const MatchPrecisionOptions& options = {});
 
 }  // namespace rigsim

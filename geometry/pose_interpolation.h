@@ -12,6 +12,10 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <vector>
+
+#include "geometry/rigid3.h"
+
 namespace rigsim {
 
 // The rotation vector (axis times angle) of a unit quaternion, the short way round; near the
@@ -62,5 +66,18 @@ void InterpolateRigFromWorld(const Eigen::Quaternion<T>& q_a, const Eigen::Matri
   *q = world_from_rig.conjugate();
   *t = -(*q * centre);
 }
+
+// The rig's pose at any time on a path through poses at distinct times, as the renderer moves it:
+// between the two poses around the time InterpolateRigFromWorld; before the first and after the
+// last the velocities of the nearest two; one pose stands still. At a pose's time it is that pose
+// exactly.
+struct TimedPose {
+  double time_s = 0.0;
+  Rigid3d rig_from_world;
+};
+// `path`: at least one pose, any order of time, no two at the same time (the caller checks).
+Rigid3d RigFromWorldOnPath(const std::vector<TimedPose>& path_by_time, double time_s);
+// Sorts by time (stable), for RigFromWorldOnPath.
+std::vector<TimedPose> SortedByTime(std::vector<TimedPose> path);
 
 }  // namespace rigsim

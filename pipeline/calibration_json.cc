@@ -202,7 +202,8 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
                            {"time_offset_error_ms", ms(e.time_offset_error_s)},
                            {"readout_ms", ms(s.readout_s)},
                            {"readout_stddev_ms", ms(s.readout_stddev_s)},
-                           {"readout_error_ms", ms(e.readout_error_s)}};
+                           {"readout_error_ms", ms(e.readout_error_s)},
+                           {"interval_visibility_px", json_io::OptionalNumber(s.interval_visibility_px)}};
     }
     const std::optional<bool> ok = CameraWithinTolerance(t);
     j["within_tolerance"] = ok ? Json(*ok) : Json(nullptr);

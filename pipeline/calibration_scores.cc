@@ -5,6 +5,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "dataset/capture_poses.h"
 #include "dataset/image_io.h"
 #include "dataset/label_image.h"
 #include "evaluation/pose_errors.h"
@@ -74,6 +75,7 @@ void ScoreMatches(const std::filesystem::path& dataset_dir, const Rig& truth, co
     }
   }
   if (std::none_of(have_depth.begin(), have_depth.end(), [](char c) { return c != 0; })) return;
+  const CapturePoses capture_poses(truth.cameras, frames);  // every view at its capture time
 
   struct Counts {
     MatchPrecisionCounts all, inliers;
@@ -91,8 +93,10 @@ void ScoreMatches(const std::filesystem::path& dataset_dir, const Rig& truth, co
   tbb::parallel_for(0, num_frames, [&](int f) {
     std::vector<ImageF> range(num_cams);
     std::vector<ImageU8> labels(num_cams);  // the true labels: what a cross-class match is
+    std::vector<ViewPose> pose(num_cams);
     for (int c = 0; c < num_cams; ++c) {
       if (!have_depth[image(c, f)]) continue;
+      pose[c] = capture_poses.Of(truth.cameras[c], frames.frames[f]);
       const Camera& camera = truth.cameras[c].camera;
       const auto path = layout.Depth(truth.cameras[c].name, frames.frames[f].name);
       range[c] = ReadImageF(path);
@@ -116,8 +120,8 @@ void ScoreMatches(const std::filesystem::path& dataset_dir, const Rig& truth, co
         }
         Counts& cnt = counts[f * num_mp + first_pair[m] + p];
         int at_infinity = 0;
-        const std::vector<char> ok = CheckMatches(pa, pb, truth.cameras[a].camera, range[a], truth.cameras[b].camera,
-                                                  range[b], (*scores)[m].pairs[p].cam_b_from_cam_a, options, &at_infinity);
+        const std::vector<char> ok = CheckMatches(pa, pb, truth.cameras[a].camera, range[a], pose[a],
+                                                  truth.cameras[b].camera, range[b], pose[b], options, &at_infinity);
         (*scores)[m].match_correct[p][f] = ok;
         cnt.evaluated = true;
         cnt.all.evaluated = static_cast<int>(mt.size());

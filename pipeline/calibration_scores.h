@@ -74,7 +74,9 @@ CalibrationScores ScorePoses(const Rig& truth, const RigCalibrationResult& resul
 // Match precision of every mode's pairs against the range images of `dataset_dir` (depth/), each
 // read once however many modes and pairs use it, with cross-class counts where labels/ has the
 // true classes: fills (*scores)[m].pairs and match_correct from (*matches)[m], the pairwise stage's
-// match data of the mode whose result is results[m]. Nothing when depth/ has no range image.
+// match data of the mode whose result is results[m]. Each view is judged at its capture time
+// (dataset/capture_poses.h: the frames' rig poses, the cameras' offsets and readouts in `truth`).
+// Nothing when depth/ has no range image.
 // Throws std::runtime_error naming a range image of the wrong size.
 void ScoreMatches(const std::filesystem::path& dataset_dir, const Rig& truth, const FramesFile& frames,
                   const std::vector<RigCalibrationResult>& results, const std::vector<PairwiseMatchData>& matches,

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "dataset/capture_poses.h"
 #include "dataset/ground_truth.h"
 #include "dataset/image_io.h"
 #include "geometry/json_io.h"
@@ -31,14 +32,15 @@ std::vector<ImageF> FrameRanges(const ReportContext& ctx, int f) {
   return ranges;
 }
 
-// 1 per grid cell of A whose centre pixel's surface B sees (depth-tested), row-major.
-std::vector<uint8_t> OverlapGrid(const Camera& cam_a, const ImageF& range_a, const Camera& cam_b, const ImageF& range_b,
-                                 const Rigid3d& b_from_a, int gw, int gh) {
+// 1 per grid cell of A whose centre pixel's surface B sees (depth-tested, each view at its capture
+// time), row-major.
+std::vector<uint8_t> OverlapGrid(const Camera& cam_a, const ImageF& range_a, const ViewPose& pose_a, const Camera& cam_b,
+                                 const ImageF& range_b, const ViewPose& pose_b, int gw, int gh) {
   std::vector<uint8_t> grid(size_t(gw) * gh, 0);
   for (int y = 0; y < gh; ++y) {
     for (int x = 0; x < gw; ++x) {
       const Eigen::Vector2d px((x + 0.5) * cam_a.width() / gw - 0.5, (y + 0.5) * cam_a.height() / gh - 0.5);
-      grid[size_t(y) * gw + x] = TransferPixel(px, cam_a, range_a, cam_b, range_b, b_from_a).has_value();
+      grid[size_t(y) * gw + x] = TransferPixel(px, cam_a, range_a, pose_a, cam_b, range_b, pose_b).has_value();
     }
   }
   return grid;
@@ -181,8 +183,14 @@ Json WritePairs(ReportContext& ctx, Json* selftest) {
       }
     }
   }
+  std::optional<CapturePoses> capture_poses;
+  if (ctx.HasTruth()) capture_poses.emplace(rig.cameras, run.inputs.frames);
   for (int f = 0; f < num_frames; ++f) {
     const std::vector<ImageF> ranges = ctx.HasTruth() ? FrameRanges(ctx, f) : std::vector<ImageF>(n);
+    std::vector<ViewPose> poses(n);
+    if (ctx.HasTruth()) {
+      for (int c = 0; c < n; ++c) poses[c] = capture_poses->Of(rig.cameras[c], run.inputs.frames.frames[f]);
+    }
     for (size_t p = 0; p < first.pairs.size(); ++p) {
       const int a = rig.FindCamera(first.pairs[p].cam_a), b = rig.FindCamera(first.pairs[p].cam_b);
       const Camera& cam_a = rig.cameras[a].camera;
@@ -197,10 +205,9 @@ Json WritePairs(ReportContext& ctx, Json* selftest) {
         const int gh_b = std::max(1, int(std::lround(double(cam_b.height()) * gw_b / cam_b.width())));
         frame["overlap"] = {
             {"a", {{"width", gw_a}, {"height", gh_a},
-                   {"cells", Base64Of(OverlapGrid(cam_a, ranges[a], cam_b, ranges[b], true_b_from_a[p], gw_a, gh_a))}}},
+                   {"cells", Base64Of(OverlapGrid(cam_a, ranges[a], poses[a], cam_b, ranges[b], poses[b], gw_a, gh_a))}}},
             {"b", {{"width", gw_b}, {"height", gh_b},
-                   {"cells", Base64Of(OverlapGrid(cam_b, ranges[b], cam_a, ranges[a], true_b_from_a[p].Inverse(),
-                                                  gw_b, gh_b))}}}};
+                   {"cells", Base64Of(OverlapGrid(cam_b, ranges[b], poses[b], cam_a, ranges[a], poses[a], gw_b, gh_b))}}}};
       } else {
         frame["overlap"] = nullptr;
       }
