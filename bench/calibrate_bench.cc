@@ -70,7 +70,7 @@ void BM_CalibrateSixCameraRing(benchmark::State& state) {
   state.counters["rig_s"] = result.rotation_averaging_time_s + result.tracks_time_s + result.positions_time_s;
   state.counters["ba_s"] = result.bundle_adjustment_time_s;
 
-  const CalibrationScores truth = ScorePoses(ReadRig(dir / "rig.json"), result);
+  const CalibrationScores truth = ScorePoses(ReadRig(dir / "rig.json"), run.inputs.frames, result);
   double worst_rot = 0.0, worst_dir = 0.0;
   int calibrated = 0;
   for (size_t c = 0; c < truth.cameras.size(); ++c) {

@@ -16,6 +16,9 @@ void CaptureTimeOptions::Check() const {
   if (!(min_offset_s >= 0) || !std::isfinite(min_offset_s)) throw std::invalid_argument("min_offset_s must be >= 0");
   if (!(min_sigmas > 0)) throw std::invalid_argument("min_sigmas must be > 0");
   if (!(min_visible_px >= 0) || !std::isfinite(min_visible_px)) throw std::invalid_argument("min_visible_px must be >= 0");
+  if (!(min_interval_visibility_px >= 0) || !std::isfinite(min_interval_visibility_px)) {
+    throw std::invalid_argument("min_interval_visibility_px must be >= 0");
+  }
   search.Check();
 }
 
@@ -168,7 +171,8 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
         IntervalVisibilityPx(adjusted.rig_from_world, frame_times_s, scale, adjusted.median_depth);
     const double magnitude = std::abs(*s.offset_s);
     s.unsynchronised = magnitude > options.min_offset_s && magnitude > options.min_sigmas * *s.offset_stddev_s &&
-                       s.offset_visibility_px >= options.min_visible_px;
+                       s.offset_visibility_px >= options.min_visible_px &&
+                       s.interval_visibility_px >= options.min_interval_visibility_px;
   }
   return out;
 }

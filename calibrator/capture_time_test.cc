@@ -88,7 +88,7 @@ TEST(CheckSynchronisation, APathThatHidesOffsetsDoesNotCondemnACamera) {
                            ring.timing.frame_times_s, {0.0, 0.0, 0.0}, TopToBottom(), {});
   for (int c = 1; c < 3; ++c) {
     EXPECT_FALSE(verdict[c].unsynchronised) << c;
-    EXPECT_LT(verdict[c].interval_visibility_px, 1.0) << c;
+    EXPECT_LT(verdict[c].interval_visibility_px, CaptureTimeOptions().min_interval_visibility_px) << c;
   }
 }
 
@@ -183,7 +183,7 @@ TEST(EstimateRigWithCaptureTimes, APathThatHidesTimeLeavesItUndetermined) {
         << taken_as_synchronised.camera_status[c];
     const auto& shown = taken_as_synchronised.camera_stats[c].interval_visibility_px;
     ASSERT_TRUE(shown.has_value()) << c;
-    EXPECT_LT(*shown, 1.0) << c;
+    EXPECT_LT(*shown, CaptureTimeOptions().min_interval_visibility_px) << c;
   }
   RigCalibrationOptions options;
   options.capture_time.estimate_offsets = true;

@@ -603,7 +603,7 @@ void SetRefinedIntrinsics(const RigObservations& obs, const RigCalibrationOption
 }
 
 // With offsets estimated: a camera whose offset the rig's path cannot show (a frame interval's worth
-// moves its view by less than min_visible_px) has an offset, and so a mounting, the images do not
+// moves its view by less than min_interval_visibility_px) has an offset, and so a mounting, the images do not
 // fix: it is not calibrated.
 void TakePoseWhenThePathHidesTime(const RigObservations& obs, const RigCalibrationOptions& options,
                                   const MultiFrameBundleAdjustmentResult& ba, int c, RigCalibrationResult* result) {
@@ -614,7 +614,7 @@ void TakePoseWhenThePathHidesTime(const RigObservations& obs, const RigCalibrati
   const double shown =
       IntervalVisibilityPx(ba.rig_from_world, obs.frame_times_s, PixelsPerRadian(ba.cameras[c]), ba.median_depth);
   result->camera_stats[c].interval_visibility_px = shown;
-  if (shown >= options.capture_time.min_visible_px) return;
+  if (shown >= options.capture_time.min_interval_visibility_px) return;
   result->camera_status[c] = {
       CameraOutcome::kTimeNotDetermined, PositionOutcome::kNotObservable,
       "its time offset is not determined: the rig's path moves alike at every frame (constant speed and turn "
@@ -658,7 +658,7 @@ void SetCaptureTimes(const RigObservations& obs, const RigCalibrationOptions& op
   for (int c = 1; c < n && c < static_cast<int>(checked.size()); ++c) {
     if (!checked[c].offset_s) continue;
     result->camera_stats[c].interval_visibility_px = checked[c].interval_visibility_px;
-    if (checked[c].interval_visibility_px < o.min_visible_px) hidden.push_back(obs.camera_names[c]);
+    if (checked[c].interval_visibility_px < o.min_interval_visibility_px) hidden.push_back(obs.camera_names[c]);
   }
   if (!hidden.empty()) {
     std::string names;

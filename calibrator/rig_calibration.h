@@ -155,7 +155,7 @@ struct RigCameraStats {
   std::optional<double> readout_s, readout_stddev_s;
   // With the synchronisation check or offsets estimated: how much an offset of one frame interval
   // would change the camera's view on the rig's path (px, capture_time.h IntervalVisibilityPx);
-  // below CaptureTimeOptions::min_visible_px the images cannot show its capture time.
+  // below CaptureTimeOptions::min_interval_visibility_px the images cannot show its capture time.
   std::optional<double> interval_visibility_px;
 };
 

@@ -189,7 +189,7 @@ CalibrationRun CalibrateDataset(const CalibrationInputs& inputs, const Calibrati
 
   if (options.evaluate && inputs.truth) {
     std::vector<CalibrationScores> scores;
-    for (const RigCalibrationResult& r : run.results) scores.push_back(ScorePoses(*inputs.truth, r));
+    for (const RigCalibrationResult& r : run.results) scores.push_back(ScorePoses(*inputs.truth, inputs.frames, r));
     ScoreMatches(inputs.dataset_dir, *inputs.truth, inputs.frames, run.results, matches, options.precision, &scores);
     for (size_t m = 0; m < n; ++m) {
       for (PairInlierSample& s : run.records[m].inlier_samples) s.correct = InlierVerdicts(scores[m], matches[m], s.pair, s.frame);

@@ -29,15 +29,35 @@ std::vector<char> InlierFlags(const std::vector<std::pair<int, int>>& matches,
   return flags;
 }
 
+// The true relative pose of two cameras as a pair pooled over the frames sees it: fixed when both
+// capture at their frames' times; otherwise the mean over the frames of B's pose (at its middle
+// row's time) from A's, which the rig's motion between their captures changes.
+Rigid3d TrueRelativePose(const RigCamera& a, const RigCamera& b, const FramesFile& frames) {
+  const Rigid3d fixed = *b.cam_from_rig * a.cam_from_rig->Inverse();
+  if ((!CapturePoses::IsTimed(a) && !CapturePoses::IsTimed(b)) || frames.frames.empty()) return fixed;
+  const CapturePoses poses({a, b}, frames);
+  const auto middle = [](const RigCamera& c) { return c.RowTime(c.camera.height() / 2); };
+  Eigen::Vector4d q_sum = Eigen::Vector4d::Zero();
+  Eigen::Vector3d t_sum = Eigen::Vector3d::Zero();
+  for (const Frame& f : frames.frames) {
+    const Rigid3d b_from_a = poses.CamFromWorld(b, f, f.timestamp_s + middle(b)) *
+                             poses.CamFromWorld(a, f, f.timestamp_s + middle(a)).Inverse();
+    const Eigen::Vector4d q = b_from_a.rotation.coeffs();
+    q_sum += q.dot(fixed.rotation.coeffs()) < 0 ? -q : q;
+    t_sum += b_from_a.translation;
+  }
+  return Rigid3d(Eigen::Quaterniond(q_sum.normalized()), t_sum / double(frames.frames.size()));
+}
+
 }  // namespace
 
-CalibrationScores ScorePoses(const Rig& truth, const RigCalibrationResult& result) {
+CalibrationScores ScorePoses(const Rig& truth, const FramesFile& frames, const RigCalibrationResult& result) {
   CalibrationScores s;
   for (const PairResult& pr : result.pairwise.pairs) {
     const int a = truth.FindCamera(pr.cam_a), b = truth.FindCamera(pr.cam_b);
     if (a < 0 || b < 0) throw std::invalid_argument("ScorePoses: pair " + pr.cam_a + "-" + pr.cam_b + " not in the truth");
     PairAgainstTruth p;
-    p.cam_b_from_cam_a = *truth.cameras[b].cam_from_rig * truth.cameras[a].cam_from_rig->Inverse();
+    p.cam_b_from_cam_a = TrueRelativePose(truth.cameras[a], truth.cameras[b], frames);
     if (pr.two_view.success) {
       p.rotation_error_deg = RotationErrorDeg(pr.two_view.cam_b_from_cam_a, p.cam_b_from_cam_a);
       p.translation_direction_error_deg = TranslationDirectionErrorDeg(pr.two_view.cam_b_from_cam_a, p.cam_b_from_cam_a);

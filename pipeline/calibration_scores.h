@@ -68,8 +68,10 @@ struct CalibrationScores {
 };
 
 // The pairs' and cameras' errors of `result` against `truth` (every cam_from_rig known; the
-// same cameras in the same order), without match precision.
-CalibrationScores ScorePoses(const Rig& truth, const RigCalibrationResult& result);
+// same cameras in the same order), without match precision. A pair of cameras that capture at
+// different times on a moving rig is judged against its relative pose at their capture times
+// (averaged over `frames`, as the pair pools them); a camera against its mounting.
+CalibrationScores ScorePoses(const Rig& truth, const FramesFile& frames, const RigCalibrationResult& result);
 
 // Match precision of every mode's pairs against the range images of `dataset_dir` (depth/), each
 // read once however many modes and pairs use it, with cross-class counts where labels/ has the
