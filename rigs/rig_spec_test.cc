@@ -13,7 +13,7 @@ TEST(RigSpec, OverridesReachEveryType) {
   s.height = 200;
   s.hfov_deg = 70.0;
   s.baseline_m = 0.5;
-  for (RigType type : kAllRigTypes) {
+  for (RigType type : kPresetRigTypes) {
     s.type = type;
     const Rig rig = BuildPresetRig(s);
     for (const RigCamera& c : rig.cameras) {
@@ -41,7 +41,7 @@ TEST(RigSpec, ALensReplacesEveryCamerasOwn) {
   fisheye.kind = LensOptions::Kind::kFisheye;
   fisheye.fisheye_fov_deg = 190.0;
   s.lens = fisheye;
-  for (RigType type : kAllRigTypes) {
+  for (RigType type : kPresetRigTypes) {
     s.type = type;
     for (const RigCamera& c : BuildPresetRig(s).cameras) {
       EXPECT_EQ(c.camera.model(), CameraModelId::kOpenCVFisheye) << RigTypeName(type);
