@@ -50,7 +50,7 @@ std::vector<RigParam> MakeRigParams() {
        [](const Json& v, RigSpec& s) { s.ring.num_cameras = v.get<int>(); }},
       {Number("overlap", nullptr, 0, 99,
               "ring: overlap of neighbours (percent, the smaller of the two directions): the ground truth where the "
-              "rig stands in a scene, else at infinity; unset or 0: spacing"),
+              "rig stands in a scene, else at infinity; 0: none at any depth; unset: spacing"),
        G_::kRig, "", true, {}, [](const Json& v, RigSpec& s) { s.overlap_percent = v.get<double>(); }},
       {Number("spacing", 60.0, 1, 180, "ring: yaw between neighbours (deg), when overlap is unset"), G_::kRig, "", true, {},
        [](const Json& v, RigSpec& s) { s.ring.yaw_spacing_deg = v.get<double>(); }},

@@ -20,7 +20,7 @@ std::string Describe(const RigSpec& s) {
     << s.stereo.baseline_m << " surround " << s.surround.length_m << " " << s.surround.side_fov_deg << " wide "
     << s.wide.convergence_deg << " " << s.wide.baseline_m << " image " << s.width << "x" << s.height << " hfov "
     << s.hfov_deg.value_or(-1) << " baseline " << s.baseline_m.value_or(-1) << " lens " << LensKindName(s.lens.kind) << " "
-    << s.lens.k1 << " " << s.lens.fisheye_fov_deg << " overlap " << s.overlap_percent << " jitter "
+    << s.lens.k1 << " " << s.lens.fisheye_fov_deg << " overlap " << s.overlap_percent.value_or(-1) << " jitter "
     << s.perturbation.rotation_deg << " " << s.perturbation.translation_m << " path "
     << TrajectoryKindName(s.trajectory.kind) << " " << s.trajectory.num_frames << " " << s.trajectory.step_m << " "
     << s.trajectory.circle_radius_m << " " << s.trajectory.heading_deg << " " << s.trajectory.tilt_deg << " clearance "

@@ -178,7 +178,8 @@ double RingSpacingForOverlap(const RingRigOptions& options, double overlap) {
     const double mid = 0.5 * (lo + hi);
     (mean_overlap(mid) > overlap ? lo : hi) = mid;
   }
-  return 0.5 * (lo + hi);
+  // None at all: the side of the bracket where neighbours share nothing.
+  return overlap > 0 ? 0.5 * (lo + hi) : hi;
 }
 
 // ---- Stereo, surround, wide baseline ---------------------------------------------------------------

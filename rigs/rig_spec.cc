@@ -20,7 +20,19 @@ RingRigOptions RingOf(const RigSpec& s) {
   if (s.hfov_deg) o.hfov_deg = *s.hfov_deg;
   o.distorted_camera = s.distorted_camera.value_or(o.num_cameras >= 2 ? 1 : -1);
   o.lens = s.lens;
-  o.target_overlap = s.overlap_percent / 100.0;
+  if (s.overlap_percent && *s.overlap_percent > 0) {
+    o.target_overlap = *s.overlap_percent / 100.0;
+  } else if (s.overlap_percent) {
+    // Outward-facing cameras whose edge rays are parallel share nothing at any depth.
+    o.yaw_spacing_deg = RingSpacingForOverlap(o, 0.0);
+    if (o.num_cameras * o.yaw_spacing_deg > 360.0 + 1e-9) {
+      char why[200];
+      std::snprintf(why, sizeof why, "overlap 0: %d cameras need %.1f deg each to share nothing, more than 360 deg all "
+                    "round (the last would overlap the first); use fewer cameras or a narrower hfov", o.num_cameras,
+                    o.yaw_spacing_deg);
+      throw std::invalid_argument(why);
+    }
+  }
   return o;
 }
 
@@ -118,7 +130,7 @@ std::optional<PlacedRig> MakePlacedRig(const RigSpec& s, const Scene* scene) {
     if (!out.placement) return std::nullopt;
     trajectory.start_world = out.placement->position_world;
     trajectory.heading_deg = out.placement->heading_deg;
-    if (s.type == RigType::kRing && s.overlap_percent > 0) {
+    if (s.type == RigType::kRing && s.overlap_percent.value_or(0) > 0) {
       // The spacing for the ground-truth overlap in this scene at this place: sky and occluders
       // change it from the angular value.
       out.rig = MakeRingRigInScene(RingOf(s), *scene, RigFromWorldAt(trajectory.start_world, trajectory.heading_deg));

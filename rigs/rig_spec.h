@@ -47,7 +47,9 @@ struct RigSpec {
   // Ring: the camera with barrel distortion (ring.k1, ring.k2); unset: cam1 from two cameras on.
   std::optional<int> distorted_camera;
   // Ring: the overlap of neighbours (percent); placed in a scene, the ground-truth overlap there.
-  double overlap_percent = 0.0;
+  // 0: none at all (the spacing where neighbours' views just part, which no depth changes).
+  // Unset: ring.yaw_spacing_deg.
+  std::optional<double> overlap_percent;
   RigPerturbation perturbation;
   // kFile: the rig.json whose cameras (intrinsics, cam_from_rig) make the rig; the preset options,
   // image size, field of view, lens and overlap do not apply to it.

@@ -44,7 +44,7 @@ TEST(OneDescription, MakeRigAndASweepCellBuildTheSameRigFromTheSameValues) {
   })"), "test");
   for (const SweepCell& cell : ExpandCells(config)) {
     SCOPED_TRACE(cell.params.dump());
-    std::optional<PlacedRig> placed = MakePlacedRig(CellRigSpec(cell.params), &scene);
+    std::optional<PlacedRig> placed = MakePlacedRig(CellRigSpec(cell.params, dir.path()), &scene);
     ASSERT_TRUE(placed.has_value());
     placed->frames.scene = scene_file.filename().string();  // make-rig names the scene it placed the rig in
     const fs::path sweep_dir = dir / ("sweep" + std::to_string(cell.index));
