@@ -102,7 +102,7 @@ void AddSweepCommand(CLI::App& app) {
       "CONFIG is a .json or .yaml file (see docs/sweeps.md; --list-params lists the parameters), or\n"
       "--suite thesis runs the built-in test of the thesis's four claims (--size small: minutes; full);\n"
       "--suite motion --rig RIG.json [--scene S] tries your own rig along every path (straight, circle, loop,\n"
-      "figure-eight, handheld) at 3, 12 and 30 frames: which path calibrates it, and how well.\n"
+      "figure-eight, handheld) at 3 and 12 frames (--size full: and 30): which path calibrates it, and how well.\n"
       "Writes OUT/results.csv and results.jsonl (a row per cell and method), summary.csv, plots/ (PNG\n"
       "and SVG, by gnuplot) and report.md. Finished cells are kept in OUT/cells/: running the same\n"
       "command again resumes, and Ctrl-C loses only the cell in progress. Exit code 0 when the sweep\n"
