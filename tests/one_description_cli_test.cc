@@ -91,6 +91,13 @@ TEST(OneDescription, MakeRigOffersEveryRigParameterWithItsHelp) {
     EXPECT_NE(help.find(LongFlag(p)), std::string::npos) << p.spec.name;
     EXPECT_NE(help.find(p.spec.help), std::string::npos) << p.spec.name;
   }
+  // Every path and rig type has its line in the description, with what it is for.
+  for (TrajectoryKind k : kNamedTrajectoryKinds) {
+    EXPECT_NE(r.out.find("\n  " + std::string(TrajectoryKindName(k)) + " "), std::string::npos) << TrajectoryKindName(k);
+  }
+  for (RigType t : kAllRigTypes) {
+    EXPECT_NE(r.out.find("\n  " + std::string(RigTypeName(t)) + " "), std::string::npos) << RigTypeName(t);
+  }
 }
 
 }  // namespace
