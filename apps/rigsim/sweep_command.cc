@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <string>
 #include <tuple>
+#include <vector>
 
 #include <unistd.h>
 
@@ -84,6 +85,35 @@ bool IsScenePresetName(const std::string& name) {
   return false;
 }
 
+// The config of a built-in suite, and how to start it again (for its report and Slurm's tasks):
+// `command` gets the suite's options, `sweep_args` the same with absolute paths.
+SweepConfig SuiteSweep(const std::string& suite, const std::string& size, const std::string& rig,
+                       const std::string& scene, std::string* command, std::vector<std::string>* sweep_args) {
+  SuiteInputs inputs;
+  if (!rig.empty()) inputs.rig_file = fs::absolute(rig).lexically_normal().string();
+  inputs.scene = scene;
+  if (!scene.empty() && !IsScenePresetName(scene)) {
+    if (!fs::is_regular_file(scene)) {
+      throw CLI::ValidationError("--scene", "'" + scene + "' is neither a scene preset (" +
+                                                JoinNames(NamesOf(AllScenePresets(), ScenePresetName)) +
+                                                ") nor a scene file");
+    }
+    inputs.scene = fs::absolute(scene).lexically_normal().string();
+  }
+  SweepConfig sweep = ParseSweepConfig(SuiteConfig(suite, size, inputs), "--suite " + suite);
+  *command += "--suite " + suite + " --size " + size;
+  *sweep_args = {"--suite", suite, "--size", size};
+  if (!rig.empty()) {
+    *command += " --rig " + fs::path(rig).filename().string();
+    sweep_args->insert(sweep_args->end(), {"--rig", inputs.rig_file});
+  }
+  if (!scene.empty()) {
+    *command += " --scene " + fs::path(scene).filename().string();
+    sweep_args->insert(sweep_args->end(), {"--scene", inputs.scene});
+  }
+  return sweep;
+}
+
 }  // namespace
 
 void AddSweepCommand(CLI::App& app) {
@@ -145,28 +175,7 @@ void AddSweepCommand(CLI::App& app) {
     std::string command = "rigsim sweep ";
     std::vector<std::string> sweep_args;
     if (!args->suite.empty()) {
-      SuiteInputs inputs;
-      if (!args->rig.empty()) inputs.rig_file = fs::absolute(args->rig).lexically_normal().string();
-      inputs.scene = args->scene;
-      if (!inputs.scene.empty() && !IsScenePresetName(inputs.scene)) {
-        if (!fs::is_regular_file(inputs.scene)) {
-          throw CLI::ValidationError("--scene", "'" + inputs.scene + "' is neither a scene preset (" +
-                                                    JoinNames(NamesOf(AllScenePresets(), ScenePresetName)) +
-                                                    ") nor a scene file");
-        }
-        inputs.scene = fs::absolute(inputs.scene).lexically_normal().string();
-      }
-      sweep = ParseSweepConfig(SuiteConfig(args->suite, args->size, inputs), "--suite " + args->suite);
-      command += "--suite " + args->suite + " --size " + args->size;
-      sweep_args = {"--suite", args->suite, "--size", args->size};
-      if (!args->rig.empty()) {
-        command += " --rig " + fs::path(args->rig).filename().string();
-        sweep_args.insert(sweep_args.end(), {"--rig", inputs.rig_file});
-      }
-      if (!args->scene.empty()) {
-        command += " --scene " + fs::path(args->scene).filename().string();
-        sweep_args.insert(sweep_args.end(), {"--scene", inputs.scene});
-      }
+      sweep = SuiteSweep(args->suite, args->size, args->rig, args->scene, &command, &sweep_args);
     } else {
       sweep = ReadSweepConfig(args->config);
       config_dir = fs::absolute(args->config).parent_path();
