@@ -48,6 +48,47 @@ double PredictedOverlapWith(const GridCaster& caster, const Rig& rig, int a, int
                   PredictedOverlapOneWay(caster, rig.cameras[b], rig.cameras[a], rig_from_world));
 }
 
+// Whether something is within 0.5 m above `position` or 0.6 m around it horizontally: the rig would
+// stand inside geometry or against it.
+bool Boxed(const GridCaster& caster, const Eigen::Vector3d& position) {
+  if (caster.Cast(position, Eigen::Vector3d(0, 1, 0), 0.5)) return true;
+  for (int k = 0; k < 8; ++k) {
+    const double a = k * 0.7853981633974483;  // 45 deg steps
+    if (caster.Cast(position, Eigen::Vector3d(std::sin(a), 0, std::cos(a)), 0.6)) return true;
+  }
+  return false;
+}
+
+// Whether the straight segment from a to b crosses a surface.
+bool SegmentHits(const GridCaster& caster, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const double length = (b - a).norm();
+  return length > 1e-9 && caster.Cast(a, (b - a) / length, length).has_value();
+}
+
+// Whether a rig following `frames` stays clear of the scene: at every frame its centre stands on
+// the ground (the first surface below it within kGroundTolerance of height_m) and is not Boxed,
+// and no surface lies across the moves between frames of its centre and of every camera centre,
+// nor across the rig's arms from its centre to each camera.
+bool PathIsClear(const GridCaster& caster, const Rig& rig, const FramesFile& frames, double height_m) {
+  constexpr double kGroundTolerance = 0.5;
+  std::vector<Eigen::Vector3d> previous;  // centre, then each camera's, at the previous frame
+  for (const Frame& frame : frames.frames) {
+    const Rigid3d world_from_rig = frame.rig_from_world->Inverse();
+    std::vector<Eigen::Vector3d> centres = {world_from_rig.translation};
+    for (const RigCamera& rc : rig.cameras) centres.push_back(world_from_rig * rc.cam_from_rig->Inverse().translation);
+    const auto ground = caster.Cast(centres[0], Eigen::Vector3d(0, -1, 0), height_m + kGroundTolerance);
+    if (!ground || ground->t < height_m - kGroundTolerance || Boxed(caster, centres[0])) return false;
+    for (size_t i = 1; i < centres.size(); ++i) {
+      if (SegmentHits(caster, centres[0], centres[i])) return false;
+    }
+    for (size_t i = 0; i < previous.size(); ++i) {
+      if (SegmentHits(caster, previous[i], centres[i])) return false;
+    }
+    previous = std::move(centres);
+  }
+  return true;
+}
+
 }  // namespace
 
 double PredictedOverlap(const Scene& scene, const Rig& rig, int a, int b, const Rigid3d& rig_from_world) {
@@ -100,7 +141,8 @@ void PlacementOptions::Check() const {
   if (num_candidates < 1 || num_headings < 1) FailPlacing(w, "num_candidates and num_headings must be >= 1");
 }
 
-std::optional<RigPlacement> PlaceRig(const Scene& scene, const Rig& rig, const PlacementOptions& o) {
+std::optional<RigPlacement> PlaceRig(const Scene& scene, const Rig& rig, const PlacementOptions& o,
+                                     const TrajectoryOptions* path) {
   o.Check();
   if (!rig.HasAllPoses()) FailPlacing("rig placement", "every camera needs cam_from_rig");
   const GridCaster caster(scene);
@@ -127,14 +169,7 @@ std::optional<RigPlacement> PlaceRig(const Scene& scene, const Rig& rig, const P
     const double ground_y = hi.y() + 1.0 - down->t;
     if (ground_y > lo.y() + ground_tolerance) continue;
     const Eigen::Vector3d position(x, ground_y + o.height_m, z);
-    // Not inside anything: nothing just above the rig head, clear all around within 0.5 m.
-    if (caster.Cast(position, Eigen::Vector3d(0, 1, 0), 0.5)) continue;
-    bool boxed = false;
-    for (int k = 0; k < 8 && !boxed; ++k) {
-      const double a = k * 0.7853981633974483;  // 45 deg steps
-      boxed = caster.Cast(position, Eigen::Vector3d(std::sin(a), 0, std::cos(a)), 0.6).has_value();
-    }
-    if (boxed) continue;
+    if (Boxed(caster, position)) continue;  // not inside anything
     for (int h = 0; h < o.num_headings; ++h) {
       const double heading = 360.0 * h / o.num_headings + rng.Uniform(0.0, 360.0 / o.num_headings);
       const Rigid3d world_from_rig = RigFromWorldAt(position, heading).Inverse();
@@ -162,7 +197,14 @@ std::optional<RigPlacement> PlaceRig(const Scene& scene, const Rig& rig, const P
       }
       if (!clear) continue;
       const double score = double(hits) / std::max(1, probes);
-      if (!best || score > best->score) best = RigPlacement{position, heading, score};
+      if (best && score <= best->score) continue;
+      if (path) {  // the whole path from here, checked only for a new best (it costs more rays)
+        TrajectoryOptions from_here = *path;
+        from_here.start_world = position;
+        from_here.heading_deg = heading;
+        if (!PathIsClear(caster, rig, MakeTrajectory(from_here), o.height_m)) continue;
+      }
+      best = RigPlacement{position, heading, score};
     }
   }
   return best;

@@ -14,6 +14,7 @@
 #include "geometry/rig.h"
 #include "geometry/rigid3.h"
 #include "rigs/rig_presets.h"
+#include "rigs/trajectories.h"
 #include "scene/scene.h"
 
 namespace rigsim {
@@ -52,8 +53,13 @@ struct RigPlacement {
 // Picks a position on the ground (the surface seen from above must be the lowest level of the
 // scene, so not a roof or a car) and a heading such that the rig is not inside geometry, every
 // camera's central rays see no surface closer than min_clearance_m, and as many probe rays as
-// possible hit structure. nullopt when no candidate qualifies.
-std::optional<RigPlacement> PlaceRig(const Scene& scene, const Rig& rig, const PlacementOptions& options);
+// possible hit structure. With `path` (its start and heading replaced by the candidate's), the
+// rig must also stay clear along the whole path: at every frame on the ground and not against
+// geometry, and no surface across the moves of its centre and cameras between frames or across its
+// arms to the cameras; a blocked path moves the rig to the next best candidate. Deterministic for
+// a seed. nullopt when no candidate qualifies.
+std::optional<RigPlacement> PlaceRig(const Scene& scene, const Rig& rig, const PlacementOptions& options,
+                                     const TrajectoryOptions* path = nullptr);
 
 // Distance to the first surface along a ray (unit direction), or nullopt. For tests and tools;
 // builds the grid on each call, so use PlaceRig for many rays.

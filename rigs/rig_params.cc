@@ -24,6 +24,9 @@ ParamSpec Number(const char* name, Json def, double min, double max, std::string
 ParamSpec Int(const char* name, Json def, double min, double max, std::string help) {
   return {name, ParamSpec::Kind::kInt, std::move(def), {}, min, max, std::move(help)};
 }
+ParamSpec Text(const char* name, Json def, std::string help) {
+  return {name, ParamSpec::Kind::kText, std::move(def), {}, 0, 0, std::move(help)};
+}
 ParamSpec Choice(const char* name, Json def, std::vector<std::string> choices, std::string help) {
   return {name, ParamSpec::Kind::kChoice, std::move(def), std::move(choices), 0, 0, std::move(help)};
 }
@@ -36,13 +39,18 @@ std::vector<RigParam> MakeRigParams() {
   const std::string baseline_defaults = G(StereoRigOptions{}.baseline_m) + " and " + G(WideBaselineRigOptions{}.baseline_m);
   return {
       // The rig: its type, the options of each type, its lenses.
-      {Choice("rig", "ring", NamesOf(kAllRigTypes, RigTypeName), "rig type (as rigsim make-rig builds it)"), G_::kRig,
-       "type,--type", true, {}, [](const Json& v, RigSpec& s) { s.type = RigTypeFromName(v.get<std::string>()); }},
+      {Choice("rig", "ring", NamesOf(kAllRigTypes, RigTypeName),
+              "rig type (as rigsim make-rig builds it); file: the cameras of rig_file"),
+       G_::kRig, "type,--type", true, {}, [](const Json& v, RigSpec& s) { s.type = RigTypeFromName(v.get<std::string>()); }},
+      {Text("rig_file", nullptr,
+            "rig file: a rig.json (as make-rig writes it) whose cameras, intrinsics and cam_from_rig, make the rig; "
+            "the options of the preset types, image size and lens do not apply to it"),
+       G_::kRig, "", true, {}, [](const Json& v, RigSpec& s) { s.rig_file = v.get<std::string>(); }},
       {Int("cameras", 4, 1, 64, "ring: number of cameras"), G_::kRig, "", true, {},
        [](const Json& v, RigSpec& s) { s.ring.num_cameras = v.get<int>(); }},
       {Number("overlap", nullptr, 0, 99,
               "ring: overlap of neighbours (percent, the smaller of the two directions): the ground truth where the "
-              "rig stands in a scene, else at infinity; unset or 0: spacing"),
+              "rig stands in a scene, else at infinity; 0: none at any depth; unset: spacing"),
        G_::kRig, "", true, {}, [](const Json& v, RigSpec& s) { s.overlap_percent = v.get<double>(); }},
       {Number("spacing", 60.0, 1, 180, "ring: yaw between neighbours (deg), when overlap is unset"), G_::kRig, "", true, {},
        [](const Json& v, RigSpec& s) { s.ring.yaw_spacing_deg = v.get<double>(); }},
@@ -91,13 +99,23 @@ std::vector<RigParam> MakeRigParams() {
       {Int("frames", 1, 1, 100000, "frames along the trajectory"), G_::kPath, "", true, 3,
        [](const Json& v, RigSpec& s) { s.trajectory.num_frames = v.get<int>(); }},
       {Choice("trajectory", "straight", NamesOf(kNamedTrajectoryKinds, TrajectoryKindName),
-              "path of the rig over the frames"),
+              "path of the rig over the frames: straight; circle (an arc, step apart); loop (one whole lap of the "
+              "circle, back to the start); figure-eight (a lap turning left, then one turning right, for radius > 0); "
+              "handheld (the arc, pitching and rolling by tilt: rotations about three axes, which fix every camera's "
+              "place by hand-eye)"),
        G_::kPath, "", true, "circle",
        [](const Json& v, RigSpec& s) { s.trajectory.kind = TrajectoryKindFromName(v.get<std::string>()); }},
-      {Number("step", 2.0, -100, 100, "distance travelled between frames (m)"), G_::kPath, "", true, {},
+      {Number("step", 2.0, -100, 100,
+              "distance travelled between frames (m); loop and figure-eight spread their frames over the whole path"),
+       G_::kPath, "", true, {},
        [](const Json& v, RigSpec& s) { s.trajectory.step_m = v.get<double>(); }},
-      {Number("circle_radius", 10.0, -10000, 10000, "circle: radius of the path (m; > 0 turns left, < 0 right)"),
+      {Number("circle_radius", 10.0, -10000, 10000,
+              "circle, loop, figure-eight, handheld: radius of the path (m; > 0 turns left first, < 0 right)"),
        G_::kPath, "", true, 12.0, [](const Json& v, RigSpec& s) { s.trajectory.circle_radius_m = v.get<double>(); }},
+      {Number("tilt", 10.0, 0, 45,
+              "handheld: amplitude of the pitch and roll (deg), swinging over " + G(kHandheldPitchWavelengthM) + " and " +
+                  G(kHandheldRollWavelengthM) + " m of the path"),
+       G_::kPath, "", true, {}, [](const Json& v, RigSpec& s) { s.trajectory.tilt_deg = v.get<double>(); }},
       {Number("heading", 0.0, -360, 360, "rig heading at frame 0 without a scene (deg; 0 = world -Z, 90 = world +X)"),
        G_::kPath, "", false, {}, [](const Json& v, RigSpec& s) { s.trajectory.heading_deg = v.get<double>(); }},
       {Number("clearance", 2.0, 0, 50, "placement in a scene: no surface closer along a camera axis (m)"), G_::kPath, "",
@@ -143,6 +161,10 @@ RigSpec RigSpecFromParams(const Json& values) {
       throw std::invalid_argument(p.spec.name + ": " + e.what());
     }
     if (!v.is_null()) p.apply(v, spec);
+  }
+  if (!spec.rig_file.empty() && spec.type != RigType::kFile) {
+    throw std::invalid_argument("rig_file: applies to rig file only (the rig is " + std::string(RigTypeName(spec.type)) +
+                                ")");
   }
   return spec;
 }

@@ -20,10 +20,11 @@ std::string Describe(const RigSpec& s) {
     << s.stereo.baseline_m << " surround " << s.surround.length_m << " " << s.surround.side_fov_deg << " wide "
     << s.wide.convergence_deg << " " << s.wide.baseline_m << " image " << s.width << "x" << s.height << " hfov "
     << s.hfov_deg.value_or(-1) << " baseline " << s.baseline_m.value_or(-1) << " lens " << LensKindName(s.lens.kind) << " "
-    << s.lens.k1 << " " << s.lens.fisheye_fov_deg << " overlap " << s.overlap_percent << " jitter "
+    << s.lens.k1 << " " << s.lens.fisheye_fov_deg << " overlap " << s.overlap_percent.value_or(-1) << " jitter "
     << s.perturbation.rotation_deg << " " << s.perturbation.translation_m << " path "
     << TrajectoryKindName(s.trajectory.kind) << " " << s.trajectory.num_frames << " " << s.trajectory.step_m << " "
-    << s.trajectory.circle_radius_m << " " << s.trajectory.heading_deg << " clearance " << s.placement.min_clearance_m;
+    << s.trajectory.circle_radius_m << " " << s.trajectory.heading_deg << " " << s.trajectory.tilt_deg << " clearance "
+    << s.placement.min_clearance_m << " file " << s.rig_file;
   return o.str();
 }
 
@@ -32,6 +33,8 @@ Json OtherValue(const ParamSpec& p) {
   switch (p.kind) {
     case ParamSpec::Kind::kChoice:
       return p.choices.at(p.default_value == p.choices.at(0) ? 1 : 0);
+    case ParamSpec::Kind::kText:
+      return "elsewhere/rig.json";
     case ParamSpec::Kind::kInt:
       return p.default_value.is_null() ? Json(int64_t(p.min + 1)) : Json(p.default_value.get<int64_t>() + 1);
     default:
@@ -60,7 +63,9 @@ TEST(RigParams, EveryParameterReachesTheSpec) {
   const std::string defaults = Describe(RigSpecFromParams(Json::object()));
   for (const RigParam& p : RigParams()) {
     const Json value = OtherValue(p.spec);
-    EXPECT_NE(Describe(RigSpecFromParams(Json{{p.spec.name, value}})), defaults) << p.spec.name << " = " << value;
+    Json values = {{p.spec.name, value}};
+    if (p.spec.name == "rig_file") values["rig"] = "file";  // it applies to that type only
+    EXPECT_NE(Describe(RigSpecFromParams(values)), defaults) << p.spec.name << " = " << value;
   }
 }
 

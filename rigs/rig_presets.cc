@@ -164,8 +164,11 @@ double RingSpacingForOverlap(const RingRigOptions& options, double overlap) {
       const RigCamera& a = rig.cameras[i];
       const RigCamera& b = rig.cameras[i + 1];
       const Eigen::Matrix3d b_from_a = (*b.cam_from_rig * a.cam_from_rig->Inverse()).RotationMatrix();
-      // The smaller of the two directions, the figure render and calibrate report.
-      sum += std::min(AngularOverlap(a.camera, b.camera, b_from_a), AngularOverlap(b.camera, a.camera, b_from_a.transpose()));
+      // The smaller of the two directions, the figure render and calibrate report; for none at all,
+      // neither direction may share anything.
+      const double ab = AngularOverlap(a.camera, b.camera, b_from_a);
+      const double ba = AngularOverlap(b.camera, a.camera, b_from_a.transpose());
+      sum += overlap > 0 ? std::min(ab, ba) : std::max(ab, ba);
       ++n;
     }
     return sum / n;
@@ -178,7 +181,8 @@ double RingSpacingForOverlap(const RingRigOptions& options, double overlap) {
     const double mid = 0.5 * (lo + hi);
     (mean_overlap(mid) > overlap ? lo : hi) = mid;
   }
-  return 0.5 * (lo + hi);
+  // None at all: the side of the bracket where neighbours share nothing.
+  return overlap > 0 ? 0.5 * (lo + hi) : hi;
 }
 
 // ---- Stereo, surround, wide baseline ---------------------------------------------------------------

@@ -65,7 +65,8 @@ Rigid3d RingCamFromRig(double radius_m, double yaw_deg);
 double AngularOverlap(const Camera& a, const Camera& b, const Eigen::Matrix3d& b_from_a_rotation);
 
 // Yaw spacing (deg) at which neighbouring ring cameras overlap by `overlap` (AngularOverlap, the
-// smaller of the two directions, averaged over the neighbour pairs). Throws when unreachable.
+// smaller of the two directions, averaged over the neighbour pairs). 0: the smallest spacing at
+// which neither direction of any neighbour pair shares a pixel. Throws when unreachable.
 double RingSpacingForOverlap(const RingRigOptions& options, double overlap);
 
 struct StereoRigOptions {

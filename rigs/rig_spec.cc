@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 
@@ -18,7 +20,19 @@ RingRigOptions RingOf(const RigSpec& s) {
   if (s.hfov_deg) o.hfov_deg = *s.hfov_deg;
   o.distorted_camera = s.distorted_camera.value_or(o.num_cameras >= 2 ? 1 : -1);
   o.lens = s.lens;
-  o.target_overlap = s.overlap_percent / 100.0;
+  if (s.overlap_percent && *s.overlap_percent > 0) {
+    o.target_overlap = *s.overlap_percent / 100.0;
+  } else if (s.overlap_percent) {
+    // Outward-facing cameras whose edge rays are parallel share nothing at any depth.
+    o.yaw_spacing_deg = RingSpacingForOverlap(o, 0.0);
+    if (o.num_cameras * o.yaw_spacing_deg > 360.0 + 1e-9) {
+      char why[200];
+      std::snprintf(why, sizeof why, "overlap 0: %d cameras need %.1f deg each to share nothing, more than 360 deg all "
+                    "round (the last would overlap the first); use fewer cameras or a narrower hfov", o.num_cameras,
+                    o.yaw_spacing_deg);
+      throw std::invalid_argument(why);
+    }
+  }
   return o;
 }
 
@@ -34,6 +48,7 @@ std::string_view RigTypeName(RigType type) {
     case RigType::kStereo: return "stereo";
     case RigType::kSurround: return "surround";
     case RigType::kWideBaseline: return "wide-baseline";
+    case RigType::kFile: return "file";
   }
   throw std::invalid_argument("RigTypeName: invalid rig type " + std::to_string(static_cast<int>(type)));
 }
@@ -75,8 +90,32 @@ Rig BuildPresetRig(const RigSpec& s) {
       o.lens = s.lens;
       return MakeWideBaselineRig(o);
     }
+    case RigType::kFile:
+      if (s.rig_file.empty()) throw std::invalid_argument("rig file: give the rig.json to use (rig_file, --rig-file)");
+      return ReadRigFile(s.rig_file);
   }
   throw std::invalid_argument("BuildPresetRig: invalid rig type " + std::to_string(static_cast<int>(s.type)));
+}
+
+Rig ReadRigFile(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path)) throw std::runtime_error(path + ": rig file not found");
+  Rig rig = ReadRig(path);
+  for (const RigCamera& c : rig.cameras) {
+    if (!c.cam_from_rig) {
+      throw std::runtime_error(path + ": camera '" + c.name + "' has no cam_from_rig: a rig to move along a path needs "
+                               "where every camera sits on it (rigsim make-rig writes it)");
+    }
+  }
+  return rig;
+}
+
+std::string NoPlaceMessage(const RigSpec& s, const std::string& scene_name) {
+  char clearance[32];
+  std::snprintf(clearance, sizeof(clearance), "%g", s.placement.min_clearance_m);
+  return scene_name + ": no place where the rig stands on the ground with " + clearance +
+         " m clearance and its " + DescribePath(s.trajectory) +
+         " stays clear of the scene's geometry; try a smaller radius, fewer frames, another path or scene, or a smaller "
+         "clearance";
 }
 
 std::optional<PlacedRig> MakePlacedRig(const RigSpec& s, const Scene* scene) {
@@ -87,11 +126,11 @@ std::optional<PlacedRig> MakePlacedRig(const RigSpec& s, const Scene* scene) {
   if (scene) {
     PlacementOptions p = s.placement;
     if (trajectory.kind == TrajectoryKind::kStraight) p.travel_m = (trajectory.num_frames - 1) * std::abs(trajectory.step_m);
-    out.placement = PlaceRig(*scene, out.rig, p);
+    out.placement = PlaceRig(*scene, out.rig, p, &trajectory);
     if (!out.placement) return std::nullopt;
     trajectory.start_world = out.placement->position_world;
     trajectory.heading_deg = out.placement->heading_deg;
-    if (s.type == RigType::kRing && s.overlap_percent > 0) {
+    if (s.type == RigType::kRing && s.overlap_percent.value_or(0) > 0) {
       // The spacing for the ground-truth overlap in this scene at this place: sky and occluders
       // change it from the angular value.
       out.rig = MakeRingRigInScene(RingOf(s), *scene, RigFromWorldAt(trajectory.start_world, trajectory.heading_deg));

@@ -19,11 +19,15 @@
 
 namespace rigsim {
 
-enum class RigType { kRing, kStereo, kSurround, kWideBaseline };
+// A preset, or kFile: the cameras of a rig.json (RigSpec::rig_file), such as make-rig writes.
+enum class RigType { kRing, kStereo, kSurround, kWideBaseline, kFile };
 
-inline constexpr RigType kAllRigTypes[] = {RigType::kRing, RigType::kStereo, RigType::kSurround, RigType::kWideBaseline};
+inline constexpr RigType kPresetRigTypes[] = {RigType::kRing, RigType::kStereo, RigType::kSurround,
+                                              RigType::kWideBaseline};
+inline constexpr RigType kAllRigTypes[] = {RigType::kRing, RigType::kStereo, RigType::kSurround, RigType::kWideBaseline,
+                                           RigType::kFile};
 
-// "ring", "stereo", "surround", "wide-baseline".
+// "ring", "stereo", "surround", "wide-baseline", "file".
 std::string_view RigTypeName(RigType type);
 // Inverse of RigTypeName; throws std::invalid_argument naming the types.
 RigType RigTypeFromName(std::string_view name);
@@ -43,14 +47,23 @@ struct RigSpec {
   // Ring: the camera with barrel distortion (ring.k1, ring.k2); unset: cam1 from two cameras on.
   std::optional<int> distorted_camera;
   // Ring: the overlap of neighbours (percent); placed in a scene, the ground-truth overlap there.
-  double overlap_percent = 0.0;
+  // 0: none at all (the spacing where neighbours' views just part, which no depth changes).
+  // Unset: ring.yaw_spacing_deg.
+  std::optional<double> overlap_percent;
   RigPerturbation perturbation;
+  // kFile: the rig.json whose cameras (intrinsics, cam_from_rig) make the rig; the preset options,
+  // image size, field of view, lens and overlap do not apply to it.
+  std::string rig_file;
   TrajectoryOptions trajectory;  // start and heading are chosen by the placement in a scene
   PlacementOptions placement;    // in a scene
 };
 
-// The rig of the spec's type with the overrides applied, before mounting errors.
+// The rig of the spec's type with the overrides applied, before mounting errors; kFile: ReadRigFile.
 Rig BuildPresetRig(const RigSpec& spec);
+
+// The rig of a rig.json for placing on a path: every camera needs its cam_from_rig. Throws
+// std::runtime_error naming the file and the problem.
+Rig ReadRigFile(const std::string& path);
 
 struct PlacedRig {
   Rig rig;
@@ -58,9 +71,13 @@ struct PlacedRig {
   std::optional<RigPlacement> placement;  // where the placement put it, in a scene
 };
 
-// The rig with its mounting errors and its frames; with `scene`, placed in it (nullopt when no
-// place qualifies). Throws std::invalid_argument on bad options.
+// The rig with its mounting errors and its frames; with `scene`, placed in it where the whole path
+// stays clear (nullopt when no place qualifies: NoPlaceMessage says why). Throws
+// std::invalid_argument on bad options.
 std::optional<PlacedRig> MakePlacedRig(const RigSpec& spec, const Scene* scene);
+
+// Why MakePlacedRig found no place, in the user's words, naming the scene and the path.
+std::string NoPlaceMessage(const RigSpec& spec, const std::string& scene_name);
 
 // The overlap of a pair of cameras, the smaller of its two directions (what overlap.json's readers,
 // render and calibrate, report).

@@ -2,7 +2,11 @@
 
 #include <cmath>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include "testing/expect_error.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
@@ -13,7 +17,7 @@ TEST(RigSpec, OverridesReachEveryType) {
   s.height = 200;
   s.hfov_deg = 70.0;
   s.baseline_m = 0.5;
-  for (RigType type : kAllRigTypes) {
+  for (RigType type : kPresetRigTypes) {
     s.type = type;
     const Rig rig = BuildPresetRig(s);
     for (const RigCamera& c : rig.cameras) {
@@ -41,7 +45,7 @@ TEST(RigSpec, ALensReplacesEveryCamerasOwn) {
   fisheye.kind = LensOptions::Kind::kFisheye;
   fisheye.fisheye_fov_deg = 190.0;
   s.lens = fisheye;
-  for (RigType type : kAllRigTypes) {
+  for (RigType type : kPresetRigTypes) {
     s.type = type;
     for (const RigCamera& c : BuildPresetRig(s).cameras) {
       EXPECT_EQ(c.camera.model(), CameraModelId::kOpenCVFisheye) << RigTypeName(type);
@@ -79,6 +83,68 @@ TEST(RigSpec, WithoutASceneTheTrajectoryStartsWhereItSays) {
   ASSERT_EQ(placed->frames.frames.size(), 3u);
   EXPECT_NEAR((placed->frames.frames[0].rig_from_world->Inverse().translation - Eigen::Vector3d(1, 1.6, 2)).norm(), 0.0,
               1e-12);
+}
+
+}  // namespace
+}  // namespace rigsim
+
+namespace rigsim {
+namespace {
+
+TEST(RigSpec, AFileRigIsTheFilesCamerasAndABadFileIsNamed) {
+  const TempDir dir;
+  RigSpec preset;
+  preset.ring.num_cameras = 3;
+  preset.width = 200;
+  preset.height = 100;
+  const Rig written = BuildPresetRig(preset);
+  WriteRig(written, dir / "rig.json");
+  RigSpec s;
+  s.type = RigType::kFile;
+  s.rig_file = (dir / "rig.json").string();
+  s.width = 999;  // a file's cameras keep their own size
+  const Rig read = BuildPresetRig(s);
+  ASSERT_EQ(read.cameras.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(read.cameras[i].camera.width(), 200);
+    EXPECT_LT((read.cameras[i].cam_from_rig->translation - written.cameras[i].cam_from_rig->translation).norm(), 1e-12);
+  }
+  // It drives the paths as any rig does.
+  s.trajectory.kind = TrajectoryKind::kHandheld;
+  s.trajectory.num_frames = 4;
+  ASSERT_TRUE(MakePlacedRig(s, nullptr).has_value());
+  // A camera without its place on the rig, a missing file and a file rig without a file are refused.
+  WriteFile(dir / "loose.json", R"({"cameras": [{"name": "cam0", "model": "PINHOLE", "width": 64, "height": 48,
+    "params": [50, 50, 31.5, 23.5]}]})");
+  EXPECT_THAT([&] { ReadRigFile((dir / "loose.json").string()); },
+              ThrowsWith<std::runtime_error>((dir / "loose.json").string() + ": camera 'cam0' has no cam_from_rig"));
+  EXPECT_THROW(ReadRigFile((dir / "absent.json").string()), std::runtime_error);
+  s.rig_file.clear();
+  EXPECT_THROW(BuildPresetRig(s), std::invalid_argument);
+}
+
+TEST(RigSpec, OverlapZeroPartsNeighboursCompletely) {
+  RigSpec s;
+  s.ring.num_cameras = 4;
+  s.hfov_deg = 85.0;
+  s.overlap_percent = 0.0;
+  const Rig rig = BuildPresetRig(s);
+  for (size_t i = 0; i + 1 < rig.cameras.size(); ++i) {
+    const RigCamera& a = rig.cameras[i];
+    const RigCamera& b = rig.cameras[i + 1];
+    const Eigen::Matrix3d b_from_a = (*b.cam_from_rig * a.cam_from_rig->Inverse()).RotationMatrix();
+    EXPECT_EQ(AngularOverlap(a.camera, b.camera, b_from_a), 0.0) << i;
+    EXPECT_EQ(AngularOverlap(b.camera, a.camera, b_from_a.transpose()), 0.0) << i;
+  }
+  // Unset is the spacing, as before.
+  s.overlap_percent.reset();
+  const Rig spaced = BuildPresetRig(s);
+  const double yaw = RadToDeg(Eigen::AngleAxisd((*spaced.cameras[1].cam_from_rig * spaced.cameras[0].cam_from_rig->Inverse()).rotation).angle());
+  EXPECT_NEAR(yaw, s.ring.yaw_spacing_deg, 1e-9);
+  // Four cameras of 95 deg cannot all part: the last would see into the first.
+  s.overlap_percent = 0.0;
+  s.hfov_deg = 95.0;
+  EXPECT_THROW(BuildPresetRig(s), std::invalid_argument);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <stdexcept>
 
 #include "calibrator/features.h"
@@ -145,14 +146,32 @@ MethodRow RunColmap(const SweepMethod& method, const CalibrationInputs& inputs, 
 
 }  // namespace
 
-RigSpec CellRigSpec(const Json& p) {
+RigSpec CellRigSpec(const Json& p, const fs::path& config_dir) {
   Json values = Json::object();
   for (const RigParam& r : RigParams()) {
     if (r.in_sweep) values[r.spec.name] = p.at(r.spec.name);
   }
   RigSpec s = RigSpecFromParams(values);
   s.placement.seed = Seed(p);
+  if (!s.rig_file.empty() && fs::path(s.rig_file).is_relative()) s.rig_file = (config_dir / s.rig_file).string();
   return s;
+}
+
+void CheckCellRigFiles(const std::vector<SweepCell>& cells, const fs::path& config_dir) {
+  std::set<std::string> checked;
+  for (const SweepCell& cell : cells) {
+    RigSpec spec;
+    try {
+      spec = CellRigSpec(cell.params, config_dir);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("cell " + std::to_string(cell.index) + ": " + e.what());
+    }
+    if (spec.type != RigType::kFile) continue;
+    if (spec.rig_file.empty()) {
+      throw std::invalid_argument("cell " + std::to_string(cell.index) + ": rig file needs rig_file, the rig.json to use");
+    }
+    if (checked.insert(spec.rig_file).second) ReadRigFile(spec.rig_file);
+  }
 }
 
 CellRunner MakeCellRunner(const SweepConfig& config, const CellRunnerOptions& options) {
@@ -172,9 +191,9 @@ CellRunner MakeCellRunner(const SweepConfig& config, const CellRunnerOptions& op
       const fs::path scene_file = SceneFile(p, options);
       const Scene& scene = cache->Get(scene_file);
       status("placing the rig");
-      const RigSpec spec = CellRigSpec(p);
+      const RigSpec spec = CellRigSpec(p, options.config_dir);
       std::optional<PlacedRig> placed = MakePlacedRig(spec, &scene);
-      if (!placed) return fail_all("no place in the scene where the rig stands on the ground with every camera clear");
+      if (!placed) return fail_all(NoPlaceMessage(spec, p.at("scene").get<std::string>()));
       const double offset_s = p.at("time_offset_ms").get<double>() / 1000.0;
       const double readout_s = p.at("readout_ms").get<double>() / 1000.0;
       for (size_t c = 0; c < placed->rig.cameras.size(); ++c) {

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "rigs/rig_spec.h"
 #include "sweep/sweep_config.h"
@@ -21,8 +22,14 @@ struct CellRunnerOptions {
   int num_threads = 0;  // 0 = all cores
 };
 
-// The rig, its path and its placement options of a cell's parameters.
-RigSpec CellRigSpec(const nlohmann::ordered_json& params);
+// The rig, its path and its placement options of a cell's parameters; a relative rig_file is
+// relative to `config_dir` (the config's folder).
+RigSpec CellRigSpec(const nlohmann::ordered_json& params, const std::filesystem::path& config_dir);
+
+// Reads every rig file the cells name (rig: file), once each, so that a bad one stops the sweep
+// before anything renders. Throws std::runtime_error naming the file and the problem, or
+// std::invalid_argument naming the cell whose rig parameters do not fit together.
+void CheckCellRigFiles(const std::vector<SweepCell>& cells, const std::filesystem::path& config_dir);
 
 // Renders a cell, calibrates it by every method of the config and scores each against the truth.
 // A method that fails gets a row with status "failed" and the reason; a render that fails (no

@@ -6,12 +6,13 @@
 #include "common/did_you_mean.h"
 #include "common/param_spec.h"
 #include "procedural/presets.h"
+#include "rigs/trajectories.h"
 
 namespace rigsim {
 
 using Json = nlohmann::ordered_json;
 
-std::vector<std::string> SuiteNames() { return {"thesis"}; }
+std::vector<std::string> SuiteNames() { return {"thesis", "motion"}; }
 std::vector<std::string> SuiteSizes() { return {"small", "full"}; }
 
 Json ThesisClaimsJson() {
@@ -45,8 +46,11 @@ Json Thesis(bool full) {
   if (full) {
     config["seeds"] = 3;
     config["methods"] = {{"semantics", NamesOf(kAllSemanticModes, SemanticModeName)}, {"peers", {"colmap"}}};
+    // Overlap down to none, across the motion that links cameras without it (hfov 85: four
+    // cameras part all round at 0 %).
     config["studies"] = Json::parse(R"([
-      {"name": "overlap", "grid": {"overlap": [5, 15, 30, 50]}},
+      {"name": "overlap", "set": {"hfov": 85},
+       "grid": {"overlap": [0, 2, 5, 15, 30, 50], "frames": [3, 12, 30], "trajectory": ["straight", "circle", "handheld"]}},
       {"name": "baseline", "set": {"rig": "wide-baseline", "convergence": 30}, "grid": {"baseline": [0.1, 0.5, 2, 5]}},
       {"name": "lens", "zip": {"lens": ["pinhole", "opencv", "fisheye", "fisheye"], "fisheye_fov": [190, 190, 150, 190]}},
       {"name": "label-noise", "zip": {"label_boundary": [0, 3, 6, 10], "label_confusion": [0, 0.1, 0.2, 0.3]}}
@@ -56,7 +60,7 @@ Json Thesis(bool full) {
     config["seeds"] = 1;
     config["methods"] = {{"semantics", {"none", "mask"}}, {"peers", {"colmap"}}};
     config["studies"] = Json::parse(R"([
-      {"name": "overlap", "grid": {"overlap": [15, 30]}},
+      {"name": "overlap", "set": {"hfov": 85}, "grid": {"overlap": [0, 15], "trajectory": ["circle", "handheld"]}},
       {"name": "baseline", "set": {"rig": "wide-baseline", "convergence": 30}, "grid": {"baseline": [0.5, 2]}},
       {"name": "lens", "zip": {"lens": ["pinhole", "fisheye"], "fisheye_fov": [190, 190]}},
       {"name": "label-noise", "zip": {"label_boundary": [0, 6], "label_confusion": [0, 0.2]}},
@@ -66,15 +70,44 @@ Json Thesis(bool full) {
   return config;
 }
 
+Json Motion(bool full, const SuiteInputs& inputs) {
+  if (inputs.rig_file.empty()) {
+    throw std::invalid_argument("--suite motion: give --rig RIG.json, the rig to try (a rig.json as rigsim make-rig "
+                                "writes it: every camera's intrinsics and cam_from_rig)");
+  }
+  Json config = Json::parse(R"({
+    "name": "motion",
+    "base": {"scene": "street", "rig": "file", "frames": 12, "spp": 2, "trajectory": "circle", "circle_radius": 6,
+             "step": 2, "tilt": 10}
+  })");
+  config["description"] = "Which path calibrates the rig of " + inputs.rig_file + ", and how well";
+  config["base"]["rig_file"] = inputs.rig_file;
+  if (!inputs.scene.empty()) config["base"]["scene"] = inputs.scene;
+  config["seeds"] = full ? 3 : 1;
+  config["methods"] = full ? Json{{"semantics", {"none", "mask"}}, {"peers", {"colmap"}}} : Json{{"semantics", {"none"}}};
+  // One study per frame count, each across the paths: a plot per frame count, a point per path.
+  config["studies"] = Json::array();
+  for (int frames : full ? std::vector<int>{3, 12, 30} : std::vector<int>{3, 12}) {
+    config["studies"].push_back({{"name", std::to_string(frames) + " frames"},
+                                 {"set", {{"frames", frames}}},
+                                 {"grid", {{"trajectory", NamesOf(kNamedTrajectoryKinds, TrajectoryKindName)}}}});
+  }
+  return config;
+}
+
 }  // namespace
 
-Json SuiteConfig(const std::string& name, const std::string& size) {
-  if (name != "thesis") {
-    throw std::invalid_argument("--suite: unknown suite '" + name + "'; the built-in suites are: thesis" +
-                                DidYouMean(name, SuiteNames()));
+Json SuiteConfig(const std::string& name, const std::string& size, const SuiteInputs& inputs) {
+  if (name != "thesis" && name != "motion") {
+    throw std::invalid_argument("--suite: unknown suite '" + name + "'; the built-in suites are: " +
+                                JoinNames(SuiteNames()) + DidYouMean(name, SuiteNames()));
   }
   if (size != "small" && size != "full") {
     throw std::invalid_argument("--size: give small or full (got '" + size + "')" + DidYouMean(size, SuiteSizes()));
+  }
+  if (name == "motion") return Motion(size == "full", inputs);
+  if (!inputs.rig_file.empty() || !inputs.scene.empty()) {
+    throw std::invalid_argument("--rig and --scene apply to --suite motion only; the thesis suite has its own rigs and scenes");
   }
   return Thesis(size == "full");
 }

@@ -5,8 +5,15 @@
 // calibration, and pose accuracy equal or better), asked across overlap (5-50%), baseline (a
 // wide-baseline pair 0.1-5 m apart, toed in 30 deg), lens (pinhole to a 190 deg fisheye), label
 // noise (the truth to 10 px boundary shifts with 30% confusion) and the three preset scenes, for
-// none, mask, gated, mask+gated and COLMAP. Sizes: full (3 seeds, every value), small (1 seed,
-// two values per study, none and mask and COLMAP).
+// none, mask, gated, mask+gated and COLMAP; the overlap study goes down to none (0 %) across
+// frame counts (3, 12, 30) and paths (straight, circle, handheld), to map where calibration breaks
+// along overlap x motion. Sizes: full (3 seeds, every value), small (1 seed, two values per study,
+// 3 frames, none and mask and COLMAP).
+//
+// motion: which path calibrates a user's own rig (SuiteInputs::rig_file, a rig.json with every
+// camera's intrinsics and cam_from_rig): the rig through every named path (rigs/trajectories.h) at
+// 3, 12 and 30 frames (a study per frame count), in the street or SuiteInputs::scene. Sizes: full
+// (3 seeds, none, mask and COLMAP), small (1 seed, 3 and 12 frames, none).
 #pragma once
 
 #include <string>
@@ -18,9 +25,17 @@ namespace rigsim {
 
 std::vector<std::string> SuiteNames();
 std::vector<std::string> SuiteSizes();
+// What a suite takes from the command line: motion's rig (an absolute path, as the cells record
+// it) and its scene (a preset or a file; empty: the street).
+struct SuiteInputs {
+  std::string rig_file;
+  std::string scene;
+};
+
 // The suite's config as a sweep config file would hold it. Throws std::invalid_argument naming
-// the suites (or sizes) when `name` (or `size`) is unknown.
-nlohmann::ordered_json SuiteConfig(const std::string& name, const std::string& size);
+// the suites (or sizes) when `name` (or `size`) is unknown, when motion has no rig, or when thesis
+// is given one.
+nlohmann::ordered_json SuiteConfig(const std::string& name, const std::string& size, const SuiteInputs& inputs = {});
 
 // The thesis's claims as a config's `claims` holds them; also what a config without claims tests.
 nlohmann::ordered_json ThesisClaimsJson();

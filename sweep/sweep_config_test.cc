@@ -1,8 +1,13 @@
 #include "sweep/sweep_config.h"
 
+#include <algorithm>
+#include <set>
+#include <utility>
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "sweep/suites.h"
 #include "testing/expect_error.h"
 
 namespace rigsim {
@@ -114,8 +119,8 @@ TEST(SweepConfig, ErrorsNameTheFileTheKeyAndSuggestAFix) {
               ThrowsExactly<E>("sweep.json: grid.overlpa: unknown parameter (did you mean 'overlap'?); "
                                "`rigsim sweep --list-params` lists them"));
   EXPECT_THAT(Parsing(R"({"base": {"rig": "rign"}})"),
-              ThrowsExactly<E>("sweep.json: base.rig: 'rign' is not one of ring, stereo, surround, wide-baseline "
-                               "(did you mean 'ring'?)"));
+              ThrowsExactly<E>("sweep.json: base.rig: 'rign' is not one of ring, stereo, surround, wide-baseline, "
+                               "file (did you mean 'ring'?)"));
   EXPECT_THAT(Parsing(R"({"grid": {"overlap": [10, 200]}})"),
               ThrowsExactly<E>("sweep.json: grid.overlap[1]: 200 is outside 0 to 99"));
   EXPECT_THAT(Parsing(R"({"grid": {"cameras": [2.5]}})"),
@@ -162,6 +167,64 @@ grid:
   EXPECT_EQ(c.seeds, (std::vector<uint64_t>{1, 2}));
   EXPECT_THAT([] { YamlToJson("grid: [1, 2\n", "bad.yaml"); },
               testing::ThrowsMessage<std::runtime_error>(testing::StartsWith("bad.yaml:")));
+}
+
+}  // namespace
+}  // namespace rigsim
+
+namespace rigsim {
+namespace {
+
+// The params of a suite's study's cells.
+std::vector<nlohmann::ordered_json> StudyCells(const SweepConfig& config, const std::string& study) {
+  std::vector<nlohmann::ordered_json> params;
+  for (const SweepCell& c : ExpandCells(config)) {
+    if (std::find(c.studies.begin(), c.studies.end(), study) != c.studies.end()) params.push_back(c.params);
+  }
+  return params;
+}
+
+TEST(Suites, ThesisOverlapGoesToNoneAcrossFramesAndPaths) {
+  const SweepConfig full = ParseSweepConfig(SuiteConfig("thesis", "full"), "--suite thesis");
+  std::set<double> overlaps;
+  std::set<int> frames;
+  std::set<std::string> paths;
+  for (const nlohmann::ordered_json& p : StudyCells(full, "overlap")) {
+    overlaps.insert(p["overlap"].get<double>());
+    frames.insert(p["frames"].get<int>());
+    paths.insert(p["trajectory"].get<std::string>());
+    EXPECT_EQ(p["hfov"], 85.0);  // four cameras part all round at 0 %
+  }
+  EXPECT_EQ(overlaps, (std::set<double>{0, 2, 5, 15, 30, 50}));
+  EXPECT_EQ(frames, (std::set<int>{3, 12, 30}));
+  EXPECT_EQ(paths, (std::set<std::string>{"straight", "circle", "handheld"}));
+  EXPECT_EQ(StudyCells(full, "overlap").size(), 6u * 3 * 3 * 3);  // x 3 seeds
+  // Small stays quick: three frames, none and 15 %, two paths, one seed.
+  const SweepConfig small = ParseSweepConfig(SuiteConfig("thesis", "small"), "--suite thesis");
+  EXPECT_EQ(StudyCells(small, "overlap").size(), 4u);
+  for (const SweepCell& c : ExpandCells(small)) EXPECT_EQ(c.params["frames"], 3);
+}
+
+TEST(Suites, MotionTakesTheUsersRigThroughEveryPathAndFrameCount) {
+  SuiteInputs inputs;
+  inputs.rig_file = "/somewhere/my_rig.json";
+  inputs.scene = "plaza";
+  const SweepConfig full = ParseSweepConfig(SuiteConfig("motion", "full", inputs), "--suite motion");
+  std::set<std::pair<int, std::string>> points;
+  for (const SweepCell& c : ExpandCells(full)) {
+    EXPECT_EQ(c.params["rig"], "file");
+    EXPECT_EQ(c.params["rig_file"], "/somewhere/my_rig.json");
+    EXPECT_EQ(c.params["scene"], "plaza");
+    points.insert({c.params["frames"].get<int>(), c.params["trajectory"].get<std::string>()});
+  }
+  EXPECT_EQ(points.size(), 3u * 5);
+  EXPECT_TRUE(points.count({30, "handheld"}));
+  EXPECT_TRUE(points.count({3, "figure-eight"}));
+  EXPECT_EQ(full.studies.size(), 3u);  // a plot per frame count
+  // Without a rig it is refused; the thesis suite takes none.
+  EXPECT_THROW(SuiteConfig("motion", "small"), std::invalid_argument);
+  EXPECT_THROW(SuiteConfig("thesis", "small", inputs), std::invalid_argument);
+  EXPECT_THROW(SuiteConfig("motoin", "small", inputs), std::invalid_argument);
 }
 
 }  // namespace

@@ -125,6 +125,16 @@ std::string MethodPlot(const PlotSeries& p, const std::string& src, const std::s
   return out;
 }
 
+// Whether some row of the study has a value of the plot's main series.
+bool HasValue(const PlotSeries& p, const std::vector<SummaryRow>& summary, const std::string& study) {
+  const MetricSpec& metric = *p.series.front().metric;
+  if (metric.summary.kind != SummaryKind::kMedian) return true;  // shares and sums are always there
+  for (const SummaryRow& r : summary) {
+    if (r.study == study && r.Spread(metric.name).median) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 SweepPlots WriteSweepPlots(const SweepConfig& config, const std::vector<SummaryRow>& summary, const fs::path& out_dir) {
@@ -184,9 +194,14 @@ SweepPlots WriteSweepPlots(const SweepConfig& config, const std::vector<SummaryR
           command += (m ? ", \\\n     " : "") + MethodPlot(p, Quoted(stem + ".dat") + " index " + std::to_string(m),
                                                           Quoted(config.methods[m].name), " lc " + std::to_string(m + 1));
         }
+        // gnuplot refuses to scale an axis without a point: an empty plot says why instead.
+        const std::string empty = HasValue(p, summary, study.name)
+                                      ? ""
+                                      : "set yrange [0.01:10]\nset label 1 \"no value: no method gave one in this "
+                                        "study\" at graph 0.5, 0.5 center\n";
         script += "set output " + Quoted(stem + "_" + p.plot->name + "." + ext) + "\n" + common + "set title " +
                   Quoted(study.name + ": " + p.plot->title) + "\nset ylabel " + Quoted(p.plot->ylabel) + "\n" +
-                  p.plot->y_axis + command + "\nunset logscale y\n";
+                  p.plot->y_axis + empty + command + "\nunset logscale y\nunset label 1\n";
       }
       script += "unset output\n";
     }

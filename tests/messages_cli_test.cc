@@ -62,7 +62,7 @@ TEST_F(MessagesCli, OptionParserErrorsExitWith1AndSuggestTheNameMeant) {
   ExpectError({"calibrate", data, "--known-distance", "cam0", "cam1"}, "--known-distance: takes 3 values, got 2");
   ExpectError({"calibrate"}, "DATASET is required");
   ExpectError({"render", "--scene", (dir_ / "missing.glb").string()}, "--scene: no such file: " + (dir_ / "missing.glb").string());
-  ExpectError({"make-rig", "rnig", "--out", (dir_ / "r").string()}, "--type: 'rnig' is not one of ring, stereo, surround, wide-baseline (did you mean 'ring'?)");
+  ExpectError({"make-rig", "rnig", "--out", (dir_ / "r").string()}, "--type: 'rnig' is not one of ring, stereo, surround, wide-baseline, file (did you mean 'ring'?)");
   ExpectError({"make-rig", "--out", (dir_ / "a").string(), "--rig-out", (dir_ / "b").string()}, "--rig-out cannot be given with --out");
   ExpectError({}, "give a command: demo, make-rig, render, render-merge, calibrate");
   ExpectError({"make-rig", "--cameras", "2", "--time-offset", "cam7=0.01", "--out", (dir_ / "t").string()},

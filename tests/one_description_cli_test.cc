@@ -44,7 +44,7 @@ TEST(OneDescription, MakeRigAndASweepCellBuildTheSameRigFromTheSameValues) {
   })"), "test");
   for (const SweepCell& cell : ExpandCells(config)) {
     SCOPED_TRACE(cell.params.dump());
-    std::optional<PlacedRig> placed = MakePlacedRig(CellRigSpec(cell.params), &scene);
+    std::optional<PlacedRig> placed = MakePlacedRig(CellRigSpec(cell.params, dir.path()), &scene);
     ASSERT_TRUE(placed.has_value());
     placed->frames.scene = scene_file.filename().string();  // make-rig names the scene it placed the rig in
     const fs::path sweep_dir = dir / ("sweep" + std::to_string(cell.index));
@@ -90,6 +90,13 @@ TEST(OneDescription, MakeRigOffersEveryRigParameterWithItsHelp) {
   for (const RigParam& p : RigParams()) {
     EXPECT_NE(help.find(LongFlag(p)), std::string::npos) << p.spec.name;
     EXPECT_NE(help.find(p.spec.help), std::string::npos) << p.spec.name;
+  }
+  // Every path and rig type has its line in the description, with what it is for.
+  for (TrajectoryKind k : kNamedTrajectoryKinds) {
+    EXPECT_NE(r.out.find("\n  " + std::string(TrajectoryKindName(k)) + " "), std::string::npos) << TrajectoryKindName(k);
+  }
+  for (RigType t : kAllRigTypes) {
+    EXPECT_NE(r.out.find("\n  " + std::string(RigTypeName(t)) + " "), std::string::npos) << RigTypeName(t);
   }
 }
 

@@ -4,8 +4,10 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <thread>
+#include <utility>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -152,6 +154,69 @@ TEST(EvaluateCli, EveryEstimateFormatOfTheTruthScoresPerfectly) {
                                   dir / "bad");
   EXPECT_EQ(bad.code, 1);
   EXPECT_NE(bad.err.find("rig.json"), std::string::npos) << bad.err;
+}
+
+}  // namespace
+}  // namespace rigsim
+
+namespace rigsim {
+namespace {
+
+// A user's rig of two small cameras, as make-rig writes it.
+void WriteTinyRig(const fs::path& dir) {
+  ASSERT_EQ(RunRigsim({"make-rig", "ring", "--cameras", "2", "--spacing", "50", "--width", "96", "--height", "64",
+                       "--out", (dir / "my_rig").string()},
+                      dir / "make-rig")
+                .code,
+            0);
+}
+
+TEST(SweepCli, TheMotionSuiteTriesTheUsersRigOnEveryPath) {
+  const TempDir dir;
+  WriteTinyRig(dir);
+  const fs::path out = dir / "motion";
+  const CliResult run = RunRigsim({"sweep", "--suite", "motion", "--rig", (dir / "my_rig" / "rig.json").string(),
+                                   "--out", out.string()},
+                                  dir / "run", std::chrono::seconds(600));
+  ASSERT_EQ(run.code, 0) << run.err;
+  // Small: 3 and 12 frames, every path, one seed, rigsim without semantics.
+  std::istringstream jsonl(ReadFile(out / "results.jsonl"));
+  std::string line;
+  std::set<std::pair<int, std::string>> points;
+  while (std::getline(jsonl, line)) {
+    const nlohmann::json row = nlohmann::json::parse(line);
+    EXPECT_EQ(row["rig"], "file");
+    EXPECT_EQ(row["cameras"], 2) << line;   // the file's cameras, not a preset's four
+    EXPECT_EQ(row["width"], 640) << line;   // the sweep's default, which a file's rig does not take
+    // Every path found a place in the street: a failure here would be the calibration's, not the placement's.
+    EXPECT_EQ(row.value("failure_reason", "").find("no place"), std::string::npos) << line;
+    points.insert({row["frames"].get<int>(), row["trajectory"].get<std::string>()});
+  }
+  EXPECT_EQ(points.size(), 2u * 5);
+  EXPECT_TRUE(points.count({12, "figure-eight"}));
+  const std::string report = ReadFile(out / "report.md");
+  EXPECT_NE(report.find("| trajectory=handheld | none |"), std::string::npos) << report;
+  EXPECT_TRUE(fs::exists(out / "plots" / "3_frames_success.png"));
+  EXPECT_TRUE(fs::exists(out / "plots" / "12_frames_rotation_error.png"));
+  // Cameras this small may calibrate nowhere: a plot without a value is drawn empty, not failed.
+  EXPECT_EQ(run.err.find("gnuplot failed"), std::string::npos) << run.err;
+}
+
+TEST(SweepCli, ABadRigFileStopsTheMotionSuiteBeforeAnythingRenders) {
+  const TempDir dir;
+  WriteFile(dir / "rig.json", R"({"cameras": [{"name": "cam0", "model": "PINHOLE", "width": 64, "height": 48,
+    "params": [50, 50, 31.5, 23.5]}]})");  // no cam_from_rig: where the camera sits is not known
+  const CliResult run = RunRigsim({"sweep", "--suite", "motion", "--rig", (dir / "rig.json").string(), "--out",
+                                   (dir / "out").string()},
+                                  dir / "run");
+  EXPECT_EQ(run.code, 1);
+  EXPECT_NE(run.err.find((dir / "rig.json").string() + ": camera 'cam0' has no cam_from_rig"), std::string::npos)
+      << run.err;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  // Without --rig the suite says what it needs.
+  const CliResult none = RunRigsim({"sweep", "--suite", "motion", "--out", (dir / "out").string()}, dir / "none");
+  EXPECT_EQ(none.code, 1);
+  EXPECT_NE(none.err.find("--rig"), std::string::npos) << none.err;
 }
 
 }  // namespace

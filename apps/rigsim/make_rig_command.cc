@@ -55,8 +55,19 @@ constexpr const char* kDescription =
     "  stereo         left/right, parallel, --baseline apart\n"
     "  surround       vehicle-like: front (OPENCV), right and left (OPENCV_FISHEYE, --side-fov > 180 ok), back (PINHOLE)\n"
     "  wide-baseline  cam0/cam1 --baseline apart, toed in by --convergence in total\n"
+    "  file           the cameras of --rig-file (a rig.json as make-rig writes it: intrinsics and cam_from_rig),\n"
+    "                 to put your own rig on a path\n"
+    "Paths (--trajectory), and what each fixes of every camera's place in the rig from its own motion:\n"
+    "  straight       --step per frame: fixes nothing where cameras do not overlap\n"
+    "  circle         an arc of --circle-radius, --step per frame: turns about one axis, so each camera's\n"
+    "                 height stays open\n"
+    "  loop           one whole lap of the circle over the frames, back to the start (planar as circle)\n"
+    "  figure-eight   a lap turning left, then one turning right (planar as circle)\n"
+    "  handheld       the arc, pitching and rolling by up to --tilt: turns about three axes, which fixes\n"
+    "                 every camera's place (a handheld or drone rig)\n"
     "With --scene the rig is placed automatically on the ground where every camera sees structure\n"
-    "and no surface is closer than --clearance (overrides --position and --heading).\n"
+    "and no surface is closer than --clearance (overrides --position and --heading), where its whole\n"
+    "path stays on the ground and out of the scene's geometry.\n"
     "With --from-gltf SCENE the rig is the perspective cameras that SCENE places on its nodes instead\n"
     "(PINHOLE, --width x --height, field of view from each camera's yfov and aspectRatio; cam_from_rig\n"
     "relative to the first camera in file order) and frames.json holds one frame with the rig where the\n"
@@ -276,7 +287,7 @@ void ReportOverlaps(const RigSpec& spec, const PlacedRig& placed, const Scene* s
     if (++shown % 4 == 0) line += "\n";
     // Neighbours on the ring (camera i and i+1) are what --overlap solves for, pair by pair in a scene.
     const bool neighbours = placed.rig.FindCamera(p.b) == placed.rig.FindCamera(p.a) + 1;
-    if (scene && spec.overlap_percent > 0 && neighbours && std::abs(100 * p.overlap - spec.overlap_percent) > 2.0) {
+    if (scene && spec.overlap_percent && neighbours && std::abs(100 * p.overlap - *spec.overlap_percent) > 2.0) {
       missed += (missed.empty() ? "" : ", ") + p.a + "-" + p.b;
     }
   }
@@ -285,7 +296,7 @@ void ReportOverlaps(const RigSpec& spec, const PlacedRig& placed, const Scene* s
   std::printf("%s\n", line.c_str());
   if (!missed.empty()) {
     std::fprintf(stderr, "warning: %s: more than 2 points from the --overlap %g%% asked for: no spacing gives it at this "
-                 "place (near walls or open sky); try another --seed\n", missed.c_str(), spec.overlap_percent);
+                 "place (near walls or open sky); try another --seed\n", missed.c_str(), *spec.overlap_percent);
   }
 }
 
@@ -303,12 +314,7 @@ void MakeRig(const MakeRigArgs& a) {
                              "scene with geometry, or leave out --scene and place the rig with --position and --heading");
   }
   std::optional<PlacedRig> placed = MakePlacedRig(spec, scene ? &*scene : nullptr);
-  if (!placed) {
-    char clearance[32];
-    std::snprintf(clearance, sizeof(clearance), "%g", spec.placement.min_clearance_m);
-    throw std::runtime_error(a.scene + ": no place found where the rig stands on the ground with " + clearance +
-                             " m clearance; try a smaller --clearance or fewer --frames");
-  }
+  if (!placed) throw std::runtime_error(NoPlaceMessage(spec, a.scene));
   if (placed->placement) {
     const RigPlacement& p = *placed->placement;
     std::printf("placed at (%.2f, %.2f, %.2f), heading %.1f deg (%.0f%% of probe rays see structure)\n",

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <string>
 #include <tuple>
+#include <vector>
 
 #include <unistd.h>
 
@@ -13,6 +14,7 @@
 #include "apps/rigsim/shard_options.h"
 #include "calibrator/features.h"
 #include "calibrator/semantics.h"
+#include "procedural/presets.h"
 #include "sweep/cell_runner.h"
 #include "sweep/suites.h"
 #include "sweep/sweep_config.h"
@@ -76,11 +78,47 @@ void ListParams() {
               JoinNames(NamesOf(kAllFeatureTypes, FeatureTypeName)).c_str(), JoinNames(SweepPeerNames()).c_str());
 }
 
+bool IsScenePresetName(const std::string& name) {
+  for (ScenePreset p : AllScenePresets()) {
+    if (ScenePresetName(p) == name) return true;
+  }
+  return false;
+}
+
+// The config of a built-in suite, and how to start it again (for its report and Slurm's tasks):
+// `command` gets the suite's options, `sweep_args` the same with absolute paths.
+SweepConfig SuiteSweep(const std::string& suite, const std::string& size, const std::string& rig,
+                       const std::string& scene, std::string* command, std::vector<std::string>* sweep_args) {
+  SuiteInputs inputs;
+  if (!rig.empty()) inputs.rig_file = fs::absolute(rig).lexically_normal().string();
+  inputs.scene = scene;
+  if (!scene.empty() && !IsScenePresetName(scene)) {
+    if (!fs::is_regular_file(scene)) {
+      throw CLI::ValidationError("--scene", "'" + scene + "' is neither a scene preset (" +
+                                                JoinNames(NamesOf(AllScenePresets(), ScenePresetName)) +
+                                                ") nor a scene file");
+    }
+    inputs.scene = fs::absolute(scene).lexically_normal().string();
+  }
+  SweepConfig sweep = ParseSweepConfig(SuiteConfig(suite, size, inputs), "--suite " + suite);
+  *command += "--suite " + suite + " --size " + size;
+  *sweep_args = {"--suite", suite, "--size", size};
+  if (!rig.empty()) {
+    *command += " --rig " + fs::path(rig).filename().string();
+    sweep_args->insert(sweep_args->end(), {"--rig", inputs.rig_file});
+  }
+  if (!scene.empty()) {
+    *command += " --scene " + fs::path(scene).filename().string();
+    sweep_args->insert(sweep_args->end(), {"--scene", inputs.scene});
+  }
+  return sweep;
+}
+
 }  // namespace
 
 void AddSweepCommand(CLI::App& app) {
   struct Args {
-    std::string config, suite, size = "small", out;
+    std::string config, suite, size = "small", out, rig, scene;
     bool keep_datasets = false, force = false, list_params = false;
     int threads = 0;
     ShardSettings shards;
@@ -92,13 +130,25 @@ void AddSweepCommand(CLI::App& app) {
       "...) over seeds, render every cell once, calibrate it by every method (rigsim's semantic modes and\n"
       "feature types, COLMAP) and score each against the truth.\n"
       "CONFIG is a .json or .yaml file (see docs/sweeps.md; --list-params lists the parameters), or\n"
-      "--suite thesis runs the built-in test of the thesis's four claims (--size small: minutes; full).\n"
+      "--suite thesis runs the built-in test of the thesis's four claims (--size small: minutes; full);\n"
+      "--suite motion --rig RIG.json [--scene S] tries your own rig along every path (straight, circle, loop,\n"
+      "figure-eight, handheld) at 3 and 12 frames (--size full: and 30): which path calibrates it, and how well.\n"
       "Writes OUT/results.csv and results.jsonl (a row per cell and method), summary.csv, plots/ (PNG\n"
       "and SVG, by gnuplot) and report.md. Finished cells are kept in OUT/cells/: running the same\n"
       "command again resumes, and Ctrl-C loses only the cell in progress. Exit code 0 when the sweep\n"
       "ran (whatever the calibrations gave), 1 on bad input, 130 when interrupted.");
   CLI::Option* config = cmd->add_option("CONFIG", args->config, "sweep config (.json, .yaml)")->check(CLI::ExistingFile);
-  CLI::Option* suite = cmd->add_option("--suite", args->suite, "a built-in sweep instead of CONFIG: thesis")->excludes(config);
+  CLI::Option* suite =
+      cmd->add_option("--suite", args->suite, "a built-in sweep instead of CONFIG: thesis, motion")->excludes(config);
+  cmd->add_option("--rig", args->rig,
+                  "with --suite motion: your rig, a rig.json as make-rig writes it (every camera's intrinsics and "
+                  "cam_from_rig)")
+      ->check(CLI::ExistingFile)
+      ->excludes(config);
+  cmd->add_option("--scene", args->scene,
+                  "with --suite motion: where to drive it, a scene preset (street, plaza, parking) or a .glb/.gltf file "
+                  "(default street)")
+      ->excludes(config);
   cmd->add_option("--size", args->size, "with --suite: small (1 seed, two values per study) or full")
       ->capture_default_str()
       ->check(CLI::IsMember({"small", "full"}));
@@ -116,16 +166,16 @@ void AddSweepCommand(CLI::App& app) {
       ListParams();
       return;
     }
-    if (config->count() == 0 && suite->count() == 0) throw CLI::ValidationError("sweep", "give CONFIG or --suite thesis");
+    if (config->count() == 0 && suite->count() == 0) {
+      throw CLI::ValidationError("sweep", "give CONFIG, --suite thesis or --suite motion --rig RIG.json");
+    }
     SweepConfig sweep;
     fs::path config_dir = fs::current_path();
     // How the sweep is started, the same for every shard and run (for its report).
     std::string command = "rigsim sweep ";
     std::vector<std::string> sweep_args;
     if (!args->suite.empty()) {
-      sweep = ParseSweepConfig(SuiteConfig(args->suite, args->size), "--suite " + args->suite);
-      command += "--suite " + args->suite + " --size " + args->size;
-      sweep_args = {"--suite", args->suite, "--size", args->size};
+      sweep = SuiteSweep(args->suite, args->size, args->rig, args->scene, &command, &sweep_args);
     } else {
       sweep = ReadSweepConfig(args->config);
       config_dir = fs::absolute(args->config).parent_path();
@@ -134,6 +184,7 @@ void AddSweepCommand(CLI::App& app) {
     }
     const fs::path out = args->out.empty() ? fs::path("out") / "sweep" / sweep.name : fs::path(args->out);
     const std::vector<SweepCell> cells = ExpandCells(sweep);
+    CheckCellRigFiles(cells, config_dir);  // a bad rig.json stops the sweep before anything renders
     SweepRunOptions options;
     options.out_dir = out;
     options.keep_datasets = args->keep_datasets;
