@@ -7,7 +7,8 @@
 // noise (the truth to 10 px boundary shifts with 30% confusion) and the three preset scenes, for
 // none, mask, gated, mask+gated and COLMAP; the overlap study goes down to none (0 %) across
 // frame counts (3, 12, 30) and paths (straight, circle, handheld), to map where calibration breaks
-// along overlap x motion. Sizes: full (3 seeds, every value), small (1 seed, two values per study,
+// along overlap x motion; and a dynamics study (animated worlds, traffic x time offset x rolling
+// shutter on a handheld path) asks the claims where the unreliable classes really move. Sizes: full (3 seeds, every value), small (1 seed, two values per study,
 // 3 frames, none and mask and COLMAP).
 //
 // motion: which path calibrates a user's own rig (SuiteInputs::rig_file, a rig.json with every
