@@ -32,10 +32,13 @@
 
 #include "calibrator/capture_time.h"
 #include "calibrator/correspondences.h"
+#include "calibrator/cross_time_candidates.h"
+#include "calibrator/hand_eye.h"
 #include "calibrator/intrinsics_refinement.h"
 #include "calibrator/multi_frame_rig.h"
 #include "calibrator/pairwise.h"
 #include "calibrator/rig_positions.h"
+#include "calibrator/rig_rotation_averaging.h"
 #include "calibrator/rotation_averaging.h"
 #include "calibrator/view_graph.h"
 #include "geometry/rig.h"
@@ -53,6 +56,30 @@ struct KnownDistance {
 // with `where` when it names a camera that is not there, listing the cameras that are.
 std::pair<int, int> KnownDistanceCameras(const KnownDistance& known, const std::vector<std::string>& names,
                                          const std::string& where);
+
+// The motion stage (motion_links.h): links between cameras that share little or nothing of their
+// views at the same instant, from the rig's motion.
+struct MotionLinkOptions {
+  // Run it when the same-instant pairs leave a camera without a full pose and the rig moved over
+  // at least min_frames frames (temporal pairs).
+  bool enabled = true;
+  int min_frames = 3;
+  HandEyeOptions hand_eye;
+  CrossTimeCandidateOptions candidates;
+  // The joint averaging of every rotation (same-instant, temporal and cross-time pairs).
+  RigRotationAveragingOptions rotation_averaging;
+  // A view pair matched because the rotations predicted that the views meet, whose two-view
+  // rotation is farther than this (deg) from the predicted one, is not used: a wrong match of
+  // repeated structure (the joint averaging drops the rest).
+  double max_prediction_disagreement_deg = 10.0;
+  // The bundle adjustment weighs the observations of points that two or more cameras see up, by a
+  // quarter of the ratio of all observations to theirs, at most this much
+  // (RigBundleAdjustmentOptions::inter_camera_weight).
+  double max_inter_camera_weight = 10.0;
+
+  // Throws std::invalid_argument naming the first bad field.
+  void Check() const;
+};
 
 struct RigCalibrationOptions {
   // Matching and two-view estimation of every pair (pairwise.h).
@@ -109,6 +136,8 @@ struct RigCalibrationOptions {
   // Capture times: offsets and rolling-shutter readouts estimated, or checked (capture_time.h).
   // Uses RigObservations::frame_times_s.
   CaptureTimeOptions capture_time;
+  // Links between cameras from the rig's motion (motion_links.h; EstimateRigFromPairs only).
+  MotionLinkOptions motion;
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;
@@ -131,6 +160,14 @@ struct RigObservations {
   std::vector<double> frame_times_s;
   // Per camera: its rolling shutter reads the bottom row first; empty: every one top to bottom.
   std::vector<char> readout_bottom_to_top;
+  // From the rig's motion (motion_links.h); empty unless that stage ran. View pairs of cameras at
+  // different frames; per camera the start of its rotation in the rig (nullopt: none), and the turn
+  // axis of a planar motion (in the rig) along which its motion does not fix its centre.
+  std::vector<CrossTimePairEstimate> cross_time;
+  std::vector<std::optional<Eigen::Quaterniond>> rotation_start;
+  std::vector<std::optional<Eigen::Vector3d>> open_axis;
+
+  bool HasMotionLinks() const { return !rotation_start.empty(); }
 };
 
 // Pools one pair's matches over the frames, estimates the relative pose (two_view.h) and keeps
@@ -203,6 +240,10 @@ enum class CameraOutcome {
   kRotationOnly,  // a rotation, no position (CameraStatus::position says why)
   kNotConnected,  // no pair links it to camera 0's part of the view graph: no pose at all
   kUnsynchronised,  // it did not capture with camera 0 and offsets were not estimated: no pose
+  // A rotation and a position but for one component: a planar motion placed it and no point joins
+  // it with another camera, so its offset along the turn axis is open (PositionOutcome::kOpenAlongTurnAxis;
+  // RigCalibrationResult::partial_centre). No cam_from_rig in the rig: no made-up component.
+  kOpenAlongAxis,
 };
 
 // The position of a camera with a rotation: placed, or why not.
@@ -211,6 +252,7 @@ enum class PositionOutcome {
   kNotObservable,  // nothing links its position to the placed cameras' (no start for it)
   kNotDetermined,  // the images fix its direction from camera 0 too loosely (max_direction_std_deg)
   kAmbiguous,      // bundle adjustments from different starts put it in different places
+  kOpenAlongTurnAxis,  // placed across the turn axis of a planar motion, open along it
 };
 
 struct CameraStatus {
@@ -221,7 +263,8 @@ struct CameraStatus {
   std::string reason;
 
   // The status as evaluation.json and the tables give it: "calibrated", "calibrated (reference:
-  // rig frame)", "rotation only: position <reason>" or "not connected: <reason>".
+  // rig frame)", "rotation only: position <reason>", "placed but for one axis: <reason>" or "not
+  // connected: <reason>".
   std::string Text() const;
 };
 inline std::ostream& operator<<(std::ostream& os, const CameraStatus& s) { return os << s.Text(); }
@@ -238,6 +281,11 @@ struct RigCalibrationResult {
   // Per camera: the estimated cam_from_rig rotation of calibrated and "rotation only" cameras;
   // nullopt for cameras not connected.
   std::vector<std::optional<Eigen::Quaterniond>> cam_from_rig_rotation;
+  // Per camera with CameraOutcome::kOpenAlongAxis: the axis (unit, in the rig) along which its
+  // centre is not determined, and its centre in the rig without that component (the part the
+  // images determine, in the result's unit); nullopt otherwise.
+  std::vector<std::optional<Eigen::Vector3d>> open_axis;
+  std::vector<std::optional<Eigen::Vector3d>> partial_centre;
   // Per camera: what the calibration made of it, and why.
   std::vector<CameraStatus> camera_status;
   std::vector<RigCameraStats> camera_stats;
@@ -267,10 +315,21 @@ struct RigCalibrationResult {
   std::vector<std::optional<Rigid3d>> rig_from_world;
   bool rig_motion_estimated = false;
   int num_temporal_pairs_used = 0;  // successful temporal pairs between cameras with a rotation
+  int num_cross_time_pairs_used = 0;  // cross-time pairs (motion_links.h) rotation averaging kept
   // How clearly the tracks single out one set of positions (RigPositions::eigenvalue_ratio).
   double position_eigenvalue_ratio = 0.0;
   // The bundle adjustment's starts and how each ended.
   std::vector<RigStartSummary> position_starts;
+  // The motion stage (motion_links.h) when its result was kept: the motion's kind, the view pairs
+  // matched across time, the successful ones, those rotation averaging kept, and its time.
+  struct MotionLinkSummary {
+    MotionKind motion = MotionKind::kStraight;
+    int candidates = 0;
+    int pairs = 0;
+    int pairs_used = 0;
+    double time_s = 0.0;
+  };
+  std::optional<MotionLinkSummary> motion_links;
   CalibrationReport pairwise;
   // Wall time of the rig stages (the pairwise ones are in `pairwise`).
   double rotation_averaging_time_s = 0.0;
