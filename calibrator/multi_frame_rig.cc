@@ -654,7 +654,9 @@ BundleRoundResult SolveBundleOnce(BundleProblem& bp, std::vector<WorldPoint>& po
     const ReducedCovariance reduced = PoseCovariance(problem, pose_blocks);
     const double rms_px = bp.RmsPx(points);
     const double variance = 0.5 * rms_px * rms_px;  // per image coordinate
-    out.centre_covariance = CentreCovariances(problem, reduced, bp.cq, bp.ct, variance);
+    // Observations weighed up (inter_camera_weight) are no more precise than the others: the
+    // covariance of what they alone fix is scaled back, and of the rest over-stated (the safe side).
+    out.centre_covariance = CentreCovariances(problem, reduced, bp.cq, bp.ct, variance * options.inter_camera_weight);
     out.time_offset_stddev_s.assign(n, std::nullopt);
     out.readout_stddev_s.assign(n, std::nullopt);
     for (int c = 0; c < n && bp.timing; ++c) {
