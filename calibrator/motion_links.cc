@@ -84,6 +84,109 @@ int CamerasPlaced(const RigCalibrationResult& r) {
   }));
 }
 
+// Cameras joined with camera 0 by active same-instant edges of `graph`.
+std::vector<char> ReachedByEdges(const ViewGraph& graph, int n) {
+  std::vector<char> reached(n, 0);
+  reached[0] = 1;
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (const ViewGraphEdge& e : graph.edges) {
+      if (!e.active || reached[e.cam_a] == reached[e.cam_b]) continue;
+      reached[e.cam_a] = reached[e.cam_b] = 1;
+      grew = true;
+    }
+  }
+  return reached;
+}
+
+// One joint averaging of every rotation, leaving out the cross-time pairs of `dropped` cameras.
+JointRotations AverageJointly(const RigObservations& obs, const ViewGraph& graph, const std::vector<char>& dropped,
+                              const RigCalibrationOptions& options) {
+  const int n = static_cast<int>(obs.cameras.size());
+  const int num_frames = static_cast<int>(obs.keypoints.size());
+  std::vector<ViewPairRotation> measurements;
+  for (const ViewGraphEdge& e : graph.edges) {
+    if (e.active) measurements.push_back({e.cam_a, e.cam_b, -1, -1, e.rotation, std::max(e.weight, 1)});
+  }
+  for (const TemporalPairEstimate& t : obs.temporal) {
+    if (!t.two_view.success) continue;
+    measurements.push_back({t.camera, t.camera, t.frame, t.frame + 1, t.two_view.cam_b_from_cam_a.rotation,
+                            std::max(t.two_view.num_inliers, 1)});
+  }
+  std::vector<int> measurement_of(obs.cross_time.size(), -1);  // per cross-time pair
+  for (size_t i = 0; i < obs.cross_time.size(); ++i) {
+    const CrossTimePairEstimate& x = obs.cross_time[i];
+    if (dropped[x.cam_a] || dropped[x.cam_b]) continue;
+    measurement_of[i] = static_cast<int>(measurements.size());
+    measurements.push_back({x.cam_a, x.cam_b, x.frame_a, x.frame_b, x.two_view.cam_b_from_cam_a.rotation,
+                            std::max(x.two_view.num_inliers, 1)});
+  }
+  std::vector<std::optional<Eigen::Quaterniond>> starts = obs.rotation_start;
+  for (int c = 0; c < n && !starts.empty(); ++c) {
+    if (dropped[c]) starts[c].reset();
+  }
+  JointRotations out;
+  out.rotations = AverageRigRotations(n, num_frames, measurements, starts, options.motion.rotation_averaging);
+  for (int c = 0; c < n; ++c) {
+    if (dropped[c]) out.rotations.cam_from_rig[c].reset();
+  }
+  const auto& q = out.rotations.cam_from_rig;
+  const auto& r = out.rotations.rig_from_world;
+  for (size_t i = 0; i < obs.cross_time.size(); ++i) {
+    const CrossTimePairEstimate& x = obs.cross_time[i];
+    const int m = measurement_of[i];
+    out.cross_time_used.push_back(m >= 0 && !out.rotations.outlier[m] && q[x.cam_a] && q[x.cam_b] && r[x.frame_a] &&
+                                  r[x.frame_b]);
+  }
+  return out;
+}
+
+// Marks in `dropped` the cameras outside `reached` whose rotation no two things agree on: hand-eye
+// within MotionLinkOptions::max_hand_eye_disagreement_deg counts as two, each used cross-time pair
+// with another camera still kept as one.
+void DropUnsupportedCameras(const RigObservations& obs, const std::vector<char>& reached,
+                            const RigCalibrationOptions& options, JointRotations* joint, std::vector<char>* dropped) {
+  const int n = static_cast<int>(obs.cameras.size());
+  auto& q = joint->rotations.cam_from_rig;
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (int c = 1; c < n; ++c) {
+      if (reached[c] || !q[c]) continue;
+      int support = 0;
+      const auto& he = obs.hand_eye_rotation.empty() ? std::nullopt : obs.hand_eye_rotation[c];
+      if (he && RotationDifferenceDeg(*he, *q[c]) <= options.motion.max_hand_eye_disagreement_deg) support += 2;
+      for (size_t i = 0; i < obs.cross_time.size(); ++i) {
+        const CrossTimePairEstimate& x = obs.cross_time[i];
+        const int other = x.cam_a == c ? x.cam_b : x.cam_b == c ? x.cam_a : c;
+        support += joint->cross_time_used[i] && other != c && q[other];
+      }
+      if (support >= 2) continue;
+      q[c].reset();
+      (*dropped)[c] = 1;
+      changed = true;
+      for (size_t i = 0; i < obs.cross_time.size(); ++i) {
+        if (obs.cross_time[i].cam_a == c || obs.cross_time[i].cam_b == c) joint->cross_time_used[i] = 0;
+      }
+    }
+  }
+}
+
+// True when a camera `result` calibrated kept under a quarter as many bundle-adjustment
+// observations as its own motion has inliers: links that turn the rig wrongly make a camera's own
+// tracks stop fitting (a reference camera kept 5 of its observations under a rig turned 50 deg by
+// consistent wrong matches of a facade).
+bool LosesOwnTracks(const RigObservations& obs, const RigCalibrationResult& result) {
+  std::vector<int> own(obs.cameras.size(), 0);
+  for (const TemporalPairEstimate& t : obs.temporal) {
+    if (t.two_view.success) own[t.camera] += static_cast<int>(t.inliers.size());
+  }
+  for (size_t c = 0; c < own.size(); ++c) {
+    if (result.camera_status[c].outcome != CameraOutcome::kCalibrated) continue;
+    if (4 * result.camera_stats[c].observations < own[c]) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 void MotionLinkOptions::Check() const {
@@ -93,6 +196,7 @@ void MotionLinkOptions::Check() const {
   candidates.Check();
   rotation_averaging.Check();
   if (!(max_prediction_disagreement_deg > 0)) fail("max_prediction_disagreement_deg must be > 0");
+  if (!(max_hand_eye_disagreement_deg > 0)) fail("max_hand_eye_disagreement_deg must be > 0");
   if (!(max_inter_camera_weight >= 1)) fail("max_inter_camera_weight must be >= 1");
 }
 
@@ -115,6 +219,7 @@ MotionLinks FindMotionLinks(const RigObservations& obs,
   if (static_cast<int>(known_rotations.size()) != n) throw std::invalid_argument("FindMotionLinks: one rotation entry per camera");
   MotionLinks out;
   out.rotation_start.assign(n, std::nullopt);
+  out.hand_eye_rotation.assign(n, std::nullopt);
   out.open_axis.assign(n, std::nullopt);
   out.hand_eye.assign(n, HandEyeCamera{});
   if (!options.motion.enabled || num_frames < options.motion.min_frames || obs.temporal.empty()) return out;
@@ -135,6 +240,7 @@ MotionLinks FindMotionLinks(const RigObservations& obs,
     out.rotation_start[c] = known_rotations[c] ? known_rotations[c]
                             : start && h.cam_from_rig ? std::optional<Eigen::Quaterniond>(h.cam_from_rig->rotation)
                                                       : std::nullopt;
+    if (solved && h.cam_from_rig) out.hand_eye_rotation[c] = h.cam_from_rig->rotation;
     // Only a rotation hand-eye determined predicts where views meet; an open one is searched for.
     if (!inputs.cam_from_rig[c] && solved && h.cam_from_rig) inputs.cam_from_rig[c] = h.cam_from_rig->rotation;
     if (c > 0 && hand_eye.motion.kind == MotionKind::kPlanar) out.open_axis[c] = hand_eye.motion.axis.normalized();
@@ -174,9 +280,10 @@ RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, cons
   RigObservations linked = obs;
   linked.cross_time = links.cross_time;
   linked.rotation_start = links.rotation_start;
+  linked.hand_eye_rotation = links.hand_eye_rotation;
   linked.open_axis = links.open_axis;
   RigCalibrationResult second = EstimateRig(linked, options);
-  if (CamerasPlaced(second) <= CamerasPlaced(first)) return first;
+  if (CamerasPlaced(second) <= CamerasPlaced(first) || LosesOwnTracks(obs, second)) return first;
   RigCalibrationResult::MotionLinkSummary& summary = second.motion_links.emplace();
   summary.motion = links.motion.kind;
   summary.candidates = links.num_candidates;
@@ -191,28 +298,15 @@ RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, cons
 JointRotations AverageRotationsWithMotionLinks(const RigObservations& obs, const ViewGraph& graph,
                                                const RigCalibrationOptions& options) {
   const int n = static_cast<int>(obs.cameras.size());
-  const int num_frames = static_cast<int>(obs.keypoints.size());
-  std::vector<ViewPairRotation> measurements;
-  for (const ViewGraphEdge& e : graph.edges) {
-    if (e.active) measurements.push_back({e.cam_a, e.cam_b, -1, -1, e.rotation, std::max(e.weight, 1)});
-  }
-  for (const TemporalPairEstimate& t : obs.temporal) {
-    if (!t.two_view.success) continue;
-    measurements.push_back({t.camera, t.camera, t.frame, t.frame + 1, t.two_view.cam_b_from_cam_a.rotation,
-                            std::max(t.two_view.num_inliers, 1)});
-  }
-  const size_t first_cross = measurements.size();
-  for (const CrossTimePairEstimate& x : obs.cross_time) {
-    measurements.push_back({x.cam_a, x.cam_b, x.frame_a, x.frame_b, x.two_view.cam_b_from_cam_a.rotation,
-                            std::max(x.two_view.num_inliers, 1)});
-  }
+  const std::vector<char> reached = ReachedByEdges(graph, n);
+  std::vector<char> dropped(n, 0);  // cameras without two agreeing supports
   JointRotations out;
-  out.rotations = AverageRigRotations(n, num_frames, measurements, obs.rotation_start, options.motion.rotation_averaging);
-  for (size_t i = 0; i < obs.cross_time.size(); ++i) {
-    const CrossTimePairEstimate& x = obs.cross_time[i];
-    out.cross_time_used.push_back(!out.rotations.outlier[first_cross + i] && out.rotations.cam_from_rig[x.cam_a] &&
-                                  out.rotations.cam_from_rig[x.cam_b] && out.rotations.rig_from_world[x.frame_a] &&
-                                  out.rotations.rig_from_world[x.frame_b]);
+  for (int round = 0; round < 2; ++round) {
+    out = AverageJointly(obs, graph, dropped, options);
+    std::vector<char> more = dropped;
+    DropUnsupportedCameras(obs, reached, options, &out, &more);
+    if (more == dropped) break;
+    dropped = more;
   }
   return out;
 }

@@ -47,6 +47,8 @@ struct MotionLinks {
   std::vector<HandEyeCamera> hand_eye;
   // Per camera: the start of its rotation in the rig (the rotation already known, or hand-eye's).
   std::vector<std::optional<Eigen::Quaterniond>> rotation_start;
+  // Per camera: the rotation hand-eye calibration determined (kSolved), nullopt otherwise.
+  std::vector<std::optional<Eigen::Quaterniond>> hand_eye_rotation;
   // Per camera: with a planar motion, the turn axis in the rig, along which the motion does not
   // fix its centre; nullopt otherwise.
   std::vector<std::optional<Eigen::Vector3d>> open_axis;
@@ -72,7 +74,10 @@ RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, cons
 
 // Every rotation jointly (rig_rotation_averaging.h) from the active same-instant edges of `graph`,
 // the successful temporal pairs and the cross-time pairs, started from obs.rotation_start; per
-// cross-time pair whether it is used (not an outlier, both views with a rotation).
+// cross-time pair whether it is used (not an outlier, both views with a rotation). A camera outside
+// camera 0's part of `graph` without two agreeing supports (MotionLinkOptions::
+// max_hand_eye_disagreement_deg) loses its rotation, and the rotations are averaged again without
+// its cross-time pairs.
 struct JointRotations {
   RigRotationAveragingResult rotations;
   std::vector<char> cross_time_used;

@@ -12,8 +12,11 @@
 // temporal pairs (one frame, or none given) every frame is an independent capture of a static rig
 // and only same-frame tracks constrain the positions.
 //
+// Where the same-instant pairs leave a camera without a full pose and the rig moved, the stages run
+// again with links from the rig's motion (motion_links.h: hand-eye starts, views matched across
+// time, every rotation averaged jointly), kept when they place more cameras.
 // Gauge: camera 0 is the rig frame (its cam_from_rig is the identity); frame 0's rig frame is the
-// world. Only camera 0's component of the view graph gets rotations; every other camera is
+// world. Only the cameras those links reach from camera 0 get rotations; every other camera is
 // reported "not connected: <reason>" and gets no pose, never a guessed one. A camera with a
 // rotation whose position the data do not determine (e.g. a chain of cameras and one frame) is
 // reported "rotation only: <reason>": result.cam_from_rig_rotation has its rotation, the rig
@@ -72,6 +75,10 @@ struct MotionLinkOptions {
   // rotation is farther than this (deg) from the predicted one, is not used: a wrong match of
   // repeated structure (the joint averaging drops the rest).
   double max_prediction_disagreement_deg = 10.0;
+  // A camera the same-instant pairs do not reach keeps the rotation the motion links give it only
+  // when two things agree on it: its hand-eye rotation within this (deg), or two cross-time pairs
+  // with cameras that are kept. One pair alone could be a wrong match nothing would contradict.
+  double max_hand_eye_disagreement_deg = 2.0;
   // The bundle adjustment weighs the observations of points that two or more cameras see up, by a
   // quarter of the ratio of all observations to theirs, at most this much
   // (RigBundleAdjustmentOptions::inter_camera_weight).
@@ -161,21 +168,16 @@ struct RigObservations {
   // Per camera: its rolling shutter reads the bottom row first; empty: every one top to bottom.
   std::vector<char> readout_bottom_to_top;
   // From the rig's motion (motion_links.h); empty unless that stage ran. View pairs of cameras at
-  // different frames; per camera the start of its rotation in the rig (nullopt: none), and the turn
-  // axis of a planar motion (in the rig) along which its motion does not fix its centre.
+  // different frames; per camera the start of its rotation in the rig (nullopt: none), the rotation
+  // hand-eye calibration determined (hand_eye.h kSolved; nullopt otherwise), and the turn axis of a
+  // planar motion (in the rig) along which its motion does not fix its centre.
   std::vector<CrossTimePairEstimate> cross_time;
   std::vector<std::optional<Eigen::Quaterniond>> rotation_start;
+  std::vector<std::optional<Eigen::Quaterniond>> hand_eye_rotation;
   std::vector<std::optional<Eigen::Vector3d>> open_axis;
 
   bool HasMotionLinks() const { return !rotation_start.empty(); }
 };
-
-// Pools one pair's matches over the frames, estimates the relative pose (two_view.h) and keeps
-// its inliers per frame: the pairwise stage's step for one pair, for callers that bring
-// their own correspondences.
-std::pair<PairEstimate, PairMatches> EstimatePairFromMatches(
-    const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, int cam_a, int cam_b,
-    const std::vector<std::vector<std::pair<int, int>>>& matches_per_frame, const TwoViewOptions& options);
 
 struct RigCameraStats {
   int observations = 0;  // bundle-adjustment observations kept
@@ -344,7 +346,8 @@ struct RigCalibrationResult {
 // std::invalid_argument on inconsistent observations or a known distance naming an unknown camera.
 RigCalibrationResult EstimateRig(const RigObservations& observations, const RigCalibrationOptions& options);
 
-// The rig stages on the pairwise stage's outcome (pairwise.h MatchRigPairs) of `views`. The
+// The rig stages on the pairwise stage's outcome (pairwise.h MatchRigPairs) of `views`, with the
+// motion stage (motion_links.h EstimateRigWithMotionLinks) where it applies. The
 // result has the pairwise report, its pairs as the rig used them (re-estimated with the refined
 // intrinsics under RigBundleAdjustmentOptions::refine_intrinsics; marked where the rig left them
 // out) and, with keep_details, the match data. Throws like EstimateRig.
