@@ -143,7 +143,7 @@ JointRotations AverageJointly(const RigObservations& obs, const ViewGraph& graph
 
 // Marks in `dropped` the cameras outside `reached` whose rotation no two things agree on: hand-eye
 // within MotionLinkOptions::max_hand_eye_disagreement_deg counts as two, each used cross-time pair
-// with another camera still kept as one.
+// with another camera still kept as one; and those no used pair joins with an anchored camera.
 void DropUnsupportedCameras(const RigObservations& obs, const std::vector<char>& reached,
                             const RigCalibrationOptions& options, JointRotations* joint, std::vector<char>* dropped) {
   const int n = static_cast<int>(obs.cameras.size());
@@ -168,6 +168,31 @@ void DropUnsupportedCameras(const RigObservations& obs, const std::vector<char>&
         if (obs.cross_time[i].cam_a == c || obs.cross_time[i].cam_b == c) joint->cross_time_used[i] = 0;
       }
     }
+  }
+  // Two cameras that agree only with each other hang on hand-eye starts that did not determine
+  // them: kept are the cameras used cross-time pairs join with camera 0's part or hand-eye's.
+  std::vector<char> anchored = reached;
+  for (int c = 1; c < n; ++c) {
+    const auto& he = obs.hand_eye_rotation.empty() ? std::nullopt : obs.hand_eye_rotation[c];
+    if (q[c] && he && RotationDifferenceDeg(*he, *q[c]) <= options.motion.max_hand_eye_disagreement_deg) anchored[c] = 1;
+  }
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (size_t i = 0; i < obs.cross_time.size(); ++i) {
+      const CrossTimePairEstimate& x = obs.cross_time[i];
+      if (!joint->cross_time_used[i] || anchored[x.cam_a] == anchored[x.cam_b]) continue;
+      anchored[x.cam_a] = anchored[x.cam_b] = 1;
+      grew = true;
+    }
+  }
+  for (int c = 1; c < n; ++c) {
+    if (anchored[c] || !q[c]) continue;
+    q[c].reset();
+    (*dropped)[c] = 1;
+  }
+  for (size_t i = 0; i < obs.cross_time.size(); ++i) {
+    const CrossTimePairEstimate& x = obs.cross_time[i];
+    if (!q[x.cam_a] || !q[x.cam_b]) joint->cross_time_used[i] = 0;
   }
 }
 
