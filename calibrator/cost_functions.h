@@ -126,6 +126,30 @@ struct ViewMotionRotationCost {
   double weight_;
 };
 
+// Holds a camera's centre in the rig along one axis at a given value (multi_frame_rig.h
+// RigBundleAdjustmentOptions::held_centre_axis): weight * axis . (-R^T t - centre). Parameters:
+// cam_from_rig rotation (4) and translation (3).
+struct HeldCentreAxisCost {
+  HeldCentreAxisCost(const Eigen::Vector3d& axis, double held, double weight) : axis_(axis), held_(held), weight_(weight) {}
+
+  template <typename T>
+  bool operator()(const T* q, const T* t, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> r(q);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> tr(t);
+    const Eigen::Matrix<T, 3, 1> centre = -(r.conjugate() * tr);
+    residual[0] = T(weight_) * (axis_.cast<T>().dot(centre) - T(held_));
+    return true;
+  }
+
+  static ceres::CostFunction* Create(const Eigen::Vector3d& axis, double held, double weight) {
+    return new ceres::AutoDiffCostFunction<HeldCentreAxisCost, 1, 4, 3>(new HeldCentreAxisCost(axis, held, weight));
+  }
+
+  Eigen::Vector3d axis_;
+  double held_;
+  double weight_;
+};
+
 // Reprojection residual of one observation in the multi-frame rig bundle adjustment (pixels,
 // projected minus observed): X_cam = cam_from_rig * (rig_from_world * X_world), through the
 // camera model's ImgFromCam (geometry/camera_models.h). Parameters: cam_from_rig rotation (4) and

@@ -84,10 +84,21 @@ void RigBundleAdjustmentOptions::Check() const {
   if (num_threads < 1) fail("num_threads must be >= 1");
   if (intrinsics_passes < 1) fail("intrinsics_passes must be >= 1");
   intrinsics_priors.Check();
+  if (!(inter_camera_weight > 0)) fail("inter_camera_weight must be > 0");
+  for (const auto& axis : held_centre_axis) {
+    if (axis && std::abs(axis->norm() - 1.0) > 1e-6) fail("held_centre_axis must hold unit directions");
+  }
 }
 
 std::vector<ViewTrack> BuildViewTracks(int num_cameras, int num_frames, const std::vector<PairMatches>& pairs,
                                        const std::vector<TemporalPairEstimate>& temporal, int* num_conflicting) {
+  return BuildViewTracksAcrossTime(num_cameras, num_frames, pairs, temporal, {}, num_conflicting);
+}
+
+std::vector<ViewTrack> BuildViewTracksAcrossTime(int num_cameras, int num_frames, const std::vector<PairMatches>& pairs,
+                                                 const std::vector<TemporalPairEstimate>& temporal,
+                                                 const std::vector<CrossTimePairEstimate>& cross_time,
+                                                 int* num_conflicting) {
   for (const PairMatches& p : pairs) {
     if (p.cam_a < 0 || p.cam_b < 0 || p.cam_a >= num_cameras || p.cam_b >= num_cameras || p.cam_a == p.cam_b ||
         static_cast<int>(p.per_frame.size()) != num_frames) {
@@ -99,6 +110,12 @@ std::vector<ViewTrack> BuildViewTracks(int num_cameras, int num_frames, const st
     if (t.camera < 0 || t.camera >= num_cameras || t.frame < 0 || t.frame + 1 >= num_frames) {
       throw std::invalid_argument("BuildViewTracks: temporal pair (camera " + std::to_string(t.camera) + ", frame " +
                                   std::to_string(t.frame) + ") out of range");
+    }
+  }
+  for (const CrossTimePairEstimate& x : cross_time) {
+    if (x.cam_a < 0 || x.cam_b < 0 || x.cam_a >= num_cameras || x.cam_b >= num_cameras || x.frame_a < 0 ||
+        x.frame_b < 0 || x.frame_a >= num_frames || x.frame_b >= num_frames || x.frame_a == x.frame_b) {
+      throw std::invalid_argument("BuildViewTracks: cross-time pair out of range");
     }
   }
   std::map<std::tuple<int, int, int>, int> node_of;  // (frame, camera, keypoint) -> id
@@ -120,6 +137,10 @@ std::vector<ViewTrack> BuildViewTracks(int num_cameras, int num_frames, const st
   for (const TemporalPairEstimate& t : temporal) {
     if (!t.two_view.success) continue;
     for (const auto& [ka, kb] : t.inliers) uf.Join(node(t.camera, t.frame, ka), node(t.camera, t.frame + 1, kb));
+  }
+  for (const CrossTimePairEstimate& x : cross_time) {
+    if (!x.two_view.success) continue;
+    for (const auto& [ka, kb] : x.inliers) uf.Join(node(x.cam_a, x.frame_a, ka), node(x.cam_b, x.frame_b, kb));
   }
   // Nodes are ids in creation order; group by root, observations sorted by (frame, camera, kp).
   std::map<int, std::vector<ViewObservation>> groups;
@@ -501,6 +522,10 @@ struct BundleProblem {
   }
 };
 
+// The weight of a held centre component (px per unit of length): a shift of a thousandth of the
+// scale camera's distance costs as much as a pixel of reprojection error.
+constexpr double kHeldCentreWeightPx = 1e3;
+
 // How one solve of SolveBundle is set up.
 struct BundleRound {
   size_t point_stride = 1;  // every point, or an even subsample (the coarse first solve)
@@ -530,9 +555,19 @@ BundleRoundResult SolveBundleOnce(BundleProblem& bp, std::vector<WorldPoint>& po
   problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
   problem_options.loss_function_ownership = ceres::TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
-  ceres::LossFunction* loss = new ceres::HuberLoss(options.loss_scale_px);
+  ceres::LossFunction* own_loss = new ceres::HuberLoss(options.loss_scale_px);
+  ceres::LossFunction* shared_loss =
+      options.inter_camera_weight == 1.0
+          ? own_loss
+          : new ceres::ScaledLoss(new ceres::HuberLoss(options.loss_scale_px), options.inter_camera_weight,
+                                  ceres::TAKE_OWNERSHIP);
+  bool own_used = false, shared_used = false;  // the problem deletes only the losses it was given
   for (size_t i = 0; i < points.size(); i += round.point_stride) {
     WorldPoint& p = points[i];
+    const bool shared = std::any_of(p.observations.begin(), p.observations.end(),
+                                    [&](const ViewObservation& o) { return o.camera != p.observations[0].camera; });
+    ceres::LossFunction* loss = shared ? shared_loss : own_loss;
+    (shared ? shared_used : own_used) = true;
     for (const ViewObservation& o : p.observations) {
       const BundleProblem::Bracket br = bp.timing ? bp.Around(o) : BundleProblem::Bracket{o.frame, o.frame};
       if (br.a != br.b) {
@@ -549,6 +584,12 @@ BundleRoundResult SolveBundleOnce(BundleProblem& bp, std::vector<WorldPoint>& po
                                {bp.cq[o.camera].data(), bp.ct[o.camera].data(), bp.rq[o.frame].data(),
                                 bp.rt[o.frame].data(), p.x.data(), bp.intrinsics[o.camera].data()});
     }
+  }
+  if (own_loss == shared_loss) {
+    if (!own_used && !shared_used) delete own_loss;
+  } else {
+    if (!own_used) delete own_loss;
+    if (!shared_used) delete shared_loss;
   }
   for (int c = 0; c < n && bp.timing; ++c) {
     double* block = bp.time[c].data();
@@ -579,6 +620,13 @@ BundleRoundResult SolveBundleOnce(BundleProblem& bp, std::vector<WorldPoint>& po
       problem.SetParameterBlockConstant(bp.cq[c].data());
       problem.SetParameterBlockConstant(bp.ct[c].data());
       continue;
+    }
+    if (c < static_cast<int>(options.held_centre_axis.size()) && options.held_centre_axis[c]) {
+      // At the start's value: the images say nothing of it, so it stays what the caller chose.
+      const Eigen::Vector3d& axis = *options.held_centre_axis[c];
+      const double held = axis.dot(bp.initial_cam_from_rig[c]->SourceOriginInTarget());
+      problem.AddResidualBlock(HeldCentreAxisCost::Create(axis, held, kHeldCentreWeightPx), nullptr,
+                               {bp.cq[c].data(), bp.ct[c].data()});
     }
     problem.SetManifold(bp.cq[c].data(), new ceres::EigenQuaternionManifold);
     if (c == round.scale_camera && bp.ct[c].norm() > 0) problem.SetManifold(bp.ct[c].data(), new ceres::SphereManifold<3>);
@@ -617,7 +665,9 @@ BundleRoundResult SolveBundleOnce(BundleProblem& bp, std::vector<WorldPoint>& po
     const ReducedCovariance reduced = PoseCovariance(problem, pose_blocks);
     const double rms_px = bp.RmsPx(points);
     const double variance = 0.5 * rms_px * rms_px;  // per image coordinate
-    out.centre_covariance = CentreCovariances(problem, reduced, bp.cq, bp.ct, variance);
+    // Observations weighed up (inter_camera_weight) are no more precise than the others: the
+    // covariance of what they alone fix is scaled back, and of the rest over-stated (the safe side).
+    out.centre_covariance = CentreCovariances(problem, reduced, bp.cq, bp.ct, variance * options.inter_camera_weight);
     out.time_offset_stddev_s.assign(n, std::nullopt);
     out.readout_stddev_s.assign(n, std::nullopt);
     for (int c = 0; c < n && bp.timing; ++c) {

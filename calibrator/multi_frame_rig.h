@@ -55,6 +55,13 @@ std::vector<ViewTrack> BuildViewTracks(int num_cameras, int num_frames, const st
                                        const std::vector<TemporalPairEstimate>& temporal,
                                        int* num_conflicting = nullptr);
 
+// BuildViewTracks with the inliers of successful cross-time pairs too (motion_links.h): tracks that
+// join cameras which never see one thing at the same instant.
+std::vector<ViewTrack> BuildViewTracksAcrossTime(int num_cameras, int num_frames, const std::vector<PairMatches>& pairs,
+                                                 const std::vector<TemporalPairEstimate>& temporal,
+                                                 const std::vector<CrossTimePairEstimate>& cross_time,
+                                                 int* num_conflicting = nullptr);
+
 // rig_from_world rotation per frame: frame 0 is the identity; R_{k+1} R_k^T is the chordal mean
 // over cameras c with a rotation and a successful temporal pair (c, k) of Q_c^T T_ck Q_c
 // (Q_c = cam_from_rig rotation, T_ck = the temporal rotation). A frame not chained to frame 0 by
@@ -92,6 +99,14 @@ struct RigBundleAdjustmentOptions {
   bool refine_intrinsics = false;
   IntrinsicsPriorOptions intrinsics_priors;
   int intrinsics_passes = 3;
+  // Observations of points seen by two or more cameras weigh this much (a factor on their loss):
+  // on a rig linked by its motion (motion_links.h) they are few beside each camera's own, and
+  // they alone fix where the cameras sit relative to each other. 1: every observation alike.
+  double inter_camera_weight = 1.0;
+  // Empty, or per camera: a unit direction in the rig along which the camera's centre is held at
+  // its start, for a camera the data leave open along it (a planar motion and no point shared with
+  // another camera, hand_eye.h); its covariance is then across that direction only.
+  std::vector<std::optional<Eigen::Vector3d>> held_centre_axis;
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;

@@ -314,6 +314,30 @@ PairwiseResult MatchRigPairs(const RigViews& views, const PairwiseOptions& optio
   return out;
 }
 
+std::pair<PairEstimate, PairMatches> EstimatePairFromMatches(
+    const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, int cam_a, int cam_b,
+    const std::vector<std::vector<std::pair<int, int>>>& matches_per_frame, const TwoViewOptions& options) {
+  std::vector<Eigen::Vector2d> px_a, px_b;
+  for (size_t f = 0; f < matches_per_frame.size(); ++f) {
+    for (const auto& [a, b] : matches_per_frame[f]) {
+      px_a.push_back(keypoints.at(f).at(cam_a).at(a));
+      px_b.push_back(keypoints.at(f).at(cam_b).at(b));
+    }
+  }
+  const TwoViewResult tv = EstimateRelativePose(cameras.at(cam_a), px_a, cameras.at(cam_b), px_b, options);
+  const PairEstimate e{cam_a, cam_b, ToEstimate(tv, static_cast<int>(px_a.size()))};
+  PairMatches inl{cam_a, cam_b, std::vector<std::vector<std::pair<int, int>>>(matches_per_frame.size())};
+  if (tv.success) {
+    size_t i = 0;
+    for (size_t f = 0; f < matches_per_frame.size(); ++f) {
+      for (const auto& m : matches_per_frame[f]) {
+        if (tv.inlier_mask[i++]) inl.per_frame[f].push_back(m);
+      }
+    }
+  }
+  return {e, inl};
+}
+
 PairOutcome PairResult::Outcome() const {
   if (!two_view.success) return screened_out ? PairOutcome::kScreenedOut : PairOutcome::kTwoViewFailed;
   if (left_out_by_rig) return PairOutcome::kLeftOutByRig;

@@ -147,6 +147,13 @@ struct PairwiseResult {
 // The stages above on `views`. Deterministic whatever the thread count.
 PairwiseResult MatchRigPairs(const RigViews& views, const PairwiseOptions& options);
 
+// Pools one pair's matches over the frames, estimates the relative pose (two_view.h) and keeps
+// its inliers per frame: the pairwise stage's step for one pair, for callers that bring
+// their own correspondences.
+std::pair<PairEstimate, PairMatches> EstimatePairFromMatches(
+    const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, int cam_a, int cam_b,
+    const std::vector<std::vector<std::pair<int, int>>>& matches_per_frame, const TwoViewOptions& options);
+
 // What the calibrator says of the pair, in words: "ok", the two-view failure reason (a screened-out
 // pair's says so), or "left out by the rig: <why>" (PairResult::left_out_by_rig).
 std::string PairStatus(const PairResult& pair);

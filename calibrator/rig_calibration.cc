@@ -10,6 +10,7 @@
 
 #include "calibrator/camera_centres.h"
 #include "calibrator/format.h"
+#include "calibrator/motion_links.h"
 #include "calibrator/rig_intrinsics.h"
 #include "calibrator/rig_positions.h"
 
@@ -105,6 +106,7 @@ std::string CameraStatus::Text() const {
     case CameraOutcome::kNotConnected: return "not connected: " + reason;
     case CameraOutcome::kUnsynchronised:
     case CameraOutcome::kTimeNotDetermined: return "not calibrated: " + reason;
+    case CameraOutcome::kOpenAlongAxis: return "placed but for one axis: " + reason;
   }
   return reason;
 }
@@ -126,6 +128,7 @@ std::pair<int, int> KnownDistanceCameras(const KnownDistance& known, const std::
 void RigCalibrationOptions::Check() const {
   pairwise.Check();
   capture_time.Check();
+  motion.Check();
   if ((capture_time.estimate_offsets || capture_time.estimate_readout) && bundle_adjustment.refine_intrinsics) {
     throw std::invalid_argument("RigCalibrationOptions: capture times are not estimated together with refined intrinsics");
   }
@@ -150,30 +153,6 @@ void RigCalibrationOptions::Check() const {
   if (!(max_direction_only_disagreement_deg >= 0)) fail("max_direction_only_disagreement_deg must be >= 0");
 }
 
-std::pair<PairEstimate, PairMatches> EstimatePairFromMatches(
-    const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, int cam_a, int cam_b,
-    const std::vector<std::vector<std::pair<int, int>>>& matches_per_frame, const TwoViewOptions& options) {
-  std::vector<Eigen::Vector2d> px_a, px_b;
-  for (size_t f = 0; f < matches_per_frame.size(); ++f) {
-    for (const auto& [a, b] : matches_per_frame[f]) {
-      px_a.push_back(keypoints.at(f).at(cam_a).at(a));
-      px_b.push_back(keypoints.at(f).at(cam_b).at(b));
-    }
-  }
-  const TwoViewResult tv = EstimateRelativePose(cameras.at(cam_a), px_a, cameras.at(cam_b), px_b, options);
-  const PairEstimate e{cam_a, cam_b, ToEstimate(tv, static_cast<int>(px_a.size()))};
-  PairMatches inl{cam_a, cam_b, std::vector<std::vector<std::pair<int, int>>>(matches_per_frame.size())};
-  if (tv.success) {
-    size_t i = 0;
-    for (size_t f = 0; f < matches_per_frame.size(); ++f) {
-      for (const auto& m : matches_per_frame[f]) {
-        if (tv.inlier_mask[i++]) inl.per_frame[f].push_back(m);
-      }
-    }
-  }
-  return {e, inl};
-}
-
 namespace {
 
 // Step 1: the view graph of the pairs and robust rotation averaging over it; the edges found to
@@ -181,6 +160,9 @@ namespace {
 struct RotationStage {
   ViewGraph graph;
   RotationAveragingResult rot;
+  // With motion links (motion_links.h): every rotation averaged jointly; rot.cam_from_rig holds its
+  // cameras' and this its frames'.
+  std::optional<JointRotations> joint;
 };
 
 RotationStage AverageCameraRotations(const RigObservations& obs, const RigCalibrationOptions& options,
@@ -197,6 +179,10 @@ RotationStage AverageCameraRotations(const RigObservations& obs, const RigCalibr
                                 Fixed(options.rotation_averaging.outlier_threshold_deg, 1) + ")");
     }
   }
+  if (obs.HasMotionLinks()) {
+    s.joint = AverageRotationsWithMotionLinks(obs, s.graph, options);
+    s.rot.cam_from_rig = s.joint->rotations.cam_from_rig;
+  }
   return s;
 }
 
@@ -208,13 +194,15 @@ struct RigMotion {
   int temporal_pairs_used = 0;  // successful temporal pairs of cameras with a rotation
 };
 
-RigMotion EstimateRigMotion(const RigObservations& obs, const RotationAveragingResult& rot, int num_frames) {
+RigMotion EstimateRigMotion(const RigObservations& obs, const RotationStage& rs, int num_frames) {
   const int n = static_cast<int>(obs.cameras.size());
+  const RotationAveragingResult& rot = rs.rot;
   RigMotion m;
   m.moving = num_frames >= 2 && !obs.temporal.empty();
   m.rig_rotation.assign(num_frames, Eigen::Quaterniond::Identity());
   if (!m.moving) return m;
-  m.rig_rotation = EstimateRigRotations(num_frames, rot.cam_from_rig, obs.temporal);
+  m.rig_rotation = rs.joint ? rs.joint->rotations.rig_from_world
+                            : EstimateRigRotations(num_frames, rot.cam_from_rig, obs.temporal);
   for (const TemporalPairEstimate& t : obs.temporal) {
     if (t.camera < 0 || t.camera >= n || t.frame < 0 || t.frame + 1 >= num_frames) {
       throw std::invalid_argument("EstimateRig: temporal pair out of range");
@@ -243,7 +231,12 @@ std::vector<ViewTrack> TracksOfUsedPairs(const RigObservations& obs, const Rotat
       if (t.two_view.success && rs.rot.cam_from_rig[t.camera]) temporal_used.push_back(t);
     }
   }
-  return BuildViewTracks(static_cast<int>(obs.cameras.size()), num_frames, used, temporal_used, num_conflicting);
+  std::vector<CrossTimePairEstimate> cross_time_used;
+  for (size_t i = 0; rs.joint && i < obs.cross_time.size(); ++i) {
+    if (rs.joint->cross_time_used[i]) cross_time_used.push_back(obs.cross_time[i]);
+  }
+  return BuildViewTracksAcrossTime(static_cast<int>(obs.cameras.size()), num_frames, used, temporal_used,
+                                   cross_time_used, num_conflicting);
 }
 
 // Step 4: the bundle adjustment's initial poses, one set per position estimate that found a
@@ -259,6 +252,9 @@ struct PositionStage {
   std::string position_reason;    // why there is no start; empty when there is one
   std::string remedy;             // what would fix the positions the images leave open
   int scale_camera = -1;          // the camera at distance 1 from camera 0; -1: none
+  // Per camera (empty without motion links): the axis along which its centre is held, open
+  // (motion_links.h HeldCentreAxes).
+  std::vector<std::optional<Eigen::Vector3d>> held_axis;
 };
 
 // What a user can change so that the images fix positions they leave open, from how the rig moved.
@@ -302,10 +298,12 @@ PositionStage EstimateInitialPoses(const RigObservations& obs, const RotationSta
                                    const std::vector<ViewTrack>& tracks, const RigCalibrationOptions& options) {
   PositionStage s;
   s.remedy = PositionRemedy(motion, static_cast<int>(obs.keypoints.size()));
+  if (obs.HasMotionLinks()) s.held_axis = HeldCentreAxes(obs, tracks);
   const RigPositions from_directions = EstimateRigPositionsFromDirections(rs.graph, obs.temporal, rs.rot.cam_from_rig,
                                                                           motion.rig_rotation, !motion.moving);
   const RigPositions from_tracks = EstimateRigPositions(obs.cameras, obs.keypoints, tracks, rs.rot.cam_from_rig,
-                                                        motion.rig_rotation, options.positions, !motion.moving);
+                                                        motion.rig_rotation, options.positions, !motion.moving,
+                                                        s.held_axis);
   s.eigenvalue_ratio = from_tracks.eigenvalue_ratio;
   if (!motion.moving) {
     // Static rig: the pairs' scales are linked only by a parallel-rigid graph or by points seen by
@@ -320,13 +318,20 @@ PositionStage EstimateInitialPoses(const RigObservations& obs, const RotationSta
       return s;
     }
   }
-  for (const RigPositions* p : {&from_directions, &from_tracks}) {
-    for (int c = 1; c < static_cast<int>(p->centre_in_rig.size()) && p->solved && s.scale_camera < 0; ++c) {
-      if (p->centre_in_rig[c] && p->centre_in_rig[c]->norm() > 1e-9) s.scale_camera = c;
+  // The unit is a camera whose centre the images fix whole, where there is one.
+  for (const bool whole : {true, false}) {
+    for (const RigPositions* p : {&from_directions, &from_tracks}) {
+      for (int c = 1; c < static_cast<int>(p->centre_in_rig.size()) && p->solved && s.scale_camera < 0; ++c) {
+        if (whole && !s.held_axis.empty() && s.held_axis[c]) continue;
+        if (p->centre_in_rig[c] && p->centre_in_rig[c]->norm() > 1e-9) s.scale_camera = c;
+      }
     }
   }
+  // With motion links the same-instant directions do not reach the cameras the motion placed (a
+  // start without them would win on a cost over fewer views), nor hold open axes at zero.
+  const bool tracks_only = obs.HasMotionLinks() && from_tracks.solved;
   if (s.scale_camera >= 0) {
-    if (from_directions.solved && from_directions.centre_in_rig[s.scale_camera]) {
+    if (from_directions.solved && from_directions.centre_in_rig[s.scale_camera] && !tracks_only) {
       s.starts.push_back(ToStart("two-view directions", from_directions, rs, motion, s.scale_camera));
     }
     if (from_tracks.solved && from_tracks.centre_in_rig[s.scale_camera]) {
@@ -385,6 +390,10 @@ AdjustedRig AdjustFromEveryStart(const RigObservations& obs, const std::vector<V
   out.ambiguous.assign(n, "");
   RigBundleAdjustmentOptions ba_options = options.bundle_adjustment;
   ba_options.keep_points = ba_options.keep_points || options.keep_details;
+  if (obs.HasMotionLinks()) {
+    ba_options.inter_camera_weight = InterCameraWeight(tracks, options.motion.max_inter_camera_weight);
+    ba_options.held_centre_axis = ps.held_axis;
+  }
   std::vector<MultiFrameBundleAdjustmentResult> adjusted;
   const std::optional<CaptureTiming> timing = TimingModel(obs, motion, options.capture_time);
   for (const PoseStart& start : ps.starts) {
@@ -430,6 +439,9 @@ struct ScaledPoses {
   std::vector<PositionOutcome> position;              // kPlaced, or which of the two dropped it
   std::vector<std::optional<double>> direction_std_deg;
   std::vector<std::optional<Rigid3d>> rig_from_world;  // empty when positions are not observable
+  // Per camera whose centre is open along an axis (PositionStage::held_axis): its centre without
+  // that component; nullopt otherwise.
+  std::vector<std::optional<Eigen::Vector3d>> partial_centre, open_axis;
   double length_scale = 1.0;  // the bundle adjustment's unit of length in the result's
   ScaleKind scale_kind = ScaleKind::kNone;
   std::string scale;
@@ -498,6 +510,23 @@ ScaledPoses DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& ad
   return out;
 }
 
+// Step 6b: a camera placed but for an axis the motion leaves open has no full pose: its centre
+// without that component is kept apart, never the held value.
+void SetAsideOpenAxes(const RigObservations& obs, const PositionStage& ps, ScaledPoses* poses) {
+  poses->partial_centre.assign(obs.cameras.size(), std::nullopt);
+  poses->open_axis.assign(obs.cameras.size(), std::nullopt);
+  for (size_t c = 1; c < ps.held_axis.size(); ++c) {
+    if (!ps.held_axis[c] || !poses->cam_from_rig[c]) continue;
+    const Eigen::Vector3d& axis = *ps.held_axis[c];
+    const Eigen::Vector3d centre = poses->cam_from_rig[c]->SourceOriginInTarget();
+    poses->partial_centre[c] = centre - axis * axis.dot(centre);
+    poses->open_axis[c] = axis;
+    poses->position[c] = PositionOutcome::kOpenAlongTurnAxis;
+    poses->undetermined[c] = OpenAxisReason(axis);
+    poses->cam_from_rig[c].reset();
+  }
+}
+
 // Step 7: status per camera (calibrated, rotation only and why, not connected and why) and per
 // edge (used or why not), into `result`.
 void SetCameraAndEdgeStatus(const RigObservations& obs, const RotationStage& rs,
@@ -512,6 +541,8 @@ void SetCameraAndEdgeStatus(const RigObservations& obs, const RotationStage& rs,
     rotated[c] = rot.cam_from_rig[c].has_value();
   }
   result->cam_from_rig_rotation = rot.cam_from_rig;
+  result->partial_centre.assign(n, std::nullopt);
+  result->open_axis.assign(n, std::nullopt);
   for (int c = 0; c < n; ++c) {  // the adjusted rotation, also of a camera whose position is not determined
     if (ba.cam_from_rig[c]) result->cam_from_rig_rotation[c] = ba.cam_from_rig[c]->rotation;
   }
@@ -525,6 +556,11 @@ void SetCameraAndEdgeStatus(const RigObservations& obs, const RotationStage& rs,
         result->warnings.push_back(obs.camera_names[c] + " has no bundle-adjustment observation: its pose comes "
                                    "from the view graph alone");
       }
+    } else if (rotated[c] && poses.position[c] == PositionOutcome::kOpenAlongTurnAxis) {
+      result->camera_status[c] = {CameraOutcome::kOpenAlongAxis, PositionOutcome::kOpenAlongTurnAxis,
+                                  poses.undetermined[c]};
+      result->partial_centre[c] = poses.partial_centre[c];
+      result->open_axis[c] = poses.open_axis[c];
     } else if (rotated[c]) {
       const bool dropped = !poses.undetermined[c].empty();
       result->camera_status[c] = {
@@ -717,10 +753,14 @@ RigCalibrationResult EstimateRigOnce(const RigObservations& obs, const RigCalibr
   result.rotation_averaging_time_s = Seconds(start);
 
   start = Clock::now();
-  const RigMotion motion = EstimateRigMotion(obs, rotations.rot, num_frames);
+  const RigMotion motion = EstimateRigMotion(obs, rotations, num_frames);
   result.num_frames = num_frames;
   result.rig_motion_estimated = motion.moving;
   result.num_temporal_pairs_used = motion.temporal_pairs_used;
+  if (rotations.joint) {
+    for (char used : rotations.joint->cross_time_used) result.num_cross_time_pairs_used += used;
+    result.num_rotation_outliers += rotations.joint->rotations.num_outliers;
+  }
   const std::vector<ViewTrack> tracks =
       TracksOfUsedPairs(obs, rotations, motion, num_frames, &result.num_conflicting_tracks);
   result.num_tracks = static_cast<int>(tracks.size());
@@ -754,7 +794,8 @@ RigCalibrationResult EstimateRigOnce(const RigObservations& obs, const RigCalibr
   const std::vector<CameraSynchronisation> synchronisation =
       CheckCaptureTimes(obs, options, motion, tracks, initial.scale_camera, ba);
   SetRefinedIntrinsics(obs, options, ba, &result);
-  const ScaledPoses poses = DropUndeterminedAndScale(obs, adjusted, initial, options, known_a, known_b);
+  ScaledPoses poses = DropUndeterminedAndScale(obs, adjusted, initial, options, known_a, known_b);
+  SetAsideOpenAxes(obs, initial, &poses);
   for (int c = 0; c < n; ++c) result.camera_stats[c].direction_std_deg = poses.direction_std_deg[c];
   result.rig_from_world = poses.rig_from_world;
   result.scale = poses.scale;
@@ -874,8 +915,9 @@ void MarkPairsTheRigLeftOut(RigCalibrationResult* result) {
 RigCalibrationResult EstimateRigFromPairs(const RigViews& views, const PairwiseResult& pairwise,
                                           const RigCalibrationOptions& options) {
   const RigObservations obs = ObservationsOfPairs(views, pairwise);
-  RigCalibrationResult r =
-      options.bundle_adjustment.refine_intrinsics ? EstimateRigAndIntrinsics(obs, options) : EstimateRig(obs, options);
+  RigCalibrationResult r = options.bundle_adjustment.refine_intrinsics
+                               ? EstimateRigAndIntrinsics(obs, options)
+                               : EstimateRigWithMotionLinks(obs, MatcherOfViews(views, options.pairwise.matching), options);
   r.pairwise = pairwise.report;
   UseReestimatedPairs(&r);
   MarkPairsTheRigLeftOut(&r);

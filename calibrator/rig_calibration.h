@@ -12,8 +12,11 @@
 // temporal pairs (one frame, or none given) every frame is an independent capture of a static rig
 // and only same-frame tracks constrain the positions.
 //
+// Where the same-instant pairs leave a camera without a full pose and the rig moved, the stages run
+// again with links from the rig's motion (motion_links.h: hand-eye starts, views matched across
+// time, every rotation averaged jointly), kept when they place more cameras.
 // Gauge: camera 0 is the rig frame (its cam_from_rig is the identity); frame 0's rig frame is the
-// world. Only camera 0's component of the view graph gets rotations; every other camera is
+// world. Only the cameras those links reach from camera 0 get rotations; every other camera is
 // reported "not connected: <reason>" and gets no pose, never a guessed one. A camera with a
 // rotation whose position the data do not determine (e.g. a chain of cameras and one frame) is
 // reported "rotation only: <reason>": result.cam_from_rig_rotation has its rotation, the rig
@@ -32,10 +35,13 @@
 
 #include "calibrator/capture_time.h"
 #include "calibrator/correspondences.h"
+#include "calibrator/cross_time_candidates.h"
+#include "calibrator/hand_eye.h"
 #include "calibrator/intrinsics_refinement.h"
 #include "calibrator/multi_frame_rig.h"
 #include "calibrator/pairwise.h"
 #include "calibrator/rig_positions.h"
+#include "calibrator/rig_rotation_averaging.h"
 #include "calibrator/rotation_averaging.h"
 #include "calibrator/view_graph.h"
 #include "geometry/rig.h"
@@ -53,6 +59,34 @@ struct KnownDistance {
 // with `where` when it names a camera that is not there, listing the cameras that are.
 std::pair<int, int> KnownDistanceCameras(const KnownDistance& known, const std::vector<std::string>& names,
                                          const std::string& where);
+
+// The motion stage (motion_links.h): links between cameras that share little or nothing of their
+// views at the same instant, from the rig's motion.
+struct MotionLinkOptions {
+  // Run it when the same-instant pairs leave a camera without a full pose and the rig moved over
+  // at least min_frames frames (temporal pairs).
+  bool enabled = true;
+  int min_frames = 3;
+  HandEyeOptions hand_eye;
+  CrossTimeCandidateOptions candidates;
+  // The joint averaging of every rotation (same-instant, temporal and cross-time pairs).
+  RigRotationAveragingOptions rotation_averaging;
+  // A view pair matched because the rotations predicted that the views meet, whose two-view
+  // rotation is farther than this (deg) from the predicted one, is not used: a wrong match of
+  // repeated structure (the joint averaging drops the rest).
+  double max_prediction_disagreement_deg = 10.0;
+  // A camera the same-instant pairs do not reach keeps the rotation the motion links give it only
+  // when two things agree on it: its hand-eye rotation within this (deg), or two cross-time pairs
+  // with cameras that are kept. One pair alone could be a wrong match nothing would contradict.
+  double max_hand_eye_disagreement_deg = 2.0;
+  // The bundle adjustment weighs the observations of points that two or more cameras see up, by a
+  // quarter of the ratio of all observations to theirs, at most this much
+  // (RigBundleAdjustmentOptions::inter_camera_weight).
+  double max_inter_camera_weight = 10.0;
+
+  // Throws std::invalid_argument naming the first bad field.
+  void Check() const;
+};
 
 struct RigCalibrationOptions {
   // Matching and two-view estimation of every pair (pairwise.h).
@@ -109,6 +143,8 @@ struct RigCalibrationOptions {
   // Capture times: offsets and rolling-shutter readouts estimated, or checked (capture_time.h).
   // Uses RigObservations::frame_times_s.
   CaptureTimeOptions capture_time;
+  // Links between cameras from the rig's motion (motion_links.h; EstimateRigFromPairs only).
+  MotionLinkOptions motion;
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;
@@ -131,14 +167,17 @@ struct RigObservations {
   std::vector<double> frame_times_s;
   // Per camera: its rolling shutter reads the bottom row first; empty: every one top to bottom.
   std::vector<char> readout_bottom_to_top;
-};
+  // From the rig's motion (motion_links.h); empty unless that stage ran. View pairs of cameras at
+  // different frames; per camera the start of its rotation in the rig (nullopt: none), the rotation
+  // hand-eye calibration determined (hand_eye.h kSolved; nullopt otherwise), and the turn axis of a
+  // planar motion (in the rig) along which its motion does not fix its centre.
+  std::vector<CrossTimePairEstimate> cross_time;
+  std::vector<std::optional<Eigen::Quaterniond>> rotation_start;
+  std::vector<std::optional<Eigen::Quaterniond>> hand_eye_rotation;
+  std::vector<std::optional<Eigen::Vector3d>> open_axis;
 
-// Pools one pair's matches over the frames, estimates the relative pose (two_view.h) and keeps
-// its inliers per frame: the pairwise stage's step for one pair, for callers that bring
-// their own correspondences.
-std::pair<PairEstimate, PairMatches> EstimatePairFromMatches(
-    const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, int cam_a, int cam_b,
-    const std::vector<std::vector<std::pair<int, int>>>& matches_per_frame, const TwoViewOptions& options);
+  bool HasMotionLinks() const { return !rotation_start.empty(); }
+};
 
 struct RigCameraStats {
   int observations = 0;  // bundle-adjustment observations kept
@@ -208,6 +247,10 @@ enum class CameraOutcome {
   kNotConnected,  // no pair links it to camera 0's part of the view graph: no pose at all
   kUnsynchronised,  // it did not capture with camera 0 and offsets were not estimated: no pose
   kTimeNotDetermined,  // its offset was to be estimated and the rig's path cannot show it: no pose
+  // A rotation and a position but for one component: a planar motion placed it and no point joins
+  // it with another camera, so its offset along the turn axis is open (PositionOutcome::kOpenAlongTurnAxis;
+  // RigCalibrationResult::partial_centre). No cam_from_rig in the rig: no made-up component.
+  kOpenAlongAxis,
 };
 
 // The position of a camera with a rotation: placed, or why not.
@@ -216,6 +259,7 @@ enum class PositionOutcome {
   kNotObservable,  // nothing links its position to the placed cameras' (no start for it)
   kNotDetermined,  // the images fix its direction from camera 0 too loosely (max_direction_std_deg)
   kAmbiguous,      // bundle adjustments from different starts put it in different places
+  kOpenAlongTurnAxis,  // placed across the turn axis of a planar motion, open along it
 };
 
 struct CameraStatus {
@@ -226,7 +270,8 @@ struct CameraStatus {
   std::string reason;
 
   // The status as evaluation.json and the tables give it: "calibrated", "calibrated (reference:
-  // rig frame)", "rotation only: position <reason>" or "not connected: <reason>".
+  // rig frame)", "rotation only: position <reason>", "placed but for one axis: <reason>" or "not
+  // connected: <reason>".
   std::string Text() const;
 };
 inline std::ostream& operator<<(std::ostream& os, const CameraStatus& s) { return os << s.Text(); }
@@ -243,6 +288,11 @@ struct RigCalibrationResult {
   // Per camera: the estimated cam_from_rig rotation of calibrated and "rotation only" cameras;
   // nullopt for cameras not connected.
   std::vector<std::optional<Eigen::Quaterniond>> cam_from_rig_rotation;
+  // Per camera with CameraOutcome::kOpenAlongAxis: the axis (unit, in the rig) along which its
+  // centre is not determined, and its centre in the rig without that component (the part the
+  // images determine, in the result's unit); nullopt otherwise.
+  std::vector<std::optional<Eigen::Vector3d>> open_axis;
+  std::vector<std::optional<Eigen::Vector3d>> partial_centre;
   // Per camera: what the calibration made of it, and why.
   std::vector<CameraStatus> camera_status;
   std::vector<RigCameraStats> camera_stats;
@@ -272,10 +322,21 @@ struct RigCalibrationResult {
   std::vector<std::optional<Rigid3d>> rig_from_world;
   bool rig_motion_estimated = false;
   int num_temporal_pairs_used = 0;  // successful temporal pairs between cameras with a rotation
+  int num_cross_time_pairs_used = 0;  // cross-time pairs (motion_links.h) rotation averaging kept
   // How clearly the tracks single out one set of positions (RigPositions::eigenvalue_ratio).
   double position_eigenvalue_ratio = 0.0;
   // The bundle adjustment's starts and how each ended.
   std::vector<RigStartSummary> position_starts;
+  // The motion stage (motion_links.h) when its result was kept: the motion's kind, the view pairs
+  // matched across time, the successful ones, those rotation averaging kept, and its time.
+  struct MotionLinkSummary {
+    MotionKind motion = MotionKind::kStraight;
+    int candidates = 0;
+    int pairs = 0;
+    int pairs_used = 0;
+    double time_s = 0.0;
+  };
+  std::optional<MotionLinkSummary> motion_links;
   CalibrationReport pairwise;
   // Wall time of the rig stages (the pairwise ones are in `pairwise`).
   double rotation_averaging_time_s = 0.0;
@@ -290,7 +351,8 @@ struct RigCalibrationResult {
 // std::invalid_argument on inconsistent observations or a known distance naming an unknown camera.
 RigCalibrationResult EstimateRig(const RigObservations& observations, const RigCalibrationOptions& options);
 
-// The rig stages on the pairwise stage's outcome (pairwise.h MatchRigPairs) of `views`. The
+// The rig stages on the pairwise stage's outcome (pairwise.h MatchRigPairs) of `views`, with the
+// motion stage (motion_links.h EstimateRigWithMotionLinks) where it applies. The
 // result has the pairwise report, its pairs as the rig used them (re-estimated with the refined
 // intrinsics under RigBundleAdjustmentOptions::refine_intrinsics; marked where the rig left them
 // out) and, with keep_details, the match data. Throws like EstimateRig.

@@ -42,6 +42,17 @@ struct TemporalPairEstimate {
   std::vector<std::pair<int, int>> matches;
 };
 
+// Two cameras at different frames (calibrator/motion_links.h): camera a at frame_a with camera b at
+// frame_b, where the rig's motion brought b to look where a looked. `two_view.cam_b_from_cam_a` is
+// view (b, frame_b) from view (a, frame_a); cam_a == cam_b is a camera back where it was (a loop).
+struct CrossTimePairEstimate {
+  int cam_a = -1, frame_a = -1;
+  int cam_b = -1, frame_b = -1;
+  TwoViewEstimate two_view;
+  // Two-view inliers: (keypoint index in view a, in view b); empty when the estimate failed.
+  std::vector<std::pair<int, int>> inliers;
+};
+
 struct ViewGraphOptions {
   // Successful pairs with fewer inliers are left inactive: a handful of inliers that happen to
   // agree is how a wrong pair (repeated texture, one plane) looks.

@@ -162,7 +162,7 @@ Json RefinedIntrinsicsToJson(const RefinedIntrinsics& r, const Camera& camera, c
 
 Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth, double detect_time_s) {
   Json cams = Json::array();
-  int calibrated = 0, within = 0, calibrated_outside = 0;
+  int calibrated = 0, within = 0, calibrated_outside = 0, open_along_axis = 0;
   std::optional<double> max_rot, max_dir;  // worst over the cameras that have the error; none: null
   for (size_t c = 0; c < r.rig.cameras.size(); ++c) {
     const auto& pose = r.rig.cameras[c].cam_from_rig;
@@ -205,6 +205,13 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
                            {"readout_error_ms", ms(e.readout_error_s)},
                            {"interval_visibility_px", json_io::OptionalNumber(s.interval_visibility_px)}};
     }
+    if (c < r.partial_centre.size() && r.partial_centre[c] && r.open_axis[c]) {  // placed but for one axis
+      const Eigen::Vector3d& axis = *r.open_axis[c];
+      const Eigen::Vector3d& across = *r.partial_centre[c];
+      j["open_axis"] = {axis.x(), axis.y(), axis.z()};
+      j["centre_across_axis"] = {across.x(), across.y(), across.z()};
+      ++open_along_axis;
+    }
     const std::optional<bool> ok = CameraWithinTolerance(t);
     j["within_tolerance"] = ok ? Json(*ok) : Json(nullptr);
     within += ok.value_or(false);
@@ -244,6 +251,14 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
                   {"temporal_pairs_used", r.num_temporal_pairs_used},
                   {"position_eigenvalue_ratio",
                    std::isfinite(r.position_eigenvalue_ratio) ? Json(r.position_eigenvalue_ratio) : Json(nullptr)}};
+  if (r.motion_links) {  // the cameras linked through the rig's motion (calibrator/motion_links.h)
+    summary["motion_links"] = {{"motion", MotionKindName(r.motion_links->motion)},
+                               {"cross_time_candidates", r.motion_links->candidates},
+                               {"cross_time_pairs", r.motion_links->pairs},
+                               {"cross_time_pairs_used", r.motion_links->pairs_used},
+                               {"cameras_open_along_axis", open_along_axis},
+                               {"time_s", r.motion_links->time_s}};
+  }
   summary["tolerance"] = {{"rotation_deg", kCameraTolerance.rotation_deg},
                           {"direction_deg", kCameraTolerance.direction_deg}};
   summary["cameras_within_tolerance"] = evaluated ? Json(within) : Json(nullptr);

@@ -1,0 +1,378 @@
+#include "calibrator/motion_links.h"
+
+#include <algorithm>
+#include <chrono>
+#include <stdexcept>
+#include <string>
+
+#include <tbb/parallel_for.h>
+
+#include "calibrator/camera_trajectory.h"
+#include "calibrator/format.h"
+#include "calibrator/matching.h"
+#include "calibrator/multi_frame_rig.h"
+#include "calibrator/parallel_scope.h"
+#include "calibrator/two_view.h"
+
+namespace rigsim {
+namespace {
+
+using MotionClock = std::chrono::steady_clock;
+
+// Each camera's own trajectory over the frames; frame 0 is the identity by definition, also for a
+// camera whose own motion the images do not fix.
+std::vector<CameraTrajectory> CameraTrajectories(const RigObservations& obs, const RigPositionOptions& options) {
+  std::vector<CameraTrajectory> out;
+  for (int c = 0; c < static_cast<int>(obs.cameras.size()); ++c) {
+    out.push_back(EstimateCameraTrajectory(obs.cameras[c], c, obs.keypoints, obs.temporal, options));
+    if (!out.back().empty()) out.back()[0] = Rigid3d();
+  }
+  return out;
+}
+
+// The rotation of view (b, u) from view (a, t) that the rotations predict: Q_b R_u R_t^T Q_a^T.
+std::optional<Eigen::Quaterniond> PredictedViewRotation(const CrossTimeCandidateInputs& in, const CrossTimeCandidate& c) {
+  const auto &qa = in.cam_from_rig[c.cam_a], &qb = in.cam_from_rig[c.cam_b];
+  const auto &rt = in.rig_from_world[c.frame_a], &ru = in.rig_from_world[c.frame_b];
+  if (!qa || !qb || !rt || !ru) return std::nullopt;
+  return *qb * *ru * rt->conjugate() * qa->conjugate();
+}
+
+// One candidate matched and estimated; nullopt when it does not link the views (too few inliers,
+// or a rotation far from the predicted one).
+std::optional<CrossTimePairEstimate> LinkViews(const RigObservations& obs, const CrossTimeCandidate& c,
+                                               const std::optional<Eigen::Quaterniond>& predicted,
+                                               const ViewPairMatcher& match, const RigCalibrationOptions& options) {
+  const std::vector<std::pair<int, int>> matches = match(c.cam_a, c.frame_a, c.cam_b, c.frame_b);
+  if (static_cast<int>(matches.size()) < options.view_graph.min_inliers) return std::nullopt;
+  std::vector<Eigen::Vector2d> px_a, px_b;
+  const auto& kp_a = obs.keypoints.at(c.frame_a).at(c.cam_a);
+  const auto& kp_b = obs.keypoints.at(c.frame_b).at(c.cam_b);
+  for (const auto& [a, b] : matches) {
+    px_a.push_back(kp_a.at(a));
+    px_b.push_back(kp_b.at(b));
+  }
+  const TwoViewResult tv =
+      EstimateRelativePose(obs.cameras[c.cam_a], px_a, obs.cameras[c.cam_b], px_b, options.pairwise.two_view);
+  if (!tv.success || tv.num_inliers < options.view_graph.min_inliers) return std::nullopt;
+  if (predicted && RotationDifferenceDeg(*predicted, tv.cam_b_from_cam_a.rotation) >
+                       options.motion.max_prediction_disagreement_deg) {
+    return std::nullopt;
+  }
+  CrossTimePairEstimate e{c.cam_a, c.frame_a, c.cam_b, c.frame_b, ToEstimate(tv, static_cast<int>(matches.size())), {}};
+  for (size_t i = 0; i < matches.size(); ++i) {
+    if (tv.inlier_mask[i]) e.inliers.push_back(matches[i]);
+  }
+  return e;
+}
+
+// A camera the same-instant pairs left without a full pose: what the motion stage is for.
+bool NeedsMotionLinks(const RigCalibrationResult& r, const RigObservations& obs, const RigCalibrationOptions& options) {
+  if (!options.motion.enabled || obs.HasMotionLinks() || obs.temporal.empty() ||
+      static_cast<int>(obs.keypoints.size()) < options.motion.min_frames) {
+    return false;
+  }
+  return std::any_of(r.camera_status.begin(), r.camera_status.end(), [](const CameraStatus& s) {
+    return s.outcome == CameraOutcome::kNotConnected || s.outcome == CameraOutcome::kRotationOnly;
+  });
+}
+
+// Cameras with a full pose, or one but for an axis the motion leaves open.
+int CamerasPlaced(const RigCalibrationResult& r) {
+  return static_cast<int>(std::count_if(r.camera_status.begin(), r.camera_status.end(), [](const CameraStatus& s) {
+    return s.outcome == CameraOutcome::kCalibrated || s.outcome == CameraOutcome::kOpenAlongAxis;
+  }));
+}
+
+// Cameras joined with camera 0 by active same-instant edges of `graph`.
+std::vector<char> ReachedByEdges(const ViewGraph& graph, int n) {
+  std::vector<char> reached(n, 0);
+  reached[0] = 1;
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (const ViewGraphEdge& e : graph.edges) {
+      if (!e.active || reached[e.cam_a] == reached[e.cam_b]) continue;
+      reached[e.cam_a] = reached[e.cam_b] = 1;
+      grew = true;
+    }
+  }
+  return reached;
+}
+
+// One joint averaging of every rotation, leaving out the cross-time pairs of `dropped` cameras.
+JointRotations AverageJointly(const RigObservations& obs, const ViewGraph& graph, const std::vector<char>& dropped,
+                              const RigCalibrationOptions& options) {
+  const int n = static_cast<int>(obs.cameras.size());
+  const int num_frames = static_cast<int>(obs.keypoints.size());
+  std::vector<ViewPairRotation> measurements;
+  for (const ViewGraphEdge& e : graph.edges) {
+    if (e.active) measurements.push_back({e.cam_a, e.cam_b, -1, -1, e.rotation, std::max(e.weight, 1)});
+  }
+  for (const TemporalPairEstimate& t : obs.temporal) {
+    if (!t.two_view.success) continue;
+    measurements.push_back({t.camera, t.camera, t.frame, t.frame + 1, t.two_view.cam_b_from_cam_a.rotation,
+                            std::max(t.two_view.num_inliers, 1)});
+  }
+  std::vector<int> measurement_of(obs.cross_time.size(), -1);  // per cross-time pair
+  for (size_t i = 0; i < obs.cross_time.size(); ++i) {
+    const CrossTimePairEstimate& x = obs.cross_time[i];
+    if (dropped[x.cam_a] || dropped[x.cam_b]) continue;
+    measurement_of[i] = static_cast<int>(measurements.size());
+    measurements.push_back({x.cam_a, x.cam_b, x.frame_a, x.frame_b, x.two_view.cam_b_from_cam_a.rotation,
+                            std::max(x.two_view.num_inliers, 1)});
+  }
+  std::vector<std::optional<Eigen::Quaterniond>> starts = obs.rotation_start;
+  for (int c = 0; c < n && !starts.empty(); ++c) {
+    if (dropped[c]) starts[c].reset();
+  }
+  JointRotations out;
+  out.rotations = AverageRigRotations(n, num_frames, measurements, starts, options.motion.rotation_averaging);
+  for (int c = 0; c < n; ++c) {
+    if (dropped[c]) out.rotations.cam_from_rig[c].reset();
+  }
+  const auto& q = out.rotations.cam_from_rig;
+  const auto& r = out.rotations.rig_from_world;
+  for (size_t i = 0; i < obs.cross_time.size(); ++i) {
+    const CrossTimePairEstimate& x = obs.cross_time[i];
+    const int m = measurement_of[i];
+    out.cross_time_used.push_back(m >= 0 && !out.rotations.outlier[m] && q[x.cam_a] && q[x.cam_b] && r[x.frame_a] &&
+                                  r[x.frame_b]);
+  }
+  return out;
+}
+
+// Marks in `dropped` the cameras outside `reached` whose rotation no two things agree on: hand-eye
+// within MotionLinkOptions::max_hand_eye_disagreement_deg counts as two, each used cross-time pair
+// with another camera still kept as one; and those no used pair joins with an anchored camera.
+void DropUnsupportedCameras(const RigObservations& obs, const std::vector<char>& reached,
+                            const RigCalibrationOptions& options, JointRotations* joint, std::vector<char>* dropped) {
+  const int n = static_cast<int>(obs.cameras.size());
+  auto& q = joint->rotations.cam_from_rig;
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (int c = 1; c < n; ++c) {
+      if (reached[c] || !q[c]) continue;
+      int support = 0;
+      const auto& he = obs.hand_eye_rotation.empty() ? std::nullopt : obs.hand_eye_rotation[c];
+      if (he && RotationDifferenceDeg(*he, *q[c]) <= options.motion.max_hand_eye_disagreement_deg) support += 2;
+      for (size_t i = 0; i < obs.cross_time.size(); ++i) {
+        const CrossTimePairEstimate& x = obs.cross_time[i];
+        const int other = x.cam_a == c ? x.cam_b : x.cam_b == c ? x.cam_a : c;
+        support += joint->cross_time_used[i] && other != c && q[other];
+      }
+      if (support >= 2) continue;
+      q[c].reset();
+      (*dropped)[c] = 1;
+      changed = true;
+      for (size_t i = 0; i < obs.cross_time.size(); ++i) {
+        if (obs.cross_time[i].cam_a == c || obs.cross_time[i].cam_b == c) joint->cross_time_used[i] = 0;
+      }
+    }
+  }
+  // Two cameras that agree only with each other hang on hand-eye starts that did not determine
+  // them: kept are the cameras used cross-time pairs join with camera 0's part or hand-eye's.
+  std::vector<char> anchored = reached;
+  for (int c = 1; c < n; ++c) {
+    const auto& he = obs.hand_eye_rotation.empty() ? std::nullopt : obs.hand_eye_rotation[c];
+    if (q[c] && he && RotationDifferenceDeg(*he, *q[c]) <= options.motion.max_hand_eye_disagreement_deg) anchored[c] = 1;
+  }
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (size_t i = 0; i < obs.cross_time.size(); ++i) {
+      const CrossTimePairEstimate& x = obs.cross_time[i];
+      if (!joint->cross_time_used[i] || anchored[x.cam_a] == anchored[x.cam_b]) continue;
+      anchored[x.cam_a] = anchored[x.cam_b] = 1;
+      grew = true;
+    }
+  }
+  for (int c = 1; c < n; ++c) {
+    if (anchored[c] || !q[c]) continue;
+    q[c].reset();
+    (*dropped)[c] = 1;
+  }
+  for (size_t i = 0; i < obs.cross_time.size(); ++i) {
+    const CrossTimePairEstimate& x = obs.cross_time[i];
+    if (!q[x.cam_a] || !q[x.cam_b]) joint->cross_time_used[i] = 0;
+  }
+}
+
+// True when a camera `result` calibrated kept under a quarter as many bundle-adjustment
+// observations as its own motion has inliers: links that turn the rig wrongly make a camera's own
+// tracks stop fitting (a reference camera kept 5 of its observations under a rig turned 50 deg by
+// consistent wrong matches of a facade).
+bool LosesOwnTracks(const RigObservations& obs, const RigCalibrationResult& result) {
+  std::vector<int> own(obs.cameras.size(), 0);
+  for (const TemporalPairEstimate& t : obs.temporal) {
+    if (t.two_view.success) own[t.camera] += static_cast<int>(t.inliers.size());
+  }
+  for (size_t c = 0; c < own.size(); ++c) {
+    if (result.camera_status[c].outcome != CameraOutcome::kCalibrated) continue;
+    if (4 * result.camera_stats[c].observations < own[c]) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+void MotionLinkOptions::Check() const {
+  auto fail = [](const std::string& why) { throw std::invalid_argument("MotionLinkOptions: " + why); };
+  if (min_frames < 3) fail("min_frames must be >= 3");
+  hand_eye.Check();
+  candidates.Check();
+  rotation_averaging.Check();
+  if (!(max_prediction_disagreement_deg > 0)) fail("max_prediction_disagreement_deg must be > 0");
+  if (!(max_hand_eye_disagreement_deg > 0)) fail("max_hand_eye_disagreement_deg must be > 0");
+  if (!(max_inter_camera_weight >= 1)) fail("max_inter_camera_weight must be >= 1");
+}
+
+ViewPairMatcher MatcherOfViews(const RigViews& views, const MatchOptions& options) {
+  return [&views, options](int cam_a, int frame_a, int cam_b, int frame_b) {
+    std::vector<std::pair<int, int>> out;
+    for (const Match& m : MatchFeatures(views.Of(cam_a, frame_a), views.Of(cam_b, frame_b), options)) {
+      out.push_back({m.a, m.b});
+    }
+    return out;
+  };
+}
+
+MotionLinks FindMotionLinks(const RigObservations& obs,
+                            const std::vector<std::optional<Eigen::Quaterniond>>& known_rotations,
+                            const ViewPairMatcher& match, const RigCalibrationOptions& options) {
+  const auto start = MotionClock::now();
+  const int n = static_cast<int>(obs.cameras.size());
+  const int num_frames = static_cast<int>(obs.keypoints.size());
+  if (static_cast<int>(known_rotations.size()) != n) throw std::invalid_argument("FindMotionLinks: one rotation entry per camera");
+  MotionLinks out;
+  out.rotation_start.assign(n, std::nullopt);
+  out.hand_eye_rotation.assign(n, std::nullopt);
+  out.open_axis.assign(n, std::nullopt);
+  out.hand_eye.assign(n, HandEyeCamera{});
+  if (!options.motion.enabled || num_frames < options.motion.min_frames || obs.temporal.empty()) return out;
+
+  // Starts: the rotations known, else hand-eye's (also an undetermined one: the averaging and the
+  // cross-time pairs decide it).
+  const HandEyeResult hand_eye = SolveHandEye(CameraTrajectories(obs, options.positions), options.motion.hand_eye);
+  out.motion = hand_eye.motion;
+  out.hand_eye = hand_eye.cameras;
+  CrossTimeCandidateInputs inputs;
+  inputs.cameras = obs.cameras;
+  inputs.cam_from_rig = known_rotations;
+  inputs.rig_from_world = EstimateRigRotations(num_frames, known_rotations, obs.temporal);
+  for (int c = 0; c < n; ++c) {
+    const HandEyeCamera& h = hand_eye.cameras[c];
+    const bool solved = h.status == HandEyeStatus::kSolved || h.status == HandEyeStatus::kReference;
+    const bool start = solved || h.status == HandEyeStatus::kRotationUndetermined;
+    out.rotation_start[c] = known_rotations[c] ? known_rotations[c]
+                            : start && h.cam_from_rig ? std::optional<Eigen::Quaterniond>(h.cam_from_rig->rotation)
+                                                      : std::nullopt;
+    if (solved && h.cam_from_rig) out.hand_eye_rotation[c] = h.cam_from_rig->rotation;
+    // Only a rotation hand-eye determined predicts where views meet; an open one is searched for.
+    if (!inputs.cam_from_rig[c] && solved && h.cam_from_rig) inputs.cam_from_rig[c] = h.cam_from_rig->rotation;
+    if (c > 0 && hand_eye.motion.kind == MotionKind::kPlanar) out.open_axis[c] = hand_eye.motion.axis.normalized();
+  }
+
+  // Candidates that involve a camera the same-instant pairs did not reach; matched in parallel,
+  // kept in candidate order.
+  std::vector<CrossTimeCandidate> candidates;
+  for (const CrossTimeCandidate& c : SelectCrossTimeCandidates(inputs, options.motion.candidates)) {
+    if (!known_rotations[c.cam_a] || !known_rotations[c.cam_b]) candidates.push_back(c);
+  }
+  out.num_candidates = static_cast<int>(candidates.size());
+  std::vector<std::optional<CrossTimePairEstimate>> linked(candidates.size());
+  {
+    const ParallelScope parallel(options.pairwise.num_threads);
+    tbb::parallel_for(0, static_cast<int>(candidates.size()), [&](int i) {
+      linked[i] = LinkViews(obs, candidates[i], PredictedViewRotation(inputs, candidates[i]), match, options);
+    });
+  }
+  for (auto& e : linked) {
+    if (e) out.cross_time.push_back(std::move(*e));
+  }
+  out.time_s = std::chrono::duration<double>(MotionClock::now() - start).count();
+  return out;
+}
+
+RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, const ViewPairMatcher& match,
+                                                const RigCalibrationOptions& options) {
+  RigCalibrationResult first = EstimateRig(obs, options);
+  if (!NeedsMotionLinks(first, obs, options)) return first;
+  const MotionLinks links = FindMotionLinks(obs, first.cam_from_rig_rotation, match, options);
+  if (links.cross_time.empty() && std::none_of(links.hand_eye.begin() + 1, links.hand_eye.end(), [](const HandEyeCamera& h) {
+        return h.status == HandEyeStatus::kSolved;
+      })) {
+    return first;
+  }
+  RigObservations linked = obs;
+  linked.cross_time = links.cross_time;
+  linked.rotation_start = links.rotation_start;
+  linked.hand_eye_rotation = links.hand_eye_rotation;
+  linked.open_axis = links.open_axis;
+  RigCalibrationResult second = EstimateRig(linked, options);
+  if (CamerasPlaced(second) <= CamerasPlaced(first) || LosesOwnTracks(obs, second)) return first;
+  RigCalibrationResult::MotionLinkSummary& summary = second.motion_links.emplace();
+  summary.motion = links.motion.kind;
+  summary.candidates = links.num_candidates;
+  summary.pairs = static_cast<int>(links.cross_time.size());
+  summary.pairs_used = second.num_cross_time_pairs_used;
+  summary.time_s = links.time_s;
+  return second;
+}
+
+// For the rig stages (rig_calibration.cc).
+
+JointRotations AverageRotationsWithMotionLinks(const RigObservations& obs, const ViewGraph& graph,
+                                               const RigCalibrationOptions& options) {
+  const int n = static_cast<int>(obs.cameras.size());
+  const std::vector<char> reached = ReachedByEdges(graph, n);
+  std::vector<char> dropped(n, 0);  // cameras without two agreeing supports
+  JointRotations out;
+  for (int round = 0; round < 2; ++round) {
+    out = AverageJointly(obs, graph, dropped, options);
+    std::vector<char> more = dropped;
+    DropUnsupportedCameras(obs, reached, options, &out, &more);
+    if (more == dropped) break;
+    dropped = more;
+  }
+  return out;
+}
+
+std::vector<std::optional<Eigen::Vector3d>> HeldCentreAxes(const RigObservations& obs, const std::vector<ViewTrack>& tracks) {
+  const int n = static_cast<int>(obs.cameras.size());
+  std::vector<std::optional<Eigen::Vector3d>> held(n);
+  if (obs.open_axis.empty()) return held;
+  std::vector<char> shares(n, 0);  // a track joins the camera with another one
+  for (const ViewTrack& t : tracks) {
+    for (const ViewObservation& o : t.observations) {
+      if (o.camera != t.observations[0].camera) {
+        for (const ViewObservation& p : t.observations) shares[p.camera] = 1;
+        break;
+      }
+    }
+  }
+  for (int c = 1; c < n; ++c) {
+    if (obs.open_axis[c] && !shares[c]) held[c] = obs.open_axis[c];
+  }
+  return held;
+}
+
+std::string OpenAxisReason(const Eigen::Vector3d& axis) {
+  return "its offset along the turn axis of the rig's planar motion (" + Fixed(axis.x(), 2) + ", " +
+         Fixed(axis.y(), 2) + ", " + Fixed(axis.z(), 2) +
+         " in the rig: its height when the rig turns about the vertical) is not determined: no point joins it with "
+         "another camera, and a motion about one axis leaves it open; to place it: a path that also pitches or rolls, "
+         "or more overlap with a placed camera";
+}
+
+double InterCameraWeight(const std::vector<ViewTrack>& tracks, double max_weight) {
+  double all = 0.0, shared = 0.0;
+  for (const ViewTrack& t : tracks) {
+    all += t.observations.size();
+    const bool joins = std::any_of(t.observations.begin(), t.observations.end(),
+                                   [&](const ViewObservation& o) { return o.camera != t.observations[0].camera; });
+    if (joins) shared += t.observations.size();
+  }
+  if (shared <= 0.0) return 1.0;
+  return std::clamp(0.25 * all / shared, 1.0, max_weight);
+}
+
+}  // namespace rigsim

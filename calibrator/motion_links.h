@@ -1,0 +1,99 @@
+// Links between cameras from the rig's motion, for rigs whose cameras share little or nothing of
+// their views at the same instant (a ring at low overlap): the same-instant view graph leaves them
+// out of camera 0's part, but as the rig turns, camera b at frame t' sees what camera a saw at t.
+//
+// Stages (FindMotionLinks): each camera's own trajectory from its temporal pairs
+// (camera_trajectory.h) -> hand-eye calibration against camera 0's (hand_eye.h): a start of every
+// camera's rotation in the rig, and the axis of a planar motion -> which views to match across time
+// (cross_time_candidates.h: predicted from the rotations known, a search by the rig's turn for the
+// others) -> those view pairs matched (with the pairwise stage's matcher and semantic mode) and
+// estimated (two_view.h). The rig stages (rig_calibration.h) then average every rotation jointly
+// (rig_rotation_averaging.h), extend the tracks with the cross-time inliers and adjust the rig over
+// all frames, weighing the few observations shared by two cameras up.
+//
+// What the motion leaves open is said, never guessed: a camera that no track joins with another
+// camera is placed by its own motion alone, and a planar motion does not fix its centre along the
+// turn axis (rig_calibration.h PositionOutcome::kOpenAlongTurnAxis).
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "calibrator/cross_time_candidates.h"
+#include "calibrator/hand_eye.h"
+#include "calibrator/rig_calibration.h"
+#include "calibrator/rig_rotation_averaging.h"
+
+namespace rigsim {
+
+// The matches (keypoint index in view a, in view b) of view (cam_a, frame_a) with view (cam_b,
+// frame_b). Called from several threads at once.
+using ViewPairMatcher = std::function<std::vector<std::pair<int, int>>(int cam_a, int frame_a, int cam_b, int frame_b)>;
+
+// The pairwise stage's matcher and semantic mode (pairwise.h) on `views`' features. `views` must
+// outlive the matcher.
+ViewPairMatcher MatcherOfViews(const RigViews& views, const MatchOptions& options);
+
+// What the motion stage found, for the rig stages (RigObservations) and a report.
+struct MotionLinks {
+  MotionClass motion;  // how camera 0's trajectory turns
+  // Per camera: its hand-eye result (camera 0: the reference).
+  std::vector<HandEyeCamera> hand_eye;
+  // Per camera: the start of its rotation in the rig (the rotation already known, or hand-eye's).
+  std::vector<std::optional<Eigen::Quaterniond>> rotation_start;
+  // Per camera: the rotation hand-eye calibration determined (kSolved), nullopt otherwise.
+  std::vector<std::optional<Eigen::Quaterniond>> hand_eye_rotation;
+  // Per camera: with a planar motion, the turn axis in the rig, along which the motion does not
+  // fix its centre; nullopt otherwise.
+  std::vector<std::optional<Eigen::Vector3d>> open_axis;
+  int num_candidates = 0;  // view pairs matched
+  std::vector<CrossTimePairEstimate> cross_time;  // the successful ones
+  double time_s = 0.0;
+};
+
+// The motion stage on `obs` (which needs temporal pairs and options.min_frames frames; otherwise
+// nothing is found). `known_rotations` (per camera, nullopt where unknown) are the rotations in the
+// rig that the same-instant pairs already gave.
+MotionLinks FindMotionLinks(const RigObservations& obs,
+                            const std::vector<std::optional<Eigen::Quaterniond>>& known_rotations,
+                            const ViewPairMatcher& match, const RigCalibrationOptions& options);
+
+// The rig stages on `obs` (EstimateRig); when they leave a camera without a full pose and the rig
+// moved, once more with the motion links (FindMotionLinks through `match`), kept when they place
+// more cameras. Throws like EstimateRig.
+RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, const ViewPairMatcher& match,
+                                                const RigCalibrationOptions& options);
+
+// For the rig stages (rig_calibration.cc), on observations with motion links:
+
+// Every rotation jointly (rig_rotation_averaging.h) from the active same-instant edges of `graph`,
+// the successful temporal pairs and the cross-time pairs, started from obs.rotation_start; per
+// cross-time pair whether it is used (not an outlier, both views with a rotation). A camera outside
+// camera 0's part of `graph` without two agreeing supports (MotionLinkOptions::
+// max_hand_eye_disagreement_deg) loses its rotation, and the rotations are averaged again without
+// its cross-time pairs.
+struct JointRotations {
+  RigRotationAveragingResult rotations;
+  std::vector<char> cross_time_used;
+};
+JointRotations AverageRotationsWithMotionLinks(const RigObservations& obs, const ViewGraph& graph,
+                                               const RigCalibrationOptions& options);
+
+// Per camera: obs.open_axis where no track joins the camera with another one (its centre is then
+// open along it, RigBundleAdjustmentOptions::held_centre_axis); nullopt otherwise.
+std::vector<std::optional<Eigen::Vector3d>> HeldCentreAxes(const RigObservations& obs, const std::vector<ViewTrack>& tracks);
+
+// Why a camera's centre is open along `axis` (unit, in the rig) and what would fix it, in words.
+std::string OpenAxisReason(const Eigen::Vector3d& axis);
+
+// RigBundleAdjustmentOptions::inter_camera_weight for `tracks`: a quarter of the ratio of all
+// observations to those of tracks that join two or more cameras, within [1, max_weight].
+double InterCameraWeight(const std::vector<ViewTrack>& tracks, double max_weight);
+
+}  // namespace rigsim
