@@ -202,7 +202,27 @@ TEST(Suites, ThesisOverlapGoesToNoneAcrossFramesAndPaths) {
   // Small stays quick: three frames, none and 15 %, two paths, one seed.
   const SweepConfig small = ParseSweepConfig(SuiteConfig("thesis", "small"), "--suite thesis");
   EXPECT_EQ(StudyCells(small, "overlap").size(), 4u);
-  for (const SweepCell& c : ExpandCells(small)) EXPECT_EQ(c.params["frames"], 3);
+  for (const SweepCell& c : ExpandCells(small)) {
+    const bool dynamics = std::find(c.studies.begin(), c.studies.end(), "dynamics") != c.studies.end();
+    EXPECT_EQ(c.params["frames"], dynamics ? 6 : 3);
+  }
+}
+
+TEST(Suites, ThesisDynamicsMovesTheWorldAndTheCapturesOnAPathThatShowsTime) {
+  const SweepConfig full = ParseSweepConfig(SuiteConfig("thesis", "full"), "--suite thesis");
+  std::set<double> traffic, offsets, readouts;
+  for (const nlohmann::ordered_json& p : StudyCells(full, "dynamics")) {
+    EXPECT_EQ(p["animated"], true);
+    EXPECT_EQ(p["trajectory"], "handheld");  // a circle at constant speed hides capture times
+    traffic.insert(p["traffic"].get<double>());
+    offsets.insert(p["time_offset_ms"].get<double>());
+    readouts.insert(p["readout_ms"].get<double>());
+  }
+  EXPECT_EQ(traffic, (std::set<double>{0, 0.5, 1}));
+  EXPECT_EQ(offsets, (std::set<double>{0, 10, 30}));
+  EXPECT_EQ(readouts, (std::set<double>{0, 30}));
+  const SweepConfig small = ParseSweepConfig(SuiteConfig("thesis", "small"), "--suite thesis");
+  EXPECT_EQ(StudyCells(small, "dynamics").size(), 2u);
 }
 
 TEST(Suites, MotionTakesTheUsersRigThroughEveryPathAndFrameCount) {
