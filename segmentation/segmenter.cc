@@ -8,6 +8,7 @@
 #include <limits>
 
 #include <opencv2/core.hpp>
+#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/dnn.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -22,9 +23,37 @@ constexpr int kDefaultShorterSide = 520;
   throw SegmenterError(kind, model.string() + ": " + what);
 }
 
+// OpenCV's message on one line, without its "> " continuation marks.
+std::string OneLine(const std::string& text) {
+  std::string out;
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      if (!out.empty() && out.back() != ' ') out += ' ';
+      if (i + 2 < text.size() && text[i + 1] == '>' && text[i + 2] == ' ') i += 2;
+    } else if (!(out.empty() && (text[i] == '>' || text[i] == ' '))) {
+      out += text[i];
+    }
+  }
+  while (!out.empty() && out.back() == ' ') out.pop_back();
+  return out;
+}
+
 std::string SizeText(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
 
 int RoundTo8(double v) { return std::max(8, int(std::lround(v / 8.0)) * 8); }
+
+// OpenCV logs its own line for a network it cannot build or run; the exception carries the same
+// and rigsim's message says which file and what to change, so its log is quiet meanwhile.
+class QuietOpenCvLog {
+ public:
+  QuietOpenCvLog() : previous_(cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT)) {}
+  ~QuietOpenCvLog() { cv::utils::logging::setLogLevel(previous_); }
+  QuietOpenCvLog(const QuietOpenCvLog&) = delete;
+  QuietOpenCvLog& operator=(const QuietOpenCvLog&) = delete;
+
+ private:
+  cv::utils::logging::LogLevel previous_;
+};
 
 }  // namespace
 
@@ -86,13 +115,14 @@ Segmenter::Segmenter(const SegmenterOptions& options) : options_(options), net_(
              "; leave --input-size out, or export the model for that size or with dynamic height and width");
   }
   try {
+    const QuietOpenCvLog quiet;
     net_->net = cv::dnn::readNetFromONNX(reinterpret_cast<const char*>(bytes.data()), bytes.size());
     net_->net.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
     net_->net.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
   } catch (const cv::Exception& e) {
     Fail(SegmenterErrorKind::kUnreadableModel, model,
-         "OpenCV " CV_VERSION " cannot build this network (" + e.err +
-             "); export it again with another opset (torch.onnx.export(..., opset_version=11)) or simplify it (onnxsim)");
+         "OpenCV " CV_VERSION " cannot build this network (" + OneLine(e.err) +
+             "); README, 'Labels from a network', says which exports work and how to make one");
   }
   if (net_->net.empty()) Fail(SegmenterErrorKind::kUnreadableModel, model, "OpenCV built an empty network from it");
 }
@@ -133,11 +163,12 @@ ImageU8 Segmenter::Segment(const ImageU8& photo) const {
   cv::Mat out;
   const auto start = std::chrono::steady_clock::now();
   try {
+    const QuietOpenCvLog quiet;
     net_->net.setInput(blob, net_->info.input_name);
     out = net_->net.forward(net_->info.output_name);
   } catch (const cv::Exception& e) {
     Fail(SegmenterErrorKind::kInputSizeMismatch, options_.model,
-         "the network failed on a " + SizeText(in_w, in_h) + " input (" + e.err +
+         "the network failed on a " + SizeText(in_w, in_h) + " input (" + OneLine(e.err) +
              "); give --input-size WIDTHxHEIGHT as the model was exported, or export it with dynamic height and width");
   }
   net_->inference_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   rigsim::cli::AddMakeRigCommand(app);
   rigsim::cli::AddRenderCommand(app);
   rigsim::cli::AddRenderMergeCommand(app);
+  rigsim::cli::AddSegmentCommand(app);
   rigsim::cli::AddCalibrateCommand(app);
   rigsim::cli::AddInspectCommand(app);
   rigsim::cli::AddGenerateSceneCommand(app);
