@@ -37,6 +37,25 @@ std::vector<std::string> CameraNames(const std::filesystem::path& dataset) {
   return names;
 }
 
+void Compare(const ImageU8& truth, const ImageU8& network, SegmentDatasetSummary& summary) {
+  const ReliableClasses reliable;
+  ++summary.photos_with_truth;
+  for (size_t i = 0; i < truth.data.size(); ++i) {
+    const uint8_t t = truth.data[i], n = network.data[i];
+    ++summary.per_class[t].truth;
+    ++summary.per_class[n].network;
+    const bool rt = reliable.IsReliable(t), rn = reliable.IsReliable(n);
+    summary.reliable.truth += rt;
+    summary.reliable.network += rn;
+    summary.reliable.both += rt && rn;
+    if (t == n) {
+      ++summary.per_class[t].both;
+      ++summary.pixels_agreeing;
+    }
+  }
+  summary.pixels_compared += int64_t(truth.data.size());
+}
+
 nlohmann::json SummaryJson(const Segmenter& segmenter, const std::vector<SegmentedPhoto>& photos,
                            const std::vector<double>& seconds, const SegmentDatasetSummary& summary) {
   const SegmenterOptions& o = segmenter.options();
@@ -67,6 +86,19 @@ nlohmann::json SummaryJson(const Segmenter& segmenter, const std::vector<Segment
     shares[lc ? std::string(lc->name) : std::to_string(id)] = total > 0 ? double(n) / total : 0.0;
   }
   j["pixel_share_per_class"] = shares;
+  if (summary.photos_with_truth > 0) {
+    nlohmann::json truth;
+    truth["photos"] = summary.photos_with_truth;
+    truth["pixel_accuracy"] = double(summary.pixels_agreeing) / double(summary.pixels_compared);
+    truth["reliable_mask_iou"] = summary.reliable.IoU();
+    truth["per_class"] = nlohmann::json::object();
+    for (const auto& [id, a] : summary.per_class) {
+      const LabelClass* lc = FindClassById(id);
+      truth["per_class"][lc ? std::string(lc->name) : std::to_string(id)] = {
+          {"iou", a.IoU()}, {"truth_pixels", a.truth}, {"network_pixels", a.network}};
+    }
+    j["against_truth"] = truth;
+  }
   return j;
 }
 
@@ -78,7 +110,10 @@ std::vector<SegmentedPhoto> PhotosToSegment(const std::filesystem::path& dataset
   const std::vector<std::string> cameras = CameraNames(dataset);
   const FramesFile frames = layout.ReadFramesOrScan(cameras.front());
   for (const std::string& cam : cameras) {
-    for (const Frame& f : frames.frames) photos.push_back({cam, f.name, layout.RequireImage(cam, f.name)});
+    for (const Frame& f : frames.frames) {
+      const std::filesystem::path truth = layout.Label(cam, f.name);
+      photos.push_back({cam, f.name, layout.RequireImage(cam, f.name), std::filesystem::exists(truth) ? truth : ""});
+    }
   }
   if (photos.empty()) {
     throw std::runtime_error((dataset / "images" / cameras.front()).string() + ": no photos (.png, .jpg, .tif, .exr)");
@@ -100,6 +135,7 @@ SegmentDatasetSummary SegmentPhotos(const std::vector<SegmentedPhoto>& photos, c
     if (summary.photos == 0) summary.first_input_size = segmenter.InputSize(rgb.width, rgb.height);
     const ImageU8 labels = segmenter.Segment(rgb);
     for (uint8_t id : labels.data) ++summary.pixels_per_class[id];
+    if (!p.truth.empty()) Compare(ReadLabelImage(p.truth, labels.width, labels.height), labels, summary);
     for (const std::filesystem::path& file : {out.Label(p.camera, p.frame), out.LabelColor(p.camera, p.frame)}) {
       std::filesystem::create_directories(file.parent_path());
     }

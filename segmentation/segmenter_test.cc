@@ -240,6 +240,33 @@ TEST(SegmentDataset, WritesLabelsCalibrateReads) {
   const LabelSource colours = LabelSource::Folder(dir / "out" / "labels_color");
   ExpectStripes(LoadLabels(colours, layout, "left", "b", 64, 48), 2);
   EXPECT_TRUE(std::filesystem::exists(dir / "out" / "segmentation.json"));
+  EXPECT_EQ(summary.photos_with_truth, 0);
+}
+
+// On rendered data the labels are compared with the truth: here the truth says road everywhere,
+// so road's IoU is the network's share of road, and the reliable mask's the share of road and
+// building (both reliable; vegetation and sky are not).
+TEST(SegmentDataset, ComparesWithTheTruth) {
+  TempDir dir;
+  const DatasetLayout layout(dir / "rendered");
+  std::filesystem::create_directories(layout.Image("cam", "0").parent_path());
+  std::filesystem::create_directories(layout.Label("cam", "0").parent_path());
+  WriteImage(layout.Image("cam", "0"), StripePhoto(kStripes));
+  WriteImage(layout.Label("cam", "0"), ImageU8(64, 48, 1, 7));
+  const std::vector<SegmentedPhoto> photos = PhotosToSegment(layout.root());
+  ASSERT_EQ(photos.size(), 1u);
+  EXPECT_EQ(photos[0].truth, layout.Label("cam", "0"));
+  const Segmenter segmenter(Options(WriteModel(dir, NearestColourModel(TrainColours(), kImageNetMean, kImageNetStd))));
+  const SegmentDatasetSummary s = SegmentPhotos(photos, segmenter, dir / "out");
+  const ImageU8 net = ReadImageU8(dir / "out" / "labels" / "cam" / "0.png");
+  const auto count = [&](auto pred) { return std::count_if(net.data.begin(), net.data.end(), pred); };
+  const double total = 64 * 48;
+  EXPECT_EQ(s.photos_with_truth, 1);
+  EXPECT_EQ(s.pixels_compared, 64 * 48);
+  EXPECT_DOUBLE_EQ(s.per_class.at(7).IoU(), count([](uint8_t v) { return v == 7; }) / total);
+  EXPECT_DOUBLE_EQ(s.per_class.at(23).IoU(), 0.0);
+  EXPECT_DOUBLE_EQ(s.reliable.IoU(), count([](uint8_t v) { return v == 7 || v == 11; }) / total);
+  EXPECT_NEAR(s.reliable.IoU(), 0.5, 0.05);
 }
 
 }  // namespace

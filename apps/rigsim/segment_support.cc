@@ -14,6 +14,7 @@ namespace {
 
 std::string Duration(double s) {
   char buf[32];
+  if (s < 1) return "under 1 s";
   if (s < 90) {
     std::snprintf(buf, sizeof buf, "%.0f s", s);
   } else if (s < 5400) {
@@ -135,6 +136,17 @@ SegmentDatasetSummary SegmentWithProgress(const std::vector<SegmentedPhoto>& pho
     shares += buf;
   }
   std::printf("classes (share of pixels, 1%% or more): %s\n", shares.c_str());
+  if (summary.photos_with_truth > 0) {
+    std::printf("against the true labels of %d photos: %.1f%% of pixels agree; the reliable-class mask (what --semantics "
+                "mask detects on) has IoU %.3f; per class (IoU, share of the truth):\n",
+                summary.photos_with_truth, 100.0 * summary.pixels_agreeing / summary.pixels_compared, summary.reliable.IoU());
+    for (const auto& [id, a] : summary.per_class) {
+      if (a.truth == 0) continue;
+      const LabelClass* c = FindClassById(id);
+      std::printf("  %-14s IoU %.3f  %5.1f%%\n", c ? std::string(c->name).c_str() : "?", a.IoU(),
+                  100.0 * a.truth / summary.pixels_compared);
+    }
+  }
   return summary;
 }
 
