@@ -12,7 +12,7 @@
 namespace rigsim::cli {
 namespace {
 
-std::string Duration(double s) {
+std::string TimeLeft(double s) {
   char buf[32];
   if (s < 1) return "under 1 s";
   if (s < 90) {
@@ -107,7 +107,7 @@ SegmentDatasetSummary SegmentWithProgress(const std::vector<SegmentedPhoto>& pho
     summary = SegmentPhotos(photos, segmenter, out_dir, [&](int done, int total) {
       const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       std::string line = "segmenting " + std::to_string(done) + "/" + std::to_string(total) + " photos";
-      if (done < total) line += ", about " + Duration(elapsed / done * (total - done)) + " left";
+      if (done < total) line += ", about " + TimeLeft(elapsed / done * (total - done)) + " left";
       if (tty) {
         std::fprintf(stderr, "\r\033[K%s%s", line.c_str(), done == total ? "\n" : "");
       } else if (done * 4 / total != last_quarter || done == total) {
