@@ -25,8 +25,8 @@ int main(int argc, char** argv) {
   rigsim::cli::AddMakeRigCommand(app);
   rigsim::cli::AddRenderCommand(app);
   rigsim::cli::AddRenderMergeCommand(app);
-  rigsim::cli::AddSegmentCommand(app);
   rigsim::cli::AddCalibrateCommand(app);
+  rigsim::cli::AddSegmentCommand(app);
   rigsim::cli::AddInspectCommand(app);
   rigsim::cli::AddGenerateSceneCommand(app);
   rigsim::cli::AddExportCommand(app);
