@@ -16,6 +16,7 @@ packages=(
   # The OpenCV modules rigsim links, not the libopencv-dev meta package (every module, with VTK,
   # GDAL, HDF5, FFmpeg). Debian's features2d headers still pull in highgui's (Qt, FFmpeg headers).
   libopencv-core-dev libopencv-imgproc-dev libopencv-features2d-dev libopencv-calib3d-dev
+  libopencv-dnn-dev                      # segmentation networks in ONNX (segmentation/segmenter.h)
   libeigen3-dev
   libceres-dev
   nlohmann-json3-dev

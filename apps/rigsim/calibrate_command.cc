@@ -37,6 +37,10 @@ void AddCalibrateCommand(CLI::App& app) {
   cmd->add_flag("--force", args->force, "replace an existing output folder");
   AddCalibrateSettingsOptions(*cmd, args->settings);
   AddLabelSourceOptions(*cmd, args->settings.labels);
+  AddSegmenterOptions(*cmd, args->settings.segmenter, "--segmenter",
+                      "labels for the semantic modes from a segmentation network (an .onnx file) run on the\n"
+                      "photos first, as `rigsim segment` does; written to OUT/segmentation/ (labels/,\n"
+                      "labels_color/, segmentation.json). In place of --labels");
   cmd->add_option("--features", args->features,
                   "keypoints and descriptors: sift (default), rootsift (SIFT descriptors L1-normalised\n"
                   "and square-rooted), orb or akaze (binary descriptors matched by Hamming distance,\n"

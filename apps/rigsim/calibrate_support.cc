@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 #include "apps/rigsim/commands.h"
 #include "apps/rigsim/parse_errors.h"
@@ -69,6 +70,9 @@ void AddLabelSourceOptions(CLI::App& cmd, LabelSettings& s) {
 CalibrationRunOptions CalibrateSettings::ToOptions() const {
   CalibrationRunOptions o = options;
   o.labels = labels.ToSource();
+  if (const std::string option = segmenter.GivenWithoutModel(); !option.empty()) {
+    throw std::invalid_argument(option + " needs --segmenter MODEL.onnx");
+  }
   if (!reliable.empty()) {
     try {
       o.reliable = ReliableClasses::FromNames(reliable);
@@ -190,6 +194,7 @@ OutputFolderRequest CalibrationOutputFolder(const std::filesystem::path& dataset
   if (!settings.intrinsics.empty()) out.inputs.push_back({settings.intrinsics, "--intrinsics"});
   const std::string& labels = settings.labels.labels;
   if (labels != "truth" && labels != "noisy" && !labels.empty()) out.inputs.push_back({labels, "--labels"});
+  if (!settings.segmenter.model.empty()) out.inputs.push_back({settings.segmenter.model, "--segmenter"});
   return out;
 }
 
@@ -233,7 +238,7 @@ void CheckKnownDistanceCameras(const CalibrateSettings& settings, const Rig& rig
 std::vector<SemanticMode> ModesFor(const std::filesystem::path& dataset, const CalibrateSettings& settings) {
   std::vector<SemanticMode> modes = settings.Modes();
   const std::filesystem::path labels = DatasetLayout(dataset).root() / "labels";
-  if (settings.labels.labels != "truth" || std::filesystem::exists(labels) ||
+  if (settings.labels.labels != "truth" || !settings.segmenter.model.empty() || std::filesystem::exists(labels) ||
       std::none_of(modes.begin(), modes.end(), NeedsLabels)) {
     return modes;
   }
@@ -245,22 +250,39 @@ std::vector<SemanticMode> ModesFor(const std::filesystem::path& dataset, const C
   if (given || std::all_of(modes.begin(), modes.end(), NeedsLabels)) {
     throw std::runtime_error(labels.string() + ": no such folder: --semantics " + needing +
                              " needs a label image per photo (docs/calibration.md, 'Labels for the semantic modes'); for photos "
-                             "without labels use --semantics none, or give labels with --labels DIR");
+                             "without labels use --semantics none, or give labels with --labels DIR or a network with --segmenter MODEL.onnx");
   }
   std::fprintf(stderr, "warning: %s has no labels/: calibrating with --semantics none only (%s needs a label image per photo; "
-               "--labels DIR gives them)\n", dataset.string().c_str(), needing.c_str());
+               "--labels DIR or --segmenter MODEL.onnx gives them)\n", dataset.string().c_str(), needing.c_str());
   modes.erase(std::remove_if(modes.begin(), modes.end(), NeedsLabels), modes.end());
   return modes;
+}
+
+// The network of --segmenter, checked before the long run; nullptr without one or when no mode
+// needs labels (with a warning).
+std::unique_ptr<Segmenter> SegmenterFor(const CalibrateSettings& settings, bool labels_used) {
+  const SegmenterSettings& s = settings.segmenter;
+  if (s.model.empty()) return nullptr;
+  if (settings.labels.labels != "truth") {
+    throw std::invalid_argument("--segmenter and --labels " + settings.labels.labels +
+                                " both say where the labels come from: give one");
+  }
+  if (!labels_used) {
+    std::fprintf(stderr, "warning: --segmenter %s is not used: no semantic mode given needs labels\n", s.model.c_str());
+    return nullptr;
+  }
+  return std::make_unique<Segmenter>(s.ToOptions());
 }
 
 }  // namespace
 
 CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const CalibrateSettings& settings,
                                   const std::filesystem::path& out_dir, bool force) {
-  const CalibrationRunOptions options = settings.ToOptions();
+  CalibrationRunOptions options = settings.ToOptions();
   const std::vector<SemanticMode> modes = ModesFor(dataset, settings);
   const bool labels_used = std::any_of(modes.begin(), modes.end(), NeedsLabels);
-  const LabelSource& labels = options.labels;
+  const std::unique_ptr<Segmenter> segmenter = SegmenterFor(settings, labels_used);
+  LabelSource& labels = options.labels;
   if (!labels_used && labels.kind != LabelSource::Kind::kTruth) {
     std::fprintf(stderr, "warning: --labels %s is not used: no semantic mode given needs labels\n",
                  settings.labels.labels.c_str());
@@ -273,11 +295,22 @@ CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const Ca
   for (const std::string& w : inputs.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   CheckKnownDistanceCameras(settings, inputs.rig, DatasetLayout(dataset).RigJson());
   CheckCaptureTimeOptions(options, inputs, DatasetLayout(dataset).FramesJson());
+  const std::vector<SegmentedPhoto> photos = segmenter ? PhotosToSegment(dataset) : std::vector<SegmentedPhoto>{};
   StagedOutput staged(out);
 
+  std::string label_text = labels.Describe();
+  if (segmenter) {
+    // The network's labels are written into the output folder and read from there.
+    const std::filesystem::path segmentation = staged.staging_dir() / "segmentation";
+    SegmentWithProgress(photos, *segmenter, segmentation);
+    labels = LabelSource::Folder(segmentation / "labels");
+    label_text = "network " + settings.segmenter.model + " (classes " + segmenter->classes().name + ")";
+  }
   std::fprintf(stderr, "calibrating %s (%zu semantic modes%s)...\n", dataset.string().c_str(), modes.size(),
-               labels_used ? (", labels: " + labels.Describe()).c_str() : "");
+               labels_used ? (", labels: " + label_text).c_str() : "");
   CalibrationRun run = CalibrateDataset(inputs, options, modes);
+  // The results name the labels where they will be, not in the staging folder.
+  if (segmenter) run.options.labels.folder = out_dir / "segmentation" / "labels";
   for (const std::string& note : WriteCalibrationResults(run, staged.staging_dir())) {
     std::fprintf(stderr, "warning: %s\n", note.c_str());
   }
@@ -298,7 +331,8 @@ CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const Ca
                 inputs.truth ? "; error against the truth" : "", FormatIntrinsicsTable(run).c_str());
   }
   std::printf("calibration took %.1f s; labels: %s; results in %s:\n", run.seconds,
-              labels_used ? labels.Describe().c_str() : "not used", out_dir.string().c_str());
+              labels_used ? label_text.c_str() : "not used", out_dir.string().c_str());
+  if (segmenter) std::printf("  segmentation/: the network's labels/, labels_color/ and segmentation.json\n");
   std::printf("  evaluation.json; per mode <mode>/: rig.json, camchain.yaml (Kalibr), opencv.yaml, colmap/, pairs.json,\n"
               "  rig_topdown.svg (the rig seen from above%s), matches/ (each solved pair's inliers)\n",
               results.empty() || !inputs.truth ? "" : ", against the truth");

@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "apps/rigsim/segment_support.h"
 #include "calibrator/rig_calibration.h"
 #include "dataset/label_source.h"
 #include "pipeline/calibration_run.h"
@@ -46,6 +47,9 @@ struct CalibrateSettings {
   std::vector<std::string> known_distance;  // CAM_A CAM_B METRES, or empty
   std::string intrinsics;                   // --intrinsics FILE (a rig.json), or empty: the dataset's
   LabelSettings labels;                     // options.labels, resolved by ToOptions
+  // --segmenter MODEL.onnx: labels from a network run on the photos first (segmentation/), written
+  // to OUT/segmentation/ and read from there; in place of --labels.
+  SegmenterSettings segmenter;
   // The options with the names above resolved; throws std::invalid_argument on bad values.
   CalibrationRunOptions ToOptions() const;
   std::vector<SemanticMode> Modes() const;

@@ -28,5 +28,6 @@ void AddSweepCommand(CLI::App& app);
 void AddSweepMergeCommand(CLI::App& app);
 void AddRenderMergeCommand(CLI::App& app);
 void AddReportCommand(CLI::App& app);
+void AddSegmentCommand(CLI::App& app);
 
 }  // namespace rigsim::cli

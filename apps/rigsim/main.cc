@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   rigsim::cli::AddRenderCommand(app);
   rigsim::cli::AddRenderMergeCommand(app);
   rigsim::cli::AddCalibrateCommand(app);
+  rigsim::cli::AddSegmentCommand(app);
   rigsim::cli::AddInspectCommand(app);
   rigsim::cli::AddGenerateSceneCommand(app);
   rigsim::cli::AddExportCommand(app);
