@@ -68,7 +68,7 @@ std::vector<double> StartTimeOffsets(int num_cameras, const std::vector<double>&
 namespace {
 
 // Per frame whose capture at `offset_s` falls within the path's frames, D = rig(t + o)_from_rig(t),
-// and their mean (quaternions on one side of the sphere); empty with fewer than two such frames or
+// and their mean; empty with fewer than two such frames or
 // three posed ones.
 struct RigChanges {
   std::vector<Rigid3d> per_frame;
@@ -83,23 +83,18 @@ RigChanges ChangesOverOffset(const std::vector<std::optional<Rigid3d>>& rig_from
   RigChanges out;
   if (path.size() < 3) return out;
   path = SortedByTime(std::move(path));
-  Eigen::Vector4d q_sum = Eigen::Vector4d::Zero();
-  Eigen::Vector3d t_sum = Eigen::Vector3d::Zero();
   for (const TimedPose& p : path) {
     // Beyond the first and last frames the path goes on straight, which a rig that turns does not:
     // the images of those captures say more about that model than about time.
     const double t = p.time_s + offset_s;
     if (t < path.front().time_s || t > path.back().time_s) continue;
     out.per_frame.push_back(RigFromWorldOnPath(path, t) * p.rig_from_world.Inverse());
-    const Eigen::Vector4d q = out.per_frame.back().rotation.coeffs();
-    q_sum += q.dot(out.per_frame.front().rotation.coeffs()) < 0 ? -q : q;
-    t_sum += out.per_frame.back().translation;
   }
   if (out.per_frame.size() < 2) {
     out.per_frame.clear();
     return out;
   }
-  out.mean = Rigid3d(Eigen::Quaterniond(q_sum.normalized()), t_sum / double(out.per_frame.size()));
+  out.mean = MeanOfNearbyPoses(out.per_frame);
   return out;
 }
 

@@ -60,4 +60,16 @@ Rigid3d CamFromWorldFromGltfCameraNode(const Eigen::Matrix4d& world_from_glcam) 
 double DegToRad(double deg) { return deg * std::numbers::pi / 180.0; }
 double RadToDeg(double rad) { return rad * 180.0 / std::numbers::pi; }
 
+Rigid3d MeanOfNearbyPoses(const std::vector<Rigid3d>& poses) {
+  if (poses.empty()) return Rigid3d();
+  Eigen::Vector4d q_sum = Eigen::Vector4d::Zero();
+  Eigen::Vector3d t_sum = Eigen::Vector3d::Zero();
+  for (const Rigid3d& p : poses) {
+    const Eigen::Vector4d q = p.rotation.coeffs();
+    q_sum += q.dot(poses.front().rotation.coeffs()) < 0 ? -q : q;
+    t_sum += p.translation;
+  }
+  return Rigid3d(Eigen::Quaterniond(q_sum.normalized()), t_sum / double(poses.size()));
+}
+
 }  // namespace rigsim

@@ -10,6 +10,8 @@
 //   world:  glTF's frame (right-handed, +Y up, metres).
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -63,5 +65,9 @@ Rigid3d CamFromWorldFromGltfCameraNode(const Eigen::Matrix4d& world_from_glcam);
 
 double DegToRad(double deg);
 double RadToDeg(double rad);
+
+// The mean of poses close to each other: the normalised sum of their quaternions (each taken on
+// the first one's side of the sphere) and the mean of their translations. The identity when empty.
+Rigid3d MeanOfNearbyPoses(const std::vector<Rigid3d>& poses);
 
 }  // namespace rigsim

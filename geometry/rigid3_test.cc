@@ -10,6 +10,17 @@ Rigid3d RandomPose(int seed) {
   return Rigid3d(Eigen::Quaterniond::UnitRandom(), Eigen::Vector3d::Random() * 3.0);
 }
 
+TEST(Rigid3d, MeanOfNearbyPosesTurnsHalfWayAndIgnoresTheQuaternionSign) {
+  const Eigen::Vector3d axis = Eigen::Vector3d(1, 2, 3).normalized();
+  const Rigid3d a(Eigen::Quaterniond(Eigen::AngleAxisd(0.1, axis)), Eigen::Vector3d(1, 0, 0));
+  Rigid3d b(Eigen::Quaterniond(Eigen::AngleAxisd(0.3, axis)), Eigen::Vector3d(3, 2, 0));
+  b.rotation.coeffs() *= -1.0;  // the same rotation from the other side of the sphere
+  const Rigid3d mean = MeanOfNearbyPoses({a, b});
+  EXPECT_LT(RotationDifferenceDeg(mean.rotation, Eigen::Quaterniond(Eigen::AngleAxisd(0.2, axis))), 1e-9);
+  EXPECT_LT((mean.translation - Eigen::Vector3d(2, 1, 0)).norm(), 1e-12);
+  EXPECT_LT(RotationDifferenceDeg(MeanOfNearbyPoses({}).rotation, Eigen::Quaterniond::Identity()), 1e-12);
+}
+
 TEST(Rigid3d, InverseUndoesTransform) {
   const Rigid3d a_from_b = RandomPose(1);
   const Eigen::Vector3d x(0.3, -1.2, 4.0);

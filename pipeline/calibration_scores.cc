@@ -37,16 +37,12 @@ Rigid3d TrueRelativePose(const RigCamera& a, const RigCamera& b, const FramesFil
   if ((!CapturePoses::IsTimed(a) && !CapturePoses::IsTimed(b)) || frames.frames.empty()) return fixed;
   const CapturePoses poses({a, b}, frames);
   const auto middle = [](const RigCamera& c) { return c.RowTime(c.camera.height() / 2); };
-  Eigen::Vector4d q_sum = Eigen::Vector4d::Zero();
-  Eigen::Vector3d t_sum = Eigen::Vector3d::Zero();
+  std::vector<Rigid3d> b_from_a;
   for (const Frame& f : frames.frames) {
-    const Rigid3d b_from_a = poses.CamFromWorld(b, f, f.timestamp_s + middle(b)) *
-                             poses.CamFromWorld(a, f, f.timestamp_s + middle(a)).Inverse();
-    const Eigen::Vector4d q = b_from_a.rotation.coeffs();
-    q_sum += q.dot(fixed.rotation.coeffs()) < 0 ? -q : q;
-    t_sum += b_from_a.translation;
+    b_from_a.push_back(poses.CamFromWorld(b, f, f.timestamp_s + middle(b)) *
+                       poses.CamFromWorld(a, f, f.timestamp_s + middle(a)).Inverse());
   }
-  return Rigid3d(Eigen::Quaterniond(q_sum.normalized()), t_sum / double(frames.frames.size()));
+  return MeanOfNearbyPoses(b_from_a);
 }
 
 }  // namespace
