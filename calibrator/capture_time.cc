@@ -143,6 +143,15 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
     const std::vector<char>& readout_bottom_to_top, const CaptureTimeOptions& options) {
   const int n = static_cast<int>(cameras.size());
   std::vector<CameraSynchronisation> out(n);
+  bool any_shown = false;
+  for (int c = 1; c < n && c < static_cast<int>(adjusted.cam_from_rig.size()); ++c) {
+    if (!adjusted.cam_from_rig[c]) continue;
+    out[c].checked = true;
+    out[c].interval_visibility_px = IntervalVisibilityPx(adjusted.rig_from_world, frame_times_s,
+                                                         PixelsPerRadian(adjusted.cameras[c]), adjusted.median_depth);
+    any_shown = any_shown || out[c].interval_visibility_px >= options.min_interval_visibility_px;
+  }
+  if (!any_shown) return out;
   CaptureTiming timing;
   timing.frame_times_s = frame_times_s;
   timing.time_offset_s = start_offsets_s;
@@ -155,19 +164,17 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
       MultiFrameRigBundleAdjust(adjusted.cameras, keypoints, tracks, adjusted.cam_from_rig, adjusted.rig_from_world,
                                 scale_camera, ba_options, false, &timing);
   for (int c = 1; c < n && c < static_cast<int>(freed.timing.size()); ++c) {
-    if (!adjusted.cam_from_rig[c] || !freed.time_offset_stddev_s[c]) continue;
     CameraSynchronisation& s = out[c];
+    if (!s.checked || !freed.time_offset_stddev_s[c] || s.interval_visibility_px < options.min_interval_visibility_px) {
+      continue;
+    }
     s.offset_s = freed.timing[c][0];
     s.offset_stddev_s = *freed.time_offset_stddev_s[c];
-    const double scale = PixelsPerRadian(adjusted.cameras[c]);
-    s.offset_visibility_px =
-        OffsetVisibilityPx(adjusted.rig_from_world, frame_times_s, *s.offset_s, scale, adjusted.median_depth);
-    s.interval_visibility_px =
-        IntervalVisibilityPx(adjusted.rig_from_world, frame_times_s, scale, adjusted.median_depth);
+    s.offset_visibility_px = OffsetVisibilityPx(adjusted.rig_from_world, frame_times_s, *s.offset_s,
+                                                PixelsPerRadian(adjusted.cameras[c]), adjusted.median_depth);
     const double magnitude = std::abs(*s.offset_s);
     s.unsynchronised = magnitude > options.min_offset_s && magnitude > options.min_sigmas * *s.offset_stddev_s &&
-                       s.offset_visibility_px >= options.min_visible_px &&
-                       s.interval_visibility_px >= options.min_interval_visibility_px;
+                       s.offset_visibility_px >= options.min_visible_px;
   }
   return out;
 }

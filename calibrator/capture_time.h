@@ -86,17 +86,20 @@ double PixelsPerRadian(const Camera& camera);
 
 // What the images say of one camera's capture time relative to camera 0's.
 struct CameraSynchronisation {
-  std::optional<double> offset_s, offset_stddev_s;  // the freed offset; nullopt: not estimated
-  // How much the path shows the freed offset (OffsetVisibilityPx), and the frames' interval's worth
-  // of offset: below min_interval_visibility_px the path cannot show whether the camera captured
-  // with camera 0.
-  double offset_visibility_px = 0.0;
+  bool checked = false;  // the camera has a pose to check
+  // How much the path shows a frame interval's worth of offset (IntervalVisibilityPx): below
+  // min_interval_visibility_px it cannot show whether the camera captured with camera 0.
   double interval_visibility_px = 0.0;
+  // The freed offset, and how much the path shows it (OffsetVisibilityPx); nullopt where the path
+  // hides time: there the freed offset follows the noise in the path, whatever its deviation says.
+  std::optional<double> offset_s, offset_stddev_s;
+  double offset_visibility_px = 0.0;
   bool unsynchronised = false;
 };
 
 // The bundle adjustment solved again from `adjusted` (a result taken as synchronised) with every
 // camera's offset free (camera 0's the gauge), started at StartTimeOffsets; one verdict per camera.
+// Where the path hides time for every camera, nothing is solved: the check could not condemn one.
 std::vector<CameraSynchronisation> CheckSynchronisation(
     const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, const std::vector<ViewTrack>& tracks,
     const MultiFrameBundleAdjustmentResult& adjusted, int scale_camera, RigBundleAdjustmentOptions ba_options,

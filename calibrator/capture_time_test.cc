@@ -89,6 +89,8 @@ TEST(CheckSynchronisation, APathThatHidesOffsetsDoesNotCondemnACamera) {
   for (int c = 1; c < 3; ++c) {
     EXPECT_FALSE(verdict[c].unsynchronised) << c;
     EXPECT_LT(verdict[c].interval_visibility_px, CaptureTimeOptions().min_interval_visibility_px) << c;
+    EXPECT_TRUE(verdict[c].checked) << c;
+    EXPECT_FALSE(verdict[c].offset_s) << "noise, not an offset: " << c;
   }
 }
 

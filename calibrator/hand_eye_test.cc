@@ -152,8 +152,11 @@ TEST(HandEye, NoisyTrajectoriesAreSolvedWithinTheirUncertaintyOrReportedUndeterm
     for (int i = 1; i < 4; ++i) {
       SCOPED_TRACE(i);
       const HandEyeCamera& h = r.cameras[i];
-      if (p.expect == kSolved) EXPECT_EQ(h.status, HandEyeStatus::kSolved) << h.reason;
-      if (p.expect == kUndetermined) EXPECT_EQ(h.status, HandEyeStatus::kRotationUndetermined) << h.reason;
+      if (p.expect == kSolved) {
+        EXPECT_EQ(h.status, HandEyeStatus::kSolved) << h.reason;
+      } else if (p.expect == kUndetermined) {
+        EXPECT_EQ(h.status, HandEyeStatus::kRotationUndetermined) << h.reason;
+      }
       if (h.status == HandEyeStatus::kSolved) {
         EXPECT_LT(RotationDifferenceDeg(h.cam_from_rig->rotation, c.cam_from_rig[i].rotation), 3.0 * h.rotation_std_deg);
       }

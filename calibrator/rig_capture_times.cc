@@ -64,7 +64,7 @@ void SetCaptureTimes(const RigObservations& obs, const RigCalibrationOptions& op
   }
   std::vector<std::string> hidden;  // cameras whose offset the path cannot show
   for (int c = 1; c < n && c < static_cast<int>(checked.size()); ++c) {
-    if (!checked[c].offset_s) continue;
+    if (!checked[c].checked) continue;
     result->camera_stats[c].interval_visibility_px = checked[c].interval_visibility_px;
     if (checked[c].interval_visibility_px < o.min_interval_visibility_px) hidden.push_back(obs.camera_names[c]);
   }

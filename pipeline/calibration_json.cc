@@ -195,7 +195,7 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
     j["intrinsics"] = s.intrinsics ? RefinedIntrinsicsToJson(*s.intrinsics, r.rig.cameras[c].camera,
                                                              e.intrinsics ? &*e.intrinsics : nullptr)
                                    : Json(nullptr);
-    if (s.time_offset_s || s.readout_s) {
+    if (s.time_offset_s || s.readout_s || s.interval_visibility_px) {
       const auto ms = [](const std::optional<double>& v) { return v ? Json(1000.0 * *v) : Json(nullptr); };
       j["capture_time"] = {{"time_offset_ms", ms(s.time_offset_s)},
                            {"time_offset_stddev_ms", ms(s.time_offset_stddev_s)},
