@@ -19,6 +19,7 @@ void CaptureTimeOptions::Check() const {
   if (!(min_interval_visibility_px >= 0) || !std::isfinite(min_interval_visibility_px)) {
     throw std::invalid_argument("min_interval_visibility_px must be >= 0");
   }
+  if (check_max_tracks < 0) throw std::invalid_argument("check_max_tracks must be >= 0");
   search.Check();
 }
 
@@ -160,9 +161,15 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
   timing.estimate_offsets = true;
   ba_options.refine_intrinsics = false;  // held: the question is time, asked of the rig as adjusted
   ba_options.keep_points = false;
+  std::vector<ViewTrack> subsample;
+  const size_t stride =
+      options.check_max_tracks > 0 ? (tracks.size() + options.check_max_tracks - 1) / options.check_max_tracks : 1;
+  if (stride > 1) {
+    for (size_t i = 0; i < tracks.size(); i += stride) subsample.push_back(tracks[i]);
+  }
   const MultiFrameBundleAdjustmentResult freed =
-      MultiFrameRigBundleAdjust(adjusted.cameras, keypoints, tracks, adjusted.cam_from_rig, adjusted.rig_from_world,
-                                scale_camera, ba_options, false, &timing);
+      MultiFrameRigBundleAdjust(adjusted.cameras, keypoints, stride > 1 ? subsample : tracks, adjusted.cam_from_rig,
+                                adjusted.rig_from_world, scale_camera, ba_options, false, &timing);
   for (int c = 1; c < n && c < static_cast<int>(freed.timing.size()); ++c) {
     CameraSynchronisation& s = out[c];
     if (!s.checked || !freed.time_offset_stddev_s[c] || s.interval_visibility_px < options.min_interval_visibility_px) {

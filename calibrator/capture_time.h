@@ -40,6 +40,10 @@ struct CaptureTimeOptions {
   // estimated offset is not determined. Noise in the estimated path alone reads 1.5-2.2 px on a
   // rendered circle (4 frames, 640x360), and a turn driven at a changing speed 23-30 px.
   double min_interval_visibility_px = 5.0;
+  // The check solves on an even subsample of at most this many tracks (0: all): an offset that
+  // matters moves thousands of observations alike, and the standard deviation it is judged by is
+  // that of the subsample. Its solve costs several times a solve of the rig (the timed costs).
+  int check_max_tracks = 2000;
   TimeOffsetSearchOptions search;
 
   // Throws std::invalid_argument naming the first bad field.

@@ -692,8 +692,10 @@ RigCalibrationResult EstimateRigOnce(const RigObservations& obs, const RigCalibr
   result.num_observations = ba.num_observations;
   result.num_filtered_observations = ba.num_filtered_observations;
 
+  start = Clock::now();
   const std::vector<CameraSynchronisation> synchronisation =
       CheckCaptureTimes(obs, options, motion.moving, tracks, initial.scale_camera, ba);
+  result.synchronisation_check_time_s = Seconds(start);
   SetRefinedIntrinsics(obs, options, ba, &result);
   ScaledPoses poses = DropUndeterminedAndScale(obs, adjusted, initial, options, known_a, known_b);
   SetAsideOpenAxes(obs, initial, &poses);
@@ -788,6 +790,7 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
     next.tracks_time_s += result.tracks_time_s;
     next.positions_time_s += result.positions_time_s;
     next.bundle_adjustment_time_s += result.bundle_adjustment_time_s;
+    next.synchronisation_check_time_s += result.synchronisation_check_time_s;
     result = std::move(next);
   }
   for (int e = 0; e < static_cast<int>(result.edges.size()); ++e) {

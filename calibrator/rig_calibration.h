@@ -343,6 +343,7 @@ struct RigCalibrationResult {
   double positions_time_s = 0.0;
   double tracks_time_s = 0.0;
   double bundle_adjustment_time_s = 0.0;
+  double synchronisation_check_time_s = 0.0;  // CaptureTimeOptions::check_synchronisation
   // With RigCalibrationOptions::keep_details only; shared, so copies of a result stay cheap.
   std::shared_ptr<RigCalibrationDetails> details;
 };

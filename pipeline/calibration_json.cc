@@ -275,7 +275,8 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
                  {"rotation_averaging_time_s", r.rotation_averaging_time_s},
                  {"positions_time_s", r.positions_time_s},
                  {"tracks_time_s", r.tracks_time_s},
-                 {"bundle_adjustment_time_s", r.bundle_adjustment_time_s}};
+                 {"bundle_adjustment_time_s", r.bundle_adjustment_time_s},
+                 {"synchronisation_check_time_s", r.synchronisation_check_time_s}};
   m["cameras"] = cams;
   Json frames = Json::array();  // per frame index: the rig's pose, or null
   for (const auto& p : r.rig_from_world) frames.push_back(p ? json_io::PoseToJson(*p) : Json(nullptr));
