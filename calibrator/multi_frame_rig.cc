@@ -15,6 +15,7 @@
 #include <ceres/sphere_manifold.h>
 #include <glog/logging.h>
 
+#include "calibrator/bundle_covariance.h"
 #include "calibrator/cost_functions.h"
 #include "calibrator/format.h"
 #include "calibrator/union_find.h"
@@ -202,130 +203,6 @@ std::vector<std::optional<Eigen::Quaterniond>> EstimateRigRotations(
   }
   return out;
 }
-
-namespace {
-
-// The inverse of J^T J (robustified Jacobian, in the tangent spaces of the manifolds) over the
-// pose blocks (and the intrinsics blocks when refined: every block that is not a point) after the
-// points are eliminated (Schur complement), in units of the variance of one residual coordinate.
-// The gauge is fixed by the problem itself (camera 0 and frame 0 constant, the scale camera's
-// |t|). Directions the data barely fix have tiny eigenvalues in the reduced system and come out
-// with a huge variance (a pseudo-inverse, not a failure: a camera next to camera 0 must read as
-// uncertain, not as missing).
-struct ReducedCovariance {
-  Eigen::MatrixXd covariance;
-  std::map<const double*, int> offset;  // tangent column of each adjusted pose block
-};
-
-ReducedCovariance PoseCovariance(ceres::Problem& problem, const std::vector<double*>& pose_blocks) {
-  ReducedCovariance out;
-  // The adjusted pose blocks first, in `pose_blocks` order, then the points. Ceres lists its
-  // blocks in the order of their addresses, which differ from run to run: summed in that order
-  // the reduced system, and so the covariance, would change in its last bits between runs. The
-  // points live in one array, so their address order is their order there.
-  std::vector<double*> all, poses, points;
-  problem.GetParameterBlocks(&all);
-  for (double* block : pose_blocks) {
-    if (problem.HasParameterBlock(block) && !problem.IsParameterBlockConstant(block)) poses.push_back(block);
-  }
-  for (double* block : all) {
-    if (problem.IsParameterBlockConstant(block)) continue;
-    if (std::find(pose_blocks.begin(), pose_blocks.end(), block) == pose_blocks.end()) points.push_back(block);
-  }
-  std::sort(points.begin(), points.end(), std::less<double*>());
-  std::map<const double*, int>& offset = out.offset;
-  int pose_dim = 0;
-  for (double* block : poses) {
-    offset[block] = pose_dim;
-    pose_dim += problem.ParameterBlockTangentSize(block);
-  }
-  if (pose_dim == 0) return out;
-  std::vector<double*> ordered = poses;
-  ordered.insert(ordered.end(), points.begin(), points.end());
-  ceres::Problem::EvaluateOptions evaluate;
-  evaluate.parameter_blocks = ordered;
-  ceres::CRSMatrix jacobian;
-  if (!problem.Evaluate(evaluate, nullptr, nullptr, nullptr, &jacobian)) {
-    offset.clear();
-    return out;
-  }
-
-  // Rows of one point's observations touch its 3 columns and some pose columns.
-  const int num_points = static_cast<int>(points.size());
-  Eigen::MatrixXd h_poses = Eigen::MatrixXd::Zero(pose_dim, pose_dim);
-  std::vector<Eigen::Matrix3d> h_point(num_points, Eigen::Matrix3d::Zero());
-  std::vector<Eigen::MatrixXd> h_cross(num_points);  // pose_dim x 3
-  for (int row = 0; row < jacobian.num_rows; ++row) {
-    Eigen::VectorXd jp = Eigen::VectorXd::Zero(pose_dim);
-    Eigen::Vector3d jx = Eigen::Vector3d::Zero();
-    int point = -1;
-    for (int k = jacobian.rows[row]; k < jacobian.rows[row + 1]; ++k) {
-      const int col = jacobian.cols[k];
-      if (col < pose_dim) {
-        jp[col] = jacobian.values[k];
-      } else {
-        point = (col - pose_dim) / 3;
-        jx[(col - pose_dim) % 3] = jacobian.values[k];
-      }
-    }
-    h_poses.noalias() += jp * jp.transpose();
-    if (point < 0) continue;
-    if (h_cross[point].size() == 0) h_cross[point] = Eigen::MatrixXd::Zero(pose_dim, 3);
-    h_point[point] += jx * jx.transpose();
-    h_cross[point].noalias() += jp * jx.transpose();
-  }
-  // Eliminate the points: S = H_cc - sum_p H_cp H_pp^+ H_pc.
-  Eigen::MatrixXd reduced = h_poses;
-  for (int p = 0; p < num_points; ++p) {
-    if (h_cross[p].size() == 0) continue;
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(h_point[p]);
-    const double top = eig.eigenvalues().maxCoeff();
-    Eigen::Vector3d inv = Eigen::Vector3d::Zero();
-    for (int i = 0; i < 3; ++i) {
-      if (eig.eigenvalues()[i] > 1e-12 * top) inv[i] = 1.0 / eig.eigenvalues()[i];
-    }
-    const Eigen::Matrix3d h_point_inv = eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
-    reduced.noalias() -= h_cross[p] * h_point_inv * h_cross[p].transpose();
-  }
-  // Pseudo-inverse of the reduced system: directions with (next to) no information get a variance
-  // 1e12 times the best determined one's, instead of an infinity or a failure.
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (reduced + reduced.transpose()));
-  const double top = std::max(eig.eigenvalues().maxCoeff(), 1e-300);
-  Eigen::VectorXd inv(pose_dim);
-  for (int i = 0; i < pose_dim; ++i) inv[i] = 1.0 / std::max(eig.eigenvalues()[i], 1e-12 * top);
-  out.covariance = eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
-  return out;
-}
-
-// Covariance of each camera's centre in the rig (C = -R^T t of cam_from_rig, whose translation
-// block is `ct[c]`) at the solution, `variance` being that of one image coordinate. nullopt for
-// cameras not adjusted.
-std::vector<std::optional<Eigen::Matrix3d>> CentreCovariances(ceres::Problem& problem, const ReducedCovariance& reduced,
-                                                              const std::vector<Eigen::Vector4d>& cq,
-                                                              const std::vector<Eigen::Vector3d>& ct, double variance) {
-  std::vector<std::optional<Eigen::Matrix3d>> out(ct.size());
-  const std::map<const double*, int>& offset = reduced.offset;
-  const Eigen::MatrixXd& covariance = reduced.covariance;
-  for (size_t c = 0; c < ct.size(); ++c) {
-    const auto it = offset.find(ct[c].data());
-    if (it == offset.end()) continue;
-    const int size = problem.ParameterBlockTangentSize(ct[c].data());
-    const Eigen::MatrixXd tangent = covariance.block(it->second, it->second, size, size);
-    Eigen::Matrix3d t_cov = Eigen::Matrix3d::Zero();
-    if (const ceres::Manifold* manifold = problem.GetManifold(ct[c].data())) {  // the scale camera: |t| held
-      Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor> plus(3, size);
-      manifold->PlusJacobian(ct[c].data(), plus.data());
-      t_cov = plus * tangent * plus.transpose();
-    } else {
-      t_cov = tangent;
-    }
-    const Eigen::Matrix3d r = Eigen::Quaterniond(cq[c].data()).toRotationMatrix();
-    out[c] = variance * r.transpose() * t_cov * r;  // C = -R^T t; R's own uncertainty is far smaller
-  }
-  return out;
-}
-
-}  // namespace
 
 namespace {
 

@@ -1,5 +1,5 @@
 // A one-line progress display on stderr: "label  12/40" rewritten in place on a terminal,
-// printed at 25% steps otherwise (logs stay short).
+// printed at 25% steps otherwise (logs stay short); and how a time left reads in such lines.
 #pragma once
 
 #include <cstdio>
@@ -8,6 +8,20 @@
 #include <unistd.h>
 
 namespace rigsim::cli {
+
+// A time left for a progress line: "40 s", "12 min", "1.5 h"; "under 1 s" below a second.
+inline std::string DurationInWords(double s) {
+  char buf[32];
+  if (s < 1) return "under 1 s";
+  if (s < 90) {
+    std::snprintf(buf, sizeof buf, "%.0f s", s);
+  } else if (s < 5400) {
+    std::snprintf(buf, sizeof buf, "%.0f min", s / 60);
+  } else {
+    std::snprintf(buf, sizeof buf, "%.1f h", s / 3600);
+  }
+  return buf;
+}
 
 class Progress {
  public:

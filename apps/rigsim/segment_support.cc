@@ -7,23 +7,11 @@
 #include <unistd.h>
 
 #include "apps/rigsim/interrupt.h"
+#include "apps/rigsim/progress.h"
 #include "labels/cityscapes.h"
 
 namespace rigsim::cli {
 namespace {
-
-std::string TimeLeft(double s) {
-  char buf[32];
-  if (s < 1) return "under 1 s";
-  if (s < 90) {
-    std::snprintf(buf, sizeof buf, "%.0f s", s);
-  } else if (s < 5400) {
-    std::snprintf(buf, sizeof buf, "%.0f min", s / 60);
-  } else {
-    std::snprintf(buf, sizeof buf, "%.1f h", s / 3600);
-  }
-  return buf;
-}
 
 std::array<double, 3> Three(const std::vector<double>& v, const char* option) {
   if (v.size() != 3) {
@@ -107,7 +95,7 @@ SegmentDatasetSummary SegmentWithProgress(const std::vector<SegmentedPhoto>& pho
     summary = SegmentPhotos(photos, segmenter, out_dir, [&](int done, int total) {
       const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       std::string line = "segmenting " + std::to_string(done) + "/" + std::to_string(total) + " photos";
-      if (done < total) line += ", about " + TimeLeft(elapsed / done * (total - done)) + " left";
+      if (done < total) line += ", about " + DurationInWords(elapsed / done * (total - done)) + " left";
       if (tty) {
         std::fprintf(stderr, "\r\033[K%s%s", line.c_str(), done == total ? "\n" : "");
       } else if (done * 4 / total != last_quarter || done == total) {

@@ -10,6 +10,7 @@
 
 #include "apps/rigsim/commands.h"
 #include "apps/rigsim/parse_errors.h"
+#include "apps/rigsim/progress.h"
 #include "apps/rigsim/interrupt.h"
 #include "apps/rigsim/shard_options.h"
 #include "calibrator/features.h"
@@ -26,18 +27,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string Duration(double s) {
-  char buf[32];
-  if (s < 90) {
-    std::snprintf(buf, sizeof buf, "%.0f s", s);
-  } else if (s < 5400) {
-    std::snprintf(buf, sizeof buf, "%.0f min", s / 60);
-  } else {
-    std::snprintf(buf, sizeof buf, "%.1f h", s / 3600);
-  }
-  return buf;
-}
-
 // One line on stderr, rewritten in place on a terminal; a line per finished cell otherwise.
 class SweepProgressLine {
  public:
@@ -46,7 +35,7 @@ class SweepProgressLine {
     std::string line = "sweep: " + std::to_string(p.done) + "/" + std::to_string(p.total) + " cells";
     if (p.resumed > 0) line += " (" + std::to_string(p.resumed) + " from an earlier run)";
     if (p.failed_rows > 0) line += ", " + std::to_string(p.failed_rows) + " failed runs";
-    line += p.eta_s >= 0 ? ", about " + Duration(p.eta_s) + " left" : "";
+    line += p.eta_s >= 0 ? ", about " + DurationInWords(p.eta_s) + " left" : "";
     if (tty_) {
       std::string full = line + "  [" + p.current + "]";
       if (full.size() > 150) full = full.substr(0, 147) + "...";

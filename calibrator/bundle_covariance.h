@@ -1,0 +1,35 @@
+// The covariances the multi-frame rig bundle adjustment reports (multi_frame_rig.cc): the reduced
+// system over the pose blocks after the points are eliminated, and each camera's centre from it.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+#include <ceres/problem.h>
+
+namespace rigsim {
+
+// The inverse of J^T J (robustified Jacobian, in the tangent spaces of the manifolds) over the
+// pose blocks (and the intrinsics blocks when refined: every block that is not a point) after the
+// points are eliminated (Schur complement), in units of the variance of one residual coordinate.
+// The gauge is fixed by the problem itself (camera 0 and frame 0 constant, the scale camera's
+// |t|). Directions the data barely fix have tiny eigenvalues in the reduced system and come out
+// with a huge variance (a pseudo-inverse, not a failure: a camera next to camera 0 must read as
+// uncertain, not as missing).
+struct ReducedCovariance {
+  Eigen::MatrixXd covariance;
+  std::map<const double*, int> offset;  // tangent column of each adjusted pose block
+};
+
+ReducedCovariance PoseCovariance(ceres::Problem& problem, const std::vector<double*>& pose_blocks);
+
+// Covariance of each camera's centre in the rig (C = -R^T t of cam_from_rig, whose translation
+// block is `ct[c]`) at the solution, `variance` being that of one image coordinate. nullopt for
+// cameras not adjusted.
+std::vector<std::optional<Eigen::Matrix3d>> CentreCovariances(ceres::Problem& problem, const ReducedCovariance& reduced,
+                                                              const std::vector<Eigen::Vector4d>& cq,
+                                                              const std::vector<Eigen::Vector3d>& ct, double variance);
+
+}  // namespace rigsim
