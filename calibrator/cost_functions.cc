@@ -1,5 +1,7 @@
 #include "calibrator/cost_functions.h"
 
+#include <ceres/solver.h>
+
 namespace rigsim {
 
 template <int kNumIntrinsics>
@@ -17,5 +19,18 @@ template bool EvaluateRigReprojectionWithIntrinsics<8>(const RigReprojectionCost
                                                        double**);
 template bool EvaluateRigReprojectionWithIntrinsics<12>(const RigReprojectionCost&, double const* const*, double*,
                                                         double**);
+
+void SolveRotationProblem(ceres::Problem& problem, int max_iterations) {
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  solver_options.max_num_iterations = max_iterations;
+  solver_options.function_tolerance = 1e-12;
+  solver_options.gradient_tolerance = 1e-14;
+  solver_options.parameter_tolerance = 1e-12;
+  solver_options.num_threads = 1;
+  solver_options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem, &summary);
+}
 
 }  // namespace rigsim

@@ -19,6 +19,7 @@
 #include <Eigen/Geometry>
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/cost_function.h>
+#include <ceres/problem.h>
 #include <ceres/rotation.h>
 #include <ceres/sized_cost_function.h>
 
@@ -56,6 +57,10 @@ struct EpipolarAngularCost {
 
   Eigen::Vector3d fa_, fb_;
 };
+
+// Solves a problem of rotation costs (rotation averaging: a few unknowns, so solved to full
+// convergence, on one thread for the same bits on every run).
+void SolveRotationProblem(ceres::Problem& problem, int max_iterations);
 
 // Residual of a relative rotation R_ab against R_b R_a^T as an angle-axis vector, scaled by the
 // edge weight. Parameters: the rotations (4 each) of cam_a_from_rig and cam_b_from_rig.

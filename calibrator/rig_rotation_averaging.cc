@@ -155,16 +155,7 @@ void Refine(const std::vector<ViewPairRotation>& ms, const std::vector<char>& ou
   };
   for (size_t c = 0; c < qv.size(); ++c) set_up(qv[c], c == 0);
   for (size_t k = 0; k < rv.size(); ++k) set_up(rv[k], k == 0);
-  ceres::Solver::Options solver_options;
-  solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-  solver_options.max_num_iterations = options.max_iterations;
-  solver_options.function_tolerance = 1e-12;
-  solver_options.gradient_tolerance = 1e-14;
-  solver_options.parameter_tolerance = 1e-12;
-  solver_options.num_threads = 1;
-  solver_options.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver_options, &problem, &summary);
+  SolveRotationProblem(problem, options.max_iterations);
   for (size_t c = 0; c < q->size(); ++c) {
     if ((*q)[c]) (*q)[c] = qv[c].normalized();
   }

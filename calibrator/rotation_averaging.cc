@@ -145,16 +145,7 @@ RotationAveragingResult AverageRotations(const ViewGraph& graph, int reference_c
       if (problem.HasParameterBlock(q[reference_camera].coeffs().data())) {
         problem.SetParameterBlockConstant(q[reference_camera].coeffs().data());  // the gauge
       }
-      ceres::Solver::Options solver_options;
-      solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-      solver_options.max_num_iterations = options.max_iterations;
-      solver_options.function_tolerance = 1e-12;
-      solver_options.gradient_tolerance = 1e-14;
-      solver_options.parameter_tolerance = 1e-12;
-      solver_options.num_threads = 1;
-      solver_options.logging_type = ceres::SILENT;
-      ceres::Solver::Summary summary;
-      ceres::Solve(solver_options, &problem, &summary);
+      SolveRotationProblem(problem, options.max_iterations);
       for (int c = 0; c < graph.num_cameras; ++c) {
         if (rot[c]) rot[c] = q[c].normalized();
       }
