@@ -212,6 +212,33 @@ bool LosesOwnTracks(const RigObservations& obs, const RigCalibrationResult& resu
   return false;
 }
 
+RigCalibrationResult::MotionLinkSummary SummaryOf(const MotionLinks& links, bool kept, int pairs_used) {
+  RigCalibrationResult::MotionLinkSummary summary;
+  summary.kept = kept;
+  summary.motion = links.motion.kind;
+  summary.candidates = links.num_candidates;
+  summary.pairs = static_cast<int>(links.cross_time.size());
+  summary.pairs_used = pairs_used;
+  summary.time_s = links.time_s;
+  return summary;
+}
+
+// A camera the motion stage did not place either: its status says what the rig's motion gave for
+// it (hand-eye's finding, the view pairs matched with it across time), so that a user sees why.
+void SayWhatTheMotionFound(const MotionLinks& links, RigCalibrationResult* result) {
+  result->motion_links = SummaryOf(links, false, 0);
+  for (size_t c = 1; c < result->camera_status.size() && c < links.hand_eye.size(); ++c) {
+    CameraStatus& s = result->camera_status[c];
+    if (s.outcome != CameraOutcome::kNotConnected && s.outcome != CameraOutcome::kRotationOnly) continue;
+    int pairs = 0;
+    for (const CrossTimePairEstimate& x : links.cross_time) pairs += x.cam_a == static_cast<int>(c) || x.cam_b == static_cast<int>(c);
+    const HandEyeCamera& h = links.hand_eye[c];
+    const std::string hand_eye = h.status == HandEyeStatus::kSolved ? "solved, but the joint solution did not hold" : h.reason;
+    s.reason += "; nor did the rig's motion place it (hand-eye: " + hand_eye + "; " + std::to_string(pairs) +
+                " view pair(s) matched with it across time)";
+  }
+}
+
 }  // namespace
 
 void MotionLinkOptions::Check() const {
@@ -300,6 +327,7 @@ RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, cons
   if (links.cross_time.empty() && std::none_of(links.hand_eye.begin() + 1, links.hand_eye.end(), [](const HandEyeCamera& h) {
         return h.status == HandEyeStatus::kSolved;
       })) {
+    SayWhatTheMotionFound(links, &first);
     return first;
   }
   RigObservations linked = obs;
@@ -308,13 +336,11 @@ RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, cons
   linked.hand_eye_rotation = links.hand_eye_rotation;
   linked.open_axis = links.open_axis;
   RigCalibrationResult second = EstimateRig(linked, options);
-  if (CamerasPlaced(second) <= CamerasPlaced(first) || LosesOwnTracks(obs, second)) return first;
-  RigCalibrationResult::MotionLinkSummary& summary = second.motion_links.emplace();
-  summary.motion = links.motion.kind;
-  summary.candidates = links.num_candidates;
-  summary.pairs = static_cast<int>(links.cross_time.size());
-  summary.pairs_used = second.num_cross_time_pairs_used;
-  summary.time_s = links.time_s;
+  if (CamerasPlaced(second) <= CamerasPlaced(first) || LosesOwnTracks(obs, second)) {
+    SayWhatTheMotionFound(links, &first);
+    return first;
+  }
+  second.motion_links = SummaryOf(links, true, second.num_cross_time_pairs_used);
   return second;
 }
 

@@ -327,9 +327,11 @@ struct RigCalibrationResult {
   double position_eigenvalue_ratio = 0.0;
   // The bundle adjustment's starts and how each ended.
   std::vector<RigStartSummary> position_starts;
-  // The motion stage (motion_links.h) when its result was kept: the motion's kind, the view pairs
-  // matched across time, the successful ones, those rotation averaging kept, and its time.
+  // The motion stage (motion_links.h) when it ran: whether its result was kept (it placed more
+  // cameras), the motion's kind, the view pairs matched across time, the successful ones, those
+  // rotation averaging kept, and its time.
   struct MotionLinkSummary {
+    bool kept = false;
     MotionKind motion = MotionKind::kStraight;
     int candidates = 0;
     int pairs = 0;
