@@ -270,7 +270,7 @@ std::string FormatRigScores(const std::vector<RigScores>& all) {
       const std::string pos = cs.position_error_m ? Deg(cs.position_error_m, all[m].metric ? "%.3f m" : "%.3f") : "-";
       const char* pose = c == 0        ? (cs.posed ? "reference" : "missing")
                          : cs.posed     ? "full pose"
-                         : cs.open_axis ? "placed but for one axis (t_dir_err: of its centre across the axis)"
+                         : cs.open_axis ? "placed but for one axis (t_dir_err: its centre across the axis)"
                          : cs.has_rotation ? "rotation only"
                                            : "missing";
       const std::optional<double>& direction = cs.open_axis ? cs.across_axis_direction_error_deg : cs.direction_error_deg;
