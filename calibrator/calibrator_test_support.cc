@@ -99,6 +99,9 @@ std::vector<CameraErrors> ErrorsAgainst(const Rig& truth, const RigCalibrationRe
   for (size_t c = 0; c < result.rig.cameras.size(); ++c) {
     e.cam_from_rig.push_back(result.rig.cameras[c].cam_from_rig);
     e.rotation_only.push_back(e.cam_from_rig.back() ? std::nullopt : result.cam_from_rig_rotation.at(c));
+    const bool open = c < result.open_axis.size() && result.open_axis[c] && result.partial_centre[c];
+    e.open_axis.push_back(open ? std::optional<OpenAxisCentre>({*result.open_axis[c], *result.partial_centre[c]})
+                               : std::nullopt);
   }
   return CalibrationCameraErrors(truth, e);
 }

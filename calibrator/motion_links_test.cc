@@ -138,6 +138,10 @@ TEST(MotionLinks, PlanarMotionWithoutSharedPointsLeavesTheHeightOpen) {
     const Eigen::Vector3d truth = s.rig.cameras[cam].cam_from_rig->SourceOriginInTarget();
     const Eigen::Vector3d axis = *c.result.open_axis[cam];
     EXPECT_LT(AngleBetweenDeg(*c.result.partial_centre[cam], truth - axis * axis.dot(truth)), 5.0);
+    // As evaluation.json scores it (in camera 0's frame, evaluation/rig_scores.h).
+    ASSERT_TRUE(c.errors[cam].across_axis_direction_error_deg.has_value());
+    EXPECT_LT(*c.errors[cam].across_axis_direction_error_deg, 5.0);
+    EXPECT_FALSE(c.errors[cam].direction_error_deg.has_value());
   }
 }
 

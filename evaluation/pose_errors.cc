@@ -16,6 +16,18 @@ std::optional<double> TranslationDirectionErrorDeg(const Rigid3d& est, const Rig
   return RadToDeg(std::atan2(a.cross(b).norm(), a.dot(b)));
 }
 
+Eigen::Vector3d AcrossAxis(const Eigen::Vector3d& axis, const Eigen::Vector3d& v) {
+  const Eigen::Vector3d a = axis.normalized();
+  return v - a * a.dot(v);
+}
+
+std::optional<double> AcrossAxisDirectionErrorDeg(const Eigen::Vector3d& axis, const Eigen::Vector3d& est_centre_across,
+                                                  const Eigen::Vector3d& true_centre, double min_norm) {
+  const Eigen::Vector3d est = AcrossAxis(axis, est_centre_across), truth = AcrossAxis(axis, true_centre);
+  if (est.norm() <= min_norm || truth.norm() <= min_norm) return std::nullopt;
+  return RadToDeg(std::atan2(est.cross(truth).norm(), est.dot(truth)));
+}
+
 double PoseAuc(const std::vector<double>& errors_deg, double threshold_deg) {
   if (errors_deg.empty() || !(threshold_deg > 0)) return 0.0;
   std::vector<double> e;

@@ -21,6 +21,21 @@ TEST(PoseErrors, KnownOffsets) {
   EXPECT_FALSE(TranslationDirectionErrorDeg(gt, Rigid3d(gt.rotation, Eigen::Vector3d::Zero())).has_value());
 }
 
+// The direction across an axis ignores both centres' components along the axis and the estimate's
+// scale; a true centre on the axis has none.
+TEST(PoseErrors, AcrossAxisDirection) {
+  const Eigen::Vector3d axis = Eigen::Vector3d(1, 2, 2).normalized();
+  const Eigen::Vector3d across = axis.unitOrthogonal();
+  const Eigen::Vector3d turned = Eigen::AngleAxisd(DegToRad(4.0), axis) * across;
+  const Eigen::Vector3d truth = 2.0 * across + 5.0 * axis;
+  EXPECT_NEAR(AcrossAxisDirectionErrorDeg(axis, 0.1 * turned, truth).value(), 4.0, 1e-9);
+  EXPECT_NEAR(AcrossAxisDirectionErrorDeg(axis, 0.1 * turned - 3.0 * axis, truth - 4.0 * axis).value(), 4.0, 1e-9);
+  EXPECT_NEAR(AcrossAxisDirectionErrorDeg(-3.0 * axis, turned, truth).value(), 4.0, 1e-9);  // either sign, any length
+  EXPECT_FALSE(AcrossAxisDirectionErrorDeg(axis, turned, 3.0 * axis).has_value());
+  EXPECT_FALSE(AcrossAxisDirectionErrorDeg(axis, 2.0 * axis, truth).has_value());
+  EXPECT_NEAR(AcrossAxis(2.0 * axis, truth).dot(axis), 0.0, 1e-12);
+}
+
 TEST(PoseAuc, RecallCurveArea) {
   const double inf = std::numeric_limits<double>::infinity();
   EXPECT_NEAR(PoseAuc({0.0, 0.0}, 5.0), 1.0, 1e-12);

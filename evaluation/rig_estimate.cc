@@ -40,6 +40,7 @@ RigEstimate Empty(const std::string& method, size_t n) {
   e.method = method;
   e.cam_from_rig.assign(n, std::nullopt);
   e.rotation_only.assign(n, std::nullopt);
+  e.open_axis.assign(n, std::nullopt);
   return e;
 }
 
@@ -47,6 +48,33 @@ RigEstimate FromRig(const Rig& rig, const Rig& truth, const std::string& method,
   RigEstimate e = Empty(method, truth.cameras.size());
   for (const RigCamera& rc : rig.cameras) e.cam_from_rig[CameraIndex(truth, rc.name, source)] = rc.cam_from_rig;
   return e;
+}
+
+// A camera entry's 3-vector `key` of evaluation.json; throws naming the file and the camera.
+Eigen::Vector3d Vector3Of(const Json& cam, const char* key, const std::string& source) {
+  const Json v = cam.value(key, Json());
+  if (!v.is_array() || v.size() != 3 || !std::all_of(v.begin(), v.end(), [](const Json& x) { return x.is_number(); })) {
+    throw std::runtime_error(source + ": camera '" + cam.value("name", "") + "': \"" + key + "\" is not 3 numbers");
+  }
+  const Eigen::Vector3d out(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
+  if (!out.allFinite()) {
+    throw std::runtime_error(source + ": camera '" + cam.value("name", "") + "': \"" + key + "\" is not finite");
+  }
+  return out;
+}
+
+// A camera "placed but for one axis" (evaluation.json's open_axis and centre_across_axis), or
+// nullopt for a camera without them.
+std::optional<OpenAxisCentre> OpenAxisOf(const Json& cam, const std::string& source) {
+  if (!cam.contains("open_axis") || cam["open_axis"].is_null()) return std::nullopt;
+  OpenAxisCentre open;
+  open.axis = Vector3Of(cam, "open_axis", source);
+  open.centre_across_axis = Vector3Of(cam, "centre_across_axis", source);
+  if (!(open.axis.norm() > 1e-12)) {
+    throw std::runtime_error(source + ": camera '" + cam.value("name", "") + "': \"open_axis\" is not a direction");
+  }
+  open.axis.normalize();
+  return open;
 }
 
 // The chordal mean of rotations (sign-invariant): the dominant eigenvector of sum q q^T.
@@ -82,8 +110,10 @@ std::vector<RigEstimate> FromCalibrationFolder(const fs::path& dir, const Rig& t
         continue;
       }
       const Json& q = cam["rotation_wxyz"];
-      e.rotation_only[CameraIndex(truth, cam.value("name", ""), evaluation_path.string())] =
+      const size_t c = CameraIndex(truth, cam.value("name", ""), evaluation_path.string());
+      e.rotation_only[c] =
           Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(), q[3].get<double>()).normalized();
+      e.open_axis[c] = OpenAxisOf(cam, evaluation_path.string());
     }
     e.metric = rig.value("summary", Json::object()).value("metric_scale", false);
     e.details = {{"timing", method.value("timing", Json::object())},

@@ -2,7 +2,8 @@
 // is scored by the same code (evaluation/rig_scores.h):
 //   - a rig.json (rigsim's format: cameras with cam_from_rig, cameras without one unplaced);
 //   - a calibration folder written by `rigsim calibrate` (evaluation.json and <mode>/rig.json):
-//     one estimate per semantic mode, "rotation only" cameras with their rotation;
+//     one estimate per semantic mode, "rotation only" cameras with their rotation, cameras "placed
+//     but for one axis" with their rotation, open axis and centre across it;
 //   - a COLMAP text model (a folder with images.txt, or the mapper's sparse/ with sub-models, of
 //     which the one with the most images is read) of the dataset's photos, named <cam>/<frame>.*
 //     as `rigsim export --format colmap` and COLMAP on DATASET/images name them: each camera's
@@ -26,12 +27,23 @@
 
 namespace rigsim {
 
-// What a tool estimated: per camera of the truth (same order), a full pose, a rotation only, or
-// nothing.
+// The part of a camera's centre that a motion about one axis fixes (rigsim's "placed but for one
+// axis"), in the estimate's rig frame and unit of length: the axis along which the centre is open
+// (unit), and the centre without its component along that axis.
+struct OpenAxisCentre {
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitY();
+  Eigen::Vector3d centre_across_axis = Eigen::Vector3d::Zero();
+};
+
+// What a tool estimated: per camera of the truth (same order), a full pose, a rotation only (with,
+// for a camera placed but for one axis, its centre across the axis), or nothing.
 struct RigEstimate {
   std::string method;  // "none", "mask", ... (a calibration's modes), "colmap", "kalibr", "rig.json"
   std::vector<std::optional<Rigid3d>> cam_from_rig;
-  std::vector<std::optional<Eigen::Quaterniond>> rotation_only;  // cameras with a rotation and no position
+  std::vector<std::optional<Eigen::Quaterniond>> rotation_only;  // cameras with a rotation and no full pose
+  // Of a camera with rotation_only: the part of its centre the estimate fixes, when it fixes all but
+  // one axis.
+  std::vector<std::optional<OpenAxisCentre>> open_axis;
   bool metric = false;  // translations in metres (position errors without a scale fit)
   std::vector<std::string> notes;  // what the reader could not use, e.g. images not registered
   // What the tool reported besides the poses (a calibration's timing and match statistics), as it

@@ -151,6 +151,53 @@ TEST(RigEstimate, ACalibrationFolderGivesOneEstimatePerModeWithItsRotationOnlyCa
   EXPECT_FALSE(ReadRigEstimates(dir, truth, Frames(), EstimateScale::kFit)[0].metric);
 }
 
+// evaluation.json's open_axis and centre_across_axis (in the calibration's rig frame) come back as
+// the camera's open-axis part, and are scored as such.
+TEST(RigEstimate, ACalibrationFolderGivesItsCamerasPlacedButForOneAxis) {
+  const TempDir dir;
+  const Rig truth = Truth();
+  Rig estimate = truth;
+  estimate.cameras[2].cam_from_rig.reset();
+  fs::create_directories(dir / "none");
+  WriteRig(estimate, dir / "none" / "rig.json");
+  // A point on the line through cam2's centre along the axis, seen from cam0's centre (not the rig
+  // origin here) turned 2 deg about the axis: the direction across the axis from camera 0 is 2 deg off.
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d cam0 = truth.cameras[0].cam_from_rig->SourceOriginInTarget();
+  const Eigen::Vector3d from_cam0 = truth.cameras[2].cam_from_rig->SourceOriginInTarget() - cam0;
+  const Eigen::Vector3d across = cam0 + Eigen::AngleAxisd(DegToRad(2.0), up) * (from_cam0 - up * up.dot(from_cam0));
+  const Eigen::Quaterniond q = truth.cameras[2].cam_from_rig->rotation;
+  nlohmann::json cam2 = {{"name", "cam2"},
+                         {"position_known", false},
+                         {"rotation_wxyz", {q.w(), q.x(), q.y(), q.z()}},
+                         {"open_axis", {0.0, -2.0, 0.0}},  // read as a unit axis
+                         {"centre_across_axis", {across.x(), across.y(), across.z()}}};
+  const auto write = [&] {
+    const nlohmann::json rig = {{"cameras", {cam2}}, {"summary", {{"metric_scale", false}}}};
+    WriteFile(dir / "evaluation.json", nlohmann::json{{"methods", {{"none", {{"rig", rig}}}}}}.dump());
+  };
+  write();
+  const std::vector<RigEstimate> e = ReadRigEstimates(dir, truth, Frames());
+  ASSERT_EQ(e.size(), 1u);
+  ASSERT_TRUE(e[0].open_axis[2].has_value());
+  EXPECT_TRUE(e[0].open_axis[2]->axis.isApprox(-up));
+  EXPECT_FALSE(e[0].open_axis[1].has_value());
+  const RigScores s = ScoreRig(truth, e[0]);
+  EXPECT_EQ(s.cameras_open_axis, 1);
+  EXPECT_EQ(s.cameras_rotation_only, 0);
+  EXPECT_NEAR(s.cameras[2].across_axis_direction_error_deg.value(), 2.0, 1e-9);
+  // A malformed part is refused naming the file and the camera.
+  cam2["open_axis"] = {0.0, 0.0, 0.0};
+  write();
+  EXPECT_THAT([&] { ReadRigEstimates(dir, truth, Frames()); },
+              ThrowsWith<std::runtime_error>("evaluation.json: camera 'cam2': \"open_axis\" is not a direction"));
+  cam2["open_axis"] = {0.0, 1.0, 0.0};
+  cam2.erase("centre_across_axis");
+  write();
+  EXPECT_THAT([&] { ReadRigEstimates(dir, truth, Frames()); },
+              ThrowsWith<std::runtime_error>("evaluation.json: camera 'cam2': \"centre_across_axis\" is not 3 numbers"));
+}
+
 TEST(RigEstimate, AnUnknownFileIsRefusedSayingWhatIsRead) {
   const TempDir dir;
   WriteFile(dir / "poses.txt", "1 2 3\n");

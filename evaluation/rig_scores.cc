@@ -38,7 +38,7 @@ std::optional<double> Max(const std::vector<double>& v) {
 RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate) {
   const size_t n = truth.cameras.size();
   if (!truth.HasAllPoses()) throw std::invalid_argument("ScoreRig: the truth needs every camera's cam_from_rig");
-  if (estimate.cam_from_rig.size() != n || estimate.rotation_only.size() != n) {
+  if (estimate.cam_from_rig.size() != n || estimate.rotation_only.size() != n || estimate.open_axis.size() != n) {
     throw std::invalid_argument("ScoreRig: the estimate needs one entry per camera of the truth");
   }
   RigScores s;
@@ -52,6 +52,7 @@ RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate) {
   const std::optional<Rigid3d>& est_cam0 = estimate.cam_from_rig[0];
   std::vector<std::optional<Rigid3d>> est_from_cam0(n);
   std::vector<std::optional<Eigen::Quaterniond>> est_rotation(n);  // of cam_c_from_cam0
+  std::vector<std::optional<OpenAxisCentre>> est_open_axis(n);      // in camera 0's frame
   for (size_t c = 0; c < n; ++c) {
     if (!est_cam0) break;  // without camera 0 nothing is in the gauge
     if (estimate.cam_from_rig[c]) {
@@ -59,6 +60,12 @@ RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate) {
       est_rotation[c] = est_from_cam0[c]->rotation;
     } else if (estimate.rotation_only[c]) {
       est_rotation[c] = *estimate.rotation_only[c] * est_cam0->rotation.inverse();
+      if (const std::optional<OpenAxisCentre>& open = estimate.open_axis[c]) {
+        // The centre is c_across + t axis for an unknown t: its part across the axis in camera 0's
+        // frame is that of any such point.
+        const Eigen::Vector3d axis = est_cam0->rotation * open->axis;
+        est_open_axis[c] = OpenAxisCentre{axis, AcrossAxis(axis, *est_cam0 * open->centre_across_axis)};
+      }
     }
   }
   if (!est_cam0) s.notes.push_back("no pose for the reference camera " + truth.cameras[0].name + ": nothing scored");
@@ -72,14 +79,16 @@ RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate) {
   }
   s.scale = estimate.metric ? 1.0 : (den > 0 ? num / den : 1.0);
 
-  std::vector<double> rotation_errors, direction_errors, position_errors, camera_pose_errors;
+  std::vector<double> rotation_errors, direction_errors, position_errors, camera_pose_errors, across_errors;
   for (size_t c = 0; c < n; ++c) {
     CameraScore cs;
     cs.name = truth.cameras[c].name;
     cs.posed = est_from_cam0[c].has_value();
     cs.has_rotation = est_rotation[c].has_value();
+    cs.open_axis = est_open_axis[c].has_value();
     s.cameras_posed += cs.posed;
-    s.cameras_rotation_only += cs.has_rotation && !cs.posed;
+    s.cameras_rotation_only += cs.has_rotation && !cs.posed && !cs.open_axis;
+    s.cameras_open_axis += cs.open_axis;
     if (c == 0) {
       cs.pose_error_deg = cs.posed ? 0.0 : kInf;
       if (cs.posed) cs.rotation_error_deg = 0.0;
@@ -103,7 +112,16 @@ RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate) {
     const bool true_has_direction = Centre(true_from_cam0[c]).norm() > 1e-9;
     cs.pose_error_deg = PoseErrorDeg(cs.posed, cs.rotation_error_deg, cs.direction_error_deg, true_has_direction);
     camera_pose_errors.push_back(cs.pose_error_deg);
-    s.confidently_wrong += ConfidentlyWrong(cs.posed, cs.pose_error_deg);
+    double placed_error_deg = cs.pose_error_deg;  // of what the estimate claims of the camera's place
+    if (cs.open_axis) {
+      const OpenAxisCentre& open = *est_open_axis[c];
+      const Eigen::Vector3d true_centre = Centre(true_from_cam0[c]);
+      cs.across_axis_direction_error_deg = AcrossAxisDirectionErrorDeg(open.axis, open.centre_across_axis, true_centre);
+      if (cs.across_axis_direction_error_deg) across_errors.push_back(*cs.across_axis_direction_error_deg);
+      const bool true_has_across = AcrossAxis(open.axis, true_centre).norm() > 1e-9;
+      placed_error_deg = OpenAxisErrorDeg(cs.rotation_error_deg, cs.across_axis_direction_error_deg, true_has_across);
+    }
+    s.confidently_wrong += ConfidentlyWrong(cs.posed || cs.open_axis, placed_error_deg);
     s.cameras.push_back(cs);
   }
 
@@ -133,6 +151,7 @@ RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate) {
   s.max_rotation_error_deg = Max(rotation_errors);
   s.max_direction_error_deg = Max(direction_errors);
   s.max_position_error_m = Max(position_errors);
+  s.max_across_axis_direction_error_deg = Max(across_errors);
   if (!rotation_errors.empty()) s.median_rotation_error_deg = Median(rotation_errors);
   if (!direction_errors.empty()) s.median_direction_error_deg = Median(direction_errors);
   for (int t = 0; t < 4; ++t) {
@@ -147,7 +166,7 @@ RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate) {
 std::vector<CameraErrors> CalibrationCameraErrors(const Rig& truth, const RigEstimate& estimate) {
   const size_t n = truth.cameras.size();
   if (!truth.HasAllPoses()) throw std::invalid_argument("CalibrationCameraErrors: the truth needs every camera's cam_from_rig");
-  if (estimate.cam_from_rig.size() != n || estimate.rotation_only.size() != n) {
+  if (estimate.cam_from_rig.size() != n || estimate.rotation_only.size() != n || estimate.open_axis.size() != n) {
     throw std::invalid_argument("CalibrationCameraErrors: the estimate needs one entry per camera of the truth");
   }
   std::vector<CameraErrors> out(n);
@@ -158,7 +177,12 @@ std::vector<CameraErrors> CalibrationCameraErrors(const Rig& truth, const RigEst
     const Rigid3d gt = *truth.cameras[c].cam_from_rig * rig_from_cam0;
     CameraErrors& e = out[c];
     if (!est) {
-      if (estimate.rotation_only[c]) e.rotation_error_deg = RotationDifferenceDeg(*estimate.rotation_only[c], gt.rotation);
+      if (!estimate.rotation_only[c]) continue;
+      e.rotation_error_deg = RotationDifferenceDeg(*estimate.rotation_only[c], gt.rotation);
+      if (const std::optional<OpenAxisCentre>& open = estimate.open_axis[c]) {
+        e.across_axis_direction_error_deg =
+            AcrossAxisDirectionErrorDeg(open->axis, open->centre_across_axis, gt.SourceOriginInTarget());
+      }
       continue;
     }
     e.rotation_error_deg = RotationErrorDeg(*est, gt);
@@ -189,8 +213,10 @@ nlohmann::json RigScoresToJson(const RigScores& s) {
     cameras.push_back({{"name", c.name},
                        {"posed", c.posed},
                        {"has_rotation", c.has_rotation},
+                       {"open_along_axis", c.open_axis},
                        {"rotation_error_deg", Opt(c.rotation_error_deg)},
                        {"translation_direction_error_deg", Opt(c.direction_error_deg)},
+                       {"across_axis_direction_error_deg", Opt(c.across_axis_direction_error_deg)},
                        {"position_error_m", Opt(c.position_error_m)},
                        {"pose_error_deg", Finite(c.pose_error_deg)}});
   }
@@ -212,6 +238,7 @@ nlohmann::json RigScoresToJson(const RigScores& s) {
            {{"cameras", s.cameras.size()},
             {"cameras_posed", s.cameras_posed},
             {"cameras_rotation_only", s.cameras_rotation_only},
+            {"cameras_open_axis", s.cameras_open_axis},
             {"success_1deg", s.success_1deg},
             {"success_2deg", s.success_2deg},
             {"confidently_wrong", s.confidently_wrong},
@@ -220,6 +247,7 @@ nlohmann::json RigScoresToJson(const RigScores& s) {
             {"max_translation_direction_error_deg", Opt(s.max_direction_error_deg)},
             {"median_translation_direction_error_deg", Opt(s.median_direction_error_deg)},
             {"max_position_error_m", Opt(s.max_position_error_m)},
+            {"max_across_axis_direction_error_deg", Opt(s.max_across_axis_direction_error_deg)},
             {"metric", s.metric},
             {"position_scale", s.scale},
             {"pose_auc_cameras", auc_cameras},
@@ -240,11 +268,15 @@ std::string FormatRigScores(const std::vector<RigScores>& all) {
     for (size_t m = 0; m < all.size(); ++m) {
       const CameraScore& cs = all[m].cameras[c];
       const std::string pos = cs.position_error_m ? Deg(cs.position_error_m, all[m].metric ? "%.3f m" : "%.3f") : "-";
-      const char* pose = c == 0 ? (cs.posed ? "reference" : "missing")
-                         : cs.posed ? "full pose" : cs.has_rotation ? "rotation only" : "missing";
+      const char* pose = c == 0        ? (cs.posed ? "reference" : "missing")
+                         : cs.posed     ? "full pose"
+                         : cs.open_axis ? "placed but for one axis (t_dir_err: its centre across the axis)"
+                         : cs.has_rotation ? "rotation only"
+                                           : "missing";
+      const std::optional<double>& direction = cs.open_axis ? cs.across_axis_direction_error_deg : cs.direction_error_deg;
       std::snprintf(line, sizeof line, "%-12s %-12s %12s %12s %12s  %s\n", m == 0 ? cs.name.c_str() : "",
-                    all[m].method.c_str(), Deg(cs.rotation_error_deg).c_str(), Deg(cs.direction_error_deg).c_str(),
-                    pos.c_str(), pose);
+                    all[m].method.c_str(), Deg(cs.rotation_error_deg).c_str(), Deg(direction).c_str(), pos.c_str(),
+                    pose);
       out += line;
     }
   }
@@ -260,6 +292,10 @@ std::string FormatRigScores(const std::vector<RigScores>& all) {
                                              Deg(kConfidentlyWrongDeg, "%g deg") + " off").c_str()
                                           : "");
     out += line;
+    if (s.cameras_open_axis > 0) {
+      out += "  " + std::to_string(s.cameras_open_axis) + " camera(s) placed but for one axis (no full pose), worst " +
+             "direction across the axis " + Deg(s.max_across_axis_direction_error_deg) + "\n";
+    }
     for (const std::string& note : s.notes) out += "  note: " + note + "\n";
   }
   return out;

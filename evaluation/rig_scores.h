@@ -10,8 +10,15 @@
 //                            cameras with a position (s = 1 when the estimate is metric); the
 //                            rotation and origin are fixed by the shared gauge, so this is the
 //                            similarity alignment of the two rigs;
+//   across-axis direction    of a camera placed but for one axis (RigEstimate::open_axis, no full
+//   error                    pose): angle between its estimated centre across the axis and its
+//                            true centre with the component along the same axis removed, both in
+//                            camera 0's frame (pose_errors.h AcrossAxisDirectionErrorDeg); none
+//                            where that true component is (near) zero (a camera on the axis);
 //   pose error               max(rotation error, direction error); infinite for a camera without
-//                            a full pose (a rotation-only camera has a rotation error only).
+//                            a full pose (a rotation-only camera has a rotation error only; one
+//                            placed but for one axis is judged confidently wrong on its rotation
+//                            and across-axis direction, verdicts.h OpenAxisErrorDeg).
 // Per camera pair (a < b): the same errors of cam_b_from_cam_a (direction of its translation).
 // AUC of the pose errors at 1, 2, 5 and 10 deg (missing poses count as failures), over cameras
 // and over pairs. The pose error, success and confidently wrong are evaluation/verdicts.h's.
@@ -34,8 +41,10 @@ struct CameraScore {
   std::string name;
   bool posed = false;          // full pose
   bool has_rotation = false;   // full pose or rotation only
+  bool open_axis = false;      // placed but for one axis: a rotation and the centre across the axis
   std::optional<double> rotation_error_deg;
   std::optional<double> direction_error_deg;
+  std::optional<double> across_axis_direction_error_deg;  // open_axis cameras
   std::optional<double> position_error_m;
   double pose_error_deg = 0.0;  // +inf when not posed; 0 for camera 0
 };
@@ -54,14 +63,16 @@ struct RigScores {
   double scale = 1.0;                // s of the position errors
   bool metric = false;
   int cameras_posed = 0;             // camera 0 included
-  int cameras_rotation_only = 0;
+  int cameras_rotation_only = 0;     // a rotation and nothing of the position
+  int cameras_open_axis = 0;         // placed but for one axis
   std::optional<double> max_rotation_error_deg, median_rotation_error_deg;
   std::optional<double> max_direction_error_deg, median_direction_error_deg;
   std::optional<double> max_position_error_m;
+  std::optional<double> max_across_axis_direction_error_deg;
   double auc_cameras[4] = {0, 0, 0, 0};  // at 1, 2, 5, 10 deg
   double auc_pairs[4] = {0, 0, 0, 0};
   bool success_1deg = false, success_2deg = false;  // RigSucceeds at kSuccessLimitsDeg
-  int confidently_wrong = 0;  // cameras ConfidentlyWrong (verdicts.h)
+  int confidently_wrong = 0;  // cameras ConfidentlyWrong (verdicts.h), placed but for one axis ones included
   std::vector<std::string> notes;
 };
 
@@ -76,7 +87,9 @@ RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate);
 // own camera 0 is its rig frame (a rigsim calibration): the rotation error of a full pose or a
 // rotation only (geometry/rigid3.h RotationDifferenceDeg against the truth with camera 0 as the
 // rig frame), the direction error when both centres are away from camera 0's (1e-9), the
-// position error of a metric estimate (no scale fitted; camera 0's included).
+// position error of a metric estimate (no scale fitted; camera 0's included), and of a camera placed
+// but for one axis the across-axis direction error (the estimate's axis and centre across it taken
+// in camera 0's frame, as ScoreRig).
 // ScoreRig measures the same errors another way (any estimate re-expressed in its camera 0's
 // frame, rotations by Eigen's angularDistance, which does not normalise): they agree to about
 // 1e-15 deg, not to the last digit, so one cannot replace the other without changing what
@@ -85,6 +98,7 @@ struct CameraErrors {
   std::optional<double> rotation_error_deg;
   std::optional<double> direction_error_deg;
   std::optional<double> position_error_m;
+  std::optional<double> across_axis_direction_error_deg;
 };
 // One per camera of `truth`; std::invalid_argument unless the truth has every cam_from_rig and
 // the estimate one entry per camera.

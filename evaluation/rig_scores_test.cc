@@ -29,8 +29,28 @@ RigEstimate EstimateOf(const Rig& rig, const std::string& method = "test") {
   for (const RigCamera& c : rig.cameras) {
     e.cam_from_rig.push_back(c.cam_from_rig);
     e.rotation_only.push_back(std::nullopt);
+    e.open_axis.push_back(std::nullopt);
   }
   return e;
+}
+
+// The truth but camera `cam` placed but for `axis` (unit): its rotation, and its centre across the
+// axis at a third of the true length (an estimate is up to scale), turned `turn_deg` about the axis.
+RigEstimate OpenAxisEstimate(const Rig& truth, size_t cam, const Eigen::Vector3d& axis, double turn_deg) {
+  RigEstimate e = EstimateOf(truth);
+  const Eigen::Vector3d centre = truth.cameras[cam].cam_from_rig->SourceOriginInTarget();
+  e.rotation_only[cam] = e.cam_from_rig[cam]->rotation;
+  e.cam_from_rig[cam].reset();
+  const Eigen::Vector3d across = centre - axis * axis.dot(centre);
+  e.open_axis[cam] = OpenAxisCentre{axis, Eigen::AngleAxisd(DegToRad(turn_deg), axis) * across / 3.0};
+  return e;
+}
+
+// `rig` with camera `cam` moved by `shift` (its rotation kept).
+Rig Moved(Rig rig, size_t cam, const Eigen::Vector3d& shift) {
+  Rigid3d& p = *rig.cameras[cam].cam_from_rig;
+  p.translation -= p.rotation * shift;
+  return rig;
 }
 
 TEST(RigScores, TheTruthInAnyRigFrameAndScoreIsPerfect) {
@@ -111,6 +131,90 @@ TEST(RigScores, MissingAndRotationOnlyCamerasAreFailuresNotZeros) {
   EXPECT_EQ(r.cameras_posed, 0);
   EXPECT_FALSE(r.success_1deg);
   EXPECT_FALSE(r.notes.empty());
+}
+
+TEST(RigScores, ACameraPlacedButForOneAxisIsScoredOnItsDirectionAcrossTheAxis) {
+  const Rig truth = Truth();
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitY();
+  const RigEstimate e = OpenAxisEstimate(truth, 1, up, 3.0);
+  const RigScores s = ScoreRig(truth, e);
+  EXPECT_EQ(s.cameras_posed, 2);
+  EXPECT_EQ(s.cameras_open_axis, 1);
+  EXPECT_EQ(s.cameras_rotation_only, 0);  // counted apart
+  const CameraScore& cam1 = s.cameras[1];
+  EXPECT_TRUE(cam1.open_axis);
+  EXPECT_NEAR(*cam1.rotation_error_deg, 0.0, 1e-6);
+  EXPECT_FALSE(cam1.direction_error_deg.has_value());
+  ASSERT_TRUE(cam1.across_axis_direction_error_deg.has_value());
+  EXPECT_NEAR(*cam1.across_axis_direction_error_deg, 3.0, 1e-9);
+  EXPECT_NEAR(*s.max_across_axis_direction_error_deg, 3.0, 1e-9);
+  EXPECT_TRUE(std::isinf(cam1.pose_error_deg));  // no full pose: never a success
+  EXPECT_FALSE(s.success_2deg);
+  EXPECT_EQ(s.confidently_wrong, 0);
+  // The same by the calibration's own measure.
+  const std::vector<CameraErrors> errors = CalibrationCameraErrors(truth, e);
+  EXPECT_NEAR(errors[1].across_axis_direction_error_deg.value(), 3.0, 1e-9);
+  EXPECT_FALSE(errors[1].direction_error_deg.has_value());
+  EXPECT_NEAR(errors[1].rotation_error_deg.value(), 0.0, 1e-6);
+  // The true centre's component along the axis is what the estimate leaves open: it does not count.
+  const Rig higher = Moved(truth, 1, 0.8 * up);
+  EXPECT_NEAR(ScoreRig(higher, e).cameras[1].across_axis_direction_error_deg.value(), 3.0, 1e-9);
+  EXPECT_NEAR(CalibrationCameraErrors(higher, e)[1].across_axis_direction_error_deg.value(), 3.0, 1e-9);
+  const nlohmann::json j = RigScoresToJson(s);
+  EXPECT_EQ(j["summary"]["cameras_open_axis"], 1);
+  EXPECT_NEAR(j["summary"]["max_across_axis_direction_error_deg"].get<double>(), 3.0, 1e-9);
+  EXPECT_EQ(j["cameras"][1]["open_along_axis"], true);
+  EXPECT_NEAR(j["cameras"][1]["across_axis_direction_error_deg"].get<double>(), 3.0, 1e-9);
+  EXPECT_TRUE(j["cameras"][2]["across_axis_direction_error_deg"].is_null());
+}
+
+// ScoreRig takes the axis and the centre across it into the estimate's camera 0 frame, as the poses.
+TEST(RigScores, ACameraPlacedButForOneAxisScoresTheSameInAnyRigFrame) {
+  const Rig truth = Truth();
+  RigEstimate e = OpenAxisEstimate(truth, 1, Eigen::Vector3d::UnitY(), 3.0);
+  const Rigid3d rig_from_other(Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized())),
+                               Eigen::Vector3d(3, -2, 5));
+  const Rigid3d other_from_rig = rig_from_other.Inverse();
+  for (auto& p : e.cam_from_rig) {
+    if (!p) continue;
+    p = *p * rig_from_other;
+    p->translation *= 0.5;
+  }
+  e.rotation_only[1] = *e.rotation_only[1] * rig_from_other.rotation;
+  OpenAxisCentre& open = *e.open_axis[1];
+  open.axis = other_from_rig.rotation * open.axis;
+  open.centre_across_axis = 0.5 * (other_from_rig * open.centre_across_axis);  // any point on the line
+  const RigScores s = ScoreRig(truth, e);
+  EXPECT_NEAR(*s.cameras[1].rotation_error_deg, 0.0, 1e-6);
+  EXPECT_NEAR(s.cameras[1].across_axis_direction_error_deg.value(), 3.0, 1e-9);
+}
+
+TEST(RigScores, ACameraPlacedButForOneAxisMoreThanFiveDegreesOffIsConfidentlyWrong) {
+  const Rig truth = Truth();
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitY();
+  EXPECT_EQ(ScoreRig(truth, OpenAxisEstimate(truth, 1, up, 4.0)).confidently_wrong, 0);
+  EXPECT_EQ(ScoreRig(truth, OpenAxisEstimate(truth, 1, up, 6.0)).confidently_wrong, 1);
+  RigEstimate turned = OpenAxisEstimate(truth, 1, up, 0.0);
+  turned.rotation_only[1] = Eigen::Quaterniond(Eigen::AngleAxisd(DegToRad(6.0), up)) * *turned.rotation_only[1];
+  const RigScores s = ScoreRig(truth, turned);
+  EXPECT_NEAR(*s.cameras[1].rotation_error_deg, 6.0, 1e-9);
+  EXPECT_EQ(s.confidently_wrong, 1);
+}
+
+TEST(RigScores, ACameraOnTheOpenAxisHasNoDirectionAcrossItToJudge) {
+  // cam2 sits 1 m ahead of cam0: on an axis along z through cam0, whatever its estimate says.
+  const Rig truth = Truth();
+  const Eigen::Vector3d ahead = Eigen::Vector3d::UnitZ();
+  RigEstimate e = OpenAxisEstimate(truth, 2, ahead, 0.0);
+  e.open_axis[2]->centre_across_axis = Eigen::Vector3d(0.1, 0, 0);
+  const RigScores s = ScoreRig(truth, e);
+  EXPECT_EQ(s.cameras_open_axis, 1);
+  EXPECT_FALSE(s.cameras[2].across_axis_direction_error_deg.has_value());
+  EXPECT_FALSE(s.max_across_axis_direction_error_deg.has_value());
+  EXPECT_FALSE(CalibrationCameraErrors(truth, e)[2].across_axis_direction_error_deg.has_value());
+  EXPECT_EQ(s.confidently_wrong, 0);  // judged on its rotation alone
+  e.rotation_only[2] = Eigen::Quaterniond(Eigen::AngleAxisd(DegToRad(6.0), ahead)) * *e.rotation_only[2];
+  EXPECT_EQ(ScoreRig(truth, e).confidently_wrong, 1);
 }
 
 }  // namespace

@@ -24,6 +24,13 @@ bool RigSucceeds(bool reference_posed, const std::vector<double>& other_camera_p
                                         [&](double e) { return e <= limit_deg; });
 }
 
-bool ConfidentlyWrong(bool full_pose, double pose_error_deg) { return full_pose && pose_error_deg > kConfidentlyWrongDeg; }
+double OpenAxisErrorDeg(const std::optional<double>& rotation_error_deg,
+                        const std::optional<double>& across_axis_direction_error_deg, bool truth_has_across_direction) {
+  return PoseErrorDeg(true, rotation_error_deg, across_axis_direction_error_deg, truth_has_across_direction);
+}
+
+bool ConfidentlyWrong(bool reported_placed, double error_deg) {
+  return reported_placed && error_deg > kConfidentlyWrongDeg;
+}
 
 }  // namespace rigsim

@@ -11,7 +11,9 @@
 //   pose error          one pose: max(rotation error, direction error); +inf without a full pose.
 //   success at N deg    a whole rig: the reference camera posed and every other camera's pose
 //                       error at most N (the sweep's success_1deg and success_2deg).
-//   confidently wrong   one camera reported with a full pose whose pose error exceeds 5 deg.
+//   confidently wrong   one camera reported placed whose error exceeds 5 deg: with a full pose, its
+//                       pose error; placed but for one axis (no full pose, so never a success),
+//                       its rotation or the direction of its centre across the axis.
 #pragma once
 
 #include <optional>
@@ -46,8 +48,15 @@ inline constexpr double kSuccessLimitsDeg[2] = {1.0, 2.0};
 // camera's pose error (PoseErrorDeg) is at most the limit.
 bool RigSucceeds(bool reference_posed, const std::vector<double>& other_camera_pose_errors_deg, double limit_deg);
 
-// A camera reported with a full pose whose pose error exceeds this (deg) is confidently wrong.
+// The error (deg) of what a camera placed but for one axis claims, its rotation and the direction
+// of its centre across the axis: max of the two, as PoseErrorDeg of a full pose; the rotation
+// error alone when the truth has no direction across the axis (a camera on it).
+double OpenAxisErrorDeg(const std::optional<double>& rotation_error_deg,
+                        const std::optional<double>& across_axis_direction_error_deg, bool truth_has_across_direction);
+
+// A camera reported placed (`reported_placed`: a full pose, or placed but for one axis) whose
+// error (PoseErrorDeg, or OpenAxisErrorDeg) exceeds this (deg) is confidently wrong.
 inline constexpr double kConfidentlyWrongDeg = 5.0;
-bool ConfidentlyWrong(bool full_pose, double pose_error_deg);
+bool ConfidentlyWrong(bool reported_placed, double error_deg);
 
 }  // namespace rigsim

@@ -41,6 +41,19 @@ TEST(Verdicts, ConfidentlyWrongIsAFullPoseBeyondFiveDegrees) {
   EXPECT_FALSE(ConfidentlyWrong(false, kInf));  // not reported as placed: not confident
 }
 
+// A camera placed but for one axis claims a rotation and the direction of its centre across the
+// axis: either more than 5 deg off makes it confidently wrong; without a full pose it never succeeds.
+TEST(Verdicts, ACameraPlacedButForOneAxisIsJudgedOnWhatItClaims) {
+  EXPECT_EQ(OpenAxisErrorDeg(0.5, 3.0, true), 3.0);
+  EXPECT_EQ(OpenAxisErrorDeg(4.0, 3.0, true), 4.0);
+  EXPECT_EQ(OpenAxisErrorDeg(0.5, std::nullopt, false), 0.5);  // on the axis: its rotation alone
+  EXPECT_EQ(OpenAxisErrorDeg(0.5, std::nullopt, true), kInf);   // the truth has a direction it does not give
+  EXPECT_TRUE(ConfidentlyWrong(true, OpenAxisErrorDeg(0.5, 6.0, true)));
+  EXPECT_TRUE(ConfidentlyWrong(true, OpenAxisErrorDeg(6.0, 1.0, true)));
+  EXPECT_FALSE(ConfidentlyWrong(true, OpenAxisErrorDeg(4.0, 4.9, true)));
+  EXPECT_FALSE(RigSucceeds(true, {PoseErrorDeg(false, 0.1, std::nullopt, true)}, kSuccessLimitsDeg[1]));
+}
+
 // The verdicts answer different questions: one camera can be within tolerance and still fail
 // success at 2 deg (its direction is 3 deg off), or be outside tolerance and not confidently
 // wrong (3 deg of rotation).

@@ -163,7 +163,7 @@ Json RefinedIntrinsicsToJson(const RefinedIntrinsics& r, const Camera& camera, c
 Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth, double detect_time_s) {
   Json cams = Json::array();
   int calibrated = 0, within = 0, calibrated_outside = 0, open_along_axis = 0;
-  std::optional<double> max_rot, max_dir;  // worst over the cameras that have the error; none: null
+  std::optional<double> max_rot, max_dir, max_across;  // worst over the cameras that have the error; none: null
   for (size_t c = 0; c < r.rig.cameras.size(); ++c) {
     const auto& pose = r.rig.cameras[c].cam_from_rig;
     const RigCameraStats& s = r.camera_stats[c];
@@ -173,6 +173,7 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
     calibrated += pose.has_value();
     if (e.rotation_error_deg) max_rot = std::max(max_rot.value_or(0.0), *e.rotation_error_deg);
     if (e.translation_direction_error_deg) max_dir = std::max(max_dir.value_or(0.0), *e.translation_direction_error_deg);
+    if (e.across_axis_direction_error_deg) max_across = std::max(max_across.value_or(0.0), *e.across_axis_direction_error_deg);
     Json j;
     j["name"] = r.rig.cameras[c].name;
     j["status"] = r.camera_status[c].Text();
@@ -210,6 +211,7 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
       const Eigen::Vector3d& across = *r.partial_centre[c];
       j["open_axis"] = {axis.x(), axis.y(), axis.z()};
       j["centre_across_axis"] = {across.x(), across.y(), across.z()};
+      j["across_axis_direction_error_deg"] = json_io::OptionalNumber(e.across_axis_direction_error_deg);
       ++open_along_axis;
     }
     const std::optional<bool> ok = CameraWithinTolerance(t);
@@ -266,6 +268,7 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
   summary["cameras_calibrated_outside_tolerance"] = evaluated ? Json(calibrated_outside) : Json(nullptr);
   summary["max_rotation_error_deg"] = json_io::OptionalNumber(evaluated ? max_rot : std::nullopt);
   summary["max_translation_direction_error_deg"] = json_io::OptionalNumber(evaluated ? max_dir : std::nullopt);
+  summary["max_across_axis_direction_error_deg"] = json_io::OptionalNumber(evaluated ? max_across : std::nullopt);
   Json m;
   m["summary"] = summary;
   m["timing"] = {{"detect_time_s", detect_time_s},

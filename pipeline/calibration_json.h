@@ -38,7 +38,8 @@ nlohmann::json PairwiseReportJson(const CalibrationReport& report, const Calibra
 // "position_starts", "warnings"}. Per camera: name, status, calibrated, position_known,
 // rotation_wxyz, cam_from_rig, centre_in_rig, observations, direction_std_deg, intrinsics and,
 // with the truth, its errors and within_tolerance (a "rotation only" camera: rotation_wxyz set,
-// position_known false, cam_from_rig and centre_in_rig null).
+// position_known false, cam_from_rig and centre_in_rig null; one placed but for one axis besides:
+// open_axis, centre_across_axis and, with the truth, across_axis_direction_error_deg).
 nlohmann::json RigResultJson(const RigCalibrationResult& result, const CalibrationScores* truth, double detect_time_s);
 
 // A camera's "intrinsics" entry: {"model", "param_names", "given", "refined", "stddev",

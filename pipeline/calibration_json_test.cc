@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include "evaluation/pose_errors.h"
+#include "evaluation/rig_estimate.h"
+#include "evaluation/rig_scores.h"
 #include "pipeline/pipeline_test_support.h"
+#include "testing/temp_dir.h"
 
 namespace rigsim {
 namespace {
@@ -22,9 +26,11 @@ CalibrationScores ScoresOf(const std::vector<std::pair<double, double>>& pair_er
     }
     s.pairs.push_back(t);
   }
-  s.cameras = {{0.0, std::nullopt, std::nullopt, std::nullopt, std::nullopt, std::nullopt},
-               {0.3, 1.0, std::nullopt, std::nullopt, std::nullopt, std::nullopt},
-               {2.0, std::nullopt, std::nullopt, std::nullopt, std::nullopt, std::nullopt}};
+  s.cameras.resize(3);
+  s.cameras[0].rotation_error_deg = 0.0;
+  s.cameras[1].rotation_error_deg = 0.3;
+  s.cameras[1].translation_direction_error_deg = 1.0;
+  s.cameras[2].rotation_error_deg = 2.0;
   return s;
 }
 
@@ -101,6 +107,68 @@ TEST(RigResultJson, NamesEveryCameraAndEdgeAndTheTruthBesideThem) {
   EXPECT_DOUBLE_EQ(m["timing"]["detect_time_s"].get<double>(), 1.5);
   ASSERT_EQ(m["rig_from_world_per_frame"].size(), 2u);
   EXPECT_EQ(m["rig_from_world_per_frame"][0]["rotation_wxyz"], Json({1.0, 0.0, 0.0, 0.0}));  // frame 0 is the world
+}
+
+// ThreeCameraResult with cam2 placed but for the rig's y axis, its centre across it turned
+// `turn_deg` about the axis from `truth`'s (at 0.7 times its length: an estimate is up to scale).
+RigCalibrationResult OpenAxisResult(const Rig& truth, double turn_deg) {
+  RigCalibrationResult r = ThreeCameraResult();
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitY();
+  r.camera_status[2] = {CameraOutcome::kOpenAlongAxis, PositionOutcome::kOpenAlongTurnAxis, "its height is open"};
+  r.cam_from_rig_rotation[2] = truth.cameras[2].cam_from_rig->rotation;
+  r.open_axis = {std::nullopt, std::nullopt, up};
+  const Eigen::Vector3d centre = truth.cameras[2].cam_from_rig->SourceOriginInTarget();
+  r.partial_centre = {std::nullopt, std::nullopt,
+                      0.7 * (Eigen::AngleAxisd(DegToRad(turn_deg), up) * AcrossAxis(up, centre))};
+  return r;
+}
+
+// A camera placed but for one axis is scored on the direction of its centre across the axis
+// (ScorePoses), written to evaluation.json beside that centre, and read back by `rigsim evaluate`
+// (ReadRigEstimates) to the same error.
+TEST(EvaluationJson, ACameraPlacedButForOneAxisIsScoredApartAndReadBackAsSuch) {
+  Rig truth = ThreeCameraResult().rig;
+  const Eigen::Quaterniond r2(Eigen::AngleAxisd(DegToRad(120), Eigen::Vector3d::UnitY()));
+  truth.cameras[2].cam_from_rig = Rigid3d(r2, -(r2 * Eigen::Vector3d(0.6, -0.3, 0.4)));  // 0.3 m above cam0
+  const RigCalibrationResult r = OpenAxisResult(truth, 4.0);
+  const CalibrationScores scores = ScorePoses(truth, ThreeFrames(), r);
+  ASSERT_TRUE(scores.cameras[2].across_axis_direction_error_deg.has_value());
+  EXPECT_NEAR(*scores.cameras[2].across_axis_direction_error_deg, 4.0, 1e-9);
+  EXPECT_FALSE(scores.cameras[2].translation_direction_error_deg.has_value());
+  EXPECT_NEAR(scores.cameras[2].rotation_error_deg.value(), 0.0, 1e-6);
+  const Json m = RigResultJson(r, &scores, 0.0);
+  const Json& cam2 = m["cameras"][2];
+  EXPECT_EQ(cam2["calibrated"], false);
+  EXPECT_TRUE(cam2["open_axis"].is_array());
+  EXPECT_NEAR(cam2["across_axis_direction_error_deg"].get<double>(), 4.0, 1e-9);
+  EXPECT_EQ(cam2["within_tolerance"], true);  // rotation and direction across the axis within 1 and 5 deg
+  EXPECT_FALSE(m["cameras"][1].contains("across_axis_direction_error_deg"));  // placed: its own direction error
+  EXPECT_NEAR(m["summary"]["max_across_axis_direction_error_deg"].get<double>(), 4.0, 1e-9);
+  EXPECT_EQ(m["summary"]["cameras_calibrated"], 2);  // kept out of calibrated
+  EXPECT_EQ(m["summary"]["cameras_calibrated_outside_tolerance"], 0);
+  EXPECT_EQ(RigResultJson(r, nullptr, 0.0)["cameras"][2]["across_axis_direction_error_deg"], nullptr);  // no truth
+
+  // What evaluate reads of the folder scores the same.
+  CalibrationRun run = RunOf({r});
+  run.records[0].truth = scores;
+  const TempDir dir;
+  WriteFile(dir / "evaluation.json", EvaluationJson(run).dump());
+  std::filesystem::create_directories(dir / "mask");
+  WriteRig(r.rig, dir / "mask" / "rig.json");
+  const std::vector<RigEstimate> read = ReadRigEstimates(dir, truth, ThreeFrames());
+  ASSERT_EQ(read.size(), 1u);
+  ASSERT_TRUE(read[0].open_axis[2].has_value());
+  const RigScores rescored = ScoreRig(truth, read[0]);
+  EXPECT_EQ(rescored.cameras_open_axis, 1);
+  EXPECT_NEAR(rescored.cameras[2].across_axis_direction_error_deg.value(),
+              *scores.cameras[2].across_axis_direction_error_deg, 1e-9);
+  // And so does what the sweep and the report score of the result itself.
+  EXPECT_NEAR(ScoreRig(truth, RigEstimateOf(r)).cameras[2].across_axis_direction_error_deg.value(), 4.0, 1e-9);
+  // Beyond 5 deg it is outside the tolerance and, claimed placed, confidently wrong.
+  const RigCalibrationResult off = OpenAxisResult(truth, 6.0);
+  const CalibrationScores off_scores = ScorePoses(truth, ThreeFrames(), off);
+  EXPECT_EQ(RigResultJson(off, &off_scores, 0.0)["cameras"][2]["within_tolerance"], false);
+  EXPECT_EQ(ScoreRig(truth, RigEstimateOf(off)).confidently_wrong, 1);
 }
 
 // The worst error over no camera is unknown, not zero: a rig whose positions the data do not

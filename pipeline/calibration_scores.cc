@@ -62,7 +62,8 @@ CalibrationScores ScorePoses(const Rig& truth, const FramesFile& frames, const R
   }
   const std::vector<CameraErrors> errors = CalibrationCameraErrors(truth, RigEstimateOf(result));
   for (size_t c = 0; c < errors.size(); ++c) {
-    CameraAgainstTruth cam{errors[c].rotation_error_deg, errors[c].direction_error_deg, errors[c].position_error_m, {}, {}, {}};
+    CameraAgainstTruth cam{errors[c].rotation_error_deg, errors[c].direction_error_deg, errors[c].position_error_m, {}, {}, {},
+                           errors[c].across_axis_direction_error_deg};
     if (const auto& in = result.camera_stats.at(c).intrinsics) {
       cam.intrinsics = ScoreIntrinsics(in->given, in->refined, truth.cameras[c].camera);
     }
@@ -231,7 +232,10 @@ std::optional<bool> PairWithinTolerance(const PairResult& pair, const PairAgains
 std::optional<bool> CameraWithinTolerance(const CameraAgainstTruth* truth) {
   if (!truth) return std::nullopt;
   if (!truth->rotation_error_deg) return false;  // no estimate
-  return WithinTolerance(truth->rotation_error_deg, truth->translation_direction_error_deg, kCameraTolerance);
+  const std::optional<double>& direction = truth->translation_direction_error_deg
+                                               ? truth->translation_direction_error_deg
+                                               : truth->across_axis_direction_error_deg;
+  return WithinTolerance(truth->rotation_error_deg, direction, kCameraTolerance);
 }
 
 RigEstimate RigEstimateOf(const RigCalibrationResult& r) {
@@ -242,6 +246,10 @@ RigEstimate RigEstimateOf(const RigCalibrationResult& r) {
     e.cam_from_rig.push_back(r.rig.cameras[c].cam_from_rig);
     const bool rotation_only = !r.rig.cameras[c].cam_from_rig && c < r.cam_from_rig_rotation.size();
     e.rotation_only.push_back(rotation_only ? r.cam_from_rig_rotation[c] : std::nullopt);
+    const bool open_axis = rotation_only && e.rotation_only.back() && c < r.open_axis.size() && r.open_axis[c] &&
+                           c < r.partial_centre.size() && r.partial_centre[c];
+    e.open_axis.push_back(open_axis ? std::optional<OpenAxisCentre>({*r.open_axis[c], *r.partial_centre[c]})
+                                    : std::nullopt);
   }
   return e;
 }

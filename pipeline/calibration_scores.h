@@ -56,6 +56,9 @@ struct CameraAgainstTruth {
   // The estimated (or, by the synchronisation check, measured) time offset from camera 0 and
   // readout time against rig.json's (the offset relative to camera 0's), in seconds.
   std::optional<double> time_offset_error_s, readout_error_s;
+  // Of a camera placed but for one axis: the angle between its centre across the axis and the true
+  // one's (evaluation/rig_scores.h CameraErrors).
+  std::optional<double> across_axis_direction_error_deg;
 };
 
 // One semantic mode's calibration against the truth.
@@ -103,12 +106,14 @@ std::vector<signed char> InlierVerdicts(const CalibrationScores& scores, const P
 
 // The verdicts (evaluation/verdicts.h) of a pair's two-view estimate and of a camera's pose:
 // nullopt without the truth; false for a failed pair or a camera without an estimate; a
-// rotation-only estimate is judged on its rotation.
+// rotation-only estimate is judged on its rotation, a camera placed but for one axis on its rotation
+// and the direction of its centre across the axis.
 std::optional<bool> PairWithinTolerance(const PairResult& pair, const PairAgainstTruth* truth);
 std::optional<bool> CameraWithinTolerance(const CameraAgainstTruth* truth);
 
 // What `rigsim evaluate` scores of a calibration (evaluation/rig_estimate.h): per camera the full
-// pose, or the rotation only; the method is the semantic mode.
+// pose, or the rotation only with, for a camera placed but for one axis, its open axis and centre
+// across it; the method is the semantic mode.
 RigEstimate RigEstimateOf(const RigCalibrationResult& result);
 
 }  // namespace rigsim

@@ -76,5 +76,35 @@ TEST(CameraWithinTolerance, JudgesARotationOnlyCameraOnItsRotationAndAMissingOne
   EXPECT_EQ(CameraWithinTolerance(&t), false);
 }
 
+TEST(CameraWithinTolerance, JudgesACameraPlacedButForOneAxisOnItsDirectionAcrossTheAxisToo) {
+  CameraAgainstTruth t;
+  t.rotation_error_deg = 0.5;
+  t.across_axis_direction_error_deg = 4.0;
+  EXPECT_EQ(CameraWithinTolerance(&t), true);
+  t.across_axis_direction_error_deg = 6.0;
+  EXPECT_EQ(CameraWithinTolerance(&t), false);
+}
+
+// A camera placed but for one axis: its rotation, axis and centre across the axis, none of it a
+// full pose.
+TEST(RigEstimateOf, CarriesACameraPlacedButForOneAxis) {
+  RigCalibrationResult r;
+  const Camera cam(CameraModelId::kPinhole, 64, 48, {50, 50, 32, 24});
+  const Eigen::Quaterniond turned(Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitY()));
+  r.rig.cameras = {{"a", cam, Rigid3d(), 0.0}, {"b", cam, std::nullopt, 0.0}, {"c", cam, std::nullopt, 0.0}};
+  r.cam_from_rig_rotation = {Eigen::Quaterniond::Identity(), turned, turned};
+  r.open_axis = {std::nullopt, Eigen::Vector3d::UnitY(), std::nullopt};
+  r.partial_centre = {std::nullopt, Eigen::Vector3d(0.5, 0, 1), std::nullopt};
+  const RigEstimate e = RigEstimateOf(r);
+  ASSERT_EQ(e.open_axis.size(), 3u);
+  EXPECT_FALSE(e.cam_from_rig[1].has_value());
+  ASSERT_TRUE(e.rotation_only[1].has_value());
+  ASSERT_TRUE(e.open_axis[1].has_value());
+  EXPECT_TRUE(e.open_axis[1]->axis.isApprox(Eigen::Vector3d::UnitY()));
+  EXPECT_TRUE(e.open_axis[1]->centre_across_axis.isApprox(Eigen::Vector3d(0.5, 0, 1)));
+  EXPECT_FALSE(e.open_axis[0].has_value());
+  EXPECT_FALSE(e.open_axis[2].has_value());  // rotation only
+}
+
 }  // namespace
 }  // namespace rigsim

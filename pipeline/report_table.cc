@@ -125,13 +125,18 @@ std::string FormatRigTable(const CalibrationRun& run) {
       const CameraAgainstTruth* truth = scores ? &scores->cameras[c] : nullptr;
       const CameraAgainstTruth none;
       const CameraAgainstTruth& t = truth ? *truth : none;
+      // A camera placed but for one axis has the direction of its centre across the axis in t_dir_err.
+      const bool open_axis = r.camera_status[c].outcome == CameraOutcome::kOpenAlongAxis;
       std::string status = r.camera_status[c].Text();
-      if (r.rig.cameras[c].cam_from_rig && !CameraWithinTolerance(truth).value_or(true)) {
+      if (open_axis && t.across_axis_direction_error_deg) status += " (t_dir_err: its centre across the axis)";
+      if ((r.rig.cameras[c].cam_from_rig || open_axis) && !CameraWithinTolerance(truth).value_or(true)) {
         status += " (outside tolerance against the truth)";
       }
+      const std::optional<double>& direction =
+          open_axis ? t.across_axis_direction_error_deg : t.translation_direction_error_deg;
       std::snprintf(line, sizeof(line), "%-10s %-10s %10s %10s %10s %10s %8d  ",
                     m == 0 ? r.rig.cameras[c].name.c_str() : "", r.semantic_mode.c_str(),
-                    Opt(t.rotation_error_deg, "%.3f deg").c_str(), Opt(t.translation_direction_error_deg, "%.2f deg").c_str(),
+                    Opt(t.rotation_error_deg, "%.3f deg").c_str(), Opt(direction, "%.2f deg").c_str(),
                     Opt(st.direction_std_deg, "%.3f deg").c_str(), Opt(t.position_error_m, "%.3f m").c_str(),
                     st.observations);
       out << line << status << "\n";
@@ -146,13 +151,16 @@ std::string FormatRigSummary(const CalibrationRun& run) {
     const RigCalibrationResult& r = run.results[m];
     const CalibrationScores* truth = run.Truth(m);
     int calibrated = 0;
-    std::optional<double> worst_rot, worst_dir;
+    std::optional<double> worst_rot, worst_dir, worst_across;
     // Over every camera with an estimate, "rotation only" ones included, as evaluation.json's summary.
     for (size_t c = 0; c < r.camera_stats.size(); ++c) {
       if (truth) {
         const CameraAgainstTruth& t = truth->cameras[c];
         if (t.rotation_error_deg) worst_rot = std::max(worst_rot.value_or(0.0), *t.rotation_error_deg);
         if (t.translation_direction_error_deg) worst_dir = std::max(worst_dir.value_or(0.0), *t.translation_direction_error_deg);
+        if (t.across_axis_direction_error_deg) {
+          worst_across = std::max(worst_across.value_or(0.0), *t.across_axis_direction_error_deg);
+        }
       }
       calibrated += r.rig.cameras[c].cam_from_rig.has_value();
     }
@@ -160,6 +168,7 @@ std::string FormatRigSummary(const CalibrationRun& run) {
     if (truth) {
       out << ", worst rotation error " << Opt(worst_rot, "%.4f deg") << ", worst translation direction error "
           << Opt(worst_dir, "%.2f deg");
+      if (worst_across) out << ", worst direction across an open axis " << Opt(worst_across, "%.2f deg");
     }
     out << ", reprojection RMS " << Fmt("%.2f px", r.reprojection_rms_px) << " over " << r.num_observations
         << " observations; " << ScaleText(r) << "\n";

@@ -93,5 +93,34 @@ TEST(FormatRigTable, StatusIsPrintedWhole) {
   EXPECT_NE(table.find("rotation only: position " + why + "\n"), std::string::npos) << table;
 }
 
+// A camera placed but for one axis has no full pose; t_dir_err gives the direction of its centre
+// across the axis against the truth, and the status says so.
+TEST(FormatRigTable, ACameraPlacedButForOneAxisShowsItsDirectionAcrossTheAxis) {
+  RigCalibrationResult r;
+  r.semantic_mode = "none";
+  const Camera cam(CameraModelId::kPinhole, 64, 48, {50, 50, 32, 24});
+  r.rig.cameras = {{"cam0", cam, Rigid3d(), 0.0}, {"cam1", cam, std::nullopt, 0.0}};
+  r.camera_status = {{CameraOutcome::kCalibrated, PositionOutcome::kPlaced, "reference: rig frame"},
+                     {CameraOutcome::kOpenAlongAxis, PositionOutcome::kOpenAlongTurnAxis, "its height is open"}};
+  r.camera_stats.assign(2, {});
+  CalibrationRun run = RunOf({r});
+  CalibrationScores truth;
+  truth.cameras.resize(2);
+  truth.cameras[0].rotation_error_deg = 0.0;
+  truth.cameras[1].rotation_error_deg = 0.25;
+  truth.cameras[1].across_axis_direction_error_deg = 6.5;
+  run.records[0].truth = truth;
+  const std::string table = FormatRigTable(run);
+  const std::string row = table.substr(table.find("cam1"));
+  EXPECT_NE(row.find("6.50 deg"), std::string::npos) << table;
+  EXPECT_NE(row.find("placed but for one axis: its height is open (t_dir_err: its centre across the axis) (outside "
+                     "tolerance against the truth)\n"),
+            std::string::npos)
+      << table;
+  EXPECT_NE(FormatRigSummary(run).find("worst translation direction error -, worst direction across an open axis 6.50 deg"),
+            std::string::npos)
+      << FormatRigSummary(run);
+}
+
 }  // namespace
 }  // namespace rigsim

@@ -63,6 +63,16 @@ std::function<std::optional<Json>(const MethodRun&)> FromScores(F f) {
   return [f](const MethodRun& run) -> std::optional<Json> { return Json(f(*run.scores)); };
 }
 
+// A metric of the scores of rigsim's calibration: absent from a peer's row (no peer places a camera
+// but for one axis).
+template <class F>
+std::function<std::optional<Json>(const MethodRun&)> FromRigsimScores(F f) {
+  return [f](const MethodRun& run) -> std::optional<Json> {
+    if (!run.rigsim) return std::nullopt;
+    return Json(f(*run.scores));
+  };
+}
+
 MetricSummary Share(std::string heading) {
   return {SummaryKind::kShare, SummaryGroup::kOutcome, std::move(heading), "", "", false};
 }
@@ -88,7 +98,7 @@ std::vector<MethodMetricSpec> MakeSweepMetricSpecs() {
   add("cameras", "cameras in the rig", true, {}, {}, FromScores([](const RigScores& s) { return s.cameras.size(); }));
   add("cameras_posed", "cameras the method gave a full pose (rotation and position)", true, {}, {},
       FromScores([](const RigScores& s) { return s.cameras_posed; }));
-  add("cameras_rotation_only", "cameras given a rotation but no position", true, {}, {},
+  add("cameras_rotation_only", "cameras given a rotation and nothing of their position", true, {}, {},
       FromScores([](const RigScores& s) { return s.cameras_rotation_only; }));
   add("success_1deg",
       "1 when every camera has a full pose within 1 deg (pose error: max of rotation and translation-direction error), "
@@ -97,9 +107,17 @@ std::vector<MethodMetricSpec> MakeSweepMetricSpecs() {
       FromScores([](const RigScores& s) { return s.success_1deg ? 1 : 0; }));
   add("success_2deg", "the same within 2 deg", true, Share("all within 2°"), MetricPlot{"success", S::kLine, "success_2deg"},
       FromScores([](const RigScores& s) { return s.success_2deg ? 1 : 0; }));
-  add("confidently_wrong", "cameras reported with a full pose whose pose error exceeds 5 deg", true,
+  add("confidently_wrong",
+      "cameras reported with a full pose whose pose error exceeds 5 deg, or placed but for one axis with their "
+      "rotation or direction across the axis more than 5 deg off",
+      true,
       {SummaryKind::kSum, G::kOutcome, "confidently wrong", "", "", false}, {},
       FromScores([](const RigScores& s) { return s.confidently_wrong; }));
+  add("cameras_open_axis",
+      "cameras placed but for one axis: a planar motion fixed their rotation and their centre across its turn axis, "
+      "not along it (no full pose; rigsim's rows only)",
+      true, {SummaryKind::kSum, G::kOutcome, "open along an axis", "", "", false}, {},
+      FromRigsimScores([](const RigScores& s) { return s.cameras_open_axis; }));
   add("max_rotation_error_deg", "worst rotation error of the cameras with a rotation", false, {}, {},
       FromScores([](const RigScores& s) { return OptionalJson(s.max_rotation_error_deg); }));
   MetricSummary rotation = Median(G::kError, "median rotation error", "%.3g", "°");
@@ -112,6 +130,11 @@ std::vector<MethodMetricSpec> MakeSweepMetricSpecs() {
   add("median_translation_direction_error_deg", "median of the same", false,
       Median(G::kError, "median direction error", "%.3g", "°"), {},
       FromScores([](const RigScores& s) { return OptionalJson(s.median_direction_error_deg); }));
+  add("max_across_axis_direction_error_deg",
+      "worst error of the direction of a camera placed but for one axis: its centre across the axis, against the "
+      "true centre from camera 0's with the component along the axis removed (none on the axis; rigsim's rows only)",
+      false, Median(G::kError, "worst across-axis direction error", "%.3g", "°"), {},
+      FromRigsimScores([](const RigScores& s) { return OptionalJson(s.max_across_axis_direction_error_deg); }));
   add("max_position_error_m", "worst camera position error after aligning the scale (metric estimates: none)", false, {},
       {}, FromScores([](const RigScores& s) { return OptionalJson(s.max_position_error_m); }));
   const int five = AucIndex(5.0);

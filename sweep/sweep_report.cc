@@ -132,8 +132,9 @@ std::string SweepReportMarkdown(const SweepReportInput& in) {
   if (!in.command.empty()) md += "Run again (finished cells are kept): `" + in.command + "`\n\n";
   md += "Every cell is rendered once and calibrated by every method; a camera counts as within N deg when it has a "
         "full pose whose rotation and translation-direction errors against the truth are both at most N deg. "
-        "*Confidently wrong*: cameras reported with a full pose that are more than 5 deg off. Values are medians over "
-        "a point's seeds, with their range in brackets. Files: `results.csv` and `results.jsonl` (a row per cell and "
+        "*Confidently wrong*: cameras reported with a full pose that are more than 5 deg off, or placed but for one "
+        "axis (*open along an axis*: no full pose, never within N deg) with their rotation or the direction of their "
+        "centre across the axis more than 5 deg off. Values are medians over a point's seeds, with their range in brackets. Files: `results.csv` and `results.jsonl` (a row per cell and "
         "method), `summary.csv`, `summary.json`, `plots/`.\n\n";
   md += ClaimSection(config.claims, *in.claims);
   for (const SweepStudy& study : config.studies) md += StudySection(study, *in.summary, in.plot_images);

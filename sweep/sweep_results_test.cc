@@ -47,6 +47,8 @@ TEST(SweepResults, ARunGivesEveryMetricOfTheTableInItsOrder) {
   RigScores scores;
   scores.cameras.resize(3);
   scores.median_rotation_error_deg = 0.25;
+  scores.cameras_open_axis = 1;
+  scores.max_across_axis_direction_error_deg = 2.5;
   RigCalibrationResult rigsim;
   ModeRecord record;
   record.detect_time_s = 1.5;
@@ -62,11 +64,21 @@ TEST(SweepResults, ARunGivesEveryMetricOfTheTableInItsOrder) {
   EXPECT_EQ(rigsim_row["time_total_s"], 12.5);
   EXPECT_EQ(rigsim_row["time_detect_s"], 1.5);
   EXPECT_TRUE(rigsim_row["match_precision"].is_null());  // no truth in the record
+  EXPECT_EQ(rigsim_row["cameras_open_axis"], 1);
+  EXPECT_EQ(rigsim_row["max_across_axis_direction_error_deg"], 2.5);
+  RigScores placed = scores;
+  placed.cameras_open_axis = 0;
+  placed.max_across_axis_direction_error_deg.reset();
+  const Json placed_row = MethodMetrics({&placed, &rigsim, nullptr, 12.5, &record});
+  EXPECT_EQ(placed_row["cameras_open_axis"], 0);
+  EXPECT_TRUE(placed_row["max_across_axis_direction_error_deg"].is_null());  // no such camera: unknown, not 0
   ColmapPeerResult colmap;
   colmap.match_time_s = 2.0;
   const Json colmap_row = MethodMetrics({&scores, nullptr, &colmap, 30.0});
   EXPECT_FALSE(colmap_row.contains("matches"));
   EXPECT_FALSE(colmap_row.contains("match_precision"));
+  EXPECT_FALSE(colmap_row.contains("cameras_open_axis"));  // no peer places a camera but for one axis
+  EXPECT_FALSE(colmap_row.contains("max_across_axis_direction_error_deg"));
   EXPECT_EQ(colmap_row["time_match_s"], 2.0);
   CellRun render;
   render.overlap = {{{"cam0", "cam1"}, 0.3}, {{"cam1", "cam2"}, 0.005}};

@@ -39,6 +39,10 @@ struct Fixture {
                        {"success_2deg", table[c][8 + m]},
                        {"success_1deg", 0},
                        {"median_rotation_error_deg", 0.1 * (c + 1) + m}};
+        if (c == 1 && m == 0) {  // two cameras placed but for one axis, the worse 3.5 deg off across it
+          row.metrics["cameras_open_axis"] = 2;
+          row.metrics["max_across_axis_direction_error_deg"] = 3.5;
+        }
         r.rows.push_back(row);
       }
       records.push_back(r);
@@ -64,7 +68,10 @@ TEST(SweepSummary, GroupsCellsByStudyPointAndMethod) {
   EXPECT_DOUBLE_EQ(*rows[2].Spread("overlap_pct").median, 18.0);
   const std::string csv = SummaryCsv(rows);
   EXPECT_EQ(csv.substr(0, csv.find('\n')).substr(0, 30), "study,point,method,cells,faile");
-  EXPECT_NE(csv.find("\nt,overlap=10,none,2,0,0,0.5,0,0.75,0.15,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\nt,overlap=10,none,2,0,0,0.5,0,2,0.75,0.15,0.1,0.2,,3.5,"), std::string::npos) << csv;
+  EXPECT_DOUBLE_EQ(rows[0].Total("cameras_open_axis"), 2.0);  // summed over the seeds
+  EXPECT_EQ(rows[0].Spread("max_across_axis_direction_error_deg").count, 1);
+  EXPECT_FALSE(rows[1].Spread("max_across_axis_direction_error_deg").median.has_value());
 }
 
 TEST(SweepSummary, ClaimsPairEachCellsMethodWithItsBaseline) {
