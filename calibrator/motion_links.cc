@@ -230,10 +230,12 @@ void SayWhatTheMotionFound(const MotionLinks& links, RigCalibrationResult* resul
   for (size_t c = 1; c < result->camera_status.size() && c < links.hand_eye.size(); ++c) {
     CameraStatus& s = result->camera_status[c];
     if (s.outcome != CameraOutcome::kNotConnected && s.outcome != CameraOutcome::kRotationOnly) continue;
-    int pairs = 0;
-    for (const CrossTimePairEstimate& x : links.cross_time) pairs += x.cam_a == static_cast<int>(c) || x.cam_b == static_cast<int>(c);
+    const int cam = static_cast<int>(c);
+    const auto pairs = std::count_if(links.cross_time.begin(), links.cross_time.end(),
+                                     [&](const CrossTimePairEstimate& x) { return x.cam_a == cam || x.cam_b == cam; });
     const HandEyeCamera& h = links.hand_eye[c];
-    const std::string hand_eye = h.status == HandEyeStatus::kSolved ? "solved, but the joint solution did not hold" : h.reason;
+    const std::string hand_eye =
+        h.status == HandEyeStatus::kSolved ? "solved, but the joint solution did not hold" : h.reason;
     s.reason += "; nor did the rig's motion place it (hand-eye: " + hand_eye + "; " + std::to_string(pairs) +
                 " view pair(s) matched with it across time)";
   }
