@@ -1,9 +1,9 @@
 #include "calibrator/rig_calibration.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
-#include <tuple>
 #include <utility>
 
 #include <Eigen/Eigenvalues>
@@ -639,6 +639,44 @@ void SetRefinedIntrinsics(const RigObservations& obs, const RigCalibrationOption
   }
 }
 
+// Steps 1-4, before the bundle adjustment; their counts and times go into `result`.
+struct EarlyStages {
+  RotationStage rotations;
+  RigMotion motion;
+  std::vector<ViewTrack> tracks;
+  PositionStage initial;
+};
+
+EarlyStages RunEarlyStages(const RigObservations& obs, const RigCalibrationOptions& options,
+                           const std::vector<std::string>& rejected, RigCalibrationResult* result) {
+  const int num_frames = static_cast<int>(obs.keypoints.size());
+  EarlyStages s;
+  auto start = Clock::now();
+  s.rotations = AverageCameraRotations(obs, options, rejected);
+  result->num_rotation_outliers = s.rotations.rot.num_outliers;
+  result->rotation_averaging_time_s = Seconds(start);
+
+  start = Clock::now();
+  s.motion = EstimateRigMotion(obs, s.rotations, num_frames);
+  result->num_frames = num_frames;
+  result->rig_motion_estimated = s.motion.moving;
+  result->num_temporal_pairs_used = s.motion.temporal_pairs_used;
+  if (s.rotations.joint) {
+    for (char used : s.rotations.joint->cross_time_used) result->num_cross_time_pairs_used += used;
+    result->num_rotation_outliers += s.rotations.joint->rotations.num_outliers;
+  }
+  s.tracks = TracksOfUsedPairs(obs, s.rotations, s.motion, num_frames, &result->num_conflicting_tracks);
+  result->num_tracks = static_cast<int>(s.tracks.size());
+  result->tracks_time_s = Seconds(start);
+
+  start = Clock::now();
+  s.initial = EstimateInitialPoses(obs, s.rotations, s.motion, s.tracks, options);
+  result->position_eigenvalue_ratio = s.initial.eigenvalue_ratio;
+  for (int k = 0; k < num_frames; ++k) result->num_frames_posed += s.motion.rig_rotation[k].has_value();
+  result->positions_time_s = Seconds(start);
+  return s;
+}
+
 RigCalibrationResult EstimateRigOnce(const RigObservations& obs, const RigCalibrationOptions& options,
                                      const std::vector<std::string>& rejected, int known_a, int known_b) {
   const int n = static_cast<int>(obs.cameras.size());
@@ -647,34 +685,14 @@ RigCalibrationResult EstimateRigOnce(const RigObservations& obs, const RigCalibr
   for (int c = 0; c < n; ++c) result.rig.cameras.push_back({obs.camera_names[c], obs.cameras[c], std::nullopt, 0.0});
   result.camera_stats.assign(n, {});
   result.camera_status.assign(n, CameraStatus{});
-
-  auto start = Clock::now();
-  const RotationStage rotations = AverageCameraRotations(obs, options, rejected);
-  result.num_rotation_outliers = rotations.rot.num_outliers;
-  result.rotation_averaging_time_s = Seconds(start);
-
-  start = Clock::now();
-  const RigMotion motion = EstimateRigMotion(obs, rotations, num_frames);
-  result.num_frames = num_frames;
-  result.rig_motion_estimated = motion.moving;
-  result.num_temporal_pairs_used = motion.temporal_pairs_used;
-  if (rotations.joint) {
-    for (char used : rotations.joint->cross_time_used) result.num_cross_time_pairs_used += used;
-    result.num_rotation_outliers += rotations.joint->rotations.num_outliers;
-  }
-  const std::vector<ViewTrack> tracks =
-      TracksOfUsedPairs(obs, rotations, motion, num_frames, &result.num_conflicting_tracks);
-  result.num_tracks = static_cast<int>(tracks.size());
-  result.tracks_time_s = Seconds(start);
-
-  start = Clock::now();
-  const PositionStage initial = EstimateInitialPoses(obs, rotations, motion, tracks, options);
-  result.position_eigenvalue_ratio = initial.eigenvalue_ratio;
-  for (int k = 0; k < num_frames; ++k) result.num_frames_posed += motion.rig_rotation[k].has_value();
-  result.positions_time_s = Seconds(start);
+  const EarlyStages early = RunEarlyStages(obs, options, rejected, &result);
+  const RotationStage& rotations = early.rotations;
+  const RigMotion& motion = early.motion;
+  const std::vector<ViewTrack>& tracks = early.tracks;
+  const PositionStage& initial = early.initial;
 
   // Step 5: bundle adjustment over all posed views, from every start.
-  start = Clock::now();
+  auto start = Clock::now();
   AdjustedRig adjusted = AdjustFromEveryStart(obs, tracks, initial, motion, options);
   MultiFrameBundleAdjustmentResult& ba = adjusted.ba;
   if (initial.starts.empty()) {
@@ -749,9 +767,9 @@ std::pair<int, std::string> MostDisagreeingEdge(const RigCalibrationResult& r, c
   return {worst, why};
 }
 
-}  // namespace
-
-RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibrationOptions& options) {
+// The known distance's two cameras ((-1, -1) without one). Throws std::invalid_argument on bad
+// options or inconsistent observations.
+std::pair<int, int> CheckInputs(const RigObservations& obs, const RigCalibrationOptions& options) {
   options.Check();
   const int n = static_cast<int>(obs.cameras.size());
   if (n < 1 || static_cast<int>(obs.camera_names.size()) != n) {
@@ -761,10 +779,44 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
   for (const auto& frame : obs.keypoints) {
     if (frame.size() != obs.cameras.size()) throw std::invalid_argument("EstimateRig: keypoints need every camera per frame");
   }
-  int known_a = -1, known_b = -1;
-  if (options.known_distance) {
-    std::tie(known_a, known_b) = KnownDistanceCameras(*options.known_distance, obs.camera_names, "EstimateRig");
+  if (!options.known_distance) return {-1, -1};
+  return KnownDistanceCameras(*options.known_distance, obs.camera_names, "EstimateRig");
+}
+
+}  // namespace
+
+bool RigPreCheck::SomeCameraWithoutFullPose() const {
+  return std::find(may_be_placed.begin(), may_be_placed.end(), 0) != may_be_placed.end();
+}
+
+RigPreCheck PreCheckRig(const RigObservations& obs, const RigCalibrationOptions& options) {
+  CheckInputs(obs, options);
+  RigCalibrationResult times;  // the stages' counts and times
+  const EarlyStages early = RunEarlyStages(obs, options, std::vector<std::string>(obs.pairs.size()), &times);
+  RigPreCheck out;
+  out.cam_from_rig_rotation = early.rotations.rot.cam_from_rig;
+  for (size_t c = 0; c < obs.cameras.size(); ++c) {
+    const bool positioned = c == 0 || std::any_of(early.initial.starts.begin(), early.initial.starts.end(),
+                                                  [c](const PoseStart& s) { return s.cam_from_rig[c].has_value(); });
+    out.may_be_placed.push_back(out.cam_from_rig_rotation[c] && positioned);
   }
+  out.rotation_averaging_time_s = times.rotation_averaging_time_s;
+  out.tracks_time_s = times.tracks_time_s;
+  out.positions_time_s = times.positions_time_s;
+  return out;
+}
+
+void AddRigWork(const RigCalibrationResult& from, RigCalibrationResult* into) {
+  into->rig_passes += from.rig_passes;
+  into->rotation_averaging_time_s += from.rotation_averaging_time_s;
+  into->tracks_time_s += from.tracks_time_s;
+  into->positions_time_s += from.positions_time_s;
+  into->bundle_adjustment_time_s += from.bundle_adjustment_time_s;
+  into->synchronisation_check_time_s += from.synchronisation_check_time_s;
+}
+
+RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibrationOptions& options) {
+  const auto [known_a, known_b] = CheckInputs(obs, options);
   // Every pair the rig used must agree with the rig it helped make: one that does not is left
   // out and the rig made again without it, the worst first.
   // A pair off in its direction only keeps its rotation and matches (max_direction_only_disagreement_deg):
@@ -786,13 +838,10 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
       rejected[edge] = why;
     }
     RigCalibrationResult next = EstimateRigOnce(kept ? *kept : obs, options, rejected, known_a, known_b);
-    next.rotation_averaging_time_s += result.rotation_averaging_time_s;
-    next.tracks_time_s += result.tracks_time_s;
-    next.positions_time_s += result.positions_time_s;
-    next.bundle_adjustment_time_s += result.bundle_adjustment_time_s;
-    next.synchronisation_check_time_s += result.synchronisation_check_time_s;
+    AddRigWork(result, &next);  // a round is part of this pass
     result = std::move(next);
   }
+  result.rig_passes = 1;
   for (int e = 0; e < static_cast<int>(result.edges.size()); ++e) {
     RigEdgeStats& s = result.edges[e];
     s.rejected = !rejected[e].empty();
