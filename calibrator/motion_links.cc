@@ -66,12 +66,15 @@ std::optional<CrossTimePairEstimate> LinkViews(const RigObservations& obs, const
   return e;
 }
 
+// The motion stage is on and the rig moved over enough frames, and `obs` has no links yet.
+bool MotionCanLink(const RigObservations& obs, const RigCalibrationOptions& options) {
+  return options.motion.enabled && !obs.HasMotionLinks() && !obs.temporal.empty() &&
+         static_cast<int>(obs.keypoints.size()) >= options.motion.min_frames;
+}
+
 // A camera the same-instant pairs left without a full pose: what the motion stage is for.
 bool NeedsMotionLinks(const RigCalibrationResult& r, const RigObservations& obs, const RigCalibrationOptions& options) {
-  if (!options.motion.enabled || obs.HasMotionLinks() || obs.temporal.empty() ||
-      static_cast<int>(obs.keypoints.size()) < options.motion.min_frames) {
-    return false;
-  }
+  if (!MotionCanLink(obs, options)) return false;
   return std::any_of(r.camera_status.begin(), r.camera_status.end(), [](const CameraStatus& s) {
     return s.outcome == CameraOutcome::kNotConnected || s.outcome == CameraOutcome::kRotationOnly;
   });
@@ -241,6 +244,77 @@ void SayWhatTheMotionFound(const MotionLinks& links, RigCalibrationResult* resul
   }
 }
 
+// Hand-eye solved no camera and no view pair linked across time: nothing for a pass with links.
+bool FoundNothing(const MotionLinks& links) {
+  return links.cross_time.empty() && std::none_of(links.hand_eye.begin() + 1, links.hand_eye.end(),
+                                                  [](const HandEyeCamera& h) { return h.status == HandEyeStatus::kSolved; });
+}
+
+// The rig stages on `obs` with the motion stage's links.
+RigCalibrationResult EstimateRigWithLinks(const RigObservations& obs, const MotionLinks& links,
+                                          const RigCalibrationOptions& options) {
+  RigObservations linked = obs;
+  linked.cross_time = links.cross_time;
+  linked.rotation_start = links.rotation_start;
+  linked.hand_eye_rotation = links.hand_eye_rotation;
+  linked.open_axis = links.open_axis;
+  return EstimateRig(linked, options);
+}
+
+// `second` (with the links) where it places more cameras than `first` (without) and keeps its own
+// tracks, `first` otherwise; either counts the work of both.
+RigCalibrationResult TheBetterPass(const RigObservations& obs, RigCalibrationResult first, RigCalibrationResult second,
+                                   const MotionLinks& links) {
+  if (CamerasPlaced(second) <= CamerasPlaced(first) || LosesOwnTracks(obs, second)) {
+    SayWhatTheMotionFound(links, &first);
+    AddRigWork(second, &first);
+    return first;
+  }
+  second.motion_links = SummaryOf(links, true, second.num_cross_time_pairs_used);
+  AddRigWork(first, &second);
+  return second;
+}
+
+// The full pass without links first, and the motion stage only where it leaves a camera without a
+// full pose.
+RigCalibrationResult LinkWhereTheFullPassNeedsIt(const RigObservations& obs, const ViewPairMatcher& match,
+                                                 const RigCalibrationOptions& options) {
+  RigCalibrationResult first = EstimateRig(obs, options);
+  if (!NeedsMotionLinks(first, obs, options)) return first;
+  const MotionLinks links = FindMotionLinks(obs, first.cam_from_rig_rotation, match, options);
+  if (FoundNothing(links)) {
+    SayWhatTheMotionFound(links, &first);
+    return first;
+  }
+  return TheBetterPass(obs, std::move(first), EstimateRigWithLinks(obs, links, options), links);
+}
+
+// The motion stage first, from the rotations of the pre-check (PreCheckRig): a pass with its links
+// that places every camera and keeps its own tracks is the result, and the full pass without them
+// runs only otherwise, to compare as LinkWhereTheFullPassNeedsIt does.
+RigCalibrationResult LinkBeforeTheFullPass(const RigObservations& obs,
+                                           const std::vector<std::optional<Eigen::Quaterniond>>& known_rotations,
+                                           const ViewPairMatcher& match, const RigCalibrationOptions& options) {
+  const MotionLinks links = FindMotionLinks(obs, known_rotations, match, options);
+  std::optional<RigCalibrationResult> second;
+  if (!FoundNothing(links)) {
+    second = EstimateRigWithLinks(obs, links, options);
+    if (CamerasPlaced(*second) == static_cast<int>(obs.cameras.size()) && !LosesOwnTracks(obs, *second)) {
+      second->motion_links = SummaryOf(links, true, second->num_cross_time_pairs_used);
+      return *std::move(second);
+    }
+  }
+  RigCalibrationResult first = EstimateRig(obs, options);
+  // Where the full pass leaves no camera without a full pose after all (its pair-rejection rounds
+  // changed the view graph the pre-check saw), the motion stage was not needed: it ran, not kept.
+  if (!second || !NeedsMotionLinks(first, obs, options)) {
+    SayWhatTheMotionFound(links, &first);
+    if (second) AddRigWork(*second, &first);
+    return first;
+  }
+  return TheBetterPass(obs, std::move(first), *std::move(second), links);
+}
+
 }  // namespace
 
 void MotionLinkOptions::Check() const {
@@ -323,27 +397,15 @@ MotionLinks FindMotionLinks(const RigObservations& obs,
 
 RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, const ViewPairMatcher& match,
                                                 const RigCalibrationOptions& options) {
-  RigCalibrationResult first = EstimateRig(obs, options);
-  if (!NeedsMotionLinks(first, obs, options)) return first;
-  const MotionLinks links = FindMotionLinks(obs, first.cam_from_rig_rotation, match, options);
-  if (links.cross_time.empty() && std::none_of(links.hand_eye.begin() + 1, links.hand_eye.end(), [](const HandEyeCamera& h) {
-        return h.status == HandEyeStatus::kSolved;
-      })) {
-    SayWhatTheMotionFound(links, &first);
-    return first;
-  }
-  RigObservations linked = obs;
-  linked.cross_time = links.cross_time;
-  linked.rotation_start = links.rotation_start;
-  linked.hand_eye_rotation = links.hand_eye_rotation;
-  linked.open_axis = links.open_axis;
-  RigCalibrationResult second = EstimateRig(linked, options);
-  if (CamerasPlaced(second) <= CamerasPlaced(first) || LosesOwnTracks(obs, second)) {
-    SayWhatTheMotionFound(links, &first);
-    return first;
-  }
-  second.motion_links = SummaryOf(links, true, second.num_cross_time_pairs_used);
-  return second;
+  if (!MotionCanLink(obs, options)) return EstimateRig(obs, options);
+  const RigPreCheck pre = PreCheckRig(obs, options);
+  RigCalibrationResult result = pre.SomeCameraWithoutFullPose()
+                                    ? LinkBeforeTheFullPass(obs, pre.cam_from_rig_rotation, match, options)
+                                    : LinkWhereTheFullPassNeedsIt(obs, match, options);
+  result.rotation_averaging_time_s += pre.rotation_averaging_time_s;
+  result.tracks_time_s += pre.tracks_time_s;
+  result.positions_time_s += pre.positions_time_s;
+  return result;
 }
 
 // For the rig stages (rig_calibration.cc).

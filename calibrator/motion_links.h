@@ -64,9 +64,11 @@ MotionLinks FindMotionLinks(const RigObservations& obs,
                             const std::vector<std::optional<Eigen::Quaterniond>>& known_rotations,
                             const ViewPairMatcher& match, const RigCalibrationOptions& options);
 
-// The rig stages on `obs` (EstimateRig); when they leave a camera without a full pose and the rig
-// moved, once more with the motion links (FindMotionLinks through `match`), kept when they place
-// more cameras. Throws like EstimateRig.
+// The rig stages on `obs` (EstimateRig), with the motion links (FindMotionLinks through `match`)
+// where a camera is left without a full pose and the rig moved, kept when they place more cameras.
+// Where the early stages show it (PreCheckRig), the pass with the links runs first and is the result
+// when it places every camera, without a full pass without them; otherwise the full pass runs first
+// and the links only where its result needs them. Throws like EstimateRig.
 RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, const ViewPairMatcher& match,
                                                 const RigCalibrationOptions& options);
 
