@@ -361,7 +361,8 @@ RigCalibrationResult EstimateRig(const RigObservations& observations, const RigC
 // Exists so that the motion stage can run before a full pass whose result it would replace.
 struct RigPreCheck {
   // Per camera: rotation averaging gives it a rotation and some start of the bundle adjustment a
-  // position. A camera without is left without a full pose; one with may still lose its position
+  // position. A camera without is left without a full pose, unless a pair the rig later rejects
+  // (max_rejected_pairs) made rotation averaging leave it out; one with may still lose its position
   // in the bundle adjustment (RigCalibrationOptions::max_direction_std_deg, ambiguous starts).
   std::vector<char> may_be_placed;
   // Per camera: cam_from_rig's rotation from rotation averaging; nullopt where there is none.
