@@ -275,11 +275,10 @@ RigCalibrationResult TheBetterPass(const RigObservations& obs, RigCalibrationRes
   return second;
 }
 
-// The full pass without links first, and the motion stage only where it leaves a camera without a
-// full pose.
-RigCalibrationResult LinkWhereTheFullPassNeedsIt(const RigObservations& obs, const ViewPairMatcher& match,
-                                                 const RigCalibrationOptions& options) {
-  RigCalibrationResult first = EstimateRig(obs, options);
+// After the full pass without links, `first`: the motion stage only where it leaves a camera
+// without a full pose.
+RigCalibrationResult LinkWhereTheFullPassNeedsIt(const RigObservations& obs, RigCalibrationResult first,
+                                                 const ViewPairMatcher& match, const RigCalibrationOptions& options) {
   if (!NeedsMotionLinks(first, obs, options)) return first;
   const MotionLinks links = FindMotionLinks(obs, first.cam_from_rig_rotation, match, options);
   if (FoundNothing(links)) {
@@ -289,9 +288,10 @@ RigCalibrationResult LinkWhereTheFullPassNeedsIt(const RigObservations& obs, con
   return TheBetterPass(obs, std::move(first), EstimateRigWithLinks(obs, links, options), links);
 }
 
-// The motion stage first, from the rotations of the pre-check (PreCheckRig): a pass with its links
-// that places every camera and keeps its own tracks is the result, and the full pass without them
-// runs only otherwise, to compare as LinkWhereTheFullPassNeedsIt does.
+// The motion stage first, from the rotations where the pass without links stopped
+// (EstimateRigUnlessUnplaced): a pass with the links that places every camera and keeps its own
+// tracks is the result, and the full pass without them runs only otherwise, to compare as
+// LinkWhereTheFullPassNeedsIt does.
 RigCalibrationResult LinkBeforeTheFullPass(const RigObservations& obs,
                                            const std::vector<std::optional<Eigen::Quaterniond>>& known_rotations,
                                            const ViewPairMatcher& match, const RigCalibrationOptions& options) {
@@ -305,8 +305,9 @@ RigCalibrationResult LinkBeforeTheFullPass(const RigObservations& obs,
     }
   }
   RigCalibrationResult first = EstimateRig(obs, options);
-  // Where the full pass leaves no camera without a full pose after all (its pair-rejection rounds
-  // changed the view graph the pre-check saw), the motion stage was not needed: it ran, not kept.
+  // Where the full pass leaves no camera without a full pose after all (a pair a later round
+  // rejected had left it out of rotation averaging), the motion stage was not needed: it ran, not
+  // kept.
   if (!second || !NeedsMotionLinks(first, obs, options)) {
     SayWhatTheMotionFound(links, &first);
     if (second) AddRigWork(*second, &first);
@@ -398,13 +399,11 @@ MotionLinks FindMotionLinks(const RigObservations& obs,
 RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, const ViewPairMatcher& match,
                                                 const RigCalibrationOptions& options) {
   if (!MotionCanLink(obs, options)) return EstimateRig(obs, options);
-  const RigPreCheck pre = PreCheckRig(obs, options);
-  RigCalibrationResult result = pre.SomeCameraWithoutFullPose()
-                                    ? LinkBeforeTheFullPass(obs, pre.cam_from_rig_rotation, match, options)
-                                    : LinkWhereTheFullPassNeedsIt(obs, match, options);
-  result.rotation_averaging_time_s += pre.rotation_averaging_time_s;
-  result.tracks_time_s += pre.tracks_time_s;
-  result.positions_time_s += pre.positions_time_s;
+  RigPreCheck stop;
+  std::optional<RigCalibrationResult> first = EstimateRigUnlessUnplaced(obs, options, &stop);
+  if (first) return LinkWhereTheFullPassNeedsIt(obs, *std::move(first), match, options);
+  RigCalibrationResult result = LinkBeforeTheFullPass(obs, stop.cam_from_rig_rotation, match, options);
+  AddRigWork(stop.work, &result);
   return result;
 }
 

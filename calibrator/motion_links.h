@@ -66,9 +66,10 @@ MotionLinks FindMotionLinks(const RigObservations& obs,
 
 // The rig stages on `obs` (EstimateRig), with the motion links (FindMotionLinks through `match`)
 // where a camera is left without a full pose and the rig moved, kept when they place more cameras.
-// Where the early stages show it (PreCheckRig), the pass with the links runs first and is the result
-// when it places every camera, without a full pass without them; otherwise the full pass runs first
-// and the links only where its result needs them. Throws like EstimateRig.
+// Where the stages before a bundle adjustment already show it (EstimateRigUnlessUnplaced stops), the
+// pass with the links runs next and is the result when it places every camera, without a full pass
+// without them; otherwise the full pass runs, and the links only where its result needs them.
+// Throws like EstimateRig.
 RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, const ViewPairMatcher& match,
                                                 const RigCalibrationOptions& options);
 

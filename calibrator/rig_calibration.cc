@@ -677,8 +677,22 @@ EarlyStages RunEarlyStages(const RigObservations& obs, const RigCalibrationOptio
   return s;
 }
 
-RigCalibrationResult EstimateRigOnce(const RigObservations& obs, const RigCalibrationOptions& options,
-                                     const std::vector<std::string>& rejected, int known_a, int known_b) {
+// Which cameras the early stages give a rotation and a start position, and their rotations.
+void PreCheckEarlyStages(const EarlyStages& early, int n, RigPreCheck* check) {
+  check->cam_from_rig_rotation = early.rotations.rot.cam_from_rig;
+  check->may_be_placed.assign(n, 0);
+  for (int c = 0; c < n; ++c) {
+    const bool positioned = c == 0 || std::any_of(early.initial.starts.begin(), early.initial.starts.end(),
+                                                  [c](const PoseStart& s) { return s.cam_from_rig[c].has_value(); });
+    check->may_be_placed[c] = check->cam_from_rig_rotation[c] && positioned;
+  }
+}
+
+// One round of the rig stages. With `stop`: nullopt, and `stop` filled but for its work, where
+// the early stages leave a camera without a rotation or a start position.
+std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, const RigCalibrationOptions& options,
+                                                    const std::vector<std::string>& rejected, int known_a, int known_b,
+                                                    RigPreCheck* stop) {
   const int n = static_cast<int>(obs.cameras.size());
   const int num_frames = static_cast<int>(obs.keypoints.size());
   RigCalibrationResult result;
@@ -686,6 +700,13 @@ RigCalibrationResult EstimateRigOnce(const RigObservations& obs, const RigCalibr
   result.camera_stats.assign(n, {});
   result.camera_status.assign(n, CameraStatus{});
   const EarlyStages early = RunEarlyStages(obs, options, rejected, &result);
+  if (stop) {
+    PreCheckEarlyStages(early, n, stop);
+    if (stop->SomeCameraWithoutFullPose()) {
+      stop->work = std::move(result);
+      return std::nullopt;
+    }
+  }
   const RotationStage& rotations = early.rotations;
   const RigMotion& motion = early.motion;
   const std::vector<ViewTrack>& tracks = early.tracks;
@@ -789,23 +810,6 @@ bool RigPreCheck::SomeCameraWithoutFullPose() const {
   return std::find(may_be_placed.begin(), may_be_placed.end(), 0) != may_be_placed.end();
 }
 
-RigPreCheck PreCheckRig(const RigObservations& obs, const RigCalibrationOptions& options) {
-  CheckInputs(obs, options);
-  RigCalibrationResult times;  // the stages' counts and times
-  const EarlyStages early = RunEarlyStages(obs, options, std::vector<std::string>(obs.pairs.size()), &times);
-  RigPreCheck out;
-  out.cam_from_rig_rotation = early.rotations.rot.cam_from_rig;
-  for (size_t c = 0; c < obs.cameras.size(); ++c) {
-    const bool positioned = c == 0 || std::any_of(early.initial.starts.begin(), early.initial.starts.end(),
-                                                  [c](const PoseStart& s) { return s.cam_from_rig[c].has_value(); });
-    out.may_be_placed.push_back(out.cam_from_rig_rotation[c] && positioned);
-  }
-  out.rotation_averaging_time_s = times.rotation_averaging_time_s;
-  out.tracks_time_s = times.tracks_time_s;
-  out.positions_time_s = times.positions_time_s;
-  return out;
-}
-
 void AddRigWork(const RigCalibrationResult& from, RigCalibrationResult* into) {
   into->rig_passes += from.rig_passes;
   into->rotation_averaging_time_s += from.rotation_averaging_time_s;
@@ -815,7 +819,11 @@ void AddRigWork(const RigCalibrationResult& from, RigCalibrationResult* into) {
   into->synchronisation_check_time_s += from.synchronisation_check_time_s;
 }
 
-RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibrationOptions& options) {
+namespace {
+
+// EstimateRig, or with `stop` EstimateRigUnlessUnplaced.
+std::optional<RigCalibrationResult> EstimateRigRounds(const RigObservations& obs, const RigCalibrationOptions& options,
+                                                      RigPreCheck* stop) {
   const auto [known_a, known_b] = CheckInputs(obs, options);
   // Every pair the rig used must agree with the rig it helped make: one that does not is left
   // out and the rig made again without it, the worst first.
@@ -823,7 +831,9 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
   // in `kept`, a copy made only then, it is a rotation-only pair.
   std::vector<std::string> rejected(obs.pairs.size()), direction_left_out(obs.pairs.size());
   std::optional<RigObservations> kept;
-  RigCalibrationResult result = EstimateRigOnce(obs, options, rejected, known_a, known_b);
+  std::optional<RigCalibrationResult> first = EstimateRigOnce(obs, options, rejected, known_a, known_b, stop);
+  if (!first) return std::nullopt;
+  RigCalibrationResult result = *std::move(first);
   for (int round = 0; round < options.max_rejected_pairs; ++round) {
     const auto [edge, why] = MostDisagreeingEdge(result, options);
     if (edge < 0) break;
@@ -837,9 +847,14 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
     } else {
       rejected[edge] = why;
     }
-    RigCalibrationResult next = EstimateRigOnce(kept ? *kept : obs, options, rejected, known_a, known_b);
-    AddRigWork(result, &next);  // a round is part of this pass
-    result = std::move(next);
+    std::optional<RigCalibrationResult> next = EstimateRigOnce(kept ? *kept : obs, options, rejected, known_a, known_b, stop);
+    if (!next) {
+      stop->round = round + 1;
+      AddRigWork(result, &stop->work);
+      return std::nullopt;
+    }
+    AddRigWork(result, &*next);  // a round is part of this pass
+    result = *std::move(next);
   }
   result.rig_passes = 1;
   for (int e = 0; e < static_cast<int>(result.edges.size()); ++e) {
@@ -849,6 +864,18 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
     if (s.direction_left_out && s.used) s.status = direction_left_out[e];
   }
   return result;
+}
+
+}  // namespace
+
+RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibrationOptions& options) {
+  return *EstimateRigRounds(obs, options, nullptr);
+}
+
+std::optional<RigCalibrationResult> EstimateRigUnlessUnplaced(const RigObservations& obs,
+                                                              const RigCalibrationOptions& options, RigPreCheck* stop) {
+  *stop = RigPreCheck{};
+  return EstimateRigRounds(obs, options, stop);
 }
 
 void UseReestimatedPairs(RigCalibrationResult* result) {

@@ -344,7 +344,7 @@ struct RigCalibrationResult {
   // result: 2 where a pass with the motion links and one without both ran, or intrinsics were refined.
   int rig_passes = 0;
   // Wall time of the rig stages (the pairwise ones are in `pairwise`), summed over the rig_passes
-  // and, where the motion stage could run, the pre-check's stages (PreCheckRig).
+  // and the rounds of a pass stopped before its bundle adjustment (EstimateRigUnlessUnplaced).
   double rotation_averaging_time_s = 0.0;
   double positions_time_s = 0.0;
   double tracks_time_s = 0.0;
@@ -358,23 +358,30 @@ struct RigCalibrationResult {
 // std::invalid_argument on inconsistent observations or a known distance naming an unknown camera.
 RigCalibrationResult EstimateRig(const RigObservations& observations, const RigCalibrationOptions& options);
 
-// Exists so that the motion stage can run before a full pass whose result it would replace.
+// Where EstimateRigUnlessUnplaced stopped. Exists so that the motion stage can run before a full
+// pass whose result it would replace.
 struct RigPreCheck {
+  // The pair-rejection round (0: the first; r: after r pairs left out, max_rejected_pairs) whose
+  // early stages (rotation averaging, the rig's motion, tracks, initial positions) it checked.
+  int round = 0;
   // Per camera: rotation averaging gives it a rotation and some start of the bundle adjustment a
-  // position. A camera without is left without a full pose, unless a pair the rig later rejects
-  // (max_rejected_pairs) made rotation averaging leave it out; one with may still lose its position
-  // in the bundle adjustment (RigCalibrationOptions::max_direction_std_deg, ambiguous starts).
+  // position. A camera without is left without a full pose, unless a pair a later round rejects made
+  // rotation averaging leave it out; one with may still lose its position in the bundle adjustment
+  // (RigCalibrationOptions::max_direction_std_deg, ambiguous starts).
   std::vector<char> may_be_placed;
-  // Per camera: cam_from_rig's rotation from rotation averaging; nullopt where there is none.
+  // Per camera: cam_from_rig's rotation from that round's rotation averaging; nullopt where none.
   std::vector<std::optional<Eigen::Quaterniond>> cam_from_rig_rotation;
-  double rotation_averaging_time_s = 0.0, tracks_time_s = 0.0, positions_time_s = 0.0;
+  // The stage times of what ran until the stop (every earlier round whole, rig_passes 0).
+  RigCalibrationResult work;
 
   bool SomeCameraWithoutFullPose() const;
 };
 
-// EstimateRig's stages up to the bundle adjustment's starts (rotation averaging, the rig's motion,
-// tracks, initial positions), as its first round runs them. Throws like EstimateRig.
-RigPreCheck PreCheckRig(const RigObservations& observations, const RigCalibrationOptions& options);
+// EstimateRig, stopped before the bundle adjustment of the first round whose early stages leave a
+// camera without a rotation or a start position: then nullopt, and `stop` says where and why.
+// Throws like EstimateRig.
+std::optional<RigCalibrationResult> EstimateRigUnlessUnplaced(const RigObservations& observations,
+                                                              const RigCalibrationOptions& options, RigPreCheck* stop);
 
 // Adds `from`'s rig_passes and stage times into `into`, which then counts the work of both.
 void AddRigWork(const RigCalibrationResult& from, RigCalibrationResult* into);
