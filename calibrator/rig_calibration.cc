@@ -126,6 +126,19 @@ std::pair<int, int> KnownDistanceCameras(const KnownDistance& known, const std::
   return {index(known.cam_a), index(known.cam_b)};
 }
 
+bool RigPreCheck::SomeCameraWithoutFullPose() const {
+  return std::find(may_be_placed.begin(), may_be_placed.end(), 0) != may_be_placed.end();
+}
+
+void AddRigWork(const RigCalibrationResult& from, RigCalibrationResult* into) {
+  into->rig_passes += from.rig_passes;
+  into->rotation_averaging_time_s += from.rotation_averaging_time_s;
+  into->tracks_time_s += from.tracks_time_s;
+  into->positions_time_s += from.positions_time_s;
+  into->bundle_adjustment_time_s += from.bundle_adjustment_time_s;
+  into->synchronisation_check_time_s += from.synchronisation_check_time_s;
+}
+
 void RigCalibrationOptions::Check() const {
   pairwise.Check();
   capture_time.Check();
@@ -594,10 +607,6 @@ void SetCameraAndEdgeStatus(const RigObservations& obs, const RotationStage& rs,
   }
 }
 
-}  // namespace
-
-namespace {
-
 // Each used edge's two-view estimate against the rig's: how far its rotation is from the rig's
 // R_b R_a^T and, when both cameras have a position, its translation direction from the rig's.
 void CompareEdgesWithRig(const RigObservations& obs, RigCalibrationResult* result) {
@@ -707,10 +716,7 @@ std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, 
       return std::nullopt;
     }
   }
-  const RotationStage& rotations = early.rotations;
-  const RigMotion& motion = early.motion;
-  const std::vector<ViewTrack>& tracks = early.tracks;
-  const PositionStage& initial = early.initial;
+  const auto& [rotations, motion, tracks, initial] = early;
 
   // Step 5: bundle adjustment over all posed views, from every start.
   auto start = Clock::now();
@@ -803,23 +809,6 @@ std::pair<int, int> CheckInputs(const RigObservations& obs, const RigCalibration
   if (!options.known_distance) return {-1, -1};
   return KnownDistanceCameras(*options.known_distance, obs.camera_names, "EstimateRig");
 }
-
-}  // namespace
-
-bool RigPreCheck::SomeCameraWithoutFullPose() const {
-  return std::find(may_be_placed.begin(), may_be_placed.end(), 0) != may_be_placed.end();
-}
-
-void AddRigWork(const RigCalibrationResult& from, RigCalibrationResult* into) {
-  into->rig_passes += from.rig_passes;
-  into->rotation_averaging_time_s += from.rotation_averaging_time_s;
-  into->tracks_time_s += from.tracks_time_s;
-  into->positions_time_s += from.positions_time_s;
-  into->bundle_adjustment_time_s += from.bundle_adjustment_time_s;
-  into->synchronisation_check_time_s += from.synchronisation_check_time_s;
-}
-
-namespace {
 
 // EstimateRig, or with `stop` EstimateRigUnlessUnplaced.
 std::optional<RigCalibrationResult> EstimateRigRounds(const RigObservations& obs, const RigCalibrationOptions& options,
