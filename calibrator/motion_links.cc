@@ -19,12 +19,13 @@ namespace {
 
 using MotionClock = std::chrono::steady_clock;
 
-// Each camera's own trajectory over the frames; frame 0 is the identity by definition, also for a
-// camera whose own motion the images do not fix.
-std::vector<CameraTrajectory> CameraTrajectories(const RigObservations& obs, const RigPositionOptions& options) {
+// Each camera's own trajectory over the frames, through its steps as the rig chose them; frame 0 is
+// the identity by definition, also for a camera whose own motion the images do not fix.
+std::vector<CameraTrajectory> CameraTrajectories(const RigObservations& obs, const RigTurns& turns,
+                                                 const RigPositionOptions& options) {
   std::vector<CameraTrajectory> out;
   for (int c = 0; c < static_cast<int>(obs.cameras.size()); ++c) {
-    out.push_back(EstimateCameraTrajectory(obs.cameras[c], c, obs.keypoints, obs.temporal, options));
+    out.push_back(EstimateCameraTrajectory(obs.cameras[c], c, obs.keypoints, obs.temporal, turns.step_rotation[c], options));
     if (!out.back().empty()) out.back()[0] = Rigid3d();
   }
   return out;
@@ -109,7 +110,7 @@ JointRotations AverageJointly(const RigObservations& obs, const ViewGraph& graph
     if (e.active) measurements.push_back({e.cam_a, e.cam_b, -1, -1, e.rotation, std::max(e.weight, 1)});
   }
   for (const TemporalPairEstimate& t : obs.temporal) {
-    if (!t.two_view.success) continue;
+    if (!t.PoseUsable()) continue;
     measurements.push_back({t.camera, t.camera, t.frame, t.frame + 1, t.two_view.cam_b_from_cam_a.rotation,
                             std::max(t.two_view.num_inliers, 1)});
   }
@@ -219,6 +220,8 @@ RigCalibrationResult::MotionLinkSummary SummaryOf(const MotionLinks& links, bool
   summary.candidates = links.num_candidates;
   summary.pairs = static_cast<int>(links.cross_time.size());
   summary.pairs_used = pairs_used;
+  summary.temporal_alternatives_taken = links.temporal_alternatives_taken;
+  summary.temporal_pairs_disagreeing = links.temporal_pairs_disagreeing;
   summary.time_s = links.time_s;
   return summary;
 }
@@ -247,6 +250,7 @@ void MotionLinkOptions::Check() const {
   auto fail = [](const std::string& why) { throw std::invalid_argument("MotionLinkOptions: " + why); };
   if (min_frames < 3) fail("min_frames must be >= 3");
   hand_eye.Check();
+  rig_turns.Check();
   candidates.Check();
   rotation_averaging.Check();
   if (!(max_prediction_disagreement_deg > 0)) fail("max_prediction_disagreement_deg must be > 0");
@@ -276,17 +280,21 @@ MotionLinks FindMotionLinks(const RigObservations& obs,
   out.hand_eye_rotation.assign(n, std::nullopt);
   out.open_axis.assign(n, std::nullopt);
   out.hand_eye.assign(n, HandEyeCamera{});
+  out.temporal = obs.temporal;
   if (!options.motion.enabled || num_frames < options.motion.min_frames || obs.temporal.empty()) return out;
 
+  // Each step between frames takes the pose the rig agrees with (a planar pair's other pose).
+  const RigTurns turns = ResolveStepsByTheRig(obs.temporal, known_rotations, num_frames, options.motion.rig_turns);
+  out.temporal = turns.temporal;
   // Starts: the rotations known, else hand-eye's (also an undetermined one: the averaging and the
   // cross-time pairs decide it).
-  const HandEyeResult hand_eye = SolveHandEye(CameraTrajectories(obs, options.positions), options.motion.hand_eye);
+  const HandEyeResult hand_eye = SolveHandEye(CameraTrajectories(obs, turns, options.positions), options.motion.hand_eye);
   out.motion = hand_eye.motion;
   out.hand_eye = hand_eye.cameras;
   CrossTimeCandidateInputs inputs;
   inputs.cameras = obs.cameras;
   inputs.cam_from_rig = known_rotations;
-  inputs.rig_from_world = EstimateRigRotations(num_frames, known_rotations, obs.temporal);
+  inputs.rig_from_world = turns.rig_from_world;
   for (int c = 0; c < n; ++c) {
     const HandEyeCamera& h = hand_eye.cameras[c];
     const bool solved = h.status == HandEyeStatus::kSolved || h.status == HandEyeStatus::kReference;
@@ -333,12 +341,13 @@ RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, cons
     return first;
   }
   RigObservations linked = obs;
+  linked.temporal = links.temporal;
   linked.cross_time = links.cross_time;
   linked.rotation_start = links.rotation_start;
   linked.hand_eye_rotation = links.hand_eye_rotation;
   linked.open_axis = links.open_axis;
   RigCalibrationResult second = EstimateRig(linked, options);
-  if (CamerasPlaced(second) <= CamerasPlaced(first) || LosesOwnTracks(obs, second)) {
+  if (CamerasPlaced(second) <= CamerasPlaced(first) || LosesOwnTracks(linked, second)) {
     SayWhatTheMotionFound(links, &first);
     return first;
   }

@@ -2,8 +2,8 @@
 // their views at the same instant (a ring at low overlap): the same-instant view graph leaves them
 // out of camera 0's part, but as the rig turns, camera b at frame t' sees what camera a saw at t.
 //
-// Stages (FindMotionLinks): each camera's own trajectory from its temporal pairs
-// (camera_trajectory.h) -> hand-eye calibration against camera 0's (hand_eye.h): a start of every
+// Stages (FindMotionLinks): each step between frames takes the pose the rig agrees with
+// (rig_turns.h) -> each camera's own trajectory from those steps (camera_trajectory.h) -> hand-eye calibration against camera 0's (hand_eye.h): a start of every
 // camera's rotation in the rig, and the axis of a planar motion -> which views to match across time
 // (cross_time_candidates.h: predicted from the rotations known, a search by the rig's turn for the
 // others) -> those view pairs matched (with the pairwise stage's matcher and semantic mode) and
@@ -29,6 +29,7 @@
 #include "calibrator/hand_eye.h"
 #include "calibrator/rig_calibration.h"
 #include "calibrator/rig_rotation_averaging.h"
+#include "calibrator/rig_turns.h"
 
 namespace rigsim {
 
@@ -52,6 +53,11 @@ struct MotionLinks {
   // Per camera: with a planar motion, the turn axis in the rig, along which the motion does not
   // fix its centre; nullopt otherwise.
   std::vector<std::optional<Eigen::Vector3d>> open_axis;
+  // The temporal pairs with the poses the rig agrees with (rig_turns.h), for the rig stages, and how
+  // many took their planar alternative or disagree with every pose (failed).
+  std::vector<TemporalPairEstimate> temporal;
+  int temporal_alternatives_taken = 0;
+  int temporal_pairs_disagreeing = 0;
   int num_candidates = 0;  // view pairs matched
   std::vector<CrossTimePairEstimate> cross_time;  // the successful ones
   double time_s = 0.0;

@@ -42,6 +42,7 @@
 #include "calibrator/pairwise.h"
 #include "calibrator/rig_positions.h"
 #include "calibrator/rig_rotation_averaging.h"
+#include "calibrator/rig_turns.h"
 #include "calibrator/rotation_averaging.h"
 #include "calibrator/view_graph.h"
 #include "geometry/rig.h"
@@ -68,6 +69,7 @@ struct MotionLinkOptions {
   bool enabled = true;
   int min_frames = 3;
   HandEyeOptions hand_eye;
+  RigTurnOptions rig_turns;
   CrossTimeCandidateOptions candidates;
   // The joint averaging of every rotation (same-instant, temporal and cross-time pairs).
   RigRotationAveragingOptions rotation_averaging;
@@ -329,13 +331,16 @@ struct RigCalibrationResult {
   std::vector<RigStartSummary> position_starts;
   // The motion stage (motion_links.h) when it ran: whether its result was kept (it placed more
   // cameras), the motion's kind, the view pairs matched across time, the successful ones, those
-  // rotation averaging kept, and its time.
+  // rotation averaging kept, the temporal pairs that took their planar alternative or failed
+  // against the rig's turns (rig_turns.h), and its time.
   struct MotionLinkSummary {
     bool kept = false;
     MotionKind motion = MotionKind::kStraight;
     int candidates = 0;
     int pairs = 0;
     int pairs_used = 0;
+    int temporal_alternatives_taken = 0;
+    int temporal_pairs_disagreeing = 0;
     double time_s = 0.0;
   };
   std::optional<MotionLinkSummary> motion_links;
