@@ -39,23 +39,38 @@ std::optional<Eigen::Quaterniond> PredictedViewRotation(const CrossTimeCandidate
   return *qb * *ru * rt->conjugate() * qa->conjugate();
 }
 
+// One view pair matched and estimated, with its matches; nullopt with fewer matches or inliers than
+// an edge of the view graph needs.
+struct ViewPairFit {
+  std::vector<std::pair<int, int>> matches;
+  TwoViewResult two_view;
+};
+std::optional<ViewPairFit> FitViewPair(const RigObservations& obs, const CrossTimeCandidate& c, const ViewPairMatcher& match,
+                                       const RigCalibrationOptions& options) {
+  ViewPairFit fit;
+  fit.matches = match(c.cam_a, c.frame_a, c.cam_b, c.frame_b);
+  if (static_cast<int>(fit.matches.size()) < options.view_graph.min_inliers) return std::nullopt;
+  std::vector<Eigen::Vector2d> px_a, px_b;
+  const auto& kp_a = obs.keypoints.at(c.frame_a).at(c.cam_a);
+  const auto& kp_b = obs.keypoints.at(c.frame_b).at(c.cam_b);
+  for (const auto& [a, b] : fit.matches) {
+    px_a.push_back(kp_a.at(a));
+    px_b.push_back(kp_b.at(b));
+  }
+  fit.two_view = EstimateRelativePose(obs.cameras[c.cam_a], px_a, obs.cameras[c.cam_b], px_b, options.pairwise.two_view);
+  if (!fit.two_view.success || fit.two_view.num_inliers < options.view_graph.min_inliers) return std::nullopt;
+  return fit;
+}
+
 // One candidate matched and estimated; nullopt when it does not link the views (too few inliers,
 // or a rotation far from the predicted one).
 std::optional<CrossTimePairEstimate> LinkViews(const RigObservations& obs, const CrossTimeCandidate& c,
                                                const std::optional<Eigen::Quaterniond>& predicted,
                                                const ViewPairMatcher& match, const RigCalibrationOptions& options) {
-  const std::vector<std::pair<int, int>> matches = match(c.cam_a, c.frame_a, c.cam_b, c.frame_b);
-  if (static_cast<int>(matches.size()) < options.view_graph.min_inliers) return std::nullopt;
-  std::vector<Eigen::Vector2d> px_a, px_b;
-  const auto& kp_a = obs.keypoints.at(c.frame_a).at(c.cam_a);
-  const auto& kp_b = obs.keypoints.at(c.frame_b).at(c.cam_b);
-  for (const auto& [a, b] : matches) {
-    px_a.push_back(kp_a.at(a));
-    px_b.push_back(kp_b.at(b));
-  }
-  const TwoViewResult tv =
-      EstimateRelativePose(obs.cameras[c.cam_a], px_a, obs.cameras[c.cam_b], px_b, options.pairwise.two_view);
-  if (!tv.success || tv.num_inliers < options.view_graph.min_inliers) return std::nullopt;
+  const std::optional<ViewPairFit> fit = FitViewPair(obs, c, match, options);
+  if (!fit) return std::nullopt;
+  const TwoViewResult& tv = fit->two_view;
+  const std::vector<std::pair<int, int>>& matches = fit->matches;
   if (predicted && RotationDifferenceDeg(*predicted, tv.cam_b_from_cam_a.rotation) >
                        options.motion.max_prediction_disagreement_deg) {
     return std::nullopt;
@@ -213,8 +228,11 @@ bool LosesOwnTracks(const RigObservations& obs, const RigCalibrationResult& resu
   return false;
 }
 
-RigCalibrationResult::MotionLinkSummary SummaryOf(const MotionLinks& links, bool kept, int pairs_used) {
+RigCalibrationResult::MotionLinkSummary SummaryOf(const MotionLinks& links, bool kept, int pairs_used,
+                                                  const PredictionCheck& check) {
   RigCalibrationResult::MotionLinkSummary summary;
+  summary.predicted_views_agreeing = check.agreeing;
+  summary.predicted_views_contradicting = check.contradicting;
   summary.kept = kept;
   summary.motion = links.motion.kind;
   summary.candidates = links.num_candidates;
@@ -222,14 +240,14 @@ RigCalibrationResult::MotionLinkSummary SummaryOf(const MotionLinks& links, bool
   summary.pairs_used = pairs_used;
   summary.temporal_alternatives_taken = links.temporal_alternatives_taken;
   summary.temporal_pairs_disagreeing = links.temporal_pairs_disagreeing;
-  summary.time_s = links.time_s;
+  summary.time_s = links.time_s + check.time_s;
   return summary;
 }
 
 // A camera the motion stage did not place either: its status says what the rig's motion gave for
 // it (hand-eye's finding, the view pairs matched with it across time), so that a user sees why.
-void SayWhatTheMotionFound(const MotionLinks& links, RigCalibrationResult* result) {
-  result->motion_links = SummaryOf(links, false, 0);
+void SayWhatTheMotionFound(const MotionLinks& links, const PredictionCheck& check, RigCalibrationResult* result) {
+  result->motion_links = SummaryOf(links, false, 0, check);
   for (size_t c = 1; c < result->camera_status.size() && c < links.hand_eye.size(); ++c) {
     CameraStatus& s = result->camera_status[c];
     if (s.outcome != CameraOutcome::kNotConnected && s.outcome != CameraOutcome::kRotationOnly) continue;
@@ -240,7 +258,13 @@ void SayWhatTheMotionFound(const MotionLinks& links, RigCalibrationResult* resul
     const std::string hand_eye =
         h.status == HandEyeStatus::kSolved ? "solved, but the joint solution did not hold" : h.reason;
     s.reason += "; nor did the rig's motion place it (hand-eye: " + hand_eye + "; " + std::to_string(pairs) +
-                " view pair(s) matched with it across time)";
+                " view pair(s) matched with it across time";
+    if (check.AnyCameraContradicted()) {
+      s.reason += "; the rig they made predicts views that the images contradict: " +
+                  std::to_string(check.contradicting) + " of " + std::to_string(check.agreeing + check.contradicting) +
+                  " view pairs matched afresh (wrong matches of repeated structure)";
+    }
+    s.reason += ")";
   }
 }
 
@@ -255,6 +279,7 @@ void MotionLinkOptions::Check() const {
   rotation_averaging.Check();
   if (!(max_prediction_disagreement_deg > 0)) fail("max_prediction_disagreement_deg must be > 0");
   if (!(max_hand_eye_disagreement_deg > 0)) fail("max_hand_eye_disagreement_deg must be > 0");
+  if (!(max_prediction_check_deg > 0)) fail("max_prediction_check_deg must be > 0");
   if (!(max_inter_camera_weight >= 1)) fail("max_inter_camera_weight must be >= 1");
 }
 
@@ -280,12 +305,15 @@ MotionLinks FindMotionLinks(const RigObservations& obs,
   out.hand_eye_rotation.assign(n, std::nullopt);
   out.open_axis.assign(n, std::nullopt);
   out.hand_eye.assign(n, HandEyeCamera{});
+  out.placed_by_motion.assign(n, 0);
   out.temporal = obs.temporal;
   if (!options.motion.enabled || num_frames < options.motion.min_frames || obs.temporal.empty()) return out;
 
   // Each step between frames takes the pose the rig agrees with (a planar pair's other pose).
   const RigTurns turns = ResolveStepsByTheRig(obs.temporal, known_rotations, num_frames, options.motion.rig_turns);
   out.temporal = turns.temporal;
+  out.temporal_alternatives_taken = turns.alternatives_taken;
+  out.temporal_pairs_disagreeing = turns.pairs_disagreeing;
   // Starts: the rotations known, else hand-eye's (also an undetermined one: the averaging and the
   // cross-time pairs decide it).
   const HandEyeResult hand_eye = SolveHandEye(CameraTrajectories(obs, turns, options.positions), options.motion.hand_eye);
@@ -315,6 +343,8 @@ MotionLinks FindMotionLinks(const RigObservations& obs,
     if (!known_rotations[c.cam_a] || !known_rotations[c.cam_b]) candidates.push_back(c);
   }
   out.num_candidates = static_cast<int>(candidates.size());
+  out.matched = candidates;
+  for (int c = 0; c < n; ++c) out.placed_by_motion[c] = !known_rotations[c];
   std::vector<std::optional<CrossTimePairEstimate>> linked(candidates.size());
   {
     const ParallelScope parallel(options.pairwise.num_threads);
@@ -337,7 +367,7 @@ RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, cons
   if (links.cross_time.empty() && std::none_of(links.hand_eye.begin() + 1, links.hand_eye.end(), [](const HandEyeCamera& h) {
         return h.status == HandEyeStatus::kSolved;
       })) {
-    SayWhatTheMotionFound(links, &first);
+    SayWhatTheMotionFound(links, {}, &first);
     return first;
   }
   RigObservations linked = obs;
@@ -348,14 +378,78 @@ RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, cons
   linked.open_axis = links.open_axis;
   RigCalibrationResult second = EstimateRig(linked, options);
   if (CamerasPlaced(second) <= CamerasPlaced(first) || LosesOwnTracks(linked, second)) {
-    SayWhatTheMotionFound(links, &first);
+    SayWhatTheMotionFound(links, {}, &first);
     return first;
   }
-  second.motion_links = SummaryOf(links, true, second.num_cross_time_pairs_used);
+  // The rig the motion made must show in views it was not made from.
+  const PredictionCheck check = CheckPredictedViews(obs, links, second, match, options);
+  if (check.AnyCameraContradicted()) {
+    SayWhatTheMotionFound(links, check, &first);
+    return first;
+  }
+  second.motion_links = SummaryOf(links, true, second.num_cross_time_pairs_used, check);
   return second;
 }
 
 // For the rig stages (rig_calibration.cc).
+
+bool PredictionCheck::AnyCameraContradicted() const {
+  for (size_t c = 0; c < camera_contradicting.size(); ++c) {
+    if (camera_contradicting[c] > camera_agreeing[c]) return true;
+  }
+  return false;
+}
+
+PredictionCheck CheckPredictedViews(const RigObservations& obs, const MotionLinks& links, const RigCalibrationResult& result,
+                                    const ViewPairMatcher& match, const RigCalibrationOptions& options) {
+  const auto start = MotionClock::now();
+  const int n = static_cast<int>(obs.cameras.size());
+  CrossTimeCandidateInputs inputs;
+  inputs.cameras = obs.cameras;
+  inputs.cam_from_rig = result.cam_from_rig_rotation;
+  for (const auto& pose : result.rig_from_world) {
+    inputs.rig_from_world.push_back(pose ? std::optional<Eigen::Quaterniond>(pose->rotation) : std::nullopt);
+  }
+  PredictionCheck out;
+  if (static_cast<int>(inputs.cam_from_rig.size()) != n || inputs.rig_from_world.empty()) return out;
+  auto matched_before = [&](const CrossTimeCandidate& c) {
+    return std::any_of(links.matched.begin(), links.matched.end(), [&](const CrossTimeCandidate& m) {
+      return m.cam_a == c.cam_a && m.frame_a == c.frame_a && m.cam_b == c.cam_b && m.frame_b == c.frame_b;
+    });
+  };
+  std::vector<CrossTimeCandidate> fresh;
+  for (const CrossTimeCandidate& c : SelectCrossTimeCandidates(inputs, options.motion.candidates)) {
+    if ((links.placed_by_motion[c.cam_a] || links.placed_by_motion[c.cam_b]) && !matched_before(c)) fresh.push_back(c);
+  }
+  std::vector<int> verdict(fresh.size(), 0);  // +1 agrees, -1 contradicts, 0 no estimate
+  {
+    const ParallelScope parallel(options.pairwise.num_threads);
+    tbb::parallel_for(0, static_cast<int>(fresh.size()), [&](int i) {
+      const CrossTimeCandidate& c = fresh[i];
+      const std::optional<ViewPairFit> fit = FitViewPair(obs, c, match, options);
+      if (!fit) return;
+      const TwoViewResult& tv = fit->two_view;
+      const Eigen::Quaterniond predicted = *PredictedViewRotation(inputs, c);
+      double nearest = RotationDifferenceDeg(predicted, tv.cam_b_from_cam_a.rotation);
+      for (const Rigid3d& other : tv.planar_alternatives) nearest = std::min(nearest, RotationDifferenceDeg(predicted, other.rotation));
+      verdict[i] = nearest <= options.motion.max_prediction_check_deg ? 1 : -1;
+    });
+  }
+  out.camera_agreeing.assign(n, 0);
+  out.camera_contradicting.assign(n, 0);
+  for (size_t i = 0; i < fresh.size(); ++i) {
+    out.agreeing += verdict[i] > 0;
+    out.contradicting += verdict[i] < 0;
+    for (int c : {fresh[i].cam_a, fresh[i].cam_b}) {
+      if (!links.placed_by_motion[c]) continue;
+      out.camera_agreeing[c] += verdict[i] > 0;
+      out.camera_contradicting[c] += verdict[i] < 0;
+      if (fresh[i].cam_a == fresh[i].cam_b) break;
+    }
+  }
+  out.time_s = std::chrono::duration<double>(MotionClock::now() - start).count();
+  return out;
+}
 
 JointRotations AverageRotationsWithMotionLinks(const RigObservations& obs, const ViewGraph& graph,
                                                const RigCalibrationOptions& options) {

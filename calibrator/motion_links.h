@@ -59,6 +59,9 @@ struct MotionLinks {
   int temporal_alternatives_taken = 0;
   int temporal_pairs_disagreeing = 0;
   int num_candidates = 0;  // view pairs matched
+  std::vector<CrossTimeCandidate> matched;  // those view pairs
+  // Per camera: 1 when the same-instant pairs gave it no rotation (the motion stage is to place it).
+  std::vector<char> placed_by_motion;
   std::vector<CrossTimePairEstimate> cross_time;  // the successful ones
   double time_s = 0.0;
 };
@@ -72,9 +75,30 @@ MotionLinks FindMotionLinks(const RigObservations& obs,
 
 // The rig stages on `obs` (EstimateRig); when they leave a camera without a full pose and the rig
 // moved, once more with the motion links (FindMotionLinks through `match`), kept when they place
-// more cameras. Throws like EstimateRig.
+// more cameras and no camera's views that the new rig predicts to meet, matched afresh, contradict
+// it more often than they agree (CheckPredictedViews). Throws like EstimateRig.
 RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, const ViewPairMatcher& match,
                                                 const RigCalibrationOptions& options);
+
+// The rig `result` that the motion links `links` made, checked on view pairs it predicts to meet
+// (cross_time_candidates.h, from its rotations) that involve a camera the motion stage placed and
+// that the motion stage did not match: each, matched and estimated now, agrees with the rig's
+// rotation between its two views (within MotionLinkOptions::max_prediction_check_deg, by its pose or
+// a planar alternative) or contradicts it. Cross-time matches of repeated structure can agree with
+// each other on a wrong rig where the motion leaves a camera's turn open; the views that rig
+// predicts then do not show what it says.
+// Counted per camera (a pair counts for each of its cameras the motion stage placed) and in all; a
+// camera is contradicted when more of its pairs contradict than agree.
+struct PredictionCheck {
+  int agreeing = 0;
+  int contradicting = 0;
+  std::vector<int> camera_agreeing, camera_contradicting;
+  double time_s = 0.0;
+
+  bool AnyCameraContradicted() const;
+};
+PredictionCheck CheckPredictedViews(const RigObservations& obs, const MotionLinks& links, const RigCalibrationResult& result,
+                                    const ViewPairMatcher& match, const RigCalibrationOptions& options);
 
 // For the rig stages (rig_calibration.cc), on observations with motion links:
 

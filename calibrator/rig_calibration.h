@@ -81,6 +81,10 @@ struct MotionLinkOptions {
   // when two things agree on it: its hand-eye rotation within this (deg), or two cross-time pairs
   // with cameras that are kept. One pair alone could be a wrong match nothing would contradict.
   double max_hand_eye_disagreement_deg = 2.0;
+  // The rig the motion links made is checked on view pairs it predicts to meet that were not matched
+  // to make it: one whose rotation is within this (deg) of the rig's agrees, a farther one
+  // contradicts; the rig is not kept when more contradict than agree for one of its cameras.
+  double max_prediction_check_deg = 3.0;
   // The bundle adjustment weighs the observations of points that two or more cameras see up, by a
   // quarter of the ratio of all observations to theirs, at most this much
   // (RigBundleAdjustmentOptions::inter_camera_weight).
@@ -332,7 +336,8 @@ struct RigCalibrationResult {
   // The motion stage (motion_links.h) when it ran: whether its result was kept (it placed more
   // cameras), the motion's kind, the view pairs matched across time, the successful ones, those
   // rotation averaging kept, the temporal pairs that took their planar alternative or failed
-  // against the rig's turns (rig_turns.h), and its time.
+  // against the rig's turns (rig_turns.h), the view pairs its rig predicts that agree with it and
+  // contradict it, and its time.
   struct MotionLinkSummary {
     bool kept = false;
     MotionKind motion = MotionKind::kStraight;
@@ -341,6 +346,8 @@ struct RigCalibrationResult {
     int pairs_used = 0;
     int temporal_alternatives_taken = 0;
     int temporal_pairs_disagreeing = 0;
+    int predicted_views_agreeing = 0;
+    int predicted_views_contradicting = 0;
     double time_s = 0.0;
   };
   std::optional<MotionLinkSummary> motion_links;
