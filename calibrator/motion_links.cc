@@ -246,7 +246,8 @@ RigCalibrationResult::MotionLinkSummary SummaryOf(const MotionLinks& links, bool
 
 // A camera the motion stage did not place either: its status says what the rig's motion gave for
 // it (hand-eye's finding, the view pairs matched with it across time), so that a user sees why.
-void SayWhatTheMotionFound(const MotionLinks& links, const PredictionCheck& check, RigCalibrationResult* result) {
+void SayWhatTheMotionFound(const MotionLinks& links, const PredictionCheck& check, const RigCalibrationOptions& options,
+                           RigCalibrationResult* result) {
   result->motion_links = SummaryOf(links, false, 0, check);
   for (size_t c = 1; c < result->camera_status.size() && c < links.hand_eye.size(); ++c) {
     CameraStatus& s = result->camera_status[c];
@@ -259,10 +260,11 @@ void SayWhatTheMotionFound(const MotionLinks& links, const PredictionCheck& chec
         h.status == HandEyeStatus::kSolved ? "solved, but the joint solution did not hold" : h.reason;
     s.reason += "; nor did the rig's motion place it (hand-eye: " + hand_eye + "; " + std::to_string(pairs) +
                 " view pair(s) matched with it across time";
-    if (check.AnyCameraContradicted()) {
-      s.reason += "; the rig they made predicts views that the images contradict: " +
-                  std::to_string(check.contradicting) + " of " + std::to_string(check.agreeing + check.contradicting) +
-                  " view pairs matched afresh (wrong matches of repeated structure)";
+    if (check.AnyCameraContradicted(options.motion.min_prediction_contradictions)) {
+      s.reason += "; the rig they made predicts views that the images contradict (wrong matches of repeated "
+                  "structure): of the view pairs it predicts for this camera, matched afresh, " +
+                  std::to_string(check.camera_agreeing[c]) + " agree and " + std::to_string(check.camera_contradicting[c]) +
+                  " contradict; of all, " + std::to_string(check.agreeing) + " and " + std::to_string(check.contradicting);
     }
     s.reason += ")";
   }
@@ -280,6 +282,7 @@ void MotionLinkOptions::Check() const {
   if (!(max_prediction_disagreement_deg > 0)) fail("max_prediction_disagreement_deg must be > 0");
   if (!(max_hand_eye_disagreement_deg > 0)) fail("max_hand_eye_disagreement_deg must be > 0");
   if (!(max_prediction_check_deg > 0)) fail("max_prediction_check_deg must be > 0");
+  if (min_prediction_contradictions < 1) fail("min_prediction_contradictions must be >= 1");
   if (!(max_inter_camera_weight >= 1)) fail("max_inter_camera_weight must be >= 1");
 }
 
@@ -367,7 +370,7 @@ RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, cons
   if (links.cross_time.empty() && std::none_of(links.hand_eye.begin() + 1, links.hand_eye.end(), [](const HandEyeCamera& h) {
         return h.status == HandEyeStatus::kSolved;
       })) {
-    SayWhatTheMotionFound(links, {}, &first);
+    SayWhatTheMotionFound(links, {}, options, &first);
     return first;
   }
   RigObservations linked = obs;
@@ -378,13 +381,13 @@ RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, cons
   linked.open_axis = links.open_axis;
   RigCalibrationResult second = EstimateRig(linked, options);
   if (CamerasPlaced(second) <= CamerasPlaced(first) || LosesOwnTracks(linked, second)) {
-    SayWhatTheMotionFound(links, {}, &first);
+    SayWhatTheMotionFound(links, {}, options, &first);
     return first;
   }
   // The rig the motion made must show in views it was not made from.
   const PredictionCheck check = CheckPredictedViews(obs, links, second, match, options);
-  if (check.AnyCameraContradicted()) {
-    SayWhatTheMotionFound(links, check, &first);
+  if (check.AnyCameraContradicted(options.motion.min_prediction_contradictions)) {
+    SayWhatTheMotionFound(links, check, options, &first);
     return first;
   }
   second.motion_links = SummaryOf(links, true, second.num_cross_time_pairs_used, check);
@@ -393,9 +396,9 @@ RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, cons
 
 // For the rig stages (rig_calibration.cc).
 
-bool PredictionCheck::AnyCameraContradicted() const {
+bool PredictionCheck::AnyCameraContradicted(int min_contradictions) const {
   for (size_t c = 0; c < camera_contradicting.size(); ++c) {
-    if (camera_contradicting[c] > camera_agreeing[c]) return true;
+    if (camera_contradicting[c] >= min_contradictions && camera_contradicting[c] > 2 * camera_agreeing[c]) return true;
   }
   return false;
 }

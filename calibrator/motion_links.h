@@ -75,8 +75,8 @@ MotionLinks FindMotionLinks(const RigObservations& obs,
 
 // The rig stages on `obs` (EstimateRig); when they leave a camera without a full pose and the rig
 // moved, once more with the motion links (FindMotionLinks through `match`), kept when they place
-// more cameras and no camera's views that the new rig predicts to meet, matched afresh, contradict
-// it more often than they agree (CheckPredictedViews). Throws like EstimateRig.
+// more cameras and the views the new rig predicts to meet, matched afresh, contradict it for none of
+// its cameras (CheckPredictedViews). Throws like EstimateRig.
 RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, const ViewPairMatcher& match,
                                                 const RigCalibrationOptions& options);
 
@@ -87,15 +87,18 @@ RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, cons
 // a planar alternative) or contradicts it. Cross-time matches of repeated structure can agree with
 // each other on a wrong rig where the motion leaves a camera's turn open; the views that rig
 // predicts then do not show what it says.
-// Counted per camera (a pair counts for each of its cameras the motion stage placed) and in all; a
-// camera is contradicted when more of its pairs contradict than agree.
+// Counted per camera (a pair counts for each of its cameras the motion stage placed) and in all. A
+// camera is contradicted when at least `min_contradictions` of its pairs contradict the rig and more
+// than twice as many contradict as agree: a right camera's predicted views mostly agree (a wrong
+// match or a degenerate pair contradicts now and then); a camera a few degrees wrong has none that
+// agree.
 struct PredictionCheck {
   int agreeing = 0;
   int contradicting = 0;
   std::vector<int> camera_agreeing, camera_contradicting;
   double time_s = 0.0;
 
-  bool AnyCameraContradicted() const;
+  bool AnyCameraContradicted(int min_contradictions) const;
 };
 PredictionCheck CheckPredictedViews(const RigObservations& obs, const MotionLinks& links, const RigCalibrationResult& result,
                                     const ViewPairMatcher& match, const RigCalibrationOptions& options);

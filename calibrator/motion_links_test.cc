@@ -221,8 +221,8 @@ TEST(MotionLinks, ViewsAWrongRigPredictsContradictIt) {
                                *r.cam_from_rig_rotation[1];
   const PredictionCheck wrong = CheckPredictedViews(obs, links, r, SyntheticMatcher(s), options);
   EXPECT_GT(wrong.camera_contradicting[1], wrong.camera_agreeing[1]);
-  EXPECT_TRUE(wrong.AnyCameraContradicted());
-  EXPECT_FALSE(right.AnyCameraContradicted());
+  EXPECT_TRUE(wrong.AnyCameraContradicted(options.motion.min_prediction_contradictions));
+  EXPECT_FALSE(right.AnyCameraContradicted(options.motion.min_prediction_contradictions));
 }
 
 TEST(MotionLinks, TurningAtAConstantRateWithoutSharedPointsPlacesNoCameraByGuess) {

@@ -83,8 +83,11 @@ struct MotionLinkOptions {
   double max_hand_eye_disagreement_deg = 2.0;
   // The rig the motion links made is checked on view pairs it predicts to meet that were not matched
   // to make it: one whose rotation is within this (deg) of the rig's agrees, a farther one
-  // contradicts; the rig is not kept when more contradict than agree for one of its cameras.
+  // contradicts; the rig is not kept when, for one of its cameras, at least
+  // min_prediction_contradictions contradict and more than twice as many as agree
+  // (PredictionCheck; the figures behind the rule are in BENCHMARKS.md).
   double max_prediction_check_deg = 3.0;
+  int min_prediction_contradictions = 2;
   // The bundle adjustment weighs the observations of points that two or more cameras see up, by a
   // quarter of the ratio of all observations to theirs, at most this much
   // (RigBundleAdjustmentOptions::inter_camera_weight).
