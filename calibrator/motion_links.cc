@@ -82,12 +82,15 @@ std::optional<CrossTimePairEstimate> LinkViews(const RigObservations& obs, const
   return e;
 }
 
+// The motion stage is on and the rig moved over enough frames, and `obs` has no links yet.
+bool MotionCanLink(const RigObservations& obs, const RigCalibrationOptions& options) {
+  return options.motion.enabled && !obs.HasMotionLinks() && !obs.temporal.empty() &&
+         static_cast<int>(obs.keypoints.size()) >= options.motion.min_frames;
+}
+
 // A camera the same-instant pairs left without a full pose: what the motion stage is for.
 bool NeedsMotionLinks(const RigCalibrationResult& r, const RigObservations& obs, const RigCalibrationOptions& options) {
-  if (!options.motion.enabled || obs.HasMotionLinks() || obs.temporal.empty() ||
-      static_cast<int>(obs.keypoints.size()) < options.motion.min_frames) {
-    return false;
-  }
+  if (!MotionCanLink(obs, options)) return false;
   return std::any_of(r.camera_status.begin(), r.camera_status.end(), [](const CameraStatus& s) {
     return s.outcome == CameraOutcome::kNotConnected || s.outcome == CameraOutcome::kRotationOnly;
   });
@@ -270,6 +273,94 @@ void SayWhatTheMotionFound(const MotionLinks& links, const PredictionCheck& chec
   }
 }
 
+// Hand-eye solved no camera and no view pair linked across time: nothing for a pass with links.
+bool FoundNothing(const MotionLinks& links) {
+  return links.cross_time.empty() && std::none_of(links.hand_eye.begin() + 1, links.hand_eye.end(),
+                                                  [](const HandEyeCamera& h) { return h.status == HandEyeStatus::kSolved; });
+}
+
+// The rig stages on `obs` with the motion stage's links.
+RigCalibrationResult EstimateRigWithLinks(const RigObservations& obs, const MotionLinks& links,
+                                          const RigCalibrationOptions& options) {
+  RigObservations linked = obs;
+  linked.temporal = links.temporal;
+  linked.cross_time = links.cross_time;
+  linked.rotation_start = links.rotation_start;
+  linked.hand_eye_rotation = links.hand_eye_rotation;
+  linked.open_axis = links.open_axis;
+  return EstimateRig(linked, options);
+}
+
+// Whether `second` (with the links) places every camera, keeps its own tracks, and is contradicted
+// for none of its cameras by the views it predicts (`check`, of `second`).
+bool PlacesEveryCameraAndHolds(const RigObservations& obs, const RigCalibrationResult& second, const PredictionCheck& check,
+                               const RigCalibrationOptions& options) {
+  return CamerasPlaced(second) == static_cast<int>(obs.cameras.size()) && !LosesOwnTracks(obs, second) &&
+         !check.AnyCameraContradicted(options.motion.min_prediction_contradictions);
+}
+
+// `second` (with the links) where it places more cameras than `first` (without), keeps its own
+// tracks and is contradicted for none of its cameras by the views it predicts (`check`); `first`
+// otherwise; either counts the work of both.
+RigCalibrationResult TheBetterPass(const RigObservations& obs, RigCalibrationResult first, RigCalibrationResult second,
+                                   const MotionLinks& links, const PredictionCheck& check,
+                                   const RigCalibrationOptions& options) {
+  if (CamerasPlaced(second) <= CamerasPlaced(first) || LosesOwnTracks(obs, second) ||
+      check.AnyCameraContradicted(options.motion.min_prediction_contradictions)) {
+    SayWhatTheMotionFound(links, check, options, &first);
+    AddRigWork(second, &first);
+    return first;
+  }
+  second.motion_links = SummaryOf(links, true, second.num_cross_time_pairs_used, check);
+  AddRigWork(first, &second);
+  return second;
+}
+
+// After the full pass without links, `first`: the motion stage only where it leaves a camera
+// without a full pose.
+RigCalibrationResult LinkWhereTheFullPassNeedsIt(const RigObservations& obs, RigCalibrationResult first,
+                                                 const ViewPairMatcher& match, const RigCalibrationOptions& options) {
+  if (!NeedsMotionLinks(first, obs, options)) return first;
+  const MotionLinks links = FindMotionLinks(obs, first.cam_from_rig_rotation, match, options);
+  if (FoundNothing(links)) {
+    SayWhatTheMotionFound(links, {}, options, &first);
+    return first;
+  }
+  RigCalibrationResult second = EstimateRigWithLinks(obs, links, options);
+  const PredictionCheck check = CheckPredictedViews(obs, links, second, match, options);
+  return TheBetterPass(obs, std::move(first), std::move(second), links, check, options);
+}
+
+// The motion stage first, from the rotations where the pass without links stopped
+// (EstimateRigUnlessUnplaced): a pass with the links that places every camera, keeps its own
+// tracks and holds against the views it predicts is the result, and the full pass without them runs
+// only otherwise, to compare as LinkWhereTheFullPassNeedsIt does.
+RigCalibrationResult LinkBeforeTheFullPass(const RigObservations& obs,
+                                           const std::vector<std::optional<Eigen::Quaterniond>>& known_rotations,
+                                           const ViewPairMatcher& match, const RigCalibrationOptions& options) {
+  const MotionLinks links = FindMotionLinks(obs, known_rotations, match, options);
+  std::optional<RigCalibrationResult> second;
+  PredictionCheck check;
+  if (!FoundNothing(links)) {
+    second = EstimateRigWithLinks(obs, links, options);
+    check = CheckPredictedViews(obs, links, *second, match, options);
+    if (PlacesEveryCameraAndHolds(obs, *second, check, options)) {
+      second->motion_links = SummaryOf(links, true, second->num_cross_time_pairs_used, check);
+      return *std::move(second);
+    }
+  }
+  RigCalibrationResult first = EstimateRig(obs, options);
+  // Where the full pass leaves no camera without a full pose after all (a pair a later round
+  // rejected had left it out of rotation averaging), the motion stage was not needed: it ran, not
+  // kept.
+  if (!second || !NeedsMotionLinks(first, obs, options)) {
+    SayWhatTheMotionFound(links, check, options, &first);
+    if (second) AddRigWork(*second, &first);
+    return first;
+  }
+  return TheBetterPass(obs, std::move(first), *std::move(second), links, check, options);
+}
+
 }  // namespace
 
 void MotionLinkOptions::Check() const {
@@ -364,34 +455,13 @@ MotionLinks FindMotionLinks(const RigObservations& obs,
 
 RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, const ViewPairMatcher& match,
                                                 const RigCalibrationOptions& options) {
-  RigCalibrationResult first = EstimateRig(obs, options);
-  if (!NeedsMotionLinks(first, obs, options)) return first;
-  const MotionLinks links = FindMotionLinks(obs, first.cam_from_rig_rotation, match, options);
-  if (links.cross_time.empty() && std::none_of(links.hand_eye.begin() + 1, links.hand_eye.end(), [](const HandEyeCamera& h) {
-        return h.status == HandEyeStatus::kSolved;
-      })) {
-    SayWhatTheMotionFound(links, {}, options, &first);
-    return first;
-  }
-  RigObservations linked = obs;
-  linked.temporal = links.temporal;
-  linked.cross_time = links.cross_time;
-  linked.rotation_start = links.rotation_start;
-  linked.hand_eye_rotation = links.hand_eye_rotation;
-  linked.open_axis = links.open_axis;
-  RigCalibrationResult second = EstimateRig(linked, options);
-  if (CamerasPlaced(second) <= CamerasPlaced(first) || LosesOwnTracks(linked, second)) {
-    SayWhatTheMotionFound(links, {}, options, &first);
-    return first;
-  }
-  // The rig the motion made must show in views it was not made from.
-  const PredictionCheck check = CheckPredictedViews(obs, links, second, match, options);
-  if (check.AnyCameraContradicted(options.motion.min_prediction_contradictions)) {
-    SayWhatTheMotionFound(links, check, options, &first);
-    return first;
-  }
-  second.motion_links = SummaryOf(links, true, second.num_cross_time_pairs_used, check);
-  return second;
+  if (!MotionCanLink(obs, options)) return EstimateRig(obs, options);
+  RigPreCheck stop;
+  std::optional<RigCalibrationResult> first = EstimateRigUnlessUnplaced(obs, options, &stop);
+  if (first) return LinkWhereTheFullPassNeedsIt(obs, *std::move(first), match, options);
+  RigCalibrationResult result = LinkBeforeTheFullPass(obs, stop.cam_from_rig_rotation, match, options);
+  AddRigWork(stop.work, &result);
+  return result;
 }
 
 // For the rig stages (rig_calibration.cc).

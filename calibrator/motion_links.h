@@ -73,10 +73,13 @@ MotionLinks FindMotionLinks(const RigObservations& obs,
                             const std::vector<std::optional<Eigen::Quaterniond>>& known_rotations,
                             const ViewPairMatcher& match, const RigCalibrationOptions& options);
 
-// The rig stages on `obs` (EstimateRig); when they leave a camera without a full pose and the rig
-// moved, once more with the motion links (FindMotionLinks through `match`), kept when they place
-// more cameras and the views the new rig predicts to meet, matched afresh, contradict it for none of
-// its cameras (CheckPredictedViews). Throws like EstimateRig.
+// The rig stages on `obs` (EstimateRig), with the motion links (FindMotionLinks through `match`)
+// where a camera is left without a full pose and the rig moved, kept when they place more cameras
+// and the views the new rig predicts to meet, matched afresh, contradict it for none of its cameras
+// (CheckPredictedViews). Where the stages before a bundle adjustment already show it
+// (EstimateRigUnlessUnplaced stops), the pass with the links runs next and is the result when it
+// places every camera, without a full pass without them; otherwise the full pass runs, and the
+// links only where its result needs them. Throws like EstimateRig.
 RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, const ViewPairMatcher& match,
                                                 const RigCalibrationOptions& options);
 

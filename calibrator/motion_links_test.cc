@@ -1,6 +1,9 @@
 #include "calibrator/motion_links.h"
 
+#include <algorithm>
+#include <optional>
 #include <stdexcept>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -49,25 +52,129 @@ struct Calibrated {
   std::vector<CameraErrors> errors;
 };
 
-Calibrated CalibrateFromMotion(SyntheticRig& s) {
+RigObservations ObserveMoving(SyntheticRig& s) {
   SyntheticObservationOptions observe;
   observe.temporal_pairs = true;
-  const RigObservations obs = ObserveSyntheticRig(s, observe);
+  return ObserveSyntheticRig(s, observe);
+}
+
+RigCalibrationOptions TwoThreads() {
   RigCalibrationOptions options;
   options.pairwise.num_threads = 2;
+  return options;
+}
+
+Calibrated CalibrateFromMotion(SyntheticRig& s) {
   Calibrated out;
-  out.result = EstimateRigWithMotionLinks(obs, SyntheticMatcher(s), options);
+  out.result = EstimateRigWithMotionLinks(ObserveMoving(s), SyntheticMatcher(s), TwoThreads());
   out.errors = ErrorsAgainst(s.rig, out.result);
   return out;
 }
 
 TEST(MotionLinks, WithoutTheMotionOnlyTheReferenceIsPlaced) {
   SyntheticRig s = SynthesizeRig(LowOverlapRing(TurningPath(16, 1.0, 8.0, 0.3, 15.0, 5.0), false));
-  SyntheticObservationOptions observe;
-  observe.temporal_pairs = true;
-  const RigCalibrationResult r = EstimateRig(ObserveSyntheticRig(s, observe), RigCalibrationOptions{});
+  const RigCalibrationResult r = EstimateRig(ObserveMoving(s), RigCalibrationOptions{});
   EXPECT_EQ(r.camera_status[0].outcome, CameraOutcome::kCalibrated);
   for (int c = 1; c < 4; ++c) EXPECT_EQ(r.camera_status[c].outcome, CameraOutcome::kNotConnected) << c;
+}
+
+TEST(MotionLinks, OverlappingRingRunsOnePassWithoutTheMotionStage) {
+  SyntheticRigOptions o = LowOverlapRing(TurningPath(8, 1.0, 8.0, 0.3, 15.0, 5.0), false);
+  o.yaw_step_deg = 30;  // neighbours share half their views
+  SyntheticRig s = SynthesizeRig(o);
+  const RigCalibrationResult r = EstimateRigWithMotionLinks(ObserveMoving(s), SyntheticMatcher(s), TwoThreads());
+  EXPECT_FALSE(r.motion_links.has_value());  // no round stopped, and the result places every camera
+  EXPECT_EQ(r.rig_passes, 1);
+  for (int cam = 0; cam < 4; ++cam) {
+    EXPECT_EQ(r.camera_status[cam].outcome, CameraOutcome::kCalibrated) << r.camera_status[cam];
+  }
+}
+
+TEST(MotionLinks, LinksThatPlaceEveryCameraMakeTheOnlyFullPass) {
+  // The early stages already show cameras 1-3 without a rotation: the pass with the motion links
+  // runs first and, as it places every camera, the pass without them never runs.
+  SyntheticRig s = SynthesizeRig(LowOverlapRing(TurningPath(16, 1.0, 8.0, 0.3, 15.0, 5.0), false));
+  const RigObservations obs = ObserveMoving(s);
+  RigPreCheck stop;
+  EXPECT_FALSE(EstimateRigUnlessUnplaced(obs, TwoThreads(), &stop).has_value());
+  EXPECT_EQ(stop.round, 0);
+  EXPECT_EQ(stop.work.bundle_adjustment_time_s, 0.0);  // stopped before any bundle adjustment
+  EXPECT_TRUE(stop.may_be_placed[0]);
+  for (int cam = 1; cam < 4; ++cam) {
+    EXPECT_FALSE(stop.may_be_placed[cam]) << cam;
+    EXPECT_FALSE(stop.cam_from_rig_rotation[cam].has_value()) << cam;
+  }
+  const RigCalibrationResult r = EstimateRigWithMotionLinks(obs, SyntheticMatcher(s), TwoThreads());
+  ASSERT_TRUE(r.motion_links.has_value());
+  EXPECT_TRUE(r.motion_links->kept);
+  EXPECT_EQ(r.rig_passes, 1);
+  for (int cam = 0; cam < 4; ++cam) EXPECT_EQ(r.camera_status[cam].outcome, CameraOutcome::kCalibrated) << cam;
+}
+
+TEST(MotionLinks, ACameraThatOnlyAPairTheRigRejectsReachesIsPlacedByTheLinksInOnePass) {
+  // cam0-cam2 overlap at the same instant; cam3 sees points of its own, and a wrong pair (its
+  // rotation 10 deg off) joins it with cam2. The first round places cam3 by that pair; the rig
+  // rejects the pair, and the next round stops before its bundle adjustment: cam3 has no rotation.
+  // The links (hand-eye on a path that turns and pitches) place it, in one full pass.
+  const std::vector<Rigid3d> path = TurningPath(16, 1.0, 8.0, 0.3, 15.0, 5.0);
+  SyntheticRigOptions o = LowOverlapRing(path, false);
+  o.yaw_step_deg = 30;
+  o.isolated_cameras = {3};
+  o.num_points = 1500;
+  SyntheticRig s = SynthesizeRig(o);
+  RigObservations obs = ObserveMoving(s);
+  const auto wrong = std::find_if(obs.pairs.begin(), obs.pairs.end(),
+                                  [](const PairEstimate& p) { return p.cam_a == 2 && p.cam_b == 3; });
+  ASSERT_NE(wrong, obs.pairs.end());
+  const Rigid3d truth = *s.rig.cameras[3].cam_from_rig * s.rig.cameras[2].cam_from_rig->Inverse();
+  wrong->two_view.success = true;
+  wrong->two_view.num_matches = 400;
+  wrong->two_view.num_inliers = 300;
+  wrong->two_view.cam_b_from_cam_a.rotation =
+      Eigen::Quaterniond(Eigen::AngleAxisd(DegToRad(10.0), Eigen::Vector3d::UnitY())) * truth.rotation;
+  wrong->two_view.cam_b_from_cam_a.translation = truth.translation.normalized();
+
+  RigPreCheck stop;
+  EXPECT_FALSE(EstimateRigUnlessUnplaced(obs, TwoThreads(), &stop).has_value());
+  EXPECT_EQ(stop.round, 1);
+  EXPECT_GT(stop.work.bundle_adjustment_time_s, 0.0);  // the first round's
+  EXPECT_FALSE(stop.may_be_placed[3]);
+  EXPECT_FALSE(stop.cam_from_rig_rotation[3].has_value());
+  const RigCalibrationResult r = EstimateRigWithMotionLinks(obs, SyntheticMatcher(s), TwoThreads());
+  ASSERT_TRUE(r.motion_links.has_value());
+  EXPECT_TRUE(r.motion_links->kept);
+  EXPECT_EQ(r.rig_passes, 1);
+  const std::vector<CameraErrors> errors = ErrorsAgainst(s.rig, r);
+  for (int cam = 1; cam < 4; ++cam) {
+    SCOPED_TRACE(cam);
+    ASSERT_EQ(r.camera_status[cam].outcome, CameraOutcome::kCalibrated) << r.camera_status[cam];
+    EXPECT_LT(errors[cam].rotation_error_deg.value_or(180), 1.0);
+    EXPECT_LT(errors[cam].direction_error_deg.value_or(180), 5.0);
+  }
+}
+
+TEST(MotionLinks, PassWithoutTheLinksIsKeptWhenTheLinksPlaceNoMoreCameras) {
+  // Hand-eye solves every camera of a ring without overlap, but a camera keeps the rotation the
+  // links give it only where two things agree on it: with hand-eye held to no disagreement at all,
+  // the pass with the links places camera 0 alone, as the pass without them does, which then runs
+  // and is the result.
+  SyntheticRig s = SynthesizeRig(LowOverlapRing(TurningPath(16, 1.0, 8.0, 0.3, 15.0, 5.0), true));
+  const RigObservations obs = ObserveMoving(s);
+  RigCalibrationOptions options = TwoThreads();
+  options.motion.max_hand_eye_disagreement_deg = 1e-12;
+  const RigCalibrationResult without = EstimateRig(obs, options);
+  const RigCalibrationResult r = EstimateRigWithMotionLinks(obs, SyntheticMatcher(s), options);
+  ASSERT_TRUE(r.motion_links.has_value());
+  EXPECT_FALSE(r.motion_links->kept);
+  EXPECT_EQ(r.rig_passes, 2);  // with the links, then without
+  for (int cam = 0; cam < 4; ++cam) {
+    SCOPED_TRACE(cam);
+    EXPECT_EQ(r.camera_status[cam].outcome, without.camera_status[cam].outcome);
+    EXPECT_EQ(r.cam_from_rig_rotation[cam].has_value(), without.cam_from_rig_rotation[cam].has_value());
+  }
+  for (int cam = 1; cam < 4; ++cam) EXPECT_EQ(r.camera_status[cam].outcome, CameraOutcome::kNotConnected) << cam;
+  EXPECT_EQ(r.reprojection_rms_px, without.reprojection_rms_px);
+  EXPECT_EQ(r.num_observations, without.num_observations);
 }
 
 TEST(MotionLinks, RingWithoutSameInstantOverlapIsCalibratedOnAPathThatTurnsAndPitches) {
@@ -232,6 +339,7 @@ TEST(MotionLinks, TurningAtAConstantRateWithoutSharedPointsPlacesNoCameraByGuess
   const Calibrated c = CalibrateFromMotion(s);
   ASSERT_TRUE(c.result.motion_links.has_value());  // it ran, and its result was not kept
   EXPECT_FALSE(c.result.motion_links->kept);
+  EXPECT_EQ(c.result.rig_passes, 1);  // it found nothing to link: no pass with the links
   for (int cam = 1; cam < 4; ++cam) {
     EXPECT_EQ(c.result.camera_status[cam].outcome, CameraOutcome::kNotConnected) << cam;
     EXPECT_FALSE(c.result.cam_from_rig_rotation[cam].has_value()) << cam;

@@ -1,9 +1,9 @@
 #include "calibrator/rig_calibration.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
-#include <tuple>
 #include <utility>
 
 #include <Eigen/Eigenvalues>
@@ -124,6 +124,19 @@ std::pair<int, int> KnownDistanceCameras(const KnownDistance& known, const std::
                                 list + ")");
   };
   return {index(known.cam_a), index(known.cam_b)};
+}
+
+bool RigPreCheck::SomeCameraWithoutFullPose() const {
+  return std::find(may_be_placed.begin(), may_be_placed.end(), 0) != may_be_placed.end();
+}
+
+void AddRigWork(const RigCalibrationResult& from, RigCalibrationResult* into) {
+  into->rig_passes += from.rig_passes;
+  into->rotation_averaging_time_s += from.rotation_averaging_time_s;
+  into->tracks_time_s += from.tracks_time_s;
+  into->positions_time_s += from.positions_time_s;
+  into->bundle_adjustment_time_s += from.bundle_adjustment_time_s;
+  into->synchronisation_check_time_s += from.synchronisation_check_time_s;
 }
 
 void RigCalibrationOptions::Check() const {
@@ -594,10 +607,6 @@ void SetCameraAndEdgeStatus(const RigObservations& obs, const RotationStage& rs,
   }
 }
 
-}  // namespace
-
-namespace {
-
 // Each used edge's two-view estimate against the rig's: how far its rotation is from the rig's
 // R_b R_a^T and, when both cameras have a position, its translation direction from the rig's.
 void CompareEdgesWithRig(const RigObservations& obs, RigCalibrationResult* result) {
@@ -639,42 +648,78 @@ void SetRefinedIntrinsics(const RigObservations& obs, const RigCalibrationOption
   }
 }
 
-RigCalibrationResult EstimateRigOnce(const RigObservations& obs, const RigCalibrationOptions& options,
-                                     const std::vector<std::string>& rejected, int known_a, int known_b) {
+// Steps 1-4, before the bundle adjustment; their counts and times go into `result`.
+struct EarlyStages {
+  RotationStage rotations;
+  RigMotion motion;
+  std::vector<ViewTrack> tracks;
+  PositionStage initial;
+};
+
+EarlyStages RunEarlyStages(const RigObservations& obs, const RigCalibrationOptions& options,
+                           const std::vector<std::string>& rejected, RigCalibrationResult* result) {
+  const int num_frames = static_cast<int>(obs.keypoints.size());
+  EarlyStages s;
+  auto start = Clock::now();
+  s.rotations = AverageCameraRotations(obs, options, rejected);
+  result->num_rotation_outliers = s.rotations.rot.num_outliers;
+  result->rotation_averaging_time_s = Seconds(start);
+
+  start = Clock::now();
+  s.motion = EstimateRigMotion(obs, s.rotations, num_frames);
+  result->num_frames = num_frames;
+  result->rig_motion_estimated = s.motion.moving;
+  result->num_temporal_pairs_used = s.motion.temporal_pairs_used;
+  if (s.rotations.joint) {
+    for (char used : s.rotations.joint->cross_time_used) result->num_cross_time_pairs_used += used;
+    result->num_rotation_outliers += s.rotations.joint->rotations.num_outliers;
+  }
+  s.tracks = TracksOfUsedPairs(obs, s.rotations, s.motion, num_frames, &result->num_conflicting_tracks);
+  result->num_tracks = static_cast<int>(s.tracks.size());
+  result->tracks_time_s = Seconds(start);
+
+  start = Clock::now();
+  s.initial = EstimateInitialPoses(obs, s.rotations, s.motion, s.tracks, options);
+  result->position_eigenvalue_ratio = s.initial.eigenvalue_ratio;
+  for (int k = 0; k < num_frames; ++k) result->num_frames_posed += s.motion.rig_rotation[k].has_value();
+  result->positions_time_s = Seconds(start);
+  return s;
+}
+
+// Which cameras the early stages give a rotation and a start position, and their rotations.
+void PreCheckEarlyStages(const EarlyStages& early, int n, RigPreCheck* check) {
+  check->cam_from_rig_rotation = early.rotations.rot.cam_from_rig;
+  check->may_be_placed.assign(n, 0);
+  for (int c = 0; c < n; ++c) {
+    const bool positioned = c == 0 || std::any_of(early.initial.starts.begin(), early.initial.starts.end(),
+                                                  [c](const PoseStart& s) { return s.cam_from_rig[c].has_value(); });
+    check->may_be_placed[c] = check->cam_from_rig_rotation[c] && positioned;
+  }
+}
+
+// One round of the rig stages. With `stop`: nullopt, and `stop` filled but for its work, where
+// the early stages leave a camera without a rotation or a start position.
+std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, const RigCalibrationOptions& options,
+                                                    const std::vector<std::string>& rejected, int known_a, int known_b,
+                                                    RigPreCheck* stop) {
   const int n = static_cast<int>(obs.cameras.size());
   const int num_frames = static_cast<int>(obs.keypoints.size());
   RigCalibrationResult result;
   for (int c = 0; c < n; ++c) result.rig.cameras.push_back({obs.camera_names[c], obs.cameras[c], std::nullopt, 0.0});
   result.camera_stats.assign(n, {});
   result.camera_status.assign(n, CameraStatus{});
-
-  auto start = Clock::now();
-  const RotationStage rotations = AverageCameraRotations(obs, options, rejected);
-  result.num_rotation_outliers = rotations.rot.num_outliers;
-  result.rotation_averaging_time_s = Seconds(start);
-
-  start = Clock::now();
-  const RigMotion motion = EstimateRigMotion(obs, rotations, num_frames);
-  result.num_frames = num_frames;
-  result.rig_motion_estimated = motion.moving;
-  result.num_temporal_pairs_used = motion.temporal_pairs_used;
-  if (rotations.joint) {
-    for (char used : rotations.joint->cross_time_used) result.num_cross_time_pairs_used += used;
-    result.num_rotation_outliers += rotations.joint->rotations.num_outliers;
+  const EarlyStages early = RunEarlyStages(obs, options, rejected, &result);
+  if (stop) {
+    PreCheckEarlyStages(early, n, stop);
+    if (stop->SomeCameraWithoutFullPose()) {
+      stop->work = std::move(result);
+      return std::nullopt;
+    }
   }
-  const std::vector<ViewTrack> tracks =
-      TracksOfUsedPairs(obs, rotations, motion, num_frames, &result.num_conflicting_tracks);
-  result.num_tracks = static_cast<int>(tracks.size());
-  result.tracks_time_s = Seconds(start);
-
-  start = Clock::now();
-  const PositionStage initial = EstimateInitialPoses(obs, rotations, motion, tracks, options);
-  result.position_eigenvalue_ratio = initial.eigenvalue_ratio;
-  for (int k = 0; k < num_frames; ++k) result.num_frames_posed += motion.rig_rotation[k].has_value();
-  result.positions_time_s = Seconds(start);
+  const auto& [rotations, motion, tracks, initial] = early;
 
   // Step 5: bundle adjustment over all posed views, from every start.
-  start = Clock::now();
+  auto start = Clock::now();
   AdjustedRig adjusted = AdjustFromEveryStart(obs, tracks, initial, motion, options);
   MultiFrameBundleAdjustmentResult& ba = adjusted.ba;
   if (initial.starts.empty()) {
@@ -749,9 +794,9 @@ std::pair<int, std::string> MostDisagreeingEdge(const RigCalibrationResult& r, c
   return {worst, why};
 }
 
-}  // namespace
-
-RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibrationOptions& options) {
+// The known distance's two cameras ((-1, -1) without one). Throws std::invalid_argument on bad
+// options or inconsistent observations.
+std::pair<int, int> CheckInputs(const RigObservations& obs, const RigCalibrationOptions& options) {
   options.Check();
   const int n = static_cast<int>(obs.cameras.size());
   if (n < 1 || static_cast<int>(obs.camera_names.size()) != n) {
@@ -761,17 +806,23 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
   for (const auto& frame : obs.keypoints) {
     if (frame.size() != obs.cameras.size()) throw std::invalid_argument("EstimateRig: keypoints need every camera per frame");
   }
-  int known_a = -1, known_b = -1;
-  if (options.known_distance) {
-    std::tie(known_a, known_b) = KnownDistanceCameras(*options.known_distance, obs.camera_names, "EstimateRig");
-  }
+  if (!options.known_distance) return {-1, -1};
+  return KnownDistanceCameras(*options.known_distance, obs.camera_names, "EstimateRig");
+}
+
+// EstimateRig, or with `stop` EstimateRigUnlessUnplaced.
+std::optional<RigCalibrationResult> EstimateRigRounds(const RigObservations& obs, const RigCalibrationOptions& options,
+                                                      RigPreCheck* stop) {
+  const auto [known_a, known_b] = CheckInputs(obs, options);
   // Every pair the rig used must agree with the rig it helped make: one that does not is left
   // out and the rig made again without it, the worst first.
   // A pair off in its direction only keeps its rotation and matches (max_direction_only_disagreement_deg):
   // in `kept`, a copy made only then, it is a rotation-only pair.
   std::vector<std::string> rejected(obs.pairs.size()), direction_left_out(obs.pairs.size());
   std::optional<RigObservations> kept;
-  RigCalibrationResult result = EstimateRigOnce(obs, options, rejected, known_a, known_b);
+  std::optional<RigCalibrationResult> first = EstimateRigOnce(obs, options, rejected, known_a, known_b, stop);
+  if (!first) return std::nullopt;
+  RigCalibrationResult result = *std::move(first);
   for (int round = 0; round < options.max_rejected_pairs; ++round) {
     const auto [edge, why] = MostDisagreeingEdge(result, options);
     if (edge < 0) break;
@@ -785,14 +836,16 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
     } else {
       rejected[edge] = why;
     }
-    RigCalibrationResult next = EstimateRigOnce(kept ? *kept : obs, options, rejected, known_a, known_b);
-    next.rotation_averaging_time_s += result.rotation_averaging_time_s;
-    next.tracks_time_s += result.tracks_time_s;
-    next.positions_time_s += result.positions_time_s;
-    next.bundle_adjustment_time_s += result.bundle_adjustment_time_s;
-    next.synchronisation_check_time_s += result.synchronisation_check_time_s;
-    result = std::move(next);
+    std::optional<RigCalibrationResult> next = EstimateRigOnce(kept ? *kept : obs, options, rejected, known_a, known_b, stop);
+    if (!next) {
+      stop->round = round + 1;
+      AddRigWork(result, &stop->work);
+      return std::nullopt;
+    }
+    AddRigWork(result, &*next);  // a round is part of this pass
+    result = *std::move(next);
   }
+  result.rig_passes = 1;
   for (int e = 0; e < static_cast<int>(result.edges.size()); ++e) {
     RigEdgeStats& s = result.edges[e];
     s.rejected = !rejected[e].empty();
@@ -800,6 +853,18 @@ RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibratio
     if (s.direction_left_out && s.used) s.status = direction_left_out[e];
   }
   return result;
+}
+
+}  // namespace
+
+RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibrationOptions& options) {
+  return *EstimateRigRounds(obs, options, nullptr);
+}
+
+std::optional<RigCalibrationResult> EstimateRigUnlessUnplaced(const RigObservations& obs,
+                                                              const RigCalibrationOptions& options, RigPreCheck* stop) {
+  *stop = RigPreCheck{};
+  return EstimateRigRounds(obs, options, stop);
 }
 
 void UseReestimatedPairs(RigCalibrationResult* result) {

@@ -13,8 +13,8 @@
 // and only same-frame tracks constrain the positions.
 //
 // Where the same-instant pairs leave a camera without a full pose and the rig moved, the stages run
-// again with links from the rig's motion (motion_links.h: hand-eye starts, views matched across
-// time, every rotation averaged jointly), kept when they place more cameras.
+// with links from the rig's motion (motion_links.h: hand-eye starts, views matched across time,
+// every rotation averaged jointly), kept when they place more cameras.
 // Gauge: camera 0 is the rig frame (its cam_from_rig is the identity); frame 0's rig frame is the
 // world. Only the cameras those links reach from camera 0 get rotations; every other camera is
 // reported "not connected: <reason>" and gets no pose, never a guessed one. A camera with a
@@ -355,7 +355,11 @@ struct RigCalibrationResult {
   };
   std::optional<MotionLinkSummary> motion_links;
   CalibrationReport pairwise;
-  // Wall time of the rig stages (the pairwise ones are in `pairwise`).
+  // Full runs of the rig stages (EstimateRig, its pair-rejection rounds included) that made this
+  // result: 2 where a pass with the motion links and one without both ran, or intrinsics were refined.
+  int rig_passes = 0;
+  // Wall time of the rig stages (the pairwise ones are in `pairwise`), summed over the rig_passes
+  // and the rounds of a pass stopped before its bundle adjustment (EstimateRigUnlessUnplaced).
   double rotation_averaging_time_s = 0.0;
   double positions_time_s = 0.0;
   double tracks_time_s = 0.0;
@@ -368,6 +372,34 @@ struct RigCalibrationResult {
 // The rig stages on given observations (no truth, no pairwise report). Throws
 // std::invalid_argument on inconsistent observations or a known distance naming an unknown camera.
 RigCalibrationResult EstimateRig(const RigObservations& observations, const RigCalibrationOptions& options);
+
+// Where EstimateRigUnlessUnplaced stopped. Exists so that the motion stage can run before a full
+// pass whose result it would replace.
+struct RigPreCheck {
+  // The pair-rejection round (0: the first; r: after r pairs left out, max_rejected_pairs) whose
+  // early stages (rotation averaging, the rig's motion, tracks, initial positions) it checked.
+  int round = 0;
+  // Per camera: rotation averaging gives it a rotation and some start of the bundle adjustment a
+  // position. A camera without is left without a full pose, unless a pair a later round rejects made
+  // rotation averaging leave it out; one with may still lose its position in the bundle adjustment
+  // (RigCalibrationOptions::max_direction_std_deg, ambiguous starts).
+  std::vector<char> may_be_placed;
+  // Per camera: cam_from_rig's rotation from that round's rotation averaging; nullopt where none.
+  std::vector<std::optional<Eigen::Quaterniond>> cam_from_rig_rotation;
+  // The stage times of what ran until the stop (every earlier round whole, rig_passes 0).
+  RigCalibrationResult work;
+
+  bool SomeCameraWithoutFullPose() const;
+};
+
+// EstimateRig, stopped before the bundle adjustment of the first round whose early stages leave a
+// camera without a rotation or a start position: then nullopt, and `stop` says where and why.
+// Throws like EstimateRig.
+std::optional<RigCalibrationResult> EstimateRigUnlessUnplaced(const RigObservations& observations,
+                                                              const RigCalibrationOptions& options, RigPreCheck* stop);
+
+// Adds `from`'s rig_passes and stage times into `into`, which then counts the work of both.
+void AddRigWork(const RigCalibrationResult& from, RigCalibrationResult* into);
 
 // The rig stages on the pairwise stage's outcome (pairwise.h MatchRigPairs) of `views`, with the
 // motion stage (motion_links.h EstimateRigWithMotionLinks) where it applies. The

@@ -50,10 +50,7 @@ RigCalibrationResult EstimateRigAndIntrinsics(const RigObservations& obs, const 
   const RigObservations reestimated = ReestimateWithIntrinsics(obs, refined, options.pairwise.two_view);
   RigCalibrationResult result = EstimateRig(reestimated, second);
   for (const PairEstimate& p : reestimated.pairs) result.reestimated_pairs.push_back(p.two_view);
-  result.rotation_averaging_time_s += rough.rotation_averaging_time_s;
-  result.tracks_time_s += rough.tracks_time_s;
-  result.positions_time_s += rough.positions_time_s;
-  result.bundle_adjustment_time_s += rough.bundle_adjustment_time_s;
+  AddRigWork(rough, &result);
   return result;
 }
 

@@ -284,7 +284,8 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
                  {"positions_time_s", r.positions_time_s},
                  {"tracks_time_s", r.tracks_time_s},
                  {"bundle_adjustment_time_s", r.bundle_adjustment_time_s},
-                 {"synchronisation_check_time_s", r.synchronisation_check_time_s}};
+                 {"synchronisation_check_time_s", r.synchronisation_check_time_s},
+                 {"rig_passes", r.rig_passes}};
   m["cameras"] = cams;
   Json frames = Json::array();  // per frame index: the rig's pose, or null
   for (const auto& p : r.rig_from_world) frames.push_back(p ? json_io::PoseToJson(*p) : Json(nullptr));
