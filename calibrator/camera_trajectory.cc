@@ -8,10 +8,10 @@ namespace rigsim {
 
 CameraTrajectory EstimateCameraTrajectory(const Camera& camera, int camera_index, const FrameKeypoints& keypoints,
                                           const std::vector<TemporalPairEstimate>& temporal,
+                                          const std::vector<std::optional<Eigen::Quaterniond>>& steps,
                                           const RigPositionOptions& options) {
   const int num_frames = static_cast<int>(keypoints.size());
-  // The camera's temporal pairs by frame, as pairs of a one-camera rig.
-  std::vector<const TemporalPairEstimate*> step(num_frames, nullptr);
+  // The camera's temporal pairs, as pairs of a one-camera rig.
   std::vector<TemporalPairEstimate> own;
   for (const TemporalPairEstimate& t : temporal) {
     if (t.camera != camera_index || !t.two_view.success) continue;
@@ -19,11 +19,10 @@ CameraTrajectory EstimateCameraTrajectory(const Camera& camera, int camera_index
     own.push_back(t);
     own.back().camera = 0;
   }
-  for (const TemporalPairEstimate& t : own) step[t.frame] = &t;
   std::vector<std::optional<Eigen::Quaterniond>> rotations(num_frames);
   if (num_frames > 0) rotations[0] = Eigen::Quaterniond::Identity();
-  for (int k = 0; k + 1 < num_frames && rotations[k] && step[k]; ++k) {
-    rotations[k + 1] = (step[k]->two_view.cam_b_from_cam_a.rotation * *rotations[k]).normalized();
+  for (int k = 0; k + 1 < num_frames && k < static_cast<int>(steps.size()) && rotations[k] && steps[k]; ++k) {
+    rotations[k + 1] = (*steps[k] * *rotations[k]).normalized();
   }
   std::vector<std::vector<Eigen::Vector2d>> own_keypoints(num_frames);
   for (int k = 0; k < num_frames; ++k) own_keypoints[k] = keypoints.at(k).at(camera_index);

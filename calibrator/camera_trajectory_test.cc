@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "calibrator/calibrator_test_support.h"
+#include "calibrator/rig_turns.h"
 #include "testing/synthetic_rig.h"
 
 namespace rigsim {
@@ -34,9 +35,11 @@ SyntheticRig IsolatedRing(int frames, double turn_deg, double turn_variation) {
 TEST(CameraTrajectory, FollowsTheTrueMotionUpToScale) {
   SyntheticRig s = IsolatedRing(6, 8.0, 0.0);
   const RigObservations obs = ObserveSyntheticRig(s, WithTemporalPairs());
+  const RigTurns turns = ResolveStepsByTheRig(obs.temporal, std::vector<std::optional<Eigen::Quaterniond>>(4), 6, {});
   for (int c = 0; c < 4; ++c) {
     SCOPED_TRACE(c);
-    const CameraTrajectory t = EstimateCameraTrajectory(obs.cameras[c], c, obs.keypoints, obs.temporal, {});
+    const CameraTrajectory t =
+        EstimateCameraTrajectory(obs.cameras[c], c, obs.keypoints, obs.temporal, turns.step_rotation[c], {});
     ASSERT_EQ(t.size(), 6u);
     const Rigid3d first = s.CamFromWorld({0, c});
     double scale = 0.0;
@@ -55,9 +58,11 @@ TEST(CameraTrajectory, FollowsTheTrueMotionUpToScale) {
 TEST(CameraTrajectory, HandEyeFromOwnMotionsPlacesCamerasThatShareNothing) {
   SyntheticRig s = IsolatedRing(10, 10.0, 2.0);
   const RigObservations obs = ObserveSyntheticRig(s, WithTemporalPairs());
+  const RigTurns turns = ResolveStepsByTheRig(obs.temporal, std::vector<std::optional<Eigen::Quaterniond>>(4), 10, {});
   std::vector<CameraTrajectory> trajectories;
   for (int c = 0; c < 4; ++c) {
-    trajectories.push_back(EstimateCameraTrajectory(obs.cameras[c], c, obs.keypoints, obs.temporal, {}));
+    trajectories.push_back(
+        EstimateCameraTrajectory(obs.cameras[c], c, obs.keypoints, obs.temporal, turns.step_rotation[c], {}));
   }
   const HandEyeResult r = SolveHandEye(trajectories, {});
   ASSERT_EQ(r.motion.kind, MotionKind::kPlanar);

@@ -56,7 +56,7 @@ std::vector<double> StartTimeOffsets(int num_cameras, const std::vector<double>&
   if (frames < 2 || num_cameras < 2) return out;
   std::vector<std::vector<std::optional<double>>> turn(num_cameras, std::vector<std::optional<double>>(frames - 1));
   for (const TemporalPairEstimate& t : temporal) {
-    if (!t.two_view.success || t.camera < 0 || t.camera >= num_cameras || t.frame < 0 || t.frame + 1 >= frames) continue;
+    if (!t.PoseUsable() || t.camera < 0 || t.camera >= num_cameras || t.frame < 0 || t.frame + 1 >= frames) continue;
     turn[t.camera][t.frame] = Eigen::AngleAxisd(t.two_view.cam_b_from_cam_a.rotation).angle();
   }
   const std::vector<SearchedOffset> found = SearchTimeOffsets(frame_times_s, turn, options);
@@ -137,6 +137,17 @@ double PixelsPerRadian(const Camera& camera) {
   return angle > 0 ? 1.0 / angle : 0.0;
 }
 
+namespace {
+
+// A solve's cost with each filtered observation counted at the filter's threshold: two solves of
+// the same tracks compare by it, whatever each filtered.
+double TruncatedCost(const MultiFrameBundleAdjustmentResult& r, double max_error_px) {
+  return r.num_observations * r.reprojection_rms_px * r.reprojection_rms_px +
+         r.num_filtered_observations * max_error_px * max_error_px;
+}
+
+}  // namespace
+
 std::vector<CameraSynchronisation> CheckSynchronisation(
     const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, const std::vector<ViewTrack>& tracks,
     const MultiFrameBundleAdjustmentResult& adjusted, int scale_camera, RigBundleAdjustmentOptions ba_options,
@@ -167,9 +178,21 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
   if (stride > 1) {
     for (size_t i = 0; i < tracks.size(); i += stride) subsample.push_back(tracks[i]);
   }
-  const MultiFrameBundleAdjustmentResult freed =
-      MultiFrameRigBundleAdjust(adjusted.cameras, keypoints, stride > 1 ? subsample : tracks, adjusted.cam_from_rig,
-                                adjusted.rig_from_world, scale_camera, ba_options, false, &timing);
+  auto solve = [&](CaptureTiming start) {
+    return MultiFrameRigBundleAdjust(adjusted.cameras, keypoints, stride > 1 ? subsample : tracks, adjusted.cam_from_rig,
+                                     adjusted.rig_from_world, scale_camera, ba_options, false, &start);
+  };
+  MultiFrameBundleAdjustmentResult freed = solve(timing);
+  // The turn angles' start can be wrong (camera 0 tracked over few frames): the synchronised start is
+  // solved too, and the one the images fit better kept, so that a wrong start cannot condemn a camera.
+  if (std::any_of(start_offsets_s.begin(), start_offsets_s.end(), [](double o) { return o != 0.0; })) {
+    timing.time_offset_s.assign(n, 0.0);
+    MultiFrameBundleAdjustmentResult from_zero = solve(timing);
+    if (TruncatedCost(from_zero, ba_options.max_reprojection_error_px) <
+        TruncatedCost(freed, ba_options.max_reprojection_error_px)) {
+      freed = std::move(from_zero);
+    }
+  }
   for (int c = 1; c < n && c < static_cast<int>(freed.timing.size()); ++c) {
     CameraSynchronisation& s = out[c];
     if (!s.checked || !freed.time_offset_stddev_s[c] || s.interval_visibility_px < options.min_interval_visibility_px) {

@@ -102,7 +102,8 @@ struct CameraSynchronisation {
 };
 
 // The bundle adjustment solved again from `adjusted` (a result taken as synchronised) with every
-// camera's offset free (camera 0's the gauge), started at StartTimeOffsets; one verdict per camera.
+// camera's offset free (camera 0's the gauge), started at StartTimeOffsets and, when those are not
+// all zero, at zero too (the start the images fit better is kept); one verdict per camera.
 // Where the path hides time for every camera, nothing is solved: the check could not condemn one.
 std::vector<CameraSynchronisation> CheckSynchronisation(
     const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, const std::vector<ViewTrack>& tracks,

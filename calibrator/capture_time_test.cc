@@ -45,6 +45,20 @@ TEST(CheckSynchronisation, ASynchronisedRigPasses) {
   }
 }
 
+// A start far from the truth (camera 0's turns, tracked over a few frames, can suggest one) does not
+// condemn a synchronised camera: the synchronised start is solved too, and the images fit it better.
+TEST(CheckSynchronisation, AWrongStartDoesNotCondemnASynchronisedRig) {
+  const TimedRing ring(VariedPath(), 0.3, TestSeed(), {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0});
+  const std::vector<CameraSynchronisation> verdict =
+      CheckSynchronisation(ring.cameras, ring.s.keypoints, ring.tracks, ring.Adjust(nullptr), 1, {},
+                           ring.timing.frame_times_s, {0.0, 0.3, 0.3}, TopToBottom(), {});
+  for (int c = 1; c < 3; ++c) {
+    EXPECT_FALSE(verdict[c].unsynchronised) << c;
+    ASSERT_TRUE(verdict[c].offset_s) << c;
+    EXPECT_LT(std::abs(*verdict[c].offset_s), 0.002) << c;
+  }
+}
+
 // Poses of a path with frames 0.1 s apart, as the rig stage has them.
 std::vector<std::optional<Rigid3d>> Posed(const std::vector<Rigid3d>& path) { return {path.begin(), path.end()}; }
 std::vector<double> TenthsOfASecond(size_t frames) {

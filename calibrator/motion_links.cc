@@ -19,12 +19,13 @@ namespace {
 
 using MotionClock = std::chrono::steady_clock;
 
-// Each camera's own trajectory over the frames; frame 0 is the identity by definition, also for a
-// camera whose own motion the images do not fix.
-std::vector<CameraTrajectory> CameraTrajectories(const RigObservations& obs, const RigPositionOptions& options) {
+// Each camera's own trajectory over the frames, through its steps as the rig chose them; frame 0 is
+// the identity by definition, also for a camera whose own motion the images do not fix.
+std::vector<CameraTrajectory> CameraTrajectories(const RigObservations& obs, const RigTurns& turns,
+                                                 const RigPositionOptions& options) {
   std::vector<CameraTrajectory> out;
   for (int c = 0; c < static_cast<int>(obs.cameras.size()); ++c) {
-    out.push_back(EstimateCameraTrajectory(obs.cameras[c], c, obs.keypoints, obs.temporal, options));
+    out.push_back(EstimateCameraTrajectory(obs.cameras[c], c, obs.keypoints, obs.temporal, turns.step_rotation[c], options));
     if (!out.back().empty()) out.back()[0] = Rigid3d();
   }
   return out;
@@ -38,23 +39,38 @@ std::optional<Eigen::Quaterniond> PredictedViewRotation(const CrossTimeCandidate
   return *qb * *ru * rt->conjugate() * qa->conjugate();
 }
 
+// One view pair matched and estimated, with its matches; nullopt with fewer matches or inliers than
+// an edge of the view graph needs.
+struct ViewPairFit {
+  std::vector<std::pair<int, int>> matches;
+  TwoViewResult two_view;
+};
+std::optional<ViewPairFit> FitViewPair(const RigObservations& obs, const CrossTimeCandidate& c, const ViewPairMatcher& match,
+                                       const RigCalibrationOptions& options) {
+  ViewPairFit fit;
+  fit.matches = match(c.cam_a, c.frame_a, c.cam_b, c.frame_b);
+  if (static_cast<int>(fit.matches.size()) < options.view_graph.min_inliers) return std::nullopt;
+  std::vector<Eigen::Vector2d> px_a, px_b;
+  const auto& kp_a = obs.keypoints.at(c.frame_a).at(c.cam_a);
+  const auto& kp_b = obs.keypoints.at(c.frame_b).at(c.cam_b);
+  for (const auto& [a, b] : fit.matches) {
+    px_a.push_back(kp_a.at(a));
+    px_b.push_back(kp_b.at(b));
+  }
+  fit.two_view = EstimateRelativePose(obs.cameras[c.cam_a], px_a, obs.cameras[c.cam_b], px_b, options.pairwise.two_view);
+  if (!fit.two_view.success || fit.two_view.num_inliers < options.view_graph.min_inliers) return std::nullopt;
+  return fit;
+}
+
 // One candidate matched and estimated; nullopt when it does not link the views (too few inliers,
 // or a rotation far from the predicted one).
 std::optional<CrossTimePairEstimate> LinkViews(const RigObservations& obs, const CrossTimeCandidate& c,
                                                const std::optional<Eigen::Quaterniond>& predicted,
                                                const ViewPairMatcher& match, const RigCalibrationOptions& options) {
-  const std::vector<std::pair<int, int>> matches = match(c.cam_a, c.frame_a, c.cam_b, c.frame_b);
-  if (static_cast<int>(matches.size()) < options.view_graph.min_inliers) return std::nullopt;
-  std::vector<Eigen::Vector2d> px_a, px_b;
-  const auto& kp_a = obs.keypoints.at(c.frame_a).at(c.cam_a);
-  const auto& kp_b = obs.keypoints.at(c.frame_b).at(c.cam_b);
-  for (const auto& [a, b] : matches) {
-    px_a.push_back(kp_a.at(a));
-    px_b.push_back(kp_b.at(b));
-  }
-  const TwoViewResult tv =
-      EstimateRelativePose(obs.cameras[c.cam_a], px_a, obs.cameras[c.cam_b], px_b, options.pairwise.two_view);
-  if (!tv.success || tv.num_inliers < options.view_graph.min_inliers) return std::nullopt;
+  const std::optional<ViewPairFit> fit = FitViewPair(obs, c, match, options);
+  if (!fit) return std::nullopt;
+  const TwoViewResult& tv = fit->two_view;
+  const std::vector<std::pair<int, int>>& matches = fit->matches;
   if (predicted && RotationDifferenceDeg(*predicted, tv.cam_b_from_cam_a.rotation) >
                        options.motion.max_prediction_disagreement_deg) {
     return std::nullopt;
@@ -112,7 +128,7 @@ JointRotations AverageJointly(const RigObservations& obs, const ViewGraph& graph
     if (e.active) measurements.push_back({e.cam_a, e.cam_b, -1, -1, e.rotation, std::max(e.weight, 1)});
   }
   for (const TemporalPairEstimate& t : obs.temporal) {
-    if (!t.two_view.success) continue;
+    if (!t.PoseUsable()) continue;
     measurements.push_back({t.camera, t.camera, t.frame, t.frame + 1, t.two_view.cam_b_from_cam_a.rotation,
                             std::max(t.two_view.num_inliers, 1)});
   }
@@ -215,21 +231,27 @@ bool LosesOwnTracks(const RigObservations& obs, const RigCalibrationResult& resu
   return false;
 }
 
-RigCalibrationResult::MotionLinkSummary SummaryOf(const MotionLinks& links, bool kept, int pairs_used) {
+RigCalibrationResult::MotionLinkSummary SummaryOf(const MotionLinks& links, bool kept, int pairs_used,
+                                                  const PredictionCheck& check) {
   RigCalibrationResult::MotionLinkSummary summary;
+  summary.predicted_views_agreeing = check.agreeing;
+  summary.predicted_views_contradicting = check.contradicting;
   summary.kept = kept;
   summary.motion = links.motion.kind;
   summary.candidates = links.num_candidates;
   summary.pairs = static_cast<int>(links.cross_time.size());
   summary.pairs_used = pairs_used;
-  summary.time_s = links.time_s;
+  summary.temporal_alternatives_taken = links.temporal_alternatives_taken;
+  summary.temporal_pairs_disagreeing = links.temporal_pairs_disagreeing;
+  summary.time_s = links.time_s + check.time_s;
   return summary;
 }
 
 // A camera the motion stage did not place either: its status says what the rig's motion gave for
 // it (hand-eye's finding, the view pairs matched with it across time), so that a user sees why.
-void SayWhatTheMotionFound(const MotionLinks& links, RigCalibrationResult* result) {
-  result->motion_links = SummaryOf(links, false, 0);
+void SayWhatTheMotionFound(const MotionLinks& links, const PredictionCheck& check, const RigCalibrationOptions& options,
+                           RigCalibrationResult* result) {
+  result->motion_links = SummaryOf(links, false, 0, check);
   for (size_t c = 1; c < result->camera_status.size() && c < links.hand_eye.size(); ++c) {
     CameraStatus& s = result->camera_status[c];
     if (s.outcome != CameraOutcome::kNotConnected && s.outcome != CameraOutcome::kRotationOnly) continue;
@@ -240,7 +262,14 @@ void SayWhatTheMotionFound(const MotionLinks& links, RigCalibrationResult* resul
     const std::string hand_eye =
         h.status == HandEyeStatus::kSolved ? "solved, but the joint solution did not hold" : h.reason;
     s.reason += "; nor did the rig's motion place it (hand-eye: " + hand_eye + "; " + std::to_string(pairs) +
-                " view pair(s) matched with it across time)";
+                " view pair(s) matched with it across time";
+    if (check.AnyCameraContradicted(options.motion.min_prediction_contradictions)) {
+      s.reason += "; the rig they made predicts views that the images contradict (wrong matches of repeated "
+                  "structure): of the view pairs it predicts for this camera, matched afresh, " +
+                  std::to_string(check.camera_agreeing[c]) + " agree and " + std::to_string(check.camera_contradicting[c]) +
+                  " contradict; of all, " + std::to_string(check.agreeing) + " and " + std::to_string(check.contradicting);
+    }
+    s.reason += ")";
   }
 }
 
@@ -254,6 +283,7 @@ bool FoundNothing(const MotionLinks& links) {
 RigCalibrationResult EstimateRigWithLinks(const RigObservations& obs, const MotionLinks& links,
                                           const RigCalibrationOptions& options) {
   RigObservations linked = obs;
+  linked.temporal = links.temporal;
   linked.cross_time = links.cross_time;
   linked.rotation_start = links.rotation_start;
   linked.hand_eye_rotation = links.hand_eye_rotation;
@@ -261,16 +291,27 @@ RigCalibrationResult EstimateRigWithLinks(const RigObservations& obs, const Moti
   return EstimateRig(linked, options);
 }
 
-// `second` (with the links) where it places more cameras than `first` (without) and keeps its own
-// tracks, `first` otherwise; either counts the work of both.
+// Whether `second` (with the links) places every camera, keeps its own tracks, and is contradicted
+// for none of its cameras by the views it predicts (`check`, of `second`).
+bool PlacesEveryCameraAndHolds(const RigObservations& obs, const RigCalibrationResult& second, const PredictionCheck& check,
+                               const RigCalibrationOptions& options) {
+  return CamerasPlaced(second) == static_cast<int>(obs.cameras.size()) && !LosesOwnTracks(obs, second) &&
+         !check.AnyCameraContradicted(options.motion.min_prediction_contradictions);
+}
+
+// `second` (with the links) where it places more cameras than `first` (without), keeps its own
+// tracks and is contradicted for none of its cameras by the views it predicts (`check`); `first`
+// otherwise; either counts the work of both.
 RigCalibrationResult TheBetterPass(const RigObservations& obs, RigCalibrationResult first, RigCalibrationResult second,
-                                   const MotionLinks& links) {
-  if (CamerasPlaced(second) <= CamerasPlaced(first) || LosesOwnTracks(obs, second)) {
-    SayWhatTheMotionFound(links, &first);
+                                   const MotionLinks& links, const PredictionCheck& check,
+                                   const RigCalibrationOptions& options) {
+  if (CamerasPlaced(second) <= CamerasPlaced(first) || LosesOwnTracks(obs, second) ||
+      check.AnyCameraContradicted(options.motion.min_prediction_contradictions)) {
+    SayWhatTheMotionFound(links, check, options, &first);
     AddRigWork(second, &first);
     return first;
   }
-  second.motion_links = SummaryOf(links, true, second.num_cross_time_pairs_used);
+  second.motion_links = SummaryOf(links, true, second.num_cross_time_pairs_used, check);
   AddRigWork(first, &second);
   return second;
 }
@@ -282,25 +323,29 @@ RigCalibrationResult LinkWhereTheFullPassNeedsIt(const RigObservations& obs, Rig
   if (!NeedsMotionLinks(first, obs, options)) return first;
   const MotionLinks links = FindMotionLinks(obs, first.cam_from_rig_rotation, match, options);
   if (FoundNothing(links)) {
-    SayWhatTheMotionFound(links, &first);
+    SayWhatTheMotionFound(links, {}, options, &first);
     return first;
   }
-  return TheBetterPass(obs, std::move(first), EstimateRigWithLinks(obs, links, options), links);
+  RigCalibrationResult second = EstimateRigWithLinks(obs, links, options);
+  const PredictionCheck check = CheckPredictedViews(obs, links, second, match, options);
+  return TheBetterPass(obs, std::move(first), std::move(second), links, check, options);
 }
 
 // The motion stage first, from the rotations where the pass without links stopped
-// (EstimateRigUnlessUnplaced): a pass with the links that places every camera and keeps its own
-// tracks is the result, and the full pass without them runs only otherwise, to compare as
-// LinkWhereTheFullPassNeedsIt does.
+// (EstimateRigUnlessUnplaced): a pass with the links that places every camera, keeps its own
+// tracks and holds against the views it predicts is the result, and the full pass without them runs
+// only otherwise, to compare as LinkWhereTheFullPassNeedsIt does.
 RigCalibrationResult LinkBeforeTheFullPass(const RigObservations& obs,
                                            const std::vector<std::optional<Eigen::Quaterniond>>& known_rotations,
                                            const ViewPairMatcher& match, const RigCalibrationOptions& options) {
   const MotionLinks links = FindMotionLinks(obs, known_rotations, match, options);
   std::optional<RigCalibrationResult> second;
+  PredictionCheck check;
   if (!FoundNothing(links)) {
     second = EstimateRigWithLinks(obs, links, options);
-    if (CamerasPlaced(*second) == static_cast<int>(obs.cameras.size()) && !LosesOwnTracks(obs, *second)) {
-      second->motion_links = SummaryOf(links, true, second->num_cross_time_pairs_used);
+    check = CheckPredictedViews(obs, links, *second, match, options);
+    if (PlacesEveryCameraAndHolds(obs, *second, check, options)) {
+      second->motion_links = SummaryOf(links, true, second->num_cross_time_pairs_used, check);
       return *std::move(second);
     }
   }
@@ -309,11 +354,11 @@ RigCalibrationResult LinkBeforeTheFullPass(const RigObservations& obs,
   // rejected had left it out of rotation averaging), the motion stage was not needed: it ran, not
   // kept.
   if (!second || !NeedsMotionLinks(first, obs, options)) {
-    SayWhatTheMotionFound(links, &first);
+    SayWhatTheMotionFound(links, check, options, &first);
     if (second) AddRigWork(*second, &first);
     return first;
   }
-  return TheBetterPass(obs, std::move(first), *std::move(second), links);
+  return TheBetterPass(obs, std::move(first), *std::move(second), links, check, options);
 }
 
 }  // namespace
@@ -322,10 +367,13 @@ void MotionLinkOptions::Check() const {
   auto fail = [](const std::string& why) { throw std::invalid_argument("MotionLinkOptions: " + why); };
   if (min_frames < 3) fail("min_frames must be >= 3");
   hand_eye.Check();
+  rig_turns.Check();
   candidates.Check();
   rotation_averaging.Check();
   if (!(max_prediction_disagreement_deg > 0)) fail("max_prediction_disagreement_deg must be > 0");
   if (!(max_hand_eye_disagreement_deg > 0)) fail("max_hand_eye_disagreement_deg must be > 0");
+  if (!(max_prediction_check_deg > 0)) fail("max_prediction_check_deg must be > 0");
+  if (min_prediction_contradictions < 1) fail("min_prediction_contradictions must be >= 1");
   if (!(max_inter_camera_weight >= 1)) fail("max_inter_camera_weight must be >= 1");
 }
 
@@ -351,17 +399,24 @@ MotionLinks FindMotionLinks(const RigObservations& obs,
   out.hand_eye_rotation.assign(n, std::nullopt);
   out.open_axis.assign(n, std::nullopt);
   out.hand_eye.assign(n, HandEyeCamera{});
+  out.placed_by_motion.assign(n, 0);
+  out.temporal = obs.temporal;
   if (!options.motion.enabled || num_frames < options.motion.min_frames || obs.temporal.empty()) return out;
 
+  // Each step between frames takes the pose the rig agrees with (a planar pair's other pose).
+  const RigTurns turns = ResolveStepsByTheRig(obs.temporal, known_rotations, num_frames, options.motion.rig_turns);
+  out.temporal = turns.temporal;
+  out.temporal_alternatives_taken = turns.alternatives_taken;
+  out.temporal_pairs_disagreeing = turns.pairs_disagreeing;
   // Starts: the rotations known, else hand-eye's (also an undetermined one: the averaging and the
   // cross-time pairs decide it).
-  const HandEyeResult hand_eye = SolveHandEye(CameraTrajectories(obs, options.positions), options.motion.hand_eye);
+  const HandEyeResult hand_eye = SolveHandEye(CameraTrajectories(obs, turns, options.positions), options.motion.hand_eye);
   out.motion = hand_eye.motion;
   out.hand_eye = hand_eye.cameras;
   CrossTimeCandidateInputs inputs;
   inputs.cameras = obs.cameras;
   inputs.cam_from_rig = known_rotations;
-  inputs.rig_from_world = EstimateRigRotations(num_frames, known_rotations, obs.temporal);
+  inputs.rig_from_world = turns.rig_from_world;
   for (int c = 0; c < n; ++c) {
     const HandEyeCamera& h = hand_eye.cameras[c];
     const bool solved = h.status == HandEyeStatus::kSolved || h.status == HandEyeStatus::kReference;
@@ -382,6 +437,8 @@ MotionLinks FindMotionLinks(const RigObservations& obs,
     if (!known_rotations[c.cam_a] || !known_rotations[c.cam_b]) candidates.push_back(c);
   }
   out.num_candidates = static_cast<int>(candidates.size());
+  out.matched = candidates;
+  for (int c = 0; c < n; ++c) out.placed_by_motion[c] = !known_rotations[c];
   std::vector<std::optional<CrossTimePairEstimate>> linked(candidates.size());
   {
     const ParallelScope parallel(options.pairwise.num_threads);
@@ -408,6 +465,64 @@ RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, cons
 }
 
 // For the rig stages (rig_calibration.cc).
+
+bool PredictionCheck::AnyCameraContradicted(int min_contradictions) const {
+  for (size_t c = 0; c < camera_contradicting.size(); ++c) {
+    if (camera_contradicting[c] >= min_contradictions && camera_contradicting[c] > 2 * camera_agreeing[c]) return true;
+  }
+  return false;
+}
+
+PredictionCheck CheckPredictedViews(const RigObservations& obs, const MotionLinks& links, const RigCalibrationResult& result,
+                                    const ViewPairMatcher& match, const RigCalibrationOptions& options) {
+  const auto start = MotionClock::now();
+  const int n = static_cast<int>(obs.cameras.size());
+  CrossTimeCandidateInputs inputs;
+  inputs.cameras = obs.cameras;
+  inputs.cam_from_rig = result.cam_from_rig_rotation;
+  for (const auto& pose : result.rig_from_world) {
+    inputs.rig_from_world.push_back(pose ? std::optional<Eigen::Quaterniond>(pose->rotation) : std::nullopt);
+  }
+  PredictionCheck out;
+  if (static_cast<int>(inputs.cam_from_rig.size()) != n || inputs.rig_from_world.empty()) return out;
+  auto matched_before = [&](const CrossTimeCandidate& c) {
+    return std::any_of(links.matched.begin(), links.matched.end(), [&](const CrossTimeCandidate& m) {
+      return m.cam_a == c.cam_a && m.frame_a == c.frame_a && m.cam_b == c.cam_b && m.frame_b == c.frame_b;
+    });
+  };
+  std::vector<CrossTimeCandidate> fresh;
+  for (const CrossTimeCandidate& c : SelectCrossTimeCandidates(inputs, options.motion.candidates)) {
+    if ((links.placed_by_motion[c.cam_a] || links.placed_by_motion[c.cam_b]) && !matched_before(c)) fresh.push_back(c);
+  }
+  std::vector<int> verdict(fresh.size(), 0);  // +1 agrees, -1 contradicts, 0 no estimate
+  {
+    const ParallelScope parallel(options.pairwise.num_threads);
+    tbb::parallel_for(0, static_cast<int>(fresh.size()), [&](int i) {
+      const CrossTimeCandidate& c = fresh[i];
+      const std::optional<ViewPairFit> fit = FitViewPair(obs, c, match, options);
+      if (!fit) return;
+      const TwoViewResult& tv = fit->two_view;
+      const Eigen::Quaterniond predicted = *PredictedViewRotation(inputs, c);
+      double nearest = RotationDifferenceDeg(predicted, tv.cam_b_from_cam_a.rotation);
+      for (const Rigid3d& other : tv.planar_alternatives) nearest = std::min(nearest, RotationDifferenceDeg(predicted, other.rotation));
+      verdict[i] = nearest <= options.motion.max_prediction_check_deg ? 1 : -1;
+    });
+  }
+  out.camera_agreeing.assign(n, 0);
+  out.camera_contradicting.assign(n, 0);
+  for (size_t i = 0; i < fresh.size(); ++i) {
+    out.agreeing += verdict[i] > 0;
+    out.contradicting += verdict[i] < 0;
+    for (int c : {fresh[i].cam_a, fresh[i].cam_b}) {
+      if (!links.placed_by_motion[c]) continue;
+      out.camera_agreeing[c] += verdict[i] > 0;
+      out.camera_contradicting[c] += verdict[i] < 0;
+      if (fresh[i].cam_a == fresh[i].cam_b) break;
+    }
+  }
+  out.time_s = std::chrono::duration<double>(MotionClock::now() - start).count();
+  return out;
+}
 
 JointRotations AverageRotationsWithMotionLinks(const RigObservations& obs, const ViewGraph& graph,
                                                const RigCalibrationOptions& options) {

@@ -2,8 +2,8 @@
 // their views at the same instant (a ring at low overlap): the same-instant view graph leaves them
 // out of camera 0's part, but as the rig turns, camera b at frame t' sees what camera a saw at t.
 //
-// Stages (FindMotionLinks): each camera's own trajectory from its temporal pairs
-// (camera_trajectory.h) -> hand-eye calibration against camera 0's (hand_eye.h): a start of every
+// Stages (FindMotionLinks): each step between frames takes the pose the rig agrees with
+// (rig_turns.h) -> each camera's own trajectory from those steps (camera_trajectory.h) -> hand-eye calibration against camera 0's (hand_eye.h): a start of every
 // camera's rotation in the rig, and the axis of a planar motion -> which views to match across time
 // (cross_time_candidates.h: predicted from the rotations known, a search by the rig's turn for the
 // others) -> those view pairs matched (with the pairwise stage's matcher and semantic mode) and
@@ -29,6 +29,7 @@
 #include "calibrator/hand_eye.h"
 #include "calibrator/rig_calibration.h"
 #include "calibrator/rig_rotation_averaging.h"
+#include "calibrator/rig_turns.h"
 
 namespace rigsim {
 
@@ -52,7 +53,15 @@ struct MotionLinks {
   // Per camera: with a planar motion, the turn axis in the rig, along which the motion does not
   // fix its centre; nullopt otherwise.
   std::vector<std::optional<Eigen::Vector3d>> open_axis;
+  // The temporal pairs with the poses the rig agrees with (rig_turns.h), for the rig stages, and how
+  // many took their planar alternative or disagree with every pose (failed).
+  std::vector<TemporalPairEstimate> temporal;
+  int temporal_alternatives_taken = 0;
+  int temporal_pairs_disagreeing = 0;
   int num_candidates = 0;  // view pairs matched
+  std::vector<CrossTimeCandidate> matched;  // those view pairs
+  // Per camera: 1 when the same-instant pairs gave it no rotation (the motion stage is to place it).
+  std::vector<char> placed_by_motion;
   std::vector<CrossTimePairEstimate> cross_time;  // the successful ones
   double time_s = 0.0;
 };
@@ -65,13 +74,37 @@ MotionLinks FindMotionLinks(const RigObservations& obs,
                             const ViewPairMatcher& match, const RigCalibrationOptions& options);
 
 // The rig stages on `obs` (EstimateRig), with the motion links (FindMotionLinks through `match`)
-// where a camera is left without a full pose and the rig moved, kept when they place more cameras.
-// Where the stages before a bundle adjustment already show it (EstimateRigUnlessUnplaced stops), the
-// pass with the links runs next and is the result when it places every camera, without a full pass
-// without them; otherwise the full pass runs, and the links only where its result needs them.
-// Throws like EstimateRig.
+// where a camera is left without a full pose and the rig moved, kept when they place more cameras
+// and the views the new rig predicts to meet, matched afresh, contradict it for none of its cameras
+// (CheckPredictedViews). Where the stages before a bundle adjustment already show it
+// (EstimateRigUnlessUnplaced stops), the pass with the links runs next and is the result when it
+// places every camera, without a full pass without them; otherwise the full pass runs, and the
+// links only where its result needs them. Throws like EstimateRig.
 RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, const ViewPairMatcher& match,
                                                 const RigCalibrationOptions& options);
+
+// The rig `result` that the motion links `links` made, checked on view pairs it predicts to meet
+// (cross_time_candidates.h, from its rotations) that involve a camera the motion stage placed and
+// that the motion stage did not match: each, matched and estimated now, agrees with the rig's
+// rotation between its two views (within MotionLinkOptions::max_prediction_check_deg, by its pose or
+// a planar alternative) or contradicts it. Cross-time matches of repeated structure can agree with
+// each other on a wrong rig where the motion leaves a camera's turn open; the views that rig
+// predicts then do not show what it says.
+// Counted per camera (a pair counts for each of its cameras the motion stage placed) and in all. A
+// camera is contradicted when at least `min_contradictions` of its pairs contradict the rig and more
+// than twice as many contradict as agree: a right camera's predicted views mostly agree (a wrong
+// match or a degenerate pair contradicts now and then); a camera a few degrees wrong has none that
+// agree.
+struct PredictionCheck {
+  int agreeing = 0;
+  int contradicting = 0;
+  std::vector<int> camera_agreeing, camera_contradicting;
+  double time_s = 0.0;
+
+  bool AnyCameraContradicted(int min_contradictions) const;
+};
+PredictionCheck CheckPredictedViews(const RigObservations& obs, const MotionLinks& links, const RigCalibrationResult& result,
+                                    const ViewPairMatcher& match, const RigCalibrationOptions& options);
 
 // For the rig stages (rig_calibration.cc), on observations with motion links:
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <stdexcept>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -251,6 +252,84 @@ TEST(MotionLinks, PlanarMotionWithoutSharedPointsLeavesTheHeightOpen) {
     EXPECT_LT(*c.errors[cam].across_axis_direction_error_deg, 5.0);
     EXPECT_FALSE(c.errors[cam].direction_error_deg.has_value());
   }
+}
+
+TemporalPairEstimate& PairOf(RigObservations& obs, int camera, int frame) {
+  for (TemporalPairEstimate& t : obs.temporal) {
+    if (t.camera == camera && t.frame == frame) return t;
+  }
+  throw std::out_of_range("no such temporal pair");
+}
+
+// Two steps whose pose is wrong: camera 2's, a facade's essential matrix 8 deg off with the true pose
+// as its planar alternative, and camera 1's, 7 deg off with no alternative. The rig takes the
+// alternative of the one and leaves out the pose of the other, and calibrates every camera.
+TEST(MotionLinks, StepsTheRigContradictsTakeTheirOtherPoseOrAreLeftOut) {
+  SyntheticRig s = SynthesizeRig(LowOverlapRing(TurningPath(16, 1.0, 8.0, 0.3, 15.0, 5.0), false));
+  SyntheticObservationOptions observe;
+  observe.temporal_pairs = true;
+  RigObservations obs = ObserveSyntheticRig(s, observe);
+  const Eigen::Quaterniond off8(Eigen::AngleAxisd(DegToRad(8.0), Eigen::Vector3d(1.0, 0.3, 0.0).normalized()));
+  const Eigen::Quaterniond off7(Eigen::AngleAxisd(DegToRad(7.0), Eigen::Vector3d(0.0, 0.2, 1.0).normalized()));
+  TwoViewEstimate& planar = PairOf(obs, 2, 3).two_view;
+  const Eigen::Quaterniond truth = planar.cam_b_from_cam_a.rotation;
+  planar.pair_type = PairType::kPlanar;
+  planar.planar_alternatives = {planar.cam_b_from_cam_a};
+  planar.cam_b_from_cam_a.rotation = off8 * truth;
+  PairOf(obs, 1, 5).two_view.cam_b_from_cam_a.rotation = off7 * PairOf(obs, 1, 5).two_view.cam_b_from_cam_a.rotation;
+
+  RigCalibrationOptions options;
+  options.pairwise.num_threads = 2;
+  std::vector<std::optional<Eigen::Quaterniond>> known(4);
+  known[0] = Eigen::Quaterniond::Identity();
+  const MotionLinks links = FindMotionLinks(obs, known, SyntheticMatcher(s), options);
+  EXPECT_EQ(links.temporal_alternatives_taken, 1);
+  EXPECT_EQ(links.temporal_pairs_disagreeing, 1);
+  for (const TemporalPairEstimate& t : links.temporal) {
+    if (t.camera == 2 && t.frame == 3) EXPECT_LT(RotationDifferenceDeg(t.two_view.cam_b_from_cam_a.rotation, truth), 0.01);
+    EXPECT_EQ(t.PoseUsable(), !(t.camera == 1 && t.frame == 5)) << t.camera << " " << t.frame;
+  }
+
+  const RigCalibrationResult r = EstimateRigWithMotionLinks(obs, SyntheticMatcher(s), options);
+  ASSERT_TRUE(r.motion_links.has_value());
+  EXPECT_TRUE(r.motion_links->kept);
+  EXPECT_EQ(r.motion_links->temporal_alternatives_taken, 1);
+  EXPECT_EQ(r.motion_links->temporal_pairs_disagreeing, 1);
+  EXPECT_GT(r.motion_links->predicted_views_agreeing, 0);
+  EXPECT_EQ(r.motion_links->predicted_views_contradicting, 0);
+  const std::vector<CameraErrors> errors = ErrorsAgainst(s.rig, r);
+  for (int cam = 1; cam < 4; ++cam) {
+    ASSERT_EQ(r.camera_status[cam].outcome, CameraOutcome::kCalibrated) << r.camera_status[cam];
+    EXPECT_LT(errors[cam].rotation_error_deg.value_or(180), 1.0) << cam;
+  }
+}
+
+// The views a rig predicts to meet show whether it is right: the calibrated ring's predictions agree
+// with views matched afresh; the same rig with one camera turned 15 deg about the vertical (what
+// consistent wrong matches of repeated structure can make where the motion leaves a turn open)
+// predicts views that contradict it.
+TEST(MotionLinks, ViewsAWrongRigPredictsContradictIt) {
+  SyntheticRig s = SynthesizeRig(LowOverlapRing(TurningPath(16, 1.0, 8.0, 0.3, 15.0, 5.0), false));
+  SyntheticObservationOptions observe;
+  observe.temporal_pairs = true;
+  const RigObservations obs = ObserveSyntheticRig(s, observe);
+  RigCalibrationOptions options;
+  options.pairwise.num_threads = 2;
+  std::vector<std::optional<Eigen::Quaterniond>> known(4);
+  known[0] = Eigen::Quaterniond::Identity();
+  MotionLinks links = FindMotionLinks(obs, known, SyntheticMatcher(s), options);
+  links.matched.clear();  // every predicted view pair counts as fresh
+  RigCalibrationResult r = EstimateRigWithMotionLinks(obs, SyntheticMatcher(s), options);
+  ASSERT_TRUE(r.cam_from_rig_rotation[1]);
+  const PredictionCheck right = CheckPredictedViews(obs, links, r, SyntheticMatcher(s), options);
+  EXPECT_GT(right.agreeing, 3);
+  EXPECT_EQ(right.contradicting, 0);
+  r.cam_from_rig_rotation[1] = Eigen::Quaterniond(Eigen::AngleAxisd(DegToRad(15.0), Eigen::Vector3d::UnitY())) *
+                               *r.cam_from_rig_rotation[1];
+  const PredictionCheck wrong = CheckPredictedViews(obs, links, r, SyntheticMatcher(s), options);
+  EXPECT_GT(wrong.camera_contradicting[1], wrong.camera_agreeing[1]);
+  EXPECT_TRUE(wrong.AnyCameraContradicted(options.motion.min_prediction_contradictions));
+  EXPECT_FALSE(right.AnyCameraContradicted(options.motion.min_prediction_contradictions));
 }
 
 TEST(MotionLinks, TurningAtAConstantRateWithoutSharedPointsPlacesNoCameraByGuess) {

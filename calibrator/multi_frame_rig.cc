@@ -172,7 +172,7 @@ std::vector<std::optional<Eigen::Quaterniond>> EstimateRigRotations(
   for (int k = 0; k + 1 < num_frames; ++k) {
     std::vector<Eigen::Matrix3d> motions;  // R_{k+1} R_k^T seen by each camera
     for (const TemporalPairEstimate& t : temporal) {
-      if (t.frame != k || !t.two_view.success || t.camera < 0 || t.camera >= static_cast<int>(cam_from_rig.size()) ||
+      if (t.frame != k || !t.PoseUsable() || t.camera < 0 || t.camera >= static_cast<int>(cam_from_rig.size()) ||
           !cam_from_rig[t.camera]) {
         continue;
       }

@@ -221,7 +221,7 @@ RigMotion EstimateRigMotion(const RigObservations& obs, const RotationStage& rs,
     if (t.camera < 0 || t.camera >= n || t.frame < 0 || t.frame + 1 >= num_frames) {
       throw std::invalid_argument("EstimateRig: temporal pair out of range");
     }
-    if (t.two_view.success && rot.cam_from_rig[t.camera]) ++m.temporal_pairs_used;
+    if (t.PoseUsable() && rot.cam_from_rig[t.camera]) ++m.temporal_pairs_used;
   }
   return m;
 }

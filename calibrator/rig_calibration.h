@@ -42,6 +42,7 @@
 #include "calibrator/pairwise.h"
 #include "calibrator/rig_positions.h"
 #include "calibrator/rig_rotation_averaging.h"
+#include "calibrator/rig_turns.h"
 #include "calibrator/rotation_averaging.h"
 #include "calibrator/view_graph.h"
 #include "geometry/rig.h"
@@ -68,6 +69,7 @@ struct MotionLinkOptions {
   bool enabled = true;
   int min_frames = 3;
   HandEyeOptions hand_eye;
+  RigTurnOptions rig_turns;
   CrossTimeCandidateOptions candidates;
   // The joint averaging of every rotation (same-instant, temporal and cross-time pairs).
   RigRotationAveragingOptions rotation_averaging;
@@ -79,6 +81,13 @@ struct MotionLinkOptions {
   // when two things agree on it: its hand-eye rotation within this (deg), or two cross-time pairs
   // with cameras that are kept. One pair alone could be a wrong match nothing would contradict.
   double max_hand_eye_disagreement_deg = 2.0;
+  // The rig the motion links made is checked on view pairs it predicts to meet that were not matched
+  // to make it: one whose rotation is within this (deg) of the rig's agrees, a farther one
+  // contradicts; the rig is not kept when, for one of its cameras, at least
+  // min_prediction_contradictions contradict and more than twice as many as agree
+  // (PredictionCheck; the figures behind the rule are in BENCHMARKS.md).
+  double max_prediction_check_deg = 3.0;
+  int min_prediction_contradictions = 2;
   // The bundle adjustment weighs the observations of points that two or more cameras see up, by a
   // quarter of the ratio of all observations to theirs, at most this much
   // (RigBundleAdjustmentOptions::inter_camera_weight).
@@ -329,13 +338,19 @@ struct RigCalibrationResult {
   std::vector<RigStartSummary> position_starts;
   // The motion stage (motion_links.h) when it ran: whether its result was kept (it placed more
   // cameras), the motion's kind, the view pairs matched across time, the successful ones, those
-  // rotation averaging kept, and its time.
+  // rotation averaging kept, the temporal pairs that took their planar alternative or failed
+  // against the rig's turns (rig_turns.h), the view pairs its rig predicts that agree with it and
+  // contradict it, and its time.
   struct MotionLinkSummary {
     bool kept = false;
     MotionKind motion = MotionKind::kStraight;
     int candidates = 0;
     int pairs = 0;
     int pairs_used = 0;
+    int temporal_alternatives_taken = 0;
+    int temporal_pairs_disagreeing = 0;
+    int predicted_views_agreeing = 0;
+    int predicted_views_contradicting = 0;
     double time_s = 0.0;
   };
   std::optional<MotionLinkSummary> motion_links;

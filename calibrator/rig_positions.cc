@@ -387,7 +387,7 @@ RigPositions EstimateRigPositionsFromDirections(const ViewGraph& graph, const st
   }
   for (int i = 0; i < static_cast<int>(temporal.size()) && !static_rig; ++i) {
     const TemporalPairEstimate& t = temporal[i];
-    if (!t.two_view.success || t.two_view.rotation_only || !rotated(t.camera) || !framed(t.frame) ||
+    if (!t.PoseUsable() || t.two_view.rotation_only || !rotated(t.camera) || !framed(t.frame) ||
         !framed(t.frame + 1)) {
       continue;
     }

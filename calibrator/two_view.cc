@@ -202,6 +202,76 @@ Cheirality ResolveCheirality(const Rigid3d& pose, const std::vector<Eigen::Vecto
   return out;
 }
 
+// The valid correspondences within `limit` (radians) of `pose`'s epipolar geometry.
+std::vector<int> EpipolarInliers(const Rigid3d& pose, const std::vector<Eigen::Vector3d>& fa,
+                                 const std::vector<Eigen::Vector3d>& fb, const std::vector<int>& valid, double limit) {
+  std::vector<int> in;
+  for (int i : valid) {
+    if (EpipolarAngle(pose, fa[i], fb[i]) < limit) in.push_back(i);
+  }
+  return in;
+}
+
+// Refines `pose` (when options.refine) and returns its inliers: two rounds of refining on a generous
+// neighbourhood (the Cauchy loss tempers it) and selecting again.
+std::vector<int> RefineOnInliers(const std::vector<Eigen::Vector3d>& fa, const std::vector<Eigen::Vector3d>& fb,
+                                 const std::vector<int>& valid, double thr, const TwoViewOptions& options, Rigid3d* pose) {
+  std::vector<int> inliers = EpipolarInliers(*pose, fa, fb, valid, thr);
+  for (int round = 0; options.refine && round < 2; ++round) {
+    const std::vector<int> near = EpipolarInliers(*pose, fa, fb, valid, 3.0 * thr);
+    if (static_cast<int>(near.size()) < 5) break;
+    std::vector<Eigen::Vector3d> ra, rb;
+    for (int i : near) {
+      ra.push_back(fa[i]);
+      rb.push_back(fb[i]);
+    }
+    *pose = RefineRelativePose(ra, rb, *pose, thr, options.refine_max_iterations);
+    inliers = EpipolarInliers(*pose, fa, fb, valid, thr);
+  }
+  return inliers;
+}
+
+// The poses of the homography's decomposition (Malis and Vargas, through OpenCV, K = I) whose
+// rotation differs from `chosen`'s by more than options.min_planar_alternative_deg and that, refined
+// like the essential matrix's pose and with their cheirality resolved the same way, explain at
+// least options.planar_ratio times `chosen_inliers` of the matches: the other answer a plane allows,
+// which the matches alone do not rule out.
+std::vector<Rigid3d> OtherPlanarPoses(const HomographyFit& fit, const Rigid3d& chosen, int chosen_inliers,
+                                      const std::vector<Eigen::Vector3d>& fa, const std::vector<Eigen::Vector3d>& fb,
+                                      const std::vector<int>& valid, double thr, const TwoViewOptions& options) {
+  cv::Mat h(3, 3, CV_64F);
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 3; ++x) h.at<double>(y, x) = fit.h(y, x);
+  std::vector<cv::Mat> rotations, translations, normals;
+  try {
+    cv::decomposeHomographyMat(h, cv::Mat::eye(3, 3, CV_64F), rotations, translations, normals);
+  } catch (const cv::Exception&) {
+    return {};
+  }
+  std::vector<Rigid3d> out;
+  for (size_t s = 0; s < rotations.size(); ++s) {
+    Eigen::Matrix3d r;
+    Eigen::Vector3d t;
+    for (int y = 0; y < 3; ++y) {
+      for (int x = 0; x < 3; ++x) r(y, x) = rotations[s].at<double>(y, x);
+      t(y) = translations[s].at<double>(y);
+    }
+    if (!(t.norm() > 1e-9)) continue;  // a pure rotation has no other answer
+    Rigid3d pose(r, t.normalized());
+    auto differs = [&](const Rigid3d& other) {
+      return RotationDifferenceDeg(pose.rotation, other.rotation) > options.min_planar_alternative_deg;
+    };
+    if (!differs(chosen)) continue;
+    const std::vector<int> inliers = RefineOnInliers(fa, fb, valid, thr, options, &pose);
+    if (inliers.size() < options.planar_ratio * chosen_inliers) continue;
+    const Cheirality side = ResolveCheirality(pose, fa, fb, inliers, options.cheirality_min_angle_factor * thr);
+    if (side.in_front < options.min_cheirality_points) continue;
+    pose = side.pose;
+    if (differs(chosen) && std::all_of(out.begin(), out.end(), differs)) out.push_back(pose);
+  }
+  return out;
+}
+
 TwoViewResult Fail(TwoViewResult r, const std::string& why) {
   r.success = false;
   r.failure_reason = why;
@@ -229,6 +299,7 @@ TwoViewEstimate ToEstimate(const TwoViewResult& result, int num_matches) {
   e.num_inliers = result.num_inliers;
   e.num_homography_inliers = result.num_homography_inliers;
   e.median_residual_deg = result.median_residual_deg;
+  e.planar_alternatives = result.planar_alternatives;
   e.cheirality_points = result.cheirality_points;
   e.points_in_front = result.points_in_front;
   e.points_in_front_otherwise = result.points_in_front_otherwise;
@@ -248,6 +319,7 @@ void TwoViewOptions::Check() const {
   if (refine_max_iterations < 1) fail("refine_max_iterations must be >= 1");
   if (!(rotation_only_ratio > 0)) fail("rotation_only_ratio must be > 0");
   if (!(planar_ratio > 0)) fail("planar_ratio must be > 0");
+  if (!(min_planar_alternative_deg > 0)) fail("min_planar_alternative_deg must be > 0");
   if (rotation_ransac_iterations < 1) fail("rotation_ransac_iterations must be >= 1");
   if (!(cheirality_min_angle_factor > 0)) fail("cheirality_min_angle_factor must be > 0");
   if (min_cheirality_points < 1) fail("min_cheirality_points must be >= 1");
@@ -389,29 +461,8 @@ TwoViewResult EstimateRelativePoseFromBearings(const std::vector<Eigen::Vector3d
   const bool have_pose = essential.pose.has_value();
   Rigid3d pose = essential.pose.value_or(Rigid3d());
   std::vector<int> inliers;
-  auto collect_inliers = [&](const Rigid3d& p, double limit) {
-    std::vector<int> in;
-    for (int i : valid) {
-      if (EpipolarAngle(p, fa[i], fb[i]) < limit) in.push_back(i);
-    }
-    return in;
-  };
   if (have_pose) {
-    inliers = collect_inliers(pose, thr);
-    if (options.refine) {
-      // Two rounds: refine on a generous neighbourhood (the Cauchy loss tempers it), re-select.
-      for (int round = 0; round < 2; ++round) {
-        const std::vector<int> near = collect_inliers(pose, 3.0 * thr);
-        std::vector<Eigen::Vector3d> ra, rb;
-        for (int i : near) {
-          ra.push_back(fa[i]);
-          rb.push_back(fb[i]);
-        }
-        if (static_cast<int>(near.size()) < 5) break;
-        pose = RefineRelativePose(ra, rb, pose, thr, options.refine_max_iterations);
-        inliers = collect_inliers(pose, thr);
-      }
-    }
+    inliers = RefineOnInliers(fa, fb, valid, thr, options, &pose);
     result.num_essential_inliers = static_cast<int>(inliers.size());
     // Which of the four poses of the essential matrix: the one that puts the most inliers in front
     // of both cameras, counted over every inlier of every frame (pose recovery saw only the
@@ -468,6 +519,7 @@ TwoViewResult EstimateRelativePoseFromBearings(const std::vector<Eigen::Vector3d
   if (result.num_homography_inliers >= required_inliers &&
       result.num_homography_inliers >= options.planar_ratio * result.num_essential_inliers) {
     result.pair_type = PairType::kPlanar;
+    result.planar_alternatives = OtherPlanarPoses(hfit, pose, result.num_essential_inliers, fa, fb, valid, thr, options);
   }
 
   std::vector<double> res;

@@ -68,6 +68,10 @@ struct TwoViewOptions {
   // whose facades fill most of the matches but leave enough off-plane support (VALIDATION.md,
   // "Where the calibrator's thresholds come from"); COLMAP's 0.8 would flag street pairs.
   double planar_ratio = 0.95;
+  // A planar pair also reports the homography's other pose (TwoViewResult::planar_alternatives) when
+  // its rotation differs from the reported one by more than this (deg): a plane fits two poses, and
+  // the matches of one pair cannot say which; the poses of other pairs can (camera_trajectory.h).
+  double min_planar_alternative_deg = 0.5;
   // RANSAC iterations of the 2-point pure-rotation fit, and its seed (fixed: reproducible).
   int rotation_ransac_iterations = 300;
   unsigned rotation_ransac_seed = 1;
@@ -98,6 +102,7 @@ struct TwoViewEstimate {
   int num_inliers = 0;                      // of the reported model
   int num_homography_inliers = 0;           // of the homography the planar test fits
   double median_residual_deg = 0.0;         // median angular residual of the inliers
+  std::vector<Rigid3d> planar_alternatives;  // TwoViewResult below
   // Cheirality (TwoViewResult below).
   int cheirality_points = 0;
   int points_in_front = 0;
@@ -121,6 +126,10 @@ struct TwoViewResult {
   int num_homography_inliers = 0;   // of the homography (0 when not fitted: rotation-only or no pose)
   int num_valid = 0;                // correspondences with a valid bearing in both cameras
   double median_residual_deg = 0.0;  // median angular residual of the inliers
+  // kPlanar only: the homography's other poses that explain the matches as well as the reported one
+  // (TwoViewOptions::min_planar_alternative_deg), cam_b_from_cam_a with a unit translation; the
+  // matches do not decide between them.
+  std::vector<Rigid3d> planar_alternatives;
   // Cheirality of the essential-matrix pose: the inliers with parallax enough to tell
   // (TwoViewOptions::cheirality_min_angle_factor), how many of them the reported pose puts in
   // front of both cameras, and how many the best of the other three poses would.

@@ -1,5 +1,6 @@
 #include "calibrator/two_view.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <random>
 
@@ -176,6 +177,28 @@ TEST(TwoViewPairType, PointsOnOnePlaneAreFlaggedPlanar) {
   EXPECT_EQ(EstimateRelativePose(Pinhole(), s.px_a, Pinhole(), s.px_b, strict).pair_type, PairType::kGeneral);
 }
 
+// A plane fits two poses (the homography's two decompositions) and one pair's matches cannot say
+// which: the other is reported beside the pose, and one of the two is the truth.
+TEST(TwoViewPairType, APlaneReportsItsOtherPose) {
+  const Rigid3d gt = TestPose();
+  const Eigen::Vector3d n = Eigen::Vector3d(0.3, -0.2, 1.0).normalized();
+  const Scenario s = MakePlanarScenario(Pinhole(), Pinhole(), gt, n, 8.0, 400, 0.3, 0.2, 11);
+  const TwoViewResult r = EstimateRelativePose(Pinhole(), s.px_a, Pinhole(), s.px_b, TwoViewOptions());
+  ASSERT_TRUE(r.success) << r.failure_reason;
+  ASSERT_EQ(r.pair_type, PairType::kPlanar);
+  ASSERT_FALSE(r.planar_alternatives.empty());
+  double nearest = RotationErrorDeg(r.cam_b_from_cam_a, gt);
+  for (const Rigid3d& other : r.planar_alternatives) {
+    EXPECT_GT(RotationDifferenceDeg(other.rotation, r.cam_b_from_cam_a.rotation), TwoViewOptions().min_planar_alternative_deg);
+    EXPECT_NEAR(other.translation.norm(), 1.0, 1e-9);
+    nearest = std::min(nearest, RotationErrorDeg(other, gt));
+  }
+  std::printf("  plane: pose %.3f deg off, %zu alternative(s), nearest %.3f deg off\n", RotationErrorDeg(r.cam_b_from_cam_a, gt),
+              r.planar_alternatives.size(), nearest);
+  EXPECT_LT(nearest, 0.2);
+  EXPECT_EQ(ToEstimate(r, 400).planar_alternatives.size(), r.planar_alternatives.size());
+}
+
 // The ground below a fisheye camera, out to beyond 90 degrees off-axis: the homography's angular
 // error is defined on the whole sphere, so those bearings count for it as for the essential matrix.
 TEST(TwoViewPairType, GroundPlaneThroughFisheyeIsPlanar) {
@@ -236,6 +259,7 @@ TEST(TwoViewPairType, PointsInGeneral3DAreGeneral) {
     EXPECT_EQ(r.pair_type, PairType::kGeneral) << HomographyToEssential(r);
     EXPECT_LT(HomographyToEssential(r), 0.5);
     EXPECT_GT(r.num_homography_inliers, 0);  // the homography was fitted, it just explains little
+    EXPECT_TRUE(r.planar_alternatives.empty());
   }
 }
 

@@ -40,6 +40,12 @@ struct TemporalPairEstimate {
   std::vector<std::pair<int, int>> inliers;
   // Every match the estimate saw (the inliers' superset), in the same form.
   std::vector<std::pair<int, int>> matches;
+  // Why the pair's pose is not used, when the rig's turns disagree with every pose its matches allow
+  // (calibrator/rig_turns.h); its inliers still make tracks. Empty otherwise.
+  std::string pose_left_out;
+
+  // The pose may be used: the estimate succeeded and the rig does not contradict it.
+  bool PoseUsable() const { return two_view.success && pose_left_out.empty(); }
 };
 
 // Two cameras at different frames (calibrator/motion_links.h): camera a at frame_a with camera b at

@@ -259,6 +259,10 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
                                {"cross_time_candidates", r.motion_links->candidates},
                                {"cross_time_pairs", r.motion_links->pairs},
                                {"cross_time_pairs_used", r.motion_links->pairs_used},
+                               {"temporal_alternatives_taken", r.motion_links->temporal_alternatives_taken},
+                               {"temporal_pairs_disagreeing", r.motion_links->temporal_pairs_disagreeing},
+                               {"predicted_views_agreeing", r.motion_links->predicted_views_agreeing},
+                               {"predicted_views_contradicting", r.motion_links->predicted_views_contradicting},
                                {"cameras_open_along_axis", open_along_axis},
                                {"time_s", r.motion_links->time_s}};
   }
