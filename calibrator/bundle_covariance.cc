@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <functional>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Eigenvalues>
 #include <ceres/ceres.h>
@@ -41,34 +43,41 @@ ReducedCovariance PoseCovariance(ceres::Problem& problem, const std::vector<doub
     return out;
   }
 
-  // Rows of one point's observations touch its 3 columns and some pose columns.
+  // Rows of one point's observations touch its 3 columns and a few pose columns (those of the
+  // views that see it): the sums run over those entries only, in row order, as a dense sum
+  // would (adding the zeros it skips changes no bit).
   const int num_points = static_cast<int>(points.size());
   Eigen::MatrixXd h_poses = Eigen::MatrixXd::Zero(pose_dim, pose_dim);
   std::vector<Eigen::Matrix3d> h_point(num_points, Eigen::Matrix3d::Zero());
-  std::vector<Eigen::MatrixXd> h_cross(num_points);  // pose_dim x 3
+  std::vector<std::map<int, Eigen::RowVector3d>> h_cross(num_points);  // pose column -> H_cp row
+  std::vector<std::pair<int, double>> jp;
   for (int row = 0; row < jacobian.num_rows; ++row) {
-    Eigen::VectorXd jp = Eigen::VectorXd::Zero(pose_dim);
-    Eigen::Vector3d jx = Eigen::Vector3d::Zero();
+    jp.clear();
+    Eigen::RowVector3d jx = Eigen::RowVector3d::Zero();
     int point = -1;
     for (int k = jacobian.rows[row]; k < jacobian.rows[row + 1]; ++k) {
       const int col = jacobian.cols[k];
       if (col < pose_dim) {
-        jp[col] = jacobian.values[k];
+        jp.emplace_back(col, jacobian.values[k]);
       } else {
         point = (col - pose_dim) / 3;
         jx[(col - pose_dim) % 3] = jacobian.values[k];
       }
     }
-    h_poses.noalias() += jp * jp.transpose();
+    for (const auto& [col_a, a] : jp) {
+      for (const auto& [col_b, b] : jp) h_poses(col_a, col_b) += a * b;
+    }
     if (point < 0) continue;
-    if (h_cross[point].size() == 0) h_cross[point] = Eigen::MatrixXd::Zero(pose_dim, 3);
-    h_point[point] += jx * jx.transpose();
-    h_cross[point].noalias() += jp * jx.transpose();
+    h_point[point] += jx.transpose() * jx;
+    for (const auto& [col, a] : jp) {
+      const auto [it, added] = h_cross[point].try_emplace(col, Eigen::RowVector3d::Zero());
+      it->second += a * jx;
+    }
   }
   // Eliminate the points: S = H_cc - sum_p H_cp H_pp^+ H_pc.
   Eigen::MatrixXd reduced = h_poses;
   for (int p = 0; p < num_points; ++p) {
-    if (h_cross[p].size() == 0) continue;
+    if (h_cross[p].empty()) continue;
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(h_point[p]);
     const double top = eig.eigenvalues().maxCoeff();
     Eigen::Vector3d inv = Eigen::Vector3d::Zero();
@@ -76,7 +85,10 @@ ReducedCovariance PoseCovariance(ceres::Problem& problem, const std::vector<doub
       if (eig.eigenvalues()[i] > 1e-12 * top) inv[i] = 1.0 / eig.eigenvalues()[i];
     }
     const Eigen::Matrix3d h_point_inv = eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
-    reduced.noalias() -= h_cross[p] * h_point_inv * h_cross[p].transpose();
+    for (const auto& [col_a, cross_a] : h_cross[p]) {
+      const Eigen::RowVector3d weighted = cross_a * h_point_inv;
+      for (const auto& [col_b, cross_b] : h_cross[p]) reduced(col_a, col_b) -= weighted.dot(cross_b);
+    }
   }
   // Pseudo-inverse of the reduced system: directions with (next to) no information get a variance
   // 1e12 times the best determined one's, instead of an infinity or a failure.
