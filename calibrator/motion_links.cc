@@ -492,6 +492,7 @@ PredictionCheck CheckPredictedViews(const RigObservations& obs, const MotionLink
   };
   std::vector<CrossTimeCandidate> fresh;
   for (const CrossTimeCandidate& c : SelectCrossTimeCandidates(inputs, options.motion.candidates)) {
+    if (c.cam_a == c.cam_b) continue;
     if ((links.placed_by_motion[c.cam_a] || links.placed_by_motion[c.cam_b]) && !matched_before(c)) fresh.push_back(c);
   }
   std::vector<int> verdict(fresh.size(), 0);  // +1 agrees, -1 contradicts, 0 no estimate
@@ -517,7 +518,6 @@ PredictionCheck CheckPredictedViews(const RigObservations& obs, const MotionLink
       if (!links.placed_by_motion[c]) continue;
       out.camera_agreeing[c] += verdict[i] > 0;
       out.camera_contradicting[c] += verdict[i] < 0;
-      if (fresh[i].cam_a == fresh[i].cam_b) break;
     }
   }
   out.time_s = std::chrono::duration<double>(MotionClock::now() - start).count();

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "calibrator/calibrator_test_support.h"
+#include "calibrator/cross_time_candidates.h"
 #include "testing/synthetic_rig.h"
 
 namespace rigsim {
@@ -286,7 +287,9 @@ TEST(MotionLinks, StepsTheRigContradictsTakeTheirOtherPoseOrAreLeftOut) {
   EXPECT_EQ(links.temporal_alternatives_taken, 1);
   EXPECT_EQ(links.temporal_pairs_disagreeing, 1);
   for (const TemporalPairEstimate& t : links.temporal) {
-    if (t.camera == 2 && t.frame == 3) EXPECT_LT(RotationDifferenceDeg(t.two_view.cam_b_from_cam_a.rotation, truth), 0.01);
+    if (t.camera == 2 && t.frame == 3) {
+      EXPECT_LT(RotationDifferenceDeg(t.two_view.cam_b_from_cam_a.rotation, truth), 0.01);
+    }
     EXPECT_EQ(t.PoseUsable(), !(t.camera == 1 && t.frame == 5)) << t.camera << " " << t.frame;
   }
 
@@ -330,6 +333,37 @@ TEST(MotionLinks, ViewsAWrongRigPredictsContradictIt) {
   EXPECT_GT(wrong.camera_contradicting[1], wrong.camera_agreeing[1]);
   EXPECT_TRUE(wrong.AnyCameraContradicted(options.motion.min_prediction_contradictions));
   EXPECT_FALSE(right.AnyCameraContradicted(options.motion.min_prediction_contradictions));
+}
+
+// A camera's pairs with itself predict the same rotation whatever its turn about a planar motion's
+// axis: they measure its own matching, not the rig, and the check leaves them out.
+TEST(MotionLinks, TheCheckCountsOnlyPairsOfTwoCameras) {
+  SyntheticRig s = SynthesizeRig(LowOverlapRing(TurningPath(16, 1.0, 8.0, 0.3, 15.0, 5.0), false));
+  SyntheticObservationOptions observe;
+  observe.temporal_pairs = true;
+  const RigObservations obs = ObserveSyntheticRig(s, observe);
+  RigCalibrationOptions options;
+  options.pairwise.num_threads = 2;
+  std::vector<std::optional<Eigen::Quaterniond>> known(4);
+  known[0] = Eigen::Quaterniond::Identity();
+  MotionLinks links = FindMotionLinks(obs, known, SyntheticMatcher(s), options);
+  links.matched.clear();
+  const RigCalibrationResult r = EstimateRigWithMotionLinks(obs, SyntheticMatcher(s), options);
+  ASSERT_TRUE(r.cam_from_rig_rotation[1]);
+
+  CrossTimeCandidateInputs inputs;
+  inputs.cameras = obs.cameras;
+  inputs.cam_from_rig = r.cam_from_rig_rotation;
+  for (const auto& pose : r.rig_from_world) inputs.rig_from_world.push_back(pose ? std::optional(pose->rotation) : std::nullopt);
+  int own = 0, between = 0;
+  for (const CrossTimeCandidate& c : SelectCrossTimeCandidates(inputs, options.motion.candidates)) {
+    if (!links.placed_by_motion[c.cam_a] && !links.placed_by_motion[c.cam_b]) continue;
+    (c.cam_a == c.cam_b ? own : between) += 1;
+  }
+  ASSERT_GT(own, 0) << "the rig predicts pairs of a camera with itself";
+  const PredictionCheck check = CheckPredictedViews(obs, links, r, SyntheticMatcher(s), options);
+  EXPECT_GT(check.agreeing, 0);
+  EXPECT_LE(check.agreeing + check.contradicting, between);
 }
 
 TEST(MotionLinks, TurningAtAConstantRateWithoutSharedPointsPlacesNoCameraByGuess) {
