@@ -6,17 +6,9 @@
 
 #include <Eigen/SVD>
 
+#include "geometry/rigid3.h"
+
 namespace rigsim {
-namespace {
-
-Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
-
-}  // namespace
-
 CameraCentres EstimateCameraCentres(const ViewGraph& graph,
                                     const std::vector<std::optional<Eigen::Quaterniond>>& cam_from_rig,
                                     int reference_camera, int reweighting_iterations) {
@@ -65,7 +57,7 @@ CameraCentres EstimateCameraCentres(const ViewGraph& graph,
     Eigen::MatrixXd a = Eigen::MatrixXd::Zero(3 * edges.size(), cols);
     for (size_t k = 0; k < edges.size(); ++k) {
       const ViewGraphEdge& g = graph.edges[edges[k]];
-      const Eigen::Matrix3d s = weight[k] * Skew(dir[k]);
+      const Eigen::Matrix3d s = weight[k] * CrossProductMatrix(dir[k]);
       if (unknown_of[g.cam_a] >= 0) a.block<3, 3>(3 * k, 3 * unknown_of[g.cam_a]) += s;
       if (unknown_of[g.cam_b] >= 0) a.block<3, 3>(3 * k, 3 * unknown_of[g.cam_b]) -= s;
     }

@@ -2,7 +2,58 @@
 
 #include <ceres/solver.h>
 
+#include "geometry/rigid3.h"
+
 namespace rigsim {
+
+namespace {
+
+// The derivatives of Eigen's q * v, v + 2w (u x v) + 2 u x (u x v) with u = (x, y, z), as written
+// (q need not be of unit norm: Ceres's finite steps are not): by v, and by q's coefficients (x, y, z, w).
+void RotatedVectorJacobians(const Eigen::Quaterniond& q, const Eigen::Vector3d& v, Eigen::Matrix3d* by_v,
+                            Eigen::Matrix<double, 3, 4>* by_q) {
+  const Eigen::Vector3d u = q.vec();
+  const Eigen::Matrix3d u_cross = CrossProductMatrix(u);
+  *by_v = Eigen::Matrix3d::Identity() + 2 * q.w() * u_cross + 2 * u_cross * u_cross;
+  by_q->leftCols<3>() = -2 * q.w() * CrossProductMatrix(v) +
+                        2 * (u * v.transpose() + u.dot(v) * Eigen::Matrix3d::Identity() - 2 * v * u.transpose());
+  by_q->col(3) = 2 * u.cross(v);
+}
+
+}  // namespace
+
+bool EvaluateRigReprojectionHeld(const RigReprojectionHeldIntrinsics& held, double const* const* parameters,
+                                 double* residuals, double** jacobians) {
+  using Jet3 = ceres::Jet<double, 3>;
+  const Eigen::Map<const Eigen::Quaterniond> cam_q(parameters[0]), rig_q(parameters[2]);
+  const Eigen::Map<const Eigen::Vector3d> cam_t(parameters[1]), rig_t(parameters[3]), point(parameters[4]);
+  const Eigen::Vector3d in_rig = rig_q * point + rig_t;
+  const Eigen::Vector3d in_cam = cam_q * in_rig + cam_t;
+  const Jet3 x[3] = {Jet3(in_cam.x(), 0), Jet3(in_cam.y(), 1), Jet3(in_cam.z(), 2)};
+  Jet3 params[RigReprojectionCost::kMaxParams];
+  for (int i = 0; i < held.cost.num_params; ++i) params[i] = Jet3(held.intrinsics[i]);
+  Jet3 px[2];
+  if (!ImgFromCam(held.cost.model, params, x, px)) return false;
+  residuals[0] = px[0].a - held.cost.observed.x();
+  residuals[1] = px[1].a - held.cost.observed.y();
+  if (jacobians == nullptr) return true;
+  Eigen::Matrix<double, 2, 3> by_cam;  // d(pixel) / d(point in the camera)
+  by_cam.row(0) = px[0].v.transpose();
+  by_cam.row(1) = px[1].v.transpose();
+  Eigen::Matrix3d cam_by_v, rig_by_v;
+  Eigen::Matrix<double, 3, 4> cam_by_q, rig_by_q;
+  RotatedVectorJacobians(cam_q, in_rig, &cam_by_v, &cam_by_q);
+  RotatedVectorJacobians(rig_q, point, &rig_by_v, &rig_by_q);
+  const Eigen::Matrix<double, 2, 3> by_rig = by_cam * cam_by_v;  // d(pixel) / d(point in the rig)
+  using Rows4 = Eigen::Map<Eigen::Matrix<double, 2, 4, Eigen::RowMajor>>;
+  using Rows3 = Eigen::Map<Eigen::Matrix<double, 2, 3, Eigen::RowMajor>>;
+  if (jacobians[0] != nullptr) Rows4{jacobians[0]} = by_cam * cam_by_q;
+  if (jacobians[1] != nullptr) Rows3{jacobians[1]} = by_cam;
+  if (jacobians[2] != nullptr) Rows4{jacobians[2]} = by_rig * rig_by_q;
+  if (jacobians[3] != nullptr) Rows3{jacobians[3]} = by_rig;
+  if (jacobians[4] != nullptr) Rows3{jacobians[4]} = by_rig * rig_by_v;
+  return true;
+}
 
 template <int kNumIntrinsics>
 bool EvaluateRigReprojectionWithIntrinsics(const RigReprojectionCost& cost, double const* const* parameters,

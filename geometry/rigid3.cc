@@ -37,6 +37,12 @@ Eigen::Matrix3d NearestRotation(const Eigen::Matrix3d& m) {
   return svd.matrixU() * d * svd.matrixV().transpose();
 }
 
+Eigen::Matrix3d CrossProductMatrix(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
 Eigen::Vector3d RotationVector(const Eigen::Quaterniond& q) {
   // The quaternion with w >= 0 gives the angle in [0, pi]; atan2 is stable near 0 and near pi.
   const Eigen::Quaterniond p = q.w() < 0 ? Eigen::Quaterniond(-q.w(), -q.x(), -q.y(), -q.z()) : q;

@@ -52,6 +52,9 @@ double AngleBetweenDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b);
 // to b_i (Kabsch / Wahba).
 Eigen::Matrix3d NearestRotation(const Eigen::Matrix3d& m);
 
+// The matrix [v]x with [v]x w = v x w.
+Eigen::Matrix3d CrossProductMatrix(const Eigen::Vector3d& v);
+
 // The rotation vector (axis times angle, radians, angle in [0, pi]) of `q`.
 Eigen::Vector3d RotationVector(const Eigen::Quaterniond& q);
 
