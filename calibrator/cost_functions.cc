@@ -55,6 +55,74 @@ bool EvaluateRigReprojectionHeld(const RigReprojectionHeldIntrinsics& held, doub
   return true;
 }
 
+namespace {
+
+class TimedRigReprojectionCostFunction final : public ceres::SizedCostFunction<2, 4, 3, 4, 3, 4, 3, 2, 3> {
+ public:
+  explicit TimedRigReprojectionCostFunction(const TimedRigReprojectionCost& cost) : cost_(cost) {}
+
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    // Parameters: cam q, cam t, frame a q, t, frame b q, t, timing (offset, readout), point.
+    using Jet15 = ceres::Jet<double, 15>;  // frame a (7), frame b (7), the fraction s
+    const double* timing = parameters[6];
+    const double s = (cost_.frame_time + timing[0] + cost_.row_fraction * timing[1]) / cost_.time_b;
+    Eigen::Quaternion<Jet15> q_a, q_b;
+    Eigen::Matrix<Jet15, 3, 1> t_a, t_b;
+    for (int i = 0; i < 4; ++i) {
+      q_a.coeffs()[i] = Jet15(parameters[2][i], i);
+      q_b.coeffs()[i] = Jet15(parameters[4][i], 7 + i);
+    }
+    for (int i = 0; i < 3; ++i) {
+      t_a[i] = Jet15(parameters[3][i], 4 + i);
+      t_b[i] = Jet15(parameters[5][i], 11 + i);
+    }
+    Eigen::Quaternion<Jet15> q;
+    Eigen::Matrix<Jet15, 3, 1> t;
+    InterpolateRigFromWorld<Jet15>(q_a, t_a, q_b, t_b, Jet15(s, 14), &q, &t);
+    double rig_q[4], rig_t[3];
+    Eigen::Matrix<double, 7, 15> pose_by_inputs;  // rows: q (x, y, z, w), t
+    for (int i = 0; i < 4; ++i) {
+      rig_q[i] = q.coeffs()[i].a;
+      pose_by_inputs.row(i) = q.coeffs()[i].v.transpose();
+    }
+    for (int i = 0; i < 3; ++i) {
+      rig_t[i] = t[i].a;
+      pose_by_inputs.row(4 + i) = t[i].v.transpose();
+    }
+    const double* held_parameters[5] = {parameters[0], parameters[1], rig_q, rig_t, parameters[7]};
+    if (jacobians == nullptr) return EvaluateRigReprojectionHeld(cost_.cost, held_parameters, residuals, nullptr);
+    Eigen::Matrix<double, 2, 4, Eigen::RowMajor> by_rig_q;
+    Eigen::Matrix<double, 2, 3, Eigen::RowMajor> by_rig_t;
+    double* held_jacobians[5] = {jacobians[0], jacobians[1], by_rig_q.data(), by_rig_t.data(), jacobians[7]};
+    if (!EvaluateRigReprojectionHeld(cost_.cost, held_parameters, residuals, held_jacobians)) return false;
+    Eigen::Matrix<double, 2, 7> by_pose;
+    by_pose << by_rig_q, by_rig_t;
+    const Eigen::Matrix<double, 2, 15> by_inputs = by_pose * pose_by_inputs;
+    using Rows4 = Eigen::Map<Eigen::Matrix<double, 2, 4, Eigen::RowMajor>>;
+    using Rows3 = Eigen::Map<Eigen::Matrix<double, 2, 3, Eigen::RowMajor>>;
+    using Rows2 = Eigen::Map<Eigen::Matrix<double, 2, 2, Eigen::RowMajor>>;
+    if (jacobians[2] != nullptr) Rows4{jacobians[2]} = by_inputs.middleCols<4>(0);
+    if (jacobians[3] != nullptr) Rows3{jacobians[3]} = by_inputs.middleCols<3>(4);
+    if (jacobians[4] != nullptr) Rows4{jacobians[4]} = by_inputs.middleCols<4>(7);
+    if (jacobians[5] != nullptr) Rows3{jacobians[5]} = by_inputs.middleCols<3>(11);
+    if (jacobians[6] != nullptr) {
+      const Eigen::RowVector2d s_by_timing(1.0 / cost_.time_b, cost_.row_fraction / cost_.time_b);
+      Rows2{jacobians[6]} = by_inputs.col(14) * s_by_timing;
+    }
+    return true;
+  }
+
+ private:
+  TimedRigReprojectionCost cost_;
+};
+
+}  // namespace
+
+ceres::CostFunction* TimedRigReprojectionCost::Create(const Camera& camera, const Eigen::Vector2d& observed,
+                                                      double frame_time, double time_b, double row_fraction) {
+  return new TimedRigReprojectionCostFunction(TimedRigReprojectionCost(camera, observed, frame_time, time_b, row_fraction));
+}
+
 template <int kNumIntrinsics>
 bool EvaluateRigReprojectionWithIntrinsics(const RigReprojectionCost& cost, double const* const* parameters,
                                            double* residuals, double** jacobians) {
