@@ -206,13 +206,6 @@ struct RigReprojectionHeldIntrinsics {
   double intrinsics[RigReprojectionCost::kMaxParams] = {};
 };
 
-// RigReprojectionHeldIntrinsics with its derivatives by the chain rule (cost_functions.cc): the
-// camera model's 2x3 derivative by jets of the point in the camera only, the rotations' by hand.
-// It is the bundle adjustment's innermost loop, where jets of all 17 parameters were the largest
-// cost (BENCHMARKS.md, "Figures behind choices in the code").
-bool EvaluateRigReprojectionHeld(const RigReprojectionHeldIntrinsics& held, double const* const* parameters,
-                                 double* residuals, double** jacobians);
-
 // RigReprojectionCost with every parameter differentiated, the intrinsics included. Defined in
 // cost_functions.cc for 4, 8 and 12 intrinsics, out of the callers' translation unit: instantiated
 // beside the held path, its jets of 21-29 parameters keep GCC from inlining the held path's jet
@@ -231,18 +224,19 @@ template <int kNumIntrinsics>
 class RigReprojectionCostFunction final : public ceres::SizedCostFunction<2, 4, 3, 4, 3, 3, kNumIntrinsics> {
  public:
   RigReprojectionCostFunction(CameraModelId model, const double* intrinsics, const Eigen::Vector2d& observed)
-      : held_(model, intrinsics, observed) {}
+      : held_(new RigReprojectionHeldIntrinsics(model, intrinsics, observed)) {}
 
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const RigReprojectionHeldIntrinsics& held = held_.functor();
     const bool intrinsics_jacobian = jacobians != nullptr && jacobians[5] != nullptr;
-    if (intrinsics_jacobian || !std::equal(parameters[5], parameters[5] + kNumIntrinsics, held_.intrinsics)) {
-      return EvaluateRigReprojectionWithIntrinsics<kNumIntrinsics>(held_.cost, parameters, residuals, jacobians);
+    if (intrinsics_jacobian || !std::equal(parameters[5], parameters[5] + kNumIntrinsics, held.intrinsics)) {
+      return EvaluateRigReprojectionWithIntrinsics<kNumIntrinsics>(held.cost, parameters, residuals, jacobians);
     }
-    return EvaluateRigReprojectionHeld(held_, parameters, residuals, jacobians);  // the first five blocks only
+    return held_.Evaluate(parameters, residuals, jacobians);  // reads the first five blocks only
   }
 
  private:
-  RigReprojectionHeldIntrinsics held_;
+  ceres::AutoDiffCostFunction<RigReprojectionHeldIntrinsics, 2, 4, 3, 4, 3, 3> held_;
 };
 
 // Gaussian prior of one camera's intrinsics (intrinsics_refinement.h): residual i is
@@ -304,12 +298,11 @@ struct TimedRigReprojectionCost {
     return cost(cam_q, cam_t, q.coeffs().data(), t.data(), point, residual);
   }
 
-  // The Ceres cost: this functor's residual, its derivatives by jets through the interpolation
-  // (of the two frames' poses and the fraction) and by EvaluateRigReprojectionHeld after it, the
-  // same derivatives as jets of all 26 parameters (the test holds them to those) at a fraction of
-  // the work.
   static ceres::CostFunction* Create(const Camera& camera, const Eigen::Vector2d& observed, double frame_time,
-                                     double time_b, double row_fraction);
+                                     double time_b, double row_fraction) {
+    return new ceres::AutoDiffCostFunction<TimedRigReprojectionCost, 2, 4, 3, 4, 3, 4, 3, 2, 3>(
+        new TimedRigReprojectionCost(camera, observed, frame_time, time_b, row_fraction));
+  }
 
   RigReprojectionHeldIntrinsics cost;
   double frame_time;    // the observation's frame, relative to frame a

@@ -106,50 +106,6 @@ TEST(RigReprojectionCost, JacobiansMatchFiniteDifferencesWithIntrinsicsHeldOrFre
   }
 }
 
-// The timed cost's derivatives (jets through the interpolation, the chain rule after it) against
-// jets of all 26 parameters, between the frames and beyond them.
-TEST(TimedRigReprojectionCost, DerivativesAreThoseOfJetsOfEveryParameter) {
-  std::mt19937 rng(99);
-  std::normal_distribution<double> g(0, 1);
-  for (const Camera& cam : kCameras) {
-    SCOPED_TRACE(std::string(CameraModelName(cam.model())));
-    for (const double frame_time : {0.0, 0.05, 0.13}) {  // frame b at 0.1 s: before, between, beyond it
-      const Observation o = RandomObservation(cam, rng);
-      const Eigen::Quaterniond q_a(o.blocks[2][3], o.blocks[2][0], o.blocks[2][1], o.blocks[2][2]);
-      const Eigen::Quaterniond q_b = (Eigen::Quaterniond(1, 0.03 * g(rng), 0.03 * g(rng), 0.03 * g(rng)).normalized() * q_a);
-      std::vector<std::vector<double>> blocks = {o.blocks[0], o.blocks[1], o.blocks[2], o.blocks[3],
-                                                 {q_b.x(), q_b.y(), q_b.z(), q_b.w()},
-                                                 {o.blocks[3][0] + 0.1 * g(rng), o.blocks[3][1] + 0.1 * g(rng), o.blocks[3][2] + 0.1 * g(rng)},
-                                                 {0.004 * g(rng), 0.03},
-                                                 o.blocks[4]};
-      std::vector<const double*> parameters;
-      for (const auto& b : blocks) parameters.push_back(b.data());
-      const std::unique_ptr<ceres::CostFunction> cost(TimedRigReprojectionCost::Create(cam, o.observed, frame_time, 0.1, 0.4));
-      const ceres::AutoDiffCostFunction<TimedRigReprojectionCost, 2, 4, 3, 4, 3, 4, 3, 2, 3> jets(
-          new TimedRigReprojectionCost(cam, o.observed, frame_time, 0.1, 0.4));
-      std::vector<std::vector<double>> j_cost, j_jets;
-      std::vector<double*> p_cost, p_jets;
-      for (const auto& b : blocks) {
-        j_cost.emplace_back(2 * b.size(), 0.0);
-        j_jets.emplace_back(2 * b.size(), 0.0);
-        p_cost.push_back(j_cost.back().data());
-        p_jets.push_back(j_jets.back().data());
-      }
-      Eigen::Vector2d r_cost, r_jets, r_plain;
-      ASSERT_TRUE(cost->Evaluate(parameters.data(), r_cost.data(), p_cost.data()));
-      ASSERT_TRUE(jets.Evaluate(parameters.data(), r_jets.data(), p_jets.data()));
-      ASSERT_TRUE(cost->Evaluate(parameters.data(), r_plain.data(), nullptr));
-      EXPECT_LT((r_cost - r_jets).norm(), 1e-9);
-      EXPECT_EQ(r_plain, r_cost);
-      for (size_t b = 0; b < blocks.size(); ++b) {
-        for (size_t i = 0; i < j_cost[b].size(); ++i) {
-          EXPECT_NEAR(j_cost[b][i], j_jets[b][i], 1e-9 * std::max(1.0, std::abs(j_jets[b][i]))) << "block " << b << " " << i;
-        }
-      }
-    }
-  }
-}
-
 TEST(RigReprojectionCost, PointBehindAPerspectiveCameraDoesNotProject) {
   std::mt19937 rng(7);
   Observation o = RandomObservation(kCameras[0], rng);
