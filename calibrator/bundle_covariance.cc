@@ -70,8 +70,7 @@ ReducedCovariance PoseCovariance(ceres::Problem& problem, const std::vector<doub
     if (point < 0) continue;
     h_point[point] += jx.transpose() * jx;
     for (const auto& [col, a] : jp) {
-      const auto [it, added] = h_cross[point].try_emplace(col, Eigen::RowVector3d::Zero());
-      it->second += a * jx;
+      h_cross[point].try_emplace(col, Eigen::RowVector3d::Zero()).first->second += a * jx;
     }
   }
   // Eliminate the points: S = H_cc - sum_p H_cp H_pp^+ H_pc.

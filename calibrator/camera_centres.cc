@@ -9,6 +9,7 @@
 #include "geometry/rigid3.h"
 
 namespace rigsim {
+
 CameraCentres EstimateCameraCentres(const ViewGraph& graph,
                                     const std::vector<std::optional<Eigen::Quaterniond>>& cam_from_rig,
                                     int reference_camera, int reweighting_iterations) {

@@ -87,11 +87,11 @@ RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, cons
 // (cross_time_candidates.h, from its rotations) that involve a camera the motion stage placed and
 // that the motion stage did not match, between two cameras (a camera's pairs with itself predict
 // the same rotation whatever its turn about the axis of a planar motion, the turn cross-time links
-// can get wrong, and measure only its own matching): each, matched and estimated now, agrees with the rig's
-// rotation between its two views (within MotionLinkOptions::max_prediction_check_deg, by its pose or
-// a planar alternative) or contradicts it. Cross-time matches of repeated structure can agree with
-// each other on a wrong rig where the motion leaves a camera's turn open; the views that rig
-// predicts then do not show what it says.
+// can get wrong, and measure only its own matching): each, matched and estimated now, agrees with
+// the rig's rotation between its two views (within MotionLinkOptions::max_prediction_check_deg, by
+// its pose or a planar alternative) or contradicts it. Cross-time matches of repeated structure can
+// agree with each other on a wrong rig where the motion leaves a camera's turn open; the views that
+// rig predicts then do not show what it says.
 // Counted per camera (a pair counts for each of its cameras the motion stage placed) and in all. A
 // camera is contradicted when at least `min_contradictions` of its pairs contradict the rig and more
 // than twice as many contradict as agree: a right camera's predicted views mostly agree (a wrong
