@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <set>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 
 #include <tbb/parallel_for.h>
 
@@ -485,15 +487,14 @@ PredictionCheck CheckPredictedViews(const RigObservations& obs, const MotionLink
   }
   PredictionCheck out;
   if (static_cast<int>(inputs.cam_from_rig.size()) != n || inputs.rig_from_world.empty()) return out;
-  auto matched_before = [&](const CrossTimeCandidate& c) {
-    return std::any_of(links.matched.begin(), links.matched.end(), [&](const CrossTimeCandidate& m) {
-      return m.cam_a == c.cam_a && m.frame_a == c.frame_a && m.cam_b == c.cam_b && m.frame_b == c.frame_b;
-    });
-  };
+  using ViewPair = std::tuple<int, int, int, int>;  // cam_a, frame_a, cam_b, frame_b
+  std::set<ViewPair> matched_before;
+  for (const CrossTimeCandidate& m : links.matched) matched_before.emplace(m.cam_a, m.frame_a, m.cam_b, m.frame_b);
   std::vector<CrossTimeCandidate> fresh;
   for (const CrossTimeCandidate& c : SelectCrossTimeCandidates(inputs, options.motion.candidates)) {
     if (c.cam_a == c.cam_b) continue;
-    if ((links.placed_by_motion[c.cam_a] || links.placed_by_motion[c.cam_b]) && !matched_before(c)) fresh.push_back(c);
+    if (!links.placed_by_motion[c.cam_a] && !links.placed_by_motion[c.cam_b]) continue;
+    if (!matched_before.count({c.cam_a, c.frame_a, c.cam_b, c.frame_b})) fresh.push_back(c);
   }
   std::vector<int> verdict(fresh.size(), 0);  // +1 agrees, -1 contradicts, 0 no estimate
   {
