@@ -251,8 +251,7 @@ RigCalibrationResult::MotionLinkSummary SummaryOf(const MotionLinks& links, bool
 
 // A camera the motion stage did not place either: its status says what the rig's motion gave for
 // it (hand-eye's finding, the view pairs matched with it across time), so that a user sees why.
-void SayWhatTheMotionFound(const MotionLinks& links, const PredictionCheck& check, const RigCalibrationOptions& options,
-                           RigCalibrationResult* result) {
+void SayWhatTheMotionFound(const MotionLinks& links, const PredictionCheck& check, RigCalibrationResult* result) {
   result->motion_links = SummaryOf(links, false, 0, check);
   for (size_t c = 1; c < result->camera_status.size() && c < links.hand_eye.size(); ++c) {
     CameraStatus& s = result->camera_status[c];
@@ -265,7 +264,7 @@ void SayWhatTheMotionFound(const MotionLinks& links, const PredictionCheck& chec
         h.status == HandEyeStatus::kSolved ? "solved, but the joint solution did not hold" : h.reason;
     s.reason += "; nor did the rig's motion place it (hand-eye: " + hand_eye + "; " + std::to_string(pairs) +
                 " view pair(s) matched with it across time";
-    if (check.AnyCameraContradicted(options.motion.min_prediction_contradictions)) {
+    if (check.AnyCameraContradicted()) {
       s.reason += "; the rig they made predicts views that the images contradict (wrong matches of repeated "
                   "structure): of the view pairs it predicts for this camera, matched afresh, " +
                   std::to_string(check.camera_agreeing[c]) + " agree and " + std::to_string(check.camera_contradicting[c]) +
@@ -293,23 +292,19 @@ RigCalibrationResult EstimateRigWithLinks(const RigObservations& obs, const Moti
   return EstimateRig(linked, options);
 }
 
-// Whether `second` (with the links) places every camera, keeps its own tracks, and is contradicted
-// for none of its cameras by the views it predicts (`check`, of `second`).
-bool PlacesEveryCameraAndHolds(const RigObservations& obs, const RigCalibrationResult& second, const PredictionCheck& check,
-                               const RigCalibrationOptions& options) {
-  return CamerasPlaced(second) == static_cast<int>(obs.cameras.size()) && !LosesOwnTracks(obs, second) &&
-         !check.AnyCameraContradicted(options.motion.min_prediction_contradictions);
+// Whether `second` (with the links) keeps its own tracks and is contradicted for none of its
+// cameras by the views it predicts (`check`, of `second`).
+bool Holds(const RigObservations& obs, const RigCalibrationResult& second, const PredictionCheck& check) {
+  return !LosesOwnTracks(obs, second) && !check.AnyCameraContradicted();
 }
 
 // `second` (with the links) where it places more cameras than `first` (without), keeps its own
 // tracks and is contradicted for none of its cameras by the views it predicts (`check`); `first`
 // otherwise; either counts the work of both.
 RigCalibrationResult TheBetterPass(const RigObservations& obs, RigCalibrationResult first, RigCalibrationResult second,
-                                   const MotionLinks& links, const PredictionCheck& check,
-                                   const RigCalibrationOptions& options) {
-  if (CamerasPlaced(second) <= CamerasPlaced(first) || LosesOwnTracks(obs, second) ||
-      check.AnyCameraContradicted(options.motion.min_prediction_contradictions)) {
-    SayWhatTheMotionFound(links, check, options, &first);
+                                   const MotionLinks& links, const PredictionCheck& check) {
+  if (CamerasPlaced(second) <= CamerasPlaced(first) || !Holds(obs, second, check)) {
+    SayWhatTheMotionFound(links, check, &first);
     AddRigWork(second, &first);
     return first;
   }
@@ -325,12 +320,12 @@ RigCalibrationResult LinkWhereTheFullPassNeedsIt(const RigObservations& obs, Rig
   if (!NeedsMotionLinks(first, obs, options)) return first;
   const MotionLinks links = FindMotionLinks(obs, first.cam_from_rig_rotation, match, options);
   if (FoundNothing(links)) {
-    SayWhatTheMotionFound(links, {}, options, &first);
+    SayWhatTheMotionFound(links, {}, &first);
     return first;
   }
   RigCalibrationResult second = EstimateRigWithLinks(obs, links, options);
   const PredictionCheck check = CheckPredictedViews(obs, links, second, match, options);
-  return TheBetterPass(obs, std::move(first), std::move(second), links, check, options);
+  return TheBetterPass(obs, std::move(first), std::move(second), links, check);
 }
 
 // The motion stage first, from the rotations where the pass without links stopped
@@ -346,7 +341,7 @@ RigCalibrationResult LinkBeforeTheFullPass(const RigObservations& obs,
   if (!FoundNothing(links)) {
     second = EstimateRigWithLinks(obs, links, options);
     check = CheckPredictedViews(obs, links, *second, match, options);
-    if (PlacesEveryCameraAndHolds(obs, *second, check, options)) {
+    if (CamerasPlaced(*second) == static_cast<int>(obs.cameras.size()) && Holds(obs, *second, check)) {
       second->motion_links = SummaryOf(links, true, second->num_cross_time_pairs_used, check);
       return *std::move(second);
     }
@@ -356,11 +351,11 @@ RigCalibrationResult LinkBeforeTheFullPass(const RigObservations& obs,
   // rejected had left it out of rotation averaging), the motion stage was not needed: it ran, not
   // kept.
   if (!second || !NeedsMotionLinks(first, obs, options)) {
-    SayWhatTheMotionFound(links, check, options, &first);
+    SayWhatTheMotionFound(links, check, &first);
     if (second) AddRigWork(*second, &first);
     return first;
   }
-  return TheBetterPass(obs, std::move(first), *std::move(second), links, check, options);
+  return TheBetterPass(obs, std::move(first), *std::move(second), links, check);
 }
 
 }  // namespace
@@ -468,7 +463,7 @@ RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, cons
 
 // For the rig stages (rig_calibration.cc).
 
-bool PredictionCheck::AnyCameraContradicted(int min_contradictions) const {
+bool PredictionCheck::AnyCameraContradicted() const {
   for (size_t c = 0; c < camera_contradicting.size(); ++c) {
     if (camera_contradicting[c] >= min_contradictions && camera_contradicting[c] > 2 * camera_agreeing[c]) return true;
   }
@@ -486,6 +481,7 @@ PredictionCheck CheckPredictedViews(const RigObservations& obs, const MotionLink
     inputs.rig_from_world.push_back(pose ? std::optional<Eigen::Quaterniond>(pose->rotation) : std::nullopt);
   }
   PredictionCheck out;
+  out.min_contradictions = options.motion.min_prediction_contradictions;
   if (static_cast<int>(inputs.cam_from_rig.size()) != n || inputs.rig_from_world.empty()) return out;
   using ViewPair = std::tuple<int, int, int, int>;  // cam_a, frame_a, cam_b, frame_b
   std::set<ViewPair> matched_before;

@@ -93,7 +93,8 @@ RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, cons
 // agree with each other on a wrong rig where the motion leaves a camera's turn open; the views that
 // rig predicts then do not show what it says.
 // Counted per camera (a pair counts for each of its cameras the motion stage placed) and in all. A
-// camera is contradicted when at least `min_contradictions` of its pairs contradict the rig and more
+// camera is contradicted when at least `min_contradictions`
+// (MotionLinkOptions::min_prediction_contradictions) of its pairs contradict the rig and more
 // than twice as many contradict as agree: a right camera's predicted views mostly agree (a wrong
 // match or a degenerate pair contradicts now and then); a camera a few degrees wrong has none that
 // agree.
@@ -102,8 +103,9 @@ struct PredictionCheck {
   int contradicting = 0;
   std::vector<int> camera_agreeing, camera_contradicting;
   double time_s = 0.0;
+  int min_contradictions = 1;
 
-  bool AnyCameraContradicted(int min_contradictions) const;
+  bool AnyCameraContradicted() const;
 };
 PredictionCheck CheckPredictedViews(const RigObservations& obs, const MotionLinks& links, const RigCalibrationResult& result,
                                     const ViewPairMatcher& match, const RigCalibrationOptions& options);

@@ -307,61 +307,65 @@ TEST(MotionLinks, StepsTheRigContradictsTakeTheirOtherPoseOrAreLeftOut) {
   }
 }
 
+// A ring without same-instant overlap on a path that turns and pitches, its motion links with every
+// predicted view pair counted as fresh, and the rig the links make: what CheckPredictedViews checks.
+struct LinkedRing {
+  SyntheticRig s = SynthesizeRig(LowOverlapRing(TurningPath(16, 1.0, 8.0, 0.3, 15.0, 5.0), false));
+  RigObservations obs = ObserveMoving(s);
+  RigCalibrationOptions options = TwoThreads();
+  MotionLinks links;
+  RigCalibrationResult rig;
+
+  LinkedRing() {
+    std::vector<std::optional<Eigen::Quaterniond>> known(4);
+    known[0] = Eigen::Quaterniond::Identity();
+    links = FindMotionLinks(obs, known, SyntheticMatcher(s), options);
+    links.matched.clear();
+    rig = EstimateRigWithMotionLinks(obs, SyntheticMatcher(s), options);
+  }
+  LinkedRing(const LinkedRing&) = delete;  // the matcher refers to `s`
+  PredictionCheck Check(const RigCalibrationResult& r) const {
+    return CheckPredictedViews(obs, links, r, SyntheticMatcher(s), options);
+  }
+};
+
 // The views a rig predicts to meet show whether it is right: the calibrated ring's predictions agree
 // with views matched afresh; the same rig with one camera turned 15 deg about the vertical (what
 // consistent wrong matches of repeated structure can make where the motion leaves a turn open)
 // predicts views that contradict it.
 TEST(MotionLinks, ViewsAWrongRigPredictsContradictIt) {
-  SyntheticRig s = SynthesizeRig(LowOverlapRing(TurningPath(16, 1.0, 8.0, 0.3, 15.0, 5.0), false));
-  SyntheticObservationOptions observe;
-  observe.temporal_pairs = true;
-  const RigObservations obs = ObserveSyntheticRig(s, observe);
-  RigCalibrationOptions options;
-  options.pairwise.num_threads = 2;
-  std::vector<std::optional<Eigen::Quaterniond>> known(4);
-  known[0] = Eigen::Quaterniond::Identity();
-  MotionLinks links = FindMotionLinks(obs, known, SyntheticMatcher(s), options);
-  links.matched.clear();  // every predicted view pair counts as fresh
-  RigCalibrationResult r = EstimateRigWithMotionLinks(obs, SyntheticMatcher(s), options);
+  const LinkedRing ring;
+  RigCalibrationResult r = ring.rig;
   ASSERT_TRUE(r.cam_from_rig_rotation[1]);
-  const PredictionCheck right = CheckPredictedViews(obs, links, r, SyntheticMatcher(s), options);
+  const PredictionCheck right = ring.Check(r);
   EXPECT_GT(right.agreeing, 3);
   EXPECT_EQ(right.contradicting, 0);
   r.cam_from_rig_rotation[1] = Eigen::Quaterniond(Eigen::AngleAxisd(DegToRad(15.0), Eigen::Vector3d::UnitY())) *
                                *r.cam_from_rig_rotation[1];
-  const PredictionCheck wrong = CheckPredictedViews(obs, links, r, SyntheticMatcher(s), options);
+  const PredictionCheck wrong = ring.Check(r);
   EXPECT_GT(wrong.camera_contradicting[1], wrong.camera_agreeing[1]);
-  EXPECT_TRUE(wrong.AnyCameraContradicted(options.motion.min_prediction_contradictions));
-  EXPECT_FALSE(right.AnyCameraContradicted(options.motion.min_prediction_contradictions));
+  EXPECT_TRUE(wrong.AnyCameraContradicted());
+  EXPECT_FALSE(right.AnyCameraContradicted());
 }
 
 // A camera's pairs with itself predict the same rotation whatever its turn about a planar motion's
 // axis: they measure its own matching, not the rig, and the check leaves them out.
 TEST(MotionLinks, TheCheckCountsOnlyPairsOfTwoCameras) {
-  SyntheticRig s = SynthesizeRig(LowOverlapRing(TurningPath(16, 1.0, 8.0, 0.3, 15.0, 5.0), false));
-  SyntheticObservationOptions observe;
-  observe.temporal_pairs = true;
-  const RigObservations obs = ObserveSyntheticRig(s, observe);
-  RigCalibrationOptions options;
-  options.pairwise.num_threads = 2;
-  std::vector<std::optional<Eigen::Quaterniond>> known(4);
-  known[0] = Eigen::Quaterniond::Identity();
-  MotionLinks links = FindMotionLinks(obs, known, SyntheticMatcher(s), options);
-  links.matched.clear();
-  const RigCalibrationResult r = EstimateRigWithMotionLinks(obs, SyntheticMatcher(s), options);
+  const LinkedRing ring;
+  const RigCalibrationResult& r = ring.rig;
   ASSERT_TRUE(r.cam_from_rig_rotation[1]);
 
   CrossTimeCandidateInputs inputs;
-  inputs.cameras = obs.cameras;
+  inputs.cameras = ring.obs.cameras;
   inputs.cam_from_rig = r.cam_from_rig_rotation;
   for (const auto& pose : r.rig_from_world) inputs.rig_from_world.push_back(pose ? std::optional(pose->rotation) : std::nullopt);
   int own = 0, between = 0;
-  for (const CrossTimeCandidate& c : SelectCrossTimeCandidates(inputs, options.motion.candidates)) {
-    if (!links.placed_by_motion[c.cam_a] && !links.placed_by_motion[c.cam_b]) continue;
+  for (const CrossTimeCandidate& c : SelectCrossTimeCandidates(inputs, ring.options.motion.candidates)) {
+    if (!ring.links.placed_by_motion[c.cam_a] && !ring.links.placed_by_motion[c.cam_b]) continue;
     (c.cam_a == c.cam_b ? own : between) += 1;
   }
   ASSERT_GT(own, 0) << "the rig predicts pairs of a camera with itself";
-  const PredictionCheck check = CheckPredictedViews(obs, links, r, SyntheticMatcher(s), options);
+  const PredictionCheck check = ring.Check(r);
   EXPECT_GT(check.agreeing, 0);
   EXPECT_LE(check.agreeing + check.contradicting, between);
 }
