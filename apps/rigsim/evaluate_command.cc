@@ -30,8 +30,7 @@ std::string DetailsLine(const RigEstimate& e) {
   }
   double rig = 0.0;
   for (const auto& [key, value] : rig_timing.items()) {
-    const bool time = key.size() > 7 && key.compare(key.size() - 7, 7, "_time_s") == 0;  // not rig_passes
-    if (time && value.is_number() && key.find("detect") == std::string::npos && key.find("match") == std::string::npos &&
+    if (key.ends_with("_time_s") && value.is_number() && key.find("detect") == std::string::npos && key.find("match") == std::string::npos &&
         key.find("pose") == std::string::npos && key.find("screen") == std::string::npos) {
       rig += value.get<double>();
     }
