@@ -59,6 +59,13 @@ TEST(Rigid3d, AngleBetween) {
 }
 
 // glTF cameras look down -Z with +Y up; ours look down +Z with +Y down.
+TEST(Rigid3d, CrossProductMatrixTimesAVectorIsTheCrossProduct) {
+  const Eigen::Vector3d v(0.3, -1.2, 2.5), w(-0.7, 0.4, 1.1);
+  EXPECT_LT((CrossProductMatrix(v) * w - v.cross(w)).norm(), 1e-15);
+  EXPECT_LT((CrossProductMatrix(v) + CrossProductMatrix(v).transpose()).norm(), 1e-15);  // skew
+  EXPECT_LT((CrossProductMatrix(v) * v).norm(), 1e-15);
+}
+
 TEST(GltfCamera, IdentityNodeLooksDownMinusZWithYUp) {
   const Rigid3d cam_from_world = CamFromWorldFromGltfCameraNode(Eigen::Matrix4d::Identity());
   const Eigen::Vector3d ahead = cam_from_world * Eigen::Vector3d(0, 0, -5);
