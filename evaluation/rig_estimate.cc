@@ -9,6 +9,7 @@
 #include "common/did_you_mean.h"
 #include "exports/colmap.h"
 #include "exports/kalibr.h"
+#include "geometry/estimate_gauge.h"
 #include "geometry/json_io.h"
 
 namespace rigsim {
@@ -41,6 +42,7 @@ RigEstimate Empty(const std::string& method, size_t n) {
   e.cam_from_rig.assign(n, std::nullopt);
   e.rotation_only.assign(n, std::nullopt);
   e.open_axis.assign(n, std::nullopt);
+  e.if_synchronised.assign(n, 0);
   return e;
 }
 
@@ -105,6 +107,9 @@ std::vector<RigEstimate> FromCalibrationFolder(const fs::path& dir, const Rig& t
     RigEstimate e = FromRig(ReadRig(rig_path), truth, mode, rig_path.string());
     const Json rig = method.value("rig", Json::object());
     for (const Json& cam : rig.value("cameras", Json::array())) {
+      if (cam.is_object() && cam.value("holds_if_synchronised", false)) {
+        e.if_synchronised[CameraIndex(truth, cam.value("name", ""), evaluation_path.string())] = 1;
+      }
       if (!cam.is_object() || cam.value("position_known", true) || !cam.contains("rotation_wxyz") ||
           !cam["rotation_wxyz"].is_array()) {
         continue;
@@ -129,9 +134,16 @@ std::vector<RigEstimate> FromCalibrationFolder(const fs::path& dir, const Rig& t
 RigEstimate FromKalibr(const fs::path& path, const Rig& truth) {
   const std::vector<KalibrCamera> cams = ReadKalibrCamchain(path);
   RigEstimate e = Empty("kalibr", truth.cameras.size());
-  e.metric = true;
-  e.notes.push_back("a Kalibr camchain is taken as metric: positions are compared in metres (--scale fit fits the "
-                    "scale instead)");
+  // rigsim's own camchain of an estimate says its unit in a comment; Kalibr's are in metres.
+  if (const std::optional<bool> metric = MetricMarkInComments(json_io::ReadText(path)); metric) {
+    e.metric = *metric;
+    e.notes.push_back(std::string("the camchain's comments say its lengths are ") +
+                      (*metric ? "metres" : "not metres: positions are compared after fitting the scale"));
+  } else {
+    e.metric = true;
+    e.notes.push_back("a Kalibr camchain is taken as metric: positions are compared in metres (--scale fit fits the "
+                      "scale instead)");
+  }
   const bool named = std::all_of(cams.begin(), cams.end(), [](const KalibrCamera& c) { return !c.name.empty(); });
   if (!named && cams.size() != truth.cameras.size()) {
     throw std::runtime_error(path.string() + ": " + std::to_string(cams.size()) + " cameras without rostopic names, " +
@@ -205,6 +217,8 @@ std::vector<RigEstimate> ReadRigEstimates(const fs::path& estimate, const Rig& t
     estimates = FromCalibrationFolder(estimate, truth);
   } else if (fs::is_regular_file(estimate) && ext == ".json") {
     estimates.push_back(FromRig(ReadRig(estimate), truth, "rig.json", estimate.string()));
+    // An estimate's rig.json says its unit; any other is taken as unit scale.
+    if (const std::optional<EstimateGauge> gauge = ReadEstimateGauge(estimate)) estimates.back().metric = gauge->metric;
   } else if (fs::is_regular_file(estimate) && (ext == ".yaml" || ext == ".yml")) {
     estimates.push_back(FromKalibr(estimate, truth));
   } else if (fs::is_directory(estimate) || estimate.filename() == "images.txt") {

@@ -44,6 +44,9 @@ struct RigEstimate {
   // Of a camera with rotation_only: the part of its centre the estimate fixes, when it fixes all but
   // one axis.
   std::vector<std::optional<OpenAxisCentre>> open_axis;
+  // Of a camera with a full pose: 1 when the pose holds only if the camera captured with camera 0
+  // (rigsim's "calibrated if synchronised": the rig's path cannot show a time offset).
+  std::vector<char> if_synchronised;
   bool metric = false;  // translations in metres (position errors without a scale fit)
   std::vector<std::string> notes;  // what the reader could not use, e.g. images not registered
   // What the tool reported besides the poses (a calibration's timing and match statistics), as it
@@ -51,8 +54,9 @@ struct RigEstimate {
   nlohmann::json details;
 };
 
-// How to treat the estimate's scale: as the estimate says (a calibration folder knows; COLMAP
-// never is metric; Kalibr always is; a bare rig.json is taken as unit scale), or forced.
+// How to treat the estimate's scale: as the estimate says (a calibration folder knows, and so do
+// the rig.json and camchain.yaml of rigsim's estimates; COLMAP never is metric; any other Kalibr
+// camchain is; any other rig.json is taken as unit scale), or forced.
 enum class EstimateScale { kAuto, kMetric, kFit };
 
 // Reads ESTIMATE for the cameras of `truth` (names) and the frames of the dataset (COLMAP).

@@ -122,6 +122,7 @@ ColmapModelText ColmapModel(const Rig& rig, const FramesFile& frames, const Colm
   ColmapModelText out;
   out.cameras = "# Camera list with one line of data per camera:\n#   CAMERA_ID, MODEL, WIDTH, HEIGHT, PARAMS[]\n";
   out.cameras += "# Number of cameras: " + std::to_string(rig.cameras.size()) + "\n";
+  if (options.gauge) out.cameras += EstimateGaugeComment(*options.gauge);
   for (size_t i = 0; i < rig.cameras.size(); ++i) {
     const Camera& cam = rig.cameras[i].camera;
     out.cameras += std::to_string(i + 1) + " " + std::string(CameraModelName(cam.model())) + " " +
@@ -134,6 +135,7 @@ ColmapModelText ColmapModel(const Rig& rig, const FramesFile& frames, const Colm
                "#   IMAGE_ID, QW, QX, QY, QZ, TX, TY, TZ, CAMERA_ID, NAME\n"
                "#   POINTS2D[] as (X, Y, POINT3D_ID)\n";
   out.images += "# Number of images: " + std::to_string(images.size()) + ", mean observations per image: 0\n";
+  if (options.gauge) out.images += EstimateGaugeComment(*options.gauge);
   for (size_t k = 0; k < images.size(); ++k) {
     const ModelImage& im = images[k];
     const Rigid3d cam_from_world = *rig.cameras[im.camera].cam_from_rig * *im.frame->rig_from_world;

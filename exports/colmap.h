@@ -22,10 +22,12 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "dataset/dataset.h"
+#include "geometry/estimate_gauge.h"
 #include "exports/image_name.h"
 #include "geometry/rig.h"
 
@@ -36,6 +38,8 @@ struct ColmapExportOptions {
   // by default "<cam>/<frame>.png" (what render writes). DatasetLayout::ImageName gives the
   // files a dataset has, whatever their extension.
   ImageNameFn image_name = DefaultImageName;
+  // An estimate's gauge, said in the header comments of cameras.txt and images.txt.
+  std::optional<EstimateGauge> gauge;
 };
 
 struct ColmapModelText {

@@ -12,9 +12,10 @@ namespace rigsim {
 using exports_internal::Num;
 using exports_internal::NumList;
 
-std::string KalibrCamchainYaml(const Rig& rig) {
+std::string KalibrCamchainYaml(const Rig& rig, const std::optional<EstimateGauge>& gauge) {
   exports_internal::RequireAllPoses(rig, "kalibr");
   std::string out = "# Kalibr camchain written by rigsim. T_cn_cnm1 = cam_n_from_cam_{n-1}.\n";
+  if (gauge) out += EstimateGaugeComment(*gauge);
   for (size_t i = 0; i < rig.cameras.size(); ++i) {
     const RigCamera& rc = rig.cameras[i];
     const std::vector<double>& p = rc.camera.params();
@@ -55,8 +56,8 @@ std::string KalibrCamchainYaml(const Rig& rig) {
   return out;
 }
 
-void WriteKalibrCamchain(const Rig& rig, const std::filesystem::path& path) {
-  json_io::WriteTextAtomic(path, KalibrCamchainYaml(rig));
+void WriteKalibrCamchain(const Rig& rig, const std::filesystem::path& path, const std::optional<EstimateGauge>& gauge) {
+  json_io::WriteTextAtomic(path, KalibrCamchainYaml(rig, gauge));
 }
 
 std::vector<KalibrCamera> ReadKalibrCamchain(const std::filesystem::path& path) {

@@ -24,14 +24,17 @@
 #include <string>
 #include <vector>
 
+#include "geometry/estimate_gauge.h"
 #include "geometry/rig.h"
 
 namespace rigsim {
 
 // Throws std::invalid_argument when a camera has no cam_from_rig or a model Kalibr cannot express.
-std::string KalibrCamchainYaml(const Rig& rig);
+// An estimate's gauge goes into the header comments (Kalibr reads every top-level key as a camera).
+std::string KalibrCamchainYaml(const Rig& rig, const std::optional<EstimateGauge>& gauge = std::nullopt);
 // Writes KalibrCamchainYaml to `path` atomically.
-void WriteKalibrCamchain(const Rig& rig, const std::filesystem::path& path);
+void WriteKalibrCamchain(const Rig& rig, const std::filesystem::path& path,
+                         const std::optional<EstimateGauge>& gauge = std::nullopt);
 
 // One camera of a camchain.yaml as read back: its key (cam0, cam1, ...), its name (from
 // `rostopic` /<name>/image_raw, else empty), its resolution, and cam_from_cam0 (the chain of

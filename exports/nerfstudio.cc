@@ -74,6 +74,7 @@ std::vector<NerfstudioFile> NerfstudioTransforms(const Rig& rig, const FramesFil
   for (int g = 0; g < 2; ++g) {
     groups[g]["camera_model"] = g ? "OPENCV_FISHEYE" : "OPENCV";
     groups[g]["frames"] = Json::array();
+    if (options.gauge) groups[g]["rigsim_estimate"] = options.gauge->Describe();
   }
   for (const Frame& f : frames.frames) {
     for (const RigCamera& rc : rig.cameras) {

@@ -19,11 +19,13 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "dataset/dataset.h"
 #include "exports/image_name.h"
+#include "geometry/estimate_gauge.h"
 #include "geometry/rig.h"
 
 namespace rigsim {
@@ -33,6 +35,9 @@ struct NerfstudioExportOptions {
   std::string image_prefix = "images";
   // Name of camera `cam`'s image of frame `frame` under image_prefix (exports/image_name.h).
   ImageNameFn image_name = DefaultImageName;
+  // An estimate's gauge, said in the top-level key "rigsim_estimate" (nerfstudio reads only the
+  // keys it knows).
+  std::optional<EstimateGauge> gauge;
 };
 
 struct NerfstudioFile {

@@ -37,8 +37,9 @@ std::string Quoted(const std::string& s) {
 
 }  // namespace
 
-std::string OpenCvRigYaml(const Rig& rig) {
+std::string OpenCvRigYaml(const Rig& rig, const std::optional<EstimateGauge>& gauge) {
   std::string out = "%YAML:1.0\n---\n";
+  if (gauge) out += EstimateGaugeComment(*gauge);
   out += "num_cameras: " + std::to_string(rig.cameras.size()) + "\n";
   out += "cameras:\n";
   const std::string in = "      ";
@@ -65,8 +66,8 @@ std::string OpenCvRigYaml(const Rig& rig) {
   return out;
 }
 
-void WriteOpenCvRigYaml(const Rig& rig, const std::filesystem::path& path) {
-  json_io::WriteTextAtomic(path, OpenCvRigYaml(rig));
+void WriteOpenCvRigYaml(const Rig& rig, const std::filesystem::path& path, const std::optional<EstimateGauge>& gauge) {
+  json_io::WriteTextAtomic(path, OpenCvRigYaml(rig, gauge));
 }
 
 }  // namespace rigsim

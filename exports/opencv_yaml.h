@@ -25,12 +25,17 @@
 #include <filesystem>
 #include <string>
 
+#include <optional>
+
+#include "geometry/estimate_gauge.h"
 #include "geometry/rig.h"
 
 namespace rigsim {
 
-std::string OpenCvRigYaml(const Rig& rig);
+// An estimate's gauge goes into comments after the header (cv::FileStorage skips them).
+std::string OpenCvRigYaml(const Rig& rig, const std::optional<EstimateGauge>& gauge = std::nullopt);
 // Writes OpenCvRigYaml to `path` atomically.
-void WriteOpenCvRigYaml(const Rig& rig, const std::filesystem::path& path);
+void WriteOpenCvRigYaml(const Rig& rig, const std::filesystem::path& path,
+                        const std::optional<EstimateGauge>& gauge = std::nullopt);
 
 }  // namespace rigsim

@@ -44,9 +44,10 @@ RigPlotInput TopDownPlot(const RigCalibrationResult& r, const std::optional<Rig>
 Json WriteExports(const RigCalibrationResult& r, const CalibrationInputs& inputs, const fs::path& dir,
                   std::vector<std::string>* notes) {
   const ExportSelection selection = SelectExports(r, inputs.frames);
+  const EstimateGauge gauge = GaugeOf(r);
   Json omitted = Json::array(), notes_json = Json::array(), colmap_frames = Json::array();
   for (const auto& [name, status] : selection.cameras_omitted) omitted.push_back({{"name", name}, {"status", status.Text()}});
-  Json files = {"rig.json", "pairs.json"};
+  Json files = {"rig.json", "frames.json", "pairs.json"};
   auto note = [&](const std::string& text) {
     notes->push_back(r.semantic_mode + ": " + text);
     notes_json.push_back(text);
@@ -68,16 +69,17 @@ Json WriteExports(const RigCalibrationResult& r, const CalibrationInputs& inputs
     note("no camera has a pose: no camchain.yaml, opencv.yaml or colmap/");
   } else {
     try {
-      WriteKalibrCamchain(selection.calibrated, dir / "camchain.yaml");
+      WriteKalibrCamchain(selection.calibrated, dir / "camchain.yaml", gauge);
       files.push_back("camchain.yaml");
     } catch (const std::invalid_argument& e) {  // a model Kalibr cannot express
       note(std::string("camchain.yaml not written: ") + e.what());
     }
-    WriteOpenCvRigYaml(selection.calibrated, dir / "opencv.yaml");
+    WriteOpenCvRigYaml(selection.calibrated, dir / "opencv.yaml", gauge);
     files.push_back("opencv.yaml");
     const DatasetLayout layout(inputs.dataset_dir);
     ColmapExportOptions colmap;
     colmap.image_name = [&layout](const std::string& cam, const std::string& frame) { return layout.ImageName(cam, frame); };
+    colmap.gauge = gauge;
     WriteColmapModel(selection.calibrated, selection.colmap_frames, dir / "colmap", colmap);
     for (const Frame& f : selection.colmap_frames.frames) colmap_frames.push_back(f.name);
     files.push_back("colmap/cameras.txt");
@@ -191,6 +193,36 @@ ExportSelection SelectExports(const RigCalibrationResult& r, const FramesFile& f
   return out;
 }
 
+EstimateGauge GaugeOf(const RigCalibrationResult& r) {
+  EstimateGauge g;
+  g.rig_frame = r.rig.cameras.empty() ? "" : r.rig.cameras[0].name;
+  g.scale = r.scale;
+  g.metric = r.scale_kind == ScaleKind::kMetric;
+  g.frames = "frames.json";
+  return g;
+}
+
+Rig EstimatedRig(const RigCalibrationResult& r) {
+  Rig rig = r.rig;
+  for (size_t c = 0; c < rig.cameras.size() && c < r.camera_status.size(); ++c) {
+    if (r.camera_status[c].outcome != CameraOutcome::kUnsynchronised) continue;
+    const RigCameraStats& measured = r.camera_stats[c];
+    if (measured.time_offset_s) rig.cameras[c].time_offset_s = *measured.time_offset_s;
+  }
+  return rig;
+}
+
+FramesFile EstimatedFrames(const RigCalibrationResult& r, const FramesFile& frames) {
+  FramesFile out = frames;
+  const ExportSelection selection = SelectExports(r, frames);
+  for (size_t k = 0, posed = 0; k < out.frames.size(); ++k) {
+    const std::vector<Frame>& with_pose = selection.colmap_frames.frames;
+    const bool has_pose = posed < with_pose.size() && with_pose[posed].name == out.frames[k].name;
+    out.frames[k].rig_from_world = has_pose ? with_pose[posed++].rig_from_world : std::nullopt;
+  }
+  return out;
+}
+
 std::vector<std::string> WriteCalibrationResults(const CalibrationRun& run, const std::filesystem::path& dir) {
   std::vector<std::string> notes;
   Json evaluation = EvaluationJson(run);
@@ -199,7 +231,8 @@ std::vector<std::string> WriteCalibrationResults(const CalibrationRun& run, cons
     const RigCalibrationResult& r = run.results[m];
     const fs::path mode_dir = dir / r.semantic_mode;
     fs::create_directories(mode_dir);
-    WriteRig(r.rig, mode_dir / "rig.json");
+    WriteEstimateRig(EstimatedRig(r), GaugeOf(r), mode_dir / "rig.json");
+    WriteFrames(EstimatedFrames(r, run.inputs.frames), mode_dir / "frames.json");
     json_io::WriteTextAtomic(mode_dir / "pairs.json", PairsJson(run, m, evaluation["label_source"]).dump(2) + "\n");
     Json& outputs = evaluation["methods"][r.semantic_mode]["outputs"];
     outputs = WriteExports(r, run.inputs, mode_dir, &notes);

@@ -3,7 +3,9 @@
 //   evaluation.json        "label_source" (kind, folder or noise, whether a mode used labels) and
 //                          per method: pairwise summary and pairs, the rig result ("rig") and
 //                          "outputs" (files written, cameras exported and omitted, notes)
-//   <mode>/rig.json        the estimated rig: every camera, cam_from_rig only for calibrated ones
+//   <mode>/rig.json        the estimated rig: every camera, cam_from_rig only for calibrated ones,
+//                          the time offsets measured, and the estimate's gauge (estimate_gauge.h)
+//   <mode>/frames.json     the estimate's rig pose per frame, in its gauge (no pose: left out)
 //   <mode>/camchain.yaml   Kalibr; <mode>/opencv.yaml  cv::FileStorage; <mode>/colmap/  COLMAP text
 //                          model of every frame with a rig pose (the calibration's world is the
 //                          rig frame at frame 0). The writers of `rigsim export` (exports/),
@@ -30,6 +32,7 @@
 
 #include "calibrator/rig_calibration.h"
 #include "dataset/dataset.h"
+#include "geometry/estimate_gauge.h"
 #include "geometry/rig.h"
 #include "pipeline/calibration_run.h"
 
@@ -47,6 +50,16 @@ struct ExportSelection {
   std::vector<std::string> colmap_frames_omitted;  // frame names without a rig pose
 };
 ExportSelection SelectExports(const RigCalibrationResult& result, const FramesFile& frames);
+
+// What one mode's estimate is relative to: the rig frame is camera 0's, the world the rig frame at
+// the first frame, lengths as the result's scale says; its trajectory is frames.json beside rig.json.
+EstimateGauge GaugeOf(const RigCalibrationResult& result);
+// The estimate as rig.json holds it: the result's rig, with the time offset the synchronisation
+// check measured for each camera it found unsynchronised (such a camera has no pose; a
+// synchronised camera keeps the timing its pose was estimated with).
+Rig EstimatedRig(const RigCalibrationResult& result);
+// The frames with the estimate's rig pose (frames without one have none), otherwise as `frames`.
+FramesFile EstimatedFrames(const RigCalibrationResult& result, const FramesFile& frames);
 
 // Writes every file above into `dir`, an existing folder (the caller stages and commits it, see
 // dataset/dataset.h StagedOutput). Returns the notes on what was left out, each prefixed with its

@@ -84,6 +84,33 @@ TEST_F(WriteCalibrationResultsTest, WritesEveryFileAndReturnsTheNotes) {
   const Rig written = ReadRig(dir_ / "out" / "mask" / "rig.json");
   ASSERT_EQ(written.cameras.size(), 3u);
   EXPECT_FALSE(written.cameras[2].cam_from_rig.has_value());
+
+  // The estimate says its gauge and unit, and its rig poses are beside it.
+  const std::optional<EstimateGauge> gauge = ReadEstimateGauge(dir_ / "out" / "mask" / "rig.json");
+  ASSERT_TRUE(gauge.has_value());
+  EXPECT_EQ(gauge->rig_frame, "cam0");
+  EXPECT_EQ(gauge->frames, "frames.json");
+  EXPECT_EQ(gauge->metric, run.results[0].scale_kind == ScaleKind::kMetric);
+  const FramesFile frames = ReadFrames(dir_ / "out" / "mask" / "frames.json");
+  ASSERT_EQ(frames.frames.size(), 3u);
+  ASSERT_TRUE(frames.frames[1].rig_from_world.has_value());
+  EXPECT_TRUE(frames.frames[1].rig_from_world->translation.isApprox(Eigen::Vector3d(0, 0, -2)));
+  EXPECT_FALSE(frames.frames[2].rig_from_world.has_value()) << "no estimated pose: none written";
+  const std::string camchain = json_io::ReadText(dir_ / "out" / "mask" / "camchain.yaml");
+  EXPECT_EQ(MetricMarkInComments(camchain), gauge->metric) << camchain;
+  EXPECT_EQ(MetricMarkInComments(json_io::ReadText(dir_ / "out" / "mask" / "colmap" / "images.txt")), gauge->metric);
+}
+
+// The synchronisation check's measured offset of a camera it found unsynchronised goes into the
+// estimate's rig.json (that camera has no pose); a synchronised camera's stays 0.
+TEST(EstimatedRig, HoldsTheOffsetsTheCheckMeasured) {
+  RigCalibrationResult r = ThreeCameraResult();
+  r.camera_stats[1].time_offset_s = 0.0004;  // within the check's noise: synchronised
+  r.camera_stats[2].time_offset_s = 0.030;
+  r.camera_status[2] = {CameraOutcome::kUnsynchronised, PositionOutcome::kNotObservable, "it captures 30 ms after"};
+  const Rig rig = EstimatedRig(r);
+  EXPECT_EQ(rig.cameras[1].time_offset_s, 0.0);
+  EXPECT_EQ(rig.cameras[2].time_offset_s, 0.030);
 }
 
 TEST(CamerasWithoutPose, ListsThemCommaSeparated) {

@@ -1,6 +1,11 @@
 // rigsim export DATASET --format kalibr|opencv|colmap|nerfstudio|all --out DIR [--rig RIG.json]
+//
+// An estimate's rig.json (estimate_gauge.h) is exported with its own rig trajectory, the
+// frames.json beside it: its cam_from_rig are in its gauge and scale, the dataset's frames.json in
+// the truth's, and the two together would place every image wrongly.
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -14,10 +19,35 @@
 #include "exports/kalibr.h"
 #include "exports/nerfstudio.h"
 #include "exports/opencv_yaml.h"
+#include "geometry/estimate_gauge.h"
 #include "geometry/rig.h"
 #include "pipeline/calibration_run.h"
 
 namespace rigsim::cli {
+namespace {
+
+// An estimate's frames with a rig pose; the others (no temporal match chained them to the first
+// frame) are left out with a warning, as cameras without a pose are.
+FramesFile FramesWithPose(const FramesFile& frames, const std::filesystem::path& frames_json) {
+  FramesFile posed = frames;
+  posed.frames.clear();
+  std::string left_out;
+  for (const Frame& f : frames.frames) {
+    if (f.rig_from_world) {
+      posed.frames.push_back(f);
+    } else {
+      left_out += (left_out.empty() ? "" : ", ") + f.name;
+    }
+  }
+  if (posed.frames.empty()) throw std::runtime_error(frames_json.string() + ": no frame has an estimated rig pose");
+  if (!left_out.empty()) {
+    std::fprintf(stderr, "warning: %s: leaving out the frames without an estimated rig pose: %s\n",
+                 frames_json.string().c_str(), left_out.c_str());
+  }
+  return posed;
+}
+
+}  // namespace
 
 void AddExportCommand(CLI::App& app) {
   struct Args {
@@ -34,6 +64,8 @@ void AddExportCommand(CLI::App& app) {
       "  colmap      OUT/colmap/{cameras,images,points3D}.txt (images named <cam>/<frame> under DATASET/images;\n"
       "              cx, cy + 0.5 for COLMAP's pixel convention)\n"
       "  nerfstudio  OUT/transforms.json (per image: world_from_cam in OpenGL axes and intrinsics)\n"
+      "An estimate (a rig.json written by calibrate) is exported with its own rig poses, the frames.json beside\n"
+      "it, in its own frame and unit of length, which every file states; the truth with the dataset's.\n"
       "The output folder appears only when complete.");
   cmd->add_option("dataset", args->dataset, "dataset folder (rig.json, frames.json, images/)")
       ->required()
@@ -51,9 +83,20 @@ void AddExportCommand(CLI::App& app) {
     if (formats.count("all")) formats = {"kalibr", "opencv", "colmap", "nerfstudio"};
     const DatasetLayout layout(args->dataset);
     const std::filesystem::path rig_json = args->rig.empty() ? layout.RigJson() : std::filesystem::path(args->rig);
+    const std::optional<EstimateGauge> gauge = ReadEstimateGauge(rig_json);
+    const bool needs_frames = formats.count("colmap") || formats.count("nerfstudio");
+    const std::filesystem::path frames_json = gauge ? rig_json.parent_path() / gauge->frames : layout.FramesJson();
+    if (gauge && needs_frames && (gauge->frames.empty() || !std::filesystem::is_regular_file(frames_json))) {
+      throw std::runtime_error(
+          rig_json.string() + ": a calibration estimate (" + gauge->LengthUnit() + ") whose rig poses " +
+          (gauge->frames.empty() ? std::string("are not given") : "(" + frames_json.string() + ") are missing") +
+          ": the colmap and nerfstudio exports need the rig's pose at every frame in the estimate's own frame and "
+          "scale, not the dataset's; calibrate the dataset again (it writes frames.json beside rig.json), or export "
+          "--format kalibr,opencv");
+    }
     OutputFolderRequest out{args->out, "--out", "rigsim export", {}, args->force};
     out.inputs = {{rig_json, args->rig.empty() ? "the dataset's rig.json" : "--rig"},
-                  {layout.FramesJson(), "the dataset's frames.json"},
+                  {frames_json, gauge ? "the estimate's frames.json" : "the dataset's frames.json"},
                   {layout.root() / "images", "the dataset's images/"}};
     CheckReplaceableOutput(out);
     Rig rig = ReadRig(rig_json);
@@ -65,12 +108,13 @@ void AddExportCommand(CLI::App& app) {
       rig = posed;
     }
     FramesFile frames;
-    if (formats.count("colmap") || formats.count("nerfstudio")) {
-      if (!std::filesystem::exists(layout.FramesJson())) {
-        throw std::runtime_error(layout.FramesJson().string() + ": missing; colmap and nerfstudio exports need the frame poses");
+    if (needs_frames) {
+      if (!std::filesystem::exists(frames_json)) {
+        throw std::runtime_error(frames_json.string() + ": missing; colmap and nerfstudio exports need the frame poses");
       }
-      frames = ReadFrames(layout.FramesJson());
-      RequirePoses(rig, rig_json, frames, layout.FramesJson(), "the colmap and nerfstudio exports");
+      frames = ReadFrames(frames_json);
+      if (gauge) frames = FramesWithPose(frames, frames_json);
+      RequirePoses(rig, rig_json, frames, frames_json, "the colmap and nerfstudio exports");
     }
     // Images are named as the dataset has them, whatever their extension.
     const ImageNameFn image_name = [&layout](const std::string& cam, const std::string& frame) {
@@ -80,22 +124,24 @@ void AddExportCommand(CLI::App& app) {
     const std::filesystem::path& dir = staged.staging_dir();
     std::vector<std::string> written;
     if (formats.count("kalibr")) {
-      WriteKalibrCamchain(rig, dir / "camchain.yaml");
+      WriteKalibrCamchain(rig, dir / "camchain.yaml", gauge);
       written.push_back("camchain.yaml");
     }
     if (formats.count("opencv")) {
-      WriteOpenCvRigYaml(rig, dir / "opencv.yaml");
+      WriteOpenCvRigYaml(rig, dir / "opencv.yaml", gauge);
       written.push_back("opencv.yaml");
     }
     if (formats.count("colmap")) {
       ColmapExportOptions o;
       o.image_name = image_name;
+      o.gauge = gauge;
       WriteColmapModel(rig, frames, dir / "colmap", o);
       written.push_back("colmap/");
     }
     if (formats.count("nerfstudio")) {
       NerfstudioExportOptions o;
       o.image_name = image_name;
+      o.gauge = gauge;
       const auto out_abs = std::filesystem::absolute(args->out).lexically_normal();
       const auto images_abs = std::filesystem::absolute(layout.root() / "images").lexically_normal();
       o.image_prefix = images_abs.lexically_relative(out_abs).generic_string();
@@ -108,6 +154,10 @@ void AddExportCommand(CLI::App& app) {
     std::printf("exported %zu cameras%s to %s:%s\n", rig.cameras.size(),
                 frames.frames.empty() ? "" : (" x " + std::to_string(frames.frames.size()) + " frames").c_str(), args->out.c_str(),
                 list.c_str());
+    if (gauge) {
+      std::printf("%s%s\n", gauge->Describe().c_str(),
+                  needs_frames ? ("; rig poses from " + frames_json.string()).c_str() : "");
+    }
     if (formats.count("colmap")) {
       const std::filesystem::path model = std::filesystem::path(args->out) / "colmap";
       std::printf("COLMAP: --image_path %s --input_path %s; its points at these poses: bash %s %s OUT_DIR\n",

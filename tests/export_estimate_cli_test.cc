@@ -1,0 +1,144 @@
+// The README's workflow on a small rig, through the built binary: make-rig, render, calibrate,
+// then export the estimate. The exported cameras must sit where the truth has them after one
+// similarity transform (the images fix a rig only up to one), to within the calibration's own
+// error: an estimate's cam_from_rig combined with the truth's rig poses would put them metres off.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "dataset/dataset.h"
+#include "geometry/rig.h"
+#include "testing/temp_dir.h"
+#include "tests/rigsim_cli.h"
+
+namespace rigsim {
+namespace {
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+// COLMAP images.txt: image name -> camera centre in the model's world.
+std::map<std::string, Eigen::Vector3d> ColmapCentres(const fs::path& images_txt) {
+  std::map<std::string, Eigen::Vector3d> centres;
+  std::ifstream in(images_txt);
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream s(line);
+    int id = 0, camera = 0;
+    double qw, qx, qy, qz, tx, ty, tz;
+    std::string name;
+    if (!(s >> id >> qw >> qx >> qy >> qz >> tx >> ty >> tz >> camera >> name)) continue;
+    const Eigen::Quaterniond q(qw, qx, qy, qz);
+    centres[name] = -(q.normalized().conjugate() * Eigen::Vector3d(tx, ty, tz));
+  }
+  return centres;
+}
+
+class ExportEstimate : public testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new TempDir();
+    const fs::path d = dir_->path();
+    auto run = [](const std::vector<std::string>& args, const fs::path& log, std::initializer_list<int> ok) {
+      const CliResult r = RunRigsim(args, log, std::chrono::seconds(300));
+      ASSERT_TRUE(std::find(ok.begin(), ok.end(), r.code) != ok.end()) << args[0] << ": " << r.out << r.err;
+    };
+    run({"make-rig", "ring", "--cameras", "4", "--width", "640", "--height", "360", "--trajectory", "circle",
+         "--circle-radius", "12", "--frames", "3", "--rig-out", (d / "rig.json").string(), "--frames-out",
+         (d / "frames.json").string()},
+        d / "make-rig", {0});
+    run({"render", "--scene", std::string(RIGSIM_SOURCE_DIR) + "/assets/scenes/street.glb", "--rig",
+         (d / "rig.json").string(), "--frames", (d / "frames.json").string(), "--out", (d / "data").string(), "--spp", "1"},
+        d / "render", {0});
+    // 3: some camera without a full pose; what was placed is still exported.
+    run({"calibrate", (d / "data").string(), "--semantics", "none"}, d / "calibrate", {0, 3});
+  }
+  static void TearDownTestSuite() { delete dir_; }
+  static TempDir* dir_;
+};
+TempDir* ExportEstimate::dir_ = nullptr;
+
+TEST_F(ExportEstimate, CameraCentresAgreeWithTheTruthAfterOneSimilarity) {
+  const fs::path d = dir_->path();
+  const fs::path estimate = d / "data" / "calibration" / "none" / "rig.json";
+  const CliResult exported = RunRigsim({"export", (d / "data").string(), "--format", "all", "--rig", estimate.string(),
+                                        "--out", (d / "estimate").string()},
+                                       d / "export");
+  ASSERT_EQ(exported.code, 0) << exported.out << exported.err;
+  EXPECT_NE(exported.out.find("lengths not in metres"), std::string::npos) << exported.out;
+
+  // Truth: every image's camera centre in the world.
+  const Rig truth = ReadRig(d / "data" / "rig.json");
+  const FramesFile frames = ReadFrames(d / "data" / "frames.json");
+  const std::map<std::string, Eigen::Vector3d> centres = ColmapCentres(d / "estimate" / "colmap" / "images.txt");
+  ASSERT_GE(centres.size(), 4u) << "at least two cameras at two frames";
+  Eigen::Matrix3Xd from(3, centres.size()), to(3, centres.size());
+  int i = 0;
+  for (const auto& [name, centre] : centres) {
+    const std::string cam = name.substr(0, name.find('/'));
+    const std::string frame = fs::path(name).stem().string();
+    const auto f = std::find_if(frames.frames.begin(), frames.frames.end(), [&](const Frame& x) { return x.name == frame; });
+    ASSERT_NE(f, frames.frames.end()) << name;
+    const Rigid3d cam_from_world = *truth.cameras[truth.FindCamera(cam)].cam_from_rig * *f->rig_from_world;
+    from.col(i) = centre;
+    to.col(i) = cam_from_world.SourceOriginInTarget();
+    ++i;
+  }
+  const Eigen::Matrix4d sim = Eigen::umeyama(from, to, true);
+  const Eigen::Matrix3Xd aligned = (sim.topLeftCorner<3, 3>() * from).colwise() + sim.topRightCorner<3, 1>();
+  const double worst = (aligned - to).colwise().norm().maxCoeff();
+
+  // The calibration's own error: each placed camera's direction error at its distance from cam0.
+  const Json evaluation = Json::parse(ReadFile(d / "data" / "calibration" / "evaluation.json"));
+  double own = 0.0;
+  for (const Json& cam : evaluation.at("methods").at("none").at("rig").at("cameras")) {
+    const Json dir = cam.value("translation_direction_error_deg", Json());
+    if (!dir.is_number()) continue;
+    const RigCamera& rc = truth.cameras[truth.FindCamera(cam.at("name").get<std::string>())];
+    const double baseline = (rc.cam_from_rig->SourceOriginInTarget() - truth.cameras[0].cam_from_rig->SourceOriginInTarget()).norm();
+    own = std::max(own, baseline * std::tan(dir.get<double>() * M_PI / 180.0));
+  }
+  // Three times that, and 2 cm for the rig's poses along the path (12 m circle, 2 m steps).
+  EXPECT_LT(worst, 3.0 * own + 0.02) << "own error " << own << " m";
+
+  // Every file says it is an estimate in its own unit, and evaluate reads rigsim's camchain so.
+  EXPECT_NE(ReadFile(d / "estimate" / "camchain.yaml").find("# rigsim length unit: not metres"), std::string::npos);
+  EXPECT_NE(ReadFile(d / "estimate" / "opencv.yaml").find("# rigsim length unit: not metres"), std::string::npos);
+  EXPECT_NE(ReadFile(d / "estimate" / "colmap" / "images.txt").find("# rigsim length unit: not metres"), std::string::npos);
+  EXPECT_TRUE(Json::parse(ReadFile(d / "estimate" / "transforms.json")).contains("rigsim_estimate"));
+  const CliResult evaluated = RunRigsim({"evaluate", (d / "data").string(), (d / "estimate" / "camchain.yaml").string()},
+                                        d / "evaluate");
+  ASSERT_EQ(evaluated.code, 0) << evaluated.out << evaluated.err;
+  EXPECT_NE(evaluated.out.find("not metres"), std::string::npos) << evaluated.out;
+  EXPECT_EQ(evaluated.out.find("taken as metric"), std::string::npos) << evaluated.out;
+}
+
+TEST_F(ExportEstimate, WithoutItsRigPosesAnEstimateIsRefusedAndNothingIsWritten) {
+  const fs::path d = dir_->path();
+  const fs::path copy = d / "copy";
+  fs::create_directories(copy);
+  fs::copy_file(d / "data" / "calibration" / "none" / "rig.json", copy / "rig.json");
+  const CliResult r = RunRigsim({"export", (d / "data").string(), "--format", "colmap", "--rig", (copy / "rig.json").string(),
+                                 "--out", (d / "refused").string()},
+                                d / "refused");
+  EXPECT_EQ(r.code, 1) << r.out << r.err;
+  EXPECT_NE(r.err.find((copy / "rig.json").string() + ": a calibration estimate"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("are missing"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(d / "refused"));
+  EXPECT_TRUE(StagingFolders(d / "refused").empty());
+  // Kalibr and OpenCV need no rig poses: they are written.
+  const CliResult k = RunRigsim({"export", (d / "data").string(), "--format", "kalibr,opencv", "--rig",
+                                 (copy / "rig.json").string(), "--out", (d / "intrinsics").string()},
+                                d / "intrinsics");
+  EXPECT_EQ(k.code, 0) << k.out << k.err;
+}
+
+}  // namespace
+}  // namespace rigsim
