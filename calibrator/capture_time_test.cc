@@ -43,6 +43,27 @@ TEST(CheckSynchronisation, ASynchronisedRigPasses) {
     ASSERT_TRUE(verdict[c].offset_s) << c;
     EXPECT_LT(std::abs(*verdict[c].offset_s), 0.002) << c;
   }
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_FALSE(verdict[c].rolling_shutter) << c;
+    ASSERT_TRUE(verdict[c].readout_s) << c;
+    EXPECT_LT(std::abs(*verdict[c].readout_s), 0.003) << c;
+  }
+}
+
+// Rows read out over 30 ms while the rig moves see from different places: the check finds the
+// rolling shutter of each camera that has one, camera 0's included (the camera without one may be
+// condemned for an offset: its rows are captured, on average, 15 ms before the others').
+TEST(CheckSynchronisation, FindsARollingShutter) {
+  const TimedRing ring(VariedPath(), 0.3, TestSeed(), {0.0, 0.0, 0.0}, {0.030, 0.0, 0.030});
+  const std::vector<CameraSynchronisation> verdict =
+      CheckSynchronisation(ring.cameras, ring.s.keypoints, ring.tracks, ring.Adjust(nullptr), 1, {},
+                           ring.timing.frame_times_s, {0.0, 0.0, 0.0}, TopToBottom(), {});
+  const bool rolling[] = {true, false, true};
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_EQ(verdict[c].rolling_shutter, rolling[c]) << c;
+    ASSERT_TRUE(verdict[c].readout_s && verdict[c].readout_stddev_s) << c;
+    EXPECT_NEAR(*verdict[c].readout_s, rolling[c] ? 0.030 : 0.0, 3 * *verdict[c].readout_stddev_s + 1e-3) << c;
+  }
 }
 
 // A start far from the truth (camera 0's turns, tracked over a few frames, can suggest one) does not
@@ -189,14 +210,15 @@ TEST(EstimateRigWithCaptureTimes, UnsynchronisedCamerasAreNotCalibratedUnlessThe
 }
 
 // On a circle driven at constant speed the offsets look like other mountings: taken as
-// synchronised the cameras are calibrated with a warning that the path cannot show their timing,
-// and with the offsets to be estimated they are not determined, never guessed.
+// synchronised the cameras are calibrated if synchronised, a condition the status states, and
+// with the offsets to be estimated they are not determined, never guessed.
 TEST(EstimateRigWithCaptureTimes, APathThatHidesTimeLeavesItUndetermined) {
   const UnsynchronisedRing ring(TurningPath(6, 0.4, 5.0, 0.0, 0.0, 0.0));
   const RigCalibrationResult taken_as_synchronised = EstimateRig(ring.obs, {});
   for (int c = 1; c < 3; ++c) {
-    EXPECT_EQ(taken_as_synchronised.camera_status[c].outcome, CameraOutcome::kCalibrated)
+    EXPECT_EQ(taken_as_synchronised.camera_status[c].outcome, CameraOutcome::kCalibratedIfSynchronised)
         << taken_as_synchronised.camera_status[c];
+    EXPECT_TRUE(taken_as_synchronised.rig.cameras[c].cam_from_rig) << c;
     const auto& shown = taken_as_synchronised.camera_stats[c].interval_visibility_px;
     ASSERT_TRUE(shown.has_value()) << c;
     EXPECT_LT(*shown, CaptureTimeOptions().min_interval_visibility_px) << c;

@@ -101,7 +101,7 @@ bool NeedsMotionLinks(const RigCalibrationResult& r, const RigObservations& obs,
 // Cameras with a full pose, or one but for an axis the motion leaves open.
 int CamerasPlaced(const RigCalibrationResult& r) {
   return static_cast<int>(std::count_if(r.camera_status.begin(), r.camera_status.end(), [](const CameraStatus& s) {
-    return s.outcome == CameraOutcome::kCalibrated || s.outcome == CameraOutcome::kOpenAlongAxis;
+    return HasFullPose(s.outcome) || s.outcome == CameraOutcome::kOpenAlongAxis;
   }));
 }
 
@@ -227,7 +227,7 @@ bool LosesOwnTracks(const RigObservations& obs, const RigCalibrationResult& resu
     if (t.two_view.success) own[t.camera] += static_cast<int>(t.inliers.size());
   }
   for (size_t c = 0; c < own.size(); ++c) {
-    if (result.camera_status[c].outcome != CameraOutcome::kCalibrated) continue;
+    if (!HasFullPose(result.camera_status[c].outcome)) continue;
     if (4 * result.camera_stats[c].observations < own[c]) return true;
   }
   return false;

@@ -77,6 +77,7 @@ void WarnAboutCamerasHeldByOneWeakPair(const ViewGraph& graph, const RigObservat
 std::string CameraStatus::Text() const {
   switch (outcome) {
     case CameraOutcome::kCalibrated: return reason.empty() ? "calibrated" : "calibrated (" + reason + ")";
+    case CameraOutcome::kCalibratedIfSynchronised: return "calibrated if synchronised: " + reason;
     case CameraOutcome::kRotationOnly: return "rotation only: position " + reason;
     case CameraOutcome::kNotConnected: return "not connected: " + reason;
     case CameraOutcome::kUnsynchronised:
@@ -84,6 +85,10 @@ std::string CameraStatus::Text() const {
     case CameraOutcome::kOpenAlongAxis: return "placed but for one axis: " + reason;
   }
   return reason;
+}
+
+bool HasFullPose(CameraOutcome outcome) {
+  return outcome == CameraOutcome::kCalibrated || outcome == CameraOutcome::kCalibratedIfSynchronised;
 }
 
 std::pair<int, int> KnownDistanceCameras(const KnownDistance& known, const std::vector<std::string>& names,

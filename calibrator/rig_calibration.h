@@ -252,6 +252,9 @@ struct RigCalibrationDetails {
 // What the calibration made of a camera.
 enum class CameraOutcome {
   kCalibrated,    // a full pose (camera 0: the rig frame)
+  // A full pose that holds only if the camera captured with camera 0: the synchronisation check
+  // ran, and the rig's path moves alike at every frame, so it cannot show a time offset.
+  kCalibratedIfSynchronised,
   kRotationOnly,  // a rotation, no position (CameraStatus::position says why)
   kNotConnected,  // no pair links it to camera 0's part of the view graph: no pose at all
   kUnsynchronised,  // it did not capture with camera 0 and offsets were not estimated: no pose
@@ -279,11 +282,13 @@ struct CameraStatus {
   std::string reason;
 
   // The status as evaluation.json and the tables give it: "calibrated", "calibrated (reference:
-  // rig frame)", "rotation only: position <reason>", "placed but for one axis: <reason>" or "not
-  // connected: <reason>".
+  // rig frame)", "calibrated if synchronised: <reason>", "rotation only: position <reason>",
+  // "placed but for one axis: <reason>" or "not connected: <reason>".
   std::string Text() const;
 };
 inline std::ostream& operator<<(std::ostream& os, const CameraStatus& s) { return os << s.Text(); }
+// Whether the outcome gives the camera a full pose, unconditionally or if synchronised.
+bool HasFullPose(CameraOutcome outcome);
 
 // Images fix no scale: the result's unit of length is none (no camera placed besides camera 0),
 // the distance of one camera from camera 0 (unit), or metres from a known distance (metric).

@@ -66,7 +66,14 @@ void SetCaptureTimes(const RigObservations& obs, const RigCalibrationOptions& op
   for (int c = 1; c < n && c < static_cast<int>(checked.size()); ++c) {
     if (!checked[c].checked) continue;
     result->camera_stats[c].interval_visibility_px = checked[c].interval_visibility_px;
-    if (checked[c].interval_visibility_px < o.min_interval_visibility_px) hidden.push_back(obs.camera_names[c]);
+    if (checked[c].interval_visibility_px >= o.min_interval_visibility_px) continue;
+    hidden.push_back(obs.camera_names[c]);
+    if (result->camera_status[c].outcome != CameraOutcome::kCalibrated) continue;
+    result->camera_status[c] = {
+        CameraOutcome::kCalibratedIfSynchronised, PositionOutcome::kPlaced,
+        "the rig's path cannot show whether it captured with " + obs.camera_names[0] +
+            " (it moves alike at every frame: an offset of one frame interval changes its view by " +
+            Fixed(checked[c].interval_visibility_px, 2) + " px); a path that changes speed or turn rate would show it"};
   }
   if (!hidden.empty()) {
     std::string names;
@@ -77,19 +84,44 @@ void SetCaptureTimes(const RigObservations& obs, const RigCalibrationOptions& op
         "different mounting; these poses hold only if the cameras are synchronised. A path that changes speed or "
         "turn rate would show it");
   }
+  for (int c = 0; c < n && c < static_cast<int>(checked.size()); ++c) {
+    const CameraSynchronisation& v = checked[c];
+    if (!v.readout_s) continue;
+    result->camera_stats[c].readout_s = v.readout_s;
+    result->camera_stats[c].readout_stddev_s = v.readout_stddev_s;
+    if (!v.rolling_shutter) continue;
+    const std::string rows = "read out over " + Fixed(1000.0 * *v.readout_s, 1) + " +- " +
+                             Fixed(1000.0 * *v.readout_stddev_s, 1) + " ms (a rolling shutter) while the rig moves";
+    const std::string fix = "calibrate with --estimate-time-offsets --rolling-shutter, use a global shutter, or move slower";
+    if (c == 0) {
+      result->warnings.push_back(obs.camera_names[0] + "'s rows are " + rows +
+                                 ": every pose here is taken as captured at one instant and may hold the rig's "
+                                 "motion; " + fix);
+      continue;
+    }
+    if (result->camera_status[c].outcome == CameraOutcome::kNotConnected) continue;
+    result->camera_status[c] = {CameraOutcome::kUnsynchronised, PositionOutcome::kNotObservable,
+                                "its rows are " + rows + ", so a pose taken as captured at one instant would hold the "
+                                "rig's motion; to calibrate it: " + fix};
+    result->rig.cameras[c].cam_from_rig.reset();
+    result->cam_from_rig_rotation[c].reset();
+  }
   for (int c = 1; c < n && c < static_cast<int>(checked.size()); ++c) {
     const CameraSynchronisation& v = checked[c];
     if (!v.offset_s) continue;
     result->camera_stats[c].time_offset_s = v.offset_s;
     result->camera_stats[c].time_offset_stddev_s = v.offset_stddev_s;
-    if (!v.unsynchronised || result->camera_status[c].outcome == CameraOutcome::kNotConnected) continue;
+    // A camera whose rolling shutter was found keeps that reason: its offset is then the readout's.
+    const CameraOutcome outcome = result->camera_status[c].outcome;
+    if (!v.unsynchronised || outcome == CameraOutcome::kNotConnected || outcome == CameraOutcome::kUnsynchronised) continue;
     const double ms = 1000.0 * *v.offset_s;
     result->camera_status[c] = {
         CameraOutcome::kUnsynchronised, PositionOutcome::kNotObservable,
         "it captures " + Fixed(std::abs(ms), 1) + " +- " + Fixed(1000.0 * *v.offset_stddev_s, 1) + " ms " +
             (ms > 0 ? "after " : "before ") + obs.camera_names[0] +
             " while the rig moves, so a pose taken as synchronised would hold the rig's motion; to calibrate it: "
-            "estimate the time offsets, synchronise the cameras, or move slower"};
+            "estimate the time offsets (--estimate-time-offsets; with --rolling-shutter where rows are read out "
+            "over time), synchronise the cameras, or move slower"};
     result->rig.cameras[c].cam_from_rig.reset();
     result->cam_from_rig_rotation[c].reset();
   }

@@ -86,6 +86,8 @@ RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate) {
     cs.posed = est_from_cam0[c].has_value();
     cs.has_rotation = est_rotation[c].has_value();
     cs.open_axis = est_open_axis[c].has_value();
+    cs.if_synchronised = cs.posed && c < estimate.if_synchronised.size() && estimate.if_synchronised[c];
+    s.cameras_if_synchronised += cs.if_synchronised;
     s.cameras_posed += cs.posed;
     s.cameras_rotation_only += cs.has_rotation && !cs.posed && !cs.open_axis;
     s.cameras_open_axis += cs.open_axis;
@@ -121,7 +123,11 @@ RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate) {
       const bool true_has_across = AcrossAxis(open.axis, true_centre).norm() > 1e-9;
       placed_error_deg = OpenAxisErrorDeg(cs.rotation_error_deg, cs.across_axis_direction_error_deg, true_has_across);
     }
-    s.confidently_wrong += ConfidentlyWrong(cs.posed || cs.open_axis, placed_error_deg);
+    if (cs.if_synchronised) {
+      s.wrong_if_synchronised += ConfidentlyWrong(true, placed_error_deg);
+    } else {
+      s.confidently_wrong += ConfidentlyWrong(cs.posed || cs.open_axis, placed_error_deg);
+    }
     s.cameras.push_back(cs);
   }
 
@@ -242,6 +248,8 @@ nlohmann::json RigScoresToJson(const RigScores& s) {
             {"success_1deg", s.success_1deg},
             {"success_2deg", s.success_2deg},
             {"confidently_wrong", s.confidently_wrong},
+            {"cameras_if_synchronised", s.cameras_if_synchronised},
+            {"wrong_if_synchronised", s.wrong_if_synchronised},
             {"max_rotation_error_deg", Opt(s.max_rotation_error_deg)},
             {"median_rotation_error_deg", Opt(s.median_rotation_error_deg)},
             {"max_translation_direction_error_deg", Opt(s.max_direction_error_deg)},
@@ -269,6 +277,7 @@ std::string FormatRigScores(const std::vector<RigScores>& all) {
       const CameraScore& cs = all[m].cameras[c];
       const std::string pos = cs.position_error_m ? Deg(cs.position_error_m, all[m].metric ? "%.3f m" : "%.3f") : "-";
       const char* pose = c == 0        ? (cs.posed ? "reference" : "missing")
+                         : cs.if_synchronised ? "full pose if synchronised"
                          : cs.posed     ? "full pose"
                          : cs.open_axis ? "placed but for one axis (t_dir_err: its centre across the axis)"
                          : cs.has_rotation ? "rotation only"
@@ -292,6 +301,11 @@ std::string FormatRigScores(const std::vector<RigScores>& all) {
                                              Deg(kConfidentlyWrongDeg, "%g deg") + " off").c_str()
                                           : "");
     out += line;
+    if (s.cameras_if_synchronised > 0) {
+      out += "  " + std::to_string(s.cameras_if_synchronised) + " camera(s) posed if synchronised (the rig's path " +
+             "cannot show a time offset), " + std::to_string(s.wrong_if_synchronised) + " of them > " +
+             Deg(kConfidentlyWrongDeg, "%g deg") + " off\n";
+    }
     if (s.cameras_open_axis > 0) {
       out += "  " + std::to_string(s.cameras_open_axis) + " camera(s) placed but for one axis (no full pose), worst " +
              "direction across the axis " + Deg(s.max_across_axis_direction_error_deg) + "\n";

@@ -42,6 +42,7 @@ struct CameraScore {
   bool posed = false;          // full pose
   bool has_rotation = false;   // full pose or rotation only
   bool open_axis = false;      // placed but for one axis: a rotation and the centre across the axis
+  bool if_synchronised = false;  // the full pose holds only if the camera captured with camera 0
   std::optional<double> rotation_error_deg;
   std::optional<double> direction_error_deg;
   std::optional<double> across_axis_direction_error_deg;  // open_axis cameras
@@ -65,6 +66,10 @@ struct RigScores {
   int cameras_posed = 0;             // camera 0 included
   int cameras_rotation_only = 0;     // a rotation and nothing of the position
   int cameras_open_axis = 0;         // placed but for one axis
+  // Of the cameras posed, those whose pose holds only if synchronised, and of those the ones more
+  // than kConfidentlyWrongDeg off (not confidently wrong: the estimate stated the condition).
+  int cameras_if_synchronised = 0;
+  int wrong_if_synchronised = 0;
   std::optional<double> max_rotation_error_deg, median_rotation_error_deg;
   std::optional<double> max_direction_error_deg, median_direction_error_deg;
   std::optional<double> max_position_error_m;
@@ -72,7 +77,9 @@ struct RigScores {
   double auc_cameras[4] = {0, 0, 0, 0};  // at 1, 2, 5, 10 deg
   double auc_pairs[4] = {0, 0, 0, 0};
   bool success_1deg = false, success_2deg = false;  // RigSucceeds at kSuccessLimitsDeg
-  int confidently_wrong = 0;  // cameras ConfidentlyWrong (verdicts.h), placed but for one axis ones included
+  // Cameras ConfidentlyWrong (verdicts.h), placed but for one axis ones included, those whose pose
+  // holds only if synchronised not.
+  int confidently_wrong = 0;
   std::vector<std::string> notes;
 };
 

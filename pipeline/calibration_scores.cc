@@ -244,6 +244,8 @@ RigEstimate RigEstimateOf(const RigCalibrationResult& r) {
   e.metric = r.scale_kind == ScaleKind::kMetric;
   for (size_t c = 0; c < r.rig.cameras.size(); ++c) {
     e.cam_from_rig.push_back(r.rig.cameras[c].cam_from_rig);
+    e.if_synchronised.push_back(c < r.camera_status.size() &&
+                                r.camera_status[c].outcome == CameraOutcome::kCalibratedIfSynchronised);
     const bool rotation_only = !r.rig.cameras[c].cam_from_rig && c < r.cam_from_rig_rotation.size();
     e.rotation_only.push_back(rotation_only ? r.cam_from_rig_rotation[c] : std::nullopt);
     const bool open_axis = rotation_only && e.rotation_only.back() && c < r.open_axis.size() && r.open_axis[c] &&

@@ -113,6 +113,16 @@ std::vector<MethodMetricSpec> MakeSweepMetricSpecs() {
       true,
       {SummaryKind::kSum, G::kOutcome, "confidently wrong", "", "", false}, {},
       FromScores([](const RigScores& s) { return s.confidently_wrong; }));
+  add("cameras_if_synchronised",
+      "cameras given a full pose that holds only if they captured with camera 0 (the rig's path cannot show a time "
+      "offset; rigsim's rows only)",
+      true, {SummaryKind::kSum, G::kOutcome, "posed if synchronised", "", "", false}, {},
+      FromRigsimScores([](const RigScores& s) { return s.cameras_if_synchronised; }));
+  add("wrong_if_synchronised",
+      "cameras posed if synchronised whose pose error exceeds 5 deg (the estimate stated the condition: not "
+      "confidently wrong)",
+      true, {SummaryKind::kSum, G::kOutcome, "wrong if synchronised", "", "", false}, {},
+      FromRigsimScores([](const RigScores& s) { return s.wrong_if_synchronised; }));
   add("cameras_open_axis",
       "cameras placed but for one axis: a planar motion fixed their rotation and their centre across its turn axis, "
       "not along it (no full pose; rigsim's rows only)",
