@@ -8,6 +8,8 @@
 #include <Eigen/Eigenvalues>
 #include <ceres/ceres.h>
 
+#include "calibrator/cost_functions.h"
+
 namespace rigsim {
 
 ReducedCovariance PoseCovariance(ceres::Problem& problem, const std::vector<double*>& pose_blocks) {
@@ -35,6 +37,7 @@ ReducedCovariance PoseCovariance(ceres::Problem& problem, const std::vector<doub
   if (pose_dim == 0) return out;
   std::vector<double*> ordered = poses;
   ordered.insert(ordered.end(), points.begin(), points.end());
+  QuietCeresLogs();
   ceres::Problem::EvaluateOptions evaluate;
   evaluate.parameter_blocks = ordered;
   ceres::CRSMatrix jacobian;

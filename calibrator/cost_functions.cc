@@ -1,6 +1,9 @@
 #include "calibrator/cost_functions.h"
 
+#include <algorithm>
+
 #include <ceres/solver.h>
+#include <glog/logging.h>
 
 namespace rigsim {
 
@@ -20,7 +23,16 @@ template bool EvaluateRigReprojectionWithIntrinsics<8>(const RigReprojectionCost
 template bool EvaluateRigReprojectionWithIntrinsics<12>(const RigReprojectionCost&, double const* const*, double*,
                                                         double**);
 
+void QuietCeresLogs() {
+  static const bool quiet = [] {
+    FLAGS_minloglevel = std::max(FLAGS_minloglevel, int(google::GLOG_FATAL));
+    return true;
+  }();
+  (void)quiet;
+}
+
 void SolveRotationProblem(ceres::Problem& problem, int max_iterations) {
+  QuietCeresLogs();
   ceres::Solver::Options solver_options;
   solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   solver_options.max_num_iterations = max_iterations;

@@ -58,6 +58,12 @@ struct EpipolarAngularCost {
   Eigen::Vector3d fa_, fb_;
 };
 
+// Ceres reports through glog what is not for the user's terminal: a failed Cholesky step that
+// Levenberg-Marquardt recovers from, and, as an error, a solve ended because a residual could not
+// be evaluated, which its Solver::Summary (read by every caller) says too. Only fatal messages
+// are left. Called before every solve and evaluation; quiets once.
+void QuietCeresLogs();
+
 // Solves a problem of rotation costs (rotation averaging: a few unknowns, so solved to full
 // convergence, on one thread for the same bits on every run).
 void SolveRotationProblem(ceres::Problem& problem, int max_iterations);

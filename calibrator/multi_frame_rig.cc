@@ -13,7 +13,6 @@
 #include <ceres/ceres.h>
 #include <ceres/manifold.h>
 #include <ceres/sphere_manifold.h>
-#include <glog/logging.h>
 
 #include "calibrator/bundle_covariance.h"
 #include "calibrator/cost_functions.h"
@@ -634,13 +633,7 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
     const std::vector<std::optional<Rigid3d>>& initial_rig_from_world, int scale_camera,
     const RigBundleAdjustmentOptions& options, bool hold_frames, const CaptureTiming* timing) {
   options.Check();
-  // Ceres reports through glog a failed Cholesky step that Levenberg-Marquardt then recovers from
-  // by itself (a larger damping); that is not for the user's terminal. Errors still show.
-  static const bool glog_quiet = [] {
-    FLAGS_minloglevel = std::max(FLAGS_minloglevel, int(google::GLOG_ERROR));
-    return true;
-  }();
-  (void)glog_quiet;
+  QuietCeresLogs();
   const int n = static_cast<int>(cameras.size());
   const int num_frames = static_cast<int>(keypoints.size());
   if (static_cast<int>(initial_cam_from_rig.size()) != n ||

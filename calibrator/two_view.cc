@@ -365,6 +365,7 @@ Rigid3d RefineRelativePose(const std::vector<Eigen::Vector3d>& bearings_a,
   solver_options.parameter_tolerance = 1e-12;
   solver_options.logging_type = ceres::SILENT;
   ceres::Solver::Summary ceres_summary;
+  QuietCeresLogs();
   ceres::Solve(solver_options, &problem, &ceres_summary);
   if (summary != nullptr) {
     summary->initial_cost = ceres_summary.initial_cost;
