@@ -23,7 +23,7 @@ std::string Describe(const RigSpec& s) {
     << s.lens.k1 << " " << s.lens.fisheye_fov_deg << " overlap " << s.overlap_percent.value_or(-1) << " jitter "
     << s.perturbation.rotation_deg << " " << s.perturbation.translation_m << " path "
     << TrajectoryKindName(s.trajectory.kind) << " " << s.trajectory.num_frames << " " << s.trajectory.step_m << " "
-    << s.trajectory.circle_radius_m << " " << s.trajectory.heading_deg << " " << s.trajectory.tilt_deg << " clearance "
+    << s.trajectory.circle_radius_m << " " << s.trajectory.heading_deg << " " << s.trajectory.tilt_deg << " every " << s.trajectory.frame_interval_s << " s clearance "
     << s.placement.min_clearance_m << " file " << s.rig_file;
   return o.str();
 }

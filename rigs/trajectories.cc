@@ -75,12 +75,15 @@ FramesFile MakeDemoTrajectory(int num_frames) {
   o.num_frames = num_frames;
   o.step_m = 2.0;
   o.circle_radius_m = 12.0;
-  return MakeTrajectory(o);
+  FramesFile frames = MakeTrajectory(o);
+  for (int k = 0; k < num_frames; ++k) frames.frames[k].timestamp_s = 0.2 * k + 0.02 * k * (k - 1);
+  return frames;
 }
 
 void TrajectoryOptions::Check() const {
   if (num_frames < 1) Fail("needs at least one frame");
   if (!std::isfinite(step_m)) Fail("step_m must be finite");
+  if (!(frame_interval_s > 0) || !std::isfinite(frame_interval_s)) Fail("frame_interval_s must be positive");
   if (!start_world.allFinite()) Fail("start_world must be finite");
   const bool curved = kind == TrajectoryKind::kCircle || kind == TrajectoryKind::kLoop ||
                       kind == TrajectoryKind::kFigureEight || kind == TrajectoryKind::kHandheld;

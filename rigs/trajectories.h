@@ -90,7 +90,10 @@ std::string DescribePath(const TrajectoryOptions& options);
 // frame along a gentle left turn (12 m radius, 9.5 deg per frame). The turn is what makes each
 // camera's place in the rig visible in its own images (hand-eye style); on a straight path only
 // the narrow overlaps between neighbours carry it (VALIDATION.md, "A straight path against a
-// turning one").
+// turning one"). The rig slows into the turn (frames 0.2 s apart, then 0.02 s more each frame:
+// 10 m/s, 8.3 m/s, 7.1 m/s, ...): at a steady speed and turn rate a time offset between cameras
+// would look like a different mounting, and the calibration could not check that they capture
+// together.
 FramesFile MakeDemoTrajectory(int num_frames);
 
 }  // namespace rigsim
