@@ -346,10 +346,15 @@ HandEyeCamera SolveOneCamera(const CameraTrajectory& reference, const CameraTraj
   if (planar) out.undetermined_axis = motion.axis;
   if (out.rotation_std_deg > options.max_rotation_std_deg) {
     out.status = HandEyeStatus::kRotationUndetermined;
-    out.reason = "its own motion fixes its rotation in the rig to +-" + Fixed(out.rotation_std_deg, 1) +
-                 " deg only: the rig turned about one axis at a near-constant rate, under which a turn of the camera "
-                 "about that axis and a shift of its centre explain its path about equally well; a path that turns "
-                 "both ways, pitches or rolls, or overlap with another camera fixes it";
+    // The motion's class says why: a planar motion cannot tell a turn about its axis from a shift;
+    // a general one turned too little or too alike for the camera's own noise.
+    out.reason = "its own motion fixes its rotation in the rig to +-" + Fixed(out.rotation_std_deg, 1) + " deg only: " +
+                 (planar ? "the rig turned about one axis at a near-constant rate, under which a turn of the camera "
+                           "about that axis and a shift of its centre explain its path about equally well; a path "
+                           "that turns both ways, pitches or rolls, or overlap with another camera fixes it"
+                         : "the rig's turns (up to " + Fixed(motion.max_rotation_deg, 1) +
+                               " deg between frames, about several axes) are too small for the noise of its own "
+                               "matches; larger turns, more frames, or overlap with another camera fixes it");
     return out;
   }
   if (!(best.inverse_scale > 0)) {
