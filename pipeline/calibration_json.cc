@@ -179,6 +179,7 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
     j["status"] = r.camera_status[c].Text();
     j["calibrated"] = pose.has_value();
     j["position_known"] = pose.has_value();
+    j["holds_if_synchronised"] = r.camera_status[c].outcome == CameraOutcome::kCalibratedIfSynchronised;
     const auto& rq = c < r.cam_from_rig_rotation.size() ? r.cam_from_rig_rotation[c] : std::nullopt;
     j["rotation_wxyz"] = rq ? Json({rq->w(), rq->x(), rq->y(), rq->z()}) : Json(nullptr);
     j["cam_from_rig"] = pose ? json_io::PoseToJson(*pose) : Json(nullptr);
@@ -237,6 +238,9 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
   const bool evaluated = truth != nullptr;
   Json summary = {{"cameras", r.rig.cameras.size()},
                   {"cameras_calibrated", calibrated},
+                  {"cameras_calibrated_if_synchronised",
+                   std::count_if(r.camera_status.begin(), r.camera_status.end(),
+                                 [](const CameraStatus& s) { return s.outcome == CameraOutcome::kCalibratedIfSynchronised; })},
                   {"metric_scale", r.scale_kind == ScaleKind::kMetric},
                   {"scale", ScaleText(r)},
                   {"reprojection_rms_px", r.reprojection_rms_px},
@@ -341,7 +345,9 @@ Json PairsJson(const CalibrationRun& run, size_t m, const Json& label_source) {
       pair["rig_edge"] = {{"used", e->used},
                           {"status", e->status},
                           {"rotation_outlier", e->rotation_outlier},
-                          {"rotation_residual_deg", json_io::OptionalNumber(e->rotation_residual_deg)}};
+                          {"rotation_residual_deg", json_io::OptionalNumber(e->rotation_residual_deg)},
+                          {"rotation_disagreement_deg", json_io::OptionalNumber(e->rotation_disagreement_deg)},
+                          {"direction_disagreement_deg", json_io::OptionalNumber(e->direction_disagreement_deg)}};
     }
     pairs.push_back(std::move(pair));
   }
@@ -352,7 +358,11 @@ Json PairsJson(const CalibrationRun& run, size_t m, const Json& label_source) {
            {{"median_residual_deg", "median angular epipolar residual of the pair's two-view inliers (deg)"},
             {"rotation_error_deg", "angle of R_est R_true^T (deg), when rig.json has the truth"},
             {"translation_direction_error_deg", "angle between estimated and true baseline directions (deg)"},
-            {"rig_edge.rotation_residual_deg", "the final rig's relative rotation vs this pair's (deg)"}}},
+            {"rig_edge.rotation_residual_deg",
+             "rotation averaging's residual of this pair (deg; 0 where no other path of the view graph constrains it)"},
+            {"rig_edge.rotation_disagreement_deg", "the final rig's relative rotation vs this pair's (deg)"},
+            {"rig_edge.direction_disagreement_deg",
+             "the final rig's baseline direction vs this pair's (deg), when both cameras are placed"}}},
           {"pairs", pairs}};
 }
 
@@ -364,7 +374,7 @@ Json EvaluationJson(const CalibrationRun& run) {
     entry["rig"] = RigResultJson(r, run.Truth(m), DetectTimeOf(run, m));
     methods[r.semantic_mode] = entry;
   }
-  return {{"methods", methods}};
+  return {{"methods", methods}, {"features", std::string(FeatureTypeName(run.options.features.type))}};
 }
 
 }  // namespace rigsim

@@ -51,7 +51,21 @@ std::string FormatPairTable(const CalibrationRun& run) {
                 "method", "matches", "inliers", "precision", "rot_err", "t_dir_err", "type", "status");
   out << line;
   if (run.results.empty()) return out.str();
+  // Pairs screened out in every method share one line (each reason is in pairs.json): a ring of
+  // n cameras has about n^2/2 pairs, most of which see nothing in common.
+  std::string screened;
+  int num_screened = 0;
   for (size_t i = 0; i < run.results[0].pairwise.pairs.size(); ++i) {
+    const bool all_screened = std::all_of(run.results.begin(), run.results.end(), [i](const RigCalibrationResult& r) {
+      return r.pairwise.pairs[i].screened_out;
+    });
+    if (all_screened) {
+      const PairResult& p = run.results[0].pairwise.pairs[i];
+      const std::optional<double> o = OverlapOf(overlap, p);
+      screened += (screened.empty() ? "" : ", ") + p.cam_a + "-" + p.cam_b + (o ? " (" + Fmt("%.0f%%", 100.0 * *o) + ")" : "");
+      ++num_screened;
+      continue;
+    }
     for (size_t m = 0; m < run.results.size(); ++m) {
       const PairResult& p = run.results[m].pairwise.pairs[i];
       const CalibrationScores* scores = run.Truth(m);
@@ -74,6 +88,12 @@ std::string FormatPairTable(const CalibrationRun& run) {
       out << line << status << "\n";
     }
   }
+  if (num_screened > 0) {
+    out << num_screened << (num_screened == 1 ? " pair" : " pairs")
+        << " screened out in every method (no shared view found among the strongest keypoints; pairs.json says why "
+           "for each): "
+        << screened << "\n";
+  }
   return out.str();
 }
 
@@ -84,10 +104,13 @@ std::string FormatSummary(const CalibrationRun& run) {
     const CalibrationReport& r = run.results[m].pairwise;
     const CalibrationScores* truth = run.Truth(m);
     std::vector<double> rot, tdir, prec;
-    int neighbours = 0, solved = 0;
+    int neighbours = 0, solved = 0, solved_below = 0;
     for (size_t i = 0; i < r.pairs.size(); ++i) {
       const PairResult& p = r.pairs[i];
-      if (!IsNeighbour(overlap, p)) continue;
+      if (!IsNeighbour(overlap, p)) {
+        solved_below += p.Solved();
+        continue;
+      }
       ++neighbours;
       const PairAgainstTruth* t = truth ? &truth->pairs[i] : nullptr;
       if (t && t->match_precision) prec.push_back(*t->match_precision);
@@ -97,8 +120,14 @@ std::string FormatSummary(const CalibrationRun& run) {
       if (t && t->translation_direction_error_deg) tdir.push_back(*t->translation_direction_error_deg);
     }
     // Without overlap.json (photos) every pair counts: whether two views overlap is not known.
+    const std::string rule = Fmt("%.0f%%", 100.0 * kNeighbourOverlap);
     out << run.results[m].semantic_mode << ": " << solved << "/" << neighbours
-        << (overlap.empty() ? " pairs solved" : " overlapping pairs solved") << ", median rotation error " << Opt(Median(rot), "%.4f deg")
+        << (overlap.empty() ? " pairs solved" : " pairs of at least " + rule + " overlap solved");
+    if (solved_below > 0) {
+      out << " (and " << solved_below << (solved_below == 1 ? " pair" : " pairs") << " below " << rule
+          << ", not in the medians)";
+    }
+    out << ", median rotation error " << Opt(Median(rot), "%.4f deg")
         << ", median translation direction error " << Opt(Median(tdir), "%.2f deg") << ", median match precision "
         << Opt(Percent(Median(prec)), "%.1f%%") << "; "
         << Fmt("%.0f", r.mean_keypoints_per_image) << " keypoints/image; time detect "
@@ -150,7 +179,7 @@ std::string FormatRigSummary(const CalibrationRun& run) {
   for (size_t m = 0; m < run.results.size(); ++m) {
     const RigCalibrationResult& r = run.results[m];
     const CalibrationScores* truth = run.Truth(m);
-    int calibrated = 0;
+    int calibrated = 0, if_synchronised = 0;
     std::optional<double> worst_rot, worst_dir, worst_across;
     // Over every camera with an estimate, "rotation only" ones included, as evaluation.json's summary.
     for (size_t c = 0; c < r.camera_stats.size(); ++c) {
@@ -163,8 +192,10 @@ std::string FormatRigSummary(const CalibrationRun& run) {
         }
       }
       calibrated += r.rig.cameras[c].cam_from_rig.has_value();
+      if_synchronised += r.camera_status[c].outcome == CameraOutcome::kCalibratedIfSynchronised;
     }
     out << r.semantic_mode << ": " << calibrated << "/" << r.rig.cameras.size() << " cameras calibrated";
+    if (if_synchronised > 0) out << " (" << if_synchronised << " if synchronised)";
     if (truth) {
       out << ", worst rotation error " << Opt(worst_rot, "%.4f deg") << ", worst translation direction error "
           << Opt(worst_dir, "%.2f deg");
@@ -173,6 +204,43 @@ std::string FormatRigSummary(const CalibrationRun& run) {
     out << ", reprojection RMS " << Fmt("%.2f px", r.reprojection_rms_px) << " over " << r.num_observations
         << " observations; " << ScaleText(r) << "\n";
     for (const std::string& w : r.warnings) out << "  warning: " << w << "\n";
+  }
+  return out.str();
+}
+
+std::string FormatTimeTable(const CalibrationRun& run) {
+  const std::vector<RigCalibrationResult>& results = run.results;
+  const CaptureTimeOptions& o = run.options.rig.capture_time;
+  auto timed = [](const RigCameraStats& st) { return st.time_offset_s.has_value() || st.readout_s.has_value(); };
+  bool any = false;
+  for (const RigCalibrationResult& r : results) any = any || std::any_of(r.camera_stats.begin(), r.camera_stats.end(), timed);
+  if (!any) return "";
+  std::ostringstream out;
+  char line[512];
+  std::snprintf(line, sizeof(line), "%-10s %-10s %20s %20s %11s %11s  %s\n", "camera", "method", "time_offset",
+                "readout", "offset_err", "readout_err", "found by");
+  out << line;
+  auto with_std = [](const std::optional<double>& v, const std::optional<double>& s) -> std::string {
+    if (!v) return "-";
+    return Fmt("%+.2f", 1000.0 * *v) + (s ? Fmt(" +- %.2f ms", 1000.0 * *s) : std::string(" ms"));
+  };
+  for (size_t c = 0; c < results[0].rig.cameras.size(); ++c) {
+    for (size_t m = 0; m < results.size(); ++m) {
+      const RigCalibrationResult& r = results[m];
+      const RigCameraStats& st = r.camera_stats[c];
+      if (!timed(st)) continue;
+      const CalibrationScores* scores = run.Truth(m);
+      const CameraAgainstTruth* t = scores ? &scores->cameras[c] : nullptr;
+      const std::string offset = c == 0 && o.estimate_offsets ? "0 (reference)" : with_std(st.time_offset_s, st.time_offset_stddev_s);
+      const char* how = o.estimate_offsets || o.estimate_readout ? "estimated in the bundle adjustment"
+                                                                 : "measured by the synchronisation check";
+      auto ms = [](const std::optional<double>& v) { return v ? Fmt("%.2f ms", 1000.0 * std::abs(*v)) : std::string("-"); };
+      std::snprintf(line, sizeof(line), "%-10s %-10s %20s %20s %11s %11s  %s\n", r.rig.cameras[c].name.c_str(),
+                    r.semantic_mode.c_str(), offset.c_str(), with_std(st.readout_s, st.readout_stddev_s).c_str(),
+                    ms(t ? t->time_offset_error_s : std::nullopt).c_str(), ms(t ? t->readout_error_s : std::nullopt).c_str(),
+                    how);
+      out << line;
+    }
   }
   return out.str();
 }

@@ -46,11 +46,29 @@ TEST(FormatPairTable, OneRowPerPairAndMethod) {
   EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 4) << table;  // header and 3 pairs
 }
 
+// A ring's many pairs that see nothing in common are one line, not a row each per method.
+TEST(FormatPairTable, PairsScreenedOutInEveryMethodShareOneLine) {
+  CalibrationRun run = PairsRun({});
+  run.results.push_back(run.results[0]);
+  run.results[1].semantic_mode = "mask";
+  run.records.resize(2);
+  for (RigCalibrationResult& r : run.results) r.pairwise.pairs[1].screened_out = true;
+  run.results[1].pairwise.pairs[2].screened_out = true;  // only in one method: keeps its rows
+  const std::string table = FormatPairTable(run);
+  EXPECT_EQ(table.find("cam0-cam2 "), std::string::npos) << table;
+  EXPECT_NE(table.find("1 pair screened out in every method (no shared view found among the strongest keypoints; "
+                       "pairs.json says why for each): cam0-cam2\n"),
+            std::string::npos)
+      << table;
+  EXPECT_NE(table.find("cam1-cam2 "), std::string::npos) << table;
+  EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 6) << table;  // header, 2 pairs x 2 methods, the line
+}
+
 TEST(FormatSummary, CountsOnlyOverlappingPairsWhenOverlapIsKnown) {
   OverlapTable overlap;
   overlap[{"cam0", "cam1"}] = overlap[{"cam1", "cam0"}] = 0.34;
   overlap[{"cam1", "cam2"}] = overlap[{"cam2", "cam1"}] = 0.01;  // below kNeighbourOverlap
-  EXPECT_NE(FormatSummary(PairsRun(overlap)).find("none: 1/1 overlapping pairs solved"), std::string::npos);
+  EXPECT_NE(FormatSummary(PairsRun(overlap)).find("none: 1/1 pairs of at least 5% overlap solved (and 1 pair below 5%, not in the medians)"), std::string::npos);
   EXPECT_NE(FormatSummary(PairsRun({})).find("none: 2/3 pairs solved, median rotation error 0.2000 deg"), std::string::npos)
       << FormatSummary(PairsRun({}));
 }
@@ -120,6 +138,41 @@ TEST(FormatRigTable, ACameraPlacedButForOneAxisShowsItsDirectionAcrossTheAxis) {
   EXPECT_NE(FormatRigSummary(run).find("worst translation direction error -, worst direction across an open axis 6.50 deg"),
             std::string::npos)
       << FormatRigSummary(run);
+}
+
+// Offsets and readouts are printed with their standard deviations and how they were found;
+// a run without them prints no table.
+TEST(FormatTimeTable, OffsetsAndReadoutsWithTheirStandardDeviations) {
+  RigCalibrationResult r;
+  r.semantic_mode = "none";
+  const Camera cam(CameraModelId::kPinhole, 64, 48, {50, 50, 32, 24});
+  r.rig.cameras = {{"cam0", cam, Rigid3d(), 0.0}, {"cam1", cam, std::nullopt, 0.0}, {"cam2", cam, Rigid3d(), 0.0}};
+  r.camera_status.assign(3, {CameraOutcome::kCalibrated, PositionOutcome::kPlaced, ""});
+  r.camera_stats.assign(3, {});
+  CalibrationRun run = RunOf({r});
+  EXPECT_EQ(FormatTimeTable(run), "");
+  run.results[0].camera_stats[1].time_offset_s = 0.0301;
+  run.results[0].camera_stats[1].time_offset_stddev_s = 0.0004;
+  const std::string measured = FormatTimeTable(run);
+  EXPECT_NE(measured.find("+30.10 +- 0.40 ms"), std::string::npos) << measured;
+  EXPECT_NE(measured.find("measured by the synchronisation check"), std::string::npos) << measured;
+  EXPECT_EQ(measured.find("cam2"), std::string::npos) << measured;  // nothing measured for it
+
+  run.options.rig.capture_time.estimate_offsets = run.options.rig.capture_time.estimate_readout = true;
+  run.results[0].camera_stats[0].time_offset_s = 0.0;
+  run.results[0].camera_stats[0].readout_s = 0.02;
+  run.results[0].camera_stats[0].readout_stddev_s = 0.001;
+  CalibrationScores truth;
+  truth.cameras.resize(3);
+  truth.cameras[1].time_offset_error_s = -0.0002;
+  run.records[0].truth = truth;
+  const std::string estimated = FormatTimeTable(run);
+  const std::string cam0 = estimated.substr(estimated.find("cam0"));
+  EXPECT_NE(cam0.find("0 (reference)"), std::string::npos) << estimated;
+  EXPECT_NE(cam0.find("+20.00 +- 1.00 ms"), std::string::npos) << estimated;
+  const std::string cam1 = estimated.substr(estimated.find("cam1"));
+  EXPECT_NE(cam1.find("0.20 ms"), std::string::npos) << estimated;
+  EXPECT_NE(cam1.find("estimated in the bundle adjustment"), std::string::npos) << estimated;
 }
 
 }  // namespace

@@ -325,6 +325,11 @@ CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const Ca
               results.empty() || results[0].rig.cameras.empty() ? "camera 0" : results[0].rig.cameras[0].name.c_str());
   std::printf("%s\n", FormatRigTable(run).c_str());
   std::printf("%s", FormatRigSummary(run).c_str());
+  if (const std::string times = FormatTimeTable(run); !times.empty()) {
+    std::printf("\nCapture times: each camera's offset from %s's (positive: it captures later) and its rolling-shutter "
+                "readout, +- one standard deviation%s:\n\n%s",
+                results[0].rig.cameras[0].name.c_str(), inputs.truth ? "; error against the truth" : "", times.c_str());
+  }
   if (options.rig.bundle_adjustment.refine_intrinsics) {
     std::printf("\nIntrinsics refined in the bundle adjustment (change from the given values, +- one standard "
                 "deviation%s):\n\n%s\n",
@@ -333,7 +338,8 @@ CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const Ca
   std::printf("calibration took %.1f s; labels: %s; results in %s:\n", run.seconds,
               labels_used ? label_text.c_str() : "not used", out_dir.string().c_str());
   if (segmenter) std::printf("  segmentation/: the network's labels/, labels_color/ and segmentation.json\n");
-  std::printf("  evaluation.json; per mode <mode>/: rig.json, camchain.yaml (Kalibr), opencv.yaml, colmap/, pairs.json,\n"
+  std::printf("  evaluation.json; per mode <mode>/: rig.json and frames.json (the estimate and its rig poses), camchain.yaml\n"
+              "  (Kalibr), opencv.yaml, colmap/, pairs.json,\n"
               "  rig_topdown.svg (the rig seen from above%s), matches/ (each solved pair's inliers)\n",
               results.empty() || !inputs.truth ? "" : ", against the truth");
   return run;
