@@ -86,6 +86,7 @@ Json PipelineData(ReportContext& ctx) {
                        {"rotation_only", e.rotation_only},
                        {"rotation_outlier", e.rotation_outlier},
                        {"rotation_residual_deg", json_io::OptionalNumber(e.rotation_residual_deg)},
+                       {"rotation_disagreement_deg", json_io::OptionalNumber(e.rotation_disagreement_deg)},
                        {"status", e.status}});
     }
     mode["edges"] = edges;

@@ -20,9 +20,11 @@ using Json = nlohmann::json;
 
 namespace {
 
-// The semantic modes and label source a calibration folder was made with (its evaluation.json),
-// in the order calibrate lists the modes.
-void TakeModesAndLabelsFrom(const fs::path& calibration, CalibrateSettings* settings) {
+// The semantic modes, label source and features a calibration folder was made with (its
+// evaluation.json), in the order calibrate lists the modes; `features` is kept when the folder
+// does not say (written before it did) or when `features_given`.
+void TakeModesAndLabelsFrom(const fs::path& calibration, CalibrateSettings* settings, std::string* features,
+                            bool features_given) {
   const fs::path path = calibration / "evaluation.json";
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path.string() + ": cannot read (is " + calibration.string() + " a calibration folder?)");
@@ -40,6 +42,7 @@ void TakeModesAndLabelsFrom(const fs::path& calibration, CalibrateSettings* sett
     if (j["methods"].contains(mode)) settings->semantics.push_back(mode);
   }
   if (settings->semantics.empty()) throw std::runtime_error(path.string() + ": no semantic mode rigsim knows");
+  if (!features_given && j.contains("features") && j["features"].is_string()) *features = j["features"].get<std::string>();
   const Json& labels = j.value("label_source", Json::object());
   const std::string kind = labels.value("kind", "truth");
   if (kind == "folder") {
@@ -120,9 +123,11 @@ void AddReportCommand(CLI::App& app) {
       ->check(CLI::IsMember(NamesOf(kAllFeatureTypes, FeatureTypeName)));
   AddCalibrateSettingsOptions(*cmd, args->settings);
   AddLabelSourceOptions(*cmd, args->settings.labels);
-  cmd->callback([args] {
+  cmd->callback([args, cmd] {
     const fs::path dataset = args->dataset;
-    if (!args->calibration.empty()) TakeModesAndLabelsFrom(args->calibration, &args->settings);
+    if (!args->calibration.empty()) {
+      TakeModesAndLabelsFrom(args->calibration, &args->settings, &args->features, cmd->count("--features") > 0);
+    }
     CalibrationRunOptions options = args->settings.ToOptions();
     options.features.type = FeatureTypeFromName(args->features);
     options.rig.keep_details = true;
@@ -140,7 +145,11 @@ void AddReportCommand(CLI::App& app) {
     }
     args->report.sweep_dir = args->sweep;
     args->report.tool_version = RIGSIM_VERSION_STRING;
-    args->report.command = "rigsim report " + args->dataset + " --out " + args->out;
+    args->report.command = "rigsim report " + args->dataset + " --out " + args->out +
+                           (args->calibration.empty() ? "" : " --calibration " + args->calibration) +
+                           (args->features == "sift" ? "" : " --features " + args->features) +
+                           (args->sweep.empty() ? "" : " --sweep " + args->sweep) +
+                           (args->scene.empty() ? "" : " --scene " + args->scene);
     std::fprintf(stderr, "calibrating %s for the report (%zu semantic modes)...\n", dataset.string().c_str(),
                  modes.size());
     const CalibrationRun run = CalibrateDataset(inputs, options, modes);

@@ -706,10 +706,12 @@ var RIGSIM = (function () {
     });
     s3.appendChild(g);
     s3.appendChild(el('p', {class: 'note'}, 'green: used (thicker: more inliers); red dashed: a pose the rig stage rejected; grey dotted: no pose (the pair failed). Hover an edge for why.'));
-    s3.appendChild(table(['edge', 'inliers', 'rotation residual', 'status'], P.edges.map(function (e) {
+    s3.appendChild(table(['edge', 'inliers', 'rotation averaging residual', 'against the final rig', 'status'], P.edges.map(function (e) {
       var st = el('span', {class: e.used ? 'good' : 'bad'}, e.status);
-      return [camName(e.a) + '-' + camName(e.b), e.inliers, fmt(e.rotation_residual_deg, 3, ' deg'), st];
+      return [camName(e.a) + '-' + camName(e.b), e.inliers, fmt(e.rotation_residual_deg, 3, ' deg'),
+              fmt(e.rotation_disagreement_deg, 3, ' deg'), st];
     })));
+    s3.appendChild(el('p', {class: 'note'}, 'rotation averaging residual: how far the averaged rotations are from the pair\'s (0 where no other path of the graph constrains the pair); against the final rig: the finished rig\'s relative rotation against the pair\'s.'));
 
     // 4. Rotation averaging, then positions and the bundle adjustment.
     var s4 = step(body, '4. Rotation averaging',
