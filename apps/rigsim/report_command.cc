@@ -121,6 +121,7 @@ void AddReportCommand(CLI::App& app) {
   AddCalibrateSettingsOptions(*cmd, args->settings);
   AddLabelSourceOptions(*cmd, args->settings.labels);
   cmd->callback([args] {
+    ReportPageFiles(args->report);  // the page's files are there before calibrating
     const fs::path dataset = args->dataset;
     if (!args->calibration.empty()) TakeModesAndLabelsFrom(args->calibration, &args->settings);
     CalibrationRunOptions options = args->settings.ToOptions();
