@@ -31,10 +31,11 @@ rigsim=$prefix/bin/rigsim
 mkdir "$tmp/work"
 cd "$tmp/work"
 # The help names the default scene in words, never the folder rigsim was built in.
-for args in "--help" "demo --help" "report --help" "render --help"; do
-  # shellcheck disable=SC2086
-  help=$("$rigsim" $args)
-  if grep -qF -e "$source" -e "$build" <<< "$help"; then fail "\`rigsim $args\` shows the build path"; fi
+commands=$("$rigsim" --help | grep -oE '^  [a-z][a-z-]+ {2,}' | tr -d ' ')
+[ "$(wc -w <<< "$commands")" -ge 10 ] || fail "rigsim --help lists no commands: $commands"
+for command in "" $commands; do
+  help=$("$rigsim" ${command:+"$command"} --help)
+  if grep -qF -e "$source" -e "$build" <<< "$help"; then fail "\`rigsim $command --help\` shows the build path"; fi
 done
 grep -qF "the built-in street" <<< "$("$rigsim" demo --help)" || fail "demo --help does not name the built-in street"
 
