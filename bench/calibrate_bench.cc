@@ -15,6 +15,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "common/data_dir.h"
 #include "geometry/json_io.h"
 #include "gltf/gltf_loader.h"
 #include "pipeline/calibration_run.h"
@@ -34,7 +35,7 @@ const fs::path& SixCameraDataset() {
   struct Dataset {
     fs::path dir;
     Dataset() : dir(fs::temp_directory_path() / ("rigsim_bench_calibrate_" + std::to_string(::getpid()))) {
-      const Scene scene = LoadGltf(std::string(RIGSIM_SOURCE_DIR) + "/assets/scenes/street.glb");
+      const Scene scene = LoadGltf(DataPath("assets/scenes/street.glb").string());
       RenderJob job;
       job.scene = &scene;
       job.scene_name = "street.glb";

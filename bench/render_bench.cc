@@ -19,6 +19,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "common/data_dir.h"
 #include "gltf/gltf_loader.h"
 #include "renderer/renderer.h"
 #include "renderer/trace_only_benchmark.h"
@@ -45,7 +46,7 @@ struct StreetView {
 StreetView& Street() {
   static StreetView* view = [] {
     auto* v = new StreetView;
-    v->scene = LoadGltf(std::string(RIGSIM_SOURCE_DIR) + "/assets/scenes/street.glb");
+    v->scene = LoadGltf(DataPath("assets/scenes/street.glb").string());
     v->renderer = std::make_unique<Renderer>(v->scene);
     const Rig rig = MakeRingRig(RingRigOptions{});
     const FramesFile frames = MakeStraightTrajectory(Eigen::Vector3d(0, 1.6, 4), 0, 1, 2);

@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/data_dir.h"
 #include "geometry/json_io.h"
 #include "labels/cityscapes.h"
 #include "report/report_parts.h"
@@ -132,6 +133,15 @@ void ReportOptions::Check() const {
   if (max_points < 0) fail("max_points must be >= 0");
 }
 
+std::vector<fs::path> ReportPageFiles(const ReportOptions& options) {
+  std::vector<fs::path> files;
+  for (const char* file : {"index.html", "geometry.js", "report.js", "report.css"}) {
+    files.push_back(options.web_dir.empty() ? DataPath(fs::path("report/web") / file) : options.web_dir / file);
+    if (!fs::exists(files.back())) throw std::runtime_error(files.back().string() + ": missing (needed by the report)");
+  }
+  return files;
+}
+
 std::vector<std::string> WriteReport(const CalibrationRun& run, const ReportOptions& options, const fs::path& dir) {
   options.Check();
   if (run.results.empty()) throw std::invalid_argument("WriteReport: the run has no result");
@@ -146,7 +156,7 @@ std::vector<std::string> WriteReport(const CalibrationRun& run, const ReportOpti
     for (const RigCalibrationResult& r : run.results) ctx.aligned.push_back(AlignToTruth(r, *run.inputs.truth, run.inputs.frames));
   }
 
-  for (const char* file : {"index.html", "geometry.js", "report.js", "report.css"}) CopyFile(options.web_dir / file, dir / file);
+  for (const fs::path& file : ReportPageFiles(options)) CopyFile(file, dir / file.filename());
   CopyThreeJs(options.three_js_dir, dir);
   fs::create_directories(dir / "data");
 

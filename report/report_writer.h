@@ -44,9 +44,10 @@ struct ReportOptions {
   std::filesystem::path scene;
   // A sweep's output folder (report.md, summary.json, plots/) for the numbers; empty: none.
   std::filesystem::path sweep_dir;
-  // Where three.js r111 is (Debian's libjs-three) and the page's own files.
+  // Where three.js r111 is (Debian's libjs-three) and the page's own files; an empty web_dir is
+  // the shipped page, report/web/ of rigsim's data folder (common/data_dir.h).
   std::filesystem::path three_js_dir = RIGSIM_THREE_JS_DIR;
-  std::filesystem::path web_dir = RIGSIM_REPORT_WEB_DIR;
+  std::filesystem::path web_dir;
   // Shown on the page: how the report was made.
   std::string command;
   std::string tool_version;
@@ -54,6 +55,11 @@ struct ReportOptions {
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;
 };
+
+// The page's own files (index.html, its scripts and style sheet) from options.web_dir, or from
+// rigsim's data folder when that is empty. Throws std::runtime_error naming the first one missing:
+// the commands call it before they calibrate, WriteReport copies them.
+std::vector<std::filesystem::path> ReportPageFiles(const ReportOptions& options);
 
 // Writes the report of `run` into `dir`, an existing folder (the caller stages it: dataset.h
 // StagedOutput). The run must have been calibrated with RigCalibrationOptions::keep_details.

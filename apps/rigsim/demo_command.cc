@@ -6,6 +6,7 @@
 #include "apps/rigsim/render_support.h"
 #include "apps/rigsim/report_support.h"
 #include "apps/rigsim/version.h"
+#include "common/data_dir.h"
 #include "dataset/dataset.h"
 #include "dataset/output_folder.h"
 #include "rigs/rig_presets.h"
@@ -15,7 +16,7 @@ namespace rigsim::cli {
 
 void AddDemoCommand(CLI::App& app) {
   struct Args {
-    std::string scene = std::string(RIGSIM_ASSET_DIR) + "/scenes/street.glb";
+    std::string scene;  // empty: the built-in street (rigsim's data), looked up when the demo runs
     std::string out = "out/demo";
     bool force = false;
     int frames = 4;
@@ -33,7 +34,8 @@ void AddDemoCommand(CLI::App& app) {
       "without semantics, and print how close each came to the truth. Writes the dataset,\n"
       "calibration/ and evaluation.json to --out, and a teaching report, OUT/report/index.html\n"
       "(open it in a browser). --width 640 --height 360 runs in seconds on a laptop.");
-  cmd->add_option("--scene", args->scene, "scene to render")->capture_default_str()->check(CLI::ExistingFile);
+  cmd->add_option("--scene", args->scene, "scene to render (default: the built-in street, assets/scenes/street.glb)")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--out", args->out, "dataset folder to write")->capture_default_str();
   cmd->add_flag("--force", args->force, "replace an existing output folder");
   cmd->add_option("--frames", args->frames, "frames rendered along the street (matches are pooled over them)")
@@ -49,16 +51,18 @@ void AddDemoCommand(CLI::App& app) {
   cmd->callback([args] {
     const auto start = std::chrono::steady_clock::now();
     args->calibrate.options.rig.pairwise.num_threads = args->render.threads;  // one --threads for both stages
-    // Fail on bad calibration options before spending time on rendering.
+    // Fail on bad calibration options, or a report page missing, before spending time on rendering.
     args->calibrate.ToOptions();
     args->calibrate.Modes();
+    if (args->report) ReportPageFiles(ReportOptions{});
     const OutputFolderRequest out{args->out, "--out", "rigsim demo", {}, args->force};
     CheckReplaceableOutput(out);
 
-    const Scene scene = LoadSceneVerbose(args->scene);
+    const std::string scene_file = args->scene.empty() ? DataPath("assets/scenes/street.glb").string() : args->scene;
+    const Scene scene = LoadSceneVerbose(scene_file);
     RenderJob job;
     job.scene = &scene;
-    job.scene_name = std::filesystem::path(args->scene).filename().string();
+    job.scene_name = std::filesystem::path(scene_file).filename().string();
     RingRigOptions ring;
     ring.width = args->width;
     ring.height = args->height;
@@ -77,7 +81,7 @@ void AddDemoCommand(CLI::App& app) {
                                std::filesystem::copy_options::overwrite_existing);
     if (args->report) {
       ReportOptions report;
-      report.scene = args->scene;
+      report.scene = scene_file;
       report.tool_version = RIGSIM_VERSION_STRING;
       report.command = "rigsim demo --out " + args->out;
       const std::filesystem::path index =

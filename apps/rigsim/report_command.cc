@@ -124,6 +124,7 @@ void AddReportCommand(CLI::App& app) {
   AddCalibrateSettingsOptions(*cmd, args->settings);
   AddLabelSourceOptions(*cmd, args->settings.labels);
   cmd->callback([args, cmd] {
+    ReportPageFiles(args->report);  // the page's files are there before calibrating
     const fs::path dataset = args->dataset;
     if (!args->calibration.empty()) {
       TakeModesAndLabelsFrom(args->calibration, &args->settings, &args->features, cmd->count("--features") > 0);

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "common/data_dir.h"
 #include "dataset/dataset.h"
 
 namespace rigsim::cli {
@@ -10,7 +11,7 @@ namespace fs = std::filesystem;
 fs::path FindSceneOf(const fs::path& dataset, const FramesFile& frames) {
   if (frames.scene.empty()) return {};
   const fs::path scene = frames.scene;
-  for (const fs::path& candidate : {scene, dataset / scene, fs::path(RIGSIM_ASSET_DIR) / "scenes" / scene.filename()}) {
+  for (const fs::path& candidate : {scene, dataset / scene, DataDir() / "assets" / "scenes" / scene.filename()}) {
     if (fs::is_regular_file(candidate)) return candidate;
   }
   return {};

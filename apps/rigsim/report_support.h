@@ -12,7 +12,8 @@ namespace rigsim::cli {
 
 // The scene a dataset was rendered from, for the report's 3D view: frames.json's "scene" as a
 // path (absolute, or relative to the dataset or to the working folder), else the shipped scene of
-// that name (assets/scenes/); empty when none is found.
+// that name (assets/scenes/ of rigsim's data, common/data_dir.h); empty when none is found. Throws
+// when rigsim's data folder is not found (the report needs its page from there anyway).
 std::filesystem::path FindSceneOf(const std::filesystem::path& dataset, const FramesFile& frames);
 
 // Writes the report into `out_dir` (replaced only with `force`), prints its warnings to stderr
