@@ -138,7 +138,7 @@ TEST(EvaluateCli, EveryEstimateFormatOfTheTruthScoresPerfectly) {
             0);
   for (const fs::path& estimate : {dir / "data" / "rig.json", dir / "export" / "camchain.yaml", dir / "export" / "colmap"}) {
     const CliResult r = RunRigsim({"evaluate", (dir / "data").string(), estimate.string(), "--json",
-                                   (dir / "scores.json").string()},
+                                   (dir / "scores.json").string(), "--force"},
                                   dir / "evaluate");
     ASSERT_EQ(r.code, 0) << estimate << r.err;
     EXPECT_NE(r.out.find("3/3 cameras with a full pose"), std::string::npos) << r.out;

@@ -5,6 +5,7 @@
 
 #include "apps/rigsim/commands.h"
 #include "dataset/dataset.h"
+#include "dataset/output_file.h"
 #include "evaluation/rig_estimate.h"
 #include "evaluation/rig_scores.h"
 #include "geometry/json_io.h"
@@ -49,6 +50,7 @@ std::string DetailsLine(const RigEstimate& e) {
 void AddEvaluateCommand(CLI::App& app) {
   struct Args {
     std::string dataset, estimate, json, scale = "auto";
+    bool force = false;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
@@ -70,7 +72,8 @@ void AddEvaluateCommand(CLI::App& app) {
   cmd->add_option("ESTIMATE", args->estimate, "rig.json, calibration folder, COLMAP model or Kalibr camchain.yaml")
       ->required()
       ->check(CLI::ExistingPath);
-  cmd->add_option("--json", args->json, "also write the scores as JSON to this file (- for standard output)");
+  cmd->add_option("--json", args->json, "also write the scores as JSON to this file (- for standard output; see --force)");
+  cmd->add_flag("--force", args->force, "replace an existing --json file");
   cmd->add_option("--scale", args->scale,
                   "auto (a calibration folder says whether it is metric; COLMAP and a bare rig.json are not,\n"
                   "Kalibr is), metric (translations in metres: no scale fitted) or fit")
@@ -78,6 +81,13 @@ void AddEvaluateCommand(CLI::App& app) {
       ->check(CLI::IsMember({"auto", "metric", "fit"}));
   cmd->callback([args] {
     const DatasetLayout layout(args->dataset);
+    if (!args->json.empty() && args->json != "-") {
+      CheckReplaceableFile({args->json, "--json", OutputFileKind::kJson,
+                            {{layout.RigJson(), "the dataset's rig.json"},
+                             {layout.FramesJson(), "the dataset's frames.json"},
+                             {args->estimate, "ESTIMATE"}},
+                            args->force});
+    }
     const Rig truth = ReadRig(layout.RigJson());
     if (!truth.HasAllPoses()) {
       throw std::runtime_error(layout.RigJson().string() +
