@@ -1,5 +1,5 @@
 // `--force` through the built binary: every command that writes an output folder (render,
-// make-rig --out, calibrate, export, demo, sweep) replaces only a folder rigsim wrote, and
+// make-rig --out, calibrate, export, demo, sweep, report) replaces only a folder rigsim wrote, and
 // refuses the user's folders, files, home and working folder and its own inputs with a message
 // that says why (dataset/output_folder.h); every command that writes a single file (make-rig
 // --rig-out and --frames-out, evaluate --json, generate-scene) replaces one only with --force and
@@ -61,7 +61,8 @@ class OutputFolderCli : public testing::Test {
             {"make-rig", "ring", "--cameras", "2", "--out", o, "--force"},
             {"calibrate", Dataset().string(), "--semantics", "none", "--out", o, "--force"},
             {"export", Dataset().string(), "--format", "kalibr", "--out", o, "--force"},
-            {"demo", "--spp", "1", "--frames", "1", "--out", o, "--force"}};
+            {"demo", "--spp", "1", "--frames", "1", "--out", o, "--force"},
+            {"report", Dataset().string(), "--semantics", "none", "--out", o, "--force"}};
   }
 
   // `args` exits 1 with an error about `folder` (as the command line names it) that says `part`.
@@ -161,6 +162,8 @@ TEST_F(OutputFolderCli, ForceNeverReplacesAnInputOfTheSameCommand) {
                 (data / "images").string(), "an input of this command (the dataset's images/)");
   ExpectRefused({"export", data.string(), "--format", "kalibr", "--out", data.string(), "--force"}, data.string(),
                 "an input of this command");
+  ExpectRefused({"report", data.string(), "--semantics", "none", "--out", data.string(), "--force"}, data.string(),
+                "an input of this command (the dataset's rig.json)");
   EXPECT_TRUE(fs::exists(rig_copy / "rig.json"));
   EXPECT_TRUE(fs::exists(DatasetLayout(data).Image("cam1", "000000")));
 }

@@ -176,10 +176,6 @@ void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& s) {
   }
 }
 
-namespace {
-
-// The output folder and what calibrate reads: it must not replace the photos, labels or rig
-// it calibrates. Its default, DATASET/calibration, lies beside them.
 OutputFolderRequest CalibrationOutputFolder(const std::filesystem::path& dataset, const CalibrateSettings& settings,
                                             const std::filesystem::path& out_dir, bool force) {
   const DatasetLayout layout(dataset);
@@ -197,6 +193,8 @@ OutputFolderRequest CalibrationOutputFolder(const std::filesystem::path& dataset
   if (!settings.segmenter.model.empty()) out.inputs.push_back({settings.segmenter.model, "--segmenter"});
   return out;
 }
+
+namespace {
 
 // --known-distance names cameras of the rig, or says which it has.
 // --estimate-time-offsets and --rolling-shutter need frames at distinct times of a moving rig, and
