@@ -328,6 +328,24 @@ TEST_F(RigsimCli, ExportNamesEachCamerasPhotosAndLeavesOutCamerasWithoutAPose) {
   EXPECT_NE(ReadFile(dir_ / "estimate" / "camchain.yaml").find("cam0"), std::string::npos);
 }
 
+// The colmap and nerfstudio exports name every photo: a missing one stops the export, naming it,
+// and nothing is written; the formats that name no photo still export.
+TEST_F(RigsimCli, ExportRefusesToNameAMissingPhoto) {
+  const fs::path dataset = CopyDataset();
+  fs::remove(DatasetLayout(dataset).Image("cam1", "000000"));
+  const fs::path out = dir_ / "export";
+  const CliResult r = Run({"export", dataset.string(), "--format", "colmap,nerfstudio", "--out", out.string()});
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("error: " + (dataset / "images").string() +
+                       ": 1 of the 2 photos the colmap and nerfstudio exports name are missing (cam1/000000.*); "),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_TRUE(StagingFolders(out).empty());
+  const CliResult kalibr = Run({"export", dataset.string(), "--format", "kalibr", "--out", out.string()});
+  EXPECT_EQ(kalibr.code, 0) << kalibr.err;
+}
+
 TEST_F(RigsimCli, CalibrateImageOfTheWrongSize) {
   const fs::path dataset = CopyDataset();
   const fs::path image = DatasetLayout(dataset).Image("cam1", "000000");

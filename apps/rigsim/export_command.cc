@@ -1,4 +1,5 @@
 // rigsim export DATASET --format kalibr|opencv|colmap|nerfstudio|all --out DIR [--rig RIG.json]
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <set>
@@ -18,6 +19,31 @@
 #include "pipeline/calibration_run.h"
 
 namespace rigsim::cli {
+
+namespace {
+
+// The colmap and nerfstudio exports name every camera's photo of every frame: a photo that is not
+// there would be a reference to nothing, found only when another tool reads the export.
+// `which` says which exports name them: "the colmap export names".
+void RequirePhotos(const DatasetLayout& layout, const Rig& rig, const FramesFile& frames, const std::string& which) {
+  std::vector<std::string> missing;
+  for (const Frame& f : frames.frames) {
+    for (const RigCamera& c : rig.cameras) {
+      if (!layout.FindImage(c.name, f.name)) missing.push_back(c.name + "/" + f.name + ".*");
+    }
+  }
+  if (missing.empty()) return;
+  std::string list;
+  const size_t shown = std::min<size_t>(missing.size(), 3);
+  for (size_t i = 0; i < shown; ++i) list += (i > 0 ? ", " : "") + missing[i];
+  if (missing.size() > shown) list += " and " + std::to_string(missing.size() - shown) + " more";
+  throw std::runtime_error((layout.root() / "images").string() + ": " + std::to_string(missing.size()) + " of the " +
+                           std::to_string(rig.cameras.size() * frames.frames.size()) + " photos " + which +
+                           " are missing (" + list + "); render or copy them there, or export only " +
+                           "--format kalibr,opencv, which name no photo");
+}
+
+}  // namespace
 
 void AddExportCommand(CLI::App& app) {
   struct Args {
@@ -71,6 +97,9 @@ void AddExportCommand(CLI::App& app) {
       }
       frames = ReadFrames(layout.FramesJson());
       RequirePoses(rig, rig_json, frames, layout.FramesJson(), "the colmap and nerfstudio exports");
+      const bool both = formats.count("colmap") && formats.count("nerfstudio");
+      RequirePhotos(layout, rig, frames,
+                    both ? "the colmap and nerfstudio exports name" : formats.count("colmap") ? "the colmap export names" : "the nerfstudio export names");
     }
     // Images are named as the dataset has them, whatever their extension.
     const ImageNameFn image_name = [&layout](const std::string& cam, const std::string& frame) {
