@@ -346,6 +346,24 @@ TEST_F(RigsimCli, ExportRefusesToNameAMissingPhoto) {
   EXPECT_EQ(kalibr.code, 0) << kalibr.err;
 }
 
+// A camera that captures between frames needs the rig's path between them, so frames at one time
+// are refused naming the frames file and the frames: render's --frames before the scene is loaded,
+// a dataset's frames.json before calibrate's run.
+TEST_F(RigsimCli, FramesSharingATimestampAreNamedWithTheirFile) {
+  Rig rig = ReadRig(base() / "rig.json");
+  rig.cameras[1].time_offset_s = 0.01;
+  WriteRig(rig, dir_ / "rig.json");
+  FramesFile frames = MakeStraightTrajectory(Eigen::Vector3d(0, 1.6, 0), 0.0, 3, 0.5);
+  frames.frames[2].timestamp_s = frames.frames[0].timestamp_s;
+  WriteFrames(frames, dir_ / "frames.json");
+  const std::string share = "frames '" + frames.frames[0].name + "' and '" + frames.frames[2].name + "' share timestamp_s";
+  ExpectRenderFails(base() / "scene.glb", dir_ / "rig.json", dir_ / "frames.json", (dir_ / "frames.json").string(), share);
+  const fs::path dataset = CopyDataset();
+  WriteRig(rig, dataset / "rig.json");
+  WriteFrames(frames, dataset / "frames.json");
+  ExpectCalibrateFails(dataset, "none", dataset / "frames.json", share);
+}
+
 TEST_F(RigsimCli, CalibrateImageOfTheWrongSize) {
   const fs::path dataset = CopyDataset();
   const fs::path image = DatasetLayout(dataset).Image("cam1", "000000");

@@ -11,6 +11,8 @@
 #include "apps/rigsim/render_support.h"
 #include "apps/rigsim/shard_options.h"
 #include "apps/rigsim/version.h"
+#include "calibrator/format.h"
+#include "dataset/capture_poses.h"
 #include "dataset/output_folder.h"
 #include "geometry/camera_validation.h"
 #include "geometry/rig.h"
@@ -84,6 +86,7 @@ void AddRenderCommand(CLI::App& app) {
     for (const std::string& w : CheckRigCoversImages(job.rig, args->rig)) std::fprintf(stderr, "warning: %s\n", w.c_str());
     job.frames = ReadFrames(args->frames);
     RequirePoses(job.rig, args->rig, job.frames, args->frames, "render");
+    CapturePoses(job.rig.cameras, job.frames, args->frames);  // a timed camera needs distinct timestamps
     const Scene scene = LoadSceneVerbose(args->scene, args->rules);
     if (scene.NumTriangles() == 0) {
       std::fprintf(stderr, "warning: %s: the scene holds no triangles: every view will be empty sky\n", args->scene.c_str());
