@@ -364,6 +364,17 @@ TEST_F(RigsimCli, FramesSharingATimestampAreNamedWithTheirFile) {
   ExpectCalibrateFails(dataset, "none", dataset / "frames.json", share);
 }
 
+TEST_F(RigsimCli, AMistypedSemanticModeIsNamedWithTheModeMeant) {
+  const fs::path out = dir_ / "calibration";
+  const CliResult r = Run({"calibrate", (base() / "dataset").string(), "--semantics", "none,nonee", "--out", out.string()});
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("error: --semantics: unknown semantic mode 'nonee' (did you mean 'none'?); the modes are none, mask, "
+                       "gated, mask+gated"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
 TEST_F(RigsimCli, CalibrateImageOfTheWrongSize) {
   const fs::path dataset = CopyDataset();
   const fs::path image = DatasetLayout(dataset).Image("cam1", "000000");

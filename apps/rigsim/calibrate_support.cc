@@ -103,7 +103,13 @@ CalibrationRunOptions CalibrateSettings::ToOptions() const {
 
 std::vector<SemanticMode> CalibrateSettings::Modes() const {
   std::vector<SemanticMode> modes;
-  for (const std::string& s : semantics) modes.push_back(SemanticModeFromName(s));
+  for (const std::string& s : semantics) {
+    try {
+      modes.push_back(SemanticModeFromName(s));
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("--semantics: ") + e.what());
+    }
+  }
   if (modes.empty()) throw std::invalid_argument("--semantics: give at least one mode");
   return modes;
 }
