@@ -375,6 +375,31 @@ TEST_F(RigsimCli, AMistypedSemanticModeIsNamedWithTheModeMeant) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+// evaluate gives position errors in metres (the truth's, after fitting the scale of an estimate
+// that is not metric, which it says) and a calibration folder's modes in calibrate's order.
+TEST_F(RigsimCli, EvaluateGivesPositionsInMetresAndModesInCalibratesOrder) {
+  const fs::path dataset = base() / "dataset";
+  const fs::path calibration = dir_ / "calibration";  // as calibrate writes it: the modes by name
+  for (const char* mode : {"mask", "none"}) {
+    fs::create_directories(calibration / mode);
+    fs::copy_file(dataset / "rig.json", calibration / mode / "rig.json");
+  }
+  WriteFile(calibration / "evaluation.json", R"({"methods": {"mask": {}, "none": {}}})");
+  const CliResult r = Run({"evaluate", dataset.string(), calibration.string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_NE(r.out.find("\nmask: "), std::string::npos) << r.out;
+  EXPECT_LT(r.out.find("\nnone: "), r.out.find("\nmask: ")) << r.out;
+  EXPECT_LT(r.out.find("none    "), r.out.find("mask    ")) << r.out;
+  EXPECT_NE(r.out.find(" 0.000 m  full pose"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("pos_err: in the truth's metres after fitting the estimate's scale (x1): the estimate is not metric"),
+            std::string::npos)
+      << r.out;
+  const CliResult metric = Run({"evaluate", dataset.string(), (dataset / "rig.json").string(), "--scale", "metric"});
+  ASSERT_EQ(metric.code, 0) << metric.err;
+  EXPECT_NE(metric.out.find(" 0.000 m  full pose"), std::string::npos) << metric.out;
+  EXPECT_EQ(metric.out.find("after fitting"), std::string::npos) << metric.out;
+}
+
 TEST_F(RigsimCli, CalibrateImageOfTheWrongSize) {
   const fs::path dataset = CopyDataset();
   const fs::path image = DatasetLayout(dataset).Image("cam1", "000000");

@@ -1,9 +1,12 @@
 // rigsim evaluate DATASET ESTIMATE: scores a rig estimate of any tool against the dataset's truth.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <string>
 
 #include "apps/rigsim/commands.h"
+#include "calibrator/semantics.h"
+#include "common/param_spec.h"
 #include "dataset/dataset.h"
 #include "dataset/output_file.h"
 #include "evaluation/rig_estimate.h"
@@ -43,6 +46,15 @@ std::string DetailsLine(const RigEstimate& e) {
                 seconds(timing, "screen_time_s"), seconds(timing, "match_time_s") + seconds(timing, "temporal_match_time_s"),
                 seconds(timing, "pose_time_s") + seconds(timing, "temporal_pose_time_s"), rig);
   return line;
+}
+
+// A calibration folder's semantic modes in the order calibrate runs and prints them (none, mask,
+// gated, mask+gated); its evaluation.json lists them by name. Other estimates keep their place.
+void InCalibrateOrder(std::vector<RigEstimate>* estimates) {
+  const std::vector<std::string> modes = NamesOf(kAllSemanticModes, SemanticModeName);
+  const auto rank = [&](const RigEstimate& e) { return std::find(modes.begin(), modes.end(), e.method) - modes.begin(); };
+  std::stable_sort(estimates->begin(), estimates->end(),
+                   [&](const RigEstimate& a, const RigEstimate& b) { return rank(a) < rank(b); });
 }
 
 }  // namespace
@@ -98,7 +110,8 @@ void AddEvaluateCommand(CLI::App& app) {
     const EstimateScale scale = args->scale == "metric" ? EstimateScale::kMetric
                                 : args->scale == "fit"  ? EstimateScale::kFit
                                                         : EstimateScale::kAuto;
-    const std::vector<RigEstimate> estimates = ReadRigEstimates(args->estimate, truth, frames, scale);
+    std::vector<RigEstimate> estimates = ReadRigEstimates(args->estimate, truth, frames, scale);
+    InCalibrateOrder(&estimates);
     std::vector<RigScores> scores;
     nlohmann::json methods = nlohmann::json::object();
     for (const RigEstimate& e : estimates) {
