@@ -1,4 +1,4 @@
-// Numbers in the calibrator's messages.
+// Numbers in messages: the calibrator's, the pipeline's and the command line's.
 #pragma once
 
 #include <cstdio>
@@ -11,6 +11,12 @@ inline std::string Fixed(double v, int digits) {
   char text[64];
   std::snprintf(text, sizeof(text), "%.*f", digits, v);
   return text;
+}
+
+// `n` and its noun, singular for one: Count(1, "frame") is "1 frame", Count(4, "frame") "4 frames";
+// `plural` for a noun whose plural is not the singular and "s" ("1 match", "2 matches").
+inline std::string Count(long long n, const std::string& singular, const std::string& plural = "") {
+  return std::to_string(n) + " " + (n == 1 ? singular : plural.empty() ? singular + "s" : plural);
 }
 
 }  // namespace rigsim

@@ -400,6 +400,25 @@ TEST_F(RigsimCli, EvaluateGivesPositionsInMetresAndModesInCalibratesOrder) {
   EXPECT_EQ(metric.out.find("after fitting"), std::string::npos) << metric.out;
 }
 
+// Messages count in words: one frame, one semantic mode, never "1 frames".
+TEST_F(RigsimCli, CountsOfOneAreSingular) {
+  const CliResult rig = Run({"make-rig", "ring", "--cameras", "2", "--frames", "1", "--out", (dir_ / "rig").string()});
+  EXPECT_EQ(rig.code, 0) << rig.err;
+  EXPECT_NE(rig.out.find("2 cameras) and "), std::string::npos) << rig.out;
+  EXPECT_NE(rig.out.find("(1 frame, "), std::string::npos) << rig.out;
+  const fs::path out = dir_ / "out";
+  const CliResult render = Run(RenderArgs(base() / "scene.glb", base() / "rig.json", base() / "frames.json", out));
+  EXPECT_EQ(render.code, 0) << render.err;
+  EXPECT_NE(render.out.find("rendered 2 views (2 cameras x 1 frame, 1 spp)"), std::string::npos) << render.out;
+  const CliResult calibrate = Run({"calibrate", out.string(), "--semantics", "none", "--threads", "1"});
+  EXPECT_NE(calibrate.err.find("(1 semantic mode)"), std::string::npos) << calibrate.err;
+  EXPECT_NE(calibrate.out.find("(matches of 1 frame pooled)"), std::string::npos) << calibrate.out;
+  for (const std::string& text : {rig.out, render.out, render.err, calibrate.out, calibrate.err}) {
+    EXPECT_EQ(text.find(" 1 frames"), std::string::npos) << text;
+    EXPECT_EQ(text.find(" 1 semantic modes"), std::string::npos) << text;
+  }
+}
+
 TEST_F(RigsimCli, CalibrateImageOfTheWrongSize) {
   const fs::path dataset = CopyDataset();
   const fs::path image = DatasetLayout(dataset).Image("cam1", "000000");

@@ -310,7 +310,7 @@ CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const Ca
     labels = LabelSource::Folder(segmentation / "labels");
     label_text = "network " + settings.segmenter.model + " (classes " + segmenter->classes().name + ")";
   }
-  std::fprintf(stderr, "calibrating %s (%zu semantic modes%s)...\n", dataset.string().c_str(), modes.size(),
+  std::fprintf(stderr, "calibrating %s (%s%s)...\n", dataset.string().c_str(), Count(modes.size(), "semantic mode").c_str(),
                labels_used ? (", labels: " + label_text).c_str() : "");
   CalibrationRun run = CalibrateDataset(inputs, options, modes);
   // The results name the labels where they will be, not in the staging folder.
@@ -321,8 +321,8 @@ CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const Ca
   staged.Commit();
 
   const std::vector<RigCalibrationResult>& results = run.results;
-  std::printf("\nRelative pose of every camera pair (matches of %d frame(s) pooled):\n\n",
-              results.empty() ? 0 : results[0].pairwise.num_frames);
+  std::printf("\nRelative pose of every camera pair (matches of %s pooled):\n\n",
+              Count(results.empty() ? 0 : results[0].pairwise.num_frames, "frame").c_str());
   std::printf("%s\n", FormatPairTable(run).c_str());
   std::printf("%s\n", FormatSummary(run).c_str());
   std::printf("Rig: every camera's pose (gauge: %s is the rig frame; errors after aligning it):\n\n",

@@ -9,6 +9,7 @@
 #include "apps/rigsim/calibrate_support.h"
 #include "apps/rigsim/commands.h"
 #include "apps/rigsim/render_support.h"
+#include "calibrator/format.h"
 #include "dataset/dataset.h"
 #include "dataset/output_folder.h"
 #include "exports/colmap.h"
@@ -134,8 +135,8 @@ void AddExportCommand(CLI::App& app) {
     staged.Commit();
     std::string list;
     for (const std::string& w : written) list += " " + w;
-    std::printf("exported %zu cameras%s to %s:%s\n", rig.cameras.size(),
-                frames.frames.empty() ? "" : (" x " + std::to_string(frames.frames.size()) + " frames").c_str(), args->out.c_str(),
+    std::printf("exported %s%s to %s:%s\n", Count(rig.cameras.size(), "camera").c_str(),
+                frames.frames.empty() ? "" : (" x " + Count(frames.frames.size(), "frame")).c_str(), args->out.c_str(),
                 list.c_str());
     if (formats.count("colmap")) {
       const std::filesystem::path model = std::filesystem::path(args->out) / "colmap";

@@ -249,8 +249,8 @@ void WriteRigAndFrames(const MakeRigArgs& a, const Rig& rig, const FramesFile& f
     WriteRig(rig, rig_path);
     WriteFrames(frames, frames_path);
   }
-  std::printf("wrote %s (%s, %zu cameras) and %s (%zu frames, %s)\n", rig_path.c_str(), what.c_str(),
-              rig.cameras.size(), frames_path.c_str(), frames.frames.size(), path.c_str());
+  std::printf("wrote %s (%s, %s) and %s (%s, %s)\n", rig_path.c_str(), what.c_str(), Count(rig.cameras.size(), "camera").c_str(),
+              frames_path.c_str(), Count(frames.frames.size(), "frame").c_str(), path.c_str());
 }
 
 // The rig, its path and its placement as the options give them.

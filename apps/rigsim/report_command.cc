@@ -9,6 +9,7 @@
 #include "apps/rigsim/report_support.h"
 #include "apps/rigsim/version.h"
 #include "calibrator/features.h"
+#include "calibrator/format.h"
 #include "calibrator/semantics.h"
 #include "common/param_spec.h"
 #include "dataset/dataset.h"
@@ -146,8 +147,8 @@ void AddReportCommand(CLI::App& app) {
     args->report.sweep_dir = args->sweep;
     args->report.tool_version = RIGSIM_VERSION_STRING;
     args->report.command = "rigsim report " + args->dataset + " --out " + args->out;
-    std::fprintf(stderr, "calibrating %s for the report (%zu semantic modes)...\n", dataset.string().c_str(),
-                 modes.size());
+    std::fprintf(stderr, "calibrating %s for the report (%s)...\n", dataset.string().c_str(),
+                 Count(modes.size(), "semantic mode").c_str());
     const CalibrationRun run = CalibrateDataset(inputs, options, modes);
     if (!args->calibration.empty()) {
       const std::vector<std::string> differences = CompareWithSaved(run, args->calibration);
