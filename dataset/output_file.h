@@ -3,8 +3,9 @@
 // allows: an existing file is replaced only with --force, and only when it is of the kind the
 // command writes (a file carries no marker, so its first bytes stand for one). Refused whatever
 // --force says: a folder, something else than a regular file, a file of another kind (the user's
-// photo or notes), an input of the same command, and an existing file inside a folder the command
-// reads. And two outputs of one command are never one path. Implemented beside the folders' rules
+// photo or notes), an input of the same command, an existing file inside a folder the command
+// reads, and a file in a folder that does not exist. And two outputs of one command are never one
+// path. Implemented beside the folders' rules
 // (output_folder.cc), with the same resolution of paths.
 #pragma once
 

@@ -181,6 +181,12 @@ void CheckReplaceableFile(const OutputFileRequest& request) {
   const fs::file_status status = fs::status(file, ec);
   const bool exists = fs::exists(status);
   if (fs::is_directory(status)) fail("is a folder, not a file; choose " + another + " (a file's name)");
+  // Found now rather than when the file is written, after the work and maybe another output.
+  if (!fs::is_directory(file.parent_path(), ec)) {
+    const fs::path given = request.file.parent_path();
+    fail("its folder " + (given.empty() ? file.parent_path() : given).string() + " does not exist; create it, or choose " +
+         another);
+  }
   for (const CommandInput& input : request.inputs) {
     const fs::path in = Resolved(input.path);
     if (in == file) {

@@ -275,6 +275,8 @@ TEST(OutputFile, ForceNeverReplacesAFileOfAnotherKindAFolderOrAnInput) {
   ExpectFileRefused({dir / "thesis.tex", "--rig-out", OutputFileKind::kJson, {}, false}, "is not a JSON file");
   ExpectFileRefused({dir / "photo.png", "--out", OutputFileKind::kGlb, {}, false}, "is not a binary glTF (.glb)");
   ExpectFileRefused({dir, "--json", OutputFileKind::kJson, {}, false}, "is a folder, not a file");
+  ExpectFileRefused({dir / "nowhere" / "scores.json", "--json", OutputFileKind::kJson, {}, false},
+                    "its folder " + (dir / "nowhere").string() + " does not exist");
   Touch(dir / "dataset" / "rig.json", "{}");
   Touch(dir / "calibration" / "none" / "rig.json", "{}");
   ExpectFileRefused({dir / "dataset" / "rig.json", "--json", OutputFileKind::kJson, {{dir / "dataset" / "rig.json", "the dataset's rig.json"}}, false},

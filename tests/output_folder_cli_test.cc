@@ -236,6 +236,17 @@ TEST_F(OutputFolderCli, ForceNeverReplacesAFileTheCommandReads) {
   EXPECT_EQ(ReadFile(estimate / "evaluation.json"), R"({"methods": {"none": {}}})");
 }
 
+// A file whose folder does not exist is refused before the work, so that no other output of
+// the command is written without it.
+TEST_F(OutputFolderCli, AFileInAFolderThatDoesNotExistIsRefusedFirst) {
+  const fs::path rig = dir_ / "rig.json", frames = dir_ / "nowhere" / "frames.json";
+  ExpectFileRefused({"make-rig", "ring", "--cameras", "2", "--rig-out", rig.string(), "--frames-out", frames.string()},
+                    "--frames-out", frames, "its folder " + (dir_ / "nowhere").string() + " does not exist");
+  EXPECT_FALSE(fs::exists(rig));
+  ExpectFileRefused({"generate-scene", "--out", (dir_ / "nowhere" / "s.glb").string()}, "--out", dir_ / "nowhere" / "s.glb",
+                    "does not exist");
+}
+
 TEST_F(OutputFolderCli, TwoOutputsOfOneCommandAreNeverOneFile) {
   const fs::path same = dir_ / "rig.json";
   for (const std::string& second : {same.string(), (dir_ / "." / "rig.json").string()}) {
