@@ -55,7 +55,12 @@ void AddGenerateSceneCommand(CLI::App& app) {
     o.seed = args->seed;
     o.animated = args->animated;
     o.traffic = args->traffic;
-    WriteScenePreset(o, tmp);
+    try {
+      WriteScenePreset(o, tmp);
+    } catch (...) {
+      std::filesystem::remove(tmp);
+      throw;
+    }
     std::error_code ec;
     std::filesystem::rename(tmp, out, ec);
     if (ec) {
