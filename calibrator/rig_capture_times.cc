@@ -84,12 +84,9 @@ void SetCaptureTimes(const RigObservations& obs, const RigCalibrationOptions& op
     result->camera_stats[c].time_offset_stddev_s = v.offset_stddev_s;
     if (!v.unsynchronised || result->camera_status[c].outcome == CameraOutcome::kNotConnected) continue;
     const double ms = 1000.0 * *v.offset_s;
-    // The standard deviation only when it shows at the offset's one decimal: "+- 0.0 ms" says nothing.
-    const double stddev_ms = 1000.0 * *v.offset_stddev_s;
-    const std::string plus_minus = stddev_ms >= 0.05 ? " +- " + Fixed(stddev_ms, 1) : "";
     result->camera_status[c] = {
         CameraOutcome::kUnsynchronised, PositionOutcome::kNotObservable,
-        "it captures " + Fixed(std::abs(ms), 1) + plus_minus + " ms " +
+        "it captures " + Fixed(std::abs(ms), 1) + PlusMinus(1000.0 * *v.offset_stddev_s, 1) + " ms " +
             (ms > 0 ? "after " : "before ") + obs.camera_names[0] +
             " while the rig moves, so a pose taken as synchronised would hold the rig's motion; to calibrate it: "
             "estimate the time offsets, synchronise the cameras, or move slower"};
