@@ -90,8 +90,8 @@ void SetCaptureTimes(const RigObservations& obs, const RigCalibrationOptions& op
     result->camera_stats[c].readout_s = v.readout_s;
     result->camera_stats[c].readout_stddev_s = v.readout_stddev_s;
     if (!v.rolling_shutter) continue;
-    const std::string rows = "read out over " + Fixed(1000.0 * *v.readout_s, 1) + " +- " +
-                             Fixed(1000.0 * *v.readout_stddev_s, 1) + " ms (a rolling shutter) while the rig moves";
+    const std::string rows = "read out over " + Fixed(1000.0 * *v.readout_s, 1) +
+                             PlusMinus(1000.0 * *v.readout_stddev_s, 1) + " ms (a rolling shutter) while the rig moves";
     const std::string fix = "calibrate with --estimate-time-offsets --rolling-shutter, use a global shutter, or move slower";
     if (c == 0) {
       result->warnings.push_back(obs.camera_names[0] + "'s rows are " + rows +
@@ -117,7 +117,7 @@ void SetCaptureTimes(const RigObservations& obs, const RigCalibrationOptions& op
     const double ms = 1000.0 * *v.offset_s;
     result->camera_status[c] = {
         CameraOutcome::kUnsynchronised, PositionOutcome::kNotObservable,
-        "it captures " + Fixed(std::abs(ms), 1) + " +- " + Fixed(1000.0 * *v.offset_stddev_s, 1) + " ms " +
+        "it captures " + Fixed(std::abs(ms), 1) + PlusMinus(1000.0 * *v.offset_stddev_s, 1) + " ms " +
             (ms > 0 ? "after " : "before ") + obs.camera_names[0] +
             " while the rig moves, so a pose taken as synchronised would hold the rig's motion; to calibrate it: "
             "estimate the time offsets (--estimate-time-offsets; with --rolling-shutter where rows are read out "

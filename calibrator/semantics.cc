@@ -4,6 +4,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "common/did_you_mean.h"
 #include "common/param_spec.h"
 
 namespace rigsim {
@@ -22,8 +23,9 @@ SemanticMode SemanticModeFromName(std::string_view name) {
   for (SemanticMode m : kAllSemanticModes) {
     if (SemanticModeName(m) == name) return m;
   }
-  throw std::invalid_argument("unknown semantic mode '" + std::string(name) +
-                              "' (accepted: " + JoinNames(NamesOf(kAllSemanticModes, SemanticModeName)) + ")");
+  const std::vector<std::string> names = NamesOf(kAllSemanticModes, SemanticModeName);
+  throw std::invalid_argument("unknown semantic mode '" + std::string(name) + "'" + DidYouMean(name, names) +
+                              "; the modes are " + JoinNames(names));
 }
 
 ImageU8 ReliableMask(const ImageU8& labels, const LabelIdSet& reliable, int erosion_px) {

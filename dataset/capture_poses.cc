@@ -1,6 +1,8 @@
 #include "dataset/capture_poses.h"
 
 #include <cmath>
+#include <cstdio>
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -10,34 +12,38 @@
 namespace rigsim {
 namespace {
 
-[[noreturn]] void Fail(const std::string& why) { throw std::invalid_argument("trajectory: " + why); }
+std::string Seconds(double t) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.9g", t);
+  return text;
+}
 
 }  // namespace
 
-RigTrajectory::RigTrajectory(const FramesFile& frames) {
+RigTrajectory::RigTrajectory(const FramesFile& frames, const std::string& source) {
+  const auto fail = [&](const std::string& why) { throw std::invalid_argument(source + ": " + why); };
+  std::map<double, std::string> first_at;  // timestamp -> the first frame there
   for (const Frame& f : frames.frames) {
-    if (!f.rig_from_world) Fail("frame '" + f.name + "' has no rig_from_world");
-    if (!std::isfinite(f.timestamp_s)) Fail("frame '" + f.name + "' has a timestamp that is not finite");
-    path_.push_back({f.timestamp_s, *f.rig_from_world});
-  }
-  if (path_.empty()) Fail("no frames");
-  path_ = SortedByTime(std::move(path_));
-  for (size_t k = 1; k < path_.size(); ++k) {
-    if (path_[k].time_s == path_[k - 1].time_s) {
-      Fail("two frames share timestamp_s " + std::to_string(path_[k].time_s) +
+    if (!f.rig_from_world) fail("frame '" + f.name + "' has no rig_from_world");
+    if (!std::isfinite(f.timestamp_s)) fail("frame '" + f.name + "' has a timestamp that is not finite");
+    if (const auto [at, added] = first_at.emplace(f.timestamp_s, f.name); !added) {
+      fail("frames '" + at->second + "' and '" + f.name + "' share timestamp_s " + Seconds(f.timestamp_s) +
            ": the rig's pose between frames (for cameras with a time offset, rolling shutter or exposure) needs "
            "distinct timestamps");
     }
+    path_.push_back({f.timestamp_s, *f.rig_from_world});
   }
+  if (path_.empty()) fail("no frames");
+  path_ = SortedByTime(std::move(path_));
 }
 
 Rigid3d RigTrajectory::RigFromWorldAt(double time_s) const { return RigFromWorldOnPath(path_, time_s); }
 
 bool CapturePoses::IsTimed(const RigCamera& camera) { return camera.time_offset_s != 0 || camera.CaptureSpansTime(); }
 
-CapturePoses::CapturePoses(const std::vector<RigCamera>& cameras, const FramesFile& frames) {
+CapturePoses::CapturePoses(const std::vector<RigCamera>& cameras, const FramesFile& frames, const std::string& source) {
   for (const RigCamera& camera : cameras) {
-    if (IsTimed(camera) && !trajectory_) trajectory_.emplace(frames);
+    if (IsTimed(camera) && !trajectory_) trajectory_.emplace(frames, source);
   }
 }
 

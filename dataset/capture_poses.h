@@ -6,6 +6,7 @@
 #pragma once
 
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "dataset/dataset.h"
@@ -20,10 +21,10 @@ namespace rigsim {
 // (geometry/pose_interpolation.h RigFromWorldOnPath, which the calibrator shares).
 class RigTrajectory {
  public:
-  // Throws std::invalid_argument when a frame has no rig_from_world, a timestamp is not finite,
-  // or two frames share a timestamp (the speed between them would be infinite). Frames may come
-  // in any order of time.
-  explicit RigTrajectory(const FramesFile& frames);
+  // Throws std::invalid_argument, its message starting with `source` (the frames' file), when a
+  // frame has no rig_from_world, a timestamp is not finite, or two frames share a timestamp (the
+  // speed between them would be infinite). Frames may come in any order of time.
+  explicit RigTrajectory(const FramesFile& frames, const std::string& source = "trajectory");
 
   Rigid3d RigFromWorldAt(double time_s) const;
 
@@ -38,7 +39,7 @@ class RigTrajectory {
 class CapturePoses {
  public:
   // Throws std::invalid_argument as RigTrajectory does, when some camera is timed.
-  CapturePoses(const std::vector<RigCamera>& cameras, const FramesFile& frames);
+  CapturePoses(const std::vector<RigCamera>& cameras, const FramesFile& frames, const std::string& source = "trajectory");
 
   // Whether some camera captures away from its frame's timestamp.
   bool timed() const { return trajectory_.has_value(); }

@@ -1,9 +1,12 @@
 #include "dataset/output_folder.h"
+#include "dataset/output_file.h"
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <chrono>
 #include <cstdlib>
+#include <fstream>
 #include <set>
 #include <stdexcept>
 
@@ -144,6 +147,75 @@ void CheckReplaceableOutput(const OutputFolderRequest& request) {
     const std::string given = request.dir.string();
     throw std::runtime_error((request.option.empty() ? given : request.option + " " + given) +
                              ": already exists (use --force to replace it)");
+  }
+}
+
+namespace {
+
+// Whether the existing `file` holds what a command of `kind` writes.
+bool IsOfKind(const fs::path& file, OutputFileKind kind) {
+  std::ifstream in(file, std::ios::binary);
+  if (kind == OutputFileKind::kGlb) {
+    char magic[4] = {};
+    in.read(magic, sizeof magic);
+    return in.gcount() == 4 && std::string(magic, 4) == "glTF";
+  }
+  char c = 0;
+  while (in.get(c)) {
+    if (!std::isspace(static_cast<unsigned char>(c))) return c == '{';
+  }
+  return false;
+}
+
+const char* KindName(OutputFileKind kind) { return kind == OutputFileKind::kGlb ? "a binary glTF (.glb)" : "a JSON file"; }
+
+}  // namespace
+
+void CheckReplaceableFile(const OutputFileRequest& request) {
+  const std::string name = request.option.empty() ? request.file.string() : request.option + " " + request.file.string();
+  const std::string another = request.option.empty() ? "another file" : "another " + request.option;
+  auto fail = [&](const std::string& why) { throw std::runtime_error(name + ": " + why); };
+  if (request.file.empty()) fail("give a file");
+  const fs::path file = Resolved(request.file);
+  std::error_code ec;
+  const fs::file_status status = fs::status(file, ec);
+  const bool exists = fs::exists(status);
+  if (fs::is_directory(status)) fail("is a folder, not a file; choose " + another + " (a file's name)");
+  // Found now rather than when the file is written, after the work and maybe another output.
+  if (!fs::is_directory(file.parent_path(), ec)) {
+    const fs::path given = request.file.parent_path();
+    fail("its folder " + (given.empty() ? file.parent_path() : given).string() + " does not exist; create it, or choose " +
+         another);
+  }
+  for (const CommandInput& input : request.inputs) {
+    const fs::path in = Resolved(input.path);
+    if (in == file) {
+      fail("is " + input.path.string() + ", an input of this command (" + input.what + "); choose " + another);
+    }
+    if (exists && fs::is_directory(in, ec) && IsWithin(file, in)) {
+      fail("lies inside " + input.path.string() + ", an input of this command (" + input.what +
+           "), which it may read; choose " + another);
+    }
+  }
+  if (!exists) return;
+  if (!fs::is_regular_file(status)) fail("exists and is not a regular file; choose " + another);
+  if (!IsOfKind(file, request.kind)) {
+    fail(std::string("exists and is not ") + KindName(request.kind) +
+         ", what this option writes; rigsim replaces only a file of the kind it writes, --force or not; choose " +
+         another);
+  }
+  if (!request.force) fail("already exists (use --force to replace it)");
+}
+
+void CheckDistinctOutputs(const std::vector<std::pair<std::string, fs::path>>& outputs) {
+  for (size_t i = 0; i < outputs.size(); ++i) {
+    for (size_t j = i + 1; j < outputs.size(); ++j) {
+      const auto& [option_a, a] = outputs[i];
+      const auto& [option_b, b] = outputs[j];
+      if (a.empty() || b.empty() || Resolved(a) != Resolved(b)) continue;
+      throw std::runtime_error(option_a + " and " + option_b + " are both " + b.string() +
+                               ": the one would replace the other; give each its own file");
+    }
   }
 }
 

@@ -4,9 +4,12 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <optional>
 
 #include <gtest/gtest.h>
+
+#include "dataset/output_file.h"
 
 namespace rigsim {
 namespace {
@@ -21,7 +24,12 @@ fs::path FreshDir(const std::string& name) {
 
 void Touch(const fs::path& p, const std::string& text = "x") {
   fs::create_directories(p.parent_path());
-  std::ofstream(p) << text;
+  std::ofstream(p, std::ios::binary) << text;
+}
+
+std::string ReadText(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
 OutputFolderRequest Request(const fs::path& dir, bool force = false) {
@@ -222,6 +230,74 @@ TEST(OutputFolder, AMessageNamesTheDefaultFolderWithoutAnOption) {
     const std::string what = e.what();
     EXPECT_EQ(what.rfind((dir / "calibration").string() + ": exists and holds files", 0), 0u) << what;
     EXPECT_NE(what.find("choose another folder with --out"), std::string::npos) << what;
+  }
+  fs::remove_all(dir);
+}
+
+// `request` is refused with a message that starts with "OPTION FILE: " and says `part`, with or
+// without --force.
+void ExpectFileRefused(OutputFileRequest request, const std::string& part) {
+  for (const bool force : {false, true}) {
+    request.force = force;
+    try {
+      CheckReplaceableFile(request);
+      ADD_FAILURE() << request.file << " was not refused (force " << force << ")";
+    } catch (const std::runtime_error& e) {
+      const std::string what = e.what();
+      EXPECT_EQ(what.rfind(request.option + " " + request.file.string() + ": ", 0), 0u) << what;
+      EXPECT_NE(what.find(part), std::string::npos) << "does not say '" << part << "': " << what;
+    }
+  }
+}
+
+TEST(OutputFile, ANewFileIsWrittenAndAnExistingOneOfItsKindOnlyWithForce) {
+  const fs::path dir = FreshDir("file_force");
+  OutputFileRequest r{dir / "rig.json", "--rig-out", OutputFileKind::kJson, {}, false};
+  EXPECT_NO_THROW(CheckReplaceableFile(r));
+  Touch(dir / "rig.json", " \n{\"cameras\": []}");
+  try {
+    CheckReplaceableFile(r);
+    ADD_FAILURE() << "not refused without --force";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "--rig-out " + (dir / "rig.json").string() + ": already exists (use --force to replace it)");
+  }
+  r.force = true;
+  EXPECT_NO_THROW(CheckReplaceableFile(r));
+  Touch(dir / "street.glb", std::string("glTF\x02\0\0\0", 8));
+  EXPECT_NO_THROW(CheckReplaceableFile({dir / "street.glb", "--out", OutputFileKind::kGlb, {}, true}));
+  fs::remove_all(dir);
+}
+
+TEST(OutputFile, ForceNeverReplacesAFileOfAnotherKindAFolderOrAnInput) {
+  const fs::path dir = FreshDir("file_refused");
+  Touch(dir / "thesis.tex", "\\chapter{1}");
+  Touch(dir / "photo.png", "\x89PNG");
+  ExpectFileRefused({dir / "thesis.tex", "--rig-out", OutputFileKind::kJson, {}, false}, "is not a JSON file");
+  ExpectFileRefused({dir / "photo.png", "--out", OutputFileKind::kGlb, {}, false}, "is not a binary glTF (.glb)");
+  ExpectFileRefused({dir, "--json", OutputFileKind::kJson, {}, false}, "is a folder, not a file");
+  ExpectFileRefused({dir / "nowhere" / "scores.json", "--json", OutputFileKind::kJson, {}, false},
+                    "its folder " + (dir / "nowhere").string() + " does not exist");
+  Touch(dir / "dataset" / "rig.json", "{}");
+  Touch(dir / "calibration" / "none" / "rig.json", "{}");
+  ExpectFileRefused({dir / "dataset" / "rig.json", "--json", OutputFileKind::kJson, {{dir / "dataset" / "rig.json", "the dataset's rig.json"}}, false},
+                    "is " + (dir / "dataset" / "rig.json").string() + ", an input of this command (the dataset's rig.json)");
+  ExpectFileRefused({dir / "calibration" / "none" / "rig.json", "--json", OutputFileKind::kJson, {{dir / "calibration", "ESTIMATE"}}, false},
+                    "lies inside " + (dir / "calibration").string() + ", an input of this command (ESTIMATE)");
+  // A new file beside the inputs is fine.
+  EXPECT_NO_THROW(CheckReplaceableFile({dir / "calibration" / "scores.json", "--json", OutputFileKind::kJson, {{dir / "calibration", "ESTIMATE"}}, false}));
+  EXPECT_EQ(ReadText(dir / "thesis.tex"), "\\chapter{1}");
+  fs::remove_all(dir);
+}
+
+TEST(OutputFile, TwoOutputsOfOneCommandAtOnePlaceAreRefusedNamingBoth) {
+  const fs::path dir = FreshDir("distinct");
+  EXPECT_NO_THROW(CheckDistinctOutputs({{"--rig-out", dir / "rig.json"}, {"--frames-out", dir / "frames.json"}, {"--out", ""}}));
+  try {
+    CheckDistinctOutputs({{"--rig-out", dir / "x.json"}, {"--frames-out", dir / "." / "x.json"}});
+    ADD_FAILURE() << "not refused";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("--rig-out and --frames-out are both " + (dir / "." / "x.json").string() + ": ", 0), 0u)
+        << e.what();
   }
   fs::remove_all(dir);
 }

@@ -95,7 +95,8 @@ std::vector<RigEstimate> FromCalibrationFolder(const fs::path& dir, const Rig& t
   if (!evaluation.contains("methods") || !evaluation["methods"].is_object()) {
     throw std::runtime_error(evaluation_path.string() + ": not a calibration's evaluation.json (no \"methods\")");
   }
-  // The modes in the order calibrate ran them (a plain JSON object would sort them).
+  // The modes in the file's order (calibrate writes them by name; `rigsim evaluate` puts them in
+  // calibrate's order).
   const nlohmann::ordered_json in_order = nlohmann::ordered_json::parse(json_io::ReadText(evaluation_path));
   std::vector<std::string> modes;
   for (const auto& [mode, unused] : in_order["methods"].items()) modes.push_back(mode);

@@ -275,7 +275,8 @@ std::string FormatRigScores(const std::vector<RigScores>& all) {
   for (size_t c = 0; c < all[0].cameras.size(); ++c) {
     for (size_t m = 0; m < all.size(); ++m) {
       const CameraScore& cs = all[m].cameras[c];
-      const std::string pos = cs.position_error_m ? Deg(cs.position_error_m, all[m].metric ? "%.3f m" : "%.3f") : "-";
+      // In the truth's metres, whether the estimate is metric or its scale was fitted (said below).
+      const std::string pos = Deg(cs.position_error_m, "%.3f m");
       const char* pose = c == 0        ? (cs.posed ? "reference" : "missing")
                          : cs.if_synchronised ? "full pose if synchronised"
                          : cs.posed     ? "full pose"
@@ -309,6 +310,10 @@ std::string FormatRigScores(const std::vector<RigScores>& all) {
     if (s.cameras_open_axis > 0) {
       out += "  " + std::to_string(s.cameras_open_axis) + " camera(s) placed but for one axis (no full pose), worst " +
              "direction across the axis " + Deg(s.max_across_axis_direction_error_deg) + "\n";
+    }
+    if (!s.metric && s.max_position_error_m) {
+      out += "  pos_err: in the truth's metres after fitting the estimate's scale (x" + Deg(s.scale, "%.4g") +
+             "): the estimate is not metric (--scale metric takes it as metres)\n";
     }
     for (const std::string& note : s.notes) out += "  note: " + note + "\n";
   }

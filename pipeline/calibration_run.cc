@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include "calibrator/parallel_scope.h"
+#include "dataset/capture_poses.h"
 #include "dataset/image_io.h"
 #include "geometry/camera_validation.h"
 #include "geometry/json_io.h"
@@ -111,6 +112,9 @@ CalibrationInputs ReadCalibrationInputs(const std::filesystem::path& dataset_dir
   }
   if (in.rig.HasAllPoses()) in.truth = in.rig;
   if (!in.rig.cameras.empty()) in.frames = layout.ReadFramesOrScan(in.rig.cameras[0].name);
+  // The truth of a camera that captures between frames needs the rig's path: checked before the
+  // run, naming the file, rather than when the estimate is scored.
+  if (in.truth && std::filesystem::exists(layout.FramesJson())) CapturePoses(in.rig.cameras, in.frames, layout.FramesJson().string());
   return in;
 }
 

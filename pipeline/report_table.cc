@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "calibrator/format.h"
 #include "pipeline/calibration_json.h"
 
 namespace rigsim {
@@ -268,9 +269,9 @@ std::string FormatIntrinsicsTable(const CalibrationRun& run) {
       }
       auto stddev = [&](size_t i) { return i < in->stddev.size() ? in->stddev[i] : std::nan(""); };
       auto focal = [&](size_t i) {
-        return Fmt("%+.3f", 100.0 * (in->refined[i] / in->given[i] - 1.0)) + Fmt(" +-%.3f%%", 100.0 * stddev(i) / in->given[i]);
+        return Fmt("%+.3f", 100.0 * (in->refined[i] / in->given[i] - 1.0)) + PlusMinus(100.0 * stddev(i) / in->given[i], 3) + "%";
       };
-      auto pp = [&](size_t i) { return Fmt("%+.2f", in->refined[i] - in->given[i]) + Fmt(" +-%.2f px", stddev(i)); };
+      auto pp = [&](size_t i) { return Fmt("%+.2f", in->refined[i] - in->given[i]) + PlusMinus(stddev(i), 2) + " px"; };
       std::snprintf(line, sizeof(line), "%-10s %-10s %18s %18s %16s %16s %10s %10s\n", name, r.semantic_mode.c_str(),
                     focal(0).c_str(), focal(1).c_str(), pp(2).c_str(), pp(3).c_str(),
                     errors ? Fmt("%.3f%%", errors->focal_error_percent).c_str() : "-",

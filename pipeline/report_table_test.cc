@@ -175,5 +175,24 @@ TEST(FormatTimeTable, OffsetsAndReadoutsWithTheirStandardDeviations) {
   EXPECT_NE(cam1.find("estimated in the bundle adjustment"), std::string::npos) << estimated;
 }
 
+// A standard deviation is printed only where it says something: not when unknown ("+-nan") or
+// when it rounds to zero at the change's precision ("+- 0.000%").
+TEST(FormatIntrinsicsTable, GivesAStandardDeviationOnlyWhereItSaysSomething) {
+  RigCalibrationResult r;
+  r.semantic_mode = "none";
+  r.rig.cameras = {{"cam0", Camera(CameraModelId::kPinhole, 64, 48, {50, 50, 32, 24}), Rigid3d(), 0.0},
+                   {"cam1", Camera(CameraModelId::kPinhole, 64, 48, {50, 50, 32, 24}), Rigid3d(), 0.0}};
+  r.camera_stats.assign(2, {});
+  r.camera_stats[0].intrinsics = RefinedIntrinsics{{50, 50, 32, 24}, {50.5, 50.5, 32.25, 24}, {}};
+  r.camera_stats[1].intrinsics = RefinedIntrinsics{{50, 50, 32, 24}, {50.5, 50.5, 32.25, 24}, {0.25, 1e-5, 0.5, 0.001}};
+  const std::string table = FormatIntrinsicsTable(RunOf({r}));
+  EXPECT_EQ(table.find("nan"), std::string::npos) << table;
+  EXPECT_NE(table.find("+1.000%"), std::string::npos) << table;         // cam0: no standard deviation known
+  EXPECT_NE(table.find("+1.000 +- 0.500%"), std::string::npos) << table;  // cam1's fx: 0.25 of 50
+  EXPECT_EQ(table.find("+- 0.000"), std::string::npos) << table;         // cam1's fy: 1e-5 of 50
+  EXPECT_NE(table.find("+0.25 +- 0.50 px"), std::string::npos) << table;
+  EXPECT_EQ(table.find("+- 0.00 px"), std::string::npos) << table;       // cam1's cy: 0.001 px
+}
+
 }  // namespace
 }  // namespace rigsim

@@ -116,6 +116,16 @@ void PrepareSweepFolder(const SweepConfig& config, const SweepRunOptions& option
                                 std::to_string(options.num_shards) + " does not exist");
   }
   CheckSweepFolder(out);
+  // Another config's results are replaced only with --force, as any output is; the same config
+  // resumes.
+  if (!options.restart && fs::exists(out / "sweep.json")) {
+    const SweepFolder earlier = ReadSweepFolder(out);
+    if (earlier.sweep_hash != SweepHash(config)) {
+      throw std::runtime_error("--out " + out.string() + ": holds the results of another sweep (" + earlier.config.name +
+                               ", another config: its sweep.json); --force starts over there (removing only what a "
+                               "sweep writes), or choose another --out");
+    }
+  }
   if (options.restart) RemoveSweepOutputs(out);
   fs::create_directories(out / "cells");
   WriteOutputMarker(out, kWrittenBy, SweepEntries());

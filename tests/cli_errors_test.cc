@@ -328,6 +328,97 @@ TEST_F(RigsimCli, ExportNamesEachCamerasPhotosAndLeavesOutCamerasWithoutAPose) {
   EXPECT_NE(ReadFile(dir_ / "estimate" / "camchain.yaml").find("cam0"), std::string::npos);
 }
 
+// The colmap and nerfstudio exports name every photo: a missing one stops the export, naming it,
+// and nothing is written; the formats that name no photo still export.
+TEST_F(RigsimCli, ExportRefusesToNameAMissingPhoto) {
+  const fs::path dataset = CopyDataset();
+  fs::remove(DatasetLayout(dataset).Image("cam1", "000000"));
+  const fs::path out = dir_ / "export";
+  const CliResult r = Run({"export", dataset.string(), "--format", "colmap,nerfstudio", "--out", out.string()});
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("error: " + (dataset / "images").string() +
+                       ": 1 of the 2 photos the colmap and nerfstudio exports name are missing (cam1/000000.*); "),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_TRUE(StagingFolders(out).empty());
+  const CliResult kalibr = Run({"export", dataset.string(), "--format", "kalibr", "--out", out.string()});
+  EXPECT_EQ(kalibr.code, 0) << kalibr.err;
+}
+
+// A camera that captures between frames needs the rig's path between them, so frames at one time
+// are refused naming the frames file and the frames: render's --frames before the scene is loaded,
+// a dataset's frames.json before calibrate's run.
+TEST_F(RigsimCli, FramesSharingATimestampAreNamedWithTheirFile) {
+  Rig rig = ReadRig(base() / "rig.json");
+  rig.cameras[1].time_offset_s = 0.01;
+  WriteRig(rig, dir_ / "rig.json");
+  FramesFile frames = MakeStraightTrajectory(Eigen::Vector3d(0, 1.6, 0), 0.0, 3, 0.5);
+  frames.frames[2].timestamp_s = frames.frames[0].timestamp_s;
+  WriteFrames(frames, dir_ / "frames.json");
+  const std::string share = "frames '" + frames.frames[0].name + "' and '" + frames.frames[2].name + "' share timestamp_s";
+  ExpectRenderFails(base() / "scene.glb", dir_ / "rig.json", dir_ / "frames.json", (dir_ / "frames.json").string(), share);
+  const fs::path dataset = CopyDataset();
+  WriteRig(rig, dataset / "rig.json");
+  WriteFrames(frames, dataset / "frames.json");
+  ExpectCalibrateFails(dataset, "none", dataset / "frames.json", share);
+}
+
+TEST_F(RigsimCli, AMistypedSemanticModeIsNamedWithTheModeMeant) {
+  const fs::path out = dir_ / "calibration";
+  const CliResult r = Run({"calibrate", (base() / "dataset").string(), "--semantics", "none,nonee", "--out", out.string()});
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("error: --semantics: unknown semantic mode 'nonee' (did you mean 'none'?); the modes are none, mask, "
+                       "gated, mask+gated"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+// evaluate gives position errors in metres (the truth's, after fitting the scale of an estimate
+// that is not metric, which it says) and a calibration folder's modes in calibrate's order.
+TEST_F(RigsimCli, EvaluateGivesPositionsInMetresAndModesInCalibratesOrder) {
+  const fs::path dataset = base() / "dataset";
+  const fs::path calibration = dir_ / "calibration";  // as calibrate writes it: the modes by name
+  for (const char* mode : {"mask", "none"}) {
+    fs::create_directories(calibration / mode);
+    fs::copy_file(dataset / "rig.json", calibration / mode / "rig.json");
+  }
+  WriteFile(calibration / "evaluation.json", R"({"methods": {"mask": {}, "none": {}}})");
+  const CliResult r = Run({"evaluate", dataset.string(), calibration.string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_NE(r.out.find("\nmask: "), std::string::npos) << r.out;
+  EXPECT_LT(r.out.find("\nnone: "), r.out.find("\nmask: ")) << r.out;
+  EXPECT_LT(r.out.find("none    "), r.out.find("mask    ")) << r.out;
+  EXPECT_NE(r.out.find(" 0.000 m  full pose"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("pos_err: in the truth's metres after fitting the estimate's scale (x1): the estimate is not metric"),
+            std::string::npos)
+      << r.out;
+  const CliResult metric = Run({"evaluate", dataset.string(), (dataset / "rig.json").string(), "--scale", "metric"});
+  ASSERT_EQ(metric.code, 0) << metric.err;
+  EXPECT_NE(metric.out.find(" 0.000 m  full pose"), std::string::npos) << metric.out;
+  EXPECT_EQ(metric.out.find("after fitting"), std::string::npos) << metric.out;
+}
+
+// Messages count in words: one frame, one semantic mode, never "1 frames".
+TEST_F(RigsimCli, CountsOfOneAreSingular) {
+  const CliResult rig = Run({"make-rig", "ring", "--cameras", "2", "--frames", "1", "--out", (dir_ / "rig").string()});
+  EXPECT_EQ(rig.code, 0) << rig.err;
+  EXPECT_NE(rig.out.find("2 cameras) and "), std::string::npos) << rig.out;
+  EXPECT_NE(rig.out.find("(1 frame, "), std::string::npos) << rig.out;
+  const fs::path out = dir_ / "out";
+  const CliResult render = Run(RenderArgs(base() / "scene.glb", base() / "rig.json", base() / "frames.json", out));
+  EXPECT_EQ(render.code, 0) << render.err;
+  EXPECT_NE(render.out.find("rendered 2 views (2 cameras x 1 frame, 1 spp)"), std::string::npos) << render.out;
+  const CliResult calibrate = Run({"calibrate", out.string(), "--semantics", "none", "--threads", "1"});
+  EXPECT_NE(calibrate.err.find("(1 semantic mode)"), std::string::npos) << calibrate.err;
+  EXPECT_NE(calibrate.out.find("(matches of 1 frame pooled)"), std::string::npos) << calibrate.out;
+  for (const std::string& text : {rig.out, render.out, render.err, calibrate.out, calibrate.err}) {
+    EXPECT_EQ(text.find(" 1 frames"), std::string::npos) << text;
+    EXPECT_EQ(text.find(" 1 semantic modes"), std::string::npos) << text;
+  }
+}
+
 TEST_F(RigsimCli, CalibrateImageOfTheWrongSize) {
   const fs::path dataset = CopyDataset();
   const fs::path image = DatasetLayout(dataset).Image("cam1", "000000");

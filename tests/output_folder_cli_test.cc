@@ -1,7 +1,10 @@
 // `--force` through the built binary: every command that writes an output folder (render,
-// make-rig --out, calibrate, export, demo, sweep) replaces only a folder rigsim wrote, and refuses
-// the user's folders, files, home and working folder and its own inputs with a message that says
-// why (dataset/output_folder.h). Each refusal leaves what was there untouched.
+// make-rig --out, calibrate, export, demo, sweep, report) replaces only a folder rigsim wrote, and
+// refuses the user's folders, files, home and working folder and its own inputs with a message
+// that says why (dataset/output_folder.h); every command that writes a single file (make-rig
+// --rig-out and --frames-out, evaluate --json, generate-scene) replaces one only with --force and
+// only when it is of its own kind, never an input, and never writes two outputs to one path
+// (dataset/output_file.h). Each refusal leaves what was there untouched.
 #include <unistd.h>
 
 #include <cstdlib>
@@ -58,7 +61,8 @@ class OutputFolderCli : public testing::Test {
             {"make-rig", "ring", "--cameras", "2", "--out", o, "--force"},
             {"calibrate", Dataset().string(), "--semantics", "none", "--out", o, "--force"},
             {"export", Dataset().string(), "--format", "kalibr", "--out", o, "--force"},
-            {"demo", "--spp", "1", "--frames", "1", "--out", o, "--force"}};
+            {"demo", "--spp", "1", "--frames", "1", "--out", o, "--force"},
+            {"report", Dataset().string(), "--semantics", "none", "--out", o, "--force"}};
   }
 
   // `args` exits 1 with an error about `folder` (as the command line names it) that says `part`.
@@ -66,6 +70,15 @@ class OutputFolderCli : public testing::Test {
     const CliResult r = RunRigsim(args, dir_ / ("run" + std::to_string(runs_++)));
     EXPECT_EQ(r.code, 1) << args[0] << ": " << r.err;
     EXPECT_NE(r.err.find("error: --out " + folder + ": "), std::string::npos) << args[0] << ": " << r.err;
+    EXPECT_NE(r.err.find(part), std::string::npos) << args[0] << " does not say '" << part << "': " << r.err;
+  }
+
+  // `args` exits 1 with an error about the file `option` `file` that says `part`.
+  void ExpectFileRefused(const std::vector<std::string>& args, const std::string& option, const fs::path& file,
+                         const std::string& part) {
+    const CliResult r = RunRigsim(args, dir_ / ("run" + std::to_string(runs_++)));
+    EXPECT_EQ(r.code, 1) << args[0] << ": " << r.err;
+    EXPECT_NE(r.err.find("error: " + option + " " + file.string() + ": "), std::string::npos) << args[0] << ": " << r.err;
     EXPECT_NE(r.err.find(part), std::string::npos) << args[0] << " does not say '" << part << "': " << r.err;
   }
 
@@ -149,8 +162,100 @@ TEST_F(OutputFolderCli, ForceNeverReplacesAnInputOfTheSameCommand) {
                 (data / "images").string(), "an input of this command (the dataset's images/)");
   ExpectRefused({"export", data.string(), "--format", "kalibr", "--out", data.string(), "--force"}, data.string(),
                 "an input of this command");
+  ExpectRefused({"report", data.string(), "--semantics", "none", "--out", data.string(), "--force"}, data.string(),
+                "an input of this command (the dataset's rig.json)");
   EXPECT_TRUE(fs::exists(rig_copy / "rig.json"));
   EXPECT_TRUE(fs::exists(DatasetLayout(data).Image("cam1", "000000")));
+}
+
+TEST_F(OutputFolderCli, ForceNeverReplacesAFileOfAnotherKind) {
+  const fs::path photo = dir_ / "photo.png", notes = dir_ / "thesis.tex";
+  WriteFile(photo, "\x89PNG\r\n");
+  WriteFile(notes, "\\chapter{1}");
+  const fs::path rig = dir_ / "rig.json", frames = dir_ / "frames.json";
+  for (const bool force : {false, true}) {
+    const std::vector<std::string> forced = force ? std::vector<std::string>{"--force"} : std::vector<std::string>{};
+    auto with = [&](std::vector<std::string> args) {
+      args.insert(args.end(), forced.begin(), forced.end());
+      return args;
+    };
+    ExpectFileRefused(with({"make-rig", "ring", "--cameras", "2", "--rig-out", photo.string(), "--frames-out", frames.string()}),
+                      "--rig-out", photo, "exists and is not a JSON file, what this option writes");
+    ExpectFileRefused(with({"make-rig", "ring", "--cameras", "2", "--rig-out", rig.string(), "--frames-out", notes.string()}),
+                      "--frames-out", notes, "exists and is not a JSON file");
+    ExpectFileRefused(with({"evaluate", Dataset().string(), Rig().string(), "--json", notes.string()}), "--json", notes,
+                      "exists and is not a JSON file");
+    ExpectFileRefused(with({"generate-scene", "--out", photo.string()}), "--out", photo, "exists and is not a binary glTF (.glb)");
+  }
+  EXPECT_EQ(ReadFile(photo), "\x89PNG\r\n");
+  EXPECT_EQ(ReadFile(notes), "\\chapter{1}");
+  EXPECT_FALSE(fs::exists(rig));
+  EXPECT_FALSE(fs::exists(frames));
+}
+
+TEST_F(OutputFolderCli, AFileOfItsOwnKindIsReplacedOnlyWithForce) {
+  const fs::path rig = dir_ / "rig.json", frames = dir_ / "frames.json", scores = dir_ / "scores.json";
+  const std::vector<std::string> make_rig = {"make-rig", "ring", "--cameras", "2", "--rig-out", rig.string(), "--frames-out",
+                                             frames.string()};
+  ASSERT_EQ(RunRigsim(make_rig, dir_ / "first").code, 0);
+  const std::string first = ReadFile(rig);
+  std::vector<std::string> three = make_rig;
+  three[3] = "3";
+  ExpectFileRefused(three, "--rig-out", rig, "already exists (use --force to replace it)");
+  EXPECT_EQ(ReadFile(rig), first);
+  three.push_back("--force");
+  const CliResult replaced = RunRigsim(three, dir_ / "replaced");
+  EXPECT_EQ(replaced.code, 0) << replaced.err;
+  EXPECT_NE(ReadFile(rig), first);
+
+  const std::vector<std::string> evaluate = {"evaluate", Dataset().string(), Rig().string(), "--json", scores.string()};
+  ASSERT_EQ(RunRigsim(evaluate, dir_ / "scores").code, 0);
+  ExpectFileRefused(evaluate, "--json", scores, "already exists (use --force to replace it)");
+  std::vector<std::string> forced = evaluate;
+  forced.push_back("--force");
+  EXPECT_EQ(RunRigsim(forced, dir_ / "scores-forced").code, 0);
+}
+
+TEST_F(OutputFolderCli, ForceNeverReplacesAFileTheCommandReads) {
+  const fs::path data = dir_ / "dataset";
+  fs::copy(Dataset(), data, fs::copy_options::recursive);
+  const std::string truth = ReadFile(data / "rig.json");
+  ExpectFileRefused({"evaluate", data.string(), (data / "rig.json").string(), "--json", (data / "rig.json").string(), "--force"},
+                    "--json", data / "rig.json", "an input of this command (the dataset's rig.json)");
+  // A calibration folder is read whole: no file in it is replaced.
+  const fs::path estimate = dir_ / "estimate";
+  fs::create_directories(estimate / "none");
+  WriteFile(estimate / "evaluation.json", R"({"methods": {"none": {}}})");
+  fs::copy_file(data / "rig.json", estimate / "none" / "rig.json");
+  ExpectFileRefused({"evaluate", data.string(), estimate.string(), "--json", (estimate / "evaluation.json").string(), "--force"},
+                    "--json", estimate / "evaluation.json", "lies inside " + estimate.string() + ", an input of this command (ESTIMATE)");
+  ExpectFileRefused({"make-rig", "file", "--rig-file", (data / "rig.json").string(), "--rig-out", (data / "rig.json").string(),
+                     "--frames-out", (dir_ / "frames.json").string(), "--force"},
+                    "--rig-out", data / "rig.json", "an input of this command (--rig-file)");
+  EXPECT_EQ(ReadFile(data / "rig.json"), truth);
+  EXPECT_EQ(ReadFile(estimate / "evaluation.json"), R"({"methods": {"none": {}}})");
+}
+
+// A file whose folder does not exist is refused before the work, so that no other output of
+// the command is written without it.
+TEST_F(OutputFolderCli, AFileInAFolderThatDoesNotExistIsRefusedFirst) {
+  const fs::path rig = dir_ / "rig.json", frames = dir_ / "nowhere" / "frames.json";
+  ExpectFileRefused({"make-rig", "ring", "--cameras", "2", "--rig-out", rig.string(), "--frames-out", frames.string()},
+                    "--frames-out", frames, "its folder " + (dir_ / "nowhere").string() + " does not exist");
+  EXPECT_FALSE(fs::exists(rig));
+  ExpectFileRefused({"generate-scene", "--out", (dir_ / "nowhere" / "s.glb").string()}, "--out", dir_ / "nowhere" / "s.glb",
+                    "does not exist");
+}
+
+TEST_F(OutputFolderCli, TwoOutputsOfOneCommandAreNeverOneFile) {
+  const fs::path same = dir_ / "rig.json";
+  for (const std::string& second : {same.string(), (dir_ / "." / "rig.json").string()}) {
+    const CliResult r = RunRigsim({"make-rig", "ring", "--cameras", "2", "--rig-out", same.string(), "--frames-out", second, "--force"},
+                                  dir_ / ("same" + std::to_string(runs_++)));
+    EXPECT_EQ(r.code, 1) << r.err;
+    EXPECT_NE(r.err.find("error: --rig-out and --frames-out are both " + second + ": "), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(same));
+  }
 }
 
 }  // namespace

@@ -115,7 +115,7 @@ TEST_F(RenderCli, PrintsTheOverlapOfEveryPairAndNoHeadingForOneCamera) {
   const CliResult one = RunRigsim(dir_, {"render", "--scene", scene_.string(), "--rig", (dir_ / "rig1/rig.json").string(),
                                          "--frames", (dir_ / "rig1/frames.json").string(), "--out", (dir_ / "one").string()});
   ASSERT_EQ(one.code, 0) << one.err;
-  EXPECT_NE(one.out.find("rendered 1 views"), std::string::npos) << one.out;
+  EXPECT_NE(one.out.find("rendered 1 view (1 camera x 1 frame, "), std::string::npos) << one.out;
   EXPECT_EQ(one.out.find("overlap"), std::string::npos) << one.out;
 }
 
@@ -137,7 +137,7 @@ TEST_F(RenderCli, RulesLabelAGltfWithoutClasses) {
   ASSERT_EQ(plain.code, 0) << plain.err;
   const CliResult ruled = RenderScene(facade, "ruled", {"--rules", rules.string()});
   ASSERT_EQ(ruled.code, 0) << ruled.err;
-  EXPECT_NE(ruled.err.find("label rules " + rules.string() + " (1 rules)"), std::string::npos) << ruled.err;
+  EXPECT_NE(ruled.err.find("label rules " + rules.string() + " (1 rule)"), std::string::npos) << ruled.err;
   EXPECT_EQ(ReadFrames(DatasetLayout(dir_ / "ruled").FramesJson()).label_rules, "rules.json");
   EXPECT_EQ(ReadFrames(DatasetLayout(dir_ / "plain").FramesJson()).label_rules, "");
 

@@ -77,6 +77,35 @@ TEST(SweepCli, ATinySweepRunsEndToEndAndResumes) {
   EXPECT_EQ(ReadFile(out / "results.jsonl"), rows_before);
 }
 
+// A sweep resumes only its own results: another config's are replaced only with --force.
+TEST(SweepCli, AnotherConfigsResultsAreReplacedOnlyWithForce) {
+  const TempDir dir;
+  WriteTinyConfig(dir / "tiny.yaml");
+  std::string other = ReadFile(dir / "tiny.yaml");
+  other.replace(other.find("[0.3, 0.6]"), 10, "[0.4]");
+  WriteFile(dir / "other.yaml", other);
+  const fs::path out = dir / "out";
+  // --slurm --dry-run prepares the folder (sweep.json) and runs no cell.
+  auto sweep = [&](const std::string& config, const std::vector<std::string>& extra, const std::string& log) {
+    std::vector<std::string> args = {"sweep", (dir / config).string(), "--out", out.string(), "--slurm", "--dry-run"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return RunRigsim(args, dir / log);
+  };
+  const CliResult first = sweep("tiny.yaml", {}, "first");
+  ASSERT_EQ(first.code, 0) << first.err;
+  const std::string record = ReadFile(out / "sweep.json");
+  const CliResult refused = sweep("other.yaml", {}, "refused");
+  EXPECT_EQ(refused.code, 1);
+  EXPECT_NE(refused.err.find("error: --out " + out.string() + ": holds the results of another sweep (tiny, another config"),
+            std::string::npos)
+      << refused.err;
+  EXPECT_EQ(ReadFile(out / "sweep.json"), record);
+  EXPECT_EQ(sweep("tiny.yaml", {}, "same").code, 0);
+  const CliResult forced = sweep("other.yaml", {"--force"}, "forced");
+  EXPECT_EQ(forced.code, 0) << forced.err;
+  EXPECT_NE(ReadFile(out / "sweep.json"), record);
+}
+
 TEST(SweepCli, CtrlCLosesOnlyTheCellInProgress) {
   const TempDir dir;
   WriteTinyConfig(dir / "tiny.yaml");
@@ -138,7 +167,7 @@ TEST(EvaluateCli, EveryEstimateFormatOfTheTruthScoresPerfectly) {
             0);
   for (const fs::path& estimate : {dir / "data" / "rig.json", dir / "export" / "camchain.yaml", dir / "export" / "colmap"}) {
     const CliResult r = RunRigsim({"evaluate", (dir / "data").string(), estimate.string(), "--json",
-                                   (dir / "scores.json").string()},
+                                   (dir / "scores.json").string(), "--force"},
                                   dir / "evaluate");
     ASSERT_EQ(r.code, 0) << estimate << r.err;
     EXPECT_NE(r.out.find("3/3 cameras with a full pose"), std::string::npos) << r.out;

@@ -103,7 +103,13 @@ CalibrationRunOptions CalibrateSettings::ToOptions() const {
 
 std::vector<SemanticMode> CalibrateSettings::Modes() const {
   std::vector<SemanticMode> modes;
-  for (const std::string& s : semantics) modes.push_back(SemanticModeFromName(s));
+  for (const std::string& s : semantics) {
+    try {
+      modes.push_back(SemanticModeFromName(s));
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("--semantics: ") + e.what());
+    }
+  }
   if (modes.empty()) throw std::invalid_argument("--semantics: give at least one mode");
   return modes;
 }
@@ -176,10 +182,6 @@ void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& s) {
   }
 }
 
-namespace {
-
-// The output folder and what calibrate reads: it must not replace the photos, labels or rig
-// it calibrates. Its default, DATASET/calibration, lies beside them.
 OutputFolderRequest CalibrationOutputFolder(const std::filesystem::path& dataset, const CalibrateSettings& settings,
                                             const std::filesystem::path& out_dir, bool force) {
   const DatasetLayout layout(dataset);
@@ -197,6 +199,8 @@ OutputFolderRequest CalibrationOutputFolder(const std::filesystem::path& dataset
   if (!settings.segmenter.model.empty()) out.inputs.push_back({settings.segmenter.model, "--segmenter"});
   return out;
 }
+
+namespace {
 
 // --known-distance names cameras of the rig, or says which it has.
 // --estimate-time-offsets and --rolling-shutter need frames at distinct times of a moving rig, and
@@ -306,7 +310,7 @@ CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const Ca
     labels = LabelSource::Folder(segmentation / "labels");
     label_text = "network " + settings.segmenter.model + " (classes " + segmenter->classes().name + ")";
   }
-  std::fprintf(stderr, "calibrating %s (%zu semantic modes%s)...\n", dataset.string().c_str(), modes.size(),
+  std::fprintf(stderr, "calibrating %s (%s%s)...\n", dataset.string().c_str(), Count(modes.size(), "semantic mode").c_str(),
                labels_used ? (", labels: " + label_text).c_str() : "");
   CalibrationRun run = CalibrateDataset(inputs, options, modes);
   // The results name the labels where they will be, not in the staging folder.
@@ -317,8 +321,8 @@ CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const Ca
   staged.Commit();
 
   const std::vector<RigCalibrationResult>& results = run.results;
-  std::printf("\nRelative pose of every camera pair (matches of %d frame(s) pooled):\n\n",
-              results.empty() ? 0 : results[0].pairwise.num_frames);
+  std::printf("\nRelative pose of every camera pair (matches of %s pooled):\n\n",
+              Count(results.empty() ? 0 : results[0].pairwise.num_frames, "frame").c_str());
   std::printf("%s\n", FormatPairTable(run).c_str());
   std::printf("%s\n", FormatSummary(run).c_str());
   std::printf("Rig: every camera's pose (gauge: %s is the rig frame; errors after aligning it):\n\n",

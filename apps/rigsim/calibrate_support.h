@@ -1,4 +1,4 @@
-// What the calibrate and demo commands share: calibration options on the command line, and
+// What the calibrate, demo and report commands share: calibration options on the command line, and
 // running the calibration library (pipeline/) with its tables printed and its results committed.
 #pragma once
 
@@ -11,6 +11,7 @@
 #include "apps/rigsim/segment_support.h"
 #include "calibrator/rig_calibration.h"
 #include "dataset/label_source.h"
+#include "dataset/output_folder.h"
 #include "pipeline/calibration_run.h"
 
 namespace rigsim::cli {
@@ -56,6 +57,12 @@ struct CalibrateSettings {
 };
 
 void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& settings);
+
+// The output folder of a calibration of `dataset` with `settings` (calibrate's; the report's
+// adds its own inputs), with every input it reads: the photos, labels and rig it calibrates
+// must not be replaced. Named "--out" unless `out_dir` is the default, DATASET/calibration.
+OutputFolderRequest CalibrationOutputFolder(const std::filesystem::path& dataset, const CalibrateSettings& settings,
+                                            const std::filesystem::path& out_dir, bool force);
 
 // Calibrates the rig of `dataset` in each semantic mode (pipeline/calibration_run.h; the default
 // modes without those that need labels when the dataset has none, with a warning), writes the

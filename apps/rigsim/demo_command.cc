@@ -85,7 +85,7 @@ void AddDemoCommand(CLI::App& app) {
       report.tool_version = RIGSIM_VERSION_STRING;
       report.command = "rigsim demo --out " + args->out;
       const std::filesystem::path index =
-          WriteReportFolder(run, report, std::filesystem::path(args->out) / "report", true);
+          WriteReportFolder(run, report, {std::filesystem::path(args->out) / "report", "", "rigsim", {}, true});
       std::printf("teaching report: %s (open it in a browser)\n", index.string().c_str());
     }
     WriteOutputMarker(args->out, out.written_by);  // the dataset, its calibration/, evaluation.json and report/

@@ -1,10 +1,14 @@
 // rigsim evaluate DATASET ESTIMATE: scores a rig estimate of any tool against the dataset's truth.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <string>
 
 #include "apps/rigsim/commands.h"
+#include "calibrator/semantics.h"
+#include "common/param_spec.h"
 #include "dataset/dataset.h"
+#include "dataset/output_file.h"
 #include "evaluation/rig_estimate.h"
 #include "evaluation/rig_scores.h"
 #include "geometry/json_io.h"
@@ -44,11 +48,21 @@ std::string DetailsLine(const RigEstimate& e) {
   return line;
 }
 
+// A calibration folder's semantic modes in the order calibrate runs and prints them (none, mask,
+// gated, mask+gated); its evaluation.json lists them by name. Other estimates keep their place.
+void InCalibrateOrder(std::vector<RigEstimate>* estimates) {
+  const std::vector<std::string> modes = NamesOf(kAllSemanticModes, SemanticModeName);
+  const auto rank = [&](const RigEstimate& e) { return std::find(modes.begin(), modes.end(), e.method) - modes.begin(); };
+  std::stable_sort(estimates->begin(), estimates->end(),
+                   [&](const RigEstimate& a, const RigEstimate& b) { return rank(a) < rank(b); });
+}
+
 }  // namespace
 
 void AddEvaluateCommand(CLI::App& app) {
   struct Args {
     std::string dataset, estimate, json, scale = "auto";
+    bool force = false;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
@@ -70,7 +84,8 @@ void AddEvaluateCommand(CLI::App& app) {
   cmd->add_option("ESTIMATE", args->estimate, "rig.json, calibration folder, COLMAP model or Kalibr camchain.yaml")
       ->required()
       ->check(CLI::ExistingPath);
-  cmd->add_option("--json", args->json, "also write the scores as JSON to this file (- for standard output)");
+  cmd->add_option("--json", args->json, "also write the scores as JSON to this file (- for standard output; see --force)");
+  cmd->add_flag("--force", args->force, "replace an existing --json file");
   cmd->add_option("--scale", args->scale,
                   "auto (a calibration folder says whether it is metric; COLMAP and a bare rig.json are not,\n"
                   "Kalibr is), metric (translations in metres: no scale fitted) or fit")
@@ -78,6 +93,13 @@ void AddEvaluateCommand(CLI::App& app) {
       ->check(CLI::IsMember({"auto", "metric", "fit"}));
   cmd->callback([args] {
     const DatasetLayout layout(args->dataset);
+    if (!args->json.empty() && args->json != "-") {
+      CheckReplaceableFile({args->json, "--json", OutputFileKind::kJson,
+                            {{layout.RigJson(), "the dataset's rig.json"},
+                             {layout.FramesJson(), "the dataset's frames.json"},
+                             {args->estimate, "ESTIMATE"}},
+                            args->force});
+    }
     const Rig truth = ReadRig(layout.RigJson());
     if (!truth.HasAllPoses()) {
       throw std::runtime_error(layout.RigJson().string() +
@@ -88,7 +110,8 @@ void AddEvaluateCommand(CLI::App& app) {
     const EstimateScale scale = args->scale == "metric" ? EstimateScale::kMetric
                                 : args->scale == "fit"  ? EstimateScale::kFit
                                                         : EstimateScale::kAuto;
-    const std::vector<RigEstimate> estimates = ReadRigEstimates(args->estimate, truth, frames, scale);
+    std::vector<RigEstimate> estimates = ReadRigEstimates(args->estimate, truth, frames, scale);
+    InCalibrateOrder(&estimates);
     std::vector<RigScores> scores;
     nlohmann::json methods = nlohmann::json::object();
     for (const RigEstimate& e : estimates) {

@@ -3,6 +3,7 @@
 // An estimate's rig.json (estimate_gauge.h) is exported with its own rig trajectory, the
 // frames.json beside it: its cam_from_rig are in its gauge and scale, the dataset's frames.json in
 // the truth's, and the two together would place every image wrongly.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -13,6 +14,7 @@
 #include "apps/rigsim/calibrate_support.h"
 #include "apps/rigsim/commands.h"
 #include "apps/rigsim/render_support.h"
+#include "calibrator/format.h"
 #include "dataset/dataset.h"
 #include "dataset/output_folder.h"
 #include "exports/colmap.h"
@@ -45,6 +47,27 @@ FramesFile FramesWithPose(const FramesFile& frames, const std::filesystem::path&
                  frames_json.string().c_str(), left_out.c_str());
   }
   return posed;
+}
+
+// The colmap and nerfstudio exports name every camera's photo of every frame: a photo that is not
+// there would be a reference to nothing, found only when another tool reads the export.
+// `which` says which exports name them: "the colmap export names".
+void RequirePhotos(const DatasetLayout& layout, const Rig& rig, const FramesFile& frames, const std::string& which) {
+  std::vector<std::string> missing;
+  for (const Frame& f : frames.frames) {
+    for (const RigCamera& c : rig.cameras) {
+      if (!layout.FindImage(c.name, f.name)) missing.push_back(c.name + "/" + f.name + ".*");
+    }
+  }
+  if (missing.empty()) return;
+  std::string list;
+  const size_t shown = std::min<size_t>(missing.size(), 3);
+  for (size_t i = 0; i < shown; ++i) list += (i > 0 ? ", " : "") + missing[i];
+  if (missing.size() > shown) list += " and " + std::to_string(missing.size() - shown) + " more";
+  throw std::runtime_error((layout.root() / "images").string() + ": " + std::to_string(missing.size()) + " of the " +
+                           std::to_string(rig.cameras.size() * frames.frames.size()) + " photos " + which +
+                           " are missing (" + list + "); render or copy them there, or export only " +
+                           "--format kalibr,opencv, which name no photo");
 }
 
 }  // namespace
@@ -115,6 +138,9 @@ void AddExportCommand(CLI::App& app) {
       frames = ReadFrames(frames_json);
       if (gauge) frames = FramesWithPose(frames, frames_json);
       RequirePoses(rig, rig_json, frames, frames_json, "the colmap and nerfstudio exports");
+      const bool both = formats.count("colmap") && formats.count("nerfstudio");
+      RequirePhotos(layout, rig, frames,
+                    both ? "the colmap and nerfstudio exports name" : formats.count("colmap") ? "the colmap export names" : "the nerfstudio export names");
     }
     // Images are named as the dataset has them, whatever their extension.
     const ImageNameFn image_name = [&layout](const std::string& cam, const std::string& frame) {
@@ -151,8 +177,8 @@ void AddExportCommand(CLI::App& app) {
     staged.Commit();
     std::string list;
     for (const std::string& w : written) list += " " + w;
-    std::printf("exported %zu cameras%s to %s:%s\n", rig.cameras.size(),
-                frames.frames.empty() ? "" : (" x " + std::to_string(frames.frames.size()) + " frames").c_str(), args->out.c_str(),
+    std::printf("exported %s%s to %s:%s\n", Count(rig.cameras.size(), "camera").c_str(),
+                frames.frames.empty() ? "" : (" x " + Count(frames.frames.size(), "frame")).c_str(), args->out.c_str(),
                 list.c_str());
     if (gauge) {
       std::printf("%s%s\n", gauge->Describe().c_str(),

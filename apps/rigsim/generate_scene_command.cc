@@ -5,6 +5,7 @@
 
 #include "apps/rigsim/commands.h"
 #include "common/param_spec.h"
+#include "dataset/output_file.h"
 #include "procedural/presets.h"
 
 namespace rigsim::cli {
@@ -43,12 +44,10 @@ void AddGenerateSceneCommand(CLI::App& app) {
       ->check(CLI::Range(0.0, kMaxTraffic))
       ->needs(animated);
   cmd->add_option("--out", args->out, "output .glb")->required();
-  cmd->add_flag("--force", args->force, "replace an existing file");
+  cmd->add_flag("--force", args->force, "replace an existing .glb file");
   cmd->callback([args] {
     const std::filesystem::path out(args->out);
-    if (std::filesystem::exists(out) && !args->force) {
-      throw std::runtime_error(out.string() + ": exists; use --force to replace it");
-    }
+    CheckReplaceableFile({out, "--out", OutputFileKind::kGlb, {}, args->force});
     // Written next to the target and renamed into place, so a failure leaves no half file.
     const std::filesystem::path tmp = out.string() + ".tmp";
     ScenePresetOptions o;
@@ -56,7 +55,12 @@ void AddGenerateSceneCommand(CLI::App& app) {
     o.seed = args->seed;
     o.animated = args->animated;
     o.traffic = args->traffic;
-    WriteScenePreset(o, tmp);
+    try {
+      WriteScenePreset(o, tmp);
+    } catch (...) {
+      std::filesystem::remove(tmp);
+      throw;
+    }
     std::error_code ec;
     std::filesystem::rename(tmp, out, ec);
     if (ec) {

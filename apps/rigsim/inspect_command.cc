@@ -8,6 +8,7 @@
 
 #include "apps/rigsim/commands.h"
 #include "apps/rigsim/render_support.h"
+#include "calibrator/format.h"
 #include "gltf/gltf_loader.h"
 #include "gltf/label_rules.h"
 #include "labels/cityscapes.h"
@@ -44,8 +45,8 @@ std::string AnimationsOf(const S& scene) {
     }
     char buf[200];
     const std::string of_weights = weights ? " (" + std::to_string(weights) + " of morph weights)" : "";
-    std::snprintf(buf, sizeof(buf), "%zu channel(s)%s on %zu node(s), keys from %.2f s to %.2f s", scene.animation_channels.size(),
-                  of_weights.c_str(), nodes.size(), t0, t1);
+    std::snprintf(buf, sizeof(buf), "%s%s on %s, keys from %.2f s to %.2f s", Count(scene.animation_channels.size(), "channel").c_str(),
+                  of_weights.c_str(), Count(nodes.size(), "node").c_str(), t0, t1);
     return buf;
   } else {
     return "not loaded (see warnings)";
@@ -62,7 +63,7 @@ std::string MorphsOf(const Scene& scene) {
     if (!m.morph_targets.empty()) ++animated;
   }
   if (morphed == 0) return "none";
-  return std::to_string(morphed) + " primitive(s) with morph targets, " + std::to_string(targets) + " targets in all, " +
+  return Count(morphed, "primitive") + " with morph targets, " + Count(targets, "target") + " in all, " +
          std::to_string(animated) + " with animated weights";
 }
 
@@ -85,13 +86,13 @@ void PrintScene(const Scene& scene, const std::filesystem::path& path, const Lab
     if (m.gpu_instance == 0) instanced_nodes.insert(m.instance_id);
   }
   std::printf("file        %s (%.1f MB)\n", path.string().c_str(), std::filesystem::file_size(path) / 1e6);
-  if (rules) std::printf("label rules %s (%zu rules)\n", rules->source().c_str(), rules->rules().size());
+  if (rules) std::printf("label rules %s (%s)\n", rules->source().c_str(), Count(rules->rules().size(), "rule").c_str());
   if (gpu_instances.empty()) {
     std::printf("nodes       %zu with geometry (one instance each)\n", plain.size());
   } else {
-    std::printf("nodes       %zu with geometry (%zu instances, %zu of them from %zu node(s) via EXT_mesh_gpu_instancing)\n",
-                plain.size() + instanced_nodes.size(), plain.size() + gpu_instances.size(), gpu_instances.size(),
-                instanced_nodes.size());
+    std::printf("nodes       %zu with geometry (%s, %zu of them from %s via EXT_mesh_gpu_instancing)\n",
+                plain.size() + instanced_nodes.size(), Count(plain.size() + gpu_instances.size(), "instance").c_str(),
+                gpu_instances.size(), Count(instanced_nodes.size(), "node").c_str());
   }
   const size_t coloured = std::count_if(scene.meshes.begin(), scene.meshes.end(), [](const SceneMesh& m) { return !m.colors.empty(); });
   const size_t skinned = std::count_if(scene.meshes.begin(), scene.meshes.end(), [](const SceneMesh& m) { return m.skin >= 0; });
@@ -132,9 +133,9 @@ void PrintScene(const Scene& scene, const std::filesystem::path& path, const Lab
   std::printf("animations  %s\n", AnimationsOf(scene).c_str());
   std::printf("morphs      %s\n", MorphsOf(scene).c_str());
   std::string compressed;
-  if (scene.draco_primitives) compressed += std::to_string(scene.draco_primitives) + " primitive(s) by KHR_draco_mesh_compression";
+  if (scene.draco_primitives) compressed += Count(scene.draco_primitives, "primitive") + " by KHR_draco_mesh_compression";
   if (scene.meshopt_views) {
-    compressed += (compressed.empty() ? "" : ", ") + std::to_string(scene.meshopt_views) + " buffer view(s) by EXT_meshopt_compression";
+    compressed += (compressed.empty() ? "" : ", ") + Count(scene.meshopt_views, "buffer view") + " by EXT_meshopt_compression";
   }
   std::printf("compressed  %s\n", compressed.empty() ? "none" : compressed.c_str());
   if (!scene.meshes.empty()) {
@@ -167,7 +168,7 @@ void PrintScene(const Scene& scene, const std::filesystem::path& path, const Lab
     std::printf("%-3d %-16s %-9s %10zu %10zu %10zu %6.1f%%\n", id, c ? std::string(c->name).c_str() : "?",
                 c && c->reliable ? "yes" : "no", s.instances.size(), s.primitives, s.triangles, 100.0 * s.triangles / total);
   }
-  std::printf("\n%zu warning(s)\n", scene.warnings.size());
+  std::printf("\n%s\n", Count(scene.warnings.size(), "warning").c_str());
   for (const std::string& w : scene.warnings) std::printf("  warning: %s\n", w.c_str());
 }
 

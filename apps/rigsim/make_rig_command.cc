@@ -12,8 +12,10 @@
 
 #include "apps/rigsim/commands.h"
 #include "apps/rigsim/render_support.h"
+#include "calibrator/format.h"
 #include "common/did_you_mean.h"
 #include "dataset/dataset.h"
+#include "dataset/output_file.h"
 #include "dataset/output_folder.h"
 #include "geometry/rig.h"
 #include "gltf/gltf_loader.h"
@@ -136,16 +138,20 @@ void AddSourceAndOutputOptions(CLI::App* cmd, MakeRigArgs& a) {
                   "complete or not at all; see --force)")
       ->excludes(rig_out)
       ->excludes(frames_out);
-  cmd->add_flag("--force", a.force, "with --out: replace an existing folder");
+  cmd->add_flag("--force", a.force, "replace an existing --out folder rigsim wrote, or existing --rig-out and --frames-out JSON files");
 }
 
-// --out DIR, with what make-rig reads.
-OutputFolderRequest OutputFolder(const MakeRigArgs& a) {
-  OutputFolderRequest out{a.out, "--out", "rigsim make-rig", {}, a.force};
-  if (!a.scene.empty()) out.inputs.push_back({a.scene, "--scene"});
-  if (!a.from_gltf.empty()) out.inputs.push_back({a.from_gltf, "--from-gltf"});
-  return out;
+// What make-rig reads, which none of its outputs may replace.
+std::vector<CommandInput> Inputs(const MakeRigArgs& a) {
+  std::vector<CommandInput> inputs;
+  if (!a.scene.empty()) inputs.push_back({a.scene, "--scene"});
+  if (!a.from_gltf.empty()) inputs.push_back({a.from_gltf, "--from-gltf"});
+  if (const std::string& rig_file = a.rig_text.at("rig_file"); !rig_file.empty()) inputs.push_back({rig_file, "--rig-file"});
+  return inputs;
 }
+
+// --out DIR.
+OutputFolderRequest OutputFolder(const MakeRigArgs& a) { return {a.out, "--out", "rigsim make-rig", Inputs(a), a.force}; }
 
 // Capture timing: when each camera captures relative to the frame, its rolling shutter and exposure.
 void AddTimingOptions(CLI::App* cmd, MakeRigArgs& a) {
@@ -218,7 +224,13 @@ void CheckOutput(const MakeRigArgs& a) {
   if (a.out.empty() && (a.rig_out.empty() || a.frames_out.empty())) {
     throw CLI::ValidationError("make-rig", "give --out DIR, or both --rig-out FILE and --frames-out FILE");
   }
-  if (!a.out.empty()) CheckReplaceableOutput(OutputFolder(a));
+  if (!a.out.empty()) {
+    CheckReplaceableOutput(OutputFolder(a));
+    return;
+  }
+  CheckDistinctOutputs({{"--rig-out", a.rig_out}, {"--frames-out", a.frames_out}});
+  CheckReplaceableFile({a.rig_out, "--rig-out", OutputFileKind::kJson, Inputs(a), a.force});
+  CheckReplaceableFile({a.frames_out, "--frames-out", OutputFileKind::kJson, Inputs(a), a.force});
 }
 
 // Writes rig.json and frames.json (into --out, complete or not at all, or to --rig-out and
@@ -237,8 +249,8 @@ void WriteRigAndFrames(const MakeRigArgs& a, const Rig& rig, const FramesFile& f
     WriteRig(rig, rig_path);
     WriteFrames(frames, frames_path);
   }
-  std::printf("wrote %s (%s, %zu cameras) and %s (%zu frames, %s)\n", rig_path.c_str(), what.c_str(),
-              rig.cameras.size(), frames_path.c_str(), frames.frames.size(), path.c_str());
+  std::printf("wrote %s (%s, %s) and %s (%s, %s)\n", rig_path.c_str(), what.c_str(), Count(rig.cameras.size(), "camera").c_str(),
+              frames_path.c_str(), Count(frames.frames.size(), "frame").c_str(), path.c_str());
 }
 
 // The rig, its path and its placement as the options give them.

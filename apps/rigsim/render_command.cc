@@ -11,6 +11,8 @@
 #include "apps/rigsim/render_support.h"
 #include "apps/rigsim/shard_options.h"
 #include "apps/rigsim/version.h"
+#include "calibrator/format.h"
+#include "dataset/capture_poses.h"
 #include "dataset/output_folder.h"
 #include "geometry/camera_validation.h"
 #include "geometry/rig.h"
@@ -84,6 +86,7 @@ void AddRenderCommand(CLI::App& app) {
     for (const std::string& w : CheckRigCoversImages(job.rig, args->rig)) std::fprintf(stderr, "warning: %s\n", w.c_str());
     job.frames = ReadFrames(args->frames);
     RequirePoses(job.rig, args->rig, job.frames, args->frames, "render");
+    CapturePoses(job.rig.cameras, job.frames, args->frames);  // a timed camera needs distinct timestamps
     const Scene scene = LoadSceneVerbose(args->scene, args->rules);
     if (scene.NumTriangles() == 0) {
       std::fprintf(stderr, "warning: %s: the scene holds no triangles: every view will be empty sky\n", args->scene.c_str());
@@ -124,7 +127,7 @@ void AddRenderCommand(CLI::App& app) {
       if (slurm.num_shards <= 0) slurm.num_shards = std::min(64, num_frames);
       if (slurm.num_shards > num_frames) {
         throw std::invalid_argument("--shards " + std::to_string(slurm.num_shards) + ": " + args->frames + " has " +
-                                    std::to_string(num_frames) + " frames; use at most that many shards");
+                                    Count(num_frames, "frame") + "; use at most that many shards");
       }
       SubmitOrWriteSlurm(slurm, args->shards.dry_run);
       return;
@@ -133,8 +136,7 @@ void AddRenderCommand(CLI::App& app) {
       std::tie(job.shard.index, job.shard.count) = ParseShard(args->shards.shard);
       if (job.shard.count > num_frames) {
         throw std::invalid_argument("--shard " + args->shards.shard + ": " + args->frames + " has " +
-                                    std::to_string(num_frames) + " frames; split it into at most " +
-                                    std::to_string(num_frames) + " shards");
+                                    Count(num_frames, "frame") + "; split it into at most " + Count(num_frames, "shard"));
       }
     }
     RenderAndReport(job, args->out, args->force);
@@ -160,7 +162,8 @@ void AddRenderMergeCommand(CLI::App& app) {
     const std::vector<fs::path> shards(args->shards.begin(), args->shards.end());
     MergeRenderShards(args->out, shards, args->force);
     const FramesFile frames = ReadFrames(DatasetLayout(args->out).FramesJson());
-    std::printf("merged %zu shards (%zu frames) into %s\n", shards.size(), frames.frames.size(), args->out.c_str());
+    std::printf("merged %s (%s) into %s\n", Count(shards.size(), "shard").c_str(), Count(frames.frames.size(), "frame").c_str(),
+                args->out.c_str());
   });
 }
 

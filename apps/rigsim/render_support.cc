@@ -8,6 +8,7 @@
 #include "apps/rigsim/interrupt.h"
 #include "apps/rigsim/parse_errors.h"
 #include "apps/rigsim/progress.h"
+#include "calibrator/format.h"
 #include "pipeline/report_table.h"
 #include "dataset/dataset.h"
 #include "dataset/render_shards.h"
@@ -101,9 +102,9 @@ Scene LoadSceneVerbose(const std::filesystem::path& path, const std::string& rul
     options.label_rules = &*rules;
   }
   Scene scene = LoadGltf(path, options);
-  std::fprintf(stderr, "scene %s: %zu meshes, %zu triangles, %zu textures\n", path.string().c_str(),
-               scene.meshes.size(), scene.NumTriangles(), scene.textures.size());
-  if (rules) std::fprintf(stderr, "  label rules %s (%zu rules)\n", rules_path.c_str(), rules->rules().size());
+  std::fprintf(stderr, "scene %s: %s, %s, %s\n", path.string().c_str(), Count(scene.meshes.size(), "mesh", "meshes").c_str(),
+               Count(scene.NumTriangles(), "triangle").c_str(), Count(scene.textures.size(), "texture").c_str());
+  if (rules) std::fprintf(stderr, "  label rules %s (%s)\n", rules_path.c_str(), Count(rules->rules().size(), "rule").c_str());
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "  warning: %s\n", w.c_str());
   return scene;
 }
@@ -139,8 +140,9 @@ void RenderAndReport(const RenderJob& job, const std::filesystem::path& out, boo
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const FrameRange range = ShardFrames(int(job.frames.frames.size()), job.shard.index, job.shard.count);
   const size_t frames = size_t(range.end - range.begin);
-  std::printf("rendered %zu views (%zu cameras x %zu frames, %d spp) into %s in %.1f s\n", job.rig.cameras.size() * frames,
-              job.rig.cameras.size(), frames, job.options.samples_per_pixel, out.string().c_str(), seconds);
+  std::printf("rendered %s (%s x %s, %d spp) into %s in %.1f s\n", Count(job.rig.cameras.size() * frames, "view").c_str(),
+              Count(job.rig.cameras.size(), "camera").c_str(), Count(frames, "frame").c_str(), job.options.samples_per_pixel,
+              out.string().c_str(), seconds);
   if (job.shard.count > 1) {
     std::printf("shard %d/%d: frames %s to %s of %zu; combine the shards with: rigsim render-merge OUT SHARD_DIR...\n",
                 job.shard.index, job.shard.count, job.frames.frames[range.begin].name.c_str(),

@@ -9,6 +9,7 @@
 #include "apps/rigsim/report_support.h"
 #include "apps/rigsim/version.h"
 #include "calibrator/features.h"
+#include "calibrator/format.h"
 #include "calibrator/semantics.h"
 #include "common/param_spec.h"
 #include "dataset/dataset.h"
@@ -106,7 +107,7 @@ void AddReportCommand(CLI::App& app) {
       ->required()
       ->check(CLI::ExistingDirectory);
   cmd->add_option("--out", args->out, "report folder to write (index.html and its files)")->required();
-  cmd->add_flag("--force", args->force, "replace an existing report folder");
+  cmd->add_flag("--force", args->force, "replace an existing report folder that rigsim wrote");
   cmd->add_option("--calibration", args->calibration,
                   "a calibration folder (rigsim calibrate's --out): report its semantic modes and label source")
       ->check(CLI::ExistingDirectory);
@@ -133,11 +134,16 @@ void AddReportCommand(CLI::App& app) {
     options.features.type = FeatureTypeFromName(args->features);
     options.rig.keep_details = true;
     const std::vector<SemanticMode> modes = args->settings.Modes();
+    // The report must not replace what it shows: the dataset, the calibration, the sweep, the scene.
+    OutputFolderRequest out = CalibrationOutputFolder(dataset, args->settings, args->out, args->force);
+    out.option = "--out";
+    out.written_by = "rigsim report";
+    if (!args->calibration.empty()) out.inputs.push_back({args->calibration, "--calibration"});
+    if (!args->sweep.empty()) out.inputs.push_back({args->sweep, "--sweep"});
+    if (!args->scene.empty()) out.inputs.push_back({args->scene, "--scene"});
+    CheckReplaceableOutput(out);
     const CalibrationInputs inputs = ReadCalibrationInputs(dataset);
     for (const std::string& w : inputs.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    if (fs::exists(args->out) && !args->force) {
-      throw std::runtime_error(args->out + " exists; give --force to replace it");
-    }
     args->report.scene = args->scene.empty() ? FindSceneOf(dataset, inputs.frames) : fs::path(args->scene);
     if (args->report.scene.empty()) {
       const std::string which =
@@ -151,8 +157,8 @@ void AddReportCommand(CLI::App& app) {
                            (args->features == "sift" ? "" : " --features " + args->features) +
                            (args->sweep.empty() ? "" : " --sweep " + args->sweep) +
                            (args->scene.empty() ? "" : " --scene " + args->scene);
-    std::fprintf(stderr, "calibrating %s for the report (%zu semantic modes)...\n", dataset.string().c_str(),
-                 modes.size());
+    std::fprintf(stderr, "calibrating %s for the report (%s)...\n", dataset.string().c_str(),
+                 Count(modes.size(), "semantic mode").c_str());
     const CalibrationRun run = CalibrateDataset(inputs, options, modes);
     if (!args->calibration.empty()) {
       const std::vector<std::string> differences = CompareWithSaved(run, args->calibration);
@@ -161,7 +167,7 @@ void AddReportCommand(CLI::App& app) {
                      "the report shows this run\n", args->calibration.c_str(), d.c_str());
       }
     }
-    const fs::path index = WriteReportFolder(run, args->report, args->out, args->force);
+    const fs::path index = WriteReportFolder(run, args->report, out);
     std::printf("calibration took %.1f s; report: %s\n", run.seconds, index.string().c_str());
   });
 }

@@ -17,13 +17,13 @@ fs::path FindSceneOf(const fs::path& dataset, const FramesFile& frames) {
   return {};
 }
 
-fs::path WriteReportFolder(const CalibrationRun& run, const ReportOptions& options, const fs::path& out_dir, bool force) {
-  StagedOutput staged(out_dir, force);
+fs::path WriteReportFolder(const CalibrationRun& run, const ReportOptions& options, const OutputFolderRequest& out) {
+  StagedOutput staged(out);
   for (const std::string& w : WriteReport(run, options, staged.staging_dir())) {
     std::fprintf(stderr, "warning: report: %s\n", w.c_str());
   }
   staged.Commit();
-  return fs::absolute(out_dir / "index.html").lexically_normal();
+  return fs::absolute(out.dir / "index.html").lexically_normal();
 }
 
 }  // namespace rigsim::cli

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <string>
 
+#include "dataset/output_folder.h"
 #include "pipeline/calibration_run.h"
 #include "report/report_writer.h"
 
@@ -16,9 +17,10 @@ namespace rigsim::cli {
 // when rigsim's data folder is not found (the report needs its page from there anyway).
 std::filesystem::path FindSceneOf(const std::filesystem::path& dataset, const FramesFile& frames);
 
-// Writes the report into `out_dir` (replaced only with `force`), prints its warnings to stderr
-// and returns the path of its index.html.
+// Writes the report into `out.dir` (StagedOutput: an existing folder is replaced only with
+// out.force, and only when rigsim wrote it), prints its warnings to stderr and returns the path of
+// its index.html.
 std::filesystem::path WriteReportFolder(const CalibrationRun& run, const ReportOptions& options,
-                                        const std::filesystem::path& out_dir, bool force);
+                                        const OutputFolderRequest& out);
 
 }  // namespace rigsim::cli

@@ -8,6 +8,7 @@
 
 #include "apps/rigsim/interrupt.h"
 #include "apps/rigsim/progress.h"
+#include "calibrator/format.h"
 #include "labels/cityscapes.h"
 
 namespace rigsim::cli {
@@ -94,7 +95,7 @@ SegmentDatasetSummary SegmentWithProgress(const std::vector<SegmentedPhoto>& pho
     const InterruptScope interrupt;
     summary = SegmentPhotos(photos, segmenter, out_dir, [&](int done, int total) {
       const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      std::string line = "segmenting " + std::to_string(done) + "/" + std::to_string(total) + " photos";
+      std::string line = "segmenting " + std::to_string(done) + "/" + Count(total, "photo");
       if (done < total) line += ", about " + DurationInWords(elapsed / done * (total - done)) + " left";
       if (tty) {
         std::fprintf(stderr, "\r\033[K%s%s", line.c_str(), done == total ? "\n" : "");
@@ -107,9 +108,9 @@ SegmentDatasetSummary SegmentWithProgress(const std::vector<SegmentedPhoto>& pho
     });
   }
   const ClassTable& table = segmenter.classes();
-  std::printf("segmented %d photos with %s (classes %s, input %dx%d) in %.1f s: %.2f s per photo, %.2f s of it in the "
+  std::printf("segmented %s with %s (classes %s, input %dx%d) in %.1f s: %.2f s per photo, %.2f s of it in the "
               "network\n",
-              summary.photos, segmenter.options().model.filename().string().c_str(), table.name.c_str(),
+              Count(summary.photos, "photo").c_str(), segmenter.options().model.filename().string().c_str(), table.name.c_str(),
               summary.first_input_size[0], summary.first_input_size[1], summary.seconds, summary.seconds / summary.photos,
               summary.inference_seconds / summary.photos);
   int64_t total = 0;
@@ -125,9 +126,9 @@ SegmentDatasetSummary SegmentWithProgress(const std::vector<SegmentedPhoto>& pho
   }
   std::printf("classes (share of pixels, 1%% or more): %s\n", shares.c_str());
   if (summary.photos_with_truth > 0) {
-    std::printf("against the true labels of %d photos: %.1f%% of pixels agree; the reliable-class mask (what --semantics "
+    std::printf("against the true labels of %s: %.1f%% of pixels agree; the reliable-class mask (what --semantics "
                 "mask detects on) has IoU %.3f; per class (IoU, share of the truth):\n",
-                summary.photos_with_truth, 100.0 * summary.pixels_agreeing / summary.pixels_compared, summary.reliable.IoU());
+                Count(summary.photos_with_truth, "photo").c_str(), 100.0 * summary.pixels_agreeing / summary.pixels_compared, summary.reliable.IoU());
     for (const auto& [id, a] : summary.per_class) {
       if (a.truth == 0) continue;
       const LabelClass* c = FindClassById(id);

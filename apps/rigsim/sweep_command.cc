@@ -13,6 +13,7 @@
 #include "apps/rigsim/progress.h"
 #include "apps/rigsim/interrupt.h"
 #include "apps/rigsim/shard_options.h"
+#include "calibrator/format.h"
 #include "calibrator/features.h"
 #include "calibrator/semantics.h"
 #include "procedural/presets.h"
@@ -32,9 +33,9 @@ class SweepProgressLine {
  public:
   SweepProgressLine() : tty_(::isatty(2)) {}
   void operator()(const SweepProgress& p) {
-    std::string line = "sweep: " + std::to_string(p.done) + "/" + std::to_string(p.total) + " cells";
+    std::string line = "sweep: " + std::to_string(p.done) + "/" + Count(p.total, "cell");
     if (p.resumed > 0) line += " (" + std::to_string(p.resumed) + " from an earlier run)";
-    if (p.failed_rows > 0) line += ", " + std::to_string(p.failed_rows) + " failed runs";
+    if (p.failed_rows > 0) line += ", " + Count(p.failed_rows, "failed run");
     line += p.eta_s >= 0 ? ", about " + DurationInWords(p.eta_s) + " left" : "";
     if (tty_) {
       std::string full = line + "  [" + p.current + "]";
@@ -180,8 +181,8 @@ void AddSweepCommand(CLI::App& app) {
     options.restart = args->force;
     options.command = command;
     if (!args->shards.shard.empty()) std::tie(options.shard_index, options.num_shards) = ParseShard(args->shards.shard);
-    std::fprintf(stderr, "sweep %s: %zu cells x %zu methods into %s\n", sweep.name.c_str(), cells.size(),
-                 sweep.methods.size(), out.string().c_str());
+    std::fprintf(stderr, "sweep %s: %s x %s into %s\n", sweep.name.c_str(), Count(cells.size(), "cell").c_str(),
+                 Count(sweep.methods.size(), "method").c_str(), out.string().c_str());
     if (args->shards.slurm) {
       if (!args->shards.shard.empty()) throw std::invalid_argument("--slurm makes the shards itself: leave out --shard");
       SlurmArrayJob job = args->shards.job;
@@ -213,8 +214,8 @@ void AddSweepCommand(CLI::App& app) {
     options.progress = [&progress](const SweepProgress& p) { progress(p); };
     const SweepOutcome outcome = RunSweep(sweep, options, MakeCellRunner(sweep, runner));
     for (const std::string& w : outcome.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    std::printf("sweep %s: %d cells (%d run now, %d from an earlier run), %d failed runs\n", sweep.name.c_str(),
-                outcome.cells, outcome.ran, outcome.resumed, outcome.failed_rows);
+    std::printf("sweep %s: %s (%d run now, %d from an earlier run), %s\n", sweep.name.c_str(),
+                Count(outcome.cells, "cell").c_str(), outcome.ran, outcome.resumed, Count(outcome.failed_rows, "failed run").c_str());
     if (options.num_shards > 1) {
       std::printf("shard %d/%d in %s; combine the shards with: rigsim sweep-merge OUT SHARD_DIR...\n", options.shard_index,
                   options.num_shards, out.string().c_str());
@@ -242,13 +243,13 @@ void AddSweepMergeCommand(CLI::App& app) {
     std::vector<fs::path> shards(args->shards.begin(), args->shards.end());
     const MergeOutcome outcome = MergeSweepShards(args->out, shards);
     for (const std::string& w : outcome.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    std::printf("merged %d of %d cells from %zu shard folders into %s\n", outcome.merged, outcome.cells, shards.size(),
-                args->out.c_str());
+    std::printf("merged %d of %s from %s into %s\n", outcome.merged, Count(outcome.cells, "cell").c_str(),
+                Count(shards.size(), "shard folder").c_str(), args->out.c_str());
     if (!outcome.missing.empty()) {
       std::string list;
       for (size_t i = 0; i < outcome.missing.size() && i < 20; ++i) list += (i ? ", " : "") + outcome.missing[i];
       if (outcome.missing.size() > 20) list += ", ... (" + std::to_string(outcome.missing.size()) + " in all)";
-      throw Unfinished(3, std::to_string(outcome.missing.size()) + " cells are in no shard folder: " + list +
+      throw Unfinished(3, Count(outcome.missing.size(), "cell") + (outcome.missing.size() == 1 ? " is" : " are") + " in no shard folder: " + list +
                               "; run their shards again (rigsim sweep ... --shard I/N) and merge again");
     }
   });
