@@ -109,6 +109,8 @@ MethodRow RunRigsim(const SweepMethod& method, const Json& p, const CalibrationI
   CalibrationRunOptions o;
   o.features.type = FeatureTypeFromName(method.features);
   o.rig.pairwise.num_threads = options.num_threads;
+  o.rig.capture_time.estimate_offsets = method.time != "synchronised";
+  o.rig.capture_time.estimate_readout = method.time == "estimated+rolling-shutter";
   const int boundary = p.at("label_boundary").get<int>();
   const double confusion = p.at("label_confusion").get<double>();
   if (boundary > 0 || confusion > 0) {

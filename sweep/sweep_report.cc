@@ -143,7 +143,8 @@ std::string SweepReportMarkdown(const SweepReportInput& in) {
   md += "| cell, key, studies, seed | the cell's number, its key (names `cells/<key>.json`), its studies, its seed |\n";
   for (const ParamSpec& p : CellParamSpecs()) md += "| " + p.name + " | " + Cell(p.help) + " |\n";
   for (const MetricSpec& m : CellMetricSpecs()) md += "| " + m.name + " | " + Cell(m.help) + " |\n";
-  md += "| method, tool, semantics, features | how the cell was calibrated |\n"
+  md += "| method, tool, semantics, features, time | how the cell was calibrated (time: how rigsim took the cameras' "
+        "capture times, synchronised or estimated) |\n"
         "| status, failure_reason | `ok`, or `failed` with why |\n";
   for (const MetricSpec& m : SweepMetricSpecs()) md += "| " + m.name + " | " + Cell(m.help) + " |\n";
   return md;

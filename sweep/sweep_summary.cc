@@ -205,7 +205,7 @@ std::vector<ClaimResult> TestClaims(const SweepConfig& config, const std::vector
   };
   for (const SweepMethod& method : config.methods) {
     if (method.tool != "rigsim" || method.semantics == "none") continue;
-    const std::string baseline = method.features == "sift" ? "none" : method.features + ":none";
+    const std::string baseline = SweepMethodName(method.features, "none", method.time);
     if (!has(baseline)) continue;
     for (const ClaimSpec& spec : config.claims.claims) {
       ClaimResult cr;

@@ -63,8 +63,10 @@ void ListParams() {
     if (p.kind == ParamSpec::Kind::kChoice) help += " {" + JoinNames(p.choices) + "}";
     std::printf("  %-16s default %-8s %s\n", p.name.c_str(), def.c_str(), help.c_str());
   }
-  std::printf("\nMethods: semantics %s; features %s; peers %s\n", JoinNames(NamesOf(kAllSemanticModes, SemanticModeName)).c_str(),
-              JoinNames(NamesOf(kAllFeatureTypes, FeatureTypeName)).c_str(), JoinNames(SweepPeerNames()).c_str());
+  std::printf("\nMethods: semantics %s; features %s; time %s; peers %s\n",
+              JoinNames(NamesOf(kAllSemanticModes, SemanticModeName)).c_str(),
+              JoinNames(NamesOf(kAllFeatureTypes, FeatureTypeName)).c_str(), JoinNames(SweepTimeNames()).c_str(),
+              JoinNames(SweepPeerNames()).c_str());
 }
 
 bool IsScenePresetName(const std::string& name) {
