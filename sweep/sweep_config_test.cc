@@ -276,6 +276,11 @@ TEST(Suites, MotionTakesTheUsersRigThroughEveryPathAndFrameCount) {
   EXPECT_TRUE(points.count({30, "handheld"}));
   EXPECT_TRUE(points.count({3, "figure-eight"}));
   EXPECT_EQ(full.studies.size(), 3u);  // a plot per frame count
+  // Either size runs every path over three seeds: a path places a rig in a share of runs.
+  const SweepConfig small = ParseSweepConfig(SuiteConfig("motion", "small", inputs), "--suite motion");
+  EXPECT_EQ(small.seeds.size(), 3u);
+  EXPECT_EQ(full.seeds.size(), 3u);
+  EXPECT_EQ(ExpandCells(small).size(), 2u * 5 * 3);
   // Without a rig it is refused; the thesis suite takes none.
   EXPECT_THROW(SuiteConfig("motion", "small"), std::invalid_argument);
   EXPECT_THROW(SuiteConfig("thesis", "small", inputs), std::invalid_argument);

@@ -140,7 +140,8 @@ void AddSweepCommand(CLI::App& app) {
                   "with --suite motion: where to drive it, a scene preset (street, plaza, parking) or a .glb/.gltf file "
                   "(default street)")
       ->excludes(config);
-  cmd->add_option("--size", args->size, "with --suite: small (1 seed, two values per study) or full")
+  cmd->add_option("--size", args->size, "with --suite: small (thesis: 1 seed, two values per study; motion: 3 and 12 frames, rigsim "
+                  "without semantics, 3 seeds) or full")
       ->capture_default_str()
       ->check(CLI::IsMember({"small", "full"}));
   cmd->add_option("--out", args->out, "output folder (default out/sweep/<config name>)");
