@@ -196,7 +196,7 @@ SweepOutcome RunSweep(const SweepConfig& config, const SweepRunOptions& options,
   }
   fs::remove_all(out / "work");
   outcome.failed_rows = progress.failed_rows;
-  if (options.num_shards == 1) outcome.warnings = WriteSweepResults(config, out, options.command);
+  if (options.num_shards == 1) outcome.warnings = WriteSweepResults(config, out, options.command, &outcome.summary);
   return outcome;
 }
 
@@ -261,7 +261,36 @@ MergeOutcome MergeSweepShards(const fs::path& out, const std::vector<fs::path>& 
   return outcome;
 }
 
-std::vector<std::string> WriteSweepResults(const SweepConfig& config, const fs::path& out, const std::string& command) {
+namespace {
+
+// An argument as a POSIX shell reads it back: as it is when it holds nothing the shell treats
+// specially, else in single quotes.
+std::string ShellWord(const std::string& a) {
+  const bool plain = !a.empty() && a.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                                       "0123456789_-+=/.,:@%") == std::string::npos;
+  if (plain) return a;
+  std::string q = "'";
+  for (char c : a) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+}  // namespace
+
+std::string SweepCommandLine(const std::vector<std::string>& args) {
+  std::string line = "rigsim sweep";
+  for (const std::string& a : args) {
+    line += ' ';
+    line += ShellWord(a);
+  }
+  return line;
+}
+
+std::string RunAgainCommand(const std::string& command, const fs::path& out_dir) {
+  return command + " --out " + ShellWord(fs::absolute(out_dir).lexically_normal().string());
+}
+
+std::vector<std::string> WriteSweepResults(const SweepConfig& config, const fs::path& out, const std::string& command,
+                                           std::vector<SummaryRow>* summary_out) {
   std::vector<std::string> warnings;
   const std::vector<SweepCell> all = ExpandCells(config);
   std::vector<SweepCell> cells;
@@ -304,8 +333,9 @@ std::vector<std::string> WriteSweepResults(const SweepConfig& config, const fs::
   input.summary = &summary;
   input.claims = &claims;
   input.plot_images = plots.images;
-  input.command = command;
+  input.command = command.empty() ? "" : RunAgainCommand(command, out);
   json_io::WriteTextAtomic(out / "report.md", SweepReportMarkdown(input));
+  if (summary_out) *summary_out = summary;
   return warnings;
 }
 

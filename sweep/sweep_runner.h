@@ -19,6 +19,7 @@
 
 #include "sweep/sweep_config.h"
 #include "sweep/sweep_results.h"
+#include "sweep/sweep_summary.h"
 
 namespace rigsim {
 
@@ -47,8 +48,8 @@ struct SweepRunOptions {
   int num_shards = 1;
   std::function<void(const SweepProgress&)> progress;
   std::function<void()> check_interrupt;  // throws to stop the sweep
-  // How the sweep was started, for report.md: the same for every shard and run of one sweep (no
-  // --out, --shard), so merged shards write the report a single run writes.
+  // How the sweep was started (SweepCommandLine), for report.md's line that runs it again: the
+  // same for every shard of one sweep (no --out, --shard); the report adds the folder it is in.
   std::string command;
 };
 
@@ -58,7 +59,14 @@ struct SweepOutcome {
   int ran = 0;
   int failed_rows = 0;
   std::vector<std::string> warnings;  // plots not drawn, ...
+  std::vector<SummaryRow> summary;    // of every finished cell (empty for one shard of several)
 };
+
+// `rigsim sweep` and its arguments, each quoted for a POSIX shell where it needs it.
+std::string SweepCommandLine(const std::vector<std::string>& args);
+// The command that runs the sweep again into `out_dir`, keeping its finished cells: `command`
+// (SweepCommandLine of every option but --out, paths absolute) with --out.
+std::string RunAgainCommand(const std::string& command, const std::filesystem::path& out_dir);
 
 // Relative cost of a cell (render and calibration work), for the time estimate and for
 // balancing shards.
@@ -104,7 +112,8 @@ MergeOutcome MergeSweepShards(const std::filesystem::path& out, const std::vecto
 
 // Writes results.csv, results.jsonl, summary.csv, summary.json, plots/ and report.md from the
 // finished cells of `config` found in `out_dir`. Returns warnings (cells missing, plots not drawn).
+// `summary`, when given, gets the summary of the finished cells.
 std::vector<std::string> WriteSweepResults(const SweepConfig& config, const std::filesystem::path& out_dir,
-                                           const std::string& command);
+                                           const std::string& command, std::vector<SummaryRow>* summary = nullptr);
 
 }  // namespace rigsim

@@ -76,8 +76,12 @@ TEST(SweepRunner, RunsEveryCellOnceAndWritesTheResults) {
   EXPECT_FALSE(fs::exists(out / "datasets"));
   const std::string report = ReadFile(out / "report.md");
   EXPECT_NE(report.find("# Sweep: fake"), std::string::npos);
-  EXPECT_NE(report.find("| frames=2 | none | 2 | 0 | 0% | 0% |"), std::string::npos) << report;
-  EXPECT_NE(report.find("| frames=3 | mask | 2 | 0 | 0% | 100% |"), std::string::npos);
+  EXPECT_NE(report.find("| frames=2 | none | 2 | 0 | -, - | 0 of 2 | 0 of 2 | 0 of 2 |"), std::string::npos) << report;
+  EXPECT_NE(report.find("| frames=3 | mask | 2 | 0 | -, - | 0 of 2 | 2 of 2 | 0 of 2 |"), std::string::npos);
+  // The summary comes back for the command's own lines.
+  ASSERT_EQ(outcome.summary.size(), 3u * 2);
+  EXPECT_EQ(outcome.summary[2].point, "frames=3");
+  EXPECT_EQ(outcome.summary[2].Count("success_2deg"), 2);
   if (!FindProgram("gnuplot").empty()) {
     EXPECT_TRUE(fs::file_size(out / "plots" / "fake_success.png") > 1000);
     EXPECT_TRUE(fs::exists(out / "plots" / "fake_rotation_error.svg"));
@@ -172,6 +176,16 @@ std::map<std::string, std::string> ResultFiles(const fs::path& out) {
   return files;
 }
 
+TEST(SweepRunner, TheRunAgainLineKeepsEveryArgumentAndTheFolder) {
+  const std::string command =
+      SweepCommandLine({"--suite", "motion", "--size", "small", "--rig", "/data/my rigs/rig's.json", "--threads", "2"});
+  EXPECT_EQ(command, "rigsim sweep --suite motion --size small --rig '/data/my rigs/rig'\\''s.json' --threads 2");
+  EXPECT_EQ(RunAgainCommand(command, "/tmp/sweeps/./motion"), command + " --out /tmp/sweeps/motion");
+  // A relative folder is made absolute: the line works from any folder.
+  EXPECT_EQ(RunAgainCommand("rigsim sweep /c.yaml", "out/x"),
+            "rigsim sweep /c.yaml --out " + (fs::current_path() / "out" / "x").string());
+}
+
 TEST(SweepShards, MergedShardsWriteWhatASingleRunWrites) {
   const TempDir base;
   FakeRunner single;
@@ -198,7 +212,19 @@ TEST(SweepShards, MergedShardsWriteWhatASingleRunWrites) {
   const auto a = ResultFiles(base / "single"), b = ResultFiles(base / "merged");
   EXPECT_GE(a.size(), 5u);
   ASSERT_EQ(a.size(), b.size());
-  for (const auto& [name, bytes] : a) EXPECT_TRUE(b.count(name) && b.at(name) == bytes) << name << " differs";
+  // The report's line that runs the sweep again names the folder it is in; all else is the same.
+  const std::string single_out = fs::absolute(base / "single").lexically_normal().string();
+  const std::string merged_out = fs::absolute(base / "merged").lexically_normal().string();
+  EXPECT_NE(a.at("report.md").find("Run again (finished cells are kept): `rigsim sweep fake.json --out " + single_out + "`"),
+            std::string::npos)
+      << a.at("report.md");
+  std::string report = b.at("report.md");
+  ASSERT_NE(report.find("--out " + merged_out + "`"), std::string::npos) << report;
+  report.replace(report.find(merged_out), merged_out.size(), single_out);
+  EXPECT_EQ(report, a.at("report.md"));
+  for (const auto& [name, bytes] : a) {
+    if (name != "report.md") EXPECT_TRUE(b.count(name) && b.at(name) == bytes) << name << " differs";
+  }
 
   // A shard missing: its cells are named. A shard of another sweep is refused.
   const MergeOutcome partial = MergeSweepShards(base / "partial", {shards[0], shards[2]});

@@ -77,9 +77,9 @@ bool IsScenePresetName(const std::string& name) {
 }
 
 // The config of a built-in suite, and how to start it again (for its report and Slurm's tasks):
-// `command` gets the suite's options, `sweep_args` the same with absolute paths.
+// `sweep_args` gets the suite's options, paths absolute.
 SweepConfig SuiteSweep(const std::string& suite, const std::string& size, const std::string& rig,
-                       const std::string& scene, std::string* command, std::vector<std::string>* sweep_args) {
+                       const std::string& scene, std::vector<std::string>* sweep_args) {
   SuiteInputs inputs;
   if (!rig.empty()) inputs.rig_file = fs::absolute(rig).lexically_normal().string();
   inputs.scene = scene;
@@ -92,16 +92,9 @@ SweepConfig SuiteSweep(const std::string& suite, const std::string& size, const 
     inputs.scene = fs::absolute(scene).lexically_normal().string();
   }
   SweepConfig sweep = ParseSweepConfig(SuiteConfig(suite, size, inputs), "--suite " + suite);
-  *command += "--suite " + suite + " --size " + size;
   *sweep_args = {"--suite", suite, "--size", size};
-  if (!rig.empty()) {
-    *command += " --rig " + fs::path(rig).filename().string();
-    sweep_args->insert(sweep_args->end(), {"--rig", inputs.rig_file});
-  }
-  if (!scene.empty()) {
-    *command += " --scene " + fs::path(scene).filename().string();
-    sweep_args->insert(sweep_args->end(), {"--scene", inputs.scene});
-  }
+  if (!rig.empty()) sweep_args->insert(sweep_args->end(), {"--rig", inputs.rig_file});
+  if (!scene.empty()) sweep_args->insert(sweep_args->end(), {"--scene", inputs.scene});
   return sweep;
 }
 
@@ -163,17 +156,19 @@ void AddSweepCommand(CLI::App& app) {
     }
     SweepConfig sweep;
     fs::path config_dir = fs::current_path();
-    // How the sweep is started, the same for every shard and run (for its report).
-    std::string command = "rigsim sweep ";
+    // How the sweep is started, the same for every shard (for Slurm's tasks and the report's line
+    // that runs it again: every option given but --out and the shards', paths absolute).
     std::vector<std::string> sweep_args;
     if (!args->suite.empty()) {
-      sweep = SuiteSweep(args->suite, args->size, args->rig, args->scene, &command, &sweep_args);
+      sweep = SuiteSweep(args->suite, args->size, args->rig, args->scene, &sweep_args);
     } else {
       sweep = ReadSweepConfig(args->config);
       config_dir = fs::absolute(args->config).parent_path();
-      command += fs::path(args->config).filename().string();
       sweep_args = {fs::absolute(args->config).lexically_normal().string()};
     }
+    std::vector<std::string> run_args = sweep_args;
+    if (args->keep_datasets) run_args.push_back("--keep-datasets");
+    if (args->threads > 0) run_args.insert(run_args.end(), {"--threads", std::to_string(args->threads)});
     const fs::path out = args->out.empty() ? fs::path("out") / "sweep" / sweep.name : fs::path(args->out);
     const std::vector<SweepCell> cells = ExpandCells(sweep);
     CheckCellRigFiles(cells, config_dir);  // a bad rig.json stops the sweep before anything renders
@@ -181,7 +176,7 @@ void AddSweepCommand(CLI::App& app) {
     options.out_dir = out;
     options.keep_datasets = args->keep_datasets;
     options.restart = args->force;
-    options.command = command;
+    options.command = SweepCommandLine(run_args);
     if (!args->shards.shard.empty()) std::tie(options.shard_index, options.num_shards) = ParseShard(args->shards.shard);
     std::fprintf(stderr, "sweep %s: %zu cells x %zu methods into %s\n", sweep.name.c_str(), cells.size(),
                  sweep.methods.size(), out.string().c_str());
@@ -221,9 +216,14 @@ void AddSweepCommand(CLI::App& app) {
     if (options.num_shards > 1) {
       std::printf("shard %d/%d in %s; combine the shards with: rigsim sweep-merge OUT SHARD_DIR...\n", options.shard_index,
                   options.num_shards, out.string().c_str());
-    } else {
-      std::printf("results in %s: report.md, results.csv, results.jsonl, summary.csv, plots/\n", out.string().c_str());
+      return;
     }
+    // The motion suite's answer: which path placed the rig, in how many of the seeds.
+    if (args->suite == "motion") {
+      for (const std::string& line : PlacementLines(outcome.summary)) std::printf("%s\n", line.c_str());
+    }
+    std::printf("results in %s: report.md, results.csv, results.jsonl, summary.csv, plots/\n", out.string().c_str());
+    std::printf("run again (finished cells are kept): %s\n", RunAgainCommand(options.command, out).c_str());
   });
 }
 
