@@ -14,6 +14,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,11 @@
 #include "sweep/sweep_summary.h"
 
 namespace rigsim {
+
+// The stage a CellRunner reports while it does work for later cells too (a preset scene generated
+// once per seed): the time to the next stage is left out of the cell's time, from which the time
+// left is estimated.
+inline constexpr const char* kOneOffStage = "generating the scene";
 
 // Runs one cell: renders into `dataset_dir` (an empty folder that exists), calibrates by every
 // method and scores. `status` reports what it is doing, for the progress line.
@@ -34,7 +40,7 @@ struct SweepProgress {
   int resumed = 0;       // found finished at the start
   int failed_rows = 0;   // (cell, method) rows with status "failed" so far
   double elapsed_s = 0;  // since the start of this run
-  double eta_s = -1;     // estimated time left; < 0 until a cell has finished in this run
+  double eta_s = -1;     // estimated time left (EstimateTimeLeft); < 0 until a cell has finished in this run
   std::string current;   // the cell being run and its stage
 };
 
@@ -71,6 +77,15 @@ std::string RunAgainCommand(const std::string& command, const std::filesystem::p
 // Relative cost of a cell (render and calibration work), for the time estimate and for
 // balancing shards.
 double CellCost(const SweepCell& cell, const std::vector<SweepMethod>& methods);
+
+// The time (s) the cells `left` will take, from the wall times `seconds` of the cells run so far
+// (one per cell; nullopt for those not run in this run): a cell whose study point (its parameters
+// but the seed) has cells run takes their mean time; another its CellCost at the mean time per
+// cost of every cell run. `in_progress_s` is the time already spent on left[0], the cell running.
+// -1 until a cell has run.
+double EstimateTimeLeft(const std::vector<SweepCell>& cells, const std::vector<SweepMethod>& methods,
+                        const std::vector<std::optional<double>>& seconds, const std::vector<size_t>& left,
+                        double in_progress_s = 0.0);
 
 // The shard of every cell: each cell in exactly one of `num_shards`, the shards' summed CellCost
 // as even as a greedy assignment makes them (costliest cell first, to the least loaded shard).

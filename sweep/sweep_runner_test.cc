@@ -5,6 +5,7 @@
 #include <map>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -176,6 +177,61 @@ std::map<std::string, std::string> ResultFiles(const fs::path& out) {
   return files;
 }
 
+TEST(SweepRunner, TheTimeLeftComesFromTheCellsRunSoFar) {
+  // Two paths over three seeds: the cost model weighs them alike.
+  const SweepConfig config = ParseSweepConfig(
+      Json::parse(R"({"seeds": 3, "grid": {"trajectory": ["straight", "handheld"]}})"), "t.json");
+  const std::vector<SweepCell> cells = ExpandCells(config);
+  ASSERT_EQ(cells.size(), 6u);
+  ASSERT_DOUBLE_EQ(CellCost(cells[0], config.methods), CellCost(cells[3], config.methods));
+  std::vector<std::optional<double>> seconds(6);
+  EXPECT_LT(EstimateTimeLeft(cells, config.methods, seconds, {0, 1, 2, 3, 4, 5}), 0);  // nothing measured yet
+  // One straight cell took 10 s: the rest at 10 s each.
+  seconds[0] = 10;
+  EXPECT_DOUBLE_EQ(EstimateTimeLeft(cells, config.methods, seconds, {1, 2, 3, 4, 5}), 50);
+  // The first handheld cell took 40 s: its other seeds take as long, not the 17.5 s the cells'
+  // mean would give.
+  seconds[1] = seconds[2] = 10;
+  seconds[3] = 40;
+  EXPECT_DOUBLE_EQ(EstimateTimeLeft(cells, config.methods, seconds, {4, 5}), 80);
+  // 15 s into cell 4.
+  EXPECT_DOUBLE_EQ(EstimateTimeLeft(cells, config.methods, seconds, {4, 5}, 15), 65);
+  // A cell of another size is scaled by its cost.
+  SweepCell bigger = cells[0];
+  bigger.params["frames"] = 4 * cells[0].params["frames"].get<int>();
+  std::vector<SweepCell> with = cells;
+  with.push_back(bigger);
+  seconds.push_back(std::nullopt);
+  const double per_cost = 70.0 / (4 * CellCost(cells[0], config.methods));  // 70 s over four cells
+  EXPECT_NEAR(EstimateTimeLeft(with, config.methods, seconds, {6}), per_cost * CellCost(bigger, config.methods), 1e-9);
+  EXPECT_GT(CellCost(bigger, config.methods), 3 * CellCost(cells[0], config.methods));
+}
+
+TEST(SweepRunner, OneOffWorkIsLeftOutOfTheTimeLeft) {
+  // The first cell generates a scene for every later one (0.8 s); the cells themselves take
+  // milliseconds: five of them do not take 5 x 0.8 s.
+  FakeRunner fake;
+  const CellRunner inner = fake.Get();
+  const CellRunner runner = [&](const SweepCell& cell, const fs::path& dataset,
+                                const std::function<void(const std::string&)>& status) {
+    if (cell.index == 0) {
+      status(kOneOffStage);
+      std::this_thread::sleep_for(std::chrono::milliseconds(800));
+    }
+    return inner(cell, dataset, status);
+  };
+  const TempDir scratch;
+  SweepRunOptions options;
+  options.out_dir = scratch / "out";
+  std::vector<SweepProgress> seen;
+  options.progress = [&](const SweepProgress& p) { seen.push_back(p); };
+  RunSweep(Config(), options, runner);
+  const auto after_first = std::find_if(seen.begin(), seen.end(), [](const SweepProgress& p) { return p.done == 1; });
+  ASSERT_NE(after_first, seen.end());
+  EXPECT_GE(after_first->eta_s, 0.0);
+  EXPECT_LT(after_first->eta_s, 1.5) << "the scene's time counted as every cell's";
+}
+
 TEST(SweepRunner, TheRunAgainLineKeepsEveryArgumentAndTheFolder) {
   const std::string command =
       SweepCommandLine({"--suite", "motion", "--size", "small", "--rig", "/data/my rigs/rig's.json", "--threads", "2"});
@@ -223,7 +279,8 @@ TEST(SweepShards, MergedShardsWriteWhatASingleRunWrites) {
   report.replace(report.find(merged_out), merged_out.size(), single_out);
   EXPECT_EQ(report, a.at("report.md"));
   for (const auto& [name, bytes] : a) {
-    if (name != "report.md") EXPECT_TRUE(b.count(name) && b.at(name) == bytes) << name << " differs";
+    if (name == "report.md") continue;
+    EXPECT_TRUE(b.count(name) && b.at(name) == bytes) << name << " differs";
   }
 
   // A shard missing: its cells are named. A shard of another sweep is refused.

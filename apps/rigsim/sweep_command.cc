@@ -35,7 +35,7 @@ class SweepProgressLine {
     std::string line = "sweep: " + std::to_string(p.done) + "/" + std::to_string(p.total) + " cells";
     if (p.resumed > 0) line += " (" + std::to_string(p.resumed) + " from an earlier run)";
     if (p.failed_rows > 0) line += ", " + std::to_string(p.failed_rows) + " failed runs";
-    line += p.eta_s >= 0 ? ", about " + DurationInWords(p.eta_s) + " left" : "";
+    if (p.eta_s >= 1 && p.done < p.total) line += ", about " + DurationInWords(p.eta_s) + " left";
     if (tty_) {
       std::string full = line + "  [" + p.current + "]";
       if (full.size() > 150) full = full.substr(0, 147) + "...";
