@@ -43,7 +43,8 @@ bool IsPreset(const std::string& scene) {
 
 // The scene file of a cell: a preset generated into the scene folder once (deterministic: the
 // same preset, seed and animation give the same bytes), or a file named in the config.
-fs::path SceneFile(const Json& p, const CellRunnerOptions& options) {
+fs::path SceneFile(const Json& p, const CellRunnerOptions& options,
+                   const std::function<void(const std::string&)>& status) {
   const std::string scene = p.at("scene").get<std::string>();
   if (!IsPreset(scene)) {
     const fs::path path = fs::path(scene).is_absolute() ? fs::path(scene) : options.config_dir / scene;
@@ -58,6 +59,7 @@ fs::path SceneFile(const Json& p, const CellRunnerOptions& options) {
   const fs::path path = options.scene_dir / (scene + "-" + std::to_string(preset.seed) +
                                              (preset.animated ? "-animated-traffic" + FormatParamValue(p.at("traffic")) : "") + ".glb");
   if (!fs::exists(path)) {
+    status(kOneOffStage);
     fs::create_directories(options.scene_dir);
     const fs::path tmp = path.string() + ".partial";
     WriteScenePreset(preset, tmp);
@@ -109,6 +111,8 @@ MethodRow RunRigsim(const SweepMethod& method, const Json& p, const CalibrationI
   CalibrationRunOptions o;
   o.features.type = FeatureTypeFromName(method.features);
   o.rig.pairwise.num_threads = options.num_threads;
+  o.rig.capture_time.estimate_offsets = method.time != "synchronised";
+  o.rig.capture_time.estimate_readout = method.time == "estimated+rolling-shutter";
   const int boundary = p.at("label_boundary").get<int>();
   const double confusion = p.at("label_confusion").get<double>();
   if (boundary > 0 || confusion > 0) {
@@ -188,7 +192,7 @@ CellRunner MakeCellRunner(const SweepConfig& config, const CellRunnerOptions& op
     CellRun render;
     {
       status("scene");
-      const fs::path scene_file = SceneFile(p, options);
+      const fs::path scene_file = SceneFile(p, options, status);
       const Scene& scene = cache->Get(scene_file);
       status("placing the rig");
       const RigSpec spec = CellRigSpec(p, options.config_dir);

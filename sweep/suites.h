@@ -13,8 +13,8 @@
 //
 // motion: which path calibrates a user's own rig (SuiteInputs::rig_file, a rig.json with every
 // camera's intrinsics and cam_from_rig): the rig through every named path (rigs/trajectories.h) at
-// 3, 12 and 30 frames (a study per frame count), in the street or SuiteInputs::scene. Sizes: full
-// (3 seeds, none, mask and COLMAP), small (1 seed, 3 and 12 frames, none).
+// 3, 12 and 30 frames (a study per frame count), in the street or SuiteInputs::scene, over 3 seeds.
+// Sizes: full (none, mask and COLMAP), small (3 and 12 frames, none).
 #pragma once
 
 #include <string>

@@ -77,6 +77,12 @@ const std::vector<ParamSpec>& CellParamSpecs() {
 
 std::vector<std::string> SweepPeerNames() { return {"colmap"}; }
 
+std::vector<std::string> SweepTimeNames() { return {"synchronised", "estimated", "estimated+rolling-shutter"}; }
+
+std::string SweepMethodName(const std::string& features, const std::string& semantics, const std::string& time) {
+  return (features == "sift" ? semantics : features + ":" + semantics) + (time == "synchronised" ? "" : "@" + time);
+}
+
 std::vector<std::string> SweepStudy::VariedParams() const {
   std::vector<std::string> names;
   for (const SweepAxis& a : grid) names.push_back(a.param);
@@ -187,16 +193,18 @@ SweepStudy ParseStudy(const Json& j, const std::string& source, const std::strin
 }
 
 std::vector<SweepMethod> ParseMethods(const Json& j, const std::string& source) {
-  static const std::vector<std::string> keys = {"semantics", "features", "peers"};
+  static const std::vector<std::string> keys = {"semantics", "features", "time", "peers"};
   static const std::vector<std::string> modes = NamesOf(kAllSemanticModes, SemanticModeName);
   static const std::vector<std::string> features = NamesOf(kAllFeatureTypes, FeatureTypeName);
+  static const std::vector<std::string> times = SweepTimeNames();
   static const std::vector<std::string> peers = SweepPeerNames();
-  std::vector<std::string> sem = {"none", "mask"}, feat = {"sift"}, peer;
+  std::vector<std::string> sem = {"none", "mask"}, feat = {"sift"}, time = {"synchronised"}, peer;
   if (!j.is_null()) {
-    if (!j.is_object()) Fail(source, "methods", "must be a mapping with semantics, features and peers");
+    if (!j.is_object()) Fail(source, "methods", "must be a mapping with semantics, features, time and peers");
     for (const auto& [k, v] : j.items()) {
       const std::vector<std::string>* allowed = k == "semantics" ? &modes : k == "features" ? &features
-                                                : k == "peers"   ? &peers : nullptr;
+                                                : k == "time"      ? &times
+                                                : k == "peers"     ? &peers : nullptr;
       if (!allowed) Fail(source, "methods." + k, "unknown key" + DidYouMean(k, keys));
       if (!v.is_array()) Fail(source, "methods." + k, "must be a list");
       std::vector<std::string> names;
@@ -205,19 +213,24 @@ std::vector<SweepMethod> ParseMethods(const Json& j, const std::string& source) 
         if (!v[i].is_string()) Fail(source, w, "must be a name");
         const std::string n = v[i].get<std::string>();
         if (std::find(allowed->begin(), allowed->end(), n) == allowed->end()) {
-          Fail(source, w, "unknown " + k + " '" + n + "'" + DidYouMean(n, *allowed));
+          const std::string suggestion = DidYouMean(n, *allowed);
+          Fail(source, w, "unknown " + k + " '" + n + "'" + (suggestion.empty() ? "; give " + JoinNames(*allowed) : suggestion));
         }
         if (std::find(names.begin(), names.end(), n) != names.end()) Fail(source, w, "'" + n + "' is listed twice");
         names.push_back(n);
       }
-      (k == "semantics" ? sem : k == "features" ? feat : peer) = names;
+      (k == "semantics" ? sem : k == "features" ? feat : k == "time" ? time : peer) = names;
     }
   }
+  // rigsim's methods are every feature type, way of taking capture times and mode crossed; the
+  // peers take the images as they are.
   std::vector<SweepMethod> methods;
   for (const std::string& f : feat) {
-    for (const std::string& s : sem) methods.push_back({f == "sift" ? s : f + ":" + s, "rigsim", s, f});
+    for (const std::string& t : time) {
+      for (const std::string& s : sem) methods.push_back({SweepMethodName(f, s, t), "rigsim", s, f, t});
+    }
   }
-  for (const std::string& p : peer) methods.push_back({p, p, "", ""});
+  for (const std::string& p : peer) methods.push_back({p, p, "", "", ""});
   if (methods.empty()) Fail(source, "methods", "no method to run: give semantics (and features) or peers");
   return methods;
 }
@@ -498,7 +511,7 @@ Json SweepConfigToJson(const SweepConfig& config) {
     studies.push_back({{"name", s.name}, {"set", s.set}, {"grid", grid}, {"zip", zip}});
   }
   // The methods as a config names them: rigsim's are every feature type crossed with every mode.
-  Json semantics = Json::array(), features = Json::array(), peers = Json::array();
+  Json semantics = Json::array(), features = Json::array(), time = Json::array(), peers = Json::array();
   const auto add = [](Json& list, const std::string& v) {
     if (std::find(list.begin(), list.end(), Json(v)) == list.end()) list.push_back(v);
   };
@@ -506,14 +519,19 @@ Json SweepConfigToJson(const SweepConfig& config) {
     if (m.tool == "rigsim") {
       add(semantics, m.semantics);
       add(features, m.features);
+      add(time, m.time);
     } else {
       add(peers, m.tool);
     }
   }
+  Json methods = {{"semantics", semantics}, {"features", features}};
+  // Synchronised alone is left out, as a config that does not name capture times leaves it out.
+  if (time != Json::array({"synchronised"}) && !time.empty()) methods["time"] = time;
+  methods["peers"] = peers;
   Json j = {{"name", config.name},
             {"base", config.base},
             {"seeds", config.seeds},
-            {"methods", {{"semantics", semantics}, {"features", features}, {"peers", peers}}},
+            {"methods", methods},
             {"studies", studies}};
   // The default claims are left out, as a config that names none leaves them out.
   if (ClaimSetToJson(config.claims) != ClaimSetToJson(DefaultClaims())) j["claims"] = ClaimSetToJson(config.claims);

@@ -6,6 +6,7 @@
 //   base: {rig: ring, cameras: 4, overlap: 30, width: 640, height: 360}  # defaults for every cell
 //   seeds: [1, 2, 3]                          # every cell once per seed
 //   methods: {semantics: [none, mask], features: [sift], peers: [colmap]}
+//   #        time: [synchronised, estimated] calibrates each way too (capture times estimated)
 //   grid: {overlap: [5, 15, 30, 50]}           # crossed: every combination of these axes
 //   zip: {lens: [pinhole, fisheye], fisheye_fov: [90, 190]}  # taken together, value i with value i
 //
@@ -51,14 +52,26 @@ struct SweepStudy {
 // The peer tools a sweep can run beside rigsim: "colmap".
 std::vector<std::string> SweepPeerNames();
 
-// A way of calibrating a cell's images: rigsim in one semantic mode with one feature type, or a
-// peer tool.
+// How rigsim takes the cameras' capture times (methods.time): `synchronised` (as they are: a
+// camera capturing at another time than the first is not calibrated), `estimated` (each camera's
+// time offset estimated in the bundle adjustment, calibrate --estimate-time-offsets) or
+// `estimated+rolling-shutter` (each camera's readout time too, --rolling-shutter).
+std::vector<std::string> SweepTimeNames();
+
+// A way of calibrating a cell's images: rigsim in one semantic mode with one feature type and one
+// way of taking capture times, or a peer tool.
 struct SweepMethod {
-  std::string name;       // "none", "mask", "orb:none" (feature type named unless SIFT), "colmap"
+  // "none", "mask", "orb:none" (feature type named unless SIFT), "none@estimated" (capture times
+  // named unless synchronised), "colmap"
+  std::string name;
   std::string tool;       // "rigsim" or "colmap"
   std::string semantics;  // rigsim: none, mask, gated, mask+gated
   std::string features;   // rigsim: sift, rootsift, orb, akaze
+  std::string time;       // rigsim: synchronised, estimated, estimated+rolling-shutter (SweepTimeNames)
 };
+
+// The name of rigsim's method with these features, semantic mode and capture times.
+std::string SweepMethodName(const std::string& features, const std::string& semantics, const std::string& time);
 
 // A claim about the semantic modes, tested on a metric of the rows: each cell's row of a mode
 // against its row without semantics, the difference (or ratio) judged by `holds`.

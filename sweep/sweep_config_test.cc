@@ -90,6 +90,41 @@ TEST(SweepConfig, HashesDependOnWhatIsComputedOnly) {
   EXPECT_NE(SweepHash(ParseSweepConfig(a, "a.json")), SweepHash(ParseSweepConfig(d, "d.json")));
 }
 
+TEST(SweepConfig, CaptureTimesAreAMethodAxisCrossedWithTheModes) {
+  const SweepConfig c = ParseSweepConfig(Json::parse(R"({
+    "methods": {"semantics": ["none", "mask"], "time": ["synchronised", "estimated", "estimated+rolling-shutter"],
+                "peers": ["colmap"]}})"),
+                                         "sweep.json");
+  std::vector<std::string> names;
+  for (const SweepMethod& m : c.methods) names.push_back(m.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"none", "mask", "none@estimated", "mask@estimated",
+                                             "none@estimated+rolling-shutter", "mask@estimated+rolling-shutter",
+                                             "colmap"}));
+  EXPECT_EQ(c.methods[0].time, "synchronised");
+  EXPECT_EQ(c.methods[3].time, "estimated");
+  EXPECT_EQ(c.methods[3].semantics, "mask");
+  EXPECT_EQ(c.methods[4].time, "estimated+rolling-shutter");
+  EXPECT_EQ(c.methods[6].time, "");  // a peer takes the images as they are
+  EXPECT_EQ(SweepMethodName("orb", "none", "estimated"), "orb:none@estimated");
+  // It reads back, and a config without `time` keeps its methods' names and its hash.
+  const SweepConfig back = ParseSweepConfig(SweepConfigToJson(c), "sweep.json");
+  EXPECT_EQ(SweepHash(back), SweepHash(c));
+  EXPECT_EQ(back.methods.size(), c.methods.size());
+  const Json plain = Json::parse(R"({"methods": {"semantics": ["none"]}})");
+  Json synchronised = plain;
+  synchronised["methods"]["time"] = {"synchronised"};
+  EXPECT_EQ(SweepHash(ParseSweepConfig(plain, "a.json")), SweepHash(ParseSweepConfig(synchronised, "a.json")));
+  EXPECT_FALSE(SweepConfigToJson(ParseSweepConfig(plain, "a.json"))["methods"].contains("time"));
+  using E = std::runtime_error;
+  EXPECT_THAT(Parsing(R"({"methods": {"time": ["estimate"]}})"),
+              ThrowsExactly<E>("sweep.json: methods.time[0]: unknown time 'estimate' (did you mean 'estimated'?)"));
+  EXPECT_THAT(Parsing(R"({"methods": {"time": ["async"]}})"),
+              ThrowsExactly<E>("sweep.json: methods.time[0]: unknown time 'async'; give synchronised, "
+                               "estimated, estimated+rolling-shutter"));
+  EXPECT_THAT(Parsing(R"({"methods": {"tiem": ["estimated"]}})"),
+              ThrowsExactly<E>("sweep.json: methods.tiem: unknown key (did you mean 'time'?)"));
+}
+
 TEST(SweepConfig, ItsJsonReadsBackAsTheSameSweep) {
   const SweepConfig c = ParseSweepConfig(Json::parse(R"({
     "name": "round", "seeds": [4, 2], "base": {"width": 320},
@@ -241,6 +276,11 @@ TEST(Suites, MotionTakesTheUsersRigThroughEveryPathAndFrameCount) {
   EXPECT_TRUE(points.count({30, "handheld"}));
   EXPECT_TRUE(points.count({3, "figure-eight"}));
   EXPECT_EQ(full.studies.size(), 3u);  // a plot per frame count
+  // Either size runs every path over three seeds: a path places a rig in a share of runs.
+  const SweepConfig small = ParseSweepConfig(SuiteConfig("motion", "small", inputs), "--suite motion");
+  EXPECT_EQ(small.seeds.size(), 3u);
+  EXPECT_EQ(full.seeds.size(), 3u);
+  EXPECT_EQ(ExpandCells(small).size(), 2u * 5 * 3);
   // Without a rig it is refused; the thesis suite takes none.
   EXPECT_THROW(SuiteConfig("motion", "small"), std::invalid_argument);
   EXPECT_THROW(SuiteConfig("thesis", "small", inputs), std::invalid_argument);

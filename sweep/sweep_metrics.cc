@@ -7,6 +7,7 @@
 #include "calibrator/rig_calibration.h"
 #include "evaluation/colmap_peer.h"
 #include "evaluation/rig_scores.h"
+#include "evaluation/verdicts.h"
 #include "pipeline/calibration_run.h"
 #include "pipeline/calibration_scores.h"
 
@@ -107,6 +108,11 @@ std::vector<MethodMetricSpec> MakeSweepMetricSpecs() {
       FromScores([](const RigScores& s) { return s.success_1deg ? 1 : 0; }));
   add("success_2deg", "the same within 2 deg", true, Share("all within 2°"), MetricPlot{"success", S::kLine, "success_2deg"},
       FromScores([](const RigScores& s) { return s.success_2deg ? 1 : 0; }));
+  add("success_5deg", "the same within 5 deg", true, Share("all within 5°"), {}, FromScores([](const RigScores& s) {
+        std::vector<double> others;
+        for (size_t c = 1; c < s.cameras.size(); ++c) others.push_back(s.cameras[c].pose_error_deg);
+        return RigSucceeds(!s.cameras.empty() && s.cameras[0].posed, others, 5.0) ? 1 : 0;
+      }));
   add("confidently_wrong",
       "cameras reported with a full pose whose pose error exceeds 5 deg, or placed but for one axis with their "
       "rotation or direction across the axis more than 5 deg off",

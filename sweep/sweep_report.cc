@@ -17,8 +17,6 @@ std::string Fmt(double v, const char* format = "%.3g") {
   return buf;
 }
 
-std::string Percent(double share) { return Fmt(100.0 * share, "%.0f%%"); }
-
 std::string MedianRange(const MetricSpread& s, const char* format, const std::string& unit = "") {
   if (!s.median) return "-";
   std::string out = Fmt(*s.median, format) + unit;
@@ -79,8 +77,8 @@ std::string StudySection(const SweepStudy& study, const std::vector<SummaryRow>&
     if (p.rfind("plots/" + PlotFileStem(study.name) + "_", 0) == 0) md += "![" + p + "](" + p + ")\n";
   }
   const std::vector<SummarisedMetric> metrics = SummarisedMetrics();
-  md += "\n| " + std::string(varied.empty() ? "point" : "swept values") + " | method | cells | failed |";
-  std::string rule = "|---|---|---|---|";
+  md += "\n| " + std::string(varied.empty() ? "point" : "swept values") + " | method | cells | failed | cameras posed |";
+  std::string rule = "|---|---|---|---|---|";
   for (const SummarisedMetric& m : metrics) {
     md += " " + m.spec->summary.heading + " |";
     rule += "---|";
@@ -88,11 +86,14 @@ std::string StudySection(const SweepStudy& study, const std::vector<SummaryRow>&
   md += "\n" + rule + "\n";
   for (const SummaryRow& r : summary) {
     if (r.study != study.name) continue;
-    md += "| " + Cell(r.point) + " | " + r.method + " | " + std::to_string(r.cells) + " | " + std::to_string(r.failed) + " |";
+    md += "| " + Cell(r.point) + " | " + r.method + " | " + std::to_string(r.cells) + " | " + std::to_string(r.failed) + " | " +
+          CamerasPosedText(r) + " |";
     for (const SummarisedMetric& m : metrics) {
       const MetricSummary& how = m.spec->summary;
       switch (how.kind) {
-        case SummaryKind::kShare: md += " " + Percent(r.Total(m.spec->name)) + " |"; break;
+        case SummaryKind::kShare:
+          md += " " + std::to_string(r.Count(m.spec->name)) + " of " + std::to_string(r.cells) + " |";
+          break;
         case SummaryKind::kSum: md += " " + std::to_string(static_cast<int64_t>(r.Total(m.spec->name))) + " |"; break;
         case SummaryKind::kMedian:
           md += " " + MedianRange(r.Spread(m.spec->name), how.format.c_str(), how.unit) + " |";
@@ -134,7 +135,7 @@ std::string SweepReportMarkdown(const SweepReportInput& in) {
         "full pose whose rotation and translation-direction errors against the truth are both at most N deg. "
         "*Confidently wrong*: cameras reported with a full pose that are more than 5 deg off, or placed but for one "
         "axis (*open along an axis*: no full pose, never within N deg) with their rotation or the direction of their "
-        "centre across the axis more than 5 deg off. Values are medians over a point's seeds, with their range in brackets. Files: `results.csv` and `results.jsonl` (a row per cell and "
+        "centre across the axis more than 5 deg off. *Cameras posed*: per seed, the cameras given a full pose of the rig's cameras. *All within N°*: in how many of the point's seeds every camera was. Other values are medians over a point's seeds, with their range in brackets. Files: `results.csv` and `results.jsonl` (a row per cell and "
         "method), `summary.csv`, `summary.json`, `plots/`.\n\n";
   md += ClaimSection(config.claims, *in.claims);
   for (const SweepStudy& study : config.studies) md += StudySection(study, *in.summary, in.plot_images);
@@ -143,7 +144,8 @@ std::string SweepReportMarkdown(const SweepReportInput& in) {
   md += "| cell, key, studies, seed | the cell's number, its key (names `cells/<key>.json`), its studies, its seed |\n";
   for (const ParamSpec& p : CellParamSpecs()) md += "| " + p.name + " | " + Cell(p.help) + " |\n";
   for (const MetricSpec& m : CellMetricSpecs()) md += "| " + m.name + " | " + Cell(m.help) + " |\n";
-  md += "| method, tool, semantics, features | how the cell was calibrated |\n"
+  md += "| method, tool, semantics, features, time | how the cell was calibrated (time: how rigsim took the cameras' "
+        "capture times, synchronised or estimated) |\n"
         "| status, failure_reason | `ok`, or `failed` with why |\n";
   for (const MetricSpec& m : SweepMetricSpecs()) md += "| " + m.name + " | " + Cell(m.help) + " |\n";
   return md;

@@ -92,6 +92,7 @@ Json ResultRow(const SweepCell& cell, const SweepMethod& method, const CellRecor
   j["tool"] = method.tool;
   j["semantics"] = method.semantics;
   j["features"] = method.features;
+  j["time"] = method.time;
   j["status"] = row.status;
   j["failure_reason"] = row.failure_reason;
   for (const MetricSpec& m : SweepMetricSpecs()) j[m.name] = row.metrics.value(m.name, Json(nullptr));
@@ -105,7 +106,7 @@ std::vector<std::string> Columns() {
   std::vector<std::string> c = {"cell", "key", "studies", "seed"};
   for (const ParamSpec& p : CellParamSpecs()) c.push_back(p.name);
   for (const MetricSpec& m : CellMetricSpecs()) c.push_back(m.name);
-  for (const char* n : {"method", "tool", "semantics", "features", "status", "failure_reason"}) c.push_back(n);
+  for (const char* n : {"method", "tool", "semantics", "features", "time", "status", "failure_reason"}) c.push_back(n);
   for (const MetricSpec& m : SweepMetricSpecs()) c.push_back(m.name);
   return c;
 }

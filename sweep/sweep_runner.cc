@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <fstream>
+#include <map>
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
@@ -29,6 +30,38 @@ double CellCost(const SweepCell& cell, const std::vector<SweepMethod>& methods) 
   double cost = views * megapixels * 0.1 * p.at("spp").get<double>();
   for (const SweepMethod& m : methods) cost += views * megapixels * (m.tool == "colmap" ? 3.0 : 1.0);
   return cost;
+}
+
+double EstimateTimeLeft(const std::vector<SweepCell>& cells, const std::vector<SweepMethod>& methods,
+                        const std::vector<std::optional<double>>& seconds, const std::vector<size_t>& left,
+                        double in_progress_s) {
+  // The cost model alone misjudges cells that differ in what it does not weigh (a handheld path
+  // calibrates several times slower than a straight one), so a point's measured seeds come first.
+  const auto point = [&](size_t i) {
+    nlohmann::ordered_json p = cells[i].params;
+    p.erase("seed");
+    return p.dump();
+  };
+  std::map<std::string, std::pair<double, int>> by_point;
+  double spent_s = 0.0, spent_cost = 0.0;
+  for (size_t i = 0; i < cells.size(); ++i) {
+    if (!seconds[i]) continue;
+    auto& [sum, n] = by_point[point(i)];
+    sum += *seconds[i];
+    ++n;
+    spent_s += *seconds[i];
+    spent_cost += CellCost(cells[i], methods);
+  }
+  if (spent_cost <= 0) return -1.0;
+  double total = 0.0;
+  for (size_t k = 0; k < left.size(); ++k) {
+    const auto it = by_point.find(point(left[k]));
+    double s = it != by_point.end() ? it->second.first / it->second.second
+                                    : CellCost(cells[left[k]], methods) * spent_s / spent_cost;
+    if (k == 0) s = std::max(0.0, s - in_progress_s);
+    total += s;
+  }
+  return total;
 }
 
 namespace {
@@ -157,20 +190,37 @@ SweepOutcome RunSweep(const SweepConfig& config, const SweepRunOptions& options,
   }
   progress.resumed = outcome.resumed;
   progress.done = outcome.resumed;
-  double remaining_cost = 0.0, spent_cost = 0.0;
+  // The time left: the cells not finished yet, at the times the cells run so far took.
+  std::vector<std::optional<double>> seconds(cells.size());
+  std::vector<size_t> left;
   for (size_t i = 0; i < cells.size(); ++i) {
-    if (!finished[i]) remaining_cost += CellCost(cells[i], config.methods);
+    if (!finished[i]) left.push_back(i);
   }
   const auto start = Clock::now();
+  auto cell_start = start;
+  double one_off_s = 0.0;  // of the cell running: the time of its kOneOffStage
+  std::optional<Clock::time_point> one_off_since;
+  // Estimated once per cell (the cell running, the rest after it); the progress line counts down.
+  double eta_cell = -1.0, eta_rest = -1.0;
+  const auto estimate = [&] {
+    eta_cell = left.empty() ? -1.0 : EstimateTimeLeft(cells, config.methods, seconds, {left[0]});
+    eta_rest = EstimateTimeLeft(cells, config.methods, seconds, std::vector<size_t>(left.begin() + !left.empty(), left.end()));
+  };
   auto report = [&](const std::string& current) {
-    progress.elapsed_s = std::chrono::duration<double>(Clock::now() - start).count();
-    progress.eta_s = spent_cost > 0 ? progress.elapsed_s / spent_cost * remaining_cost : -1.0;
+    const auto now = Clock::now();
+    progress.elapsed_s = std::chrono::duration<double>(now - start).count();
+    const double in_cell_s = std::chrono::duration<double>(now - cell_start).count() - one_off_s;
+    progress.eta_s = eta_rest < 0 ? -1.0 : eta_rest + std::max(0.0, eta_cell - in_cell_s);
     progress.current = current;
     if (options.progress) options.progress(progress);
   };
   for (size_t i = 0; i < cells.size(); ++i) {
     if (finished[i]) continue;
     if (options.check_interrupt) options.check_interrupt();
+    cell_start = Clock::now();
+    estimate();
+    one_off_s = 0.0;
+    one_off_since.reset();
     const SweepCell& cell = cells[i];
     const std::string what = Describe(cell, config.studies);
     const fs::path work = out / "work" / cell.key;
@@ -180,6 +230,10 @@ SweepOutcome RunSweep(const SweepConfig& config, const SweepRunOptions& options,
     try {
       record = run_cell(cell, work, [&](const std::string& stage) {
         if (options.check_interrupt) options.check_interrupt();
+        const auto now = Clock::now();
+        if (one_off_since) one_off_s += std::chrono::duration<double>(now - *one_off_since).count();
+        one_off_since.reset();
+        if (stage == kOneOffStage) one_off_since = now;
         report(what + ": " + stage);
       });
     } catch (...) {
@@ -198,15 +252,16 @@ SweepOutcome RunSweep(const SweepConfig& config, const SweepRunOptions& options,
     }
     ++outcome.ran;
     for (const MethodRow& row : record.rows) progress.failed_rows += row.status != "ok";
-    const double cost = CellCost(cell, config.methods);
-    spent_cost += cost;
-    remaining_cost -= cost;
+    seconds[i] = std::chrono::duration<double>(Clock::now() - cell_start).count() - one_off_s;
+    left.erase(left.begin());
+    cell_start = Clock::now();
+    estimate();
     ++progress.done;
     report(what + ": done");
   }
   fs::remove_all(out / "work");
   outcome.failed_rows = progress.failed_rows;
-  if (options.num_shards == 1) outcome.warnings = WriteSweepResults(config, out, options.command);
+  if (options.num_shards == 1) outcome.warnings = WriteSweepResults(config, out, options.command, &outcome.summary);
   return outcome;
 }
 
@@ -271,7 +326,36 @@ MergeOutcome MergeSweepShards(const fs::path& out, const std::vector<fs::path>& 
   return outcome;
 }
 
-std::vector<std::string> WriteSweepResults(const SweepConfig& config, const fs::path& out, const std::string& command) {
+namespace {
+
+// An argument as a POSIX shell reads it back: as it is when it holds nothing the shell treats
+// specially, else in single quotes.
+std::string ShellWord(const std::string& a) {
+  const bool plain = !a.empty() && a.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                                       "0123456789_-+=/.,:@%") == std::string::npos;
+  if (plain) return a;
+  std::string q = "'";
+  for (char c : a) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+}  // namespace
+
+std::string SweepCommandLine(const std::vector<std::string>& args) {
+  std::string line = "rigsim sweep";
+  for (const std::string& a : args) {
+    line += ' ';
+    line += ShellWord(a);
+  }
+  return line;
+}
+
+std::string RunAgainCommand(const std::string& command, const fs::path& out_dir) {
+  return command + " --out " + ShellWord(fs::absolute(out_dir).lexically_normal().string());
+}
+
+std::vector<std::string> WriteSweepResults(const SweepConfig& config, const fs::path& out, const std::string& command,
+                                           std::vector<SummaryRow>* summary_out) {
   std::vector<std::string> warnings;
   const std::vector<SweepCell> all = ExpandCells(config);
   std::vector<SweepCell> cells;
@@ -314,8 +398,9 @@ std::vector<std::string> WriteSweepResults(const SweepConfig& config, const fs::
   input.summary = &summary;
   input.claims = &claims;
   input.plot_images = plots.images;
-  input.command = command;
+  input.command = command.empty() ? "" : RunAgainCommand(command, out);
   json_io::WriteTextAtomic(out / "report.md", SweepReportMarkdown(input));
+  if (summary_out) *summary_out = summary;
   return warnings;
 }
 

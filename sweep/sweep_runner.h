@@ -14,13 +14,20 @@
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "sweep/sweep_config.h"
 #include "sweep/sweep_results.h"
+#include "sweep/sweep_summary.h"
 
 namespace rigsim {
+
+// The stage a CellRunner reports while it does work for later cells too (a preset scene generated
+// once per seed): the time to the next stage is left out of the cell's time, from which the time
+// left is estimated.
+inline constexpr const char* kOneOffStage = "generating the scene";
 
 // Runs one cell: renders into `dataset_dir` (an empty folder that exists), calibrates by every
 // method and scores. `status` reports what it is doing, for the progress line.
@@ -33,7 +40,7 @@ struct SweepProgress {
   int resumed = 0;       // found finished at the start
   int failed_rows = 0;   // (cell, method) rows with status "failed" so far
   double elapsed_s = 0;  // since the start of this run
-  double eta_s = -1;     // estimated time left; < 0 until a cell has finished in this run
+  double eta_s = -1;     // estimated time left (EstimateTimeLeft); < 0 until a cell has finished in this run
   std::string current;   // the cell being run and its stage
 };
 
@@ -47,8 +54,8 @@ struct SweepRunOptions {
   int num_shards = 1;
   std::function<void(const SweepProgress&)> progress;
   std::function<void()> check_interrupt;  // throws to stop the sweep
-  // How the sweep was started, for report.md: the same for every shard and run of one sweep (no
-  // --out, --shard), so merged shards write the report a single run writes.
+  // How the sweep was started (SweepCommandLine), for report.md's line that runs it again: the
+  // same for every shard of one sweep (no --out, --shard); the report adds the folder it is in.
   std::string command;
 };
 
@@ -58,11 +65,27 @@ struct SweepOutcome {
   int ran = 0;
   int failed_rows = 0;
   std::vector<std::string> warnings;  // plots not drawn, ...
+  std::vector<SummaryRow> summary;    // of every finished cell (empty for one shard of several)
 };
+
+// `rigsim sweep` and its arguments, each quoted for a POSIX shell where it needs it.
+std::string SweepCommandLine(const std::vector<std::string>& args);
+// The command that runs the sweep again into `out_dir`, keeping its finished cells: `command`
+// (SweepCommandLine of every option but --out, paths absolute) with --out.
+std::string RunAgainCommand(const std::string& command, const std::filesystem::path& out_dir);
 
 // Relative cost of a cell (render and calibration work), for the time estimate and for
 // balancing shards.
 double CellCost(const SweepCell& cell, const std::vector<SweepMethod>& methods);
+
+// The time (s) the cells `left` will take, from the wall times `seconds` of the cells run so far
+// (one per cell; nullopt for those not run in this run): a cell whose study point (its parameters
+// but the seed) has cells run takes their mean time; another its CellCost at the mean time per
+// cost of every cell run. `in_progress_s` is the time already spent on left[0], the cell running.
+// -1 until a cell has run.
+double EstimateTimeLeft(const std::vector<SweepCell>& cells, const std::vector<SweepMethod>& methods,
+                        const std::vector<std::optional<double>>& seconds, const std::vector<size_t>& left,
+                        double in_progress_s = 0.0);
 
 // The shard of every cell: each cell in exactly one of `num_shards`, the shards' summed CellCost
 // as even as a greedy assignment makes them (costliest cell first, to the least loaded shard).
@@ -104,7 +127,8 @@ MergeOutcome MergeSweepShards(const std::filesystem::path& out, const std::vecto
 
 // Writes results.csv, results.jsonl, summary.csv, summary.json, plots/ and report.md from the
 // finished cells of `config` found in `out_dir`. Returns warnings (cells missing, plots not drawn).
+// `summary`, when given, gets the summary of the finished cells.
 std::vector<std::string> WriteSweepResults(const SweepConfig& config, const std::filesystem::path& out_dir,
-                                           const std::string& command);
+                                           const std::string& command, std::vector<SummaryRow>* summary = nullptr);
 
 }  // namespace rigsim

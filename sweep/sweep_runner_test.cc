@@ -5,6 +5,7 @@
 #include <map>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -76,8 +77,12 @@ TEST(SweepRunner, RunsEveryCellOnceAndWritesTheResults) {
   EXPECT_FALSE(fs::exists(out / "datasets"));
   const std::string report = ReadFile(out / "report.md");
   EXPECT_NE(report.find("# Sweep: fake"), std::string::npos);
-  EXPECT_NE(report.find("| frames=2 | none | 2 | 0 | 0% | 0% |"), std::string::npos) << report;
-  EXPECT_NE(report.find("| frames=3 | mask | 2 | 0 | 0% | 100% |"), std::string::npos);
+  EXPECT_NE(report.find("| frames=2 | none | 2 | 0 | -, - | 0 of 2 | 0 of 2 | 0 of 2 |"), std::string::npos) << report;
+  EXPECT_NE(report.find("| frames=3 | mask | 2 | 0 | -, - | 0 of 2 | 2 of 2 | 0 of 2 |"), std::string::npos);
+  // The summary comes back for the command's own lines.
+  ASSERT_EQ(outcome.summary.size(), 3u * 2);
+  EXPECT_EQ(outcome.summary[2].point, "frames=3");
+  EXPECT_EQ(outcome.summary[2].Count("success_2deg"), 2);
   if (!FindProgram("gnuplot").empty()) {
     EXPECT_TRUE(fs::file_size(out / "plots" / "fake_success.png") > 1000);
     EXPECT_TRUE(fs::exists(out / "plots" / "fake_rotation_error.svg"));
@@ -172,6 +177,71 @@ std::map<std::string, std::string> ResultFiles(const fs::path& out) {
   return files;
 }
 
+TEST(SweepRunner, TheTimeLeftComesFromTheCellsRunSoFar) {
+  // Two paths over three seeds: the cost model weighs them alike.
+  const SweepConfig config = ParseSweepConfig(
+      Json::parse(R"({"seeds": 3, "grid": {"trajectory": ["straight", "handheld"]}})"), "t.json");
+  const std::vector<SweepCell> cells = ExpandCells(config);
+  ASSERT_EQ(cells.size(), 6u);
+  ASSERT_DOUBLE_EQ(CellCost(cells[0], config.methods), CellCost(cells[3], config.methods));
+  std::vector<std::optional<double>> seconds(6);
+  EXPECT_LT(EstimateTimeLeft(cells, config.methods, seconds, {0, 1, 2, 3, 4, 5}), 0);  // nothing measured yet
+  // One straight cell took 10 s: the rest at 10 s each.
+  seconds[0] = 10;
+  EXPECT_DOUBLE_EQ(EstimateTimeLeft(cells, config.methods, seconds, {1, 2, 3, 4, 5}), 50);
+  // The first handheld cell took 40 s: its other seeds take as long, not the 17.5 s the cells'
+  // mean would give.
+  seconds[1] = seconds[2] = 10;
+  seconds[3] = 40;
+  EXPECT_DOUBLE_EQ(EstimateTimeLeft(cells, config.methods, seconds, {4, 5}), 80);
+  // 15 s into cell 4.
+  EXPECT_DOUBLE_EQ(EstimateTimeLeft(cells, config.methods, seconds, {4, 5}, 15), 65);
+  // A cell of another size is scaled by its cost.
+  SweepCell bigger = cells[0];
+  bigger.params["frames"] = 4 * cells[0].params["frames"].get<int>();
+  std::vector<SweepCell> with = cells;
+  with.push_back(bigger);
+  seconds.push_back(std::nullopt);
+  const double per_cost = 70.0 / (4 * CellCost(cells[0], config.methods));  // 70 s over four cells
+  EXPECT_NEAR(EstimateTimeLeft(with, config.methods, seconds, {6}), per_cost * CellCost(bigger, config.methods), 1e-9);
+  EXPECT_GT(CellCost(bigger, config.methods), 3 * CellCost(cells[0], config.methods));
+}
+
+TEST(SweepRunner, OneOffWorkIsLeftOutOfTheTimeLeft) {
+  // The first cell generates a scene for every later one (0.8 s); the cells themselves take
+  // milliseconds: five of them do not take 5 x 0.8 s.
+  FakeRunner fake;
+  const CellRunner inner = fake.Get();
+  const CellRunner runner = [&](const SweepCell& cell, const fs::path& dataset,
+                                const std::function<void(const std::string&)>& status) {
+    if (cell.index == 0) {
+      status(kOneOffStage);
+      std::this_thread::sleep_for(std::chrono::milliseconds(800));
+    }
+    return inner(cell, dataset, status);
+  };
+  const TempDir scratch;
+  SweepRunOptions options;
+  options.out_dir = scratch / "out";
+  std::vector<SweepProgress> seen;
+  options.progress = [&](const SweepProgress& p) { seen.push_back(p); };
+  RunSweep(Config(), options, runner);
+  const auto after_first = std::find_if(seen.begin(), seen.end(), [](const SweepProgress& p) { return p.done == 1; });
+  ASSERT_NE(after_first, seen.end());
+  EXPECT_GE(after_first->eta_s, 0.0);
+  EXPECT_LT(after_first->eta_s, 1.5) << "the scene's time counted as every cell's";
+}
+
+TEST(SweepRunner, TheRunAgainLineKeepsEveryArgumentAndTheFolder) {
+  const std::string command =
+      SweepCommandLine({"--suite", "motion", "--size", "small", "--rig", "/data/my rigs/rig's.json", "--threads", "2"});
+  EXPECT_EQ(command, "rigsim sweep --suite motion --size small --rig '/data/my rigs/rig'\\''s.json' --threads 2");
+  EXPECT_EQ(RunAgainCommand(command, "/tmp/sweeps/./motion"), command + " --out /tmp/sweeps/motion");
+  // A relative folder is made absolute: the line works from any folder.
+  EXPECT_EQ(RunAgainCommand("rigsim sweep /c.yaml", "out/x"),
+            "rigsim sweep /c.yaml --out " + (fs::current_path() / "out" / "x").string());
+}
+
 TEST(SweepShards, MergedShardsWriteWhatASingleRunWrites) {
   const TempDir base;
   FakeRunner single;
@@ -198,7 +268,20 @@ TEST(SweepShards, MergedShardsWriteWhatASingleRunWrites) {
   const auto a = ResultFiles(base / "single"), b = ResultFiles(base / "merged");
   EXPECT_GE(a.size(), 5u);
   ASSERT_EQ(a.size(), b.size());
-  for (const auto& [name, bytes] : a) EXPECT_TRUE(b.count(name) && b.at(name) == bytes) << name << " differs";
+  // The report's line that runs the sweep again names the folder it is in; all else is the same.
+  const std::string single_out = fs::absolute(base / "single").lexically_normal().string();
+  const std::string merged_out = fs::absolute(base / "merged").lexically_normal().string();
+  EXPECT_NE(a.at("report.md").find("Run again (finished cells are kept): `rigsim sweep fake.json --out " + single_out + "`"),
+            std::string::npos)
+      << a.at("report.md");
+  std::string report = b.at("report.md");
+  ASSERT_NE(report.find("--out " + merged_out + "`"), std::string::npos) << report;
+  report.replace(report.find(merged_out), merged_out.size(), single_out);
+  EXPECT_EQ(report, a.at("report.md"));
+  for (const auto& [name, bytes] : a) {
+    if (name == "report.md") continue;
+    EXPECT_TRUE(b.count(name) && b.at(name) == bytes) << name << " differs";
+  }
 
   // A shard missing: its cells are named. A shard of another sweep is refused.
   const MergeOutcome partial = MergeSweepShards(base / "partial", {shards[0], shards[2]});

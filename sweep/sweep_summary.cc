@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <set>
 
 namespace rigsim {
 
@@ -85,6 +86,10 @@ double SummaryRow::Total(const std::string& metric) const {
   return it == totals.end() ? 0.0 : it->second;
 }
 
+int SummaryRow::Count(const std::string& metric) const {
+  return static_cast<int>(std::lround(Total(metric) * cells));
+}
+
 const MetricSpread& SummaryRow::Spread(const std::string& metric) const {
   static const MetricSpread none;
   const auto it = spreads.find(metric);
@@ -112,6 +117,10 @@ std::vector<SummaryRow> Summarise(const SweepConfig& config, const std::vector<S
           if (!r) continue;
           ++row.cells;
           if (r->status != "ok") ++row.failed;
+          const std::optional<double> posed = Number(r->metrics, "cameras_posed"), all = Number(r->metrics, "cameras");
+          row.cameras_posed.push_back(posed && all
+                                          ? std::optional<std::pair<int, int>>({static_cast<int>(*posed), static_cast<int>(*all)})
+                                          : std::nullopt);
           for (const SummarisedMetric& m : metrics) {
             const std::optional<double> v = Number(m.of_cell ? records[c].cell_metrics : r->metrics, m.spec->name);
             if (m.spec->summary.kind == SummaryKind::kMedian) {
@@ -151,9 +160,51 @@ Json SummaryToJson(const std::vector<SummaryRow>& rows) {
         case SummaryKind::kNone: break;
       }
     }
+    Json posed = Json::array();
+    for (const auto& p : r.cameras_posed) posed.push_back(p ? Json::array({p->first, p->second}) : Json(nullptr));
+    j["cameras_posed"] = posed;
     out.push_back(std::move(j));
   }
   return out;
+}
+
+std::string CamerasPosedText(const SummaryRow& row) {
+  const auto text = [](const std::optional<std::pair<int, int>>& p) {
+    return p ? std::to_string(p->first) + "/" + std::to_string(p->second) : std::string("-");
+  };
+  std::string out;
+  if (row.cameras_posed.size() <= 5) {
+    for (const auto& p : row.cameras_posed) out += (out.empty() ? "" : ", ") + text(p);
+    return out.empty() ? "-" : out;
+  }
+  // Least, most and median by the share posed, a run without a count (failed) counting as none.
+  std::vector<std::pair<double, std::optional<std::pair<int, int>>>> by_share;
+  for (const auto& p : row.cameras_posed) by_share.push_back({p && p->second > 0 ? double(p->first) / p->second : -1.0, p});
+  std::stable_sort(by_share.begin(), by_share.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  return text(by_share.front().second) + " to " + text(by_share.back().second) + ", median " +
+         text(by_share[(by_share.size() - 1) / 2].second);
+}
+
+std::vector<std::string> PlacementLines(const std::vector<SummaryRow>& rows) {
+  std::vector<std::string> lines;
+  std::set<std::string> methods;
+  for (const SummaryRow& r : rows) methods.insert(r.method);
+  std::string study;
+  for (const SummaryRow& r : rows) {
+    if (r.study != study || lines.empty()) {
+      study = r.study;
+      lines.push_back(study + ":");
+    }
+    // A path alone names its point; several swept values are named with their parameters.
+    std::string label = r.point;
+    if (r.point_values.size() == 1) label = FormatParamValue(r.point_values.begin().value());
+    if (methods.size() > 1) label += ", " + r.method;
+    lines.push_back("  " + label + ": placed every camera within 1° / 5° in " + std::to_string(r.Count("success_1deg")) +
+                    " / " + std::to_string(r.Count("success_5deg")) + " of " + std::to_string(r.cells) + " seeds (cameras posed " +
+                    CamerasPosedText(r) + ")");
+  }
+  return lines;
 }
 
 std::string SummaryCsv(const std::vector<SummaryRow>& rows) {
@@ -205,7 +256,7 @@ std::vector<ClaimResult> TestClaims(const SweepConfig& config, const std::vector
   };
   for (const SweepMethod& method : config.methods) {
     if (method.tool != "rigsim" || method.semantics == "none") continue;
-    const std::string baseline = method.features == "sift" ? "none" : method.features + ":none";
+    const std::string baseline = SweepMethodName(method.features, "none", method.time);
     if (!has(baseline)) continue;
     for (const ClaimSpec& spec : config.claims.claims) {
       ClaimResult cr;

@@ -36,6 +36,12 @@ struct SummaryRow {
   // (SummaryKind::kShare, kSum) in `totals`, a median and range (kMedian) in `spreads`.
   std::map<std::string, double> totals;
   std::map<std::string, MetricSpread> spreads;
+  // Per cell, in seed order: the cameras given a full pose and the rig's cameras; nullopt for a
+  // run without them (a failed one).
+  std::vector<std::optional<std::pair<int, int>>> cameras_posed;
+
+  // How many of the cells a 0/1 metric (SummaryKind::kShare) is 1 in.
+  int Count(const std::string& metric) const;
 
   double Total(const std::string& metric) const;               // 0 when not summarised
   const MetricSpread& Spread(const std::string& metric) const;  // empty when not summarised
@@ -46,6 +52,16 @@ std::vector<SummaryRow> Summarise(const SweepConfig& config, const std::vector<S
                                   const std::vector<CellRecord>& records);
 
 nlohmann::ordered_json SummaryToJson(const std::vector<SummaryRow>& rows);
+
+// The cameras posed per seed, "4/4, 4/4, 1/4" ("-" for a failed run); with more than five seeds
+// their least, most and median, "1/4 to 4/4, median 4/4".
+std::string CamerasPosedText(const SummaryRow& row);
+
+// What a study point says about placing the rig, one line per study point and method (motion
+// suite: per path), under a line per study: "  circle: placed every camera within 1° / 5° in
+// 1 / 2 of 3 seeds (cameras posed 4/4, 4/4, 1/4)". The method follows the point when the sweep
+// has more than one.
+std::vector<std::string> PlacementLines(const std::vector<SummaryRow>& rows);
 std::string SummaryCsv(const std::vector<SummaryRow>& rows);
 
 // One claim of the config (SweepConfig::claims), tested by pairing each cell's `method` row with

@@ -68,10 +68,69 @@ TEST(SweepSummary, GroupsCellsByStudyPointAndMethod) {
   EXPECT_DOUBLE_EQ(*rows[2].Spread("overlap_pct").median, 18.0);
   const std::string csv = SummaryCsv(rows);
   EXPECT_EQ(csv.substr(0, csv.find('\n')).substr(0, 30), "study,point,method,cells,faile");
-  EXPECT_NE(csv.find("\nt,overlap=10,none,2,0,0,0.5,0,2,0.75,0.15,0.1,0.2,,3.5,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\nt,overlap=10,none,2,0,0,0.5,0,0,2,0.75,0.15,0.1,0.2,,3.5,"), std::string::npos) << csv;
   EXPECT_DOUBLE_EQ(rows[0].Total("cameras_open_axis"), 2.0);  // summed over the seeds
   EXPECT_EQ(rows[0].Spread("max_across_axis_direction_error_deg").count, 1);
   EXPECT_FALSE(rows[1].Spread("max_across_axis_direction_error_deg").median.has_value());
+}
+
+TEST(SweepSummary, PlacementSaysInHowManySeedsEveryCameraWasPlaced) {
+  // One path, three seeds: every camera within 1 deg in one, within 5 deg in two; cameras posed
+  // 4, 4 and 1 of 4.
+  SweepConfig config = ParseSweepConfig(
+      Json::parse(R"({"seeds": 3, "methods": {"semantics": ["none"]}, "studies": [
+        {"name": "12 frames", "grid": {"trajectory": ["figure-eight", "loop"]}}]})"),
+      "t.json");
+  const std::vector<SweepCell> cells = ExpandCells(config);
+  ASSERT_EQ(cells.size(), 6u);
+  std::vector<CellRecord> records;
+  const int posed[6] = {4, 4, 1, 4, 4, 4};
+  const int within1[6] = {1, 0, 0, 1, 1, 1}, within5[6] = {1, 1, 0, 1, 1, 1};
+  for (size_t c = 0; c < cells.size(); ++c) {
+    CellRecord r;
+    r.key = cells[c].key;
+    r.params = cells[c].params;
+    MethodRow row;
+    row.method = "none";
+    row.metrics = {{"cameras", 4}, {"cameras_posed", posed[c]}, {"success_1deg", within1[c]},
+                   {"success_5deg", within5[c]}};
+    if (c == 5) {
+      row.status = "failed";
+      row.metrics = Json::object();
+    }
+    r.rows.push_back(row);
+    records.push_back(r);
+  }
+  const std::vector<SummaryRow> rows = Summarise(config, cells, records);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].Count("success_1deg"), 1);
+  EXPECT_EQ(rows[0].Count("success_5deg"), 2);
+  EXPECT_EQ(CamerasPosedText(rows[0]), "4/4, 4/4, 1/4");
+  EXPECT_EQ(PlacementLines(rows),
+            (std::vector<std::string>{
+                "12 frames:",
+                "  figure-eight: placed every camera within 1° / 5° in 1 / 2 of 3 seeds (cameras posed 4/4, 4/4, 1/4)",
+                "  loop: placed every camera within 1° / 5° in 2 / 2 of 3 seeds (cameras posed 4/4, 4/4, -)"}));
+  // The study's table in report.md says the same.
+  const std::vector<ClaimResult> claims;
+  SweepReportInput input;
+  input.config = &config;
+  input.cells = &cells;
+  input.records = &records;
+  input.summary = &rows;
+  input.claims = &claims;
+  const std::string report = SweepReportMarkdown(input);
+  EXPECT_NE(report.find("| swept values | method | cells | failed | cameras posed | all within 1° | all within 2° | "
+                        "all within 5° |"),
+            std::string::npos)
+      << report;
+  EXPECT_NE(report.find("| trajectory=figure-eight | none | 3 | 0 | 4/4, 4/4, 1/4 | 1 of 3 | 0 of 3 | 2 of 3 |"),
+            std::string::npos)
+      << report;
+  // Beyond five seeds the least, most and median.
+  SummaryRow many;
+  for (int p : {4, 2, 4, 3, 4, 4}) many.cameras_posed.push_back(std::make_pair(p, 4));
+  EXPECT_EQ(CamerasPosedText(many), "2/4 to 4/4, median 4/4");
 }
 
 TEST(SweepSummary, ClaimsPairEachCellsMethodWithItsBaseline) {

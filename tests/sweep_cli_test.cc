@@ -44,8 +44,8 @@ TEST(SweepCli, ATinySweepRunsEndToEndAndResumes) {
   EXPECT_NE(run.out.find("sweep tiny: 2 cells (2 run now, 0 from an earlier run)"), std::string::npos) << run.out;
   const std::string csv = ReadFile(out / "results.csv");
   EXPECT_EQ(CountLines(csv), 1 + 2 * 2) << csv;  // header + 2 cells x 2 methods
-  EXPECT_NE(csv.find(",none,rigsim,none,sift,ok,"), std::string::npos) << csv;
-  EXPECT_NE(csv.find(",mask,rigsim,mask,sift,ok,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",none,rigsim,none,sift,synchronised,ok,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",mask,rigsim,mask,sift,synchronised,ok,"), std::string::npos) << csv;
   // Every row is scored against the truth: the rig has two cameras.
   std::istringstream jsonl(ReadFile(out / "results.jsonl"));
   std::string line;
@@ -104,6 +104,32 @@ TEST(SweepCli, AnotherConfigsResultsAreReplacedOnlyWithForce) {
   const CliResult forced = sweep("other.yaml", {"--force"}, "forced");
   EXPECT_EQ(forced.code, 0) << forced.err;
   EXPECT_NE(ReadFile(out / "sweep.json"), record);
+}
+
+TEST(SweepCli, EstimatedCaptureTimesReachTheCalibration) {
+  // Two frames cannot show capture times: the estimated method's row fails with calibrate's reason,
+  // the synchronised one calibrates.
+  const TempDir dir;
+  WriteFile(dir / "time.yaml", R"(name: time
+base: {rig: ring, cameras: 2, spacing: 40, width: 320, height: 180, frames: 2, spp: 1}
+methods: {semantics: [none], time: [synchronised, estimated]}
+grid: {radius: [0.3]}
+)");
+  const fs::path out = dir / "out";
+  const CliResult run = RunRigsim({"sweep", (dir / "time.yaml").string(), "--out", out.string()}, dir / "run",
+                                  std::chrono::seconds(300));
+  ASSERT_EQ(run.code, 0) << run.err;
+  std::istringstream jsonl(ReadFile(out / "results.jsonl"));
+  std::vector<nlohmann::json> rows;
+  for (std::string line; std::getline(jsonl, line);) rows.push_back(nlohmann::json::parse(line));
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0]["method"], "none");
+  EXPECT_EQ(rows[0]["time"], "synchronised");
+  EXPECT_EQ(rows[0]["status"], "ok");
+  EXPECT_EQ(rows[1]["method"], "none@estimated");
+  EXPECT_EQ(rows[1]["time"], "estimated");
+  EXPECT_EQ(rows[1]["status"], "failed");
+  EXPECT_NE(rows[1]["failure_reason"].get<std::string>().find("at least three frames"), std::string::npos) << rows[1];
 }
 
 TEST(SweepCli, CtrlCLosesOnlyTheCellInProgress) {
@@ -208,11 +234,13 @@ TEST(SweepCli, TheMotionSuiteTriesTheUsersRigOnEveryPath) {
                                    "--out", out.string()},
                                   dir / "run", std::chrono::seconds(600));
   ASSERT_EQ(run.code, 0) << run.err;
-  // Small: 3 and 12 frames, every path, one seed, rigsim without semantics.
+  // Small: 3 and 12 frames, every path, three seeds, rigsim without semantics.
   std::istringstream jsonl(ReadFile(out / "results.jsonl"));
   std::string line;
   std::set<std::pair<int, std::string>> points;
+  int rows = 0;
   while (std::getline(jsonl, line)) {
+    ++rows;
     const nlohmann::json row = nlohmann::json::parse(line);
     EXPECT_EQ(row["rig"], "file");
     EXPECT_EQ(row["cameras"], 2) << line;   // the file's cameras, not a preset's four
@@ -222,7 +250,30 @@ TEST(SweepCli, TheMotionSuiteTriesTheUsersRigOnEveryPath) {
     points.insert({row["frames"].get<int>(), row["trajectory"].get<std::string>()});
   }
   EXPECT_EQ(points.size(), 2u * 5);
+  EXPECT_EQ(rows, 2 * 5 * 3);
   EXPECT_TRUE(points.count({12, "figure-eight"}));
+  // The answer, per frame count and path, in how many of the three seeds.
+  for (const char* study : {"3 frames:\n", "12 frames:\n"}) EXPECT_NE(run.out.find(study), std::string::npos) << run.out;
+  for (const char* path : {"straight", "circle", "loop", "figure-eight", "handheld"}) {
+    const std::string said = std::string("\n  ") + path + ": placed every camera within 1° / 5° in ";
+    const size_t first = run.out.find(said);
+    ASSERT_NE(first, std::string::npos) << run.out;
+    EXPECT_NE(run.out.find(said, first + 1), std::string::npos) << "one line per frame count: " << run.out;
+    const std::string rest = run.out.substr(first + said.size(), run.out.find('\n', first + 1) - first - said.size());
+    EXPECT_NE(rest.find(" of 3 seeds (cameras posed "), std::string::npos) << rest;
+  }
+  // The run-again line names the rig and the folder by their absolute paths and resumes the run.
+  const std::string again = "rigsim sweep --suite motion --size small --rig " +
+                            fs::absolute(dir / "my_rig" / "rig.json").lexically_normal().string() + " --out " +
+                            fs::absolute(out).lexically_normal().string();
+  EXPECT_NE(ReadFile(out / "report.md").find("Run again (finished cells are kept): `" + again + "`"), std::string::npos);
+  EXPECT_NE(run.out.find("run again (finished cells are kept): " + again + "\n"), std::string::npos) << run.out;
+  std::vector<std::string> args;
+  std::istringstream words(again.substr(std::string("rigsim ").size()));
+  for (std::string w; words >> w;) args.push_back(w);
+  const CliResult resumed = RunRigsim(args, dir / "again");
+  ASSERT_EQ(resumed.code, 0) << resumed.err;
+  EXPECT_NE(resumed.out.find("(0 run now, 30 from an earlier run)"), std::string::npos) << resumed.out;
   const std::string report = ReadFile(out / "report.md");
   EXPECT_NE(report.find("| trajectory=handheld | none |"), std::string::npos) << report;
   EXPECT_TRUE(fs::exists(out / "plots" / "3_frames_success.png"));
