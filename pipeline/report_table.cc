@@ -182,9 +182,10 @@ std::string FormatRigSummary(const CalibrationRun& run) {
     const CalibrationScores* truth = run.Truth(m);
     int calibrated = 0, if_synchronised = 0;
     std::optional<double> worst_rot, worst_dir, worst_across;
-    // Over every camera with an estimate, "rotation only" ones included, as evaluation.json's summary.
+    // Over every camera with an estimate, "rotation only" ones included, as evaluation.json's summary,
+    // but the reference, whose error is 0 by definition: with it alone placed there is no error.
     for (size_t c = 0; c < r.camera_stats.size(); ++c) {
-      if (truth) {
+      if (truth && c > 0) {
         const CameraAgainstTruth& t = truth->cameras[c];
         if (t.rotation_error_deg) worst_rot = std::max(worst_rot.value_or(0.0), *t.rotation_error_deg);
         if (t.translation_direction_error_deg) worst_dir = std::max(worst_dir.value_or(0.0), *t.translation_direction_error_deg);
@@ -202,8 +203,14 @@ std::string FormatRigSummary(const CalibrationRun& run) {
           << Opt(worst_dir, "%.2f deg");
       if (worst_across) out << ", worst direction across an open axis " << Opt(worst_across, "%.2f deg");
     }
-    out << ", reprojection RMS " << Fmt("%.2f px", r.reprojection_rms_px) << " over " << r.num_observations
-        << " observations; " << ScaleText(r) << "\n";
+    if (r.num_observations > 0) {
+      out << ", reprojection RMS " << Fmt("%.2f px", r.reprojection_rms_px) << " over " << r.num_observations
+          << " observations; ";
+    } else {
+      out << ", no bundle adjustment (no camera joined " << (r.rig.cameras.empty() ? "" : r.rig.cameras[0].name)
+          << "); ";
+    }
+    out << ScaleText(r) << "\n";
     for (const std::string& w : r.warnings) out << "  warning: " << w << "\n";
   }
   return out.str();

@@ -299,7 +299,7 @@ TEST_F(CalibrateIo, WritesEveryExportAndPairStatisticsPerMode) {
     size_t match_images = 0;
     for (const auto& entry : fs::directory_iterator(dir / "matches")) match_images += entry.path().extension() == ".jpg";
     EXPECT_GE(match_images, 2u);
-    EXPECT_EQ(outputs["files"].size(), 9u + match_images);
+    EXPECT_EQ(outputs["files"].size(), 10u + match_images);  // rig.json, frames.json, pairs.json, the exports, the plot
   }
   EXPECT_TRUE(StagingFolders(out).empty());
 }
