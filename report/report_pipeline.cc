@@ -145,7 +145,10 @@ Json PipelineData(ReportContext& ctx) {
   }
   // The CLI's tables, as calibrate and evaluate print them; not the pairwise summary line, whose
   // stage times would make two reports of the same seed differ.
-  Json tables = {{"pairs", FormatPairTable(run)}, {"rig", FormatRigTable(run)}, {"rig_summary", FormatRigSummary(run)}};
+  Json tables = {{"pairs", FormatPairTable(run)},
+                 {"rig", FormatRigTable(run)},
+                 {"rig_summary", FormatRigSummary(run)},
+                 {"times", FormatTimeTable(run)}};
   if (ctx.HasTruth()) {
     std::vector<RigScores> scores;
     for (const AlignedEstimate& a : ctx.aligned) scores.push_back(a.scores);

@@ -779,6 +779,10 @@ var RIGSIM = (function () {
     body.appendChild(el('pre', {}, T.pairs));
     body.appendChild(el('h2', {}, 'Every camera\'s pose'));
     body.appendChild(el('pre', {}, T.rig + '\n' + T.rig_summary));
+    if (T.times) {
+      body.appendChild(el('h2', {}, 'Capture times: each camera\'s offset from camera 0 and its rolling-shutter readout, as the images show them'));
+      body.appendChild(el('pre', {}, T.times));
+    }
     if (T.evaluate) {
       body.appendChild(el('h2', {}, 'Scores against the truth (as rigsim evaluate prints them)'));
       body.appendChild(el('pre', {}, T.evaluate));
