@@ -92,11 +92,11 @@ void SetCaptureTimes(const RigObservations& obs, const RigCalibrationOptions& op
     if (!v.rolling_shutter) continue;
     const std::string rows = "read out over " + Fixed(1000.0 * *v.readout_s, 1) +
                              PlusMinus(1000.0 * *v.readout_stddev_s, 1) + " ms (a rolling shutter) while the rig moves";
-    const std::string fix = "calibrate with --estimate-time-offsets --rolling-shutter, use a global shutter, or move slower";
+    const std::string fix = "--estimate-time-offsets --rolling-shutter, a global shutter, or moving slower";
     if (c == 0) {
       result->warnings.push_back(obs.camera_names[0] + "'s rows are " + rows +
                                  ": every pose here is taken as captured at one instant and may hold the rig's "
-                                 "motion; " + fix);
+                                 "motion; to calibrate the rig: " + fix);
       continue;
     }
     if (result->camera_status[c].outcome == CameraOutcome::kNotConnected) continue;
