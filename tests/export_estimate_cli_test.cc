@@ -155,6 +155,25 @@ TEST_F(ExportEstimate, CameraCentresAgreeWithTheTruthAfterOneSimilarity) {
   EXPECT_EQ(evaluated.out.find("taken as metric"), std::string::npos) << evaluated.out;
 }
 
+// report --calibration makes the report of that calibration: its features too, and says so in its
+// "Made by" line (the command it records).
+TEST_F(ExportEstimate, TheReportOfACalibrationTakesItsFeaturesAndNamesIt) {
+  const fs::path d = dir_->path();
+  const CliResult calibrated = RunRigsim({"calibrate", (d / "data").string(), "--semantics", "none", "--features",
+                                          "rootsift", "--out", (d / "rootsift").string()},
+                                         d / "rootsift", std::chrono::seconds(300));
+  ASSERT_TRUE(calibrated.code == 0 || calibrated.code == 3) << calibrated.err;
+  EXPECT_EQ(Json::parse(ReadFile(d / "rootsift" / "evaluation.json")).at("features"), "rootsift");
+  const CliResult report = RunRigsim({"report", (d / "data").string(), "--calibration", (d / "rootsift").string(), "--out",
+                                      (d / "report").string()},
+                                     d / "report", std::chrono::seconds(300));
+  ASSERT_EQ(report.code, 0) << report.err;
+  EXPECT_EQ(report.err.find("differs from"), std::string::npos) << "the same options, the same estimate\n" << report.err;
+  const std::string data = ReadFile(d / "report" / "data" / "report.js");
+  EXPECT_NE(data.find("--calibration " + (d / "rootsift").string() + " --features rootsift"), std::string::npos)
+      << data.substr(0, 2000);
+}
+
 TEST_F(ExportEstimate, WithoutItsRigPosesAnEstimateIsRefusedAndNothingIsWritten) {
   const fs::path d = dir_->path();
   const fs::path copy = d / "copy";
