@@ -101,6 +101,20 @@ RigChanges ChangesOverOffset(const std::vector<std::optional<Rigid3d>>& rig_from
   return out;
 }
 
+// A change of the rig as the image motion it causes in a camera of `pixels_per_radian` looking at
+// the scene at `scene_depth`.
+double ImageMotionPx(const Rigid3d& change, double pixels_per_radian, double scene_depth) {
+  return pixels_per_radian * (Eigen::AngleAxisd(change.rotation).angle() + change.translation.norm() / scene_depth);
+}
+
+// An even subsample of at most `max_tracks` tracks (0: all of them).
+std::vector<ViewTrack> EvenSubsample(const std::vector<ViewTrack>& tracks, int max_tracks) {
+  const size_t stride = max_tracks > 0 ? std::max<size_t>((tracks.size() + max_tracks - 1) / max_tracks, 1) : 1;
+  std::vector<ViewTrack> out;
+  for (size_t i = 0; i < tracks.size(); i += stride) out.push_back(tracks[i]);
+  return out;
+}
+
 }  // namespace
 
 double OffsetVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_world,
@@ -110,9 +124,7 @@ double OffsetVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_wo
   const RigChanges changes = ChangesOverOffset(rig_from_world, frame_times_s, offset_s);
   double worst = 0.0;
   for (const Rigid3d& d : changes.per_frame) {
-    const Rigid3d departure = d * changes.mean.Inverse();
-    const double angle = Eigen::AngleAxisd(departure.rotation).angle();
-    worst = std::max(worst, pixels_per_radian * (angle + departure.translation.norm() / scene_depth));
+    worst = std::max(worst, ImageMotionPx(d * changes.mean.Inverse(), pixels_per_radian, scene_depth));
   }
   return worst;
 }
@@ -122,6 +134,14 @@ std::optional<Rigid3d> MeanRigChange(const std::vector<std::optional<Rigid3d>>& 
   const RigChanges changes = ChangesOverOffset(rig_from_world, frame_times_s, offset_s);
   if (changes.per_frame.empty()) return std::nullopt;
   return changes.mean;
+}
+
+double ReadoutVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+                           const std::vector<double>& frame_times_s, double readout_s, double pixels_per_radian,
+                           double scene_depth) {
+  if (!(scene_depth > 0)) return 0.0;
+  const std::optional<Rigid3d> during = MeanRigChange(rig_from_world, frame_times_s, std::abs(readout_s));
+  return during ? ImageMotionPx(*during, pixels_per_radian, scene_depth) : 0.0;
 }
 
 double IntervalVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_world,
@@ -174,22 +194,17 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
   timing.estimate_offsets = true;
   ba_options.refine_intrinsics = false;  // held: the question is time, asked of the rig as adjusted
   ba_options.keep_points = false;
-  std::vector<ViewTrack> subsample;
-  const size_t stride =
-      options.check_max_tracks > 0 ? (tracks.size() + options.check_max_tracks - 1) / options.check_max_tracks : 1;
-  if (stride > 1) {
-    for (size_t i = 0; i < tracks.size(); i += stride) subsample.push_back(tracks[i]);
-  }
-  auto solve = [&](CaptureTiming start) {
-    return MultiFrameRigBundleAdjust(adjusted.cameras, keypoints, stride > 1 ? subsample : tracks, adjusted.cam_from_rig,
+  auto solve = [&](const std::vector<ViewTrack>& solved_tracks, CaptureTiming start) {
+    return MultiFrameRigBundleAdjust(adjusted.cameras, keypoints, solved_tracks, adjusted.cam_from_rig,
                                      adjusted.rig_from_world, scale_camera, ba_options, false, &start);
   };
-  MultiFrameBundleAdjustmentResult freed = solve(timing);
+  const std::vector<ViewTrack> subsample = EvenSubsample(tracks, options.check_max_tracks);
+  MultiFrameBundleAdjustmentResult freed = solve(subsample, timing);
   // The turn angles' start can be wrong (camera 0 tracked over few frames): the synchronised start is
   // solved too, and the one the images fit better kept, so that a wrong start cannot condemn a camera.
   if (std::any_of(start_offsets_s.begin(), start_offsets_s.end(), [](double o) { return o != 0.0; })) {
     timing.time_offset_s.assign(n, 0.0);
-    MultiFrameBundleAdjustmentResult from_zero = solve(timing);
+    MultiFrameBundleAdjustmentResult from_zero = solve(subsample, timing);
     if (TruncatedCost(from_zero, ba_options.max_reprojection_error_px) <
         TruncatedCost(freed, ba_options.max_reprojection_error_px)) {
       freed = std::move(from_zero);
@@ -209,9 +224,8 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
                        s.offset_visibility_px >= options.min_visible_px;
   }
   // Rolling shutters: offsets held at zero and every readout free. Freed together with the offsets,
-  // the readouts of a synchronised global-shutter rig came out at 20-25 ms and 7 standard deviations
-  // on the demo's ring at 640x360 over 3 frames (readouts and offsets trade against each other over
-  // few frames), so they are solved apart. A rolling shutter also shows as an offset of the cameras
+  // readouts and offsets trade against each other over few frames and condemned a synchronised
+  // global-shutter rig (BENCHMARKS.md), so they are solved apart. A rolling shutter also shows as an offset of the cameras
   // without one (their rows are captured, on average, half a readout from the others'): either
   // verdict takes a camera's pose, and the remedy of both is to estimate capture times.
   if (!options.check_readout) return out;
@@ -221,23 +235,14 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
   rows.readout_s.assign(n, 0.0);
   rows.readout_bottom_to_top = readout_bottom_to_top;
   rows.estimate_readout = true;
-  std::vector<ViewTrack> few;
-  const size_t every = options.readout_max_tracks > 0
-                           ? (tracks.size() + options.readout_max_tracks - 1) / options.readout_max_tracks
-                           : 1;
-  for (size_t i = 0; i < tracks.size(); i += std::max<size_t>(every, 1)) few.push_back(tracks[i]);
-  const MultiFrameBundleAdjustmentResult read_out = MultiFrameRigBundleAdjust(
-      adjusted.cameras, keypoints, few, adjusted.cam_from_rig, adjusted.rig_from_world, scale_camera, ba_options, false, &rows);
+  const MultiFrameBundleAdjustmentResult read_out = solve(EvenSubsample(tracks, options.readout_max_tracks), rows);
   for (int c = 0; c < n && c < static_cast<int>(read_out.timing.size()); ++c) {
     CameraSynchronisation& s = out[c];
     if ((c > 0 && !s.checked) || !read_out.readout_stddev_s[c]) continue;
     s.readout_s = read_out.timing[c][1];
     s.readout_stddev_s = *read_out.readout_stddev_s[c];
-    const std::optional<Rigid3d> during = MeanRigChange(adjusted.rig_from_world, frame_times_s, std::abs(*s.readout_s));
-    s.readout_visibility_px = during ? PixelsPerRadian(adjusted.cameras[c]) *
-                                           (during->rotation.angularDistance(Eigen::Quaterniond::Identity()) +
-                                            during->translation.norm() / std::max(adjusted.median_depth, 1e-9))
-                                     : 0.0;
+    s.readout_visibility_px = ReadoutVisibilityPx(adjusted.rig_from_world, frame_times_s, *s.readout_s,
+                                                  PixelsPerRadian(adjusted.cameras[c]), adjusted.median_depth);
     const double magnitude = std::abs(*s.readout_s);
     s.rolling_shutter = magnitude > options.min_readout_s && magnitude > options.min_sigmas * *s.readout_stddev_s &&
                         s.readout_visibility_px >= options.min_visible_px;

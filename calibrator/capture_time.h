@@ -34,9 +34,9 @@ struct CaptureTimeOptions {
   bool check_synchronisation = true;
   // The check solves once more with the offsets held at zero and each camera's rolling-shutter
   // readout free, on an even subsample of at most
-  // readout_max_tracks tracks, judged by min_readout_s, min_sigmas and min_visible_px. The freed
-  // readouts of global-shutter renders read up to 4.6 ms at 4 standard deviations (the demo's ring
-  // at 640x360 over 3 frames); rolling shutters read out over 10-35 ms.
+  // readout_max_tracks tracks, judged by min_readout_s, min_sigmas and min_visible_px
+  // (ReadoutVisibilityPx): min_readout_s lies above what the freed readouts of global-shutter
+  // renders read and below common rolling shutters' readouts (BENCHMARKS.md).
   bool check_readout = true;
   double min_readout_s = 0.010;
   int readout_max_tracks = 500;
@@ -88,6 +88,12 @@ double OffsetVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_wo
 std::optional<Rigid3d> MeanRigChange(const std::vector<std::optional<Rigid3d>>& rig_from_world,
                                      const std::vector<double>& frame_times_s, double offset_s);
 
+// How much the rig's motion over a readout of `readout_s` shows (px): MeanRigChange over that time
+// as image motion, as OffsetVisibilityPx measures it; 0 with nothing to compare.
+double ReadoutVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+                           const std::vector<double>& frame_times_s, double readout_s, double pixels_per_radian,
+                           double scene_depth);
+
 // OffsetVisibilityPx of an offset of one frame interval (the median time between frames): the most
 // any offset within a frame can show.
 double IntervalVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_world,
@@ -108,7 +114,7 @@ struct CameraSynchronisation {
   double offset_visibility_px = 0.0;
   bool unsynchronised = false;
   // The freed readout (first row to last, s), and how much the rig's motion over it shows
-  // (MeanRigChange over the readout, as image motion): rows read out over a moving rig's path see
+  // (ReadoutVisibilityPx): rows read out over a moving rig's path see
   // from different places, which no mounting explains, so it is judged on any path that shows time.
   // Camera 0's too (its offset is the gauge, its readout is not).
   std::optional<double> readout_s, readout_stddev_s;

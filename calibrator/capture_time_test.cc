@@ -88,6 +88,19 @@ std::vector<double> TenthsOfASecond(size_t frames) {
   return t;
 }
 
+// A readout on a straight path at 10 m/s: the rig moves 0.3 m while 30 ms of rows are read out,
+// 15 px for a camera of 500 px per radian looking 10 m away; no motion shows nothing.
+TEST(ReadoutVisibility, IsTheRigsMotionOverTheReadoutAsImageMotion) {
+  std::vector<std::optional<Rigid3d>> straight, still;
+  for (int k = 0; k < 4; ++k) {
+    straight.push_back(Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0, 0, -1.0 * k)));
+    still.push_back(Rigid3d());
+  }
+  EXPECT_NEAR(ReadoutVisibilityPx(straight, TenthsOfASecond(4), 0.030, 500.0, 10.0), 15.0, 1e-9);
+  EXPECT_NEAR(ReadoutVisibilityPx(straight, TenthsOfASecond(4), -0.030, 500.0, 10.0), 15.0, 1e-9);
+  EXPECT_EQ(ReadoutVisibilityPx(still, TenthsOfASecond(4), 0.030, 500.0, 10.0), 0.0);
+}
+
 TEST(OffsetVisibility, APathThatMovesAlikeHidesOffsetsAndAVariedOneShowsThem) {
   const double pixels_per_radian = 300.0, depth = 10.0;
   const auto visibility = [&](const std::vector<Rigid3d>& path, double offset_s) {

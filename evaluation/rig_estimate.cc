@@ -217,9 +217,10 @@ std::vector<RigEstimate> ReadRigEstimates(const fs::path& estimate, const Rig& t
   if (fs::is_directory(estimate) && fs::exists(estimate / "evaluation.json")) {
     estimates = FromCalibrationFolder(estimate, truth);
   } else if (fs::is_regular_file(estimate) && ext == ".json") {
-    estimates.push_back(FromRig(ReadRig(estimate), truth, "rig.json", estimate.string()));
+    const std::string text = json_io::ReadText(estimate);
+    estimates.push_back(FromRig(RigFromJsonText(text, estimate.string()), truth, "rig.json", estimate.string()));
     // An estimate's rig.json says its unit; any other is taken as unit scale.
-    if (const std::optional<EstimateGauge> gauge = ReadEstimateGauge(estimate)) estimates.back().metric = gauge->metric;
+    if (const auto gauge = EstimateGaugeFromJsonText(text, estimate.string())) estimates.back().metric = gauge->metric;
   } else if (fs::is_regular_file(estimate) && (ext == ".yaml" || ext == ".yml")) {
     estimates.push_back(FromKalibr(estimate, truth));
   } else if (fs::is_directory(estimate) || estimate.filename() == "images.txt") {

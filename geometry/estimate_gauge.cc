@@ -36,10 +36,6 @@ std::optional<EstimateGauge> EstimateGaugeFromJsonText(const std::string& text, 
   return g;
 }
 
-std::optional<EstimateGauge> ReadEstimateGauge(const std::filesystem::path& rig_json) {
-  return EstimateGaugeFromJsonText(json_io::ReadText(rig_json), rig_json.string());
-}
-
 std::string EstimateRigToJsonText(const Rig& rig, const EstimateGauge& gauge) {
   Json root = Json::parse(RigToJsonText(rig));
   root["estimate"] = {{"rig_frame", gauge.rig_frame},

@@ -36,7 +36,6 @@ struct EstimateGauge {
 // The "estimate" record of a rig.json's text; nullopt when it has none. Throws std::runtime_error
 // naming `source` when the record is malformed.
 std::optional<EstimateGauge> EstimateGaugeFromJsonText(const std::string& text, const std::string& source);
-std::optional<EstimateGauge> ReadEstimateGauge(const std::filesystem::path& rig_json);
 
 // rig.json text of an estimate: the rig as RigToJsonText writes it, with the "estimate" record.
 std::string EstimateRigToJsonText(const Rig& rig, const EstimateGauge& gauge);

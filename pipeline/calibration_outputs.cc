@@ -165,6 +165,12 @@ std::vector<std::string> WriteMatchImages(const std::vector<PairInlierSample>& s
 
 }  // namespace
 
+std::optional<Rigid3d> EstimatedRigFromWorld(const RigCalibrationResult& r, size_t frame) {
+  if (frame < r.rig_from_world.size()) return r.rig_from_world[frame];
+  if (frame == 0) return Rigid3d();  // without positions only frame 0 has a pose: its rig frame is the world
+  return std::nullopt;
+}
+
 ExportSelection SelectExports(const RigCalibrationResult& r, const FramesFile& frames) {
   ExportSelection out;
   out.calibrated = r.rig.PosedCameras();
@@ -178,12 +184,7 @@ ExportSelection SelectExports(const RigCalibrationResult& r, const FramesFile& f
   }
   for (size_t k = 0; k < frames.frames.size(); ++k) {
     const Frame& f = frames.frames[k];
-    std::optional<Rigid3d> rig_from_world;
-    if (k < r.rig_from_world.size()) {
-      rig_from_world = r.rig_from_world[k];
-    } else if (k == 0) {
-      rig_from_world = Rigid3d();  // without positions only frame 0 has a pose: its rig frame is the world
-    }
+    const std::optional<Rigid3d> rig_from_world = EstimatedRigFromWorld(r, k);
     if (rig_from_world) {
       out.colmap_frames.frames.push_back(Frame{f.name, rig_from_world, f.timestamp_s});
     } else {
@@ -214,12 +215,7 @@ Rig EstimatedRig(const RigCalibrationResult& r) {
 
 FramesFile EstimatedFrames(const RigCalibrationResult& r, const FramesFile& frames) {
   FramesFile out = frames;
-  const ExportSelection selection = SelectExports(r, frames);
-  for (size_t k = 0, posed = 0; k < out.frames.size(); ++k) {
-    const std::vector<Frame>& with_pose = selection.colmap_frames.frames;
-    const bool has_pose = posed < with_pose.size() && with_pose[posed].name == out.frames[k].name;
-    out.frames[k].rig_from_world = has_pose ? with_pose[posed++].rig_from_world : std::nullopt;
-  }
+  for (size_t k = 0; k < out.frames.size(); ++k) out.frames[k].rig_from_world = EstimatedRigFromWorld(r, k);
   return out;
 }
 

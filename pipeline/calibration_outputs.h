@@ -24,6 +24,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -50,6 +51,10 @@ struct ExportSelection {
   std::vector<std::string> colmap_frames_omitted;  // frame names without a rig pose
 };
 ExportSelection SelectExports(const RigCalibrationResult& result, const FramesFile& frames);
+
+// The estimate's rig pose at `frame` (the calibration's world is the rig frame at frame 0; without
+// estimated frame poses only frame 0 has one, the identity); nullopt for a frame without one.
+std::optional<Rigid3d> EstimatedRigFromWorld(const RigCalibrationResult& result, size_t frame);
 
 // What one mode's estimate is relative to: the rig frame is camera 0's, the world the rig frame at
 // the first frame, lengths as the result's scale says; its trajectory is frames.json beside rig.json.

@@ -86,7 +86,8 @@ TEST_F(WriteCalibrationResultsTest, WritesEveryFileAndReturnsTheNotes) {
   EXPECT_FALSE(written.cameras[2].cam_from_rig.has_value());
 
   // The estimate says its gauge and unit, and its rig poses are beside it.
-  const std::optional<EstimateGauge> gauge = ReadEstimateGauge(dir_ / "out" / "mask" / "rig.json");
+  const fs::path estimate = dir_ / "out" / "mask" / "rig.json";
+  const std::optional<EstimateGauge> gauge = EstimateGaugeFromJsonText(json_io::ReadText(estimate), estimate.string());
   ASSERT_TRUE(gauge.has_value());
   EXPECT_EQ(gauge->rig_frame, "cam0");
   EXPECT_EQ(gauge->frames, "frames.json");

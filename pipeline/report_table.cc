@@ -90,8 +90,7 @@ std::string FormatPairTable(const CalibrationRun& run) {
     }
   }
   if (num_screened > 0) {
-    out << num_screened << (num_screened == 1 ? " pair" : " pairs")
-        << " screened out in every method (no shared view found among the strongest keypoints; pairs.json says why "
+    out << Count(num_screened, "pair") << " screened out in every method (no shared view found among the strongest keypoints; pairs.json says why "
            "for each): "
         << screened << "\n";
   }
@@ -125,7 +124,7 @@ std::string FormatSummary(const CalibrationRun& run) {
     out << run.results[m].semantic_mode << ": " << solved << "/" << neighbours
         << (overlap.empty() ? " pairs solved" : " pairs of at least " + rule + " overlap solved");
     if (solved_below > 0) {
-      out << " (and " << solved_below << (solved_below == 1 ? " pair" : " pairs") << " below " << rule
+      out << " (and " << Count(solved_below, "pair") << " below " << rule
           << ", not in the medians)";
     }
     out << ", median rotation error " << Opt(Median(rot), "%.4f deg")
@@ -230,7 +229,7 @@ std::string FormatTimeTable(const CalibrationRun& run) {
   out << line;
   auto with_std = [](const std::optional<double>& v, const std::optional<double>& s) -> std::string {
     if (!v) return "-";
-    return Fmt("%+.2f", 1000.0 * *v) + (s ? Fmt(" +- %.2f ms", 1000.0 * *s) : std::string(" ms"));
+    return Fmt("%+.2f", 1000.0 * *v) + (s ? PlusMinus(1000.0 * *s, 2) : std::string()) + " ms";
   };
   for (size_t c = 0; c < results[0].rig.cameras.size(); ++c) {
     for (size_t m = 0; m < results.size(); ++m) {

@@ -22,6 +22,7 @@
 #include "exports/nerfstudio.h"
 #include "exports/opencv_yaml.h"
 #include "geometry/estimate_gauge.h"
+#include "geometry/json_io.h"
 #include "geometry/rig.h"
 #include "pipeline/calibration_run.h"
 
@@ -106,7 +107,8 @@ void AddExportCommand(CLI::App& app) {
     if (formats.count("all")) formats = {"kalibr", "opencv", "colmap", "nerfstudio"};
     const DatasetLayout layout(args->dataset);
     const std::filesystem::path rig_json = args->rig.empty() ? layout.RigJson() : std::filesystem::path(args->rig);
-    const std::optional<EstimateGauge> gauge = ReadEstimateGauge(rig_json);
+    const std::string rig_text = json_io::ReadText(rig_json);
+    const std::optional<EstimateGauge> gauge = EstimateGaugeFromJsonText(rig_text, rig_json.string());
     const bool needs_frames = formats.count("colmap") || formats.count("nerfstudio");
     const std::filesystem::path frames_json = gauge ? rig_json.parent_path() / gauge->frames : layout.FramesJson();
     if (gauge && needs_frames && (gauge->frames.empty() || !std::filesystem::is_regular_file(frames_json))) {
@@ -122,7 +124,7 @@ void AddExportCommand(CLI::App& app) {
                   {frames_json, gauge ? "the estimate's frames.json" : "the dataset's frames.json"},
                   {layout.root() / "images", "the dataset's images/"}};
     CheckReplaceableOutput(out);
-    Rig rig = ReadRig(rig_json);
+    Rig rig = RigFromJsonText(rig_text, rig_json.string());
     // A calibration estimate may leave cameras without a pose: they are left out of every format,
     // as calibrate's own exports do. A rig with no pose at all exports its intrinsics (opencv).
     if (const Rig posed = rig.PosedCameras(); !posed.cameras.empty() && posed.cameras.size() < rig.cameras.size()) {
