@@ -7,9 +7,10 @@
 #   diff before.txt after.txt                                      # empty: nothing changed
 #
 # Covers generate-scene, make-rig (every type, placed in a scene), render (with --photometric),
-# calibrate (all four semantic modes, SIFT and ORB), export (truth and estimate, every format) and
-# the demo. JSON files are checksummed without their timings (keys ending in "time_s", the demo's
-# "seconds"): those differ from run to run by nature. Needs jq. Takes about 2 minutes on 2 cores.
+# calibrate (all four semantic modes, SIFT and ORB, noisy labels, a known distance, intrinsics
+# refinement, a ring of little overlap placed through its motion, time offsets and a rolling shutter
+# estimated), export (truth and estimate, every format) and the demo. JSON files are checksummed without their timings (keys ending in "time_s", the demo's
+# "seconds"): those differ from run to run by nature. Needs jq. Takes about 4 minutes on 2 cores.
 set -euo pipefail
 build_dir=${1:?usage: output-digest.sh BUILD_DIR SCRATCH_DIR}
 scratch=${2:?usage: output-digest.sh BUILD_DIR SCRATCH_DIR}
@@ -43,6 +44,20 @@ run render --scene "$root/assets/scenes/street.glb" --rig stereo/rig.json --fram
 
 run_calibrate calibrate ring_data --semantics none,mask,gated,mask+gated --out ring_cal
 run_calibrate calibrate surround_data --semantics none --features orb --out surround_cal
+run_calibrate calibrate ring_data --semantics mask --labels noisy --known-distance cam0 cam1 0.5 --refine-intrinsics \
+  --out ring_cal_refined
+
+# A ring of little overlap on a turning path (the motion stage) and an unsynchronised rolling-shutter
+# rig (the time stage).
+run make-rig ring --cameras 4 --overlap 2 --scene "$root/assets/scenes/street.glb" --trajectory circle --circle-radius 8 \
+  --frames 12 --seed 4 --width 640 --height 360 --out motion
+run render --scene "$root/assets/scenes/street.glb" --rig motion/rig.json --frames motion/frames.json --out motion_data --spp 1
+run_calibrate calibrate motion_data --semantics none --out motion_cal
+run make-rig ring --cameras 3 --overlap 30 --scene "$root/assets/scenes/street.glb" --trajectory handheld --frames 5 \
+  --time-offset 0 0.02 0.05 --readout 0.03 "${small[@]}" --out timed
+run render --scene "$root/assets/scenes/street.glb" --rig timed/rig.json --frames timed/frames.json --out timed_data --spp 1
+run_calibrate calibrate timed_data --semantics none --out timed_cal
+run_calibrate calibrate timed_data --semantics none --estimate-time-offsets --rolling-shutter --out timed_cal_estimated
 run export ring_data --format all --out ring_truth
 if [ -f ring_cal/none/rig.json ]; then run export ring_data --format all --rig ring_cal/none/rig.json --out ring_estimate; fi
 
