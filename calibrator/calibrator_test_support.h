@@ -5,9 +5,9 @@
 
 #include <vector>
 
-#include "calibrator/multi_frame_rig.h"
-#include "calibrator/rig_calibration.h"
-#include "calibrator/two_view.h"
+#include "calibrator/estimators/multi_frame_rig.h"
+#include "calibrator/stages/rig_calibration.h"
+#include "calibrator/estimators/two_view.h"
 #include "evaluation/rig_scores.h"
 #include "testing/synthetic_rig.h"
 

@@ -13,7 +13,7 @@
 //     with the priors still centred on the given values.
 #pragma once
 
-#include "calibrator/rig_calibration.h"
+#include "calibrator/stages/rig_calibration.h"
 
 namespace rigsim {
 

@@ -31,7 +31,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "calibrator/rig_calibration.h"
+#include "calibrator/calibrate_rig.h"
 #include "dataset/dataset.h"
 #include "geometry/estimate_gauge.h"
 #include "geometry/rig.h"

@@ -6,7 +6,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include "calibrator/parallel_scope.h"
+#include "calibrator/features/parallel_scope.h"
 #include "dataset/capture_poses.h"
 #include "dataset/image_io.h"
 #include "geometry/camera_validation.h"

@@ -16,9 +16,9 @@
 
 #include <Eigen/Core>
 
-#include "calibrator/features.h"
-#include "calibrator/rig_calibration.h"
-#include "calibrator/semantics.h"
+#include "calibrator/features/features.h"
+#include "calibrator/calibrate_rig.h"
+#include "calibrator/features/semantics.h"
 #include "dataset/dataset.h"
 #include "dataset/label_source.h"
 #include "evaluation/match_precision.h"

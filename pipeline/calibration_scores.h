@@ -10,8 +10,8 @@
 #include <optional>
 #include <vector>
 
-#include "calibrator/pairwise.h"
-#include "calibrator/rig_calibration.h"
+#include "calibrator/stages/pairwise.h"
+#include "calibrator/calibrate_rig.h"
 #include "dataset/dataset.h"
 #include "evaluation/intrinsics_errors.h"
 #include "evaluation/match_precision.h"

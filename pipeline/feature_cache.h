@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <vector>
 
-#include "calibrator/features.h"
-#include "calibrator/semantics.h"
+#include "calibrator/features/features.h"
+#include "calibrator/features/semantics.h"
 #include "dataset/dataset.h"
 #include "dataset/label_source.h"
 #include "geometry/rig.h"

@@ -1,7 +1,7 @@
 // What the pipeline's tests share: a calibration result built by hand, without images.
 #pragma once
 
-#include "calibrator/rig_calibration.h"
+#include "calibrator/calibrate_rig.h"
 #include "dataset/dataset.h"
 #include "pipeline/calibration_run.h"
 

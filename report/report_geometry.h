@@ -13,7 +13,7 @@
 
 #include <Eigen/Core>
 
-#include "calibrator/rig_calibration.h"
+#include "calibrator/calibrate_rig.h"
 #include "dataset/dataset.h"
 #include "evaluation/rig_estimate.h"
 #include "evaluation/rig_scores.h"

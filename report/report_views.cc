@@ -4,7 +4,7 @@
 #include <map>
 #include <stdexcept>
 
-#include "calibrator/semantics.h"
+#include "calibrator/features/semantics.h"
 #include "dataset/image_io.h"
 #include "dataset/label_source.h"
 #include "report/report_images.h"

@@ -8,8 +8,8 @@
 #include <set>
 #include <stdexcept>
 
-#include "calibrator/features.h"
-#include "calibrator/semantics.h"
+#include "calibrator/features/features.h"
+#include "calibrator/features/semantics.h"
 #include "dataset/dataset.h"
 #include "evaluation/colmap_peer.h"
 #include "evaluation/rig_scores.h"

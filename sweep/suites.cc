@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "calibrator/semantics.h"
+#include "calibrator/features/semantics.h"
 #include "common/did_you_mean.h"
 #include "common/param_spec.h"
 #include "procedural/presets.h"

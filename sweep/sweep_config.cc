@@ -11,8 +11,8 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "calibrator/features.h"
-#include "calibrator/semantics.h"
+#include "calibrator/features/features.h"
+#include "calibrator/features/semantics.h"
 #include "common/did_you_mean.h"
 #include "common/stable_hash.h"
 #include "procedural/presets.h"

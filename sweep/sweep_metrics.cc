@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <cstdio>
 
-#include "calibrator/rig_calibration.h"
+#include "calibrator/calibrate_rig.h"
 #include "evaluation/colmap_peer.h"
 #include "evaluation/rig_scores.h"
 #include "evaluation/verdicts.h"

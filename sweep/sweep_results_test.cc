@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "calibrator/rig_calibration.h"
+#include "calibrator/calibrate_rig.h"
 #include "evaluation/colmap_peer.h"
 #include "evaluation/rig_scores.h"
 #include "pipeline/calibration_run.h"

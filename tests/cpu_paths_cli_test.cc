@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "calibrator/cpu_path.h"
+#include "calibrator/features/cpu_path.h"
 #include "testing/temp_dir.h"
 #include "tests/rigsim_cli.h"
 

@@ -9,7 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "apps/rigsim/segment_support.h"
-#include "calibrator/rig_calibration.h"
+#include "calibrator/calibrate_rig.h"
 #include "dataset/label_source.h"
 #include "dataset/output_folder.h"
 #include "pipeline/calibration_run.h"

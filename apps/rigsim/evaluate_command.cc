@@ -5,7 +5,7 @@
 #include <string>
 
 #include "apps/rigsim/commands.h"
-#include "calibrator/semantics.h"
+#include "calibrator/features/semantics.h"
 #include "common/param_spec.h"
 #include "dataset/dataset.h"
 #include "dataset/output_file.h"

@@ -10,7 +10,7 @@
 #include "apps/rigsim/interrupt.h"
 #include "apps/rigsim/parse_errors.h"
 #include "apps/rigsim/version.h"
-#include "calibrator/cpu_path.h"
+#include "calibrator/features/cpu_path.h"
 
 int main(int argc, char** argv) {
   CLI::App app{

@@ -1,0 +1,70 @@
+#include "calibrator/calibrate_rig.h"
+
+#include "calibrator/motion_passes.h"
+#include "calibrator/rig_intrinsics.h"
+
+namespace rigsim {
+namespace {
+
+// The rig stages' observations: the views' cameras and the pairwise stage's outcome.
+RigObservations ObservationsOfPairs(const RigViews& views, const PairwiseResult& pairwise) {
+  RigObservations obs;
+  obs.camera_names = views.camera_names;
+  obs.cameras = views.cameras;
+  const PairwiseMatchData& data = pairwise.matches;
+  obs.keypoints = data.keypoints;
+  for (size_t p = 0; p < pairwise.report.pairs.size(); ++p) {
+    const PairResult& pr = pairwise.report.pairs[p];
+    int a = -1, b = -1;
+    for (int c = 0; c < static_cast<int>(views.camera_names.size()); ++c) {
+      if (views.camera_names[c] == pr.cam_a) a = c;
+      if (views.camera_names[c] == pr.cam_b) b = c;
+    }
+    const PairEstimate e{a, b, pr.two_view};
+    obs.pairs.push_back(e);
+    obs.inliers.push_back({e.cam_a, e.cam_b, data.inliers[p]});
+    obs.matches.push_back({e.cam_a, e.cam_b, data.matches[p]});
+  }
+  obs.temporal = data.temporal;
+  obs.frame_times_s = views.frame_times_s;
+  obs.readout_bottom_to_top = views.readout_bottom_to_top;
+  return obs;
+}
+
+}  // namespace
+
+void UseReestimatedPairs(RigCalibrationResult* result) {
+  if (result->reestimated_pairs.size() != result->pairwise.pairs.size()) return;
+  for (size_t p = 0; p < result->pairwise.pairs.size(); ++p) result->pairwise.pairs[p].two_view = result->reestimated_pairs[p];
+}
+
+void MarkPairsTheRigLeftOut(RigCalibrationResult* result) {
+  for (const RigEdgeStats& e : result->edges) {
+    if (!e.rejected && !e.rotation_outlier && !e.direction_left_out) continue;
+    for (PairResult& pr : result->pairwise.pairs) {
+      if (pr.cam_a == e.cam_a && pr.cam_b == e.cam_b) pr.left_out_by_rig = e.status;
+    }
+  }
+}
+
+RigCalibrationResult EstimateRigFromPairs(const RigViews& views, const PairwiseResult& pairwise,
+                                          const RigCalibrationOptions& options) {
+  const RigObservations obs = ObservationsOfPairs(views, pairwise);
+  RigCalibrationResult r = options.bundle_adjustment.refine_intrinsics
+                               ? EstimateRigAndIntrinsics(obs, options)
+                               : EstimateRigWithMotionLinks(obs, MatcherOfViews(views, options.pairwise.matching), options);
+  r.pairwise = pairwise.report;
+  UseReestimatedPairs(&r);
+  MarkPairsTheRigLeftOut(&r);
+  if (r.details) r.details->matches = pairwise.matches;
+  return r;
+}
+
+RigCalibrationResult CalibrateRig(const RigViews& views, const RigCalibrationOptions& options) {
+  options.Check();
+  PairwiseOptions pairwise = options.pairwise;
+  pairwise.keep_match_details = pairwise.keep_match_details || options.keep_details;
+  return EstimateRigFromPairs(views, MatchRigPairs(views, pairwise), options);
+}
+
+}  // namespace rigsim

@@ -1,0 +1,130 @@
+#include "calibrator/estimators/bundle_covariance.h"
+
+#include <algorithm>
+#include <functional>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Eigenvalues>
+#include <ceres/ceres.h>
+
+#include "calibrator/estimators/cost_functions.h"
+
+namespace rigsim {
+
+ReducedCovariance PoseCovariance(ceres::Problem& problem, const std::vector<double*>& pose_blocks) {
+  ReducedCovariance out;
+  // The adjusted pose blocks first, in `pose_blocks` order, then the points. Ceres lists its
+  // blocks in the order of their addresses, which differ from run to run: summed in that order
+  // the reduced system, and so the covariance, would change in its last bits between runs. The
+  // points live in one array, so their address order is their order there.
+  std::vector<double*> all, poses, points;
+  problem.GetParameterBlocks(&all);
+  for (double* block : pose_blocks) {
+    if (problem.HasParameterBlock(block) && !problem.IsParameterBlockConstant(block)) poses.push_back(block);
+  }
+  for (double* block : all) {
+    if (problem.IsParameterBlockConstant(block)) continue;
+    if (std::find(pose_blocks.begin(), pose_blocks.end(), block) == pose_blocks.end()) points.push_back(block);
+  }
+  std::sort(points.begin(), points.end(), std::less<double*>());
+  std::map<const double*, int>& offset = out.offset;
+  int pose_dim = 0;
+  for (double* block : poses) {
+    offset[block] = pose_dim;
+    pose_dim += problem.ParameterBlockTangentSize(block);
+  }
+  if (pose_dim == 0) return out;
+  std::vector<double*> ordered = poses;
+  ordered.insert(ordered.end(), points.begin(), points.end());
+  QuietCeresLogs();
+  ceres::Problem::EvaluateOptions evaluate;
+  evaluate.parameter_blocks = ordered;
+  ceres::CRSMatrix jacobian;
+  if (!problem.Evaluate(evaluate, nullptr, nullptr, nullptr, &jacobian)) {
+    offset.clear();
+    return out;
+  }
+
+  // Rows of one point's observations touch its 3 columns and a few pose columns (those of the
+  // views that see it): the sums run over those entries only, in row order, as a dense sum
+  // would (adding the zeros it skips changes no bit).
+  const int num_points = static_cast<int>(points.size());
+  Eigen::MatrixXd h_poses = Eigen::MatrixXd::Zero(pose_dim, pose_dim);
+  std::vector<Eigen::Matrix3d> h_point(num_points, Eigen::Matrix3d::Zero());
+  std::vector<std::map<int, Eigen::RowVector3d>> h_cross(num_points);  // pose column -> H_cp row
+  std::vector<std::pair<int, double>> jp;
+  for (int row = 0; row < jacobian.num_rows; ++row) {
+    jp.clear();
+    Eigen::RowVector3d jx = Eigen::RowVector3d::Zero();
+    int point = -1;
+    for (int k = jacobian.rows[row]; k < jacobian.rows[row + 1]; ++k) {
+      const int col = jacobian.cols[k];
+      if (col < pose_dim) {
+        jp.emplace_back(col, jacobian.values[k]);
+      } else {
+        point = (col - pose_dim) / 3;
+        jx[(col - pose_dim) % 3] = jacobian.values[k];
+      }
+    }
+    for (const auto& [col_a, a] : jp) {
+      for (const auto& [col_b, b] : jp) h_poses(col_a, col_b) += a * b;
+    }
+    if (point < 0) continue;
+    h_point[point] += jx.transpose() * jx;
+    for (const auto& [col, a] : jp) {
+      h_cross[point].try_emplace(col, Eigen::RowVector3d::Zero()).first->second += a * jx;
+    }
+  }
+  // Eliminate the points: S = H_cc - sum_p H_cp H_pp^+ H_pc.
+  Eigen::MatrixXd reduced = h_poses;
+  for (int p = 0; p < num_points; ++p) {
+    if (h_cross[p].empty()) continue;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(h_point[p]);
+    const double top = eig.eigenvalues().maxCoeff();
+    Eigen::Vector3d inv = Eigen::Vector3d::Zero();
+    for (int i = 0; i < 3; ++i) {
+      if (eig.eigenvalues()[i] > 1e-12 * top) inv[i] = 1.0 / eig.eigenvalues()[i];
+    }
+    const Eigen::Matrix3d h_point_inv = eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
+    for (const auto& [col_a, cross_a] : h_cross[p]) {
+      const Eigen::RowVector3d weighted = cross_a * h_point_inv;
+      for (const auto& [col_b, cross_b] : h_cross[p]) reduced(col_a, col_b) -= weighted.dot(cross_b);
+    }
+  }
+  // Pseudo-inverse of the reduced system: directions with (next to) no information get a variance
+  // 1e12 times the best determined one's, instead of an infinity or a failure.
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (reduced + reduced.transpose()));
+  const double top = std::max(eig.eigenvalues().maxCoeff(), 1e-300);
+  Eigen::VectorXd inv(pose_dim);
+  for (int i = 0; i < pose_dim; ++i) inv[i] = 1.0 / std::max(eig.eigenvalues()[i], 1e-12 * top);
+  out.covariance = eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
+  return out;
+}
+
+std::vector<std::optional<Eigen::Matrix3d>> CentreCovariances(ceres::Problem& problem, const ReducedCovariance& reduced,
+                                                              const std::vector<Eigen::Vector4d>& cq,
+                                                              const std::vector<Eigen::Vector3d>& ct, double variance) {
+  std::vector<std::optional<Eigen::Matrix3d>> out(ct.size());
+  const std::map<const double*, int>& offset = reduced.offset;
+  const Eigen::MatrixXd& covariance = reduced.covariance;
+  for (size_t c = 0; c < ct.size(); ++c) {
+    const auto it = offset.find(ct[c].data());
+    if (it == offset.end()) continue;
+    const int size = problem.ParameterBlockTangentSize(ct[c].data());
+    const Eigen::MatrixXd tangent = covariance.block(it->second, it->second, size, size);
+    Eigen::Matrix3d t_cov = Eigen::Matrix3d::Zero();
+    if (const ceres::Manifold* manifold = problem.GetManifold(ct[c].data())) {  // the scale camera: |t| held
+      Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor> plus(3, size);
+      manifold->PlusJacobian(ct[c].data(), plus.data());
+      t_cov = plus * tangent * plus.transpose();
+    } else {
+      t_cov = tangent;
+    }
+    const Eigen::Matrix3d r = Eigen::Quaterniond(cq[c].data()).toRotationMatrix();
+    out[c] = variance * r.transpose() * t_cov * r;  // C = -R^T t; R's own uncertainty is far smaller
+  }
+  return out;
+}
+
+}  // namespace rigsim

@@ -1,0 +1,85 @@
+// PoseCovariance (the points eliminated by hand) against Ceres's own covariance of the same blocks.
+#include "calibrator/estimators/bundle_covariance.h"
+
+#include <array>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+#include <gtest/gtest.h>
+
+namespace rigsim {
+namespace {
+
+// A pinhole camera (focal 500 px) with an angle-axis rotation and a translation.
+struct PinholeCost {
+  Eigen::Vector2d observed;
+  template <typename T>
+  bool operator()(const T* rotation, const T* translation, const T* point, T* residual) const {
+    T p[3];
+    ceres::AngleAxisRotatePoint(rotation, point, p);
+    for (int i = 0; i < 3; ++i) p[i] += translation[i];
+    residual[0] = T(500) * p[0] / p[2] - T(observed.x());
+    residual[1] = T(500) * p[1] / p[2] - T(observed.y());
+    return true;
+  }
+};
+
+TEST(PoseCovariance, MatchesCeresCovarianceOfTheSameBlocks) {
+  constexpr int kCameras = 3;
+  constexpr int kPoints = 40;
+  std::array<std::array<double, 3>, kCameras> rotation = {{{0, 0, 0}, {0.02, 0.3, -0.01}, {-0.03, -0.25, 0.02}}};
+  std::array<std::array<double, 3>, kCameras> translation = {{{0, 0, 0}, {-1, 0.05, 0.1}, {1, -0.1, 0.05}}};
+  std::vector<std::array<double, 3>> points(kPoints);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> across(-3, 3), depth(6, 12);
+  std::normal_distribution<double> noise(0, 0.5);
+  for (auto& x : points) x = {across(rng), across(rng), depth(rng)};
+
+  ceres::Problem problem;
+  for (int c = 0; c < kCameras; ++c) {
+    for (auto& x : points) {
+      double p[3];
+      ceres::AngleAxisRotatePoint(rotation[c].data(), x.data(), p);
+      for (int i = 0; i < 3; ++i) p[i] += translation[c][i];
+      // Noisy observations: the Jacobian at this (non-optimal) point is what both compute from.
+      const Eigen::Vector2d observed(500 * p[0] / p[2] + noise(rng), 500 * p[1] / p[2] + noise(rng));
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PinholeCost, 2, 3, 3, 3>(new PinholeCost{observed}),
+                               nullptr, rotation[c].data(), translation[c].data(), x.data());
+    }
+  }
+  // Gauge: camera 0 fixed, camera 1's translation fixed (the scale).
+  problem.SetParameterBlockConstant(rotation[0].data());
+  problem.SetParameterBlockConstant(translation[0].data());
+  problem.SetParameterBlockConstant(translation[1].data());
+
+  const std::vector<double*> poses = {rotation[0].data(), translation[0].data(), rotation[1].data(),
+                                      translation[1].data(), rotation[2].data(), translation[2].data()};
+  const ReducedCovariance reduced = PoseCovariance(problem, poses);
+  ASSERT_EQ(reduced.covariance.rows(), 9) << "rotation 1, rotation 2 and translation 2 are adjusted";
+  ASSERT_EQ(reduced.offset.size(), 3u);
+  EXPECT_EQ(reduced.offset.count(translation[1].data()), 0u) << "a constant block has no column";
+
+  ceres::Covariance::Options options;
+  options.algorithm_type = ceres::DENSE_SVD;
+  ceres::Covariance covariance(options);
+  const std::vector<const double*> adjusted = {rotation[1].data(), rotation[2].data(), translation[2].data()};
+  std::vector<std::pair<const double*, const double*>> blocks;
+  for (const double* a : adjusted) {
+    for (const double* b : adjusted) blocks.emplace_back(a, b);
+  }
+  ASSERT_TRUE(covariance.Compute(blocks, &problem));
+  for (const double* a : adjusted) {
+    for (const double* b : adjusted) {
+      Eigen::Matrix<double, 3, 3, Eigen::RowMajor> expected;
+      ASSERT_TRUE(covariance.GetCovarianceBlock(a, b, expected.data()));
+      const Eigen::Matrix3d got = reduced.covariance.block<3, 3>(reduced.offset.at(a), reduced.offset.at(b));
+      EXPECT_LT((got - expected).norm(), 1e-9 * (1 + expected.norm())) << "got\n" << got << "\nexpected\n" << expected;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace rigsim

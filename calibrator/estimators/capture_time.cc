@@ -1,0 +1,253 @@
+#include "calibrator/estimators/capture_time.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+#include <utility>
+
+#include <Eigen/Geometry>
+
+#include "geometry/pose_interpolation.h"
+
+namespace rigsim {
+
+void CaptureTimeOptions::Check() const {
+  if (!(min_offset_s >= 0) || !std::isfinite(min_offset_s)) throw std::invalid_argument("min_offset_s must be >= 0");
+  if (!(min_sigmas > 0)) throw std::invalid_argument("min_sigmas must be > 0");
+  if (!(min_visible_px >= 0) || !std::isfinite(min_visible_px)) throw std::invalid_argument("min_visible_px must be >= 0");
+  if (!(min_interval_visibility_px >= 0) || !std::isfinite(min_interval_visibility_px)) {
+    throw std::invalid_argument("min_interval_visibility_px must be >= 0");
+  }
+  if (check_max_tracks < 0) throw std::invalid_argument("check_max_tracks must be >= 0");
+  if (!(min_readout_s >= 0) || !std::isfinite(min_readout_s)) throw std::invalid_argument("min_readout_s must be >= 0");
+  if (readout_max_tracks < 0) throw std::invalid_argument("readout_max_tracks must be >= 0");
+  search.Check();
+}
+
+std::optional<std::string> WhyNoTimingModel(const std::vector<double>& frame_times_s) {
+  if (frame_times_s.size() < 3) return "capture times need at least three frames of a moving rig";
+  std::set<double> distinct;
+  for (double t : frame_times_s) {
+    if (!std::isfinite(t)) return "a frame's timestamp is not finite";
+    distinct.insert(t);
+  }
+  if (distinct.size() != frame_times_s.size()) return "two frames share a timestamp (frames.json timestamp_s)";
+  return std::nullopt;
+}
+
+namespace {
+
+// The median time between consecutive frames (s).
+double FrameInterval(std::vector<double> times) {
+  std::sort(times.begin(), times.end());
+  std::vector<double> steps;
+  for (size_t k = 1; k < times.size(); ++k) steps.push_back(times[k] - times[k - 1]);
+  if (steps.empty()) return 0.0;
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  return steps[steps.size() / 2];
+}
+
+}  // namespace
+
+std::vector<double> StartTimeOffsets(int num_cameras, const std::vector<double>& frame_times_s,
+                                     const std::vector<TemporalPairEstimate>& temporal,
+                                     const TimeOffsetSearchOptions& options) {
+  std::vector<double> out(num_cameras, 0.0);
+  const int frames = static_cast<int>(frame_times_s.size());
+  if (frames < 2 || num_cameras < 2) return out;
+  std::vector<std::vector<std::optional<double>>> turn(num_cameras, std::vector<std::optional<double>>(frames - 1));
+  for (const TemporalPairEstimate& t : temporal) {
+    if (!t.PoseUsable() || t.camera < 0 || t.camera >= num_cameras || t.frame < 0 || t.frame + 1 >= frames) continue;
+    turn[t.camera][t.frame] = Eigen::AngleAxisd(t.two_view.cam_b_from_cam_a.rotation).angle();
+  }
+  const std::vector<SearchedOffset> found = SearchTimeOffsets(frame_times_s, turn, options);
+  for (int c = 1; c < num_cameras; ++c) {
+    if (found[c].determined) out[c] = found[c].offset_s;
+  }
+  return out;
+}
+
+namespace {
+
+// Per frame whose capture at `offset_s` falls within the path's frames, D = rig(t + o)_from_rig(t),
+// and their mean; empty with fewer than two such frames or
+// three posed ones.
+struct RigChanges {
+  std::vector<Rigid3d> per_frame;
+  Rigid3d mean;
+};
+RigChanges ChangesOverOffset(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+                             const std::vector<double>& frame_times_s, double offset_s) {
+  std::vector<TimedPose> path;
+  for (size_t k = 0; k < rig_from_world.size() && k < frame_times_s.size(); ++k) {
+    if (rig_from_world[k]) path.push_back({frame_times_s[k], *rig_from_world[k]});
+  }
+  RigChanges out;
+  if (path.size() < 3) return out;
+  path = SortedByTime(std::move(path));
+  for (const TimedPose& p : path) {
+    // Beyond the first and last frames the path goes on straight, which a rig that turns does not:
+    // the images of those captures say more about that model than about time.
+    const double t = p.time_s + offset_s;
+    if (t < path.front().time_s || t > path.back().time_s) continue;
+    out.per_frame.push_back(RigFromWorldOnPath(path, t) * p.rig_from_world.Inverse());
+  }
+  if (out.per_frame.size() < 2) {
+    out.per_frame.clear();
+    return out;
+  }
+  out.mean = MeanOfNearbyPoses(out.per_frame);
+  return out;
+}
+
+// A change of the rig as the image motion it causes in a camera of `pixels_per_radian` looking at
+// the scene at `scene_depth`.
+double ImageMotionPx(const Rigid3d& change, double pixels_per_radian, double scene_depth) {
+  return pixels_per_radian * (Eigen::AngleAxisd(change.rotation).angle() + change.translation.norm() / scene_depth);
+}
+
+// An even subsample of at most `max_tracks` tracks (0: all of them).
+std::vector<ViewTrack> EvenSubsample(const std::vector<ViewTrack>& tracks, int max_tracks) {
+  const size_t stride = max_tracks > 0 ? std::max<size_t>((tracks.size() + max_tracks - 1) / max_tracks, 1) : 1;
+  std::vector<ViewTrack> out;
+  for (size_t i = 0; i < tracks.size(); i += stride) out.push_back(tracks[i]);
+  return out;
+}
+
+}  // namespace
+
+double OffsetVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+                          const std::vector<double>& frame_times_s, double offset_s, double pixels_per_radian,
+                          double scene_depth) {
+  if (!(scene_depth > 0)) return 0.0;
+  const RigChanges changes = ChangesOverOffset(rig_from_world, frame_times_s, offset_s);
+  double worst = 0.0;
+  for (const Rigid3d& d : changes.per_frame) {
+    worst = std::max(worst, ImageMotionPx(d * changes.mean.Inverse(), pixels_per_radian, scene_depth));
+  }
+  return worst;
+}
+
+std::optional<Rigid3d> MeanRigChange(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+                                     const std::vector<double>& frame_times_s, double offset_s) {
+  const RigChanges changes = ChangesOverOffset(rig_from_world, frame_times_s, offset_s);
+  if (changes.per_frame.empty()) return std::nullopt;
+  return changes.mean;
+}
+
+double ReadoutVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+                           const std::vector<double>& frame_times_s, double readout_s, double pixels_per_radian,
+                           double scene_depth) {
+  if (!(scene_depth > 0)) return 0.0;
+  const std::optional<Rigid3d> during = MeanRigChange(rig_from_world, frame_times_s, std::abs(readout_s));
+  return during ? ImageMotionPx(*during, pixels_per_radian, scene_depth) : 0.0;
+}
+
+double IntervalVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+                            const std::vector<double>& frame_times_s, double pixels_per_radian, double scene_depth) {
+  return OffsetVisibilityPx(rig_from_world, frame_times_s, FrameInterval(frame_times_s), pixels_per_radian,
+                            scene_depth);
+}
+
+double PixelsPerRadian(const Camera& camera) {
+  const Eigen::Vector2d centre(0.5 * (camera.width() - 1), 0.5 * (camera.height() - 1));
+  const auto left = camera.CamFromImg(centre - Eigen::Vector2d(0.5, 0.0));
+  const auto right = camera.CamFromImg(centre + Eigen::Vector2d(0.5, 0.0));
+  if (!left || !right) return 0.0;
+  const double angle = std::atan2(left->cross(*right).norm(), left->dot(*right));
+  return angle > 0 ? 1.0 / angle : 0.0;
+}
+
+namespace {
+
+// A solve's cost with each filtered observation counted at the filter's threshold: two solves of
+// the same tracks compare by it, whatever each filtered.
+double TruncatedCost(const MultiFrameBundleAdjustmentResult& r, double max_error_px) {
+  return r.num_observations * r.reprojection_rms_px * r.reprojection_rms_px +
+         r.num_filtered_observations * max_error_px * max_error_px;
+}
+
+}  // namespace
+
+std::vector<CameraSynchronisation> CheckSynchronisation(
+    const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, const std::vector<ViewTrack>& tracks,
+    const MultiFrameBundleAdjustmentResult& adjusted, int scale_camera, RigBundleAdjustmentOptions ba_options,
+    const std::vector<double>& frame_times_s, const std::vector<double>& start_offsets_s,
+    const std::vector<char>& readout_bottom_to_top, const CaptureTimeOptions& options) {
+  const int n = static_cast<int>(cameras.size());
+  std::vector<CameraSynchronisation> out(n);
+  bool any_shown = false;
+  for (int c = 1; c < n && c < static_cast<int>(adjusted.cam_from_rig.size()); ++c) {
+    if (!adjusted.cam_from_rig[c]) continue;
+    out[c].checked = true;
+    out[c].interval_visibility_px = IntervalVisibilityPx(adjusted.rig_from_world, frame_times_s,
+                                                         PixelsPerRadian(adjusted.cameras[c]), adjusted.median_depth);
+    any_shown = any_shown || out[c].interval_visibility_px >= options.min_interval_visibility_px;
+  }
+  if (!any_shown) return out;
+  CaptureTiming timing;
+  timing.frame_times_s = frame_times_s;
+  timing.time_offset_s = start_offsets_s;
+  timing.readout_s.assign(n, 0.0);
+  timing.readout_bottom_to_top = readout_bottom_to_top;
+  timing.estimate_offsets = true;
+  ba_options.refine_intrinsics = false;  // held: the question is time, asked of the rig as adjusted
+  ba_options.keep_points = false;
+  auto solve = [&](const std::vector<ViewTrack>& solved_tracks, CaptureTiming start) {
+    return MultiFrameRigBundleAdjust(adjusted.cameras, keypoints, solved_tracks, adjusted.cam_from_rig,
+                                     adjusted.rig_from_world, scale_camera, ba_options, false, &start);
+  };
+  const std::vector<ViewTrack> subsample = EvenSubsample(tracks, options.check_max_tracks);
+  MultiFrameBundleAdjustmentResult freed = solve(subsample, timing);
+  // The turn angles' start can be wrong (camera 0 tracked over few frames): the synchronised start is
+  // solved too, and the one the images fit better kept, so that a wrong start cannot condemn a camera.
+  if (std::any_of(start_offsets_s.begin(), start_offsets_s.end(), [](double o) { return o != 0.0; })) {
+    timing.time_offset_s.assign(n, 0.0);
+    MultiFrameBundleAdjustmentResult from_zero = solve(subsample, timing);
+    if (TruncatedCost(from_zero, ba_options.max_reprojection_error_px) <
+        TruncatedCost(freed, ba_options.max_reprojection_error_px)) {
+      freed = std::move(from_zero);
+    }
+  }
+  for (int c = 1; c < n && c < static_cast<int>(freed.timing.size()); ++c) {
+    CameraSynchronisation& s = out[c];
+    if (!s.checked || !freed.time_offset_stddev_s[c] || s.interval_visibility_px < options.min_interval_visibility_px) {
+      continue;
+    }
+    s.offset_s = freed.timing[c][0];
+    s.offset_stddev_s = *freed.time_offset_stddev_s[c];
+    s.offset_visibility_px = OffsetVisibilityPx(adjusted.rig_from_world, frame_times_s, *s.offset_s,
+                                                PixelsPerRadian(adjusted.cameras[c]), adjusted.median_depth);
+    const double magnitude = std::abs(*s.offset_s);
+    s.unsynchronised = magnitude > options.min_offset_s && magnitude > options.min_sigmas * *s.offset_stddev_s &&
+                       s.offset_visibility_px >= options.min_visible_px;
+  }
+  // Rolling shutters: offsets held at zero and every readout free. Freed together with the offsets,
+  // readouts and offsets trade against each other over few frames and condemned a synchronised
+  // global-shutter rig (BENCHMARKS.md), so they are solved apart. A rolling shutter also shows as an offset of the cameras
+  // without one (their rows are captured, on average, half a readout from the others'): either
+  // verdict takes a camera's pose, and the remedy of both is to estimate capture times.
+  if (!options.check_readout) return out;
+  CaptureTiming rows;
+  rows.frame_times_s = frame_times_s;
+  rows.time_offset_s.assign(n, 0.0);
+  rows.readout_s.assign(n, 0.0);
+  rows.readout_bottom_to_top = readout_bottom_to_top;
+  rows.estimate_readout = true;
+  const MultiFrameBundleAdjustmentResult read_out = solve(EvenSubsample(tracks, options.readout_max_tracks), rows);
+  for (int c = 0; c < n && c < static_cast<int>(read_out.timing.size()); ++c) {
+    CameraSynchronisation& s = out[c];
+    if ((c > 0 && !s.checked) || !read_out.readout_stddev_s[c]) continue;
+    s.readout_s = read_out.timing[c][1];
+    s.readout_stddev_s = *read_out.readout_stddev_s[c];
+    s.readout_visibility_px = ReadoutVisibilityPx(adjusted.rig_from_world, frame_times_s, *s.readout_s,
+                                                  PixelsPerRadian(adjusted.cameras[c]), adjusted.median_depth);
+    const double magnitude = std::abs(*s.readout_s);
+    s.rolling_shutter = magnitude > options.min_readout_s && magnitude > options.min_sigmas * *s.readout_stddev_s &&
+                        s.readout_visibility_px >= options.min_visible_px;
+  }
+  return out;
+}
+
+}  // namespace rigsim

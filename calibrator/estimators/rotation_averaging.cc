@@ -1,0 +1,184 @@
+#include "calibrator/estimators/rotation_averaging.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <queue>
+#include <stdexcept>
+
+#include <ceres/ceres.h>
+#include <ceres/manifold.h>
+#include <ceres/rotation.h>
+
+#include "calibrator/estimators/cost_functions.h"
+
+namespace rigsim {
+namespace {
+
+double AngleDeg(const Eigen::Quaterniond& q) {
+  return RadToDeg(2.0 * std::atan2(q.vec().norm(), std::abs(q.w())));
+}
+
+// Edges of `graph` usable in this round: active and not yet rejected.
+std::vector<int> UsableEdges(const ViewGraph& graph, const std::vector<char>& outlier) {
+  std::vector<int> edges;
+  for (int i = 0; i < static_cast<int>(graph.edges.size()); ++i) {
+    if (graph.edges[i].active && !outlier[i]) edges.push_back(i);
+  }
+  return edges;
+}
+
+// Rotations of the cameras reached from `reference` along a maximum spanning tree (Prim's).
+std::vector<std::optional<Eigen::Quaterniond>> SpanningTreeRotations(const ViewGraph& graph,
+                                                                     const std::vector<int>& edges, int reference,
+                                                                     double loop_threshold_deg) {
+  const int n = graph.num_cameras;
+  std::map<std::pair<int, int>, int> edge_of;
+  std::vector<std::vector<int>> incident(n);
+  for (int i : edges) {
+    edge_of[{graph.edges[i].cam_a, graph.edges[i].cam_b}] = i;
+    incident[graph.edges[i].cam_a].push_back(i);
+    incident[graph.edges[i].cam_b].push_back(i);
+  }
+  // Rotation cam_to_from_cam_from along an edge, whichever way round it is stored.
+  auto along = [&](int e, int from) {
+    const ViewGraphEdge& g = graph.edges[e];
+    return g.cam_a == from ? g.rotation : g.rotation.conjugate();
+  };
+  // Consistent loops per edge.
+  std::map<int, int> loops;
+  for (int e : edges) {
+    const int a = graph.edges[e].cam_a, b = graph.edges[e].cam_b;
+    for (int c = 0; c < n; ++c) {
+      if (c == a || c == b) continue;
+      const auto bc = edge_of.find({std::min(b, c), std::max(b, c)});
+      const auto ca = edge_of.find({std::min(a, c), std::max(a, c)});
+      if (bc == edge_of.end() || ca == edge_of.end()) continue;
+      const Eigen::Quaterniond loop = along(ca->second, c) * along(bc->second, b) * along(e, a);
+      if (AngleDeg(loop) < loop_threshold_deg) ++loops[e];
+    }
+  }
+  // Lexicographic weight: loops first, then inliers.
+  auto key = [&](int e) { return std::make_pair(loops[e], graph.edges[e].weight); };
+  auto worse = [&](const std::pair<int, int>& x, const std::pair<int, int>& y) {
+    return key(x.first) < key(y.first) || (key(x.first) == key(y.first) && x.first > y.first);
+  };
+  std::priority_queue<std::pair<int, int>, std::vector<std::pair<int, int>>, decltype(worse)> queue(worse);
+  std::vector<std::optional<Eigen::Quaterniond>> rot(n);
+  rot[reference] = Eigen::Quaterniond::Identity();
+  auto push = [&](int cam) {
+    for (int e : incident[cam]) queue.push({e, cam});
+  };
+  push(reference);
+  while (!queue.empty()) {
+    const auto [e, from] = queue.top();
+    queue.pop();
+    const int to = graph.edges[e].cam_a == from ? graph.edges[e].cam_b : graph.edges[e].cam_a;
+    if (rot[to]) continue;
+    rot[to] = (along(e, from) * *rot[from]).normalized();
+    push(to);
+  }
+  return rot;
+}
+
+}  // namespace
+
+void RotationAveragingOptions::Check() const {
+  auto fail = [](const std::string& why) { throw std::invalid_argument("RotationAveragingOptions: " + why); };
+  if (!(loop_threshold_deg > 0)) fail("loop_threshold_deg must be > 0");
+  if (!(loss_scale_deg > 0)) fail("loss_scale_deg must be > 0");
+  if (!(outlier_threshold_deg > 0)) fail("outlier_threshold_deg must be > 0");
+  if (max_iterations < 1) fail("max_iterations must be >= 1");
+  if (max_rounds < 1) fail("max_rounds must be >= 1");
+}
+
+RotationAveragingResult AverageRotations(const ViewGraph& graph, int reference_camera,
+                                         const RotationAveragingOptions& options) {
+  options.Check();
+  if (reference_camera < 0 || reference_camera >= graph.num_cameras) {
+    throw std::invalid_argument("AverageRotations: reference camera " + std::to_string(reference_camera) +
+                                " out of range");
+  }
+  const int num_edges = static_cast<int>(graph.edges.size());
+  RotationAveragingResult result;
+  result.outlier.assign(num_edges, 0);
+  result.residual_deg.assign(num_edges, std::numeric_limits<double>::quiet_NaN());
+
+  for (int round = 0; round < options.max_rounds; ++round) {
+    result.rounds = round + 1;
+    const std::vector<int> edges = UsableEdges(graph, result.outlier);
+    auto rot = SpanningTreeRotations(graph, edges, reference_camera, options.loop_threshold_deg);
+
+    // Edges inside the component, and the median weight that normalises them.
+    std::vector<int> inside;
+    std::vector<int> weights;
+    for (int e : edges) {
+      if (rot[graph.edges[e].cam_a] && rot[graph.edges[e].cam_b]) {
+        inside.push_back(e);
+        weights.push_back(std::max(1, graph.edges[e].weight));
+      }
+    }
+    if (!inside.empty()) {
+      std::nth_element(weights.begin(), weights.begin() + weights.size() / 2, weights.end());
+      const double median_weight = weights[weights.size() / 2];
+      std::vector<Eigen::Quaterniond> q(graph.num_cameras, Eigen::Quaterniond::Identity());
+      for (int c = 0; c < graph.num_cameras; ++c) {
+        if (rot[c]) q[c] = *rot[c];
+      }
+      ceres::Problem::Options problem_options;
+      problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
+      problem_options.loss_function_ownership = ceres::TAKE_OWNERSHIP;
+      ceres::Problem problem(problem_options);
+      ceres::LossFunction* loss = new ceres::CauchyLoss(DegToRad(options.loss_scale_deg));
+      for (int e : inside) {
+        const ViewGraphEdge& g = graph.edges[e];
+        const double w = std::sqrt(std::max(1, g.weight) / median_weight);
+        problem.AddResidualBlock(RelativeRotationCost::Create(g.rotation, w), loss, q[g.cam_a].coeffs().data(),
+                                 q[g.cam_b].coeffs().data());
+      }
+      for (int c = 0; c < graph.num_cameras; ++c) {
+        if (rot[c] && problem.HasParameterBlock(q[c].coeffs().data())) {
+          problem.SetManifold(q[c].coeffs().data(), new ceres::EigenQuaternionManifold);
+        }
+      }
+      if (problem.HasParameterBlock(q[reference_camera].coeffs().data())) {
+        problem.SetParameterBlockConstant(q[reference_camera].coeffs().data());  // the gauge
+      }
+      SolveRotationProblem(problem, options.max_iterations);
+      for (int c = 0; c < graph.num_cameras; ++c) {
+        if (rot[c]) rot[c] = q[c].normalized();
+      }
+    }
+    result.cam_from_rig = rot;
+
+    // Residuals of every edge between solved cameras, and new outliers.
+    int new_outliers = 0;
+    for (int e = 0; e < num_edges; ++e) {
+      const ViewGraphEdge& g = graph.edges[e];
+      result.residual_deg[e] = std::numeric_limits<double>::quiet_NaN();
+      if (!g.active || !rot[g.cam_a] || !rot[g.cam_b]) continue;
+      result.residual_deg[e] = AngleDeg(g.rotation.conjugate() * *rot[g.cam_b] * rot[g.cam_a]->conjugate());
+      if (!result.outlier[e] && result.residual_deg[e] > options.outlier_threshold_deg) {
+        result.outlier[e] = 1;
+        ++new_outliers;
+      }
+    }
+    result.num_outliers += new_outliers;
+    if (new_outliers == 0) break;
+  }
+  // When the rounds ran out with fresh outliers, a camera may hang on rejected edges only.
+  std::vector<int> parent(graph.num_cameras);
+  for (int c = 0; c < graph.num_cameras; ++c) parent[c] = c;
+  auto find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (int e : UsableEdges(graph, result.outlier)) parent[find(graph.edges[e].cam_a)] = find(graph.edges[e].cam_b);
+  for (int c = 0; c < graph.num_cameras; ++c) {
+    if (find(c) != find(reference_camera)) result.cam_from_rig[c].reset();
+  }
+  return result;
+}
+
+}  // namespace rigsim

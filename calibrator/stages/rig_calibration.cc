@@ -1,0 +1,789 @@
+#include "calibrator/stages/rig_calibration.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+#include <Eigen/Eigenvalues>
+
+#include "calibrator/estimators/camera_centres.h"
+#include "calibrator/model/format.h"
+#include "calibrator/stages/rig_motion_links.h"
+#include "calibrator/stages/rig_capture_times.h"
+#include "calibrator/estimators/rig_positions.h"
+#include "calibrator/stages/stage_clock.h"
+
+namespace rigsim {
+namespace {
+
+
+// Standard deviation (deg) of the direction of `centre` (from camera 0 at the origin) under the
+// covariance `cov` of the centre: the largest spread across the direction, over the distance.
+double DirectionStdDeg(const Eigen::Vector3d& centre, const Eigen::Matrix3d& cov) {
+  const double d = centre.norm();
+  if (!(d > 0)) return 180.0;
+  const Eigen::Vector3d u = centre / d;
+  const Eigen::Matrix3d across = Eigen::Matrix3d::Identity() - u * u.transpose();
+  const double spread = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(across * cov * across).eigenvalues().maxCoeff();
+  return RadToDeg(std::atan2(std::sqrt(std::max(spread, 0.0)), d));
+}
+
+// Changes the unit of length of a rig estimate: the cameras' and the frames' translations.
+void ScaleTranslations(double s, std::vector<std::optional<Rigid3d>>* cam_from_rig,
+                       std::vector<std::optional<Rigid3d>>* rig_from_world) {
+  for (auto* poses : {cam_from_rig, rig_from_world}) {
+    for (auto& p : *poses) {
+      if (p) p->translation *= s;
+    }
+  }
+}
+
+// A calibrated camera whose place rests on one pair only, a pair whose fit explains under a
+// quarter of its matches, may be a wrong view that agreed with some pose by chance (a mirrored
+// photo of a symmetric facade does: 17% inliers, 121 deg off); genuine pairs of the demo and of
+// Herz-Jesus explain 60-90%. The pose is kept, with a warning that says what to look at.
+constexpr double kWeakPairInlierRatio = 0.25;
+
+void WarnAboutCamerasHeldByOneWeakPair(const ViewGraph& graph, const RigObservations& obs,
+                                       const std::vector<char>& rotated, const std::vector<char>& reached,
+                                       std::vector<std::string>* warnings) {
+  for (int c = 1; c < graph.num_cameras; ++c) {
+    if (!reached[c]) continue;
+    std::vector<int> held_by;  // edges (= input pairs) that place camera c
+    for (int e = 0; e < static_cast<int>(graph.edges.size()); ++e) {
+      const ViewGraphEdge& g = graph.edges[e];
+      if (g.active && !g.rotation_only && (g.cam_a == c || g.cam_b == c) && rotated[g.cam_a] && rotated[g.cam_b]) {
+        held_by.push_back(e);
+      }
+    }
+    if (held_by.size() != 1) continue;
+    const PairEstimate& p = obs.pairs[held_by[0]];
+    const TwoViewEstimate& tv = p.two_view;
+    if (tv.num_matches <= 0 || tv.num_inliers >= kWeakPairInlierRatio * tv.num_matches) continue;
+    const std::string pair = obs.camera_names[p.cam_a] + "-" + obs.camera_names[p.cam_b];
+    warnings->push_back(obs.camera_names[c] + " is placed by one pair only, " + pair + ", whose fit explains " +
+                        std::to_string(tv.num_inliers) + " of its " + std::to_string(tv.num_matches) + " matches (" +
+                        Fixed(100.0 * tv.num_inliers / tv.num_matches, 0) +
+                        "%): unrelated or mirrored views can agree with a pose by chance; check the pair's match "
+                        "image");
+  }
+}
+
+}  // namespace
+
+bool RigPreCheck::SomeCameraWithoutFullPose() const {
+  return std::find(may_be_placed.begin(), may_be_placed.end(), 0) != may_be_placed.end();
+}
+
+void AddRigWork(const RigCalibrationResult& from, RigCalibrationResult* into) {
+  into->rig_passes += from.rig_passes;
+  into->rotation_averaging_time_s += from.rotation_averaging_time_s;
+  into->tracks_time_s += from.tracks_time_s;
+  into->positions_time_s += from.positions_time_s;
+  into->bundle_adjustment_time_s += from.bundle_adjustment_time_s;
+  into->synchronisation_check_time_s += from.synchronisation_check_time_s;
+}
+
+namespace {
+
+// Step 1: the view graph of the pairs and robust rotation averaging over it; the edges found to
+// be rotation outliers are deactivated with the reason.
+struct RotationStage {
+  ViewGraph graph;
+  RotationAveragingResult rot;
+  // With motion links (motion_links.h): every rotation averaged jointly; rot.cam_from_rig holds its
+  // cameras' and this its frames'.
+  std::optional<JointRotations> joint;
+};
+
+RotationStage AverageCameraRotations(const RigObservations& obs, const RigCalibrationOptions& options,
+                                     const std::vector<std::string>& rejected) {
+  RotationStage s;
+  s.graph = BuildViewGraph(static_cast<int>(obs.cameras.size()), obs.pairs, options.view_graph);
+  for (int e = 0; e < static_cast<int>(s.graph.edges.size()); ++e) {
+    if (!rejected[e].empty()) s.graph.Deactivate(e, rejected[e]);
+  }
+  s.rot = AverageRotations(s.graph, 0, options.rotation_averaging);
+  for (int e = 0; e < static_cast<int>(s.graph.edges.size()); ++e) {
+    if (s.rot.outlier[e]) {
+      s.graph.Deactivate(e, "rotation outlier (residual " + Fixed(s.rot.residual_deg[e], 1) + " deg > " +
+                                Fixed(options.rotation_averaging.outlier_threshold_deg, 1) + ")");
+    }
+  }
+  if (obs.HasMotionLinks()) {
+    s.joint = AverageRotationsWithMotionLinks(obs, s.graph, options);
+    s.rot.cam_from_rig = s.joint->rotations.cam_from_rig;
+  }
+  return s;
+}
+
+// Step 2: the rig's rotation per frame from the temporal pairs, or a static rig (identity in every
+// frame) without them.
+struct RigMotion {
+  bool moving = false;
+  std::vector<std::optional<Eigen::Quaterniond>> rig_rotation;
+  int temporal_pairs_used = 0;  // successful temporal pairs of cameras with a rotation
+};
+
+RigMotion EstimateRigMotion(const RigObservations& obs, const RotationStage& rs, int num_frames) {
+  const int n = static_cast<int>(obs.cameras.size());
+  const RotationAveragingResult& rot = rs.rot;
+  RigMotion m;
+  m.moving = num_frames >= 2 && !obs.temporal.empty();
+  m.rig_rotation.assign(num_frames, Eigen::Quaterniond::Identity());
+  if (!m.moving) return m;
+  m.rig_rotation = rs.joint ? rs.joint->rotations.rig_from_world
+                            : EstimateRigRotations(num_frames, rot.cam_from_rig, obs.temporal);
+  for (const TemporalPairEstimate& t : obs.temporal) {
+    if (t.camera < 0 || t.camera >= n || t.frame < 0 || t.frame + 1 >= num_frames) {
+      throw std::invalid_argument("EstimateRig: temporal pair out of range");
+    }
+    if (t.PoseUsable() && rot.cam_from_rig[t.camera]) ++m.temporal_pairs_used;
+  }
+  return m;
+}
+
+// Step 3: tracks over all views from the inliers of the edges still in use (between cameras with
+// a rotation) and of the temporal pairs.
+std::vector<ViewTrack> TracksOfUsedPairs(const RigObservations& obs, const RotationStage& rs, const RigMotion& motion,
+                                         int num_frames, int* num_conflicting) {
+  std::vector<PairMatches> used;
+  for (size_t p = 0; p < obs.pairs.size(); ++p) {
+    const ViewGraphEdge& g = rs.graph.edges[p];
+    if (!g.active || !rs.rot.cam_from_rig[g.cam_a] || !rs.rot.cam_from_rig[g.cam_b]) continue;
+    if (static_cast<int>(obs.inliers[p].per_frame.size()) != num_frames) {
+      throw std::invalid_argument("EstimateRig: inliers of a pair do not have one entry per frame");
+    }
+    used.push_back(obs.inliers[p]);
+  }
+  std::vector<TemporalPairEstimate> temporal_used;
+  if (motion.moving) {
+    for (const TemporalPairEstimate& t : obs.temporal) {
+      if (t.two_view.success && rs.rot.cam_from_rig[t.camera]) temporal_used.push_back(t);
+    }
+  }
+  std::vector<CrossTimePairEstimate> cross_time_used;
+  for (size_t i = 0; rs.joint && i < obs.cross_time.size(); ++i) {
+    if (rs.joint->cross_time_used[i]) cross_time_used.push_back(obs.cross_time[i]);
+  }
+  return BuildViewTracksAcrossTime(static_cast<int>(obs.cameras.size()), num_frames, used, temporal_used,
+                                   cross_time_used, num_conflicting);
+}
+
+// Step 4: the bundle adjustment's initial poses, one set per position estimate that found a
+// solution (rig_positions.h): from the two-view directions and from the tracks.
+struct PoseStart {
+  std::string source;
+  std::vector<std::optional<Rigid3d>> cam_from_rig, rig_from_world;
+};
+
+struct PositionStage {
+  std::vector<PoseStart> starts;
+  double eigenvalue_ratio = 0.0;  // of the track solve
+  std::string position_reason;    // why there is no start; empty when there is one
+  std::string remedy;             // what would fix the positions the images leave open
+  int scale_camera = -1;          // the camera at distance 1 from camera 0; -1: none
+  // Per camera (empty without motion links): the axis along which its centre is held, open
+  // (motion_links.h HeldCentreAxes).
+  std::vector<std::optional<Eigen::Vector3d>> held_axis;
+};
+
+// What a user can change so that the images fix positions they leave open, from how the rig moved.
+std::string PositionRemedy(const RigMotion& motion, int num_frames) {
+  if (!motion.moving) {
+    return num_frames < 2 ? "to place it: several frames while the rig moves (its motion links the cameras' positions), "
+                            "or more overlap between neighbouring cameras"
+                          : "to place it: matches between consecutive frames (move the rig less between frames), or "
+                            "more overlap between neighbouring cameras";
+  }
+  double turn_deg = 0.0;  // the largest rotation of the rig from frame 0
+  for (const auto& q : motion.rig_rotation) {
+    if (q && motion.rig_rotation[0]) turn_deg = std::max(turn_deg, RotationDifferenceDeg(*q, *motion.rig_rotation[0]));
+  }
+  std::string remedy = "to place it: more frames";
+  if (turn_deg < 10.0) remedy += ", a path that turns (the rig turned " + Fixed(turn_deg, 1) + " deg)";
+  return remedy + ", more overlap between neighbouring cameras, or a higher resolution";
+}
+
+PoseStart ToStart(const std::string& source, const RigPositions& positions, const RotationStage& rs,
+                  const RigMotion& motion, int scale_camera) {
+  const double unit = 1.0 / positions.centre_in_rig[scale_camera]->norm();
+  PoseStart s;
+  s.source = source;
+  s.cam_from_rig.assign(positions.centre_in_rig.size(), std::nullopt);
+  s.rig_from_world.assign(positions.rig_centre_in_world.size(), std::nullopt);
+  for (size_t c = 0; c < s.cam_from_rig.size(); ++c) {
+    if (!positions.centre_in_rig[c] || !rs.rot.cam_from_rig[c]) continue;
+    const Eigen::Quaterniond r = *rs.rot.cam_from_rig[c];
+    s.cam_from_rig[c] = Rigid3d(r, -(r * (unit * *positions.centre_in_rig[c])));
+  }
+  for (size_t k = 0; k < s.rig_from_world.size(); ++k) {
+    if (!positions.rig_centre_in_world[k] || !motion.rig_rotation[k]) continue;
+    const Eigen::Quaterniond r = *motion.rig_rotation[k];
+    s.rig_from_world[k] = Rigid3d(r, -(r * (unit * *positions.rig_centre_in_world[k])));
+  }
+  return s;
+}
+
+PositionStage EstimateInitialPoses(const RigObservations& obs, const RotationStage& rs, const RigMotion& motion,
+                                   const std::vector<ViewTrack>& tracks, const RigCalibrationOptions& options) {
+  PositionStage s;
+  s.remedy = PositionRemedy(motion, static_cast<int>(obs.keypoints.size()));
+  if (obs.HasMotionLinks()) s.held_axis = HeldCentreAxes(obs, tracks);
+  const RigPositions from_directions = EstimateRigPositionsFromDirections(rs.graph, obs.temporal, rs.rot.cam_from_rig,
+                                                                          motion.rig_rotation, !motion.moving);
+  const RigPositions from_tracks = EstimateRigPositions(obs.cameras, obs.keypoints, tracks, rs.rot.cam_from_rig,
+                                                        motion.rig_rotation, options.positions, !motion.moving,
+                                                        s.held_axis);
+  s.eigenvalue_ratio = from_tracks.eigenvalue_ratio;
+  if (!motion.moving) {
+    // Static rig: the pairs' scales are linked only by a parallel-rigid graph or by points seen by
+    // three or more cameras.
+    int multi_view_tracks = 0;
+    for (const ViewTrack& t : tracks) multi_view_tracks += t.observations.size() >= 3;
+    if (!EstimateCameraCentres(rs.graph, rs.rot.cam_from_rig, 0).unique && multi_view_tracks < 10) {
+      s.position_reason = "not observable: the cameras' pairs do not link their scales (only " +
+                          std::to_string(multi_view_tracks) +
+                          " points seen by three or more cameras) and there is no rig motion to link them (one "
+                          "frame, or no matches between frames); " + s.remedy;
+      return s;
+    }
+  }
+  // The unit is a camera whose centre the images fix whole, where there is one.
+  for (const bool whole : {true, false}) {
+    for (const RigPositions* p : {&from_directions, &from_tracks}) {
+      for (int c = 1; c < static_cast<int>(p->centre_in_rig.size()) && p->solved && s.scale_camera < 0; ++c) {
+        if (whole && !s.held_axis.empty() && s.held_axis[c]) continue;
+        if (p->centre_in_rig[c] && p->centre_in_rig[c]->norm() > 1e-9) s.scale_camera = c;
+      }
+    }
+  }
+  // With motion links the same-instant directions do not reach the cameras the motion placed (a
+  // start without them would win on a cost over fewer views), nor hold open axes at zero.
+  const bool tracks_only = obs.HasMotionLinks() && from_tracks.solved;
+  if (s.scale_camera >= 0) {
+    if (from_directions.solved && from_directions.centre_in_rig[s.scale_camera] && !tracks_only) {
+      s.starts.push_back(ToStart("two-view directions", from_directions, rs, motion, s.scale_camera));
+    }
+    if (from_tracks.solved && from_tracks.centre_in_rig[s.scale_camera]) {
+      s.starts.push_back(ToStart("tracks", from_tracks, rs, motion, s.scale_camera));
+    }
+  }
+  if (s.starts.empty()) {
+    s.position_reason = "not observable: " +
+                        (!from_directions.reason.empty() ? from_directions.reason : from_tracks.reason) + "; " + s.remedy;
+  }
+  return s;
+}
+
+// The bundle adjustment's model of capture times when offsets or readouts are estimated: the
+// frames' timestamps, the offsets started from each camera's own turns; nullopt otherwise. Throws
+// std::invalid_argument when they are asked for and the frames cannot carry them.
+std::optional<CaptureTiming> TimingModel(const RigObservations& obs, const RigMotion& motion,
+                                         const CaptureTimeOptions& options) {
+  if (!options.estimate_offsets && !options.estimate_readout) return std::nullopt;
+  if (const auto why = WhyNoTimingModel(obs.frame_times_s)) throw std::invalid_argument("capture times: " + *why);
+  if (!motion.moving) throw std::invalid_argument("capture times: the rig's motion between frames is not tracked");
+  const int n = static_cast<int>(obs.cameras.size());
+  CaptureTiming timing;
+  timing.frame_times_s = obs.frame_times_s;
+  timing.time_offset_s = options.estimate_offsets
+                             ? StartTimeOffsets(n, obs.frame_times_s, obs.temporal, options.search)
+                             : std::vector<double>(n, 0.0);
+  timing.readout_s.assign(n, 0.0);
+  timing.readout_bottom_to_top = obs.readout_bottom_to_top;
+  timing.estimate_offsets = options.estimate_offsets;
+  timing.estimate_readout = options.estimate_readout;
+  return timing;
+}
+
+// Step 5: the bundle adjustment from every start; the one the images agree with best
+// (TruncatedReprojectionCost) is kept. Another start that ends with a camera elsewhere makes that
+// camera's position ambiguous (RigCalibrationOptions::max_start_disagreement_deg).
+struct AdjustedRig {
+  MultiFrameBundleAdjustmentResult ba;
+  std::vector<RigStartSummary> starts;
+  std::vector<std::string> ambiguous;  // per camera: why its position is ambiguous; empty if not
+};
+
+// The angle (deg) between two estimates of the direction of a camera's centre from camera 0's.
+std::optional<double> DirectionDifferenceDeg(const std::optional<Rigid3d>& a, const std::optional<Rigid3d>& b) {
+  if (!a || !b) return std::nullopt;
+  const Eigen::Vector3d ca = a->SourceOriginInTarget(), cb = b->SourceOriginInTarget();
+  if (ca.norm() < 1e-12 || cb.norm() < 1e-12) return std::nullopt;
+  return AngleBetweenDeg(ca, cb);
+}
+
+AdjustedRig AdjustFromEveryStart(const RigObservations& obs, const std::vector<ViewTrack>& tracks,
+                                 const PositionStage& ps, const RigMotion& motion, const RigCalibrationOptions& options) {
+  const int n = static_cast<int>(obs.cameras.size());
+  AdjustedRig out;
+  out.ambiguous.assign(n, "");
+  RigBundleAdjustmentOptions ba_options = options.bundle_adjustment;
+  ba_options.keep_points = ba_options.keep_points || options.keep_details;
+  if (obs.HasMotionLinks()) {
+    ba_options.inter_camera_weight = InterCameraWeight(tracks, options.motion.max_inter_camera_weight);
+    ba_options.held_centre_axis = ps.held_axis;
+  }
+  std::vector<MultiFrameBundleAdjustmentResult> adjusted;
+  const std::optional<CaptureTiming> timing = TimingModel(obs, motion, options.capture_time);
+  for (const PoseStart& start : ps.starts) {
+    adjusted.push_back(MultiFrameRigBundleAdjust(obs.cameras, obs.keypoints, tracks, start.cam_from_rig,
+                                                 start.rig_from_world, ps.scale_camera, ba_options, !motion.moving,
+                                                 timing ? &*timing : nullptr));
+    RigStartSummary summary;
+    summary.source = start.source;
+    summary.cost = TruncatedReprojectionCost(adjusted.back().cameras, obs.keypoints, tracks, adjusted.back().cam_from_rig,
+                                             adjusted.back().rig_from_world,
+                                             options.bundle_adjustment.max_reprojection_error_px,
+                                             options.bundle_adjustment.min_triangulation_angle_deg, &summary.observations);
+    out.starts.push_back(summary);
+  }
+  if (adjusted.empty()) return out;
+  size_t best = 0;
+  for (size_t i = 1; i < adjusted.size(); ++i) {
+    if (out.starts[i].cost < out.starts[best].cost) best = i;
+  }
+  out.starts[best].chosen = true;
+  for (size_t i = 0; i < adjusted.size(); ++i) {
+    for (int c = 1; c < n; ++c) {
+      const auto diff = DirectionDifferenceDeg(adjusted[i].cam_from_rig[c], adjusted[best].cam_from_rig[c]);
+      out.starts[i].direction_difference_deg.push_back(diff);
+      if (i == best || !diff || *diff <= options.max_start_disagreement_deg) continue;
+      if (out.starts[i].cost > options.min_start_cost_ratio * out.starts[best].cost) continue;
+      out.ambiguous[c] = "ambiguous: the bundle adjustment started from the " + out.starts[i].source + " puts it " +
+                         Fixed(*diff, 1) + " deg away from where the start from the " + out.starts[best].source +
+                         " does (reprojection cost " + Fixed(out.starts[i].cost, 0) + " against " +
+                         Fixed(out.starts[best].cost, 0) + " px^2; a wrong pair can make the wrong one fit best)";
+    }
+  }
+  out.ba = std::move(adjusted[best]);
+  return out;
+}
+
+// Step 6: the positions the bundle adjustment's covariance leaves undetermined are dropped
+// (max_direction_std_deg), the unit scale is moved to a camera that kept its position, and a
+// known distance makes the result metric.
+struct ScaledPoses {
+  std::vector<std::optional<Rigid3d>> cam_from_rig;  // nullopt: no position
+  std::vector<std::string> undetermined;             // why a camera's adjusted position is dropped
+  std::vector<PositionOutcome> position;              // kPlaced, or which of the two dropped it
+  std::vector<std::optional<double>> direction_std_deg;
+  std::vector<std::optional<Rigid3d>> rig_from_world;  // empty when positions are not observable
+  // Per camera whose centre is open along an axis (PositionStage::held_axis): its centre without
+  // that component; nullopt otherwise.
+  std::vector<std::optional<Eigen::Vector3d>> partial_centre, open_axis;
+  double length_scale = 1.0;  // the bundle adjustment's unit of length in the result's
+  ScaleKind scale_kind = ScaleKind::kNone;
+  std::string scale;
+  std::vector<std::string> warnings;
+};
+
+ScaledPoses DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& adjusted, const PositionStage& ps,
+                                     const RigCalibrationOptions& options, int known_a, int known_b) {
+  const int n = static_cast<int>(obs.cameras.size());
+  MultiFrameBundleAdjustmentResult& ba = adjusted.ba;
+  ScaledPoses out;
+  out.cam_from_rig = ba.cam_from_rig;
+  out.undetermined.assign(n, "");
+  out.position.assign(n, PositionOutcome::kPlaced);
+  out.direction_std_deg.assign(n, std::nullopt);
+  std::vector<std::optional<Rigid3d>>& pose = out.cam_from_rig;
+  for (int c = 1; c < n && c < static_cast<int>(ba.centre_covariance.size()); ++c) {
+    if (!pose[c] || !ba.centre_covariance[c]) continue;
+    const double std_deg = DirectionStdDeg(pose[c]->SourceOriginInTarget(), *ba.centre_covariance[c]);
+    out.direction_std_deg[c] = std_deg;
+    if (std_deg > options.max_direction_std_deg) {
+      out.undetermined[c] = "not determined: the images fix its direction from " + obs.camera_names[0] + " to +-" +
+                            Fixed(std_deg, 1) + " deg only (cameras close together for the depth of the scene); " +
+                            ps.remedy;
+      out.position[c] = PositionOutcome::kNotDetermined;
+      pose[c].reset();  // its adjusted rotation is kept (from ba)
+    }
+  }
+  for (int c = 1; c < n; ++c) {
+    if (!pose[c] || adjusted.ambiguous[c].empty()) continue;
+    out.undetermined[c] = adjusted.ambiguous[c] + "; " + ps.remedy;
+    out.position[c] = PositionOutcome::kAmbiguous;
+    pose[c].reset();
+  }
+  int scale_camera = ps.scale_camera;
+  if (scale_camera >= 0 && !pose[scale_camera]) {  // the unit was a camera without a position now
+    scale_camera = -1;
+    for (int c = 1; c < n && scale_camera < 0; ++c) {
+      if (pose[c] && pose[c]->translation.norm() > 1e-12) scale_camera = c;
+    }
+    if (scale_camera >= 0) {
+      out.length_scale = 1.0 / pose[scale_camera]->translation.norm();
+      ScaleTranslations(out.length_scale, &pose, &ba.rig_from_world);
+    }
+  }
+  if (!ps.starts.empty()) out.rig_from_world = ba.rig_from_world;
+  out.scale_kind = scale_camera >= 0 ? ScaleKind::kUnit : ScaleKind::kNone;
+  out.scale = scale_camera >= 0 ? "unit scale: |centre of " + obs.camera_names[scale_camera] + "| = 1"
+                                : "no scale (no camera with a position besides " + obs.camera_names[0] + ")";
+  if (!options.known_distance) return out;
+  if (pose[known_a] && pose[known_b]) {
+    const double d = (pose[known_a]->SourceOriginInTarget() - pose[known_b]->SourceOriginInTarget()).norm();
+    if (d > 1e-12) {
+      out.length_scale *= options.known_distance->metres / d;
+      ScaleTranslations(options.known_distance->metres / d, &pose, &out.rig_from_world);
+      out.scale_kind = ScaleKind::kMetric;
+      out.scale = "metric: |" + obs.camera_names[known_a] + " - " + obs.camera_names[known_b] +
+                  "| = " + Fixed(options.known_distance->metres, 4) + " m";
+    } else {
+      out.warnings.push_back("known distance ignored: the two cameras' estimated centres coincide");
+    }
+  } else {
+    out.warnings.push_back("known distance ignored: " + obs.camera_names[pose[known_a] ? known_b : known_a] +
+                           " has no position, so the result has no metric scale");
+  }
+  return out;
+}
+
+// Step 6b: a camera placed but for an axis the motion leaves open has no full pose: its centre
+// without that component is kept apart, never the held value.
+void SetAsideOpenAxes(const RigObservations& obs, const PositionStage& ps, ScaledPoses* poses) {
+  poses->partial_centre.assign(obs.cameras.size(), std::nullopt);
+  poses->open_axis.assign(obs.cameras.size(), std::nullopt);
+  for (size_t c = 1; c < ps.held_axis.size(); ++c) {
+    if (!ps.held_axis[c] || !poses->cam_from_rig[c]) continue;
+    const Eigen::Vector3d& axis = *ps.held_axis[c];
+    const Eigen::Vector3d centre = poses->cam_from_rig[c]->SourceOriginInTarget();
+    poses->partial_centre[c] = centre - axis * axis.dot(centre);
+    poses->open_axis[c] = axis;
+    poses->position[c] = PositionOutcome::kOpenAlongTurnAxis;
+    poses->undetermined[c] = OpenAxisReason(axis);
+    poses->cam_from_rig[c].reset();
+  }
+}
+
+// Step 7: status per camera (calibrated, rotation only and why, not connected and why) and per
+// edge (used or why not), into `result`.
+void SetCameraAndEdgeStatus(const RigObservations& obs, const RotationStage& rs,
+                            const MultiFrameBundleAdjustmentResult& ba, const ScaledPoses& poses,
+                            const std::string& position_reason, RigCalibrationResult* result) {
+  const int n = static_cast<int>(obs.cameras.size());
+  const ViewGraph& graph = rs.graph;
+  const RotationAveragingResult& rot = rs.rot;
+  std::vector<char> reached(n, 0), rotated(n, 0);
+  for (int c = 0; c < n; ++c) {
+    reached[c] = poses.cam_from_rig[c].has_value();
+    rotated[c] = rot.cam_from_rig[c].has_value();
+  }
+  result->cam_from_rig_rotation = rot.cam_from_rig;
+  result->partial_centre.assign(n, std::nullopt);
+  result->open_axis.assign(n, std::nullopt);
+  for (int c = 0; c < n; ++c) {  // the adjusted rotation, also of a camera whose position is not determined
+    if (ba.cam_from_rig[c]) result->cam_from_rig_rotation[c] = ba.cam_from_rig[c]->rotation;
+  }
+  for (int c = 0; c < n; ++c) {
+    result->camera_stats[c].observations = ba.observations_per_camera[c];
+    if (poses.cam_from_rig[c]) {
+      result->rig.cameras[c].cam_from_rig = poses.cam_from_rig[c];
+      result->camera_status[c] = {CameraOutcome::kCalibrated, PositionOutcome::kPlaced,
+                                  c == 0 ? "reference: rig frame" : ""};
+      if (c != 0 && ba.observations_per_camera[c] == 0) {
+        result->warnings.push_back(obs.camera_names[c] + " has no bundle-adjustment observation: its pose comes "
+                                   "from the view graph alone");
+      }
+    } else if (rotated[c] && poses.position[c] == PositionOutcome::kOpenAlongTurnAxis) {
+      result->camera_status[c] = {CameraOutcome::kOpenAlongAxis, PositionOutcome::kOpenAlongTurnAxis,
+                                  poses.undetermined[c]};
+      result->partial_centre[c] = poses.partial_centre[c];
+      result->open_axis[c] = poses.open_axis[c];
+    } else if (rotated[c]) {
+      const bool dropped = !poses.undetermined[c].empty();
+      result->camera_status[c] = {
+          CameraOutcome::kRotationOnly, dropped ? poses.position[c] : PositionOutcome::kNotObservable,
+          dropped                    ? poses.undetermined[c]
+          : !position_reason.empty() ? position_reason
+                                     : std::string("not observable: no track links its views to the calibrated "
+                                                   "cameras' (only rotation-only pairs or too little parallax); to "
+                                                   "place it: more overlap with a placed camera, or more frames "
+                                                   "while the rig moves")};
+    } else {
+      result->camera_status[c] = {CameraOutcome::kNotConnected, PositionOutcome::kNotObservable,
+                                  NotConnectedReason(graph, c, rotated, obs.camera_names)};
+    }
+  }
+  WarnAboutCamerasHeldByOneWeakPair(graph, obs, rotated, reached, &result->warnings);
+  for (int e = 0; e < static_cast<int>(graph.edges.size()); ++e) {
+    const ViewGraphEdge& g = graph.edges[e];
+    RigEdgeStats s;
+    s.cam_a = obs.camera_names[g.cam_a];
+    s.cam_b = obs.camera_names[g.cam_b];
+    s.inliers = g.weight;
+    s.used = g.active && rotated[g.cam_a] && rotated[g.cam_b];
+    s.rotation_only = g.rotation_only;
+    s.rotation_outlier = rot.outlier[e];
+    if (std::isfinite(rot.residual_deg[e])) s.rotation_residual_deg = rot.residual_deg[e];
+    s.status = s.used ? (reached[g.cam_a] && reached[g.cam_b] ? "used" : "used (rotation only)")
+                      : g.active ? "not used: camera not calibrated" : g.inactive_reason;
+    result->edges.push_back(s);
+  }
+}
+
+// Each used edge's two-view estimate against the rig's: how far its rotation is from the rig's
+// R_b R_a^T and, when both cameras have a position, its translation direction from the rig's.
+void CompareEdgesWithRig(const RigObservations& obs, RigCalibrationResult* result) {
+  for (int e = 0; e < static_cast<int>(result->edges.size()); ++e) {
+    RigEdgeStats& s = result->edges[e];
+    const PairEstimate& p = obs.pairs[e];
+    if (!s.used || !p.two_view.success) continue;
+    const auto& qa = result->cam_from_rig_rotation[p.cam_a];
+    const auto& qb = result->cam_from_rig_rotation[p.cam_b];
+    if (!qa || !qb) continue;
+    // Cameras that capture at different times (estimated offsets) see each other across the rig's
+    // motion between their captures, on average over the frames the pair pooled.
+    const RigCamera& ca = result->rig.cameras[p.cam_a];
+    const RigCamera& cb = result->rig.cameras[p.cam_b];
+    const double apart_s = cb.time_offset_s + 0.5 * cb.readout_s - ca.time_offset_s - 0.5 * ca.readout_s;
+    const Rigid3d between =
+        apart_s != 0 ? MeanRigChange(result->rig_from_world, obs.frame_times_s, apart_s).value_or(Rigid3d()) : Rigid3d();
+    s.rotation_disagreement_deg =
+        RotationDifferenceDeg(*qb * between.rotation * qa->conjugate(), p.two_view.cam_b_from_cam_a.rotation);
+    const auto& pa = ca.cam_from_rig;
+    const auto& pb = cb.cam_from_rig;
+    if (!pa || !pb || p.two_view.rotation_only) continue;
+    const Eigen::Vector3d t_rig = (*pb * between * pa->Inverse()).translation;
+    if (t_rig.norm() > 1e-12) s.direction_disagreement_deg = AngleBetweenDeg(t_rig, p.two_view.cam_b_from_cam_a.translation);
+  }
+}
+
+// The refined intrinsics of the cameras the bundle adjustment refined into the result's rig, with
+// their given values and standard deviations.
+void SetRefinedIntrinsics(const RigObservations& obs, const RigCalibrationOptions& options,
+                          const MultiFrameBundleAdjustmentResult& ba, RigCalibrationResult* result) {
+  const std::vector<Camera>& centres = options.bundle_adjustment.intrinsics_priors.centres;
+  for (size_t c = 0; c < ba.intrinsics_stddev.size() && c < ba.cameras.size(); ++c) {
+    if (ba.observations_per_camera[c] == 0) continue;
+    const Camera& given = centres.empty() ? obs.cameras[c] : centres.at(c);
+    result->rig.cameras[c].camera = ba.cameras[c];
+    result->camera_stats[c].intrinsics =
+        RefinedIntrinsics{given.params(), ba.cameras[c].params(), ba.intrinsics_stddev[c]};
+  }
+}
+
+// Steps 1-4, before the bundle adjustment; their counts and times go into `result`.
+struct EarlyStages {
+  RotationStage rotations;
+  RigMotion motion;
+  std::vector<ViewTrack> tracks;
+  PositionStage initial;
+};
+
+EarlyStages RunEarlyStages(const RigObservations& obs, const RigCalibrationOptions& options,
+                           const std::vector<std::string>& rejected, RigCalibrationResult* result) {
+  const int num_frames = static_cast<int>(obs.keypoints.size());
+  EarlyStages s;
+  auto start = StageClock::now();
+  s.rotations = AverageCameraRotations(obs, options, rejected);
+  result->num_rotation_outliers = s.rotations.rot.num_outliers;
+  result->rotation_averaging_time_s = SecondsSince(start);
+
+  start = StageClock::now();
+  s.motion = EstimateRigMotion(obs, s.rotations, num_frames);
+  result->num_frames = num_frames;
+  result->rig_motion_estimated = s.motion.moving;
+  result->num_temporal_pairs_used = s.motion.temporal_pairs_used;
+  if (s.rotations.joint) {
+    for (char used : s.rotations.joint->cross_time_used) result->num_cross_time_pairs_used += used;
+    result->num_rotation_outliers += s.rotations.joint->rotations.num_outliers;
+  }
+  s.tracks = TracksOfUsedPairs(obs, s.rotations, s.motion, num_frames, &result->num_conflicting_tracks);
+  result->num_tracks = static_cast<int>(s.tracks.size());
+  result->tracks_time_s = SecondsSince(start);
+
+  start = StageClock::now();
+  s.initial = EstimateInitialPoses(obs, s.rotations, s.motion, s.tracks, options);
+  result->position_eigenvalue_ratio = s.initial.eigenvalue_ratio;
+  for (int k = 0; k < num_frames; ++k) result->num_frames_posed += s.motion.rig_rotation[k].has_value();
+  result->positions_time_s = SecondsSince(start);
+  return s;
+}
+
+// Which cameras the early stages give a rotation and a start position, and their rotations.
+void PreCheckEarlyStages(const EarlyStages& early, int n, RigPreCheck* check) {
+  check->cam_from_rig_rotation = early.rotations.rot.cam_from_rig;
+  check->may_be_placed.assign(n, 0);
+  for (int c = 0; c < n; ++c) {
+    const bool positioned = c == 0 || std::any_of(early.initial.starts.begin(), early.initial.starts.end(),
+                                                  [c](const PoseStart& s) { return s.cam_from_rig[c].has_value(); });
+    check->may_be_placed[c] = check->cam_from_rig_rotation[c] && positioned;
+  }
+}
+
+// One round of the rig stages. With `stop`: nullopt, and `stop` filled but for its work, where
+// the early stages leave a camera without a rotation or a start position.
+std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, const RigCalibrationOptions& options,
+                                                    const std::vector<std::string>& rejected, int known_a, int known_b,
+                                                    RigPreCheck* stop) {
+  const int n = static_cast<int>(obs.cameras.size());
+  const int num_frames = static_cast<int>(obs.keypoints.size());
+  RigCalibrationResult result;
+  for (int c = 0; c < n; ++c) result.rig.cameras.push_back({obs.camera_names[c], obs.cameras[c], std::nullopt, 0.0});
+  result.camera_stats.assign(n, {});
+  result.camera_status.assign(n, CameraStatus{});
+  const EarlyStages early = RunEarlyStages(obs, options, rejected, &result);
+  if (stop) {
+    PreCheckEarlyStages(early, n, stop);
+    if (stop->SomeCameraWithoutFullPose()) {
+      stop->work = std::move(result);
+      return std::nullopt;
+    }
+  }
+  const auto& [rotations, motion, tracks, initial] = early;
+
+  // Step 5: bundle adjustment over all posed views, from every start.
+  auto start = StageClock::now();
+  AdjustedRig adjusted = AdjustFromEveryStart(obs, tracks, initial, motion, options);
+  MultiFrameBundleAdjustmentResult& ba = adjusted.ba;
+  if (initial.starts.empty()) {
+    ba.cam_from_rig.assign(n, std::nullopt);
+    ba.cam_from_rig[0] = Rigid3d();
+    ba.rig_from_world.assign(num_frames, std::nullopt);
+    ba.rig_from_world[0] = Rigid3d();
+    ba.observations_per_camera.assign(n, 0);
+  }
+  result.bundle_adjustment_time_s = SecondsSince(start);
+  result.position_starts = adjusted.starts;
+  result.initial_reprojection_rms_px = ba.initial_rms_px;
+  result.reprojection_rms_px = ba.reprojection_rms_px;
+  result.num_points = ba.num_points;
+  result.num_observations = ba.num_observations;
+  result.num_filtered_observations = ba.num_filtered_observations;
+
+  start = StageClock::now();
+  const std::vector<CameraSynchronisation> synchronisation =
+      CheckCaptureTimes(obs, options, motion.moving, tracks, initial.scale_camera, ba);
+  result.synchronisation_check_time_s = SecondsSince(start);
+  SetRefinedIntrinsics(obs, options, ba, &result);
+  ScaledPoses poses = DropUndeterminedAndScale(obs, adjusted, initial, options, known_a, known_b);
+  SetAsideOpenAxes(obs, initial, &poses);
+  for (int c = 0; c < n; ++c) result.camera_stats[c].direction_std_deg = poses.direction_std_deg[c];
+  result.rig_from_world = poses.rig_from_world;
+  result.scale = poses.scale;
+  result.scale_kind = poses.scale_kind;
+  if (motion.moving && result.num_frames_posed < num_frames) {
+    result.warnings.push_back(std::to_string(num_frames - result.num_frames_posed) + " of " +
+                              std::to_string(num_frames) +
+                              " frames have no rig pose (no temporal pair chains them to frame 0); their views "
+                              "are not used");
+  }
+  result.warnings.insert(result.warnings.end(), poses.warnings.begin(), poses.warnings.end());
+  SetCameraAndEdgeStatus(obs, rotations, ba, poses, initial.position_reason, &result);
+  SetCaptureTimes(obs, options, ba, synchronisation, &result);
+  CompareEdgesWithRig(obs, &result);
+  if (options.keep_details) {
+    result.details = std::make_shared<RigCalibrationDetails>();
+    RigCalibrationDetails& d = *result.details;
+    d.rotation_averaging = rotations.rot.cam_from_rig;
+    for (const Eigen::Vector3d& x : ba.points) d.points.push_back(poses.length_scale * x);
+    d.point_observations = ba.point_observations;
+    d.initial_residuals_px = ba.initial_residuals_px;
+    d.final_residuals_px = ba.final_residuals_px;
+  }
+  return result;
+}
+
+// The used edge that disagrees most with the rig beyond the options' thresholds, and why; -1 when
+// none does.
+std::pair<int, std::string> MostDisagreeingEdge(const RigCalibrationResult& r, const RigCalibrationOptions& options) {
+  int worst = -1;
+  double worst_excess = 1.0;
+  for (int e = 0; e < static_cast<int>(r.edges.size()); ++e) {
+    const RigEdgeStats& s = r.edges[e];
+    if (!s.used) continue;
+    const double excess = std::max(s.rotation_disagreement_deg.value_or(0.0) / options.max_pair_rotation_disagreement_deg,
+                                   s.direction_disagreement_deg.value_or(0.0) / options.max_pair_direction_disagreement_deg);
+    if (excess > worst_excess) {
+      worst_excess = excess;
+      worst = e;
+    }
+  }
+  if (worst < 0) return {-1, ""};
+  const RigEdgeStats& s = r.edges[worst];
+  std::string why = "disagrees with the rig: its rotation is " + Fixed(s.rotation_disagreement_deg.value_or(0.0), 2) +
+                    " deg off the rig's";
+  if (s.direction_disagreement_deg) why += ", its baseline direction " + Fixed(*s.direction_disagreement_deg, 1) + " deg";
+  why += " (a wrong match of repeated structure, or a mirror-image pose)";
+  return {worst, why};
+}
+
+// The known distance's two cameras ((-1, -1) without one). Throws std::invalid_argument on bad
+// options or inconsistent observations.
+std::pair<int, int> CheckInputs(const RigObservations& obs, const RigCalibrationOptions& options) {
+  options.Check();
+  const int n = static_cast<int>(obs.cameras.size());
+  if (n < 1 || static_cast<int>(obs.camera_names.size()) != n) {
+    throw std::invalid_argument("EstimateRig: one name per camera, at least one camera");
+  }
+  if (obs.pairs.size() != obs.inliers.size()) throw std::invalid_argument("EstimateRig: pairs and inliers differ in size");
+  for (const auto& frame : obs.keypoints) {
+    if (frame.size() != obs.cameras.size()) throw std::invalid_argument("EstimateRig: keypoints need every camera per frame");
+  }
+  if (!options.known_distance) return {-1, -1};
+  return KnownDistanceCameras(*options.known_distance, obs.camera_names, "EstimateRig");
+}
+
+// EstimateRig, or with `stop` EstimateRigUnlessUnplaced.
+std::optional<RigCalibrationResult> EstimateRigRounds(const RigObservations& obs, const RigCalibrationOptions& options,
+                                                      RigPreCheck* stop) {
+  const auto [known_a, known_b] = CheckInputs(obs, options);
+  // Every pair the rig used must agree with the rig it helped make: one that does not is left
+  // out and the rig made again without it, the worst first.
+  // A pair off in its direction only keeps its rotation and matches (max_direction_only_disagreement_deg):
+  // in `kept`, a copy made only then, it is a rotation-only pair.
+  std::vector<std::string> rejected(obs.pairs.size()), direction_left_out(obs.pairs.size());
+  std::optional<RigObservations> kept;
+  std::optional<RigCalibrationResult> first = EstimateRigOnce(obs, options, rejected, known_a, known_b, stop);
+  if (!first) return std::nullopt;
+  RigCalibrationResult result = *std::move(first);
+  for (int round = 0; round < options.max_rejected_pairs; ++round) {
+    const auto [edge, why] = MostDisagreeingEdge(result, options);
+    if (edge < 0) break;
+    const RigEdgeStats& worst = result.edges[edge];
+    if (worst.rotation_disagreement_deg.value_or(0.0) <= 0.5 * options.max_pair_rotation_disagreement_deg &&
+        worst.direction_disagreement_deg.value_or(0.0) <= options.max_direction_only_disagreement_deg) {
+      direction_left_out[edge] = "rotation used, baseline direction left out: " + why;
+      if (!kept) kept = obs;
+      kept->pairs[edge].two_view.rotation_only = true;
+      kept->pairs[edge].two_view.cam_b_from_cam_a.translation.setZero();
+    } else {
+      rejected[edge] = why;
+    }
+    std::optional<RigCalibrationResult> next = EstimateRigOnce(kept ? *kept : obs, options, rejected, known_a, known_b, stop);
+    if (!next) {
+      stop->round = round + 1;
+      AddRigWork(result, &stop->work);
+      return std::nullopt;
+    }
+    AddRigWork(result, &*next);  // a round is part of this pass
+    result = *std::move(next);
+  }
+  result.rig_passes = 1;
+  for (int e = 0; e < static_cast<int>(result.edges.size()); ++e) {
+    RigEdgeStats& s = result.edges[e];
+    s.rejected = !rejected[e].empty();
+    s.direction_left_out = !direction_left_out[e].empty();
+    if (s.direction_left_out && s.used) s.status = direction_left_out[e];
+  }
+  return result;
+}
+
+}  // namespace
+
+RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibrationOptions& options) {
+  return *EstimateRigRounds(obs, options, nullptr);
+}
+
+std::optional<RigCalibrationResult> EstimateRigUnlessUnplaced(const RigObservations& obs,
+                                                              const RigCalibrationOptions& options, RigPreCheck* stop) {
+  *stop = RigPreCheck{};
+  return EstimateRigRounds(obs, options, stop);
+}
+
+}  // namespace rigsim

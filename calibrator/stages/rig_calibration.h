@@ -1,0 +1,71 @@
+// Targetless rig calibration, in memory: from every view's features to every camera's cam_from_rig.
+// No file is read and no truth is seen; pipeline/ reads a dataset, scores the result against the
+// truth (evaluation/) and writes it.
+//
+// Stages: the pairwise stage (pairwise.h: matches per frame, one two-view estimate per pair over
+// pooled frames, and each camera matched with itself between consecutive frames) -> view graph
+// (view_graph.h) -> robust rotation averaging (rotation_averaging.h) -> rig rotation per frame
+// from the temporal pairs -> tracks over all views (camera, frame) -> camera and rig positions by
+// linear translation averaging over the tracks -> multi-frame bundle adjustment
+// (multi_frame_rig.h). The rig's motion links the scales of the camera pairs, so a ring where
+// only neighbours overlap (a chain, not parallel rigid) is determined once it moves. Without
+// temporal pairs (one frame, or none given) every frame is an independent capture of a static rig
+// and only same-frame tracks constrain the positions.
+//
+// Where the same-instant pairs leave a camera without a full pose and the rig moved, the stages run
+// with links from the rig's motion (motion_links.h: hand-eye starts, views matched across time,
+// every rotation averaged jointly), kept when they place more cameras.
+// Gauge: camera 0 is the rig frame (its cam_from_rig is the identity); frame 0's rig frame is the
+// world. Only the cameras those links reach from camera 0 get rotations; every other camera is
+// reported "not connected: <reason>" and gets no pose, never a guessed one. A camera with a
+// rotation whose position the data do not determine (e.g. a chain of cameras and one frame) is
+// reported "rotation only: <reason>": result.cam_from_rig_rotation has its rotation, the rig
+// (and rig.json) has no cam_from_rig for it: there is no made-up translation.
+// Scale: images fix none. Without a known distance the centre of the first calibrated camera
+// after camera 0 is at distance 1 ("unit scale"); with one, the two named cameras' centres are
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "calibrator/model/rig_observations.h"
+#include "calibrator/stages/rig_options.h"
+#include "calibrator/stages/rig_result.h"
+
+namespace rigsim {
+
+// The rig stages on given observations (no truth, no pairwise report). Throws
+// std::invalid_argument on inconsistent observations or a known distance naming an unknown camera.
+RigCalibrationResult EstimateRig(const RigObservations& observations, const RigCalibrationOptions& options);
+
+// Where EstimateRigUnlessUnplaced stopped. Exists so that the motion stage can run before a full
+// pass whose result it would replace.
+struct RigPreCheck {
+  // The pair-rejection round (0: the first; r: after r pairs left out, max_rejected_pairs) whose
+  // early stages (rotation averaging, the rig's motion, tracks, initial positions) it checked.
+  int round = 0;
+  // Per camera: rotation averaging gives it a rotation and some start of the bundle adjustment a
+  // position. A camera without is left without a full pose, unless a pair a later round rejects made
+  // rotation averaging leave it out; one with may still lose its position in the bundle adjustment
+  // (RigCalibrationOptions::max_direction_std_deg, ambiguous starts).
+  std::vector<char> may_be_placed;
+  // Per camera: cam_from_rig's rotation from that round's rotation averaging; nullopt where none.
+  std::vector<std::optional<Eigen::Quaterniond>> cam_from_rig_rotation;
+  // The stage times of what ran until the stop (every earlier round whole, rig_passes 0).
+  RigCalibrationResult work;
+
+  bool SomeCameraWithoutFullPose() const;
+};
+
+// EstimateRig, stopped before the bundle adjustment of the first round whose early stages leave a
+// camera without a rotation or a start position: then nullopt, and `stop` says where and why.
+// Throws like EstimateRig.
+std::optional<RigCalibrationResult> EstimateRigUnlessUnplaced(const RigObservations& observations,
+                                                              const RigCalibrationOptions& options, RigPreCheck* stop);
+
+// Adds `from`'s rig_passes and stage times into `into`, which then counts the work of both.
+void AddRigWork(const RigCalibrationResult& from, RigCalibrationResult* into);
+
+}  // namespace rigsim
