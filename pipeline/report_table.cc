@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
-#include "calibrator/model/format.h"
+#include "common/format.h"
 #include "pipeline/calibration_json.h"
 
 namespace rigsim {

@@ -14,7 +14,7 @@
 #include "apps/rigsim/calibrate_support.h"
 #include "apps/rigsim/commands.h"
 #include "apps/rigsim/render_support.h"
-#include "calibrator/model/format.h"
+#include "common/format.h"
 #include "dataset/dataset.h"
 #include "dataset/output_folder.h"
 #include "exports/colmap.h"

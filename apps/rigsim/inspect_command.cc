@@ -8,7 +8,7 @@
 
 #include "apps/rigsim/commands.h"
 #include "apps/rigsim/render_support.h"
-#include "calibrator/model/format.h"
+#include "common/format.h"
 #include "gltf/gltf_loader.h"
 #include "gltf/label_rules.h"
 #include "labels/cityscapes.h"

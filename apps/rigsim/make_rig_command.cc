@@ -12,7 +12,7 @@
 
 #include "apps/rigsim/commands.h"
 #include "apps/rigsim/render_support.h"
-#include "calibrator/model/format.h"
+#include "common/format.h"
 #include "common/did_you_mean.h"
 #include "dataset/dataset.h"
 #include "dataset/output_file.h"

@@ -11,7 +11,7 @@
 #include "apps/rigsim/render_support.h"
 #include "apps/rigsim/shard_options.h"
 #include "apps/rigsim/version.h"
-#include "calibrator/model/format.h"
+#include "common/format.h"
 #include "dataset/capture_poses.h"
 #include "dataset/output_folder.h"
 #include "geometry/camera_validation.h"

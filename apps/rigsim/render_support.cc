@@ -8,7 +8,7 @@
 #include "apps/rigsim/interrupt.h"
 #include "apps/rigsim/parse_errors.h"
 #include "apps/rigsim/progress.h"
-#include "calibrator/model/format.h"
+#include "common/format.h"
 #include "pipeline/report_table.h"
 #include "dataset/dataset.h"
 #include "dataset/render_shards.h"

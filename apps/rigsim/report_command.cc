@@ -9,7 +9,7 @@
 #include "apps/rigsim/report_support.h"
 #include "apps/rigsim/version.h"
 #include "calibrator/features/features.h"
-#include "calibrator/model/format.h"
+#include "common/format.h"
 #include "calibrator/features/semantics.h"
 #include "common/param_spec.h"
 #include "dataset/dataset.h"

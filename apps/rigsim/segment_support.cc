@@ -8,7 +8,7 @@
 
 #include "apps/rigsim/interrupt.h"
 #include "apps/rigsim/progress.h"
-#include "calibrator/model/format.h"
+#include "common/format.h"
 #include "labels/cityscapes.h"
 
 namespace rigsim::cli {

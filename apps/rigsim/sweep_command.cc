@@ -13,7 +13,7 @@
 #include "apps/rigsim/progress.h"
 #include "apps/rigsim/interrupt.h"
 #include "apps/rigsim/shard_options.h"
-#include "calibrator/model/format.h"
+#include "common/format.h"
 #include "calibrator/features/features.h"
 #include "calibrator/features/semantics.h"
 #include "procedural/presets.h"

@@ -9,7 +9,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 
-#include "calibrator/model/format.h"
+#include "common/format.h"
 
 namespace rigsim {
 namespace {

@@ -16,7 +16,7 @@
 
 #include "calibrator/estimators/bundle_covariance.h"
 #include "calibrator/estimators/cost_functions.h"
-#include "calibrator/model/format.h"
+#include "common/format.h"
 #include "calibrator/model/union_find.h"
 #include "geometry/pose_interpolation.h"
 

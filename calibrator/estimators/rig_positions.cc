@@ -9,7 +9,7 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "calibrator/model/format.h"
+#include "common/format.h"
 #include "calibrator/estimators/translation_averaging.h"
 #include "calibrator/model/union_find.h"
 

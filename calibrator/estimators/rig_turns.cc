@@ -3,7 +3,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "calibrator/model/format.h"
+#include "common/format.h"
 #include "geometry/rigid3.h"
 
 namespace rigsim {

@@ -9,7 +9,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "calibrator/estimators/camera_centres.h"
-#include "calibrator/model/format.h"
+#include "common/format.h"
 #include "calibrator/stages/rig_motion_links.h"
 #include "calibrator/stages/rig_capture_times.h"
 #include "calibrator/estimators/rig_positions.h"

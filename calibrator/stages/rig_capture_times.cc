@@ -3,7 +3,7 @@
 #include <cmath>
 #include <string>
 
-#include "calibrator/model/format.h"
+#include "common/format.h"
 
 namespace rigsim {
 namespace {

@@ -1,4 +1,4 @@
-// Numbers in messages: the calibrator's, the pipeline's and the command line's.
+// Numbers in messages: counts with their nouns, fixed digits and standard deviations.
 #pragma once
 
 #include <cmath>
