@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "calibrator/stages/rig_calibration.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 namespace {
@@ -145,7 +146,7 @@ RigCalibrationResult LinkWhereTheFullPassNeedsIt(const RigObservations& obs, Rig
 // tracks and holds against the views it predicts is the result, and the full pass without them runs
 // only otherwise, to compare as LinkWhereTheFullPassNeedsIt does.
 RigCalibrationResult LinkBeforeTheFullPass(const RigObservations& obs,
-                                           const std::vector<std::optional<Eigen::Quaterniond>>& known_rotations,
+                                           const PerCamera<Eigen::Quaterniond>& known_rotations,
                                            const ViewPairMatcher& match, const RigCalibrationOptions& options) {
   const MotionLinks links = FindMotionLinks(obs, known_rotations, match, options);
   std::optional<RigCalibrationResult> second;

@@ -9,6 +9,7 @@
 #include <ceres/ceres.h>
 
 #include "calibrator/estimators/cost_functions.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 
@@ -102,10 +103,10 @@ ReducedCovariance PoseCovariance(ceres::Problem& problem, const std::vector<doub
   return out;
 }
 
-std::vector<std::optional<Eigen::Matrix3d>> CentreCovariances(ceres::Problem& problem, const ReducedCovariance& reduced,
+PerCamera<Eigen::Matrix3d> CentreCovariances(ceres::Problem& problem, const ReducedCovariance& reduced,
                                                               const std::vector<Eigen::Vector4d>& cq,
                                                               const std::vector<Eigen::Vector3d>& ct, double variance) {
-  std::vector<std::optional<Eigen::Matrix3d>> out(ct.size());
+  PerCamera<Eigen::Matrix3d> out(ct.size());
   const std::map<const double*, int>& offset = reduced.offset;
   const Eigen::MatrixXd& covariance = reduced.covariance;
   for (size_t c = 0; c < ct.size(); ++c) {

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 #include <ceres/problem.h>
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 
@@ -28,7 +29,7 @@ ReducedCovariance PoseCovariance(ceres::Problem& problem, const std::vector<doub
 // Covariance of each camera's centre in the rig (C = -R^T t of cam_from_rig, whose translation
 // block is `ct[c]`) at the solution, `variance` being that of one image coordinate. nullopt for
 // cameras not adjusted.
-std::vector<std::optional<Eigen::Matrix3d>> CentreCovariances(ceres::Problem& problem, const ReducedCovariance& reduced,
+PerCamera<Eigen::Matrix3d> CentreCovariances(ceres::Problem& problem, const ReducedCovariance& reduced,
                                                               const std::vector<Eigen::Vector4d>& cq,
                                                               const std::vector<Eigen::Vector3d>& ct, double variance);
 

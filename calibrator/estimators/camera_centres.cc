@@ -7,11 +7,12 @@
 #include <Eigen/SVD>
 
 #include "geometry/rigid3.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 
 CameraCentres EstimateCameraCentres(const ViewGraph& graph,
-                                    const std::vector<std::optional<Eigen::Quaterniond>>& cam_from_rig,
+                                    const PerCamera<Eigen::Quaterniond>& cam_from_rig,
                                     int reference_camera, int reweighting_iterations) {
   const int n = graph.num_cameras;
   CameraCentres out;

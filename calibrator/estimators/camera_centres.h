@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "calibrator/model/view_graph.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 
@@ -16,7 +17,7 @@ struct CameraCentres {
   // Centre of each camera in the rig frame; nullopt outside the reference camera's component
   // of translation edges or without a rotation. The reference camera is at the origin. The
   // scale is arbitrary: the mean length of the used edges is 1.
-  std::vector<std::optional<Eigen::Vector3d>> centre_in_rig;
+  PerCamera<Eigen::Vector3d> centre_in_rig;
   // False when the translation directions leave the shape of the rig ambiguous beyond the scale
   // (the graph is not parallel rigid, e.g. a ring of cameras where only neighbours overlap). The
   // centres are then one of the solutions; tracks seen by three or more cameras can still fix it.
@@ -30,7 +31,7 @@ struct CameraCentres {
 // re-weighted a few times by the inverse of each edge's angular residual (an L1-like fit, robust
 // to a wrong direction), sign chosen so that the directions point the right way.
 CameraCentres EstimateCameraCentres(const ViewGraph& graph,
-                                    const std::vector<std::optional<Eigen::Quaterniond>>& cam_from_rig,
+                                    const PerCamera<Eigen::Quaterniond>& cam_from_rig,
                                     int reference_camera, int reweighting_iterations = 5);
 
 }  // namespace rigsim

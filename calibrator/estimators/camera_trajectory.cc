@@ -3,12 +3,13 @@
 #include <stdexcept>
 
 #include "calibrator/estimators/multi_frame_rig.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 
 CameraTrajectory EstimateCameraTrajectory(const Camera& camera, int camera_index, const FrameKeypoints& keypoints,
                                           const std::vector<TemporalPairEstimate>& temporal,
-                                          const std::vector<std::optional<Eigen::Quaterniond>>& steps,
+                                          const PerFrame<Eigen::Quaterniond>& steps,
                                           const RigPositionOptions& options) {
   const int num_frames = static_cast<int>(keypoints.size());
   // The camera's temporal pairs, as pairs of a one-camera rig.
@@ -19,7 +20,7 @@ CameraTrajectory EstimateCameraTrajectory(const Camera& camera, int camera_index
     own.push_back(t);
     own.back().camera = 0;
   }
-  std::vector<std::optional<Eigen::Quaterniond>> rotations(num_frames);
+  PerFrame<Eigen::Quaterniond> rotations(num_frames);
   if (num_frames > 0) rotations[0] = Eigen::Quaterniond::Identity();
   for (int k = 0; k + 1 < num_frames && k < static_cast<int>(steps.size()) && rotations[k] && steps[k]; ++k) {
     rotations[k + 1] = (*steps[k] * *rotations[k]).normalized();

@@ -18,6 +18,7 @@
 #include "calibrator/estimators/rig_positions.h"
 #include "calibrator/model/view_graph.h"
 #include "geometry/camera.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 
@@ -26,7 +27,7 @@ namespace rigsim {
 // cam(k+1)_from_cam(k) (RigTurns::step_rotation). Returns cam(k)_from_cam(0) per frame.
 CameraTrajectory EstimateCameraTrajectory(const Camera& camera, int camera_index, const FrameKeypoints& keypoints,
                                           const std::vector<TemporalPairEstimate>& temporal,
-                                          const std::vector<std::optional<Eigen::Quaterniond>>& steps,
+                                          const PerFrame<Eigen::Quaterniond>& steps,
                                           const RigPositionOptions& options);
 
 }  // namespace rigsim

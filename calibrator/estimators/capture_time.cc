@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "geometry/pose_interpolation.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 
@@ -56,7 +57,7 @@ std::vector<double> StartTimeOffsets(int num_cameras, const std::vector<double>&
   std::vector<double> out(num_cameras, 0.0);
   const int frames = static_cast<int>(frame_times_s.size());
   if (frames < 2 || num_cameras < 2) return out;
-  std::vector<std::vector<std::optional<double>>> turn(num_cameras, std::vector<std::optional<double>>(frames - 1));
+  std::vector<PerFrame<double>> turn(num_cameras, PerFrame<double>(frames - 1));
   for (const TemporalPairEstimate& t : temporal) {
     if (!t.PoseUsable() || t.camera < 0 || t.camera >= num_cameras || t.frame < 0 || t.frame + 1 >= frames) continue;
     turn[t.camera][t.frame] = Eigen::AngleAxisd(t.two_view.cam_b_from_cam_a.rotation).angle();
@@ -77,7 +78,7 @@ struct RigChanges {
   std::vector<Rigid3d> per_frame;
   Rigid3d mean;
 };
-RigChanges ChangesOverOffset(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+RigChanges ChangesOverOffset(const PerFrame<Rigid3d>& rig_from_world,
                              const std::vector<double>& frame_times_s, double offset_s) {
   std::vector<TimedPose> path;
   for (size_t k = 0; k < rig_from_world.size() && k < frame_times_s.size(); ++k) {
@@ -117,7 +118,7 @@ std::vector<ViewTrack> EvenSubsample(const std::vector<ViewTrack>& tracks, int m
 
 }  // namespace
 
-double OffsetVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+double OffsetVisibilityPx(const PerFrame<Rigid3d>& rig_from_world,
                           const std::vector<double>& frame_times_s, double offset_s, double pixels_per_radian,
                           double scene_depth) {
   if (!(scene_depth > 0)) return 0.0;
@@ -129,14 +130,14 @@ double OffsetVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_wo
   return worst;
 }
 
-std::optional<Rigid3d> MeanRigChange(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+std::optional<Rigid3d> MeanRigChange(const PerFrame<Rigid3d>& rig_from_world,
                                      const std::vector<double>& frame_times_s, double offset_s) {
   const RigChanges changes = ChangesOverOffset(rig_from_world, frame_times_s, offset_s);
   if (changes.per_frame.empty()) return std::nullopt;
   return changes.mean;
 }
 
-double ReadoutVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+double ReadoutVisibilityPx(const PerFrame<Rigid3d>& rig_from_world,
                            const std::vector<double>& frame_times_s, double readout_s, double pixels_per_radian,
                            double scene_depth) {
   if (!(scene_depth > 0)) return 0.0;
@@ -144,7 +145,7 @@ double ReadoutVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_w
   return during ? ImageMotionPx(*during, pixels_per_radian, scene_depth) : 0.0;
 }
 
-double IntervalVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+double IntervalVisibilityPx(const PerFrame<Rigid3d>& rig_from_world,
                             const std::vector<double>& frame_times_s, double pixels_per_radian, double scene_depth) {
   return OffsetVisibilityPx(rig_from_world, frame_times_s, FrameInterval(frame_times_s), pixels_per_radian,
                             scene_depth);

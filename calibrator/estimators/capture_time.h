@@ -17,6 +17,7 @@
 #include "calibrator/estimators/multi_frame_rig.h"
 #include "calibrator/estimators/time_offset_search.h"
 #include "calibrator/model/view_graph.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 
@@ -78,25 +79,25 @@ std::optional<std::string> WhyNoTimingModel(const std::vector<double>& frame_tim
 // pixels_per_radian * (angle + shift / scene_depth), over the frames whose capture falls within the
 // path's frames (beyond them the path is extrapolated straight, a model, not a motion the images
 // show). 0 with fewer than two such frames of three or more posed ones.
-double OffsetVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+double OffsetVisibilityPx(const PerFrame<Rigid3d>& rig_from_world,
                           const std::vector<double>& frame_times_s, double offset_s, double pixels_per_radian,
                           double scene_depth);
 
 // The mean over those frames of D = rig(t + offset)_from_rig(t): the rig's motion between two
 // captures `offset_s` apart, as a pair of cameras pooled over the frames sees it on average; nullopt
 // where OffsetVisibilityPx has nothing to compare.
-std::optional<Rigid3d> MeanRigChange(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+std::optional<Rigid3d> MeanRigChange(const PerFrame<Rigid3d>& rig_from_world,
                                      const std::vector<double>& frame_times_s, double offset_s);
 
 // How much the rig's motion over a readout of `readout_s` shows (px): MeanRigChange over that time
 // as image motion, as OffsetVisibilityPx measures it; 0 with nothing to compare.
-double ReadoutVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+double ReadoutVisibilityPx(const PerFrame<Rigid3d>& rig_from_world,
                            const std::vector<double>& frame_times_s, double readout_s, double pixels_per_radian,
                            double scene_depth);
 
 // OffsetVisibilityPx of an offset of one frame interval (the median time between frames): the most
 // any offset within a frame can show.
-double IntervalVisibilityPx(const std::vector<std::optional<Rigid3d>>& rig_from_world,
+double IntervalVisibilityPx(const PerFrame<Rigid3d>& rig_from_world,
                             const std::vector<double>& frame_times_s, double pixels_per_radian, double scene_depth);
 
 // The camera's image scale at its centre: pixels per radian of view.

@@ -20,6 +20,7 @@
 #include <Eigen/Geometry>
 
 #include "geometry/camera.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 
@@ -50,11 +51,11 @@ struct CrossTimeCandidate {
 struct CrossTimeCandidateInputs {
   std::vector<Camera> cameras;
   // Per camera (cam_from_rig) and per frame (rig_from_world); nullopt where not known.
-  std::vector<std::optional<Eigen::Quaterniond>> cam_from_rig;
-  std::vector<std::optional<Eigen::Quaterniond>> rig_from_world;
+  PerCamera<Eigen::Quaterniond> cam_from_rig;
+  PerFrame<Eigen::Quaterniond> rig_from_world;
   // Optional positions, in one unit: the rig's centre in the world per frame, and the typical
   // depth of the scene from the cameras. Without them the views are compared at infinity.
-  std::vector<std::optional<Eigen::Vector3d>> rig_centre_in_world;
+  PerFrame<Eigen::Vector3d> rig_centre_in_world;
   std::optional<double> scene_depth;
 };
 

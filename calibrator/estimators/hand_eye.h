@@ -27,6 +27,7 @@
 #include <Eigen/Geometry>
 
 #include "geometry/rigid3.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 
@@ -78,7 +79,7 @@ struct HandEyeOptions {
 
 // What a trajectory of one camera says of it: per frame, cam(k)_from_cam(0) with the camera's own
 // length unit; nullopt for a frame it was not tracked at. Frame 0 is the identity.
-using CameraTrajectory = std::vector<std::optional<Rigid3d>>;
+using CameraTrajectory = PerFrame<Rigid3d>;
 
 enum class HandEyeStatus {
   kSolved,            // rotation and centre (the centre possibly but for one axis: undetermined_axis)

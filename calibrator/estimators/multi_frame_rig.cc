@@ -19,6 +19,7 @@
 #include "common/format.h"
 #include "calibrator/model/union_find.h"
 #include "geometry/pose_interpolation.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 namespace {
@@ -162,10 +163,10 @@ std::vector<ViewTrack> BuildViewTracksAcrossTime(int num_cameras, int num_frames
   return tracks;
 }
 
-std::vector<std::optional<Eigen::Quaterniond>> EstimateRigRotations(
-    int num_frames, const std::vector<std::optional<Eigen::Quaterniond>>& cam_from_rig,
+PerFrame<Eigen::Quaterniond> EstimateRigRotations(
+    int num_frames, const PerCamera<Eigen::Quaterniond>& cam_from_rig,
     const std::vector<TemporalPairEstimate>& temporal) {
-  std::vector<std::optional<Eigen::Quaterniond>> out(std::max(num_frames, 0));
+  PerFrame<Eigen::Quaterniond> out(std::max(num_frames, 0));
   if (num_frames < 1) return out;
   out[0] = Eigen::Quaterniond::Identity();
   for (int k = 0; k + 1 < num_frames; ++k) {
@@ -213,8 +214,8 @@ struct BundleProblem {
   std::vector<Camera> cameras;       // the current intrinsics
   const FrameKeypoints& keypoints;
   const std::vector<ViewTrack>& tracks;
-  const std::vector<std::optional<Rigid3d>>& initial_cam_from_rig;
-  const std::vector<std::optional<Rigid3d>>& initial_rig_from_world;
+  const PerCamera<Rigid3d>& initial_cam_from_rig;
+  const PerFrame<Rigid3d>& initial_rig_from_world;
   const CaptureTiming* timing;  // nullptr: every camera captures at its frame's timestamp
   std::vector<Eigen::Vector4d> cq, rq;
   std::vector<Eigen::Vector3d> ct, rt;
@@ -222,8 +223,8 @@ struct BundleProblem {
   std::vector<Eigen::Vector2d> time;  // per camera (offset, readout), with a timing model
 
   BundleProblem(const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, const std::vector<ViewTrack>& tracks,
-                const std::vector<std::optional<Rigid3d>>& initial_cam_from_rig,
-                const std::vector<std::optional<Rigid3d>>& initial_rig_from_world, const CaptureTiming* timing)
+                const PerCamera<Rigid3d>& initial_cam_from_rig,
+                const PerFrame<Rigid3d>& initial_rig_from_world, const CaptureTiming* timing)
       : given(cameras),
         cameras(cameras),
         keypoints(keypoints),
@@ -415,22 +416,18 @@ struct BundleRound {
 struct BundleRoundResult {
   int iterations = 0;
   // With BundleRound::covariance only.
-  std::vector<std::optional<Eigen::Matrix3d>> centre_covariance;
+  PerCamera<Eigen::Matrix3d> centre_covariance;
   std::vector<std::vector<double>> intrinsics_stddev;  // per camera; empty when not refined
-  std::vector<std::optional<double>> time_offset_stddev_s, readout_stddev_s;  // per camera, where estimated
+  PerCamera<double> time_offset_stddev_s, readout_stddev_s;  // per camera, where estimated
 };
 
 // One Levenberg-Marquardt solve over the points (every `point_stride`-th) and the poses they see,
 // updating the poses in `bp` and the points in place; the final round also yields the camera
 // centres' covariances (and with refined intrinsics, their standard deviations).
-BundleRoundResult SolveBundleOnce(BundleProblem& bp, std::vector<WorldPoint>& points, const BundleRound& round,
-                                  const RigBundleAdjustmentOptions& options) {
-  const int n = static_cast<int>(bp.cameras.size());
-  const int num_frames = static_cast<int>(bp.keypoints.size());
-  ceres::Problem::Options problem_options;
-  problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
-  problem_options.loss_function_ownership = ceres::TAKE_OWNERSHIP;
-  ceres::Problem problem(problem_options);
+// The reprojection costs of every point of the round: observations of points that two or more
+// cameras see weigh options.inter_camera_weight times the others.
+void AddReprojectionCosts(BundleProblem& bp, std::vector<WorldPoint>& points, const BundleRound& round,
+                          const RigBundleAdjustmentOptions& options, ceres::Problem& problem) {
   ceres::LossFunction* own_loss = new ceres::HuberLoss(options.loss_scale_px);
   ceres::LossFunction* shared_loss =
       options.inter_camera_weight == 1.0
@@ -467,6 +464,15 @@ BundleRoundResult SolveBundleOnce(BundleProblem& bp, std::vector<WorldPoint>& po
     if (!own_used) delete own_loss;
     if (!shared_used) delete shared_loss;
   }
+}
+
+// What the round holds and how the poses move: capture times estimated or held, intrinsics refined
+// under their priors or held, camera 0 and frame 0 as the gauge, held centre axes, the scale
+// camera on the sphere.
+void HoldAndBoundParameters(BundleProblem& bp, const BundleRound& round, const RigBundleAdjustmentOptions& options,
+                            ceres::Problem& problem) {
+  const int n = static_cast<int>(bp.cameras.size());
+  const int num_frames = static_cast<int>(bp.keypoints.size());
   for (int c = 0; c < n && bp.timing; ++c) {
     double* block = bp.time[c].data();
     if (!problem.HasParameterBlock(block)) continue;
@@ -516,6 +522,63 @@ BundleRoundResult SolveBundleOnce(BundleProblem& bp, std::vector<WorldPoint>& po
     }
     problem.SetManifold(bp.rq[k].data(), new ceres::EigenQuaternionManifold);
   }
+}
+
+// The poses', capture times' and intrinsics' standard deviations from the solved problem's
+// covariance, at the points' reprojection RMS.
+void ReadCovariances(BundleProblem& bp, const std::vector<WorldPoint>& points, const RigBundleAdjustmentOptions& options,
+                     ceres::Problem& problem, BundleRoundResult* result) {
+  BundleRoundResult& out = *result;
+  const int n = static_cast<int>(bp.cameras.size());
+  const int num_frames = static_cast<int>(bp.keypoints.size());
+  std::vector<double*> pose_blocks;
+  for (int c = 0; c < n; ++c) pose_blocks.insert(pose_blocks.end(), {bp.cq[c].data(), bp.ct[c].data()});
+  for (int k = 0; k < num_frames; ++k) pose_blocks.insert(pose_blocks.end(), {bp.rq[k].data(), bp.rt[k].data()});
+  for (int c = 0; c < n; ++c) pose_blocks.push_back(bp.intrinsics[c].data());
+  for (Eigen::Vector2d& t : bp.time) pose_blocks.push_back(t.data());
+  const ReducedCovariance reduced = PoseCovariance(problem, pose_blocks);
+  const double rms_px = bp.RmsPx(points);
+  const double variance = 0.5 * rms_px * rms_px;  // per image coordinate
+  // Observations weighed up (inter_camera_weight) are no more precise than the others: the
+  // covariance of what they alone fix is scaled back, and of the rest over-stated (the safe side).
+  out.centre_covariance = CentreCovariances(problem, reduced, bp.cq, bp.ct, variance * options.inter_camera_weight);
+  out.time_offset_stddev_s.assign(n, std::nullopt);
+  out.readout_stddev_s.assign(n, std::nullopt);
+  for (int c = 0; c < n && bp.timing; ++c) {
+    double* block = bp.time[c].data();
+    const auto it = reduced.offset.find(block);
+    if (it == reduced.offset.end()) continue;
+    const int size = problem.ParameterBlockTangentSize(block);
+    Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+    if (const ceres::Manifold* manifold = problem.GetManifold(block)) {
+      Eigen::Matrix<double, 2, Eigen::Dynamic, Eigen::RowMajor> plus(2, size);
+      manifold->PlusJacobian(block, plus.data());
+      cov = plus * reduced.covariance.block(it->second, it->second, size, size) * plus.transpose();
+    } else {
+      cov = reduced.covariance.block<2, 2>(it->second, it->second);
+    }
+    cov *= variance;
+    if (bp.timing->estimate_offsets && c > 0) out.time_offset_stddev_s[c] = std::sqrt(std::max(cov(0, 0), 0.0));
+    if (bp.timing->estimate_readout) out.readout_stddev_s[c] = std::sqrt(std::max(cov(1, 1), 0.0));
+  }
+  out.intrinsics_stddev.assign(n, {});
+  for (int c = 0; c < n; ++c) {
+    const auto it = reduced.offset.find(bp.intrinsics[c].data());
+    if (it == reduced.offset.end()) continue;
+    for (size_t i = 0; i < bp.intrinsics[c].size(); ++i) {
+      out.intrinsics_stddev[c].push_back(std::sqrt(variance * reduced.covariance(it->second + i, it->second + i)));
+    }
+  }
+}
+
+BundleRoundResult SolveBundleOnce(BundleProblem& bp, std::vector<WorldPoint>& points, const BundleRound& round,
+                                  const RigBundleAdjustmentOptions& options) {
+  ceres::Problem::Options problem_options;
+  problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
+  problem_options.loss_function_ownership = ceres::TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  AddReprojectionCosts(bp, points, round, options, problem);
+  HoldAndBoundParameters(bp, round, options, problem);
   ceres::Solver::Options solver_options;
   // A few poses and many points: the reduced camera system is small and dense.
   solver_options.linear_solver_type = ceres::DENSE_SCHUR;
@@ -532,46 +595,7 @@ BundleRoundResult SolveBundleOnce(BundleProblem& bp, std::vector<WorldPoint>& po
   BundleRoundResult out;
   out.iterations = static_cast<int>(summary.iterations.size());
   if (round.refine_intrinsics) bp.UpdateCameras();
-  if (round.covariance) {
-    std::vector<double*> pose_blocks;
-    for (int c = 0; c < n; ++c) pose_blocks.insert(pose_blocks.end(), {bp.cq[c].data(), bp.ct[c].data()});
-    for (int k = 0; k < num_frames; ++k) pose_blocks.insert(pose_blocks.end(), {bp.rq[k].data(), bp.rt[k].data()});
-    for (int c = 0; c < n; ++c) pose_blocks.push_back(bp.intrinsics[c].data());
-    for (Eigen::Vector2d& t : bp.time) pose_blocks.push_back(t.data());
-    const ReducedCovariance reduced = PoseCovariance(problem, pose_blocks);
-    const double rms_px = bp.RmsPx(points);
-    const double variance = 0.5 * rms_px * rms_px;  // per image coordinate
-    // Observations weighed up (inter_camera_weight) are no more precise than the others: the
-    // covariance of what they alone fix is scaled back, and of the rest over-stated (the safe side).
-    out.centre_covariance = CentreCovariances(problem, reduced, bp.cq, bp.ct, variance * options.inter_camera_weight);
-    out.time_offset_stddev_s.assign(n, std::nullopt);
-    out.readout_stddev_s.assign(n, std::nullopt);
-    for (int c = 0; c < n && bp.timing; ++c) {
-      double* block = bp.time[c].data();
-      const auto it = reduced.offset.find(block);
-      if (it == reduced.offset.end()) continue;
-      const int size = problem.ParameterBlockTangentSize(block);
-      Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
-      if (const ceres::Manifold* manifold = problem.GetManifold(block)) {
-        Eigen::Matrix<double, 2, Eigen::Dynamic, Eigen::RowMajor> plus(2, size);
-        manifold->PlusJacobian(block, plus.data());
-        cov = plus * reduced.covariance.block(it->second, it->second, size, size) * plus.transpose();
-      } else {
-        cov = reduced.covariance.block<2, 2>(it->second, it->second);
-      }
-      cov *= variance;
-      if (bp.timing->estimate_offsets && c > 0) out.time_offset_stddev_s[c] = std::sqrt(std::max(cov(0, 0), 0.0));
-      if (bp.timing->estimate_readout) out.readout_stddev_s[c] = std::sqrt(std::max(cov(1, 1), 0.0));
-    }
-    out.intrinsics_stddev.assign(n, {});
-    for (int c = 0; c < n; ++c) {
-      const auto it = reduced.offset.find(bp.intrinsics[c].data());
-      if (it == reduced.offset.end()) continue;
-      for (size_t i = 0; i < bp.intrinsics[c].size(); ++i) {
-        out.intrinsics_stddev[c].push_back(std::sqrt(variance * reduced.covariance(it->second + i, it->second + i)));
-      }
-    }
-  }
+  if (round.covariance) ReadCovariances(bp, points, options, problem, &out);
   return out;
 }
 
@@ -629,8 +653,8 @@ void CaptureTiming::Check(int cameras, int frames) const {
 
 MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
     const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, const std::vector<ViewTrack>& tracks,
-    const std::vector<std::optional<Rigid3d>>& initial_cam_from_rig,
-    const std::vector<std::optional<Rigid3d>>& initial_rig_from_world, int scale_camera,
+    const PerCamera<Rigid3d>& initial_cam_from_rig,
+    const PerFrame<Rigid3d>& initial_rig_from_world, int scale_camera,
     const RigBundleAdjustmentOptions& options, bool hold_frames, const CaptureTiming* timing) {
   options.Check();
   QuietCeresLogs();
@@ -734,8 +758,8 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
 
 double TruncatedReprojectionCost(const std::vector<Camera>& cameras, const FrameKeypoints& keypoints,
                                  const std::vector<ViewTrack>& tracks,
-                                 const std::vector<std::optional<Rigid3d>>& cam_from_rig,
-                                 const std::vector<std::optional<Rigid3d>>& rig_from_world, double max_error_px,
+                                 const PerCamera<Rigid3d>& cam_from_rig,
+                                 const PerFrame<Rigid3d>& rig_from_world, double max_error_px,
                                  double min_angle_deg, int* observations) {
   auto posed = [&](const ViewObservation& o) {
     return o.camera < static_cast<int>(cam_from_rig.size()) && o.frame < static_cast<int>(rig_from_world.size()) &&

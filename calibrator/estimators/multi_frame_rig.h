@@ -32,6 +32,7 @@
 #include "calibrator/model/view_graph.h"
 #include "geometry/camera.h"
 #include "geometry/rigid3.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 
@@ -66,8 +67,8 @@ std::vector<ViewTrack> BuildViewTracksAcrossTime(int num_cameras, int num_frames
 // over cameras c with a rotation and a successful temporal pair (c, k) of Q_c^T T_ck Q_c
 // (Q_c = cam_from_rig rotation, T_ck = the temporal rotation). A frame not chained to frame 0 by
 // such pairs gets nullopt, and so do the frames after it.
-std::vector<std::optional<Eigen::Quaterniond>> EstimateRigRotations(
-    int num_frames, const std::vector<std::optional<Eigen::Quaterniond>>& cam_from_rig,
+PerFrame<Eigen::Quaterniond> EstimateRigRotations(
+    int num_frames, const PerCamera<Eigen::Quaterniond>& cam_from_rig,
     const std::vector<TemporalPairEstimate>& temporal);
 
 struct RigBundleAdjustmentOptions {
@@ -106,7 +107,7 @@ struct RigBundleAdjustmentOptions {
   // Empty, or per camera: a unit direction in the rig along which the camera's centre is held at
   // its start, for a camera the data leave open along it (a planar motion and no point shared with
   // another camera, hand_eye.h); its covariance is then across that direction only.
-  std::vector<std::optional<Eigen::Vector3d>> held_centre_axis;
+  PerCamera<Eigen::Vector3d> held_centre_axis;
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;
@@ -139,8 +140,8 @@ struct MultiFrameBundleAdjustmentResult {
   // With refine_intrinsics, per camera that was refined: the standard deviation of each intrinsic
   // parameter (camera_models.h order) from the covariance at the solution; empty otherwise.
   std::vector<std::vector<double>> intrinsics_stddev;
-  std::vector<std::optional<Rigid3d>> cam_from_rig;    // refined; nullopt where not given
-  std::vector<std::optional<Rigid3d>> rig_from_world;  // refined; nullopt where not given
+  PerCamera<Rigid3d> cam_from_rig;    // refined; nullopt where not given
+  PerFrame<Rigid3d> rig_from_world;  // refined; nullopt where not given
   std::vector<int> observations_per_camera;            // kept in the final solve
   int num_tracks = 0;
   int num_points = 0;
@@ -154,11 +155,11 @@ struct MultiFrameBundleAdjustmentResult {
   // Per camera: covariance of its centre in the rig (in the result's units, squared) at the
   // solution, from the Jacobian and the reprojection RMS; nullopt for camera 0 and cameras not
   // adjusted, or when it could not be computed.
-  std::vector<std::optional<Eigen::Matrix3d>> centre_covariance;
+  PerCamera<Eigen::Matrix3d> centre_covariance;
   // With a CaptureTiming: per camera its (offset, readout) in seconds as adjusted (or as given), and
   // the standard deviations of the estimated ones from the covariance (nullopt where held).
   std::vector<Eigen::Vector2d> timing;
-  std::vector<std::optional<double>> time_offset_stddev_s, readout_stddev_s;
+  PerCamera<double> time_offset_stddev_s, readout_stddev_s;
   // With RigBundleAdjustmentOptions::keep_points only: the final solve's points (world frame) and
   // how many views see each, and the reprojection error (px) of every observation triangulated
   // from the initial poses (before any solve) and of every observation kept at the end.
@@ -175,8 +176,8 @@ struct MultiFrameBundleAdjustmentResult {
 // std::invalid_argument on sizes that do not match or a missing reference.
 MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
     const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, const std::vector<ViewTrack>& tracks,
-    const std::vector<std::optional<Rigid3d>>& initial_cam_from_rig,
-    const std::vector<std::optional<Rigid3d>>& initial_rig_from_world, int scale_camera,
+    const PerCamera<Rigid3d>& initial_cam_from_rig,
+    const PerFrame<Rigid3d>& initial_rig_from_world, int scale_camera,
     const RigBundleAdjustmentOptions& options, bool hold_frames = false, const CaptureTiming* timing = nullptr);
 
 // How well poses explain the tracks, comparable between poses of the same views (the starts of
@@ -187,8 +188,8 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
 // Also returns the number of observations summed.
 double TruncatedReprojectionCost(const std::vector<Camera>& cameras, const FrameKeypoints& keypoints,
                                  const std::vector<ViewTrack>& tracks,
-                                 const std::vector<std::optional<Rigid3d>>& cam_from_rig,
-                                 const std::vector<std::optional<Rigid3d>>& rig_from_world, double max_error_px,
+                                 const PerCamera<Rigid3d>& cam_from_rig,
+                                 const PerFrame<Rigid3d>& rig_from_world, double max_error_px,
                                  double min_angle_deg, int* observations = nullptr);
 
 }  // namespace rigsim

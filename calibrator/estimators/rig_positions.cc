@@ -12,6 +12,7 @@
 #include "common/format.h"
 #include "calibrator/estimators/translation_averaging.h"
 #include "calibrator/model/union_find.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 namespace {
@@ -26,8 +27,8 @@ struct Ray {
 // whose point, hence whose constraint on the positions, has a determined depth.
 std::vector<std::vector<Ray>> UsableRays(const std::vector<Camera>& cameras, const FrameKeypoints& keypoints,
                                          const std::vector<ViewTrack>& tracks,
-                                         const std::vector<std::optional<Eigen::Quaterniond>>& cam_from_rig,
-                                         const std::vector<std::optional<Eigen::Quaterniond>>& rig_from_world,
+                                         const PerCamera<Eigen::Quaterniond>& cam_from_rig,
+                                         const PerFrame<Eigen::Quaterniond>& rig_from_world,
                                          double min_angle) {
   std::vector<std::vector<Ray>> rays;
   for (const ViewTrack& t : tracks) {
@@ -63,8 +64,8 @@ struct PositionUnknowns {
 };
 
 PositionUnknowns ChooseUnknowns(int n, int num_frames, const std::vector<std::pair<int, int>>& links,
-                                const std::vector<std::optional<Eigen::Quaterniond>>& cam_from_rig,
-                                const std::vector<std::optional<Eigen::Quaterniond>>& rig_from_world, bool static_rig) {
+                                const PerCamera<Eigen::Quaterniond>& cam_from_rig,
+                                const PerFrame<Eigen::Quaterniond>& rig_from_world, bool static_rig) {
   UnionFind uf;
   for (int i = 0; i < n + num_frames; ++i) uf.Add();
   for (const auto& [a, b] : links) uf.Join(a, b);
@@ -123,9 +124,9 @@ struct PositionSolution {
 // re-weighted by depth (the ray constraint's size is depth x angle) and robustly (Cauchy on a
 // track's RMS angular residual), `options.reweighting_iterations` times.
 PositionSolution SolvePositionSystem(const std::vector<std::vector<Ray>>& rays, const PositionUnknowns& u,
-                                     const std::vector<std::optional<Eigen::Quaterniond>>& rig_from_world,
+                                     const PerFrame<Eigen::Quaterniond>& rig_from_world,
                                      const RigPositionOptions& options,
-                                     const std::vector<std::optional<Eigen::Vector3d>>& held_axis = {}) {
+                                     const PerCamera<Eigen::Vector3d>& held_axis = {}) {
   const int num_frames = static_cast<int>(rig_from_world.size());
   const int dim = 3 * u.blocks;
   std::vector<Eigen::Matrix3d> rig_t(num_frames, Eigen::Matrix3d::Identity());  // R_k^T
@@ -258,10 +259,10 @@ void RigPositionOptions::Check() const {
 
 RigPositions EstimateRigPositions(const std::vector<Camera>& cameras, const FrameKeypoints& keypoints,
                                   const std::vector<ViewTrack>& tracks,
-                                  const std::vector<std::optional<Eigen::Quaterniond>>& cam_from_rig,
-                                  const std::vector<std::optional<Eigen::Quaterniond>>& rig_from_world,
+                                  const PerCamera<Eigen::Quaterniond>& cam_from_rig,
+                                  const PerFrame<Eigen::Quaterniond>& rig_from_world,
                                   const RigPositionOptions& options, bool static_rig,
-                                  const std::vector<std::optional<Eigen::Vector3d>>& held_axis) {
+                                  const PerCamera<Eigen::Vector3d>& held_axis) {
   options.Check();
   const int n = static_cast<int>(cameras.size());
   if (!held_axis.empty() && static_cast<int>(held_axis.size()) != n) {
@@ -317,21 +318,21 @@ RigPositions EstimateRigPositions(const std::vector<Camera>& cameras, const Fram
   return out;
 }
 
-std::vector<std::optional<Eigen::Vector3d>> EstimateTrajectoryCentres(
+PerFrame<Eigen::Vector3d> EstimateTrajectoryCentres(
     const Camera& camera, const std::vector<std::vector<Eigen::Vector2d>>& keypoints,
-    const std::vector<ViewTrack>& tracks, const std::vector<std::optional<Eigen::Quaterniond>>& rotations,
+    const std::vector<ViewTrack>& tracks, const PerCamera<Eigen::Quaterniond>& rotations,
     const RigPositionOptions& options) {
   options.Check();
   const int num_frames = static_cast<int>(keypoints.size());
   if (static_cast<int>(rotations.size()) != num_frames) {
     throw std::invalid_argument("EstimateTrajectoryCentres: one rotation per frame");
   }
-  std::vector<std::optional<Eigen::Vector3d>> centres(num_frames);
+  PerFrame<Eigen::Vector3d> centres(num_frames);
   if (num_frames == 0 || !rotations[0]) return centres;
   // A rig of this one camera at the rig frame: the frames' rig centres are the camera's.
   FrameKeypoints one_camera(num_frames);
   for (int k = 0; k < num_frames; ++k) one_camera[k] = {keypoints[k]};
-  const std::vector<std::optional<Eigen::Quaterniond>> identity{Eigen::Quaterniond::Identity()};
+  const PerCamera<Eigen::Quaterniond> identity{Eigen::Quaterniond::Identity()};
   std::vector<std::vector<Ray>> rays =
       UsableRays({camera}, one_camera, tracks, identity, rotations, DegToRad(options.min_ray_angle_deg));
   std::vector<std::pair<int, int>> links;
@@ -361,8 +362,8 @@ std::vector<std::optional<Eigen::Vector3d>> EstimateTrajectoryCentres(
 }
 
 RigPositions EstimateRigPositionsFromDirections(const ViewGraph& graph, const std::vector<TemporalPairEstimate>& temporal,
-                                                const std::vector<std::optional<Eigen::Quaterniond>>& cam_from_rig,
-                                                const std::vector<std::optional<Eigen::Quaterniond>>& rig_from_world,
+                                                const PerCamera<Eigen::Quaterniond>& cam_from_rig,
+                                                const PerFrame<Eigen::Quaterniond>& rig_from_world,
                                                 bool static_rig) {
   const int n = graph.num_cameras;
   const int num_frames = static_cast<int>(rig_from_world.size());

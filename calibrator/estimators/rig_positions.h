@@ -30,6 +30,7 @@
 #include "calibrator/estimators/multi_frame_rig.h"
 #include "calibrator/model/view_graph.h"
 #include "geometry/camera.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 
@@ -48,9 +49,9 @@ struct RigPositionOptions {
 
 struct RigPositions {
   // Camera centre in the rig (camera 0 at the origin), per camera; nullopt where not solved for.
-  std::vector<std::optional<Eigen::Vector3d>> centre_in_rig;
+  PerCamera<Eigen::Vector3d> centre_in_rig;
   // Rig centre in the world (frame 0 at the origin), per frame; nullopt where not solved for.
-  std::vector<std::optional<Eigen::Vector3d>> rig_centre_in_world;
+  PerFrame<Eigen::Vector3d> rig_centre_in_world;
   // A solution was found (some camera besides camera 0 placed, not all at camera 0's centre).
   bool solved = false;
   std::string reason;  // why not solved; empty otherwise
@@ -70,27 +71,27 @@ struct RigPositions {
 // motion without matches to other cameras, hand_eye.h): not estimated.
 RigPositions EstimateRigPositions(const std::vector<Camera>& cameras, const FrameKeypoints& keypoints,
                                   const std::vector<ViewTrack>& tracks,
-                                  const std::vector<std::optional<Eigen::Quaterniond>>& cam_from_rig,
-                                  const std::vector<std::optional<Eigen::Quaterniond>>& rig_from_world,
+                                  const PerCamera<Eigen::Quaterniond>& cam_from_rig,
+                                  const PerFrame<Eigen::Quaterniond>& rig_from_world,
                                   const RigPositionOptions& options, bool static_rig = false,
-                                  const std::vector<std::optional<Eigen::Vector3d>>& held_axis = {});
+                                  const PerCamera<Eigen::Vector3d>& held_axis = {});
 
 // One camera's own centres over the frames (its trajectory, calibrator/camera_trajectory.h), from
 // its tracks across frames with every rotation known: `rotations[k]` is cam(k)_from_cam(0)'s,
 // `keypoints[k]` the camera's keypoints at frame k, the tracks' camera index 0. Frame 0's centre
 // is the origin and the mean distance of the others from it is 1; nullopt for frames the tracks
 // do not link to frame 0.
-std::vector<std::optional<Eigen::Vector3d>> EstimateTrajectoryCentres(
+PerFrame<Eigen::Vector3d> EstimateTrajectoryCentres(
     const Camera& camera, const std::vector<std::vector<Eigen::Vector2d>>& keypoints,
-    const std::vector<ViewTrack>& tracks, const std::vector<std::optional<Eigen::Quaterniond>>& rotations,
+    const std::vector<ViewTrack>& tracks, const PerCamera<Eigen::Quaterniond>& rotations,
     const RigPositionOptions& options);
 
 // From the directions of the active, non-rotation-only edges of `graph` and of the successful,
 // non-rotation-only temporal pairs (ignored when `static_rig`). The same unknowns and gauge as
 // EstimateRigPositions.
 RigPositions EstimateRigPositionsFromDirections(const ViewGraph& graph, const std::vector<TemporalPairEstimate>& temporal,
-                                                const std::vector<std::optional<Eigen::Quaterniond>>& cam_from_rig,
-                                                const std::vector<std::optional<Eigen::Quaterniond>>& rig_from_world,
+                                                const PerCamera<Eigen::Quaterniond>& cam_from_rig,
+                                                const PerFrame<Eigen::Quaterniond>& rig_from_world,
                                                 bool static_rig = false);
 
 }  // namespace rigsim

@@ -12,11 +12,12 @@
 
 #include "calibrator/estimators/cost_functions.h"
 #include "geometry/rigid3.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 namespace {
 
-using Rotations = std::vector<std::optional<Eigen::Quaterniond>>;
+using Rotations = PerCamera<Eigen::Quaterniond>;
 
 bool Pooled(const ViewPairRotation& m) { return m.frame_a < 0; }
 
@@ -176,7 +177,7 @@ void RigRotationAveragingOptions::Check() const {
 
 RigRotationAveragingResult AverageRigRotations(int num_cameras, int num_frames,
                                                const std::vector<ViewPairRotation>& ms,
-                                               const std::vector<std::optional<Eigen::Quaterniond>>& camera_starts,
+                                               const PerCamera<Eigen::Quaterniond>& camera_starts,
                                                const RigRotationAveragingOptions& options) {
   options.Check();
   if (num_cameras < 1 || num_frames < 1) throw std::invalid_argument("AverageRigRotations: no camera or no frame");

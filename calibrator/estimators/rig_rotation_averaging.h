@@ -22,6 +22,7 @@
 #include <vector>
 
 #include <Eigen/Geometry>
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 
@@ -49,8 +50,8 @@ struct RigRotationAveragingOptions {
 
 struct RigRotationAveragingResult {
   // Per camera and per frame; nullopt where no measurement (or start) reaches from the gauge.
-  std::vector<std::optional<Eigen::Quaterniond>> cam_from_rig;
-  std::vector<std::optional<Eigen::Quaterniond>> rig_from_world;
+  PerCamera<Eigen::Quaterniond> cam_from_rig;
+  PerFrame<Eigen::Quaterniond> rig_from_world;
   // Per measurement: rejected as an outlier, and its residual at the solution (deg; NaN where one
   // of its rotations is unknown).
   std::vector<char> outlier;
@@ -64,7 +65,7 @@ struct RigRotationAveragingResult {
 // pair measured against itself at one frame.
 RigRotationAveragingResult AverageRigRotations(int num_cameras, int num_frames,
                                                const std::vector<ViewPairRotation>& measurements,
-                                               const std::vector<std::optional<Eigen::Quaterniond>>& camera_starts,
+                                               const PerCamera<Eigen::Quaterniond>& camera_starts,
                                                const RigRotationAveragingOptions& options);
 
 }  // namespace rigsim

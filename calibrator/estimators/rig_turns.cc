@@ -5,6 +5,7 @@
 
 #include "common/format.h"
 #include "geometry/rigid3.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 namespace {
@@ -119,7 +120,7 @@ std::optional<Quat> FindMounting(const CameraSteps& c, const CameraSteps& ref, c
 
 // The rig's turn at step k in camera 0's axes: the pose (seen through its camera's mounting) that the
 // most cameras have a pose within the tolerance of, averaged over those; nullopt below two cameras.
-std::optional<Quat> RigTurnAt(int k, const std::vector<CameraSteps>& steps, const std::vector<std::optional<Quat>>& mounting,
+std::optional<Quat> RigTurnAt(int k, const std::vector<CameraSteps>& steps, const PerCamera<Quat>& mounting,
                               double tol) {
   std::vector<std::vector<Quat>> seen(steps.size());  // per camera, its poses in camera 0's axes
   for (size_t c = 0; c < steps.size(); ++c) {
@@ -158,7 +159,7 @@ void RigTurnOptions::Check() const {
 }
 
 RigTurns ResolveStepsByTheRig(const std::vector<TemporalPairEstimate>& temporal,
-                              const std::vector<std::optional<Eigen::Quaterniond>>& known_cam_from_rig, int num_frames,
+                              const PerCamera<Eigen::Quaterniond>& known_cam_from_rig, int num_frames,
                               const RigTurnOptions& options) {
   options.Check();
   const int num_cameras = static_cast<int>(known_cam_from_rig.size());
@@ -174,7 +175,7 @@ RigTurns ResolveStepsByTheRig(const std::vector<TemporalPairEstimate>& temporal,
   for (int k = 0; k < num_steps; ++k) out.rig_turn.push_back(RigTurnAt(k, steps, out.cam_from_rig, options.max_disagreement_deg));
 
   out.choice.assign(num_cameras, std::vector<StepChoice>(num_steps, StepChoice::kNone));
-  out.step_rotation.assign(num_cameras, std::vector<std::optional<Quat>>(num_steps));
+  out.step_rotation.assign(num_cameras, PerFrame<Quat>(num_steps));
   for (int c = 0; c < num_cameras; ++c) {
     for (int k = 0; k < num_steps; ++k) {
       const StepPoses& s = steps[c][k];

@@ -19,6 +19,7 @@
 #include <Eigen/Geometry>
 
 #include "calibrator/model/view_graph.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 
@@ -48,19 +49,19 @@ struct RigTurns {
   // Per camera: its mounting rotation (cam_from_rig, camera 0 the identity): the known one, else
   // found, nullopt when fewer than min_agreeing_steps of its steps agree with camera 0's. With a planar motion its turn about the
   // rig's axis is arbitrary (every step's rotation commutes with it): a test, not a result.
-  std::vector<std::optional<Eigen::Quaterniond>> cam_from_rig;
+  PerCamera<Eigen::Quaterniond> cam_from_rig;
   // Per step k (frames k, k+1): the rig's turn rig(k+1)_from_rig(k) in camera 0's axes, nullopt when
   // fewer than two cameras agree on one.
-  std::vector<std::optional<Eigen::Quaterniond>> rig_turn;
+  PerFrame<Eigen::Quaterniond> rig_turn;
   // Per frame: the rig's rotation rig(k)_from_rig(0), chained through rig_turn, or camera 0's own
   // step where the rig's turn is not known; nullopt from the first step neither gives.
-  std::vector<std::optional<Eigen::Quaterniond>> rig_from_world;
+  PerFrame<Eigen::Quaterniond> rig_from_world;
   // [camera][step]: what the step's pair is, against the rig.
   std::vector<std::vector<StepChoice>> choice;
   // [camera][step]: the camera's rotation over the step: its pair's pose that agrees with the rig;
   // the rig's turn seen through its mounting where no pose agrees or it has no pair; the pair's own
   // where undecided; nullopt without a pair or a rig's turn.
-  std::vector<std::vector<std::optional<Eigen::Quaterniond>>> step_rotation;
+  std::vector<PerFrame<Eigen::Quaterniond>> step_rotation;
   // The temporal pairs with the pose the rig agrees with (a planar alternative swapped in); a pair no
   // pose of which agrees has its pose left out (TemporalPairEstimate::pose_left_out), its matches kept.
   std::vector<TemporalPairEstimate> temporal;
@@ -72,7 +73,7 @@ struct RigTurns {
 // camera, nullopt where unknown) are mountings already known (from same-instant pairs): they are
 // used as they are, the others found from the steps.
 RigTurns ResolveStepsByTheRig(const std::vector<TemporalPairEstimate>& temporal,
-                              const std::vector<std::optional<Eigen::Quaterniond>>& known_cam_from_rig, int num_frames,
+                              const PerCamera<Eigen::Quaterniond>& known_cam_from_rig, int num_frames,
                               const RigTurnOptions& options);
 
 }  // namespace rigsim

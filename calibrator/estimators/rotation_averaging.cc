@@ -12,6 +12,7 @@
 #include <ceres/rotation.h>
 
 #include "calibrator/estimators/cost_functions.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 namespace {
@@ -30,7 +31,7 @@ std::vector<int> UsableEdges(const ViewGraph& graph, const std::vector<char>& ou
 }
 
 // Rotations of the cameras reached from `reference` along a maximum spanning tree (Prim's).
-std::vector<std::optional<Eigen::Quaterniond>> SpanningTreeRotations(const ViewGraph& graph,
+PerCamera<Eigen::Quaterniond> SpanningTreeRotations(const ViewGraph& graph,
                                                                      const std::vector<int>& edges, int reference,
                                                                      double loop_threshold_deg) {
   const int n = graph.num_cameras;
@@ -65,7 +66,7 @@ std::vector<std::optional<Eigen::Quaterniond>> SpanningTreeRotations(const ViewG
     return key(x.first) < key(y.first) || (key(x.first) == key(y.first) && x.first > y.first);
   };
   std::priority_queue<std::pair<int, int>, std::vector<std::pair<int, int>>, decltype(worse)> queue(worse);
-  std::vector<std::optional<Eigen::Quaterniond>> rot(n);
+  PerCamera<Eigen::Quaterniond> rot(n);
   rot[reference] = Eigen::Quaterniond::Identity();
   auto push = [&](int cam) {
     for (int e : incident[cam]) queue.push({e, cam});

@@ -19,6 +19,7 @@
 #include <Eigen/Geometry>
 
 #include "calibrator/model/view_graph.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 
@@ -40,7 +41,7 @@ struct RotationAveragingOptions {
 
 struct RotationAveragingResult {
   // cam_from_rig rotation per camera; nullopt outside the reference camera's final component.
-  std::vector<std::optional<Eigen::Quaterniond>> cam_from_rig;
+  PerCamera<Eigen::Quaterniond> cam_from_rig;
   // Per graph edge: identified as an outlier (it was active and is rejected).
   std::vector<char> outlier;
   // Per graph edge: angle (deg) of R_b R_a^T against the edge's rotation at the solution; NaN for

@@ -1,4 +1,5 @@
 #include "calibrator/estimators/time_offset_search.h"
+#include "calibrator/model/rig_state.h"
 
 #include <cmath>
 #include <limits>
@@ -12,7 +13,7 @@ namespace {
 // last one at the neighbouring interval's rate. nullopt where an interval it needs is unknown.
 class AccumulatedTurn {
  public:
-  AccumulatedTurn(const std::vector<double>& times, const std::vector<std::optional<double>>& turn)
+  AccumulatedTurn(const std::vector<double>& times, const PerFrame<double>& turn)
       : times_(times), turn_(turn), accumulated_(times.size(), 0.0) {
     for (size_t k = 0; k + 1 < times.size(); ++k) accumulated_[k + 1] = accumulated_[k] + turn[k].value_or(0.0);
   }
@@ -27,7 +28,7 @@ class AccumulatedTurn {
 
  private:
   const std::vector<double>& times_;
-  const std::vector<std::optional<double>>& turn_;
+  const PerFrame<double>& turn_;
   std::vector<double> accumulated_;
 };
 
@@ -37,7 +38,7 @@ struct Fit {
 };
 
 Fit CostAt(double offset, const std::vector<double>& times, const AccumulatedTurn& reference,
-           const std::vector<std::optional<double>>& turn) {
+           const PerFrame<double>& turn) {
   Fit fit;
   for (size_t k = 0; k + 1 < times.size(); ++k) {
     if (!turn[k]) continue;
@@ -59,7 +60,7 @@ void TimeOffsetSearchOptions::Check() const {
 }
 
 std::vector<SearchedOffset> SearchTimeOffsets(const std::vector<double>& frame_times_s,
-                                              const std::vector<std::vector<std::optional<double>>>& turn_rad,
+                                              const std::vector<PerFrame<double>>& turn_rad,
                                               const TimeOffsetSearchOptions& options) {
   options.Check();
   const size_t frames = frame_times_s.size();

@@ -12,6 +12,7 @@
 
 #include <optional>
 #include <vector>
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 
@@ -36,7 +37,7 @@ struct SearchedOffset {
 // frames k and k+1 (nullopt where unknown); camera 0's is the reference (offset 0). One result per
 // camera; camera 0's is {0, true}. Throws std::invalid_argument on sizes that do not match.
 std::vector<SearchedOffset> SearchTimeOffsets(const std::vector<double>& frame_times_s,
-                                              const std::vector<std::vector<std::optional<double>>>& turn_rad,
+                                              const std::vector<PerFrame<double>>& turn_rad,
                                               const TimeOffsetSearchOptions& options = {});
 
 }  // namespace rigsim

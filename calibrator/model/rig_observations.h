@@ -12,6 +12,7 @@
 #include "calibrator/model/correspondences.h"
 #include "calibrator/model/view_graph.h"
 #include "geometry/camera.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 
@@ -37,9 +38,9 @@ struct RigObservations {
   // hand-eye calibration determined (hand_eye.h kSolved; nullopt otherwise), and the turn axis of a
   // planar motion (in the rig) along which its motion does not fix its centre.
   std::vector<CrossTimePairEstimate> cross_time;
-  std::vector<std::optional<Eigen::Quaterniond>> rotation_start;
-  std::vector<std::optional<Eigen::Quaterniond>> hand_eye_rotation;
-  std::vector<std::optional<Eigen::Vector3d>> open_axis;
+  PerCamera<Eigen::Quaterniond> rotation_start;
+  PerCamera<Eigen::Quaterniond> hand_eye_rotation;
+  PerCamera<Eigen::Vector3d> open_axis;
 
   bool HasMotionLinks() const { return !rotation_start.empty(); }
 };

@@ -14,6 +14,7 @@
 #include "calibrator/features/parallel_scope.h"
 #include "calibrator/estimators/two_view.h"
 #include "calibrator/stages/stage_clock.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 namespace {
@@ -94,7 +95,7 @@ ViewPairMatcher MatcherOfViews(const RigViews& views, const MatchOptions& option
 }
 
 MotionLinks FindMotionLinks(const RigObservations& obs,
-                            const std::vector<std::optional<Eigen::Quaterniond>>& known_rotations,
+                            const PerCamera<Eigen::Quaterniond>& known_rotations,
                             const ViewPairMatcher& match, const RigCalibrationOptions& options) {
   const auto start = StageClock::now();
   const int n = static_cast<int>(obs.cameras.size());

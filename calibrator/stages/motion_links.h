@@ -35,6 +35,7 @@
 #include "calibrator/stages/rig_result.h"
 #include "calibrator/estimators/rig_rotation_averaging.h"
 #include "calibrator/estimators/rig_turns.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 
@@ -52,12 +53,12 @@ struct MotionLinks {
   // Per camera: its hand-eye result (camera 0: the reference).
   std::vector<HandEyeCamera> hand_eye;
   // Per camera: the start of its rotation in the rig (the rotation already known, or hand-eye's).
-  std::vector<std::optional<Eigen::Quaterniond>> rotation_start;
+  PerCamera<Eigen::Quaterniond> rotation_start;
   // Per camera: the rotation hand-eye calibration determined (kSolved), nullopt otherwise.
-  std::vector<std::optional<Eigen::Quaterniond>> hand_eye_rotation;
+  PerCamera<Eigen::Quaterniond> hand_eye_rotation;
   // Per camera: with a planar motion, the turn axis in the rig, along which the motion does not
   // fix its centre; nullopt otherwise.
-  std::vector<std::optional<Eigen::Vector3d>> open_axis;
+  PerCamera<Eigen::Vector3d> open_axis;
   // The temporal pairs with the poses the rig agrees with (rig_turns.h), for the rig stages, and how
   // many took their planar alternative or disagree with every pose (failed).
   std::vector<TemporalPairEstimate> temporal;
@@ -75,7 +76,7 @@ struct MotionLinks {
 // nothing is found). `known_rotations` (per camera, nullopt where unknown) are the rotations in the
 // rig that the same-instant pairs already gave.
 MotionLinks FindMotionLinks(const RigObservations& obs,
-                            const std::vector<std::optional<Eigen::Quaterniond>>& known_rotations,
+                            const PerCamera<Eigen::Quaterniond>& known_rotations,
                             const ViewPairMatcher& match, const RigCalibrationOptions& options);
 
 // The rig `result` that the motion links `links` made, checked on view pairs it predicts to meet

@@ -14,6 +14,7 @@
 #include "calibrator/stages/rig_capture_times.h"
 #include "calibrator/estimators/rig_positions.h"
 #include "calibrator/stages/stage_clock.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 namespace {
@@ -31,8 +32,8 @@ double DirectionStdDeg(const Eigen::Vector3d& centre, const Eigen::Matrix3d& cov
 }
 
 // Changes the unit of length of a rig estimate: the cameras' and the frames' translations.
-void ScaleTranslations(double s, std::vector<std::optional<Rigid3d>>* cam_from_rig,
-                       std::vector<std::optional<Rigid3d>>* rig_from_world) {
+void ScaleTranslations(double s, PerCamera<Rigid3d>* cam_from_rig,
+                       PerFrame<Rigid3d>* rig_from_world) {
   for (auto* poses : {cam_from_rig, rig_from_world}) {
     for (auto& p : *poses) {
       if (p) p->translation *= s;
@@ -123,7 +124,7 @@ RotationStage AverageCameraRotations(const RigObservations& obs, const RigCalibr
 // frame) without them.
 struct RigMotion {
   bool moving = false;
-  std::vector<std::optional<Eigen::Quaterniond>> rig_rotation;
+  PerFrame<Eigen::Quaterniond> rig_rotation;
   int temporal_pairs_used = 0;  // successful temporal pairs of cameras with a rotation
 };
 
@@ -176,7 +177,8 @@ std::vector<ViewTrack> TracksOfUsedPairs(const RigObservations& obs, const Rotat
 // solution (rig_positions.h): from the two-view directions and from the tracks.
 struct PoseStart {
   std::string source;
-  std::vector<std::optional<Rigid3d>> cam_from_rig, rig_from_world;
+  PerCamera<Rigid3d> cam_from_rig;
+  PerFrame<Rigid3d> rig_from_world;
 };
 
 struct PositionStage {
@@ -187,7 +189,7 @@ struct PositionStage {
   int scale_camera = -1;          // the camera at distance 1 from camera 0; -1: none
   // Per camera (empty without motion links): the axis along which its centre is held, open
   // (motion_links.h HeldCentreAxes).
-  std::vector<std::optional<Eigen::Vector3d>> held_axis;
+  PerCamera<Eigen::Vector3d> held_axis;
 };
 
 // What a user can change so that the images fix positions they leave open, from how the rig moved.
@@ -367,14 +369,14 @@ AdjustedRig AdjustFromEveryStart(const RigObservations& obs, const std::vector<V
 // (max_direction_std_deg), the unit scale is moved to a camera that kept its position, and a
 // known distance makes the result metric.
 struct ScaledPoses {
-  std::vector<std::optional<Rigid3d>> cam_from_rig;  // nullopt: no position
+  PerCamera<Rigid3d> cam_from_rig;  // nullopt: no position
   std::vector<std::string> undetermined;             // why a camera's adjusted position is dropped
   std::vector<PositionOutcome> position;              // kPlaced, or which of the two dropped it
-  std::vector<std::optional<double>> direction_std_deg;
-  std::vector<std::optional<Rigid3d>> rig_from_world;  // empty when positions are not observable
+  PerCamera<double> direction_std_deg;
+  PerFrame<Rigid3d> rig_from_world;  // empty when positions are not observable
   // Per camera whose centre is open along an axis (PositionStage::held_axis): its centre without
   // that component; nullopt otherwise.
-  std::vector<std::optional<Eigen::Vector3d>> partial_centre, open_axis;
+  PerCamera<Eigen::Vector3d> partial_centre, open_axis;
   double length_scale = 1.0;  // the bundle adjustment's unit of length in the result's
   ScaleKind scale_kind = ScaleKind::kNone;
   std::string scale;
@@ -390,7 +392,7 @@ ScaledPoses DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& ad
   out.undetermined.assign(n, "");
   out.position.assign(n, PositionOutcome::kPlaced);
   out.direction_std_deg.assign(n, std::nullopt);
-  std::vector<std::optional<Rigid3d>>& pose = out.cam_from_rig;
+  PerCamera<Rigid3d>& pose = out.cam_from_rig;
   for (int c = 1; c < n && c < static_cast<int>(ba.centre_covariance.size()); ++c) {
     if (!pose[c] || !ba.centre_covariance[c]) continue;
     const double std_deg = DirectionStdDeg(pose[c]->SourceOriginInTarget(), *ba.centre_covariance[c]);

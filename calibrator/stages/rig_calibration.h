@@ -33,6 +33,7 @@
 #include "calibrator/model/rig_observations.h"
 #include "calibrator/stages/rig_options.h"
 #include "calibrator/stages/rig_result.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 
@@ -52,7 +53,7 @@ struct RigPreCheck {
   // (RigCalibrationOptions::max_direction_std_deg, ambiguous starts).
   std::vector<char> may_be_placed;
   // Per camera: cam_from_rig's rotation from that round's rotation averaging; nullopt where none.
-  std::vector<std::optional<Eigen::Quaterniond>> cam_from_rig_rotation;
+  PerCamera<Eigen::Quaterniond> cam_from_rig_rotation;
   // The stage times of what ran until the stop (every earlier round whole, rig_passes 0).
   RigCalibrationResult work;
 

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "common/format.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 namespace {
@@ -45,7 +46,7 @@ JointRotations AverageJointly(const RigObservations& obs, const ViewGraph& graph
     measurements.push_back({x.cam_a, x.cam_b, x.frame_a, x.frame_b, x.two_view.cam_b_from_cam_a.rotation,
                             std::max(x.two_view.num_inliers, 1)});
   }
-  std::vector<std::optional<Eigen::Quaterniond>> starts = obs.rotation_start;
+  PerCamera<Eigen::Quaterniond> starts = obs.rotation_start;
   for (int c = 0; c < n && !starts.empty(); ++c) {
     if (dropped[c]) starts[c].reset();
   }
@@ -137,9 +138,9 @@ JointRotations AverageRotationsWithMotionLinks(const RigObservations& obs, const
   return out;
 }
 
-std::vector<std::optional<Eigen::Vector3d>> HeldCentreAxes(const RigObservations& obs, const std::vector<ViewTrack>& tracks) {
+PerCamera<Eigen::Vector3d> HeldCentreAxes(const RigObservations& obs, const std::vector<ViewTrack>& tracks) {
   const int n = static_cast<int>(obs.cameras.size());
-  std::vector<std::optional<Eigen::Vector3d>> held(n);
+  PerCamera<Eigen::Vector3d> held(n);
   if (obs.open_axis.empty()) return held;
   std::vector<char> shares(n, 0);  // a track joins the camera with another one
   for (const ViewTrack& t : tracks) {

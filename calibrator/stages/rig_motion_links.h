@@ -14,6 +14,7 @@
 #include "calibrator/model/rig_observations.h"
 #include "calibrator/model/view_graph.h"
 #include "calibrator/stages/rig_options.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 
@@ -32,7 +33,7 @@ JointRotations AverageRotationsWithMotionLinks(const RigObservations& obs, const
 
 // Per camera: obs.open_axis where no track joins the camera with another one (its centre is then
 // open along it, RigBundleAdjustmentOptions::held_centre_axis); nullopt otherwise.
-std::vector<std::optional<Eigen::Vector3d>> HeldCentreAxes(const RigObservations& obs, const std::vector<ViewTrack>& tracks);
+PerCamera<Eigen::Vector3d> HeldCentreAxes(const RigObservations& obs, const std::vector<ViewTrack>& tracks);
 
 // Why a camera's centre is open along `axis` (unit, in the rig) and what would fix it, in words.
 std::string OpenAxisReason(const Eigen::Vector3d& axis);

@@ -17,6 +17,7 @@
 #include "calibrator/stages/pairwise.h"
 #include "geometry/rig.h"
 #include "geometry/rigid3.h"
+#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 
@@ -63,7 +64,7 @@ struct RigStartSummary {
   bool chosen = false;
   // Per camera c > 0: the angle between this start's and the chosen one's direction of c from
   // camera 0 after the adjustment; nullopt where either has no position.
-  std::vector<std::optional<double>> direction_difference_deg;
+  PerCamera<double> direction_difference_deg;
 };
 
 // The stages of one calibration as a report shows them (RigCalibrationOptions::keep_details).
@@ -72,7 +73,7 @@ struct RigCalibrationDetails {
   // PairwiseOptions::keep_match_details); empty for EstimateRig on given observations.
   PairwiseMatchData matches;
   // Per camera: cam_from_rig's rotation after rotation averaging, before the bundle adjustment.
-  std::vector<std::optional<Eigen::Quaterniond>> rotation_averaging;
+  PerCamera<Eigen::Quaterniond> rotation_averaging;
   // The bundle adjustment's points in the result's world (frame 0's rig frame, the result's
   // scale), how many views see each, and the reprojection errors (px) of every observation at
   // the initial poses and at the end (multi_frame_rig.h).
@@ -88,12 +89,12 @@ struct RigCalibrationResult {
   Rig rig;
   // Per camera: the estimated cam_from_rig rotation of calibrated and "rotation only" cameras;
   // nullopt for cameras not connected.
-  std::vector<std::optional<Eigen::Quaterniond>> cam_from_rig_rotation;
+  PerCamera<Eigen::Quaterniond> cam_from_rig_rotation;
   // Per camera with CameraOutcome::kOpenAlongAxis: the axis (unit, in the rig) along which its
   // centre is not determined, and its centre in the rig without that component (the part the
   // images determine, in the result's unit); nullopt otherwise.
-  std::vector<std::optional<Eigen::Vector3d>> open_axis;
-  std::vector<std::optional<Eigen::Vector3d>> partial_centre;
+  PerCamera<Eigen::Vector3d> open_axis;
+  PerCamera<Eigen::Vector3d> partial_centre;
   // Per camera: what the calibration made of it, and why.
   std::vector<CameraStatus> camera_status;
   std::vector<RigCameraStats> camera_stats;
@@ -120,7 +121,7 @@ struct RigCalibrationResult {
   // Per frame: the rig's pose, rig_from_world, with the rig frame at frame 0 as the world and in
   // the scale of cam_from_rig (the identity for every frame of a static rig); nullopt for a frame
   // without one. Empty when the camera positions are not observable.
-  std::vector<std::optional<Rigid3d>> rig_from_world;
+  PerFrame<Rigid3d> rig_from_world;
   bool rig_motion_estimated = false;
   int num_temporal_pairs_used = 0;  // successful temporal pairs between cameras with a rotation
   int num_cross_time_pairs_used = 0;  // cross-time pairs (motion_links.h) rotation averaging kept
