@@ -90,7 +90,7 @@ MultiFrameBundleAdjustmentResult TimedRing::Adjust(const CaptureTiming* with) co
   for (const Rigid3d& p : s.rig_from_world) rig_from_world.push_back(p);
   RigBundleAdjustmentOptions options;
   options.filter_rounds = 0;
-  return MultiFrameRigBundleAdjust(cameras, s.keypoints, tracks, cam_from_rig, rig_from_world, 1, options, false, with);
+  return MultiFrameRigBundleAdjust(cameras, s.keypoints, tracks, {cam_from_rig, rig_from_world}, 1, options, false, with);
 }
 
 std::vector<CameraErrors> ErrorsAgainst(const Rig& truth, const RigCalibrationResult& result) {

@@ -179,10 +179,10 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
   const int n = static_cast<int>(cameras.size());
   std::vector<CameraSynchronisation> out(n);
   bool any_shown = false;
-  for (int c = 1; c < n && c < static_cast<int>(adjusted.cam_from_rig.size()); ++c) {
-    if (!adjusted.cam_from_rig[c]) continue;
+  for (int c = 1; c < n && c < static_cast<int>(adjusted.poses.cam_from_rig.size()); ++c) {
+    if (!adjusted.poses.cam_from_rig[c]) continue;
     out[c].checked = true;
-    out[c].interval_visibility_px = IntervalVisibilityPx(adjusted.rig_from_world, frame_times_s,
+    out[c].interval_visibility_px = IntervalVisibilityPx(adjusted.poses.rig_from_world, frame_times_s,
                                                          PixelsPerRadian(adjusted.cameras[c]), adjusted.median_depth);
     any_shown = any_shown || out[c].interval_visibility_px >= options.min_interval_visibility_px;
   }
@@ -196,8 +196,8 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
   ba_options.refine_intrinsics = false;  // held: the question is time, asked of the rig as adjusted
   ba_options.keep_points = false;
   auto solve = [&](const std::vector<ViewTrack>& solved_tracks, CaptureTiming start) {
-    return MultiFrameRigBundleAdjust(adjusted.cameras, keypoints, solved_tracks, adjusted.cam_from_rig,
-                                     adjusted.rig_from_world, scale_camera, ba_options, false, &start);
+    return MultiFrameRigBundleAdjust(adjusted.cameras, keypoints, solved_tracks, adjusted.poses, scale_camera,
+                                     ba_options, false, &start);
   };
   const std::vector<ViewTrack> subsample = EvenSubsample(tracks, options.check_max_tracks);
   MultiFrameBundleAdjustmentResult freed = solve(subsample, timing);
@@ -218,7 +218,7 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
     }
     s.offset_s = freed.timing[c][0];
     s.offset_stddev_s = *freed.time_offset_stddev_s[c];
-    s.offset_visibility_px = OffsetVisibilityPx(adjusted.rig_from_world, frame_times_s, *s.offset_s,
+    s.offset_visibility_px = OffsetVisibilityPx(adjusted.poses.rig_from_world, frame_times_s, *s.offset_s,
                                                 PixelsPerRadian(adjusted.cameras[c]), adjusted.median_depth);
     const double magnitude = std::abs(*s.offset_s);
     s.unsynchronised = magnitude > options.min_offset_s && magnitude > options.min_sigmas * *s.offset_stddev_s &&
@@ -242,7 +242,7 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
     if ((c > 0 && !s.checked) || !read_out.readout_stddev_s[c]) continue;
     s.readout_s = read_out.timing[c][1];
     s.readout_stddev_s = *read_out.readout_stddev_s[c];
-    s.readout_visibility_px = ReadoutVisibilityPx(adjusted.rig_from_world, frame_times_s, *s.readout_s,
+    s.readout_visibility_px = ReadoutVisibilityPx(adjusted.poses.rig_from_world, frame_times_s, *s.readout_s,
                                                   PixelsPerRadian(adjusted.cameras[c]), adjusted.median_depth);
     const double magnitude = std::abs(*s.readout_s);
     s.rolling_shutter = magnitude > options.min_readout_s && magnitude > options.min_sigmas * *s.readout_stddev_s &&

@@ -17,7 +17,6 @@
 #include "calibrator/estimators/bundle_covariance.h"
 #include "calibrator/estimators/cost_functions.h"
 #include "common/format.h"
-#include "calibrator/model/union_find.h"
 #include "geometry/pose_interpolation.h"
 #include "calibrator/model/rig_state.h"
 
@@ -89,78 +88,6 @@ void RigBundleAdjustmentOptions::Check() const {
   for (const auto& axis : held_centre_axis) {
     if (axis && std::abs(axis->norm() - 1.0) > 1e-6) fail("held_centre_axis must hold unit directions");
   }
-}
-
-std::vector<ViewTrack> BuildViewTracks(int num_cameras, int num_frames, const std::vector<PairMatches>& pairs,
-                                       const std::vector<TemporalPairEstimate>& temporal, int* num_conflicting) {
-  return BuildViewTracksAcrossTime(num_cameras, num_frames, pairs, temporal, {}, num_conflicting);
-}
-
-std::vector<ViewTrack> BuildViewTracksAcrossTime(int num_cameras, int num_frames, const std::vector<PairMatches>& pairs,
-                                                 const std::vector<TemporalPairEstimate>& temporal,
-                                                 const std::vector<CrossTimePairEstimate>& cross_time,
-                                                 int* num_conflicting) {
-  for (const PairMatches& p : pairs) {
-    if (p.cam_a < 0 || p.cam_b < 0 || p.cam_a >= num_cameras || p.cam_b >= num_cameras || p.cam_a == p.cam_b ||
-        static_cast<int>(p.per_frame.size()) != num_frames) {
-      throw std::invalid_argument("BuildViewTracks: bad camera pair (" + std::to_string(p.cam_a) + ", " +
-                                  std::to_string(p.cam_b) + ") or number of frames");
-    }
-  }
-  for (const TemporalPairEstimate& t : temporal) {
-    if (t.camera < 0 || t.camera >= num_cameras || t.frame < 0 || t.frame + 1 >= num_frames) {
-      throw std::invalid_argument("BuildViewTracks: temporal pair (camera " + std::to_string(t.camera) + ", frame " +
-                                  std::to_string(t.frame) + ") out of range");
-    }
-  }
-  for (const CrossTimePairEstimate& x : cross_time) {
-    if (x.cam_a < 0 || x.cam_b < 0 || x.cam_a >= num_cameras || x.cam_b >= num_cameras || x.frame_a < 0 ||
-        x.frame_b < 0 || x.frame_a >= num_frames || x.frame_b >= num_frames || x.frame_a == x.frame_b) {
-      throw std::invalid_argument("BuildViewTracks: cross-time pair out of range");
-    }
-  }
-  std::map<std::tuple<int, int, int>, int> node_of;  // (frame, camera, keypoint) -> id
-  std::vector<ViewObservation> nodes;
-  UnionFind uf;
-  auto node = [&](int cam, int frame, int kp) {
-    const auto [it, inserted] = node_of.try_emplace({frame, cam, kp}, static_cast<int>(nodes.size()));
-    if (inserted) {
-      nodes.push_back({cam, frame, kp});
-      uf.Add();
-    }
-    return it->second;
-  };
-  for (const PairMatches& p : pairs) {
-    for (int f = 0; f < num_frames; ++f) {
-      for (const auto& [ka, kb] : p.per_frame[f]) uf.Join(node(p.cam_a, f, ka), node(p.cam_b, f, kb));
-    }
-  }
-  for (const TemporalPairEstimate& t : temporal) {
-    if (!t.two_view.success) continue;
-    for (const auto& [ka, kb] : t.inliers) uf.Join(node(t.camera, t.frame, ka), node(t.camera, t.frame + 1, kb));
-  }
-  for (const CrossTimePairEstimate& x : cross_time) {
-    if (!x.two_view.success) continue;
-    for (const auto& [ka, kb] : x.inliers) uf.Join(node(x.cam_a, x.frame_a, ka), node(x.cam_b, x.frame_b, kb));
-  }
-  // Nodes are ids in creation order; group by root, observations sorted by (frame, camera, kp).
-  std::map<int, std::vector<ViewObservation>> groups;
-  for (const auto& [key, id] : node_of) groups[uf.Find(id)].push_back(nodes[id]);
-  std::vector<ViewTrack> tracks;
-  int conflicting = 0;
-  for (auto& [root, obs] : groups) {
-    bool conflict = false;
-    for (size_t i = 1; i < obs.size(); ++i) {
-      conflict = conflict || (obs[i].frame == obs[i - 1].frame && obs[i].camera == obs[i - 1].camera);
-    }
-    if (conflict) {
-      ++conflicting;
-      continue;
-    }
-    if (obs.size() >= 2) tracks.push_back({std::move(obs)});
-  }
-  if (num_conflicting) *num_conflicting = conflicting;
-  return tracks;
 }
 
 PerFrame<Eigen::Quaterniond> EstimateRigRotations(
@@ -653,9 +580,10 @@ void CaptureTiming::Check(int cameras, int frames) const {
 
 MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
     const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, const std::vector<ViewTrack>& tracks,
-    const PerCamera<Rigid3d>& initial_cam_from_rig,
-    const PerFrame<Rigid3d>& initial_rig_from_world, int scale_camera,
+    const RigPoses& initial, int scale_camera,
     const RigBundleAdjustmentOptions& options, bool hold_frames, const CaptureTiming* timing) {
+  const PerCamera<Rigid3d>& initial_cam_from_rig = initial.cam_from_rig;
+  const PerFrame<Rigid3d>& initial_rig_from_world = initial.rig_from_world;
   options.Check();
   QuietCeresLogs();
   const int n = static_cast<int>(cameras.size());
@@ -668,8 +596,7 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
   }
   MultiFrameBundleAdjustmentResult result;
   result.num_tracks = static_cast<int>(tracks.size());
-  result.cam_from_rig = initial_cam_from_rig;
-  result.rig_from_world = initial_rig_from_world;
+  result.poses = initial;
   result.observations_per_camera.assign(n, 0);
   result.cameras = cameras;
 
@@ -734,10 +661,10 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
   result.timing = bp.time;
 
   for (int c = 0; c < n; ++c) {
-    if (initial_cam_from_rig[c]) result.cam_from_rig[c] = Rigid3d(Eigen::Quaterniond(bp.cq[c].data()), bp.ct[c]);
+    if (initial_cam_from_rig[c]) result.poses.cam_from_rig[c] = Rigid3d(Eigen::Quaterniond(bp.cq[c].data()), bp.ct[c]);
   }
   for (int k = 0; k < num_frames; ++k) {
-    if (initial_rig_from_world[k]) result.rig_from_world[k] = Rigid3d(Eigen::Quaterniond(bp.rq[k].data()), bp.rt[k]);
+    if (initial_rig_from_world[k]) result.poses.rig_from_world[k] = Rigid3d(Eigen::Quaterniond(bp.rq[k].data()), bp.rt[k]);
   }
   result.num_points = static_cast<int>(points.size());
   for (const WorldPoint& p : points) {
@@ -758,14 +685,12 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
 
 double TruncatedReprojectionCost(const std::vector<Camera>& cameras, const FrameKeypoints& keypoints,
                                  const std::vector<ViewTrack>& tracks,
-                                 const PerCamera<Rigid3d>& cam_from_rig,
-                                 const PerFrame<Rigid3d>& rig_from_world, double max_error_px,
+                                 const RigPoses& poses, double max_error_px,
                                  double min_angle_deg, int* observations) {
-  auto posed = [&](const ViewObservation& o) {
-    return o.camera < static_cast<int>(cam_from_rig.size()) && o.frame < static_cast<int>(rig_from_world.size()) &&
-           cam_from_rig[o.camera] && rig_from_world[o.frame];
-  };
-  auto view_pose = [&](const ViewObservation& o) { return *cam_from_rig[o.camera] * *rig_from_world[o.frame]; };
+  const PerCamera<Rigid3d>& cam_from_rig = poses.cam_from_rig;
+  const PerFrame<Rigid3d>& rig_from_world = poses.rig_from_world;
+  auto posed = [&](const ViewObservation& o) { return poses.Posed(o.camera, o.frame); };
+  auto view_pose = [&](const ViewObservation& o) { return poses.CamFromWorld(o.camera, o.frame); };
   double far = 0.0;  // the largest distance between two posed views' centres
   {
     std::vector<Eigen::Vector3d> centres;

@@ -7,8 +7,8 @@
 // cam_from_world = cam_from_rig * rig_from_world (geometry/rigid3.h).
 //
 // Stages:
-//  1. Tracks over views (BuildViewTracks) from the same-frame inliers of the camera pairs and the
-//     temporal inliers of each camera between consecutive frames.
+//  1. Tracks over views (model/tracks.h BuildViewTracks) from the same-frame inliers of the camera
+//     pairs and the temporal inliers of each camera between consecutive frames.
 //  2. Rig rotations per frame (EstimateRigRotations) from the temporal rotations conjugated by the
 //     cameras' rotations in the rig, averaged over cameras.
 //  3. Positions (rig_positions.h): initial camera and rig centres.
@@ -28,6 +28,7 @@
 #include <Eigen/Geometry>
 
 #include "calibrator/model/correspondences.h"
+#include "calibrator/model/tracks.h"
 #include "calibrator/estimators/intrinsics_refinement.h"
 #include "calibrator/model/view_graph.h"
 #include "geometry/camera.h"
@@ -35,33 +36,6 @@
 #include "calibrator/model/rig_state.h"
 
 namespace rigsim {
-
-struct ViewObservation {
-  int camera = -1;
-  int frame = -1;
-  int keypoint = -1;
-};
-
-// One 3D point (world frame) seen in any views, at most once per view; observations sorted by
-// (frame, camera).
-struct ViewTrack {
-  std::vector<ViewObservation> observations;
-};
-
-// Union-find over (camera, frame, keypoint) nodes joined by the same-frame pair matches and the
-// temporal matches (only successful temporal pairs count). A set holding two keypoints of one
-// view is contradictory: dropped whole and counted in `num_conflicting`. Sets of one view are no
-// tracks. Throws std::invalid_argument on indices out of range.
-std::vector<ViewTrack> BuildViewTracks(int num_cameras, int num_frames, const std::vector<PairMatches>& pairs,
-                                       const std::vector<TemporalPairEstimate>& temporal,
-                                       int* num_conflicting = nullptr);
-
-// BuildViewTracks with the inliers of successful cross-time pairs too (motion_links.h): tracks that
-// join cameras which never see one thing at the same instant.
-std::vector<ViewTrack> BuildViewTracksAcrossTime(int num_cameras, int num_frames, const std::vector<PairMatches>& pairs,
-                                                 const std::vector<TemporalPairEstimate>& temporal,
-                                                 const std::vector<CrossTimePairEstimate>& cross_time,
-                                                 int* num_conflicting = nullptr);
 
 // rig_from_world rotation per frame: frame 0 is the identity; R_{k+1} R_k^T is the chordal mean
 // over cameras c with a rotation and a successful temporal pair (c, k) of Q_c^T T_ck Q_c
@@ -140,8 +114,7 @@ struct MultiFrameBundleAdjustmentResult {
   // With refine_intrinsics, per camera that was refined: the standard deviation of each intrinsic
   // parameter (camera_models.h order) from the covariance at the solution; empty otherwise.
   std::vector<std::vector<double>> intrinsics_stddev;
-  PerCamera<Rigid3d> cam_from_rig;    // refined; nullopt where not given
-  PerFrame<Rigid3d> rig_from_world;  // refined; nullopt where not given
+  RigPoses poses;  // refined; nullopt where not given
   std::vector<int> observations_per_camera;            // kept in the final solve
   int num_tracks = 0;
   int num_points = 0;
@@ -176,8 +149,7 @@ struct MultiFrameBundleAdjustmentResult {
 // std::invalid_argument on sizes that do not match or a missing reference.
 MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
     const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, const std::vector<ViewTrack>& tracks,
-    const PerCamera<Rigid3d>& initial_cam_from_rig,
-    const PerFrame<Rigid3d>& initial_rig_from_world, int scale_camera,
+    const RigPoses& initial, int scale_camera,
     const RigBundleAdjustmentOptions& options, bool hold_frames = false, const CaptureTiming* timing = nullptr);
 
 // How well poses explain the tracks, comparable between poses of the same views (the starts of
@@ -188,8 +160,7 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
 // Also returns the number of observations summed.
 double TruncatedReprojectionCost(const std::vector<Camera>& cameras, const FrameKeypoints& keypoints,
                                  const std::vector<ViewTrack>& tracks,
-                                 const PerCamera<Rigid3d>& cam_from_rig,
-                                 const PerFrame<Rigid3d>& rig_from_world, double max_error_px,
+                                 const RigPoses& poses, double max_error_px,
                                  double min_angle_deg, int* observations = nullptr);
 
 }  // namespace rigsim

@@ -228,7 +228,7 @@ TEST(MultiFrameRig, TimeOffsetsAndReadoutTimesAreEstimatedExactlyOnCleanData) {
   EXPECT_NEAR(r.timing[2][1], 0.0, 2e-5);
   EXPECT_LT(r.reprojection_rms_px, 1e-3);
   for (int c = 1; c < 3; ++c) {
-    EXPECT_LT(RotationDifferenceDeg(r.cam_from_rig[c]->rotation, ring.s.rig.cameras[c].cam_from_rig->rotation), 1e-3) << c;
+    EXPECT_LT(RotationDifferenceDeg(r.poses.cam_from_rig[c]->rotation, ring.s.rig.cameras[c].cam_from_rig->rotation), 1e-3) << c;
     EXPECT_TRUE(r.time_offset_stddev_s[c]) << c;
   }
   EXPECT_FALSE(r.time_offset_stddev_s[0]);
@@ -239,7 +239,7 @@ TEST(MultiFrameRig, OffsetsLeftOutBendTheMounting) {
   const TimedRing ring(TurningPath(6, 1.5, 8.0, 1.5, 3.0, 2.0), 0.0, TestSeed(), kOffsets, kReadouts);
   const MultiFrameBundleAdjustmentResult r = ring.Adjust(nullptr);
   EXPECT_GT(r.reprojection_rms_px, 0.05);
-  EXPECT_GT(RotationDifferenceDeg(r.cam_from_rig[2]->rotation, ring.s.rig.cameras[2].cam_from_rig->rotation), 0.1);
+  EXPECT_GT(RotationDifferenceDeg(r.poses.cam_from_rig[2]->rotation, ring.s.rig.cameras[2].cam_from_rig->rotation), 0.1);
 }
 
 // At a constant velocity (a straight path at constant speed, no turn) an offset looks exactly like

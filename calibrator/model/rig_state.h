@@ -7,6 +7,8 @@
 #include <optional>
 #include <vector>
 
+#include "geometry/rigid3.h"
+
 namespace rigsim {
 
 // Indexed by camera (the rig's order): e.g. each camera's cam_from_rig.
@@ -16,5 +18,20 @@ using PerCamera = std::vector<std::optional<T>>;
 // Indexed by frame (or by the step from frame k to k + 1): e.g. the rig's rig_from_world.
 template <class T>
 using PerFrame = std::vector<std::optional<T>>;
+
+// The rig's poses as a stage leaves them, in one unit of length: cam_from_rig per camera (camera 0
+// is the rig frame) and rig_from_world per frame (frame 0's rig frame is the world). A view's pose
+// is cam_from_rig * rig_from_world; a view of a camera or frame without a pose has none.
+struct RigPoses {
+  PerCamera<Rigid3d> cam_from_rig;
+  PerFrame<Rigid3d> rig_from_world;
+
+  bool Posed(int camera, int frame) const {
+    return camera >= 0 && frame >= 0 && camera < static_cast<int>(cam_from_rig.size()) &&
+           frame < static_cast<int>(rig_from_world.size()) && cam_from_rig[camera] && rig_from_world[frame];
+  }
+  // cam_from_world of view (camera, frame); Posed(camera, frame) must hold.
+  Rigid3d CamFromWorld(int camera, int frame) const { return *cam_from_rig[camera] * *rig_from_world[frame]; }
+};
 
 }  // namespace rigsim

@@ -177,8 +177,7 @@ std::vector<ViewTrack> TracksOfUsedPairs(const RigObservations& obs, const Rotat
 // solution (rig_positions.h): from the two-view directions and from the tracks.
 struct PoseStart {
   std::string source;
-  PerCamera<Rigid3d> cam_from_rig;
-  PerFrame<Rigid3d> rig_from_world;
+  RigPoses poses;
 };
 
 struct PositionStage {
@@ -214,17 +213,19 @@ PoseStart ToStart(const std::string& source, const RigPositions& positions, cons
   const double unit = 1.0 / positions.centre_in_rig[scale_camera]->norm();
   PoseStart s;
   s.source = source;
-  s.cam_from_rig.assign(positions.centre_in_rig.size(), std::nullopt);
-  s.rig_from_world.assign(positions.rig_centre_in_world.size(), std::nullopt);
-  for (size_t c = 0; c < s.cam_from_rig.size(); ++c) {
+  PerCamera<Rigid3d>& cam_from_rig = s.poses.cam_from_rig;
+  PerFrame<Rigid3d>& rig_from_world = s.poses.rig_from_world;
+  cam_from_rig.assign(positions.centre_in_rig.size(), std::nullopt);
+  rig_from_world.assign(positions.rig_centre_in_world.size(), std::nullopt);
+  for (size_t c = 0; c < cam_from_rig.size(); ++c) {
     if (!positions.centre_in_rig[c] || !rs.rot.cam_from_rig[c]) continue;
     const Eigen::Quaterniond r = *rs.rot.cam_from_rig[c];
-    s.cam_from_rig[c] = Rigid3d(r, -(r * (unit * *positions.centre_in_rig[c])));
+    cam_from_rig[c] = Rigid3d(r, -(r * (unit * *positions.centre_in_rig[c])));
   }
-  for (size_t k = 0; k < s.rig_from_world.size(); ++k) {
+  for (size_t k = 0; k < rig_from_world.size(); ++k) {
     if (!positions.rig_centre_in_world[k] || !motion.rig_rotation[k]) continue;
     const Eigen::Quaterniond r = *motion.rig_rotation[k];
-    s.rig_from_world[k] = Rigid3d(r, -(r * (unit * *positions.rig_centre_in_world[k])));
+    rig_from_world[k] = Rigid3d(r, -(r * (unit * *positions.rig_centre_in_world[k])));
   }
   return s;
 }
@@ -332,13 +333,12 @@ AdjustedRig AdjustFromEveryStart(const RigObservations& obs, const std::vector<V
   std::vector<MultiFrameBundleAdjustmentResult> adjusted;
   const std::optional<CaptureTiming> timing = TimingModel(obs, motion, options.capture_time);
   for (const PoseStart& start : ps.starts) {
-    adjusted.push_back(MultiFrameRigBundleAdjust(obs.cameras, obs.keypoints, tracks, start.cam_from_rig,
-                                                 start.rig_from_world, ps.scale_camera, ba_options, !motion.moving,
+    adjusted.push_back(MultiFrameRigBundleAdjust(obs.cameras, obs.keypoints, tracks, start.poses, ps.scale_camera,
+                                                 ba_options, !motion.moving,
                                                  timing ? &*timing : nullptr));
     RigStartSummary summary;
     summary.source = start.source;
-    summary.cost = TruncatedReprojectionCost(adjusted.back().cameras, obs.keypoints, tracks, adjusted.back().cam_from_rig,
-                                             adjusted.back().rig_from_world,
+    summary.cost = TruncatedReprojectionCost(adjusted.back().cameras, obs.keypoints, tracks, adjusted.back().poses,
                                              options.bundle_adjustment.max_reprojection_error_px,
                                              options.bundle_adjustment.min_triangulation_angle_deg, &summary.observations);
     out.starts.push_back(summary);
@@ -351,7 +351,7 @@ AdjustedRig AdjustFromEveryStart(const RigObservations& obs, const std::vector<V
   out.starts[best].chosen = true;
   for (size_t i = 0; i < adjusted.size(); ++i) {
     for (int c = 1; c < n; ++c) {
-      const auto diff = DirectionDifferenceDeg(adjusted[i].cam_from_rig[c], adjusted[best].cam_from_rig[c]);
+      const auto diff = DirectionDifferenceDeg(adjusted[i].poses.cam_from_rig[c], adjusted[best].poses.cam_from_rig[c]);
       out.starts[i].direction_difference_deg.push_back(diff);
       if (i == best || !diff || *diff <= options.max_start_disagreement_deg) continue;
       if (out.starts[i].cost > options.min_start_cost_ratio * out.starts[best].cost) continue;
@@ -368,12 +368,12 @@ AdjustedRig AdjustFromEveryStart(const RigObservations& obs, const std::vector<V
 // Step 6: the positions the bundle adjustment's covariance leaves undetermined are dropped
 // (max_direction_std_deg), the unit scale is moved to a camera that kept its position, and a
 // known distance makes the result metric.
-struct ScaledPoses {
-  PerCamera<Rigid3d> cam_from_rig;  // nullopt: no position
+struct ScaledRig {
+  // cam_from_rig nullopt: no position; rig_from_world empty when positions are not observable.
+  RigPoses poses;
   std::vector<std::string> undetermined;             // why a camera's adjusted position is dropped
   std::vector<PositionOutcome> position;              // kPlaced, or which of the two dropped it
   PerCamera<double> direction_std_deg;
-  PerFrame<Rigid3d> rig_from_world;  // empty when positions are not observable
   // Per camera whose centre is open along an axis (PositionStage::held_axis): its centre without
   // that component; nullopt otherwise.
   PerCamera<Eigen::Vector3d> partial_centre, open_axis;
@@ -383,16 +383,16 @@ struct ScaledPoses {
   std::vector<std::string> warnings;
 };
 
-ScaledPoses DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& adjusted, const PositionStage& ps,
+ScaledRig DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& adjusted, const PositionStage& ps,
                                      const RigCalibrationOptions& options, int known_a, int known_b) {
   const int n = static_cast<int>(obs.cameras.size());
   MultiFrameBundleAdjustmentResult& ba = adjusted.ba;
-  ScaledPoses out;
-  out.cam_from_rig = ba.cam_from_rig;
+  ScaledRig out;
+  out.poses.cam_from_rig = ba.poses.cam_from_rig;
   out.undetermined.assign(n, "");
   out.position.assign(n, PositionOutcome::kPlaced);
   out.direction_std_deg.assign(n, std::nullopt);
-  PerCamera<Rigid3d>& pose = out.cam_from_rig;
+  PerCamera<Rigid3d>& pose = out.poses.cam_from_rig;
   for (int c = 1; c < n && c < static_cast<int>(ba.centre_covariance.size()); ++c) {
     if (!pose[c] || !ba.centre_covariance[c]) continue;
     const double std_deg = DirectionStdDeg(pose[c]->SourceOriginInTarget(), *ba.centre_covariance[c]);
@@ -419,10 +419,10 @@ ScaledPoses DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& ad
     }
     if (scale_camera >= 0) {
       out.length_scale = 1.0 / pose[scale_camera]->translation.norm();
-      ScaleTranslations(out.length_scale, &pose, &ba.rig_from_world);
+      ScaleTranslations(out.length_scale, &pose, &ba.poses.rig_from_world);
     }
   }
-  if (!ps.starts.empty()) out.rig_from_world = ba.rig_from_world;
+  if (!ps.starts.empty()) out.poses.rig_from_world = ba.poses.rig_from_world;
   out.scale_kind = scale_camera >= 0 ? ScaleKind::kUnit : ScaleKind::kNone;
   out.scale = scale_camera >= 0 ? "unit scale: |centre of " + obs.camera_names[scale_camera] + "| = 1"
                                 : "no scale (no camera with a position besides " + obs.camera_names[0] + ")";
@@ -431,7 +431,7 @@ ScaledPoses DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& ad
     const double d = (pose[known_a]->SourceOriginInTarget() - pose[known_b]->SourceOriginInTarget()).norm();
     if (d > 1e-12) {
       out.length_scale *= options.known_distance->metres / d;
-      ScaleTranslations(options.known_distance->metres / d, &pose, &out.rig_from_world);
+      ScaleTranslations(options.known_distance->metres / d, &pose, &out.poses.rig_from_world);
       out.scale_kind = ScaleKind::kMetric;
       out.scale = "metric: |" + obs.camera_names[known_a] + " - " + obs.camera_names[known_b] +
                   "| = " + Fixed(options.known_distance->metres, 4) + " m";
@@ -447,60 +447,60 @@ ScaledPoses DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& ad
 
 // Step 6b: a camera placed but for an axis the motion leaves open has no full pose: its centre
 // without that component is kept apart, never the held value.
-void SetAsideOpenAxes(const RigObservations& obs, const PositionStage& ps, ScaledPoses* poses) {
-  poses->partial_centre.assign(obs.cameras.size(), std::nullopt);
-  poses->open_axis.assign(obs.cameras.size(), std::nullopt);
+void SetAsideOpenAxes(const RigObservations& obs, const PositionStage& ps, ScaledRig* scaled) {
+  scaled->partial_centre.assign(obs.cameras.size(), std::nullopt);
+  scaled->open_axis.assign(obs.cameras.size(), std::nullopt);
   for (size_t c = 1; c < ps.held_axis.size(); ++c) {
-    if (!ps.held_axis[c] || !poses->cam_from_rig[c]) continue;
+    if (!ps.held_axis[c] || !scaled->poses.cam_from_rig[c]) continue;
     const Eigen::Vector3d& axis = *ps.held_axis[c];
-    const Eigen::Vector3d centre = poses->cam_from_rig[c]->SourceOriginInTarget();
-    poses->partial_centre[c] = centre - axis * axis.dot(centre);
-    poses->open_axis[c] = axis;
-    poses->position[c] = PositionOutcome::kOpenAlongTurnAxis;
-    poses->undetermined[c] = OpenAxisReason(axis);
-    poses->cam_from_rig[c].reset();
+    const Eigen::Vector3d centre = scaled->poses.cam_from_rig[c]->SourceOriginInTarget();
+    scaled->partial_centre[c] = centre - axis * axis.dot(centre);
+    scaled->open_axis[c] = axis;
+    scaled->position[c] = PositionOutcome::kOpenAlongTurnAxis;
+    scaled->undetermined[c] = OpenAxisReason(axis);
+    scaled->poses.cam_from_rig[c].reset();
   }
 }
 
 // Step 7: status per camera (calibrated, rotation only and why, not connected and why) and per
 // edge (used or why not), into `result`.
 void SetCameraAndEdgeStatus(const RigObservations& obs, const RotationStage& rs,
-                            const MultiFrameBundleAdjustmentResult& ba, const ScaledPoses& poses,
+                            const MultiFrameBundleAdjustmentResult& ba, const ScaledRig& scaled,
                             const std::string& position_reason, RigCalibrationResult* result) {
   const int n = static_cast<int>(obs.cameras.size());
   const ViewGraph& graph = rs.graph;
   const RotationAveragingResult& rot = rs.rot;
   std::vector<char> reached(n, 0), rotated(n, 0);
   for (int c = 0; c < n; ++c) {
-    reached[c] = poses.cam_from_rig[c].has_value();
+    reached[c] = scaled.poses.cam_from_rig[c].has_value();
     rotated[c] = rot.cam_from_rig[c].has_value();
   }
   result->cam_from_rig_rotation = rot.cam_from_rig;
   result->partial_centre.assign(n, std::nullopt);
   result->open_axis.assign(n, std::nullopt);
   for (int c = 0; c < n; ++c) {  // the adjusted rotation, also of a camera whose position is not determined
-    if (ba.cam_from_rig[c]) result->cam_from_rig_rotation[c] = ba.cam_from_rig[c]->rotation;
+    if (ba.poses.cam_from_rig[c]) result->cam_from_rig_rotation[c] = ba.poses.cam_from_rig[c]->rotation;
   }
   for (int c = 0; c < n; ++c) {
     result->camera_stats[c].observations = ba.observations_per_camera[c];
-    if (poses.cam_from_rig[c]) {
-      result->rig.cameras[c].cam_from_rig = poses.cam_from_rig[c];
+    if (scaled.poses.cam_from_rig[c]) {
+      result->rig.cameras[c].cam_from_rig = scaled.poses.cam_from_rig[c];
       result->camera_status[c] = {CameraOutcome::kCalibrated, PositionOutcome::kPlaced,
                                   c == 0 ? "reference: rig frame" : ""};
       if (c != 0 && ba.observations_per_camera[c] == 0) {
         result->warnings.push_back(obs.camera_names[c] + " has no bundle-adjustment observation: its pose comes "
                                    "from the view graph alone");
       }
-    } else if (rotated[c] && poses.position[c] == PositionOutcome::kOpenAlongTurnAxis) {
+    } else if (rotated[c] && scaled.position[c] == PositionOutcome::kOpenAlongTurnAxis) {
       result->camera_status[c] = {CameraOutcome::kOpenAlongAxis, PositionOutcome::kOpenAlongTurnAxis,
-                                  poses.undetermined[c]};
-      result->partial_centre[c] = poses.partial_centre[c];
-      result->open_axis[c] = poses.open_axis[c];
+                                  scaled.undetermined[c]};
+      result->partial_centre[c] = scaled.partial_centre[c];
+      result->open_axis[c] = scaled.open_axis[c];
     } else if (rotated[c]) {
-      const bool dropped = !poses.undetermined[c].empty();
+      const bool dropped = !scaled.undetermined[c].empty();
       result->camera_status[c] = {
-          CameraOutcome::kRotationOnly, dropped ? poses.position[c] : PositionOutcome::kNotObservable,
-          dropped                    ? poses.undetermined[c]
+          CameraOutcome::kRotationOnly, dropped ? scaled.position[c] : PositionOutcome::kNotObservable,
+          dropped                    ? scaled.undetermined[c]
           : !position_reason.empty() ? position_reason
                                      : std::string("not observable: no track links its views to the calibrated "
                                                    "cameras' (only rotation-only pairs or too little parallax); to "
@@ -613,7 +613,7 @@ void PreCheckEarlyStages(const EarlyStages& early, int n, RigPreCheck* check) {
   check->may_be_placed.assign(n, 0);
   for (int c = 0; c < n; ++c) {
     const bool positioned = c == 0 || std::any_of(early.initial.starts.begin(), early.initial.starts.end(),
-                                                  [c](const PoseStart& s) { return s.cam_from_rig[c].has_value(); });
+                                                  [c](const PoseStart& s) { return s.poses.cam_from_rig[c].has_value(); });
     check->may_be_placed[c] = check->cam_from_rig_rotation[c] && positioned;
   }
 }
@@ -644,10 +644,10 @@ std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, 
   AdjustedRig adjusted = AdjustFromEveryStart(obs, tracks, initial, motion, options);
   MultiFrameBundleAdjustmentResult& ba = adjusted.ba;
   if (initial.starts.empty()) {
-    ba.cam_from_rig.assign(n, std::nullopt);
-    ba.cam_from_rig[0] = Rigid3d();
-    ba.rig_from_world.assign(num_frames, std::nullopt);
-    ba.rig_from_world[0] = Rigid3d();
+    ba.poses.cam_from_rig.assign(n, std::nullopt);
+    ba.poses.cam_from_rig[0] = Rigid3d();
+    ba.poses.rig_from_world.assign(num_frames, std::nullopt);
+    ba.poses.rig_from_world[0] = Rigid3d();
     ba.observations_per_camera.assign(n, 0);
   }
   result.bundle_adjustment_time_s = SecondsSince(start);
@@ -663,27 +663,27 @@ std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, 
       CheckCaptureTimes(obs, options, motion.moving, tracks, initial.scale_camera, ba);
   result.synchronisation_check_time_s = SecondsSince(start);
   SetRefinedIntrinsics(obs, options, ba, &result);
-  ScaledPoses poses = DropUndeterminedAndScale(obs, adjusted, initial, options, known_a, known_b);
-  SetAsideOpenAxes(obs, initial, &poses);
-  for (int c = 0; c < n; ++c) result.camera_stats[c].direction_std_deg = poses.direction_std_deg[c];
-  result.rig_from_world = poses.rig_from_world;
-  result.scale = poses.scale;
-  result.scale_kind = poses.scale_kind;
+  ScaledRig scaled = DropUndeterminedAndScale(obs, adjusted, initial, options, known_a, known_b);
+  SetAsideOpenAxes(obs, initial, &scaled);
+  for (int c = 0; c < n; ++c) result.camera_stats[c].direction_std_deg = scaled.direction_std_deg[c];
+  result.rig_from_world = scaled.poses.rig_from_world;
+  result.scale = scaled.scale;
+  result.scale_kind = scaled.scale_kind;
   if (motion.moving && result.num_frames_posed < num_frames) {
     result.warnings.push_back(std::to_string(num_frames - result.num_frames_posed) + " of " +
                               std::to_string(num_frames) +
                               " frames have no rig pose (no temporal pair chains them to frame 0); their views "
                               "are not used");
   }
-  result.warnings.insert(result.warnings.end(), poses.warnings.begin(), poses.warnings.end());
-  SetCameraAndEdgeStatus(obs, rotations, ba, poses, initial.position_reason, &result);
+  result.warnings.insert(result.warnings.end(), scaled.warnings.begin(), scaled.warnings.end());
+  SetCameraAndEdgeStatus(obs, rotations, ba, scaled, initial.position_reason, &result);
   SetCaptureTimes(obs, options, ba, synchronisation, &result);
   CompareEdgesWithRig(obs, &result);
   if (options.keep_details) {
     result.details = std::make_shared<RigCalibrationDetails>();
     RigCalibrationDetails& d = *result.details;
     d.rotation_averaging = rotations.rot.cam_from_rig;
-    for (const Eigen::Vector3d& x : ba.points) d.points.push_back(poses.length_scale * x);
+    for (const Eigen::Vector3d& x : ba.points) d.points.push_back(scaled.length_scale * x);
     d.point_observations = ba.point_observations;
     d.initial_residuals_px = ba.initial_residuals_px;
     d.final_residuals_px = ba.final_residuals_px;

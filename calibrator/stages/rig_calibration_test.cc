@@ -325,14 +325,14 @@ TEST(RigBundleAdjustmentAtTruth, ResidualIsZeroAndPosesStay) {
   // Each frame's points live in that frame's rig frame: every rig_from_world is the identity, held.
   const std::vector<std::optional<Rigid3d>> rig_from_world(opt.num_frames, Rigid3d());
   const MultiFrameBundleAdjustmentResult ba =
-      MultiFrameRigBundleAdjust(cameras, keypoints, tracks, truth, rig_from_world, 1, {}, /*hold_frames=*/true);
+      MultiFrameRigBundleAdjust(cameras, keypoints, tracks, {truth, rig_from_world}, 1, {}, /*hold_frames=*/true);
   EXPECT_GT(ba.num_points, 200);
   EXPECT_LT(ba.initial_rms_px, 1e-6);
   EXPECT_LT(ba.reprojection_rms_px, 1e-6);
   EXPECT_EQ(ba.num_filtered_observations, 0);
   for (int c = 0; c < n; ++c) {
-    EXPECT_LT(RotationDifferenceDeg(ba.cam_from_rig[c]->rotation, truth[c]->rotation), 1e-7) << c;
-    EXPECT_LT((ba.cam_from_rig[c]->translation - truth[c]->translation).norm(), 1e-8) << c;
+    EXPECT_LT(RotationDifferenceDeg(ba.poses.cam_from_rig[c]->rotation, truth[c]->rotation), 1e-7) << c;
+    EXPECT_LT((ba.poses.cam_from_rig[c]->translation - truth[c]->translation).norm(), 1e-8) << c;
   }
 }
 

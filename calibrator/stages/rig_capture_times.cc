@@ -18,7 +18,7 @@ void TakePoseWhenThePathHidesTime(const RigObservations& obs, const RigCalibrati
     return;
   }
   const double shown =
-      IntervalVisibilityPx(ba.rig_from_world, obs.frame_times_s, PixelsPerRadian(ba.cameras[c]), ba.median_depth);
+      IntervalVisibilityPx(ba.poses.rig_from_world, obs.frame_times_s, PixelsPerRadian(ba.cameras[c]), ba.median_depth);
   result->camera_stats[c].interval_visibility_px = shown;
   if (shown >= options.capture_time.min_interval_visibility_px) return;
   result->camera_status[c] = {
@@ -44,7 +44,7 @@ void SetCaptureTimes(const RigObservations& obs, const RigCalibrationOptions& op
   if (o.estimate_offsets || o.estimate_readout) {
     if (static_cast<int>(ba.timing.size()) != n) return;  // no bundle adjustment ran
     for (int c = 0; c < n; ++c) {
-      if (!ba.cam_from_rig[c]) continue;
+      if (!ba.poses.cam_from_rig[c]) continue;
       RigCameraStats& stats = result->camera_stats[c];
       RigCamera& camera = result->rig.cameras[c];
       camera.time_offset_s = ba.timing[c][0];
@@ -135,7 +135,7 @@ std::vector<CameraSynchronisation> CheckCaptureTimes(const RigObservations& obs,
                                                      int scale_camera, const MultiFrameBundleAdjustmentResult& ba) {
   const CaptureTimeOptions& o = options.capture_time;
   if (o.estimate_offsets || o.estimate_readout || !o.check_synchronisation || !rig_moving) return {};
-  if (WhyNoTimingModel(obs.frame_times_s) || ba.cam_from_rig.empty() || ba.num_points == 0) return {};
+  if (WhyNoTimingModel(obs.frame_times_s) || ba.poses.cam_from_rig.empty() || ba.num_points == 0) return {};
   const int n = static_cast<int>(obs.cameras.size());
   return CheckSynchronisation(ba.cameras, obs.keypoints, tracks, ba, scale_camera, options.bundle_adjustment,
                               obs.frame_times_s, StartTimeOffsets(n, obs.frame_times_s, obs.temporal, o.search),
