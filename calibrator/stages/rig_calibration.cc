@@ -114,7 +114,7 @@ RotationStage AverageCameraRotations(const RigObservations& obs, const RigCalibr
     }
   }
   if (obs.HasMotionLinks()) {
-    s.joint = AverageRotationsWithMotionLinks(obs, s.graph, options);
+    s.joint = AverageRotationsWithMotionLinks(obs, s.graph, options.motion);
     s.rot.cam_from_rig = s.joint->rotations.cam_from_rig;
   }
   return s;
@@ -660,7 +660,8 @@ std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, 
 
   start = StageClock::now();
   const std::vector<CameraSynchronisation> synchronisation =
-      CheckCaptureTimes(obs, options, motion.moving, tracks, initial.scale_camera, ba);
+      CheckCaptureTimes(obs, options.capture_time, options.bundle_adjustment, motion.moving, tracks,
+                        initial.scale_camera, ba);
   result.synchronisation_check_time_s = SecondsSince(start);
   SetRefinedIntrinsics(obs, options, ba, &result);
   ScaledRig scaled = DropUndeterminedAndScale(obs, adjusted, initial, options, known_a, known_b);
@@ -677,7 +678,7 @@ std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, 
   }
   result.warnings.insert(result.warnings.end(), scaled.warnings.begin(), scaled.warnings.end());
   SetCameraAndEdgeStatus(obs, rotations, ba, scaled, initial.position_reason, &result);
-  SetCaptureTimes(obs, options, ba, synchronisation, &result);
+  SetCaptureTimes(obs, options.capture_time, ba, synchronisation, &result);
   CompareEdgesWithRig(obs, &result);
   if (options.keep_details) {
     result.details = std::make_shared<RigCalibrationDetails>();

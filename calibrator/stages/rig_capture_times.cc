@@ -11,7 +11,7 @@ namespace {
 // With offsets estimated: a camera whose offset the rig's path cannot show (a frame interval's worth
 // moves its view by less than min_interval_visibility_px) has an offset, and so a mounting, the images do not
 // fix: it is not calibrated.
-void TakePoseWhenThePathHidesTime(const RigObservations& obs, const RigCalibrationOptions& options,
+void TakePoseWhenThePathHidesTime(const RigObservations& obs, const CaptureTimeOptions& options,
                                   const MultiFrameBundleAdjustmentResult& ba, int c, RigCalibrationResult* result) {
   if (result->camera_status[c].outcome != CameraOutcome::kCalibrated &&
       result->camera_status[c].outcome != CameraOutcome::kRotationOnly) {
@@ -20,7 +20,7 @@ void TakePoseWhenThePathHidesTime(const RigObservations& obs, const RigCalibrati
   const double shown =
       IntervalVisibilityPx(ba.poses.rig_from_world, obs.frame_times_s, PixelsPerRadian(ba.cameras[c]), ba.median_depth);
   result->camera_stats[c].interval_visibility_px = shown;
-  if (shown >= options.capture_time.min_interval_visibility_px) return;
+  if (shown >= options.min_interval_visibility_px) return;
   result->camera_status[c] = {
       CameraOutcome::kTimeNotDetermined, PositionOutcome::kNotObservable,
       "its time offset is not determined: the rig's path moves alike at every frame (constant speed and turn "
@@ -36,11 +36,10 @@ void TakePoseWhenThePathHidesTime(const RigObservations& obs, const RigCalibrati
 // Step 8: capture times. Estimated, each camera's offset and readout go into its stats and the
 // rig; not estimated, the synchronisation check (run on the adjustment before it is scaled) takes
 // the pose of every camera that did not capture with camera 0.
-void SetCaptureTimes(const RigObservations& obs, const RigCalibrationOptions& options,
+void SetCaptureTimes(const RigObservations& obs, const CaptureTimeOptions& o,
                      const MultiFrameBundleAdjustmentResult& ba, const std::vector<CameraSynchronisation>& checked,
                      RigCalibrationResult* result) {
   const int n = static_cast<int>(obs.cameras.size());
-  const CaptureTimeOptions& o = options.capture_time;
   if (o.estimate_offsets || o.estimate_readout) {
     if (static_cast<int>(ba.timing.size()) != n) return;  // no bundle adjustment ran
     for (int c = 0; c < n; ++c) {
@@ -58,7 +57,7 @@ void SetCaptureTimes(const RigObservations& obs, const RigCalibrationOptions& op
         stats.readout_s = ba.timing[c][1];
         stats.readout_stddev_s = ba.readout_stddev_s[c];
       }
-      if (c > 0 && o.estimate_offsets) TakePoseWhenThePathHidesTime(obs, options, ba, c, result);
+      if (c > 0 && o.estimate_offsets) TakePoseWhenThePathHidesTime(obs, o, ba, c, result);
     }
     return;
   }
@@ -130,14 +129,14 @@ void SetCaptureTimes(const RigObservations& obs, const RigCalibrationOptions& op
 // The synchronisation check of a result taken as synchronised (CaptureTimeOptions); empty when it
 // does not apply (offsets estimated, the check off, a static rig, frames without distinct times,
 // no bundle adjustment).
-std::vector<CameraSynchronisation> CheckCaptureTimes(const RigObservations& obs, const RigCalibrationOptions& options,
+std::vector<CameraSynchronisation> CheckCaptureTimes(const RigObservations& obs, const CaptureTimeOptions& o,
+                                                     const RigBundleAdjustmentOptions& bundle_adjustment,
                                                      bool rig_moving, const std::vector<ViewTrack>& tracks,
                                                      int scale_camera, const MultiFrameBundleAdjustmentResult& ba) {
-  const CaptureTimeOptions& o = options.capture_time;
   if (o.estimate_offsets || o.estimate_readout || !o.check_synchronisation || !rig_moving) return {};
   if (WhyNoTimingModel(obs.frame_times_s) || ba.poses.cam_from_rig.empty() || ba.num_points == 0) return {};
   const int n = static_cast<int>(obs.cameras.size());
-  return CheckSynchronisation(ba.cameras, obs.keypoints, tracks, ba, scale_camera, options.bundle_adjustment,
+  return CheckSynchronisation(ba.cameras, obs.keypoints, tracks, ba, scale_camera, bundle_adjustment,
                               obs.frame_times_s, StartTimeOffsets(n, obs.frame_times_s, obs.temporal, o.search),
                               obs.readout_bottom_to_top, o);
 }

@@ -8,7 +8,6 @@
 #include "calibrator/estimators/capture_time.h"
 #include "calibrator/estimators/multi_frame_rig.h"
 #include "calibrator/model/rig_observations.h"
-#include "calibrator/stages/rig_options.h"
 #include "calibrator/stages/rig_result.h"
 
 namespace rigsim {
@@ -16,14 +15,15 @@ namespace rigsim {
 // The synchronisation check of a result taken as synchronised (CaptureTimeOptions), on the bundle
 // adjustment `ba` before it is scaled; empty when it does not apply (offsets estimated, the check
 // off, a static rig, frames without distinct times, no bundle adjustment).
-std::vector<CameraSynchronisation> CheckCaptureTimes(const RigObservations& obs, const RigCalibrationOptions& options,
+std::vector<CameraSynchronisation> CheckCaptureTimes(const RigObservations& obs, const CaptureTimeOptions& options,
+                                                     const RigBundleAdjustmentOptions& bundle_adjustment,
                                                      bool rig_moving, const std::vector<ViewTrack>& tracks,
                                                      int scale_camera, const MultiFrameBundleAdjustmentResult& ba);
 
 // Estimated, each camera's offset and readout go into its stats and the rig (a camera whose offset
 // the path cannot show is not calibrated); not estimated, the check's verdicts take the pose of every
 // camera that did not capture with camera 0, and a warning names those whose timing the path hides.
-void SetCaptureTimes(const RigObservations& obs, const RigCalibrationOptions& options,
+void SetCaptureTimes(const RigObservations& obs, const CaptureTimeOptions& options,
                      const MultiFrameBundleAdjustmentResult& ba, const std::vector<CameraSynchronisation>& checked,
                      RigCalibrationResult* result);
 

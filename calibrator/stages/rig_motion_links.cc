@@ -26,7 +26,7 @@ std::vector<char> ReachedByEdges(const ViewGraph& graph, int n) {
 
 // One joint averaging of every rotation, leaving out the cross-time pairs of `dropped` cameras.
 JointRotations AverageJointly(const RigObservations& obs, const ViewGraph& graph, const std::vector<char>& dropped,
-                              const RigCalibrationOptions& options) {
+                              const MotionLinkOptions& options) {
   const int n = static_cast<int>(obs.cameras.size());
   const int num_frames = static_cast<int>(obs.keypoints.size());
   std::vector<ViewPairRotation> measurements;
@@ -51,7 +51,7 @@ JointRotations AverageJointly(const RigObservations& obs, const ViewGraph& graph
     if (dropped[c]) starts[c].reset();
   }
   JointRotations out;
-  out.rotations = AverageRigRotations(n, num_frames, measurements, starts, options.motion.rotation_averaging);
+  out.rotations = AverageRigRotations(n, num_frames, measurements, starts, options.rotation_averaging);
   for (int c = 0; c < n; ++c) {
     if (dropped[c]) out.rotations.cam_from_rig[c].reset();
   }
@@ -70,7 +70,7 @@ JointRotations AverageJointly(const RigObservations& obs, const ViewGraph& graph
 // within MotionLinkOptions::max_hand_eye_disagreement_deg counts as two, each used cross-time pair
 // with another camera still kept as one; and those no used pair joins with an anchored camera.
 void DropUnsupportedCameras(const RigObservations& obs, const std::vector<char>& reached,
-                            const RigCalibrationOptions& options, JointRotations* joint, std::vector<char>* dropped) {
+                            const MotionLinkOptions& options, JointRotations* joint, std::vector<char>* dropped) {
   const int n = static_cast<int>(obs.cameras.size());
   auto& q = joint->rotations.cam_from_rig;
   for (bool changed = true; changed;) {
@@ -79,7 +79,7 @@ void DropUnsupportedCameras(const RigObservations& obs, const std::vector<char>&
       if (reached[c] || !q[c]) continue;
       int support = 0;
       const auto& he = obs.hand_eye_rotation.empty() ? std::nullopt : obs.hand_eye_rotation[c];
-      if (he && RotationDifferenceDeg(*he, *q[c]) <= options.motion.max_hand_eye_disagreement_deg) support += 2;
+      if (he && RotationDifferenceDeg(*he, *q[c]) <= options.max_hand_eye_disagreement_deg) support += 2;
       for (size_t i = 0; i < obs.cross_time.size(); ++i) {
         const CrossTimePairEstimate& x = obs.cross_time[i];
         const int other = x.cam_a == c ? x.cam_b : x.cam_b == c ? x.cam_a : c;
@@ -99,7 +99,7 @@ void DropUnsupportedCameras(const RigObservations& obs, const std::vector<char>&
   std::vector<char> anchored = reached;
   for (int c = 1; c < n; ++c) {
     const auto& he = obs.hand_eye_rotation.empty() ? std::nullopt : obs.hand_eye_rotation[c];
-    if (q[c] && he && RotationDifferenceDeg(*he, *q[c]) <= options.motion.max_hand_eye_disagreement_deg) anchored[c] = 1;
+    if (q[c] && he && RotationDifferenceDeg(*he, *q[c]) <= options.max_hand_eye_disagreement_deg) anchored[c] = 1;
   }
   for (bool grew = true; grew;) {
     grew = false;
@@ -123,7 +123,7 @@ void DropUnsupportedCameras(const RigObservations& obs, const std::vector<char>&
 }  // namespace
 
 JointRotations AverageRotationsWithMotionLinks(const RigObservations& obs, const ViewGraph& graph,
-                                               const RigCalibrationOptions& options) {
+                                               const MotionLinkOptions& options) {
   const int n = static_cast<int>(obs.cameras.size());
   const std::vector<char> reached = ReachedByEdges(graph, n);
   std::vector<char> dropped(n, 0);  // cameras without two agreeing supports

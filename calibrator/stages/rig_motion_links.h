@@ -29,7 +29,7 @@ struct JointRotations {
   std::vector<char> cross_time_used;
 };
 JointRotations AverageRotationsWithMotionLinks(const RigObservations& obs, const ViewGraph& graph,
-                                               const RigCalibrationOptions& options);
+                                               const MotionLinkOptions& options);
 
 // Per camera: obs.open_axis where no track joins the camera with another one (its centre is then
 // open along it, RigBundleAdjustmentOptions::held_centre_axis); nullopt otherwise.
