@@ -50,9 +50,14 @@ void MarkPairsTheRigLeftOut(RigCalibrationResult* result) {
 RigCalibrationResult EstimateRigFromPairs(const RigViews& views, const PairwiseResult& pairwise,
                                           const RigCalibrationOptions& options) {
   const RigObservations obs = ObservationsOfPairs(views, pairwise);
-  RigCalibrationResult r = options.bundle_adjustment.refine_intrinsics
-                               ? EstimateRigAndIntrinsics(obs, options)
-                               : EstimateRigWithMotionLinks(obs, MatcherOfViews(views, options.pairwise.matching), options);
+  // Every run of the rig stage, both of the intrinsics' passes included, with the motion stage's
+  // links where they apply.
+  const ViewPairMatcher match = MatcherOfViews(views, options.pairwise.matching);
+  const RigPass with_motion = [&match](const RigObservations& o, const RigCalibrationOptions& opt) {
+    return EstimateRigWithMotionLinks(o, match, opt);
+  };
+  RigCalibrationResult r = options.bundle_adjustment.refine_intrinsics ? EstimateRigAndIntrinsics(obs, options, with_motion)
+                                                                       : with_motion(obs, options);
   r.pairwise = pairwise.report;
   UseReestimatedPairs(&r);
   MarkPairsTheRigLeftOut(&r);

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "calibrator/calibrator_test_support.h"
+#include "calibrator/rig_intrinsics.h"
 #include "calibrator/estimators/cross_time_candidates.h"
 #include "testing/synthetic_rig.h"
 
@@ -194,6 +195,32 @@ TEST(MotionLinks, RingWithoutSameInstantOverlapIsCalibratedOnAPathThatTurnsAndPi
       ASSERT_TRUE(c.errors[cam].direction_error_deg);
       EXPECT_LT(*c.errors[cam].direction_error_deg, 5.0);
     }
+  }
+}
+
+// With refined intrinsics the rig stage runs twice (rig_intrinsics.h); the controller runs both
+// passes with the motion stage's links, so a ring that only its motion links is placed then too.
+TEST(MotionLinks, IntrinsicsRefinementRunsBothOfItsPassesWithTheLinks) {
+  SyntheticRig s = SynthesizeRig(LowOverlapRing(TurningPath(16, 1.0, 8.0, 0.3, 15.0, 5.0), false));
+  const RigObservations obs = ObserveMoving(s);
+  RigCalibrationOptions options = TwoThreads();
+  options.bundle_adjustment.refine_intrinsics = true;
+  const ViewPairMatcher match = SyntheticMatcher(s);
+  const RigCalibrationResult alone = EstimateRigAndIntrinsics(obs, options);
+  const RigCalibrationResult linked = EstimateRigAndIntrinsics(
+      obs, options, [&match](const RigObservations& o, const RigCalibrationOptions& opt) {
+        return EstimateRigWithMotionLinks(o, match, opt);
+      });
+  EXPECT_FALSE(HasFullPose(alone.camera_status[1].outcome)) << alone.camera_status[1];
+  ASSERT_TRUE(linked.motion_links.has_value());
+  EXPECT_TRUE(linked.motion_links->kept);
+  const std::vector<CameraErrors> errors = ErrorsAgainst(s.rig, linked);
+  for (int cam = 0; cam < 4; ++cam) {
+    SCOPED_TRACE(cam);
+    ASSERT_EQ(linked.camera_status[cam].outcome, CameraOutcome::kCalibrated) << linked.camera_status[cam];
+    EXPECT_TRUE(linked.camera_stats[cam].intrinsics.has_value());
+    ASSERT_TRUE(errors[cam].rotation_error_deg);
+    EXPECT_LT(*errors[cam].rotation_error_deg, 1.0);
   }
 }
 

@@ -35,11 +35,12 @@ RigObservations ReestimateWithIntrinsics(const RigObservations& obs, const std::
   return out;
 }
 
-RigCalibrationResult EstimateRigAndIntrinsics(const RigObservations& obs, const RigCalibrationOptions& options) {
+RigCalibrationResult EstimateRigAndIntrinsics(const RigObservations& obs, const RigCalibrationOptions& options,
+                                              const RigPass& pass) {
   RigCalibrationOptions first = options;
   first.bundle_adjustment.refine_intrinsics = true;
   first.max_rejected_pairs = 0;  // the pairs' poses are off by the given intrinsics' errors
-  const RigCalibrationResult rough = EstimateRig(obs, first);
+  const RigCalibrationResult rough = pass(obs, first);
   std::vector<Camera> refined = obs.cameras;
   for (size_t c = 0; c < refined.size(); ++c) {
     if (rough.camera_stats[c].intrinsics) refined[c] = rough.rig.cameras[c].camera;
@@ -48,7 +49,7 @@ RigCalibrationResult EstimateRigAndIntrinsics(const RigObservations& obs, const 
   second.bundle_adjustment.refine_intrinsics = true;
   second.bundle_adjustment.intrinsics_priors.centres = obs.cameras;
   const RigObservations reestimated = ReestimateWithIntrinsics(obs, refined, options.pairwise.two_view);
-  RigCalibrationResult result = EstimateRig(reestimated, second);
+  RigCalibrationResult result = pass(reestimated, second);
   for (const PairEstimate& p : reestimated.pairs) result.reestimated_pairs.push_back(p.two_view);
   AddRigWork(rough, &result);
   return result;

@@ -13,13 +13,20 @@
 //     with the priors still centred on the given values.
 #pragma once
 
+#include <functional>
+
 #include "calibrator/stages/rig_calibration.h"
 
 namespace rigsim {
 
-// The two passes above; the result's rig has the refined intrinsics, camera_stats their given and
-// refined values and standard deviations. Throws like EstimateRig.
-RigCalibrationResult EstimateRigAndIntrinsics(const RigObservations& observations, const RigCalibrationOptions& options);
+// One run of the rig stage on observations: EstimateRig itself, or the controller's run with the
+// motion stage's links where they apply (motion_passes.h).
+using RigPass = std::function<RigCalibrationResult(const RigObservations&, const RigCalibrationOptions&)>;
+
+// The two passes above, each run by `pass`; the result's rig has the refined intrinsics,
+// camera_stats their given and refined values and standard deviations. Throws like EstimateRig.
+RigCalibrationResult EstimateRigAndIntrinsics(const RigObservations& observations, const RigCalibrationOptions& options,
+                                              const RigPass& pass = EstimateRig);
 
 // `observations` with other intrinsics: `cameras`, and every pair and temporal pair estimated
 // again from its matches with them (a pair without matches, screened out, stays as it was).

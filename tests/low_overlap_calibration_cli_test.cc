@@ -41,6 +41,17 @@ TEST(LowOverlapCalibration, AFourCameraRingAtTwoPercentOverlapIsPlacedFromItsMot
   EXPECT_GT(summary.at("motion_links").at("cross_time_pairs_used"), 0) << summary.dump();
   // The early stages already leave cam1-cam3 without a pose: the rig is made once, with the links.
   EXPECT_EQ(evaluation.at("methods").at("none").at("rig").at("timing").at("rig_passes"), 1);
+
+  // With refined intrinsics too: both of its passes run with the links.
+  const CliResult refined = RunRigsim({"calibrate", (dir / "data").string(), "--semantics", "none", "--refine-intrinsics",
+                                       "--out", (dir / "refined").string()},
+                                      dir / "refined", std::chrono::seconds(300));
+  ASSERT_EQ(refined.code, 0) << refined.out << refined.err;
+  const nlohmann::json refined_evaluation = nlohmann::json::parse(ReadFile(dir / "refined" / "evaluation.json"));
+  const nlohmann::json& refined_summary = refined_evaluation.at("methods").at("none").at("rig").at("summary");
+  EXPECT_EQ(refined_summary.at("cameras_calibrated"), 4) << refined_summary.dump();
+  EXPECT_EQ(refined_summary.at("cameras_within_tolerance"), 4) << refined_summary.dump();
+  EXPECT_GT(refined_summary.at("motion_links").at("cross_time_pairs_used"), 0) << refined_summary.dump();
 }
 
 }  // namespace
