@@ -1,6 +1,6 @@
 // Segmentation speed: one photo through a network as `rigsim segment` runs it (pre-processing,
 // OpenCV DNN, scores resized back to the photo, class mapping), with OpenCV's baseline code (what
-// rigsim runs, for the same labels on every node: calibrator/cpu_path.h) and with its own choice
+// rigsim runs, for the same labels on every node: calibrator/features/cpu_path.h) and with its own choice
 // of the widest vector code the CPU has (what that costs). rigsim ships no network:
 //
 //   RIGSIM_BENCH_MODEL=deeplabv3.onnx RIGSIM_BENCH_PHOTO=photo.jpg build/bench/rigsim_bench_segment

@@ -1,5 +1,7 @@
 #include "calibrator/calibrate_rig.h"
 
+#include <utility>
+
 #include "calibrator/motion_passes.h"
 #include "calibrator/rig_intrinsics.h"
 
@@ -65,11 +67,15 @@ RigCalibrationResult EstimateRigFromPairs(const RigViews& views, const PairwiseR
   return r;
 }
 
-RigCalibrationResult CalibrateRig(const RigViews& views, const RigCalibrationOptions& options) {
+RigCalibrationResult CalibrateRig(const RigViews& views, const RigCalibrationOptions& options,
+                                  PairwiseMatchData* keep_matches) {
   options.Check();
   PairwiseOptions pairwise = options.pairwise;
   pairwise.keep_match_details = pairwise.keep_match_details || options.keep_details;
-  return EstimateRigFromPairs(views, MatchRigPairs(views, pairwise), options);
+  PairwiseResult matched = MatchRigPairs(views, pairwise);
+  RigCalibrationResult r = EstimateRigFromPairs(views, matched, options);
+  if (keep_matches != nullptr) *keep_matches = std::move(matched.matches);
+  return r;
 }
 
 }  // namespace rigsim

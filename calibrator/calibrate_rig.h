@@ -20,9 +20,11 @@ namespace rigsim {
 RigCalibrationResult EstimateRigFromPairs(const RigViews& views, const PairwiseResult& pairwise,
                                           const RigCalibrationOptions& options);
 
-// The whole calibration of `views`: MatchRigPairs, then EstimateRigFromPairs. Throws
-// std::invalid_argument on bad options or views.
-RigCalibrationResult CalibrateRig(const RigViews& views, const RigCalibrationOptions& options);
+// The whole calibration of `views`: MatchRigPairs, then EstimateRigFromPairs. `keep_matches`, when
+// given, receives the pairwise stage's match data (for a caller that scores or draws the matches).
+// Throws std::invalid_argument on bad options or views.
+RigCalibrationResult CalibrateRig(const RigViews& views, const RigCalibrationOptions& options,
+                                  PairwiseMatchData* keep_matches = nullptr);
 
 // With reestimated_pairs: result->pairwise's two-view estimates replaced by them (the report then
 // shows the pairs the rig used).

@@ -1,6 +1,6 @@
 // Intrinsics against the truth (a rendered dataset's rig.json): how far a focal length and a
 // principal point are from the true ones, for the intrinsics a calibration was given and those
-// it refined (calibrator/intrinsics_refinement.h).
+// it refined (calibrator/estimators/intrinsics_refinement.h).
 #pragma once
 
 #include <optional>

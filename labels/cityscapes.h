@@ -56,7 +56,7 @@ class ReliableClasses {
   static ReliableClasses FromNames(const std::vector<std::string>& names);
   bool IsReliable(uint8_t id) const { return reliable_[id]; }
   void Set(uint8_t id, bool reliable) { reliable_[id] = reliable; }
-  // The reliable ids as a set, as the calibrator's mask modes take them (calibrator/semantics.h).
+  // The reliable ids as a set, as the calibrator's mask modes take them (calibrator/features/semantics.h).
   std::bitset<256> Ids() const;
 
  private:

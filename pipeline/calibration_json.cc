@@ -257,7 +257,7 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
                   {"temporal_pairs_used", r.num_temporal_pairs_used},
                   {"position_eigenvalue_ratio",
                    std::isfinite(r.position_eigenvalue_ratio) ? Json(r.position_eigenvalue_ratio) : Json(nullptr)}};
-  if (r.motion_links) {  // the motion stage, which links cameras through the rig's motion (calibrator/motion_links.h)
+  if (r.motion_links) {  // the motion stage, which links cameras through the rig's motion (calibrator/stages/motion_links.h)
     summary["motion_links"] = {{"kept", r.motion_links->kept},
                                {"motion", MotionKindName(r.motion_links->motion)},
                                {"cross_time_candidates", r.motion_links->candidates},

@@ -7,25 +7,22 @@
 #include <tbb/parallel_for.h>
 
 #include "calibrator/features/parallel_scope.h"
+#include "common/did_you_mean.h"
 #include "dataset/capture_poses.h"
 #include "dataset/image_io.h"
 #include "geometry/camera_validation.h"
 #include "geometry/json_io.h"
+#include "pipeline/calibration_plan.h"
 #include "pipeline/feature_cache.h"
 
 namespace rigsim {
 namespace {
 
 // The rig the calibration uses: rig.json's, with the given intrinsics when there are some.
-// Checks what can be checked before the long run: two cameras or more, a known distance between
-// cameras of the rig, given intrinsics for every camera at its size.
+// Checks what the options do not decide: two cameras or more, given intrinsics for every camera at
+// its size, some frames.
 Rig CalibrationRig(const CalibrationInputs& inputs, const CalibrationRunOptions& options) {
   const std::filesystem::path rig_json = DatasetLayout(inputs.dataset_dir).RigJson();
-  if (options.rig.known_distance) {
-    std::vector<std::string> names;
-    for (const RigCamera& rc : inputs.rig.cameras) names.push_back(rc.name);
-    KnownDistanceCameras(*options.rig.known_distance, names, rig_json.string());
-  }
   const Rig rig =
       options.intrinsics ? WithGivenIntrinsics(inputs.rig, options.intrinsics->rig, options.intrinsics->source) : inputs.rig;
   if (rig.cameras.size() < 2) throw std::runtime_error(rig_json.string() + ": calibration needs at least 2 cameras");
@@ -146,10 +143,11 @@ Rig WithGivenIntrinsics(const Rig& rig, const Rig& intrinsics, const std::string
   return out;
 }
 
-CalibrationRun CalibrateDataset(const CalibrationInputs& inputs, const CalibrationRunOptions& options,
+namespace {
+
+// CalibrateDataset once the known distance is checked against the inputs (CheckKnownDistance).
+CalibrationRun CalibrateChecked(const CalibrationInputs& inputs, const CalibrationRunOptions& options,
                                 const std::vector<SemanticMode>& modes) {
-  if (modes.empty()) throw std::invalid_argument("CalibrateDataset: no semantic mode given");
-  options.Check();
   const auto start = std::chrono::steady_clock::now();
   CalibrationRun run;
   run.inputs = inputs;
@@ -181,14 +179,12 @@ CalibrationRun CalibrateDataset(const CalibrationInputs& inputs, const Calibrati
     for (const RigCamera& rc : rig.cameras) views.readout_bottom_to_top.push_back(rc.readout_bottom_to_top);
     RigCalibrationOptions o = options.rig;
     o.pairwise.matching.gate_by_class = UsesGating(modes[m]);
-    o.pairwise.keep_match_details = o.pairwise.keep_match_details || o.keep_details;
-    PairwiseResult pairwise = MatchRigPairs(views, o.pairwise);
     RigCalibrationResult& r = run.results[m];
-    r = EstimateRigFromPairs(views, pairwise, o);
+    // The matches are kept to be scored against the truth and drawn.
+    r = CalibrateRig(views, o, &matches[m]);
     r.semantic_mode = std::string(SemanticModeName(modes[m]));
     run.records[m].detect_time_s = features.DetectTimeS(modes[m]);
-    run.records[m].inlier_samples = InlierSamples(inputs.rig, pairwise.report, pairwise.matches);
-    matches[m] = std::move(pairwise.matches);
+    run.records[m].inlier_samples = InlierSamples(inputs.rig, r.pairwise, matches[m]);
   });
 
   if (options.evaluate && inputs.truth) {
@@ -201,6 +197,38 @@ CalibrationRun CalibrateDataset(const CalibrationInputs& inputs, const Calibrati
     }
   }
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return run;
+}
+
+}  // namespace
+
+void CheckKnownDistance(const CalibrationInputs& inputs, const CalibrationRunOptions& options) {
+  if (!options.rig.known_distance) return;
+  std::vector<std::string> names;
+  for (const RigCamera& c : inputs.rig.cameras) names.push_back(c.name);
+  for (const std::string& name : {options.rig.known_distance->cam_a, options.rig.known_distance->cam_b}) {
+    if (inputs.rig.FindCamera(name) >= 0) continue;
+    std::string list;
+    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+    throw std::invalid_argument("--known-distance: no camera '" + name + "' in " +
+                                DatasetLayout(inputs.dataset_dir).RigJson().string() + DidYouMean(name, names) +
+                                "; its cameras are " + list);
+  }
+}
+
+CalibrationRun CalibrateDataset(const CalibrationInputs& inputs, const CalibrationRunOptions& options,
+                                const std::vector<SemanticMode>& modes) {
+  if (modes.empty()) throw std::invalid_argument("CalibrateDataset: no semantic mode given");
+  options.Check();
+  CheckKnownDistance(inputs, options);
+  return CalibrateChecked(inputs, options, modes);
+}
+
+CalibrationRun CalibrateDataset(const CalibrationPlan& plan) {
+  if (plan.modes.empty()) throw std::invalid_argument("CalibrateDataset: no semantic mode given");
+  plan.options.Check();
+  CalibrationRun run = CalibrateChecked(plan.inputs, plan.options, plan.modes);
+  if (plan.segmenter) run.options.labels.folder = plan.out.dir / "segmentation" / "labels";
   return run;
 }
 

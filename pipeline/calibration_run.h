@@ -1,6 +1,6 @@
 // Calibrating a dataset as `rigsim calibrate` and `rigsim demo` do: its inputs read once and
 // checked, every view's features detected once per kind and shared by the semantic modes
-// (feature_cache.h), the calibration core run on them per mode (calibrator/rig_calibration.h,
+// (feature_cache.h), the calibration core run on them per mode (calibrator/calibrate_rig.h,
 // in memory), and the result compared with the truth when the dataset has it
 // (calibration_scores.h). No printing: warnings are returned for the caller to show.
 //
@@ -122,9 +122,15 @@ struct CalibrationRun {
   }
 };
 
-// Calibrates the rig of `inputs.dataset_dir` in each of `modes` (at least one). With
-// options.rig.keep_details, each result also keeps what a report shows of every stage
-// (RigCalibrationResult::details, report/); off, the run costs nothing more. Throws
+// Checks that options.rig.known_distance names cameras of the rig, in the command line's words
+// (--known-distance, naming rig.json, a close name and the cameras it has). Throws
+// std::invalid_argument.
+void CheckKnownDistance(const CalibrationInputs& inputs, const CalibrationRunOptions& options);
+
+// Calibrates the rig of `inputs.dataset_dir` in each of `modes` (at least one), after
+// CheckKnownDistance; the core's entry point (calibrator/calibrate_rig.h CalibrateRig) runs once
+// per mode. With options.rig.keep_details, each result also keeps what a report shows of every
+// stage (RigCalibrationResult::details, report/); off, the run costs nothing more. Throws
 // std::invalid_argument on bad options (a known distance or --intrinsics naming cameras the rig
 // does not have), std::runtime_error naming the file when an input is missing or inconsistent
 // (an image absent or of the wrong size for its camera; labels absent when a mode needs them).

@@ -14,7 +14,7 @@
 // open. A model exported with a fixed input size is run at that size.
 //
 // Which CPU code OpenCV runs follows cv::setUseOptimized (rigsim turns its wide-vector paths off
-// where the program starts, calibrator/cpu_path.h), so the labels are the same on every node.
+// where the program starts, calibrator/features/cpu_path.h), so the labels are the same on every node.
 #pragma once
 
 #include <array>

@@ -1,4 +1,4 @@
-// One binary on every node of a cluster: the calibrator's CPU paths (calibrator/cpu_path.h) give
+// One binary on every node of a cluster: the calibrator's CPU paths (calibrator/features/cpu_path.h) give
 // the same calibration bytes, and so does OpenCV whatever its own dispatch would choose, as rigsim
 // holds it to its baseline; so a sweep split over machines with and without AVX2 or AVX-512 merges
 // into what one machine writes. RIGSIM_CPU_PATH forces each path this CPU has; OPENCV_CPU_DISABLE

@@ -1,5 +1,5 @@
 // A ring whose cameras share little of their views at the same instant, driven round a turn: the
-// same-instant pairs place only the reference camera; the rig's motion (calibrator/motion_links.h:
+// same-instant pairs place only the reference camera; the rig's motion (calibrator/stages/motion_links.h:
 // hand-eye starts, views matched across time) must place every camera, within the evaluation's
 // tolerance, and none outside it.
 #include <filesystem>

@@ -1,6 +1,5 @@
 #include "apps/rigsim/calibrate_support.h"
 #include "apps/rigsim/commands.h"
-#include "calibrator/features/features.h"
 #include "common/param_spec.h"
 #include "dataset/dataset.h"
 

@@ -1,40 +1,26 @@
 #include "apps/rigsim/calibrate_support.h"
 
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <memory>
+#include <functional>
 
 #include "apps/rigsim/commands.h"
 #include "apps/rigsim/parse_errors.h"
 #include "common/format.h"
-#include "common/did_you_mean.h"
 #include "dataset/dataset.h"
 #include "dataset/output_folder.h"
 #include "pipeline/calibration_outputs.h"
-#include "pipeline/calibration_run.h"
+#include "pipeline/calibration_plan.h"
 #include "pipeline/report_table.h"
 
 namespace rigsim::cli {
 
 LabelSource LabelSettings::ToSource() const {
-  if (labels != "noisy") {
-    for (const CLI::Option* opt : noise_options) {
-      if (opt->count() > 0) throw std::invalid_argument(opt->get_name() + " needs --labels noisy (got --labels " + labels + ")");
-    }
+  std::string noise_option_given;
+  for (const CLI::Option* opt : noise_options) {
+    if (opt->count() > 0 && noise_option_given.empty()) noise_option_given = opt->get_name();
   }
-  LabelSource source;
-  if (labels == "truth") {
-    source = LabelSource::Truth();
-  } else if (labels == "noisy") {
-    source = LabelSource::Noisy(noise);
-  } else if (labels.empty()) {
-    throw std::invalid_argument("--labels: give truth, noisy or a folder");
-  } else {
-    source = LabelSource::Folder(labels);
-  }
-  source.Check();
-  return source;
+  return LabelSourceNamed(labels, noise, noise_option_given);
 }
 
 void AddLabelSourceOptions(CLI::App& cmd, LabelSettings& s) {
@@ -202,124 +188,34 @@ OutputFolderRequest CalibrationOutputFolder(const std::filesystem::path& dataset
 
 namespace {
 
-// --known-distance names cameras of the rig, or says which it has.
-// --estimate-time-offsets and --rolling-shutter need frames at distinct times of a moving rig, and
-// do not combine with --refine-intrinsics.
-void CheckCaptureTimeOptions(const CalibrationRunOptions& options, const CalibrationInputs& inputs,
-                             const std::filesystem::path& frames_json) {
-  const CaptureTimeOptions& time = options.rig.capture_time;
-  if (!time.estimate_offsets && !time.estimate_readout) return;
-  const std::string flag = time.estimate_offsets ? "--estimate-time-offsets" : "--rolling-shutter";
-  if (options.rig.bundle_adjustment.refine_intrinsics) {
-    throw std::invalid_argument(flag + " does not combine with --refine-intrinsics: calibrate the intrinsics first, "
-                                "then the capture times with them (--intrinsics)");
-  }
-  std::vector<double> times;
-  for (const Frame& f : inputs.frames.frames) times.push_back(f.timestamp_s);
-  if (const auto why = WhyNoTimingModel(times)) {
-    throw std::invalid_argument(flag + ": " + frames_json.string() + ": " + *why +
-                                "; capture times are estimated from a moving rig's frames and their timestamps");
-  }
-}
-
-void CheckKnownDistanceCameras(const CalibrateSettings& settings, const Rig& rig, const std::filesystem::path& rig_json) {
-  if (settings.known_distance.size() != 3) return;
-  std::vector<std::string> names;
-  for (const RigCamera& c : rig.cameras) names.push_back(c.name);
-  for (int i = 0; i < 2; ++i) {
-    const std::string& name = settings.known_distance[i];
-    if (rig.FindCamera(name) >= 0) continue;
-    std::string list;
-    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
-    throw std::invalid_argument("--known-distance: no camera '" + name + "' in " + rig_json.string() + DidYouMean(name, names) +
-                                "; its cameras are " + list);
-  }
-}
-
-// The semantic modes to run. Photos without labels (no DATASET/labels/ for --labels truth) run the
-// default modes that need none, with a warning; modes asked for by name that need labels are
-// refused, saying what to do.
-std::vector<SemanticMode> ModesFor(const std::filesystem::path& dataset, const CalibrateSettings& settings) {
-  std::vector<SemanticMode> modes = settings.Modes();
-  const std::filesystem::path labels = DatasetLayout(dataset).root() / "labels";
-  if (settings.labels.labels != "truth" || !settings.segmenter.model.empty() || std::filesystem::exists(labels) ||
-      std::none_of(modes.begin(), modes.end(), NeedsLabels)) {
-    return modes;
-  }
-  std::string needing;
-  for (SemanticMode m : modes) {
-    if (NeedsLabels(m)) needing += (needing.empty() ? "" : ",") + std::string(SemanticModeName(m));
-  }
-  const bool given = settings.semantics_option != nullptr && settings.semantics_option->count() > 0;
-  if (given || std::all_of(modes.begin(), modes.end(), NeedsLabels)) {
-    throw std::runtime_error(labels.string() + ": no such folder: --semantics " + needing +
-                             " needs a label image per photo (docs/calibration.md, 'Labels for the semantic modes'); for photos "
-                             "without labels use --semantics none, or give labels with --labels DIR or a network with --segmenter MODEL.onnx");
-  }
-  std::fprintf(stderr, "warning: %s has no labels/: calibrating with --semantics none only (%s needs a label image per photo; "
-               "--labels DIR or --segmenter MODEL.onnx gives them)\n", dataset.string().c_str(), needing.c_str());
-  modes.erase(std::remove_if(modes.begin(), modes.end(), NeedsLabels), modes.end());
-  return modes;
-}
-
-// The network of --segmenter, checked before the long run; nullptr without one or when no mode
-// needs labels (with a warning).
-std::unique_ptr<Segmenter> SegmenterFor(const CalibrateSettings& settings, bool labels_used) {
-  const SegmenterSettings& s = settings.segmenter;
-  if (s.model.empty()) return nullptr;
-  if (settings.labels.labels != "truth") {
-    throw std::invalid_argument("--segmenter and --labels " + settings.labels.labels +
-                                " both say where the labels come from: give one");
-  }
-  if (!labels_used) {
-    std::fprintf(stderr, "warning: --segmenter %s is not used: no semantic mode given needs labels\n", s.model.c_str());
-    return nullptr;
-  }
-  return std::make_unique<Segmenter>(s.ToOptions());
-}
+void Warn(const std::string& warning) { std::fprintf(stderr, "warning: %s\n", warning.c_str()); }
 
 }  // namespace
 
 CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const CalibrateSettings& settings,
                                   const std::filesystem::path& out_dir, bool force) {
-  CalibrationRunOptions options = settings.ToOptions();
-  const std::vector<SemanticMode> modes = ModesFor(dataset, settings);
-  const bool labels_used = std::any_of(modes.begin(), modes.end(), NeedsLabels);
-  const std::unique_ptr<Segmenter> segmenter = SegmenterFor(settings, labels_used);
-  LabelSource& labels = options.labels;
-  if (!labels_used && labels.kind != LabelSource::Kind::kTruth) {
-    std::fprintf(stderr, "warning: --labels %s is not used: no semantic mode given needs labels\n",
-                 settings.labels.labels.c_str());
+  CalibrationRequest request;
+  request.dataset = dataset;
+  request.options = settings.ToOptions();
+  request.modes = settings.Modes();
+  request.modes_given = settings.semantics_option != nullptr && settings.semantics_option->count() > 0;
+  request.segmenter_model = settings.segmenter.model;
+  request.segmenter_options = [&settings] { return settings.segmenter.ToOptions(); };
+  request.out = CalibrationOutputFolder(dataset, settings, out_dir, force);
+  CalibrationPlan plan = PlanCalibration(request, Warn);
+  StagedOutput staged(plan.out);
+  if (plan.segmenter) {
+    SegmentWithProgress(*plan.segmenter, [&](const std::function<void(int, int)>& progress) {
+      return SegmentLabels(&plan, staged.staging_dir(), progress);
+    });
   }
-  // Everything that can be checked cheaply is checked before the long run, so that bad input
-  // fails fast and leaves nothing behind.
-  const OutputFolderRequest out = CalibrationOutputFolder(dataset, settings, out_dir, force);
-  CheckReplaceableOutput(out);
-  const CalibrationInputs inputs = ReadCalibrationInputs(dataset);
-  for (const std::string& w : inputs.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-  CheckKnownDistanceCameras(settings, inputs.rig, DatasetLayout(dataset).RigJson());
-  CheckCaptureTimeOptions(options, inputs, DatasetLayout(dataset).FramesJson());
-  const std::vector<SegmentedPhoto> photos = segmenter ? PhotosToSegment(dataset) : std::vector<SegmentedPhoto>{};
-  StagedOutput staged(out);
-
-  std::string label_text = labels.Describe();
-  if (segmenter) {
-    // The network's labels are written into the output folder and read from there.
-    const std::filesystem::path segmentation = staged.staging_dir() / "segmentation";
-    SegmentWithProgress(photos, *segmenter, segmentation);
-    labels = LabelSource::Folder(segmentation / "labels");
-    label_text = "network " + settings.segmenter.model + " (classes " + segmenter->classes().name + ")";
-  }
-  std::fprintf(stderr, "calibrating %s (%s%s)...\n", dataset.string().c_str(), Count(modes.size(), "semantic mode").c_str(),
-               labels_used ? (", labels: " + label_text).c_str() : "");
-  CalibrationRun run = CalibrateDataset(inputs, options, modes);
-  // The results name the labels where they will be, not in the staging folder.
-  if (segmenter) run.options.labels.folder = out_dir / "segmentation" / "labels";
-  for (const std::string& note : WriteCalibrationResults(run, staged.staging_dir())) {
-    std::fprintf(stderr, "warning: %s\n", note.c_str());
-  }
+  std::fprintf(stderr, "calibrating %s (%s%s)...\n", dataset.string().c_str(), Count(plan.modes.size(), "semantic mode").c_str(),
+               plan.labels_used ? (", labels: " + plan.label_text).c_str() : "");
+  CalibrationRun run = CalibrateDataset(plan);
+  for (const std::string& note : WriteCalibrationResults(run, staged.staging_dir())) Warn(note);
   staged.Commit();
 
+  const CalibrationInputs& inputs = plan.inputs;
   const std::vector<RigCalibrationResult>& results = run.results;
   std::printf("\nRelative pose of every camera pair (matches of %s pooled):\n\n",
               Count(results.empty() ? 0 : results[0].pairwise.num_frames, "frame").c_str());
@@ -334,14 +230,14 @@ CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const Ca
                 "readout, +- one standard deviation%s:\n\n%s",
                 results[0].rig.cameras[0].name.c_str(), inputs.truth ? "; error against the truth" : "", times.c_str());
   }
-  if (options.rig.bundle_adjustment.refine_intrinsics) {
+  if (plan.options.rig.bundle_adjustment.refine_intrinsics) {
     std::printf("\nIntrinsics refined in the bundle adjustment (change from the given values, +- one standard "
                 "deviation%s):\n\n%s\n",
                 inputs.truth ? "; error against the truth" : "", FormatIntrinsicsTable(run).c_str());
   }
   std::printf("calibration took %.1f s; labels: %s; results in %s:\n", run.seconds,
-              labels_used ? label_text.c_str() : "not used", out_dir.string().c_str());
-  if (segmenter) std::printf("  segmentation/: the network's labels/, labels_color/ and segmentation.json\n");
+              plan.labels_used ? plan.label_text.c_str() : "not used", out_dir.string().c_str());
+  if (plan.segmenter) std::printf("  segmentation/: the network's labels/, labels_color/ and segmentation.json\n");
   std::printf("  evaluation.json; per mode <mode>/: rig.json and frames.json (the estimate and its rig poses), camchain.yaml\n"
               "  (Kalibr), opencv.yaml, colmap/, pairs.json,\n"
               "  rig_topdown.svg (the rig seen from above%s), matches/ (each solved pair's inliers)\n",

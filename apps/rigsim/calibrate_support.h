@@ -9,7 +9,6 @@
 #include <CLI/CLI.hpp>
 
 #include "apps/rigsim/segment_support.h"
-#include "calibrator/calibrate_rig.h"
 #include "dataset/label_source.h"
 #include "dataset/output_folder.h"
 #include "pipeline/calibration_run.h"
@@ -32,8 +31,9 @@ struct LabelSettings {
     n.seed = 1;
     return n;
   }
-  // Throws std::invalid_argument on noise options without --labels noisy or bad values,
-  // std::runtime_error naming a label folder that does not exist.
+  // The label source (pipeline/calibration_plan.h LabelSourceNamed): throws std::invalid_argument
+  // on noise options without --labels noisy or bad values, std::runtime_error naming a label folder
+  // that does not exist.
   LabelSource ToSource() const;
 };
 
@@ -48,8 +48,8 @@ struct CalibrateSettings {
   std::vector<std::string> known_distance;  // CAM_A CAM_B METRES, or empty
   std::string intrinsics;                   // --intrinsics FILE (a rig.json), or empty: the dataset's
   LabelSettings labels;                     // options.labels, resolved by ToOptions
-  // --segmenter MODEL.onnx: labels from a network run on the photos first (segmentation/), written
-  // to OUT/segmentation/ and read from there; in place of --labels.
+  // --segmenter MODEL.onnx: labels from a network run on the photos first (by the pipeline,
+  // pipeline/calibration_plan.h), written to OUT/segmentation/; in place of --labels.
   SegmenterSettings segmenter;
   // The options with the names above resolved; throws std::invalid_argument on bad values.
   CalibrationRunOptions ToOptions() const;
@@ -64,10 +64,11 @@ void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& settings);
 OutputFolderRequest CalibrationOutputFolder(const std::filesystem::path& dataset, const CalibrateSettings& settings,
                                             const std::filesystem::path& out_dir, bool force);
 
-// Calibrates the rig of `dataset` in each semantic mode (pipeline/calibration_run.h; the default
-// modes without those that need labels when the dataset has none, with a warning), writes the
-// results into `out_dir` (pipeline/calibration_outputs.h; atomically, replaced only with `force`)
-// and prints the pair and camera tables and a summary, warnings to stderr. Returns the run (with
+// Calibrates the rig of `dataset` in each semantic mode (pipeline/calibration_plan.h, which checks
+// the inputs first and drops the default modes that need labels when the dataset has none), writes
+// the results into `out_dir` (pipeline/calibration_outputs.h; atomically, replaced only with
+// `force`) and prints the network's progress, the pair and camera tables and a summary, warnings
+// to stderr. Returns the run (with
 // each stage's details when settings.options.rig.keep_details, for a report).
 CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const CalibrateSettings& settings,
                                   const std::filesystem::path& out_dir, bool force);

@@ -5,7 +5,6 @@
 #include <string>
 
 #include "apps/rigsim/commands.h"
-#include "calibrator/features/semantics.h"
 #include "common/param_spec.h"
 #include "dataset/dataset.h"
 #include "dataset/output_file.h"
@@ -13,6 +12,7 @@
 #include "evaluation/rig_scores.h"
 #include "geometry/json_io.h"
 #include "geometry/rig.h"
+#include "pipeline/calibration_run.h"
 
 namespace rigsim::cli {
 

@@ -10,7 +10,7 @@
 #include "apps/rigsim/interrupt.h"
 #include "apps/rigsim/parse_errors.h"
 #include "apps/rigsim/version.h"
-#include "calibrator/features/cpu_path.h"
+#include "pipeline/cpu_paths.h"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -35,8 +35,7 @@ int main(int argc, char** argv) {
   rigsim::cli::AddSweepMergeCommand(app);
   rigsim::cli::AddReportCommand(app);
   try {
-    rigsim::SelectedCpuPath();  // a bad RIGSIM_CPU_PATH stops every command before it writes anything
-    rigsim::UseOpenCvBaselinePaths();  // every command's OpenCV calls (the report's images too) take one path
+    rigsim::SelectCpuPaths();  // before any command writes anything
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);  // --help, --version

@@ -1,6 +1,6 @@
-#include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <string>
 
 #include "apps/rigsim/commands.h"
@@ -39,13 +39,12 @@ void AddSegmentCommand(CLI::App& app) {
     const Segmenter segmenter(options);
     const std::vector<SegmentedPhoto> photos = PhotosToSegment(dataset);
     OutputFolderRequest request{out, args->out.empty() ? "" : "--out", "rigsim segment", {}, args->force};
-    request.inputs = {{dataset / "images", "the dataset's images/"}, {options.model, "--model"}};
-    const std::vector<std::string> builtin = BuiltinClassTableNames();
-    if (std::find(builtin.begin(), builtin.end(), options.classes) == builtin.end()) {
-      request.inputs.push_back({options.classes, "--classes"});
-    }
+    request.inputs = {{dataset / "images", "the dataset's images/"}};
+    for (const CommandInput& input : SegmenterInputs(options, "--model")) request.inputs.push_back(input);
     StagedOutput staged(request);
-    SegmentWithProgress(photos, segmenter, staged.staging_dir());
+    SegmentWithProgress(segmenter, [&](const std::function<void(int, int)>& progress) {
+      return SegmentPhotos(photos, segmenter, staged.staging_dir(), progress);
+    });
     staged.Commit();
     std::printf("labels in %s (previews in labels_color/); calibrate with them:\n  rigsim calibrate %s --semantics "
                 "none,mask --labels %s\n",

@@ -9,7 +9,6 @@
 #include "apps/rigsim/interrupt.h"
 #include "apps/rigsim/progress.h"
 #include "common/format.h"
-#include "labels/cityscapes.h"
 
 namespace rigsim::cli {
 namespace {
@@ -85,15 +84,16 @@ void AddSegmenterOptions(CLI::App& cmd, SegmenterSettings& s, const std::string&
                           ->check(CLI::IsMember({"rgb", "bgr"})));
 }
 
-SegmentDatasetSummary SegmentWithProgress(const std::vector<SegmentedPhoto>& photos, const Segmenter& segmenter,
-                                          const std::filesystem::path& out_dir) {
+SegmentDatasetSummary SegmentWithProgress(
+    const Segmenter& segmenter,
+    const std::function<SegmentDatasetSummary(const std::function<void(int done, int total)>& progress)>& segment) {
   const bool tty = ::isatty(2);
   const auto start = std::chrono::steady_clock::now();
   int last_quarter = -1;
   SegmentDatasetSummary summary;
   {
     const InterruptScope interrupt;
-    summary = SegmentPhotos(photos, segmenter, out_dir, [&](int done, int total) {
+    summary = segment([&](int done, int total) {
       const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       std::string line = "segmenting " + std::to_string(done) + "/" + Count(total, "photo");
       if (done < total) line += ", about " + DurationInWords(elapsed / done * (total - done)) + " left";
@@ -107,35 +107,7 @@ SegmentDatasetSummary SegmentWithProgress(const std::vector<SegmentedPhoto>& pho
       InterruptScope::ThrowIfRequested();
     });
   }
-  const ClassTable& table = segmenter.classes();
-  std::printf("segmented %s with %s (classes %s, input %dx%d) in %.1f s: %.2f s per photo, %.2f s of it in the "
-              "network\n",
-              Count(summary.photos, "photo").c_str(), segmenter.options().model.filename().string().c_str(), table.name.c_str(),
-              summary.first_input_size[0], summary.first_input_size[1], summary.seconds, summary.seconds / summary.photos,
-              summary.inference_seconds / summary.photos);
-  int64_t total = 0;
-  for (const auto& [id, n] : summary.pixels_per_class) total += n;
-  std::string shares;
-  for (const auto& [id, n] : summary.pixels_per_class) {
-    if (n * 100 < total) continue;  // under 1%
-    const LabelClass* c = FindClassById(id);
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%s%s %.0f%%", shares.empty() ? "" : ", ", c ? std::string(c->name).c_str() : "?",
-                  100.0 * n / total);
-    shares += buf;
-  }
-  std::printf("classes (share of pixels, 1%% or more): %s\n", shares.c_str());
-  if (summary.photos_with_truth > 0) {
-    std::printf("against the true labels of %s: %.1f%% of pixels agree; the reliable-class mask (what --semantics "
-                "mask detects on) has IoU %.3f; per class (IoU, share of the truth):\n",
-                Count(summary.photos_with_truth, "photo").c_str(), 100.0 * summary.pixels_agreeing / summary.pixels_compared, summary.reliable.IoU());
-    for (const auto& [id, a] : summary.per_class) {
-      if (a.truth == 0) continue;
-      const LabelClass* c = FindClassById(id);
-      std::printf("  %-14s IoU %.3f  %5.1f%%\n", c ? std::string(c->name).c_str() : "?", a.IoU(),
-                  100.0 * a.truth / summary.pixels_compared);
-    }
-  }
+  std::printf("%s", FormatSegmentationSummary(summary, segmenter).c_str());
   return summary;
 }
 

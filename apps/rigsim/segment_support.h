@@ -1,15 +1,14 @@
 // What `rigsim segment` and `calibrate --segmenter` share: the options of a segmentation network
-// (segmentation/segmenter.h) and its run over a dataset's photos with a progress line.
+// (pipeline/segmentation_run.h) and its run over a dataset's photos with a progress line.
 #pragma once
 
-#include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
-#include "segmentation/segment_dataset.h"
-#include "segmentation/segmenter.h"
+#include "pipeline/segmentation_run.h"
 
 namespace rigsim::cli {
 
@@ -34,9 +33,11 @@ struct SegmenterSettings {
 void AddSegmenterOptions(CLI::App& cmd, SegmenterSettings& settings, const std::string& model_option,
                          const std::string& model_help);
 
-// Segments `photos` into `out_dir` (a staging folder) with a progress line and the time left on
-// stderr (Ctrl-C stops after the photo being segmented), then prints what it did.
-SegmentDatasetSummary SegmentWithProgress(const std::vector<SegmentedPhoto>& photos, const Segmenter& segmenter,
-                                          const std::filesystem::path& out_dir);
+// Runs `segment` (a network over a dataset's photos, taking a progress callback) with a progress
+// line and the time left on stderr (Ctrl-C stops after the photo being segmented), then prints what
+// `segmenter` did.
+SegmentDatasetSummary SegmentWithProgress(
+    const Segmenter& segmenter,
+    const std::function<SegmentDatasetSummary(const std::function<void(int done, int total)>& progress)>& segment);
 
 }  // namespace rigsim::cli
