@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 
 #include <Eigen/SVD>
 
+#include "calibrator/model/union_find.h"
 #include "geometry/rigid3.h"
 #include "calibrator/model/rig_state.h"
 
@@ -21,29 +21,25 @@ CameraCentres EstimateCameraCentres(const ViewGraph& graph,
 
   // Edges with a direction between cameras with rotations; the reference's component over them.
   std::vector<int> edges;
-  std::vector<int> parent(n);
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
+  UnionFind components(n);
   for (int e = 0; e < static_cast<int>(graph.edges.size()); ++e) {
     const ViewGraphEdge& g = graph.edges[e];
     if (!g.active || g.rotation_only || !cam_from_rig[g.cam_a] || !cam_from_rig[g.cam_b]) continue;
     edges.push_back(e);
-    parent[find(g.cam_a)] = find(g.cam_b);
+    components.Join(g.cam_a, g.cam_b);
   }
   std::vector<int> unknown_of(n, -1);  // column block of each camera; the reference has none
   std::vector<int> cams;
   for (int c = 0; c < n; ++c) {
-    if (c != reference_camera && cam_from_rig[c] && find(c) == find(reference_camera)) {
+    if (c != reference_camera && cam_from_rig[c] && components.Find(c) == components.Find(reference_camera)) {
       unknown_of[c] = static_cast<int>(cams.size());
       cams.push_back(c);
     }
   }
   out.centre_in_rig[reference_camera] = Eigen::Vector3d::Zero();
   if (cams.empty()) return out;
-  std::erase_if(edges, [&](int e) { return find(graph.edges[e].cam_a) != find(reference_camera); });
+  const int reference_root = components.Find(reference_camera);
+  std::erase_if(edges, [&](int e) { return components.Find(graph.edges[e].cam_a) != reference_root; });
   out.edges_used = static_cast<int>(edges.size());
 
   // Direction of c_a - c_b in the rig frame, per edge.

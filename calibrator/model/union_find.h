@@ -7,8 +7,14 @@
 
 namespace rigsim {
 
+// The root of a set is its smallest id, so that a set's label does not depend on the order of joins.
 struct UnionFind {
   std::vector<int> parent;
+  UnionFind() = default;
+  // Ids 0 .. n-1, each alone.
+  explicit UnionFind(int n) {
+    for (int i = 0; i < n; ++i) Add();
+  }
   int Add() {
     parent.push_back(static_cast<int>(parent.size()));
     return parent.back();

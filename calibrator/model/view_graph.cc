@@ -1,17 +1,10 @@
 #include "calibrator/model/view_graph.h"
 
-#include <numeric>
 #include <stdexcept>
 
+#include "calibrator/model/union_find.h"
+
 namespace rigsim {
-namespace {
-
-int Find(std::vector<int>& parent, int x) {
-  while (parent[x] != x) x = parent[x] = parent[parent[x]];
-  return x;
-}
-
-}  // namespace
 
 void ViewGraphOptions::Check() const {
   if (min_inliers < 5) throw std::invalid_argument("ViewGraphOptions: min_inliers must be >= 5");
@@ -61,17 +54,14 @@ ViewGraph BuildViewGraph(int num_cameras, const std::vector<PairEstimate>& pairs
 }
 
 std::vector<int> ConnectedComponents(const ViewGraph& graph, bool translation_only) {
-  std::vector<int> parent(graph.num_cameras);
-  std::iota(parent.begin(), parent.end(), 0);
+  UnionFind components(graph.num_cameras);
   for (const ViewGraphEdge& e : graph.edges) {
     if (!e.active || (translation_only && e.rotation_only)) continue;
-    const int ra = Find(parent, e.cam_a), rb = Find(parent, e.cam_b);
-    // The smaller index becomes the root, so the label is the component's smallest camera.
-    if (ra < rb) parent[rb] = ra;
-    else if (rb < ra) parent[ra] = rb;
+    components.Join(e.cam_a, e.cam_b);
   }
+  // The root is the smallest id: the label is the component's smallest camera.
   std::vector<int> label(graph.num_cameras);
-  for (int c = 0; c < graph.num_cameras; ++c) label[c] = Find(parent, c);
+  for (int c = 0; c < graph.num_cameras; ++c) label[c] = components.Find(c);
   return label;
 }
 
