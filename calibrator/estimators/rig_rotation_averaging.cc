@@ -8,9 +8,9 @@
 #include <string>
 
 #include <ceres/ceres.h>
-#include <ceres/manifold.h>
 
 #include "calibrator/estimators/cost_functions.h"
+#include "calibrator/estimators/robust_rotation_fit.h"
 #include "geometry/rigid3.h"
 #include "calibrator/model/rig_state.h"
 
@@ -108,61 +108,28 @@ void Propagate(const std::vector<ViewPairRotation>& ms, const std::vector<char>&
 
 void Refine(const std::vector<ViewPairRotation>& ms, const std::vector<char>& outlier,
             const RigRotationAveragingOptions& options, Rotations* q, Rotations* r) {
-  std::vector<int> inside, weights;
+  std::vector<int> inside, inliers;
   for (int i = 0; i < static_cast<int>(ms.size()); ++i) {
     if (outlier[i] || !Predicted(ms[i], *q, *r)) continue;
     inside.push_back(i);
-    weights.push_back(std::max(1, ms[i].inliers));
+    inliers.push_back(ms[i].inliers);
   }
-  if (inside.empty()) return;
-  std::vector<int> sorted = weights;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  const double median_weight = sorted[sorted.size() / 2];
-  std::vector<Eigen::Quaterniond> qv(q->size(), Eigen::Quaterniond::Identity()), rv(r->size(), Eigen::Quaterniond::Identity());
-  for (size_t c = 0; c < q->size(); ++c) {
-    if ((*q)[c]) qv[c] = *(*q)[c];
-  }
-  for (size_t k = 0; k < r->size(); ++k) {
-    if ((*r)[k]) rv[k] = *(*r)[k];
-  }
-  ceres::Problem::Options problem_options;
-  problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
-  problem_options.loss_function_ownership = ceres::TAKE_OWNERSHIP;
-  ceres::Problem problem(problem_options);
-  ceres::LossFunction* loss = new ceres::CauchyLoss(DegToRad(options.loss_scale_deg));
-  for (size_t j = 0; j < inside.size(); ++j) {
-    const ViewPairRotation& m = ms[inside[j]];
-    const double w = std::sqrt(weights[j] / median_weight);
-    double* qa = qv[m.cam_a].coeffs().data();
-    double* qb = qv[m.cam_b].coeffs().data();
+  // Group 0 the cameras' rotations, group 1 the frames'.
+  auto add = [&](ceres::Problem& problem, ceres::LossFunction* loss, int k, double w, const RotationBlock& block) {
+    const ViewPairRotation& m = ms[inside[k]];
+    double* qa = block(0, m.cam_a);
+    double* qb = block(0, m.cam_b);
     if (Pooled(m) || m.frame_a == m.frame_b) {
       problem.AddResidualBlock(RelativeRotationCost::Create(m.b_from_a, w), loss, qa, qb);
     } else if (m.cam_a == m.cam_b) {
-      problem.AddResidualBlock(ViewMotionRotationCost::Create(m.b_from_a, w), loss, qa, rv[m.frame_a].coeffs().data(),
-                               rv[m.frame_b].coeffs().data());
+      problem.AddResidualBlock(ViewMotionRotationCost::Create(m.b_from_a, w), loss, qa, block(1, m.frame_a),
+                               block(1, m.frame_b));
     } else {
-      problem.AddResidualBlock(ViewPairRotationCost::Create(m.b_from_a, w), loss, qa, rv[m.frame_a].coeffs().data(), qb,
-                               rv[m.frame_b].coeffs().data());
-    }
-  }
-  auto set_up = [&](Eigen::Quaterniond& x, bool gauge) {
-    double* block = x.coeffs().data();
-    if (!problem.HasParameterBlock(block)) return;
-    if (gauge) {
-      problem.SetParameterBlockConstant(block);
-    } else {
-      problem.SetManifold(block, new ceres::EigenQuaternionManifold);
+      problem.AddResidualBlock(ViewPairRotationCost::Create(m.b_from_a, w), loss, qa, block(1, m.frame_a), qb,
+                               block(1, m.frame_b));
     }
   };
-  for (size_t c = 0; c < qv.size(); ++c) set_up(qv[c], c == 0);
-  for (size_t k = 0; k < rv.size(); ++k) set_up(rv[k], k == 0);
-  SolveRotationProblem(problem, options.max_iterations);
-  for (size_t c = 0; c < q->size(); ++c) {
-    if ((*q)[c]) (*q)[c] = qv[c].normalized();
-  }
-  for (size_t k = 0; k < r->size(); ++k) {
-    if ((*r)[k]) (*r)[k] = rv[k].normalized();
-  }
+  RefineRotations(inliers, add, {{0, 0}, {1, 0}}, options.loss_scale_deg, options.max_iterations, {q, r});
 }
 
 }  // namespace
@@ -194,30 +161,26 @@ RigRotationAveragingResult AverageRigRotations(int num_cameras, int num_frames,
     }
   }
   RigRotationAveragingResult result;
-  result.outlier.assign(ms.size(), 0);
-  result.residual_deg.assign(ms.size(), std::numeric_limits<double>::quiet_NaN());
-  for (int round = 0; round < options.max_rounds; ++round) {
-    result.rounds = round + 1;
+  auto fit = [&](const std::vector<char>& outlier) {
     Rotations q(num_cameras), r(num_frames);
     q[0] = Eigen::Quaterniond::Identity();
     r[0] = Eigen::Quaterniond::Identity();
-    Propagate(ms, result.outlier, camera_starts, options.loss_scale_deg, &q, &r);
-    Refine(ms, result.outlier, options, &q, &r);
+    Propagate(ms, outlier, camera_starts, options.loss_scale_deg, &q, &r);
+    Refine(ms, outlier, options, &q, &r);
     result.cam_from_rig = q;
     result.rig_from_world = r;
-    int fresh = 0;
-    for (size_t i = 0; i < ms.size(); ++i) {
-      const auto predicted = Predicted(ms[i], q, r);
-      result.residual_deg[i] =
-          predicted ? RotationAngleDeg(ms[i].b_from_a.conjugate() * *predicted) : std::numeric_limits<double>::quiet_NaN();
-      if (!result.outlier[i] && predicted && result.residual_deg[i] > options.outlier_threshold_deg) {
-        result.outlier[i] = 1;
-        ++fresh;
-      }
-    }
-    result.num_outliers += fresh;
-    if (fresh == 0) break;
-  }
+  };
+  auto residual_deg = [&](int i) {
+    const auto predicted = Predicted(ms[i], result.cam_from_rig, result.rig_from_world);
+    if (!predicted) return std::numeric_limits<double>::quiet_NaN();
+    return RotationAngleDeg(ms[i].b_from_a.conjugate() * *predicted);
+  };
+  DropRounds rounds = FitDroppingOutliers(static_cast<int>(ms.size()), options.max_rounds,
+                                          options.outlier_threshold_deg, fit, residual_deg);
+  result.outlier = std::move(rounds.outlier);
+  result.residual_deg = std::move(rounds.residual_deg);
+  result.num_outliers = rounds.num_outliers;
+  result.rounds = rounds.rounds;
   return result;
 }
 

@@ -8,11 +8,11 @@
 #include <stdexcept>
 
 #include <ceres/ceres.h>
-#include <ceres/manifold.h>
-#include <ceres/rotation.h>
 
 #include "calibrator/estimators/cost_functions.h"
+#include "calibrator/estimators/robust_rotation_fit.h"
 #include "calibrator/model/rig_state.h"
+#include "calibrator/model/union_find.h"
 
 namespace rigsim {
 namespace {
@@ -101,83 +101,43 @@ RotationAveragingResult AverageRotations(const ViewGraph& graph, int reference_c
     throw std::invalid_argument("AverageRotations: reference camera " + std::to_string(reference_camera) +
                                 " out of range");
   }
-  const int num_edges = static_cast<int>(graph.edges.size());
   RotationAveragingResult result;
-  result.outlier.assign(num_edges, 0);
-  result.residual_deg.assign(num_edges, std::numeric_limits<double>::quiet_NaN());
-
-  for (int round = 0; round < options.max_rounds; ++round) {
-    result.rounds = round + 1;
-    const std::vector<int> edges = UsableEdges(graph, result.outlier);
+  auto fit = [&](const std::vector<char>& outlier) {
+    const std::vector<int> edges = UsableEdges(graph, outlier);
     auto rot = SpanningTreeRotations(graph, edges, reference_camera, options.loop_threshold_deg);
-
-    // Edges inside the component, and the median weight that normalises them.
-    std::vector<int> inside;
-    std::vector<int> weights;
+    // The edges inside the component.
+    std::vector<int> inside, inliers;
     for (int e : edges) {
       if (rot[graph.edges[e].cam_a] && rot[graph.edges[e].cam_b]) {
         inside.push_back(e);
-        weights.push_back(std::max(1, graph.edges[e].weight));
+        inliers.push_back(graph.edges[e].weight);
       }
     }
-    if (!inside.empty()) {
-      std::nth_element(weights.begin(), weights.begin() + weights.size() / 2, weights.end());
-      const double median_weight = weights[weights.size() / 2];
-      std::vector<Eigen::Quaterniond> q(graph.num_cameras, Eigen::Quaterniond::Identity());
-      for (int c = 0; c < graph.num_cameras; ++c) {
-        if (rot[c]) q[c] = *rot[c];
-      }
-      ceres::Problem::Options problem_options;
-      problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
-      problem_options.loss_function_ownership = ceres::TAKE_OWNERSHIP;
-      ceres::Problem problem(problem_options);
-      ceres::LossFunction* loss = new ceres::CauchyLoss(DegToRad(options.loss_scale_deg));
-      for (int e : inside) {
-        const ViewGraphEdge& g = graph.edges[e];
-        const double w = std::sqrt(std::max(1, g.weight) / median_weight);
-        problem.AddResidualBlock(RelativeRotationCost::Create(g.rotation, w), loss, q[g.cam_a].coeffs().data(),
-                                 q[g.cam_b].coeffs().data());
-      }
-      for (int c = 0; c < graph.num_cameras; ++c) {
-        if (rot[c] && problem.HasParameterBlock(q[c].coeffs().data())) {
-          problem.SetManifold(q[c].coeffs().data(), new ceres::EigenQuaternionManifold);
-        }
-      }
-      if (problem.HasParameterBlock(q[reference_camera].coeffs().data())) {
-        problem.SetParameterBlockConstant(q[reference_camera].coeffs().data());  // the gauge
-      }
-      SolveRotationProblem(problem, options.max_iterations);
-      for (int c = 0; c < graph.num_cameras; ++c) {
-        if (rot[c]) rot[c] = q[c].normalized();
-      }
-    }
+    auto add = [&](ceres::Problem& problem, ceres::LossFunction* loss, int k, double w, const RotationBlock& block) {
+      const ViewGraphEdge& g = graph.edges[inside[k]];
+      problem.AddResidualBlock(RelativeRotationCost::Create(g.rotation, w), loss, block(0, g.cam_a), block(0, g.cam_b));
+    };
+    RefineRotations(inliers, add, {{0, reference_camera}}, options.loss_scale_deg, options.max_iterations, {&rot});
     result.cam_from_rig = rot;
-
-    // Residuals of every edge between solved cameras, and new outliers.
-    int new_outliers = 0;
-    for (int e = 0; e < num_edges; ++e) {
-      const ViewGraphEdge& g = graph.edges[e];
-      result.residual_deg[e] = std::numeric_limits<double>::quiet_NaN();
-      if (!g.active || !rot[g.cam_a] || !rot[g.cam_b]) continue;
-      result.residual_deg[e] = AngleDeg(g.rotation.conjugate() * *rot[g.cam_b] * rot[g.cam_a]->conjugate());
-      if (!result.outlier[e] && result.residual_deg[e] > options.outlier_threshold_deg) {
-        result.outlier[e] = 1;
-        ++new_outliers;
-      }
-    }
-    result.num_outliers += new_outliers;
-    if (new_outliers == 0) break;
-  }
-  // When the rounds ran out with fresh outliers, a camera may hang on rejected edges only.
-  std::vector<int> parent(graph.num_cameras);
-  for (int c = 0; c < graph.num_cameras; ++c) parent[c] = c;
-  auto find = [&](int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
   };
-  for (int e : UsableEdges(graph, result.outlier)) parent[find(graph.edges[e].cam_a)] = find(graph.edges[e].cam_b);
+  // Every active edge between solved cameras.
+  auto residual_deg = [&](int e) {
+    const ViewGraphEdge& g = graph.edges[e];
+    const auto& rot = result.cam_from_rig;
+    if (!g.active || !rot[g.cam_a] || !rot[g.cam_b]) return std::numeric_limits<double>::quiet_NaN();
+    return AngleDeg(g.rotation.conjugate() * *rot[g.cam_b] * rot[g.cam_a]->conjugate());
+  };
+  DropRounds rounds = FitDroppingOutliers(static_cast<int>(graph.edges.size()), options.max_rounds,
+                                          options.outlier_threshold_deg, fit, residual_deg);
+  result.outlier = std::move(rounds.outlier);
+  result.residual_deg = std::move(rounds.residual_deg);
+  result.num_outliers = rounds.num_outliers;
+  result.rounds = rounds.rounds;
+  // When the rounds ran out with fresh outliers, a camera may hang on rejected edges only.
+  UnionFind components(graph.num_cameras);
+  for (int e : UsableEdges(graph, result.outlier)) components.Join(graph.edges[e].cam_a, graph.edges[e].cam_b);
   for (int c = 0; c < graph.num_cameras; ++c) {
-    if (find(c) != find(reference_camera)) result.cam_from_rig[c].reset();
+    if (components.Find(c) != components.Find(reference_camera)) result.cam_from_rig[c].reset();
   }
   return result;
 }
