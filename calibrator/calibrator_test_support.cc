@@ -38,9 +38,9 @@ RigObservations ObserveSyntheticRig(SyntheticRig& s, const SyntheticObservationO
       TemporalPairEstimate t;
       t.camera = c;
       t.frame = k;
-      t.two_view = ToEstimate(tv, static_cast<int>(m.size()));
+      t.two_view = tv.estimate;
       t.matches = m;
-      for (size_t i = 0; i < m.size() && tv.success; ++i) {
+      for (size_t i = 0; i < m.size() && tv.estimate.success; ++i) {
         if (tv.inlier_mask[i]) t.inliers.push_back(m[i]);
       }
       obs.temporal.push_back(std::move(t));

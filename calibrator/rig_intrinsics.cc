@@ -26,9 +26,9 @@ RigObservations ReestimateWithIntrinsics(const RigObservations& obs, const std::
       pb.push_back(obs.keypoints[t.frame + 1][t.camera][j]);
     }
     const TwoViewResult tv = EstimateRelativePose(camera, pa, camera, pb, options);
-    t.two_view = ToEstimate(tv, static_cast<int>(t.matches.size()));
+    t.two_view = tv.estimate;
     t.inliers.clear();
-    for (size_t i = 0; i < t.matches.size() && tv.success; ++i) {
+    for (size_t i = 0; i < t.matches.size() && tv.estimate.success; ++i) {
       if (tv.inlier_mask[i]) t.inliers.push_back(t.matches[i]);
     }
   }

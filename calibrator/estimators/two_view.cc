@@ -272,31 +272,14 @@ std::vector<Rigid3d> OtherPlanarPoses(const HomographyFit& fit, const Rigid3d& c
   return out;
 }
 
-TwoViewResult Fail(TwoViewResult r, const std::string& why) {
-  r.success = false;
-  r.failure_reason = why;
+TwoViewResult Fail(TwoViewResult r, TwoViewFailure failure, const std::string& why) {
+  r.estimate.success = false;
+  r.estimate.failure = failure;
+  r.estimate.failure_reason = why;
   return r;
 }
 
 }  // namespace
-
-TwoViewEstimate ToEstimate(const TwoViewResult& result, int num_matches) {
-  TwoViewEstimate e;
-  e.success = result.success;
-  e.rotation_only = result.rotation_only;
-  e.pair_type = result.pair_type;
-  e.cam_b_from_cam_a = result.cam_b_from_cam_a;
-  e.num_matches = num_matches;
-  e.num_inliers = result.num_inliers;
-  e.num_homography_inliers = result.num_homography_inliers;
-  e.median_residual_deg = result.median_residual_deg;
-  e.planar_alternatives = result.planar_alternatives;
-  e.cheirality_points = result.cheirality_points;
-  e.points_in_front = result.points_in_front;
-  e.points_in_front_otherwise = result.points_in_front_otherwise;
-  e.failure_reason = result.failure_reason;
-  return e;
-}
 
 void TwoViewOptions::Check() const {
   auto fail = [](const std::string& why) { throw std::invalid_argument("TwoViewOptions: " + why); };
@@ -372,14 +355,16 @@ namespace {
 // of both cameras, or why there is none.
 struct EssentialFit {
   std::optional<Rigid3d> pose;
-  std::string failure;
+  TwoViewFailure failure = TwoViewFailure::kNone;
+  std::string failure_reason;
 };
 EssentialFit FitEssential(const std::vector<cv::Point2d>& pa, const std::vector<cv::Point2d>& pb, double thr,
                           const TwoViewOptions& options) {
   EssentialFit fit;
   if (static_cast<int>(pa.size()) < std::max(5, options.min_matches)) {
-    fit.failure = "too few correspondences in front of both cameras for the essential matrix (" +
-                  std::to_string(pa.size()) + ")";
+    fit.failure = TwoViewFailure::kTooFewInFront;
+    fit.failure_reason = "too few correspondences in front of both cameras for the essential matrix (" +
+                         std::to_string(pa.size()) + ")";
     return fit;
   }
   try {
@@ -389,13 +374,15 @@ EssentialFit FitEssential(const std::vector<cv::Point2d>& pa, const std::vector<
     cv::Mat e = cv::findEssentialMat(pa, pb, k, cv::USAC_MAGSAC, options.ransac_confidence, thr,
                                      options.ransac_max_iterations, mask);
     if (e.rows < 3 || e.cols != 3) {
-      fit.failure = "essential matrix estimation found no model";
+      fit.failure = TwoViewFailure::kNoEssentialMatrix;
+      fit.failure_reason = "essential matrix estimation found no model";
       return fit;
     }
     cv::Mat r_cv, t_cv;
     const int good = cv::recoverPose(e.rowRange(0, 3), pa, pb, k, r_cv, t_cv, mask);
     if (good < 5) {
-      fit.failure = "pose recovery left " + std::to_string(good) + " points in front of both cameras";
+      fit.failure = TwoViewFailure::kPoseRecoveryFailed;
+      fit.failure_reason = "pose recovery left " + std::to_string(good) + " points in front of both cameras";
       return fit;
     }
     Eigen::Matrix3d r;
@@ -406,7 +393,8 @@ EssentialFit FitEssential(const std::vector<cv::Point2d>& pa, const std::vector<
     }
     fit.pose = Rigid3d(r, t.normalized());
   } catch (const cv::Exception& ex) {
-    fit.failure = std::string("essential matrix estimation failed: ") + ex.what();
+    fit.failure = TwoViewFailure::kEssentialMatrixError;
+    fit.failure_reason = std::string("essential matrix estimation failed: ") + ex.what();
   }
   return fit;
 }
@@ -421,6 +409,8 @@ TwoViewResult EstimateRelativePoseFromBearings(const std::vector<Eigen::Vector3d
   if (!(thr > 0)) throw std::invalid_argument("EstimateRelativePoseFromBearings: threshold must be > 0");
   const int n = static_cast<int>(fa.size());
   TwoViewResult result;
+  TwoViewEstimate& est = result.estimate;
+  est.num_matches = n;
   result.inlier_mask.assign(n, 0);
 
   std::vector<int> valid;
@@ -431,7 +421,7 @@ TwoViewResult EstimateRelativePoseFromBearings(const std::vector<Eigen::Vector3d
   if (result.num_valid < options.min_matches) {
     std::ostringstream why;
     why << "too few matches: " << result.num_valid << " valid of " << n << " (need " << options.min_matches << ")";
-    return Fail(result, why.str());
+    return Fail(result, TwoViewFailure::kTooFewMatches, why.str());
   }
 
   // Pure-rotation model, fitted alongside the essential matrix to detect unobservable translation.
@@ -449,7 +439,6 @@ TwoViewResult EstimateRelativePoseFromBearings(const std::vector<Eigen::Vector3d
     }
   }
   const EssentialFit essential = FitEssential(pa, pb, thr, options);
-  const std::string& essential_failure = essential.failure;
   const bool have_pose = essential.pose.has_value();
   Rigid3d pose = essential.pose.value_or(Rigid3d());
   std::vector<int> inliers;
@@ -461,9 +450,9 @@ TwoViewResult EstimateRelativePoseFromBearings(const std::vector<Eigen::Vector3d
     // bearings in front of both image planes, and RANSAC's inliers of them).
     const Cheirality side = ResolveCheirality(pose, fa, fb, inliers, options.cheirality_min_angle_factor * thr);
     pose = side.pose;
-    result.cheirality_points = side.informative;
-    result.points_in_front = side.in_front;
-    result.points_in_front_otherwise = side.second_best;
+    est.cheirality_points = side.informative;
+    est.points_in_front = side.in_front;
+    est.points_in_front_otherwise = side.second_best;
   }
 
   const int required_inliers =
@@ -471,47 +460,48 @@ TwoViewResult EstimateRelativePoseFromBearings(const std::vector<Eigen::Vector3d
   const bool rotation_explains = result.num_rotation_inliers >= required_inliers &&
                                  result.num_rotation_inliers >= options.rotation_only_ratio * result.num_essential_inliers;
   if (rotation_explains) {
-    result.rotation_only = true;
-    result.pair_type = PairType::kRotationOnly;
-    result.cam_b_from_cam_a = Rigid3d(rot.rotation, Eigen::Vector3d::Zero());
+    est.rotation_only = true;
+    est.pair_type = PairType::kRotationOnly;
+    est.cam_b_from_cam_a = Rigid3d(rot.rotation, Eigen::Vector3d::Zero());
     std::vector<double> res;
     for (int i : rot.inliers) {
       result.inlier_mask[i] = 1;
       res.push_back(RotationAngle(rot.rotation, fa[i], fb[i]));
     }
-    result.num_inliers = result.num_rotation_inliers;
-    result.median_residual_deg = RadToDeg(Median(res));
-    result.success = true;
+    est.num_inliers = result.num_rotation_inliers;
+    est.median_residual_deg = RadToDeg(Median(res));
+    est.success = true;
+    est.failure = TwoViewFailure::kNone;
     return result;
   }
-  if (!have_pose) return Fail(result, essential_failure);
+  if (!have_pose) return Fail(result, essential.failure, essential.failure_reason);
   if (result.num_essential_inliers < required_inliers) {
     std::ostringstream why;
     why << "no consistent geometry: " << result.num_essential_inliers << " inliers of " << result.num_valid
         << " matches (need " << required_inliers << ")";
-    return Fail(result, why.str());
+    return Fail(result, TwoViewFailure::kTooFewInliers, why.str());
   }
-  if (result.points_in_front < options.min_cheirality_points ||
-      result.points_in_front < options.cheirality_margin * result.points_in_front_otherwise) {
+  if (est.points_in_front < options.min_cheirality_points ||
+      est.points_in_front < options.cheirality_margin * est.points_in_front_otherwise) {
     std::ostringstream why;
-    why << "the matches do not say which way the baseline points: of " << result.cheirality_points
-        << " inliers with parallax, " << result.points_in_front << " lie in front of both cameras under the best pose and "
-        << result.points_in_front_otherwise << " under another (too little parallax, or matches of repeated structure)";
-    return Fail(result, why.str());
+    why << "the matches do not say which way the baseline points: of " << est.cheirality_points
+        << " inliers with parallax, " << est.points_in_front << " lie in front of both cameras under the best pose and "
+        << est.points_in_front_otherwise << " under another (too little parallax, or matches of repeated structure)";
+    return Fail(result, TwoViewFailure::kCheiralityUndecided, why.str());
   }
-  result.cam_b_from_cam_a = pose;
+  est.cam_b_from_cam_a = pose;
 
   // Planar pairs: a homography explaining about as many matches as the essential matrix. The
   // pose stays the essential matrix's; the type says how far to trust it.
   const double thr_h = thr * std::sqrt(5.991 / 3.841);  // chi-square 95%: 2 dof vs 1 dof
   const HomographyFit hfit = FitHomography(pa, pb, front, fa, fb, thr_h, options);
   if (hfit.valid) {
-    for (int i : valid) result.num_homography_inliers += HomographyAngle(hfit, fa[i], fb[i]) < thr_h;
+    for (int i : valid) est.num_homography_inliers += HomographyAngle(hfit, fa[i], fb[i]) < thr_h;
   }
-  if (result.num_homography_inliers >= required_inliers &&
-      result.num_homography_inliers >= options.planar_ratio * result.num_essential_inliers) {
-    result.pair_type = PairType::kPlanar;
-    result.planar_alternatives = OtherPlanarPoses(hfit, pose, result.num_essential_inliers, fa, fb, valid, thr, options);
+  if (est.num_homography_inliers >= required_inliers &&
+      est.num_homography_inliers >= options.planar_ratio * result.num_essential_inliers) {
+    est.pair_type = PairType::kPlanar;
+    est.planar_alternatives = OtherPlanarPoses(hfit, pose, result.num_essential_inliers, fa, fb, valid, thr, options);
   }
 
   std::vector<double> res;
@@ -519,9 +509,10 @@ TwoViewResult EstimateRelativePoseFromBearings(const std::vector<Eigen::Vector3d
     result.inlier_mask[i] = 1;
     res.push_back(EpipolarAngle(pose, fa[i], fb[i]));
   }
-  result.num_inliers = result.num_essential_inliers;
-  result.median_residual_deg = RadToDeg(Median(res));
-  result.success = true;
+  est.num_inliers = result.num_essential_inliers;
+  est.median_residual_deg = RadToDeg(Median(res));
+  est.success = true;
+  est.failure = TwoViewFailure::kNone;
   return result;
 }
 

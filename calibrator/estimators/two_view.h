@@ -24,7 +24,6 @@
 
 namespace rigsim {
 
-
 struct TwoViewOptions {
   // Fewer correspondences than this fail at once ("too few matches").
   int min_matches = 15;
@@ -32,7 +31,8 @@ struct TwoViewOptions {
   int min_inliers = 30;
   // ... and so does a fit that explains less than this fraction of the correspondences: between
   // views that share nothing, RANSAC still finds a few dozen random matches that agree with
-  // some pose (seen: 20-45 of 500-1000 on the street), a confident wrong answer.
+  // some pose, a confident wrong answer (VALIDATION.md, "Where the calibrator's thresholds come
+  // from").
   double min_inlier_ratio = 0.1;
   // Inlier threshold in pixels; converted to an angle with the mean focal length of the two
   // cameras (the scale at which a pixel of noise is an angle).
@@ -58,7 +58,7 @@ struct TwoViewOptions {
   // whose facades fill most of the matches but leave enough off-plane support (VALIDATION.md,
   // "Where the calibrator's thresholds come from"); COLMAP's 0.8 would flag street pairs.
   double planar_ratio = 0.95;
-  // A planar pair also reports the homography's other pose (TwoViewResult::planar_alternatives) when
+  // A planar pair also reports the homography's other pose (TwoViewEstimate::planar_alternatives) when
   // its rotation differs from the reported one by more than this (deg): a plane fits two poses, and
   // the matches of one pair cannot say which; the poses of other pairs can (camera_trajectory.h).
   double min_planar_alternative_deg = 0.5;
@@ -80,37 +80,15 @@ struct TwoViewOptions {
   void Check() const;
 };
 
+// The estimator's output: the estimate the pairwise report and the rig stages keep, and what only
+// the estimator's callers use.
 struct TwoViewResult {
-  bool success = false;
-  // The translation is unobservable (pure rotation or parallax below the noise). The rotation
-  // is still reported; the translation is then zero, meaning "unknown".
-  bool rotation_only = false;
-  // kRotationOnly exactly when rotation_only; kPlanar when the homography explains the matches
-  // about as well as the essential matrix (TwoViewOptions::planar_ratio). Set on success.
-  PairType pair_type = PairType::kGeneral;
-  Rigid3d cam_b_from_cam_a;         // unit translation (zero when rotation_only)
-  std::vector<char> inlier_mask;    // one per input correspondence; 0 also for invalid pixels
-  int num_inliers = 0;              // of the reported model (rotation model when rotation_only)
-  int num_essential_inliers = 0;    // of the essential-matrix model after refinement
-  int num_rotation_inliers = 0;     // of the pure-rotation model
-  int num_homography_inliers = 0;   // of the homography (0 when not fitted: rotation-only or no pose)
-  int num_valid = 0;                // correspondences with a valid bearing in both cameras
-  double median_residual_deg = 0.0;  // median angular residual of the inliers
-  // kPlanar only: the homography's other poses that explain the matches as well as the reported one
-  // (TwoViewOptions::min_planar_alternative_deg), cam_b_from_cam_a with a unit translation; the
-  // matches do not decide between them.
-  std::vector<Rigid3d> planar_alternatives;
-  // Cheirality of the essential-matrix pose: the inliers with parallax enough to tell
-  // (TwoViewOptions::cheirality_min_angle_factor), how many of them the reported pose puts in
-  // front of both cameras, and how many the best of the other three poses would.
-  int cheirality_points = 0;
-  int points_in_front = 0;
-  int points_in_front_otherwise = 0;
-  std::string failure_reason;        // empty on success
+  TwoViewEstimate estimate;
+  std::vector<char> inlier_mask;  // one per input correspondence; 0 also for invalid pixels
+  int num_essential_inliers = 0;  // of the essential-matrix model after refinement
+  int num_rotation_inliers = 0;   // of the pure-rotation model
+  int num_valid = 0;              // correspondences with a valid bearing in both cameras
 };
-
-// The outcome of `result`, a fit of `num_matches` correspondences.
-TwoViewEstimate ToEstimate(const TwoViewResult& result, int num_matches);
 
 // From pixel correspondences (px_a[i] <-> px_b[i]).
 TwoViewResult EstimateRelativePose(const Camera& cam_a, const std::vector<Eigen::Vector2d>& px_a,

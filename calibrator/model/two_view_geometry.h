@@ -23,24 +23,47 @@ enum class PairType { kGeneral, kPlanar, kRotationOnly };
 // "general", "planar", "rotation-only".
 std::string_view PairTypeName(PairType type);
 
+// Why a pair has no two-view estimate (two_view.h says how each is decided).
+enum class TwoViewFailure {
+  kNone,                  // the estimate succeeded
+  kNotEstimated,          // no estimate was made (a pair screened out before matching)
+  kTooFewMatches,         // fewer valid correspondences than TwoViewOptions::min_matches
+  kTooFewInFront,         // too few bearings in front of both cameras for the essential matrix
+  kNoEssentialMatrix,     // the essential-matrix fit found no model
+  kEssentialMatrixError,  // the essential-matrix fit failed (OpenCV's words in failure_reason)
+  kPoseRecoveryFailed,    // pose recovery left fewer than 5 points in front of both cameras
+  kTooFewInliers,         // "no consistent geometry": below min_inliers or min_inlier_ratio of the matches
+  kCheiralityUndecided,   // the matches do not say which way the baseline points
+};
+
 // One camera pair's two-view outcome: what the pairwise report, the view graph and the rig stages
-// keep of an estimate (TwoViewResult below is the estimator's raw output, with its inlier mask).
+// keep of an estimate (the estimator's TwoViewResult holds it, with its inlier mask).
 struct TwoViewEstimate {
   bool success = false;
-  // The translation is unobservable; the rotation is still reported, the translation is zero.
+  TwoViewFailure failure = TwoViewFailure::kNotEstimated;  // kNone when the estimator succeeded
+  // The translation is unobservable (pure rotation or parallax below the noise). The rotation
+  // is still reported; the translation is then zero, meaning "unknown".
   bool rotation_only = false;
-  PairType pair_type = PairType::kGeneral;  // meaningful on success
-  Rigid3d cam_b_from_cam_a;                 // unit translation (zero when rotation_only)
-  int num_matches = 0;                      // the correspondences the fit saw
-  int num_inliers = 0;                      // of the reported model
-  int num_homography_inliers = 0;           // of the homography the planar test fits
-  double median_residual_deg = 0.0;         // median angular residual of the inliers
-  std::vector<Rigid3d> planar_alternatives;  // TwoViewResult below
-  // Cheirality (TwoViewResult below).
+  // kRotationOnly exactly when rotation_only; kPlanar when the homography explains the matches
+  // about as well as the essential matrix (TwoViewOptions::planar_ratio). Set on success.
+  PairType pair_type = PairType::kGeneral;
+  Rigid3d cam_b_from_cam_a;                // unit translation (zero when rotation_only)
+  int num_matches = 0;                     // the correspondences the fit saw
+  int num_inliers = 0;                     // of the reported model (rotation model when rotation_only)
+  int num_homography_inliers = 0;          // of the homography (0 when not fitted: rotation-only or no pose)
+  double median_residual_deg = 0.0;        // median angular residual of the inliers
+  // kPlanar only: the homography's other poses that explain the matches as well as the reported one
+  // (TwoViewOptions::min_planar_alternative_deg), cam_b_from_cam_a with a unit translation; the
+  // matches do not decide between them.
+  std::vector<Rigid3d> planar_alternatives;
+  // Cheirality of the essential-matrix pose: the inliers with parallax enough to tell
+  // (TwoViewOptions::cheirality_min_angle_factor), how many of them the reported pose puts in
+  // front of both cameras, and how many the best of the other three poses would.
   int cheirality_points = 0;
   int points_in_front = 0;
   int points_in_front_otherwise = 0;
-  std::string failure_reason;               // empty on success
+  // The failure in words, with its figures (what the pairwise report prints); empty on success.
+  std::string failure_reason;
 };
 
 }  // namespace rigsim

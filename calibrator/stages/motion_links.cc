@@ -59,7 +59,8 @@ std::optional<ViewPairFit> FitViewPair(const RigObservations& obs, const CrossTi
     px_b.push_back(kp_b.at(b));
   }
   fit.two_view = EstimateRelativePose(obs.cameras[c.cam_a], px_a, obs.cameras[c.cam_b], px_b, options.pairwise.two_view);
-  if (!fit.two_view.success || fit.two_view.num_inliers < options.view_graph.min_inliers) return std::nullopt;
+  const TwoViewEstimate& e = fit.two_view.estimate;
+  if (!e.success || e.num_inliers < options.view_graph.min_inliers) return std::nullopt;
   return fit;
 }
 
@@ -72,11 +73,11 @@ std::optional<CrossTimePairEstimate> LinkViews(const RigObservations& obs, const
   if (!fit) return std::nullopt;
   const TwoViewResult& tv = fit->two_view;
   const std::vector<std::pair<int, int>>& matches = fit->matches;
-  if (predicted && RotationDifferenceDeg(*predicted, tv.cam_b_from_cam_a.rotation) >
+  if (predicted && RotationDifferenceDeg(*predicted, tv.estimate.cam_b_from_cam_a.rotation) >
                        options.motion.max_prediction_disagreement_deg) {
     return std::nullopt;
   }
-  CrossTimePairEstimate e{c.cam_a, c.frame_a, c.cam_b, c.frame_b, ToEstimate(tv, static_cast<int>(matches.size())), {}};
+  CrossTimePairEstimate e{c.cam_a, c.frame_a, c.cam_b, c.frame_b, tv.estimate, {}};
   for (size_t i = 0; i < matches.size(); ++i) {
     if (tv.inlier_mask[i]) e.inliers.push_back(matches[i]);
   }
@@ -198,8 +199,10 @@ PredictionCheck CheckPredictedViews(const RigObservations& obs, const MotionLink
       if (!fit) return;
       const TwoViewResult& tv = fit->two_view;
       const Eigen::Quaterniond predicted = *PredictedViewRotation(inputs, c);
-      double nearest = RotationDifferenceDeg(predicted, tv.cam_b_from_cam_a.rotation);
-      for (const Rigid3d& other : tv.planar_alternatives) nearest = std::min(nearest, RotationDifferenceDeg(predicted, other.rotation));
+      double nearest = RotationDifferenceDeg(predicted, tv.estimate.cam_b_from_cam_a.rotation);
+      for (const Rigid3d& other : tv.estimate.planar_alternatives) {
+        nearest = std::min(nearest, RotationDifferenceDeg(predicted, other.rotation));
+      }
       verdict[i] = nearest <= options.motion.max_prediction_check_deg ? 1 : -1;
     });
   }

@@ -98,10 +98,10 @@ PairScreening ScreenPairs(const PairwiseJob& job, const PairwiseOptions& options
     screen_two_view.min_cheirality_points = 1;
     screen_two_view.cheirality_margin = 1.0;
     const TwoViewResult tv = EstimateRelativePose(job.camera(pair.a), px_a, job.camera(pair.b), px_b, screen_two_view);
-    if (!tv.success) {
+    if (!tv.estimate.success) {
       out.screened_out[p] = "screened out (no shared view found among the " + std::to_string(options.screen_features) +
                             " strongest keypoints of " + std::to_string(screen_frames.size()) + " frame(s): " +
-                            tv.failure_reason + ")";
+                            tv.estimate.failure_reason + ")";
     }
     out.time_s[p] = SecondsSince(start);
   });
@@ -144,7 +144,7 @@ PairFits PoolAndEstimatePairs(const PairwiseJob& job, const FrameMatches& matche
     }
     pm.frame_begin.push_back(static_cast<int>(pm.px_a.size()));
     if (!screening.screened_out[p].empty()) {
-      out.two_view[p].failure_reason = screening.screened_out[p];
+      out.two_view[p].estimate.failure_reason = screening.screened_out[p];  // not estimated
       return;
     }
     const auto start = StageClock::now();
@@ -168,7 +168,7 @@ CalibrationReport BuildReport(const PairwiseJob& job, const FrameMatches& matche
     pr.cam_a = job.views.camera_names[job.pairs[p].a];
     pr.cam_b = job.views.camera_names[job.pairs[p].b];
     pr.frames = job.num_frames;
-    pr.two_view = ToEstimate(fits.two_view[p], static_cast<int>(fits.pooled[p].px_a.size()));
+    pr.two_view = fits.two_view[p].estimate;
     pr.screened_out = !screening.screened_out[p].empty();
     for (int f = 0; f < job.num_frames; ++f) {
       const MatchStats& s = matches.stats[job.PairFrame(p, f)];
@@ -200,7 +200,7 @@ void KeepMatchDetails(const PairwiseJob& job, const PairFits& fits, PairwiseMatc
     for (int f = 0; f < job.num_frames; ++f) {
       const int begin = fits.pooled[p].frame_begin[f];
       for (size_t i = 0; i < md->matches[p][f].size(); ++i) {
-        md->match_inlier[p][f].push_back(tv.success && tv.inlier_mask[begin + i] ? 1 : 0);
+        md->match_inlier[p][f].push_back(tv.estimate.success && tv.inlier_mask[begin + i] ? 1 : 0);
       }
     }
   }
@@ -224,7 +224,8 @@ PairwiseMatchData CollectMatchData(const PairwiseJob& job, const FrameMatches& m
       const std::vector<Match>& mt = matches.matches[job.PairFrame(p, f)];
       for (size_t i = 0; i < mt.size(); ++i) {
         md.matches[p][f].push_back({mt[i].a, mt[i].b});
-        if (tv.success && tv.inlier_mask[fits.pooled[p].frame_begin[f] + i]) md.inliers[p][f].push_back({mt[i].a, mt[i].b});
+        const bool inlier = tv.estimate.success && tv.inlier_mask[fits.pooled[p].frame_begin[f] + i];
+        if (inlier) md.inliers[p][f].push_back({mt[i].a, mt[i].b});
       }
     }
   }
@@ -259,10 +260,10 @@ TemporalFits EstimateTemporalPairs(const PairwiseJob& job, const PairwiseOptions
     TemporalPairEstimate& te = out.estimates[i];
     te.camera = c;
     te.frame = k;
-    te.two_view = ToEstimate(tv, static_cast<int>(mt.size()));
+    te.two_view = tv.estimate;
     for (size_t j = 0; j < mt.size(); ++j) {
       te.matches.push_back({mt[j].a, mt[j].b});
-      if (tv.success && tv.inlier_mask[j]) te.inliers.push_back({mt[j].a, mt[j].b});
+      if (tv.estimate.success && tv.inlier_mask[j]) te.inliers.push_back({mt[j].a, mt[j].b});
     }
   });
   return out;
@@ -324,9 +325,9 @@ std::pair<PairEstimate, PairMatches> EstimatePairFromMatches(
     }
   }
   const TwoViewResult tv = EstimateRelativePose(cameras.at(cam_a), px_a, cameras.at(cam_b), px_b, options);
-  const PairEstimate e{cam_a, cam_b, ToEstimate(tv, static_cast<int>(px_a.size()))};
+  const PairEstimate e{cam_a, cam_b, tv.estimate};
   PairMatches inl{cam_a, cam_b, std::vector<std::vector<std::pair<int, int>>>(matches_per_frame.size())};
-  if (tv.success) {
+  if (tv.estimate.success) {
     size_t i = 0;
     for (size_t f = 0; f < matches_per_frame.size(); ++f) {
       for (const auto& m : matches_per_frame[f]) {
