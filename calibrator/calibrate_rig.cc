@@ -42,7 +42,8 @@ void UseReestimatedPairs(RigCalibrationResult* result) {
 
 void MarkPairsTheRigLeftOut(RigCalibrationResult* result) {
   for (const RigEdgeStats& e : result->edges) {
-    if (!e.rejected && !e.rotation_outlier && !e.direction_left_out) continue;
+    const bool left_out = e.outcome == EdgeOutcome::kRejected || e.outcome == EdgeOutcome::kRotationOutlier;
+    if (!left_out && !e.direction_left_out) continue;
     for (PairResult& pr : result->pairwise.pairs) {
       if (pr.cam_a == e.cam_a && pr.cam_b == e.cam_b) pr.left_out_by_rig = e.status;
     }

@@ -226,13 +226,13 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
     edges.push_back({{"cam_a", e.cam_a},
                      {"cam_b", e.cam_b},
                      {"inliers", e.inliers},
-                     {"used", e.used},
+                     {"used", e.Used()},
                      {"rotation_only", e.rotation_only},
-                     {"rotation_outlier", e.rotation_outlier},
+                     {"rotation_outlier", e.outcome == EdgeOutcome::kRotationOutlier},
                      {"rotation_residual_deg", json_io::OptionalNumber(e.rotation_residual_deg)},
                      {"rotation_disagreement_deg", json_io::OptionalNumber(e.rotation_disagreement_deg)},
                      {"direction_disagreement_deg", json_io::OptionalNumber(e.direction_disagreement_deg)},
-                     {"rejected", e.rejected},
+                     {"rejected", e.outcome == EdgeOutcome::kRejected},
                      {"status", e.status}});
   }
   const bool evaluated = truth != nullptr;
@@ -342,9 +342,9 @@ Json PairsJson(const CalibrationRun& run, size_t m, const Json& label_source) {
     pair["overlap"] = ov != run.inputs.overlap.end() ? Json(ov->second) : Json(nullptr);
     pair["rig_edge"] = nullptr;
     if (const RigEdgeStats* e = RigEdgeOf(result, pr)) {
-      pair["rig_edge"] = {{"used", e->used},
+      pair["rig_edge"] = {{"used", e->Used()},
                           {"status", e->status},
-                          {"rotation_outlier", e->rotation_outlier},
+                          {"rotation_outlier", e->outcome == EdgeOutcome::kRotationOutlier},
                           {"rotation_residual_deg", json_io::OptionalNumber(e->rotation_residual_deg)},
                           {"rotation_disagreement_deg", json_io::OptionalNumber(e->rotation_disagreement_deg)},
                           {"direction_disagreement_deg", json_io::OptionalNumber(e->direction_disagreement_deg)}};

@@ -55,12 +55,13 @@ RigCalibrationResult ThreeCameraResult() {
   used.cam_a = "cam0";
   used.cam_b = "cam1";
   used.inliers = 300;
-  used.used = true;
+  used.outcome = EdgeOutcome::kUsed;
   used.rotation_residual_deg = 0.25;
   used.status = "used";
   RigEdgeStats failed;
   failed.cam_a = "cam0";
   failed.cam_b = "cam2";
+  failed.outcome = EdgeOutcome::kTwoViewFailed;
   failed.status = "two-view failed: too few matches";
   r.edges = {used, failed};
   return r;

@@ -82,9 +82,9 @@ Json PipelineData(ReportContext& ctx) {
       edges.push_back({{"a", rig.FindCamera(e.cam_a)},
                        {"b", rig.FindCamera(e.cam_b)},
                        {"inliers", e.inliers},
-                       {"used", e.used},
+                       {"used", e.Used()},
                        {"rotation_only", e.rotation_only},
-                       {"rotation_outlier", e.rotation_outlier},
+                       {"rotation_outlier", e.outcome == EdgeOutcome::kRotationOutlier},
                        {"rotation_residual_deg", json_io::OptionalNumber(e.rotation_residual_deg)},
                        {"rotation_disagreement_deg", json_io::OptionalNumber(e.rotation_disagreement_deg)},
                        {"status", e.status}});

@@ -462,9 +462,18 @@ void SetAsideOpenAxes(const RigObservations& obs, const PositionStage& ps, Scale
   }
 }
 
+// Why edge `e` of the view graph is inactive: `rejected` (EstimateRigOnce), a rotation outlier, or
+// what the view graph left out (a failed pair, or one with too few inliers).
+EdgeOutcome InactiveEdgeOutcome(const RigObservations& obs, const RotationStage& rs,
+                                const std::vector<std::string>& rejected, int e) {
+  if (!rejected[e].empty()) return EdgeOutcome::kRejected;
+  if (rs.rot.outlier[e]) return EdgeOutcome::kRotationOutlier;
+  return obs.pairs[e].two_view.success ? EdgeOutcome::kTooFewInliers : EdgeOutcome::kTwoViewFailed;
+}
+
 // Step 7: status per camera (calibrated, rotation only and why, not connected and why) and per
 // edge (used or why not), into `result`.
-void SetCameraAndEdgeStatus(const RigObservations& obs, const RotationStage& rs,
+void SetCameraAndEdgeStatus(const RigObservations& obs, const RotationStage& rs, const std::vector<std::string>& rejected,
                             const MultiFrameBundleAdjustmentResult& ba, const ScaledRig& scaled,
                             const std::string& position_reason, RigCalibrationResult* result) {
   const int n = static_cast<int>(obs.cameras.size());
@@ -518,12 +527,15 @@ void SetCameraAndEdgeStatus(const RigObservations& obs, const RotationStage& rs,
     s.cam_a = obs.camera_names[g.cam_a];
     s.cam_b = obs.camera_names[g.cam_b];
     s.inliers = g.weight;
-    s.used = g.active && rotated[g.cam_a] && rotated[g.cam_b];
+    const bool placed = reached[g.cam_a] && reached[g.cam_b];
+    s.outcome = !g.active                               ? InactiveEdgeOutcome(obs, rs, rejected, e)
+                : !(rotated[g.cam_a] && rotated[g.cam_b]) ? EdgeOutcome::kCameraNotCalibrated
+                : placed                                  ? EdgeOutcome::kUsed
+                                                          : EdgeOutcome::kUsedRotationOnly;
     s.rotation_only = g.rotation_only;
-    s.rotation_outlier = rot.outlier[e];
     if (std::isfinite(rot.residual_deg[e])) s.rotation_residual_deg = rot.residual_deg[e];
-    s.status = s.used ? (reached[g.cam_a] && reached[g.cam_b] ? "used" : "used (rotation only)")
-                      : g.active ? "not used: camera not calibrated" : g.inactive_reason;
+    s.status = s.Used() ? (placed ? "used" : "used (rotation only)")
+                        : g.active ? "not used: camera not calibrated" : g.inactive_reason;
     result->edges.push_back(s);
   }
 }
@@ -534,7 +546,7 @@ void CompareEdgesWithRig(const RigObservations& obs, RigCalibrationResult* resul
   for (int e = 0; e < static_cast<int>(result->edges.size()); ++e) {
     RigEdgeStats& s = result->edges[e];
     const PairEstimate& p = obs.pairs[e];
-    if (!s.used || !p.two_view.success) continue;
+    if (!s.Used() || !p.two_view.success) continue;
     const auto& qa = result->cam_from_rig_rotation[p.cam_a];
     const auto& qb = result->cam_from_rig_rotation[p.cam_b];
     if (!qa || !qb) continue;
@@ -677,7 +689,7 @@ std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, 
                               "are not used");
   }
   result.warnings.insert(result.warnings.end(), scaled.warnings.begin(), scaled.warnings.end());
-  SetCameraAndEdgeStatus(obs, rotations, ba, scaled, initial.position_reason, &result);
+  SetCameraAndEdgeStatus(obs, rotations, rejected, ba, scaled, initial.position_reason, &result);
   SetCaptureTimes(obs, options.capture_time, ba, synchronisation, &result);
   CompareEdgesWithRig(obs, &result);
   if (options.keep_details) {
@@ -699,7 +711,7 @@ std::pair<int, std::string> MostDisagreeingEdge(const RigCalibrationResult& r, c
   double worst_excess = 1.0;
   for (int e = 0; e < static_cast<int>(r.edges.size()); ++e) {
     const RigEdgeStats& s = r.edges[e];
-    if (!s.used) continue;
+    if (!s.Used()) continue;
     const double excess = std::max(s.rotation_disagreement_deg.value_or(0.0) / options.max_pair_rotation_disagreement_deg,
                                    s.direction_disagreement_deg.value_or(0.0) / options.max_pair_direction_disagreement_deg);
     if (excess > worst_excess) {
@@ -770,9 +782,11 @@ std::optional<RigCalibrationResult> EstimateRigRounds(const RigObservations& obs
   result.rig_passes = 1;
   for (int e = 0; e < static_cast<int>(result.edges.size()); ++e) {
     RigEdgeStats& s = result.edges[e];
-    s.rejected = !rejected[e].empty();
     s.direction_left_out = !direction_left_out[e].empty();
-    if (s.direction_left_out && s.used) s.status = direction_left_out[e];
+    if (s.direction_left_out && s.Used()) {
+      s.outcome = EdgeOutcome::kDirectionLeftOut;
+      s.status = direction_left_out[e];
+    }
   }
   return result;
 }

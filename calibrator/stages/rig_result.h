@@ -40,20 +40,37 @@ struct RigCameraStats {
   std::optional<double> interval_visibility_px;
 };
 
+// What the rig stage made of a camera pair's edge; RigEdgeStats::status says it in words.
+enum class EdgeOutcome {
+  kUsed,                 // "used"
+  kUsedRotationOnly,     // "used (rotation only)": a camera of it has no position
+  kDirectionLeftOut,     // used for its rotation only: its baseline direction disagreed with the rig
+  kCameraNotCalibrated,  // active, but a camera of it has no rotation
+  kTwoViewFailed,        // no two-view estimate ("two-view failed: ...")
+  kTooFewInliers,        // below ViewGraphOptions::min_inliers
+  kRotationOutlier,      // rotation averaging found its rotation an outlier
+  kRejected,             // left out for disagreeing with the rig (status says by how much)
+};
+
 struct RigEdgeStats {
   std::string cam_a, cam_b;
   int inliers = 0;
-  bool used = false;           // active after rotation averaging
+  EdgeOutcome outcome = EdgeOutcome::kTwoViewFailed;
   bool rotation_only = false;  // no translation direction
-  bool rotation_outlier = false;
   std::optional<double> rotation_residual_deg;  // R_b R_a^T vs the pair's rotation at the solution
   // The pair's two-view estimate against the final rig: rotation (deg) and, when both cameras
   // have a position, baseline direction (deg).
   std::optional<double> rotation_disagreement_deg;
   std::optional<double> direction_disagreement_deg;
-  bool rejected = false;  // left out for disagreeing with the rig (status says by how much)
-  bool direction_left_out = false;  // used for its rotation only: its direction disagreed with the rig
-  std::string status;     // "used" or why not
+  // A round of the rig stage left its baseline direction out (kDirectionLeftOut while it stays used).
+  bool direction_left_out = false;
+  std::string status;  // "used" or why not
+
+  // Active after rotation averaging.
+  bool Used() const {
+    return outcome == EdgeOutcome::kUsed || outcome == EdgeOutcome::kUsedRotationOnly ||
+           outcome == EdgeOutcome::kDirectionLeftOut;
+  }
 };
 
 // One start of the bundle adjustment (RigCalibrationOptions::max_start_disagreement_deg).
