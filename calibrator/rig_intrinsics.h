@@ -3,9 +3,9 @@
 // --refine-intrinsics` runs.
 //
 // Intrinsics a few percent off bend every stage before the bundle adjustment: a camera's pairs
-// keep fewer inliers and their two-view poses are off by degrees (the demo's barrel-distorted
-// camera given without distortion: 20 deg), so the checks of the pairs against the rig would
-// throw out the very pairs that place it. Two passes:
+// keep fewer inliers and their two-view poses are off by degrees (VALIDATION.md, "Where the
+// calibrator's thresholds come from"), so the checks of the pairs against the rig would throw out
+// the very pairs that place it. Two passes:
 //  1. The rig stages on the pairs as estimated with the given intrinsics, no pair rejected for
 //     disagreeing with the rig, the intrinsics refined in the bundle adjustment.
 //  2. Every pair and temporal pair estimated again from its matches with the refined intrinsics,

@@ -1,4 +1,4 @@
-// Time in the rig stage (issue 31): each camera's capture time is its frame's timestamp plus its
+// Time in the rig stage: each camera's capture time is its frame's timestamp plus its
 // offset from camera 0 (plus its row's share of a rolling shutter's readout). The rig bundle
 // adjustment estimates these with a CaptureTiming (multi_frame_rig.h); this module makes its start
 // and decides, when they are not estimated, whether the images show cameras that did not capture

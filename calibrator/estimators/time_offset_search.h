@@ -1,4 +1,4 @@
-// A start for the cameras' time offsets from their own motions (issue: unsynchronised rigs). The
+// A start for the time offsets of an unsynchronised rig's cameras, from their own motions. The
 // angle a camera turns between two of its captures is the rig's turn over the same time, whatever
 // the camera's mounting (a rotation's angle is unchanged by conjugation); a camera that captures o
 // seconds after camera 0 turns, between frames k and k+1, what camera 0's motion turns between

@@ -83,39 +83,38 @@ struct RigCalibrationOptions {
   std::optional<KnownDistance> known_distance;
   // A camera whose direction from camera 0 the bundle adjustment's covariance leaves more
   // uncertain than this (standard deviation, deg) is reported "rotation only", not placed. The
-  // covariance is optimistic (correlated feature errors): on the rendered target rigs of
-  // bench/calibrator_targets.sh the direction errors are up to 9 times it (a 10 cm ring: 6.1 deg at
-  // 0.69) and 12 times where it is small (1.7 deg at 0.14), so 0.5 deg keeps placed cameras within
-  // the 5 deg direction tolerance. Well-fixed cameras are at 0.01-0.4 deg; cameras that sit (next
-  // to) together far above: a co-located ring 7-32 deg, a 3 cm ring 1.6-41 deg.
+  // covariance is optimistic (correlated feature errors): the real direction errors of the target
+  // rigs (bench/calibrator_targets.sh) are several times it, so the bound sits where they stay
+  // within the 5 deg direction tolerance, above well-fixed cameras and far below cameras that sit
+  // (next to) together (VALIDATION.md, "Where the calibrator's thresholds come from").
   double max_direction_std_deg = 0.5;
   // The bundle adjustment runs from every initial position estimate (rig_positions.h) and keeps
   // the result the images agree with best. A camera that another start puts more than
   // max_start_disagreement_deg (direction from camera 0) away is reported ambiguous, not placed,
   // unless the other start's cost is more than min_start_cost_ratio times the best: then that
-  // start ended in a minimum the images do not support. Measured on the target rigs of
-  // bench/calibrator_targets.sh where the starts ended apart: the other start cost 2.1-10.8 times
-  // the best, and every camera of the best that the covariance kept (max_direction_std_deg) was
-  // within tolerance. A wrong pair that makes a wrong rig fit best is left to the pair checks
-  // (cheirality, the pair-vs-rig check).
+  // start ended in a minimum the images do not support: on the target rigs where the starts ended
+  // apart, the other start cost clearly more than the best, and the best's cameras that the
+  // covariance kept were within tolerance (VALIDATION.md, "Where the calibrator's thresholds come from"). A wrong pair that makes a wrong
+  // rig fit best is left to the pair checks (cheirality, the pair-vs-rig check).
   double max_start_disagreement_deg = 2.0;
   double min_start_cost_ratio = 1.5;
   // A used pair whose two-view rotation is more than max_pair_rotation_disagreement_deg from the
   // rig's, or whose baseline direction is more than max_pair_direction_disagreement_deg from the
   // rig's, is left out and the rig made again without it (at most max_rejected_pairs times, the
-  // worst first): a wrong pair agrees with the rest only by chance. The rotation bound is loose:
-  // a fisheye pair's two-view rotation can be 1.6-1.9 deg off a rig that the tracks make right
-  // within 0.1 deg (the surround rig of tests/end_to_end_test.cc), and a wrong pair shows in its
-  // direction (measured 12-20 deg on the surround rig at 960x540, 160 deg on a mirror pose).
+  // worst first): a wrong pair agrees with the rest only by chance. The rotation bound is loose: a
+  // right fisheye pair's two-view rotation can be a degree or two off a rig that the tracks make
+  // right, and a wrong pair shows in its direction, far beyond the direction bound
+  // (VALIDATION.md, "Where the calibrator's thresholds come from").
   double max_pair_rotation_disagreement_deg = 3.0;
   double max_pair_direction_disagreement_deg = 10.0;
   int max_rejected_pairs = 3;
   // A pair whose rotation agrees with the rig's within half max_pair_rotation_disagreement_deg and
   // whose baseline direction is off by no more than this keeps its rotation and its matches in the
-  // rig, only its direction is left out: a few percent of wrong inliers bias a direction by 10-20
-  // deg (the parking surround rig without masks) while its rotation and matches still serve;
-  // leaving the whole pair out there cut the reference camera off. Farther off (a mirror pose of
-  // repeated structure, 160-175 deg) the whole pair goes.
+  // rig, only its direction is left out: a few percent of wrong inliers bias a direction beyond
+  // max_pair_direction_disagreement_deg (the parking surround rig without masks) while its rotation
+  // and matches still serve; leaving the whole pair out there cut the reference camera off. Farther
+  // off, near a mirror pose of repeated structure, the whole pair goes
+  // (VALIDATION.md, "Where the calibrator's thresholds come from").
   double max_direction_only_disagreement_deg = 30.0;
   // Keep what a report shows of every stage in RigCalibrationResult::details (matches with their
   // flags, rotations after rotation averaging, points, reprojection errors). Costs memory only.
