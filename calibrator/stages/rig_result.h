@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "calibrator/estimators/hand_eye.h"
 #include "calibrator/estimators/intrinsics_refinement.h"
 #include "calibrator/estimators/rig_turns.h"
 #include "calibrator/model/camera_status.h"
