@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "calibrator/estimators/multi_frame_rig.h"
-#include "calibrator/stages/rig_calibration.h"
 #include "calibrator/estimators/two_view.h"
+#include "calibrator/stages/rig_calibration.h"
 #include "evaluation/rig_scores.h"
 #include "testing/synthetic_rig.h"
 

@@ -4,8 +4,8 @@
 #include <optional>
 #include <utility>
 
-#include "calibrator/stages/rig_calibration.h"
 #include "calibrator/model/rig_state.h"
+#include "calibrator/stages/rig_calibration.h"
 
 namespace rigsim {
 namespace {

@@ -8,8 +8,8 @@
 #include <gtest/gtest.h>
 
 #include "calibrator/calibrator_test_support.h"
-#include "calibrator/rig_intrinsics.h"
 #include "calibrator/estimators/cross_time_candidates.h"
+#include "calibrator/rig_intrinsics.h"
 #include "testing/synthetic_rig.h"
 
 namespace rigsim {

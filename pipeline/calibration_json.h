@@ -7,9 +7,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "calibrator/calibrate_rig.h"
 #include "calibrator/estimators/intrinsics_refinement.h"
 #include "calibrator/stages/pairwise.h"
-#include "calibrator/calibrate_rig.h"
 #include "dataset/label_source.h"
 #include "evaluation/intrinsics_errors.h"
 #include "geometry/camera.h"

@@ -16,8 +16,8 @@
 
 #include <Eigen/Core>
 
-#include "calibrator/features/features.h"
 #include "calibrator/calibrate_rig.h"
+#include "calibrator/features/features.h"
 #include "calibrator/features/semantics.h"
 #include "dataset/dataset.h"
 #include "dataset/label_source.h"

@@ -10,8 +10,8 @@
 #include <optional>
 #include <vector>
 
-#include "calibrator/stages/pairwise.h"
 #include "calibrator/calibrate_rig.h"
+#include "calibrator/stages/pairwise.h"
 #include "dataset/dataset.h"
 #include "evaluation/intrinsics_errors.h"
 #include "evaluation/match_precision.h"

@@ -12,8 +12,8 @@
 
 #include "apps/rigsim/commands.h"
 #include "apps/rigsim/render_support.h"
-#include "common/format.h"
 #include "common/did_you_mean.h"
+#include "common/format.h"
 #include "dataset/dataset.h"
 #include "dataset/output_file.h"
 #include "dataset/output_folder.h"

@@ -14,10 +14,10 @@
 #include "common/format.h"
 #include "dataset/capture_poses.h"
 #include "dataset/output_folder.h"
+#include "dataset/render_shards.h"
 #include "geometry/camera_validation.h"
 #include "geometry/rig.h"
 #include "gltf/gltf_loader.h"
-#include "dataset/render_shards.h"
 #include "renderer/render_dataset.h"
 
 namespace rigsim::cli {

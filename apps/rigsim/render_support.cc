@@ -9,11 +9,11 @@
 #include "apps/rigsim/parse_errors.h"
 #include "apps/rigsim/progress.h"
 #include "common/format.h"
-#include "pipeline/report_table.h"
 #include "dataset/dataset.h"
 #include "dataset/render_shards.h"
 #include "gltf/gltf_loader.h"
 #include "gltf/label_rules.h"
+#include "pipeline/report_table.h"
 
 namespace rigsim::cli {
 

@@ -9,9 +9,9 @@
 #include <unistd.h>
 
 #include "apps/rigsim/commands.h"
+#include "apps/rigsim/interrupt.h"
 #include "apps/rigsim/parse_errors.h"
 #include "apps/rigsim/progress.h"
-#include "apps/rigsim/interrupt.h"
 #include "apps/rigsim/shard_options.h"
 #include "common/format.h"
 #include "pipeline/calibration_run.h"

@@ -5,9 +5,9 @@
 
 #include <Eigen/SVD>
 
+#include "calibrator/model/rig_state.h"
 #include "calibrator/model/union_find.h"
 #include "geometry/rigid3.h"
-#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 

@@ -13,12 +13,12 @@
 
 #include <Eigen/Geometry>
 
-#include "calibrator/model/correspondences.h"
 #include "calibrator/estimators/hand_eye.h"
 #include "calibrator/estimators/rig_positions.h"
+#include "calibrator/model/correspondences.h"
+#include "calibrator/model/rig_state.h"
 #include "calibrator/model/view_graph.h"
 #include "geometry/camera.h"
-#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 

@@ -8,8 +8,8 @@
 
 #include <Eigen/Geometry>
 
-#include "geometry/pose_interpolation.h"
 #include "calibrator/model/rig_state.h"
+#include "geometry/pose_interpolation.h"
 
 namespace rigsim {
 

@@ -16,8 +16,8 @@
 
 #include "calibrator/estimators/multi_frame_rig.h"
 #include "calibrator/estimators/time_offset_search.h"
-#include "calibrator/model/view_graph.h"
 #include "calibrator/model/rig_state.h"
+#include "calibrator/model/view_graph.h"
 
 namespace rigsim {
 

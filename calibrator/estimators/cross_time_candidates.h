@@ -19,8 +19,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "geometry/camera.h"
 #include "calibrator/model/rig_state.h"
+#include "geometry/camera.h"
 
 namespace rigsim {
 

@@ -26,8 +26,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "geometry/rigid3.h"
 #include "calibrator/model/rig_state.h"
+#include "geometry/rigid3.h"
 
 namespace rigsim {
 

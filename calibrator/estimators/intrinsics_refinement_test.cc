@@ -8,8 +8,8 @@
 
 #include "calibrator/calibrator_test_support.h"
 #include "calibrator/estimators/cost_functions.h"
-#include "calibrator/stages/rig_calibration.h"
 #include "calibrator/rig_intrinsics.h"
+#include "calibrator/stages/rig_calibration.h"
 #include "evaluation/intrinsics_errors.h"
 #include "testing/expect_error.h"
 #include "testing/synthetic_rig.h"

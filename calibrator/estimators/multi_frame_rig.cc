@@ -16,9 +16,9 @@
 
 #include "calibrator/estimators/bundle_covariance.h"
 #include "calibrator/estimators/cost_functions.h"
+#include "calibrator/model/rig_state.h"
 #include "common/format.h"
 #include "geometry/pose_interpolation.h"
-#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 namespace {

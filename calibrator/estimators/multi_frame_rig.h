@@ -27,13 +27,13 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "calibrator/model/correspondences.h"
-#include "calibrator/model/tracks.h"
 #include "calibrator/estimators/intrinsics_refinement.h"
+#include "calibrator/model/correspondences.h"
+#include "calibrator/model/rig_state.h"
+#include "calibrator/model/tracks.h"
 #include "calibrator/model/view_graph.h"
 #include "geometry/camera.h"
 #include "geometry/rigid3.h"
-#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 

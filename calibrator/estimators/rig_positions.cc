@@ -9,10 +9,10 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "common/format.h"
 #include "calibrator/estimators/translation_averaging.h"
-#include "calibrator/model/union_find.h"
 #include "calibrator/model/rig_state.h"
+#include "calibrator/model/union_find.h"
+#include "common/format.h"
 
 namespace rigsim {
 namespace {

@@ -26,11 +26,11 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "calibrator/model/correspondences.h"
 #include "calibrator/estimators/multi_frame_rig.h"
+#include "calibrator/model/correspondences.h"
+#include "calibrator/model/rig_state.h"
 #include "calibrator/model/view_graph.h"
 #include "geometry/camera.h"
-#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 

@@ -11,8 +11,8 @@
 
 #include "calibrator/estimators/cost_functions.h"
 #include "calibrator/estimators/robust_rotation_fit.h"
-#include "geometry/rigid3.h"
 #include "calibrator/model/rig_state.h"
+#include "geometry/rigid3.h"
 
 namespace rigsim {
 namespace {

@@ -3,9 +3,9 @@
 #include <limits>
 #include <stdexcept>
 
+#include "calibrator/model/rig_state.h"
 #include "common/format.h"
 #include "geometry/rigid3.h"
-#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 namespace {

@@ -18,8 +18,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "calibrator/model/view_graph.h"
 #include "calibrator/model/rig_state.h"
+#include "calibrator/model/view_graph.h"
 
 namespace rigsim {
 

@@ -10,9 +10,9 @@
 #include <Eigen/Geometry>
 
 #include "calibrator/model/correspondences.h"
+#include "calibrator/model/rig_state.h"
 #include "calibrator/model/view_graph.h"
 #include "geometry/camera.h"
-#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 

@@ -10,11 +10,11 @@
 #include <tbb/parallel_for.h>
 
 #include "calibrator/estimators/camera_trajectory.h"
+#include "calibrator/estimators/two_view.h"
 #include "calibrator/features/matching.h"
 #include "calibrator/features/parallel_scope.h"
-#include "calibrator/estimators/two_view.h"
-#include "calibrator/stages/stage_clock.h"
 #include "calibrator/model/rig_state.h"
+#include "calibrator/stages/stage_clock.h"
 
 namespace rigsim {
 namespace {

@@ -28,14 +28,14 @@
 
 #include "calibrator/estimators/cross_time_candidates.h"
 #include "calibrator/estimators/hand_eye.h"
+#include "calibrator/estimators/rig_rotation_averaging.h"
+#include "calibrator/estimators/rig_turns.h"
 #include "calibrator/features/matching.h"
 #include "calibrator/model/rig_observations.h"
+#include "calibrator/model/rig_state.h"
 #include "calibrator/stages/pairwise.h"
 #include "calibrator/stages/rig_options.h"
 #include "calibrator/stages/rig_result.h"
-#include "calibrator/estimators/rig_rotation_averaging.h"
-#include "calibrator/estimators/rig_turns.h"
-#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 

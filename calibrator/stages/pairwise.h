@@ -19,10 +19,10 @@
 
 #include <Eigen/Core>
 
-#include "calibrator/model/correspondences.h"
+#include "calibrator/estimators/two_view.h"
 #include "calibrator/features/features.h"
 #include "calibrator/features/matching.h"
-#include "calibrator/estimators/two_view.h"
+#include "calibrator/model/correspondences.h"
 #include "calibrator/model/view_graph.h"
 #include "geometry/camera.h"
 

@@ -9,12 +9,12 @@
 #include <Eigen/Eigenvalues>
 
 #include "calibrator/estimators/camera_centres.h"
-#include "common/format.h"
-#include "calibrator/stages/rig_motion_links.h"
-#include "calibrator/stages/rig_capture_times.h"
 #include "calibrator/estimators/rig_positions.h"
-#include "calibrator/stages/stage_clock.h"
 #include "calibrator/model/rig_state.h"
+#include "calibrator/stages/rig_capture_times.h"
+#include "calibrator/stages/rig_motion_links.h"
+#include "calibrator/stages/stage_clock.h"
+#include "common/format.h"
 
 namespace rigsim {
 namespace {

@@ -31,9 +31,9 @@
 #include <Eigen/Geometry>
 
 #include "calibrator/model/rig_observations.h"
+#include "calibrator/model/rig_state.h"
 #include "calibrator/stages/rig_options.h"
 #include "calibrator/stages/rig_result.h"
-#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 

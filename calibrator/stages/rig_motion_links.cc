@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <string>
 
-#include "common/format.h"
 #include "calibrator/model/rig_state.h"
+#include "common/format.h"
 
 namespace rigsim {
 namespace {

@@ -12,9 +12,9 @@
 #include "calibrator/estimators/multi_frame_rig.h"
 #include "calibrator/estimators/rig_rotation_averaging.h"
 #include "calibrator/model/rig_observations.h"
+#include "calibrator/model/rig_state.h"
 #include "calibrator/model/view_graph.h"
 #include "calibrator/stages/rig_options.h"
-#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 

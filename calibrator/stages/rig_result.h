@@ -14,11 +14,11 @@
 #include "calibrator/estimators/intrinsics_refinement.h"
 #include "calibrator/estimators/rig_turns.h"
 #include "calibrator/model/camera_status.h"
+#include "calibrator/model/rig_state.h"
 #include "calibrator/model/two_view_geometry.h"
 #include "calibrator/stages/pairwise.h"
 #include "geometry/rig.h"
 #include "geometry/rigid3.h"
-#include "calibrator/model/rig_state.h"
 
 namespace rigsim {
 
