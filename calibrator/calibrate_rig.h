@@ -1,6 +1,6 @@
 // The calibrator's entry: the rig from images. The pairwise stage on the views
 // (stages/pairwise.h), then the rig stage (stages/rig_calibration.h) in the passes the options ask
-// for: with the motion stage's links (motion_passes.h) or with refined intrinsics
+// for: with the motion stage's links (motion_passes.h) and with refined intrinsics
 // (rig_intrinsics.h).
 #pragma once
 

@@ -1,28 +1,26 @@
-// Targetless rig calibration, in memory: from every view's features to every camera's cam_from_rig.
-// No file is read and no truth is seen; pipeline/ reads a dataset, scores the result against the
-// truth (evaluation/) and writes it.
+// The rig stage, in memory: from the pairwise stage's observations (model/rig_observations.h) to
+// every camera's cam_from_rig. No file is read and no truth is seen.
 //
-// Stages: the pairwise stage (pairwise.h: matches per frame, one two-view estimate per pair over
-// pooled frames, and each camera matched with itself between consecutive frames) -> view graph
-// (view_graph.h) -> robust rotation averaging (rotation_averaging.h) -> rig rotation per frame
-// from the temporal pairs -> tracks over all views (camera, frame) -> camera and rig positions by
-// linear translation averaging over the tracks -> multi-frame bundle adjustment
-// (multi_frame_rig.h). The rig's motion links the scales of the camera pairs, so a ring where
-// only neighbours overlap (a chain, not parallel rigid) is determined once it moves. Without
-// temporal pairs (one frame, or none given) every frame is an independent capture of a static rig
-// and only same-frame tracks constrain the positions.
+// Steps: view graph (model/view_graph.h) -> robust rotation averaging
+// (estimators/rotation_averaging.h; with motion links every rotation jointly, rig_motion_links.h)
+// -> rig rotation per frame from the temporal pairs -> tracks over all views (model/tracks.h) ->
+// camera and rig positions over the tracks (estimators/rig_positions.h) -> multi-frame bundle
+// adjustment from every start (estimators/multi_frame_rig.h) -> capture times checked or estimated
+// (rig_capture_times.h). The rig's motion links the scales of the camera pairs, so a ring where only
+// neighbours overlap (a chain, not parallel rigid) is determined once it moves. Without temporal
+// pairs (one frame, or none given) every frame is an independent capture of a static rig and only
+// same-frame tracks constrain the positions. Whether the motion stage's links are added, and which
+// pass is kept, is the controller's (calibrator/motion_passes.h).
 //
-// Where the same-instant pairs leave a camera without a full pose and the rig moved, the stages run
-// with links from the rig's motion (motion_links.h: hand-eye starts, views matched across time,
-// every rotation averaged jointly), kept when they place more cameras.
 // Gauge: camera 0 is the rig frame (its cam_from_rig is the identity); frame 0's rig frame is the
-// world. Only the cameras those links reach from camera 0 get rotations; every other camera is
+// world. Only the cameras the pairs reach from camera 0 get rotations; every other camera is
 // reported "not connected: <reason>" and gets no pose, never a guessed one. A camera with a
 // rotation whose position the data do not determine (e.g. a chain of cameras and one frame) is
 // reported "rotation only: <reason>": result.cam_from_rig_rotation has its rotation, the rig
 // (and rig.json) has no cam_from_rig for it: there is no made-up translation.
 // Scale: images fix none. Without a known distance the centre of the first calibrated camera
 // after camera 0 is at distance 1 ("unit scale"); with one, the two named cameras' centres are
+// that many metres apart ("metric").
 #pragma once
 
 #include <optional>
