@@ -210,7 +210,6 @@ TEST(MultiFrameRig, ViewTracksJoinFramesAndDropConflicts) {
 namespace rigsim {
 namespace {
 
-
 // Camera 1 captures 12 ms and camera 2 -20 ms from the frame; cameras 0 and 1 roll their shutters.
 const std::vector<double> kOffsets = {0.0, 0.012, -0.020}, kReadouts = {0.030, 0.020, 0.0};
 

@@ -139,7 +139,6 @@ void MatchSubset(const FeatureSet& a, const std::vector<int>& ia, const FeatureS
   }
 }
 
-
 // --- Hamming path ------------------------------------------------------------------------------
 
 // Binary descriptors of `rows`, each zero-padded to `words` 64-bit words (the padding XORs to

@@ -19,7 +19,6 @@
 namespace rigsim {
 namespace {
 
-
 // Each camera's own trajectory over the frames, through its steps as the rig chose them; frame 0 is
 // the identity by definition, also for a camera whose own motion the images do not fix.
 std::vector<CameraTrajectory> CameraTrajectories(const RigObservations& obs, const RigTurns& turns,

@@ -11,7 +11,6 @@
 namespace rigsim {
 namespace {
 
-
 struct PairIndex {
   int a, b;
 };

@@ -223,7 +223,6 @@ TEST_F(RigCalibrationTest, PairWhoseDirectionAloneDisagreesKeepsItsRotation) {
   }
 }
 
-
 TEST_F(RigCalibrationTest, CameraZeroAloneCalibratesNothingElse) {
   RigObservations obs = *observations_;
   for (PairEstimate& p : obs.pairs) {
