@@ -92,6 +92,13 @@ void SelfTestAgreesWithTheCpp(const DemoReport& d, const std::string& chromium) 
   // Every camera's view under each base image, and each step of the pipeline.
   EXPECT_EQ(st["views_drawn"].get<int>(), 4 * 3);
   EXPECT_EQ(st["pipeline_steps"].get<int>(), 6);
+  // The view graph's edge table: a row with a status per camera pair.
+  EXPECT_GT(st["edge_rows_expected"].get<int>(), 0);
+  EXPECT_EQ(st["edge_rows"], st["edge_rows_expected"]);
+  EXPECT_EQ(st["edge_rows_with_status"], st["edge_rows_expected"]);
+  // The Numbers tab's tables wrap on a narrow page.
+  EXPECT_GE(st["numbers_tables"].get<int>(), 2);
+  EXPECT_LE(st["numbers_overflow_px"].get<double>(), 1.0) << "a table of the Numbers tab runs off a 360 px page";
   // The 3D view drew the scene and the rig over most of its canvas.
   EXPECT_GT(st["webgl"]["width"].get<int>(), 100);
   EXPECT_GT(st["webgl"]["drawn_fraction"].get<double>(), 0.3);

@@ -888,6 +888,25 @@ var RIGSIM = (function () {
         out.views_drawn = drawnViews;
         R.modes.forEach(function (_, m) { $('pipeline-mode').value = String(m); drawPipeline(); });
         out.pipeline_steps = document.querySelectorAll('#pipeline-body .step').length;
+        // The view graph's edge table of the method drawn last: a row per camera pair, each with its status.
+        var edgeTable = null;
+        document.querySelectorAll('#pipeline-body table').forEach(function (t) {
+          if (t.rows.length && /against the final rig/.test(t.rows[0].textContent)) edgeTable = t;
+        });
+        var rows = edgeTable ? Array.prototype.slice.call(edgeTable.rows, 1) : [];
+        out.edge_rows = rows.length;
+        out.edge_rows_expected = R.pipeline.modes[Number($('pipeline-mode').value)].edges.length;
+        out.edge_rows_with_status = rows.filter(function (r) { return r.cells.length === 5 && r.cells[4].textContent.length > 0; }).length;
+        // The Numbers tab's tables wrap on a narrow page instead of running off its side.
+        showTab('numbers');
+        var nb = $('numbers-body');
+        nb.style.width = '360px';
+        var pres = nb.querySelectorAll('pre'), overflow = 0;
+        pres.forEach(function (p) { overflow = Math.max(overflow, p.scrollWidth - p.clientWidth); });
+        out.numbers_tables = pres.length;
+        out.numbers_overflow_px = overflow;
+        nb.style.width = '';
+        showTab('scene');
       });
     }).catch(function (e) { out.exception = String(e && e.stack || e); }).then(function () {
       out.errors = window.RIGSIM_ERRORS.slice();
