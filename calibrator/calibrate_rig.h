@@ -13,7 +13,7 @@
 namespace rigsim {
 
 // The rig stages on the pairwise stage's outcome (pairwise.h MatchRigPairs) of `views`, with the
-// motion stage (motion_links.h EstimateRigWithMotionLinks) where it applies. The
+// motion stage (motion_passes.h EstimateRigWithMotionLinks) where it applies. The
 // result has the pairwise report, its pairs as the rig used them (re-estimated with the refined
 // intrinsics under RigBundleAdjustmentOptions::refine_intrinsics; marked where the rig left them
 // out) and, with keep_details, the match data. Throws like EstimateRig.

@@ -8,7 +8,7 @@
 //  - when the two cameras' relative rotation is not known yet (nothing links them): a search, one
 //    view pair per bin of the rig's turn between the two frames (a camera's mounting shows as the
 //    turn at which its views meet another's), the pair the rig moved least between; a cheap screen
-//    (calibrator/pairwise.h) keeps the ones that share a view.
+//    (calibrator/stages/pairwise.h) keeps the ones that share a view.
 // Camera pairs include a camera with itself (a loop brings it back where it was) when its rotation
 // is known, for frames at least min_frame_gap apart.
 #pragma once
