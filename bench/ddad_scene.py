@@ -14,15 +14,12 @@ truth_rig.json names each cam_from_rig rotation "rotation" ([w, x, y, z]); rig.j
 the images' names when there is no frames.json. Standard library only.
 """
 
-import argparse
 import json
 import os
 import shutil
-import statistics
-import sys
 from pathlib import Path
 
-from herz_jesus import run_once, summarise
+from herz_jesus import parse_arguments, run_benchmark
 
 
 def build_folder(data, folder):
@@ -38,28 +35,15 @@ def build_folder(data, folder):
     (folder / "rig.json").write_text(json.dumps(truth, indent=2) + "\n")
 
 
+def print_warnings(ev):
+    for w in ev["methods"]["none"].get("rig", {}).get("warnings", []):
+        print(f"    warning: {w}")
+
+
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("data", type=Path, help="the ddad-scene01 folder (images/, truth_rig.json)")
-    ap.add_argument("--rigsim", type=Path, default=Path(__file__).resolve().parent.parent / "build/apps/rigsim/rigsim")
-    ap.add_argument("--work", type=Path, default=Path("/tmp/ddad-scene01"), help="scratch folder (replaced)")
-    ap.add_argument("--runs", type=int, default=1)
-    ap.add_argument("--threads", type=int, default=0, help="calibrate --threads (0: all cores)")
-    a = ap.parse_args()
-    if not a.rigsim.exists():
-        sys.exit(f"{a.rigsim}: no rigsim binary (build first, or give --rigsim)")
-    build_folder(a.data, a.work)
-    walls = []
-    for i in range(a.runs):
-        wall, ev, stdout, cmd = run_once(a.rigsim, a.work, a.threads)
-        if i == 0:
-            print("$ " + " ".join(cmd))
-        print(f"run {i + 1}:")
-        summarise(wall, ev, stdout)
-        for w in ev["methods"]["none"].get("rig", {}).get("warnings", []):
-            print(f"    warning: {w}")
-        walls.append(wall)
-    print(f"wall time over {a.runs} run(s): median {statistics.median(walls):.2f} s")
+    a = parse_arguments(__doc__.split("\n")[0], "the ddad-scene01 folder (images/, truth_rig.json)",
+                        Path("/tmp/ddad-scene01"), 1)
+    run_benchmark(a, build_folder, print_warnings)
 
 
 if __name__ == "__main__":

@@ -147,16 +147,23 @@ def summarise(wall, ev, stdout):
           f"direction {fmt(max(tdir_k) if tdir_k else None, '.3f')} deg")
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("data", type=Path, help="the herz-jesus-p8 folder (images/, gt/)")
+def parse_arguments(description, data_help, default_work, default_runs):
+    """The command line both real-data benchmarks share."""
+    ap = argparse.ArgumentParser(description=description)
+    ap.add_argument("data", type=Path, help=data_help)
     ap.add_argument("--rigsim", type=Path, default=Path(__file__).resolve().parent.parent / "build/apps/rigsim/rigsim")
-    ap.add_argument("--work", type=Path, default=Path("/tmp/herz-jesus"), help="scratch folder (replaced)")
-    ap.add_argument("--runs", type=int, default=3)
+    ap.add_argument("--work", type=Path, default=default_work, help="scratch folder (replaced)")
+    ap.add_argument("--runs", type=int, default=default_runs)
     ap.add_argument("--threads", type=int, default=0, help="calibrate --threads (0: all cores)")
     a = ap.parse_args()
     if not a.rigsim.exists():
         sys.exit(f"{a.rigsim}: no rigsim binary (build first, or give --rigsim)")
+    return a
+
+
+def run_benchmark(a, build_folder, after_run=None):
+    """Builds the photo folder, calibrates it a.runs times, prints each run and the wall times;
+    after_run(evaluation) adds what a data set has to say of a run."""
     build_folder(a.data, a.work)
     walls = []
     for i in range(a.runs):
@@ -165,9 +172,16 @@ def main():
             print("$ " + " ".join(cmd))
         print(f"run {i + 1}:")
         summarise(wall, ev, stdout)
+        if after_run:
+            after_run(ev)
         walls.append(wall)
     print(f"wall time over {a.runs} run(s): median {statistics.median(walls):.2f} s, "
           f"min {min(walls):.2f} s, max {max(walls):.2f} s")
+
+
+def main():
+    a = parse_arguments(__doc__.split("\n")[0], "the herz-jesus-p8 folder (images/, gt/)", Path("/tmp/herz-jesus"), 3)
+    run_benchmark(a, build_folder)
 
 
 if __name__ == "__main__":

@@ -1,6 +1,11 @@
 #include "calibrator/calibrate_rig.h"
 
+#include <map>
+#include <memory>
+#include <mutex>
+#include <tuple>
 #include <utility>
+#include <vector>
 
 #include "calibrator/motion_passes.h"
 #include "calibrator/rig_intrinsics.h"
@@ -33,6 +38,24 @@ RigObservations ObservationsOfPairs(const RigViews& views, const PairwiseResult&
   return obs;
 }
 
+// `match`, each view pair matched once: the intrinsics' two passes ask the motion stage for the same
+// view pairs, whose matches the intrinsics do not change. Called from several threads at once.
+ViewPairMatcher MatchingEachPairOnce(ViewPairMatcher match) {
+  using ViewPair = std::tuple<int, int, int, int>;
+  auto matched = std::make_shared<std::map<ViewPair, std::vector<std::pair<int, int>>>>();
+  auto guard = std::make_shared<std::mutex>();
+  return [match = std::move(match), matched, guard](int cam_a, int frame_a, int cam_b, int frame_b) {
+    const ViewPair key{cam_a, frame_a, cam_b, frame_b};
+    {
+      const std::lock_guard<std::mutex> lock(*guard);
+      if (const auto it = matched->find(key); it != matched->end()) return it->second;
+    }
+    std::vector<std::pair<int, int>> m = match(cam_a, frame_a, cam_b, frame_b);
+    const std::lock_guard<std::mutex> lock(*guard);
+    return matched->emplace(key, std::move(m)).first->second;
+  };
+}
+
 }  // namespace
 
 void UseReestimatedPairs(RigCalibrationResult* result) {
@@ -55,12 +78,13 @@ RigCalibrationResult EstimateRigFromPairs(const RigViews& views, const PairwiseR
   const RigObservations obs = ObservationsOfPairs(views, pairwise);
   // Every run of the rig stage, both of the intrinsics' passes included, with the motion stage's
   // links where they apply.
-  const ViewPairMatcher match = MatcherOfViews(views, options.pairwise.matching);
+  const bool refine = options.bundle_adjustment.refine_intrinsics;
+  const ViewPairMatcher views_matched = MatcherOfViews(views, options.pairwise.matching);
+  const ViewPairMatcher match = refine ? MatchingEachPairOnce(views_matched) : views_matched;
   const RigPass with_motion = [&match](const RigObservations& o, const RigCalibrationOptions& opt) {
     return EstimateRigWithMotionLinks(o, match, opt);
   };
-  RigCalibrationResult r = options.bundle_adjustment.refine_intrinsics ? EstimateRigAndIntrinsics(obs, options, with_motion)
-                                                                       : with_motion(obs, options);
+  RigCalibrationResult r = refine ? EstimateRigAndIntrinsics(obs, options, with_motion) : with_motion(obs, options);
   r.pairwise = pairwise.report;
   UseReestimatedPairs(&r);
   MarkPairsTheRigLeftOut(&r);

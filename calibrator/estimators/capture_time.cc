@@ -169,6 +169,14 @@ double TruncatedCost(const MultiFrameBundleAdjustmentResult& r, double max_error
          r.num_filtered_observations * max_error_px * max_error_px;
 }
 
+// A freed offset or readout the images show: beyond `min_value_s`, beyond options.min_sigmas of its
+// standard deviation, and moving the view by options.min_visible_px or more on the rig's path.
+bool FoundInTheImages(double value_s, double stddev_s, double visibility_px, double min_value_s,
+                      const CaptureTimeOptions& options) {
+  const double magnitude = std::abs(value_s);
+  return magnitude > min_value_s && magnitude > options.min_sigmas * stddev_s && visibility_px >= options.min_visible_px;
+}
+
 }  // namespace
 
 std::vector<CameraSynchronisation> CheckSynchronisation(
@@ -220,9 +228,8 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
     s.offset_stddev_s = *freed.time_offset_stddev_s[c];
     s.offset_visibility_px = OffsetVisibilityPx(adjusted.poses.rig_from_world, frame_times_s, *s.offset_s,
                                                 PixelsPerRadian(adjusted.cameras[c]), adjusted.median_depth);
-    const double magnitude = std::abs(*s.offset_s);
-    s.unsynchronised = magnitude > options.min_offset_s && magnitude > options.min_sigmas * *s.offset_stddev_s &&
-                       s.offset_visibility_px >= options.min_visible_px;
+    s.unsynchronised =
+        FoundInTheImages(*s.offset_s, *s.offset_stddev_s, s.offset_visibility_px, options.min_offset_s, options);
   }
   // Rolling shutters: offsets held at zero and every readout free. Freed together with the offsets,
   // readouts and offsets trade against each other over few frames and condemned a synchronised
@@ -244,9 +251,8 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
     s.readout_stddev_s = *read_out.readout_stddev_s[c];
     s.readout_visibility_px = ReadoutVisibilityPx(adjusted.poses.rig_from_world, frame_times_s, *s.readout_s,
                                                   PixelsPerRadian(adjusted.cameras[c]), adjusted.median_depth);
-    const double magnitude = std::abs(*s.readout_s);
-    s.rolling_shutter = magnitude > options.min_readout_s && magnitude > options.min_sigmas * *s.readout_stddev_s &&
-                        s.readout_visibility_px >= options.min_visible_px;
+    s.rolling_shutter =
+        FoundInTheImages(*s.readout_s, *s.readout_stddev_s, s.readout_visibility_px, options.min_readout_s, options);
   }
   return out;
 }
