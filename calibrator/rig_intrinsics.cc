@@ -25,7 +25,7 @@ RigObservations ReestimateWithIntrinsics(const RigObservations& obs, const std::
       pa.push_back(obs.keypoints[t.frame][t.camera][i]);
       pb.push_back(obs.keypoints[t.frame + 1][t.camera][j]);
     }
-    const TwoViewResult tv = EstimateRelativePose(camera, pa, camera, pb, options);
+    const TwoViewResult tv = EstimateRelativePose(camera, pa, camera, pb, WithoutRivalSearch(options));
     t.two_view = tv.estimate;
     t.inliers.clear();
     for (size_t i = 0; i < t.matches.size() && tv.estimate.success; ++i) {

@@ -43,6 +43,8 @@ RigEstimate Empty(const std::string& method, size_t n) {
   e.rotation_only.assign(n, std::nullopt);
   e.open_axis.assign(n, std::nullopt);
   e.if_synchronised.assign(n, 0);
+  e.rotation_std_deg.assign(n, std::nullopt);
+  e.direction_std_deg.assign(n, std::nullopt);
   return e;
 }
 
@@ -110,6 +112,11 @@ std::vector<RigEstimate> FromCalibrationFolder(const fs::path& dir, const Rig& t
     for (const Json& cam : rig.value("cameras", Json::array())) {
       if (cam.is_object() && cam.value("holds_if_synchronised", false)) {
         e.if_synchronised[CameraIndex(truth, cam.value("name", ""), evaluation_path.string())] = 1;
+      }
+      for (const char* key : {"rotation_std_deg", "direction_std_deg"}) {
+        if (!cam.is_object() || !cam.contains(key) || !cam[key].is_number()) continue;
+        const size_t c = CameraIndex(truth, cam.value("name", ""), evaluation_path.string());
+        (std::string(key) == "rotation_std_deg" ? e.rotation_std_deg : e.direction_std_deg)[c] = cam[key].get<double>();
       }
       if (!cam.is_object() || cam.value("position_known", true) || !cam.contains("rotation_wxyz") ||
           !cam["rotation_wxyz"].is_array()) {

@@ -47,6 +47,9 @@ struct RigEstimate {
   // Of a camera with a full pose: 1 when the pose holds only if the camera captured with camera 0
   // (rigsim's "calibrated if synchronised": the rig's path cannot show a time offset).
   std::vector<char> if_synchronised;
+  // The standard deviations the tool states for a camera's rotation and for the direction of its
+  // centre from camera 0's (deg); nullopt where it states none (every peer).
+  std::vector<std::optional<double>> rotation_std_deg, direction_std_deg;
   bool metric = false;  // translations in metres (position errors without a scale fit)
   std::vector<std::string> notes;  // what the reader could not use, e.g. images not registered
   // What the tool reported besides the poses (a calibration's timing and match statistics), as it

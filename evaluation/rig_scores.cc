@@ -6,6 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "common/format.h"
 #include "evaluation/pose_errors.h"
 #include "evaluation/verdicts.h"
 
@@ -123,6 +124,13 @@ RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate) {
       const bool true_has_across = AcrossAxis(open.axis, true_centre).norm() > 1e-9;
       placed_error_deg = OpenAxisErrorDeg(cs.rotation_error_deg, cs.across_axis_direction_error_deg, true_has_across);
     }
+    const auto beyond = [](const std::optional<double>& error, const std::vector<std::optional<double>>& stated,
+                           size_t camera) {
+      return error && camera < stated.size() && stated[camera] && *error > kOverconfidentSigmas * *stated[camera];
+    };
+    cs.overconfident = c > 0 && ((cs.has_rotation && beyond(cs.rotation_error_deg, estimate.rotation_std_deg, c)) ||
+                                 (cs.posed && beyond(cs.direction_error_deg, estimate.direction_std_deg, c)));
+    s.overconfident += cs.overconfident;
     if (cs.if_synchronised) {
       s.wrong_if_synchronised += ConfidentlyWrong(true, placed_error_deg);
     } else {
@@ -224,7 +232,8 @@ nlohmann::json RigScoresToJson(const RigScores& s) {
                        {"translation_direction_error_deg", Opt(c.direction_error_deg)},
                        {"across_axis_direction_error_deg", Opt(c.across_axis_direction_error_deg)},
                        {"position_error_m", Opt(c.position_error_m)},
-                       {"pose_error_deg", Finite(c.pose_error_deg)}});
+                       {"pose_error_deg", Finite(c.pose_error_deg)},
+                       {"overconfident", c.overconfident}});
   }
   for (const PairScore& p : s.pairs) {
     pairs.push_back({{"cam_a", p.cam_a},
@@ -248,6 +257,7 @@ nlohmann::json RigScoresToJson(const RigScores& s) {
             {"success_1deg", s.success_1deg},
             {"success_2deg", s.success_2deg},
             {"confidently_wrong", s.confidently_wrong},
+            {"overconfident", s.overconfident},
             {"cameras_if_synchronised", s.cameras_if_synchronised},
             {"wrong_if_synchronised", s.wrong_if_synchronised},
             {"max_rotation_error_deg", Opt(s.max_rotation_error_deg)},
@@ -302,6 +312,10 @@ std::string FormatRigScores(const std::vector<RigScores>& all) {
                                              Deg(kConfidentlyWrongDeg, "%g deg") + " off").c_str()
                                           : "");
     out += line;
+    if (s.overconfident > 0) {
+      out += "  " + std::to_string(s.overconfident) + " camera(s) off by more than " +
+             Fixed(kOverconfidentSigmas, 0) + " times the standard deviation the estimate states\n";
+    }
     if (s.cameras_if_synchronised > 0) {
       out += "  " + std::to_string(s.cameras_if_synchronised) + " camera(s) posed if synchronised (the rig's path " +
              "cannot show a time offset), " + std::to_string(s.wrong_if_synchronised) + " of them > " +

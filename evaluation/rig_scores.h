@@ -43,6 +43,9 @@ struct CameraScore {
   bool has_rotation = false;   // full pose or rotation only
   bool open_axis = false;      // placed but for one axis: a rotation and the centre across the axis
   bool if_synchronised = false;  // the full pose holds only if the camera captured with camera 0
+  // Its rotation error exceeds kOverconfidentSigmas times the stated standard deviation of its
+  // rotation, or (with a full pose) its direction error that of its direction.
+  bool overconfident = false;
   std::optional<double> rotation_error_deg;
   std::optional<double> direction_error_deg;
   std::optional<double> across_axis_direction_error_deg;  // open_axis cameras
@@ -80,8 +83,13 @@ struct RigScores {
   // Cameras ConfidentlyWrong (verdicts.h), placed but for one axis ones included, those whose pose
   // holds only if synchronised not.
   int confidently_wrong = 0;
+  int overconfident = 0;  // cameras CameraScore::overconfident
   std::vector<std::string> notes;
 };
+
+// An error beyond this many stated standard deviations is overconfident (a Gaussian gets there
+// once in 370).
+inline constexpr double kOverconfidentSigmas = 3.0;
 
 // The thresholds of RigScores::auc_*.
 inline constexpr double kAucThresholdsDeg[4] = {1.0, 2.0, 5.0, 10.0};

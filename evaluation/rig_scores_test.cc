@@ -217,5 +217,34 @@ TEST(RigScores, ACameraOnTheOpenAxisHasNoDirectionAcrossItToJudge) {
   EXPECT_EQ(ScoreRig(truth, e).confidently_wrong, 1);
 }
 
+// A camera off by more than three stated standard deviations is overconfident; one whose error
+// its stated deviation covers is not, nor one for which nothing is stated (a peer's estimate).
+TEST(RigScores, ErrorsBeyondThreeStatedDeviationsAreOverconfident) {
+  const Rig truth = Truth();
+  const Rig off = Moved(truth, 2, Eigen::Vector3d(0.05, 0, 0));  // cam2's direction 2.9 deg off
+  RigEstimate e = EstimateOf(off);
+  EXPECT_EQ(ScoreRig(truth, e).overconfident, 0);  // nothing stated
+  e.rotation_std_deg.assign(3, 0.01);
+  e.direction_std_deg.assign(3, std::nullopt);
+  e.direction_std_deg[2] = 2.0;
+  RigScores s = ScoreRig(truth, e);
+  EXPECT_EQ(s.overconfident, 0);
+  e.direction_std_deg[2] = 0.5;
+  s = ScoreRig(truth, e);
+  EXPECT_EQ(s.overconfident, 1);
+  EXPECT_TRUE(s.cameras[2].overconfident);
+  EXPECT_FALSE(s.cameras[1].overconfident);
+  EXPECT_EQ(RigScoresToJson(s)["summary"]["overconfident"], 1);
+  // A rotation-only camera is judged on its rotation.
+  RigEstimate turned = EstimateOf(truth);
+  turned.rotation_only[1] =
+      Eigen::Quaterniond(Eigen::AngleAxisd(DegToRad(1.0), Eigen::Vector3d::UnitX())) * turned.cam_from_rig[1]->rotation;
+  turned.cam_from_rig[1].reset();
+  turned.rotation_std_deg.assign(3, 0.5);
+  EXPECT_EQ(ScoreRig(truth, turned).overconfident, 0);
+  turned.rotation_std_deg[1] = 0.2;
+  EXPECT_EQ(ScoreRig(truth, turned).overconfident, 1);
+}
+
 }  // namespace
 }  // namespace rigsim

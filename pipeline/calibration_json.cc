@@ -56,6 +56,15 @@ Json PairResultToJson(const PairResult& pr, const PairAgainstTruth* truth) {
   j["matches"] = tv.num_matches;
   j["inliers"] = tv.num_inliers;
   j["homography_inliers"] = tv.num_homography_inliers;
+  if (tv.rival) {
+    j["rival_pose"] = {{"direction_deg", tv.rival->direction_deg},
+                       {"rotation_deg", tv.rival->rotation_deg},
+                       {"inliers", tv.rival->inliers},
+                       {"rival_closer", tv.rival->rival_closer},
+                       {"pose_closer", tv.rival->pose_closer}};
+  } else {
+    j["rival_pose"] = nullptr;
+  }
   j["inlier_ratio"] = tv.num_matches > 0 ? Json(double(tv.num_inliers) / tv.num_matches) : Json(nullptr);
   j["median_residual_deg"] = tv.success ? Json(tv.median_residual_deg) : Json(nullptr);
   // Which way the baseline points: of the inliers with parallax enough to tell, how many lie in
@@ -191,6 +200,7 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
     }
     j["observations"] = s.observations;
     j["direction_std_deg"] = json_io::OptionalNumber(s.direction_std_deg);
+    j["rotation_std_deg"] = json_io::OptionalNumber(s.rotation_std_deg);
     j["rotation_error_deg"] = json_io::OptionalNumber(e.rotation_error_deg);
     j["translation_direction_error_deg"] = json_io::OptionalNumber(e.translation_direction_error_deg);
     j["position_error_m"] = json_io::OptionalNumber(e.position_error_m);

@@ -244,6 +244,9 @@ RigEstimate RigEstimateOf(const RigCalibrationResult& r) {
   e.metric = r.scale_kind == ScaleKind::kMetric;
   for (size_t c = 0; c < r.rig.cameras.size(); ++c) {
     e.cam_from_rig.push_back(r.rig.cameras[c].cam_from_rig);
+    const RigCameraStats* stats = c < r.camera_stats.size() ? &r.camera_stats[c] : nullptr;
+    e.rotation_std_deg.push_back(stats ? stats->rotation_std_deg : std::nullopt);
+    e.direction_std_deg.push_back(stats ? stats->direction_std_deg : std::nullopt);
     e.if_synchronised.push_back(c < r.camera_status.size() &&
                                 r.camera_status[c].outcome == CameraOutcome::kCalibratedIfSynchronised);
     const bool rotation_only = !r.rig.cameras[c].cam_from_rig && c < r.cam_from_rig_rotation.size();

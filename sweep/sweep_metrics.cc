@@ -119,6 +119,11 @@ std::vector<MethodMetricSpec> MakeSweepMetricSpecs() {
       true,
       {SummaryKind::kSum, G::kOutcome, "confidently wrong", "", "", false}, {},
       FromScores([](const RigScores& s) { return s.confidently_wrong; }));
+  add("overconfident",
+      "cameras whose rotation error exceeds 3 times the standard deviation the method states for it, or whose "
+      "direction error exceeds 3 times that of its direction (rigsim states them; peers state none)",
+      true, {SummaryKind::kSum, G::kOutcome, "overconfident", "", "", false}, {},
+      FromScores([](const RigScores& s) { return s.overconfident; }));
   add("cameras_if_synchronised",
       "cameras given a full pose that holds only if they captured with camera 0 (the rig's path cannot show a time "
       "offset; rigsim's rows only)",

@@ -68,7 +68,7 @@ TEST(SweepSummary, GroupsCellsByStudyPointAndMethod) {
   EXPECT_DOUBLE_EQ(*rows[2].Spread("overlap_pct").median, 18.0);
   const std::string csv = SummaryCsv(rows);
   EXPECT_EQ(csv.substr(0, csv.find('\n')).substr(0, 30), "study,point,method,cells,faile");
-  EXPECT_NE(csv.find("\nt,overlap=10,none,2,0,0,0.5,0,0,0,0,2,0.75,0.15,0.1,0.2,,3.5,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\nt,overlap=10,none,2,0,0,0.5,0,0,0,0,0,2,0.75,0.15,0.1,0.2,,3.5,"), std::string::npos) << csv;
   EXPECT_DOUBLE_EQ(rows[0].Total("cameras_open_axis"), 2.0);  // summed over the seeds
   EXPECT_EQ(rows[0].Spread("max_across_axis_direction_error_deg").count, 1);
   EXPECT_FALSE(rows[1].Spread("max_across_axis_direction_error_deg").median.has_value());

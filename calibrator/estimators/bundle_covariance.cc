@@ -1,6 +1,7 @@
 #include "calibrator/estimators/bundle_covariance.h"
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <utility>
 #include <vector>
@@ -100,6 +101,20 @@ ReducedCovariance PoseCovariance(ceres::Problem& problem, const std::vector<doub
   Eigen::VectorXd inv(pose_dim);
   for (int i = 0; i < pose_dim; ++i) inv[i] = 1.0 / std::max(eig.eigenvalues()[i], 1e-12 * top);
   out.covariance = eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
+  return out;
+}
+
+PerCamera<double> RotationStdDevsDeg(ceres::Problem& problem, const ReducedCovariance& reduced,
+                                     const std::vector<Eigen::Vector4d>& cq, double variance) {
+  PerCamera<double> out(cq.size());
+  for (size_t c = 0; c < cq.size(); ++c) {
+    const auto it = reduced.offset.find(cq[c].data());
+    if (it == reduced.offset.end() || problem.ParameterBlockTangentSize(cq[c].data()) != 3) continue;
+    const Eigen::Matrix3d tangent = variance * reduced.covariance.block<3, 3>(it->second, it->second);
+    // Ceres' EigenQuaternionManifold turns by exp(delta) = [cos|d|, sin|d| d/|d|]: an angle of 2|d|.
+    const double worst = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(tangent).eigenvalues().maxCoeff();
+    out[c] = 2.0 * std::sqrt(std::max(worst, 0.0)) * 180.0 / M_PI;
+  }
   return out;
 }
 

@@ -33,4 +33,10 @@ PerCamera<Eigen::Matrix3d> CentreCovariances(ceres::Problem& problem, const Redu
                                                               const std::vector<Eigen::Vector4d>& cq,
                                                               const std::vector<Eigen::Vector3d>& ct, double variance);
 
+// Standard deviation (deg) of each camera's rotation in the rig (cam_from_rig's quaternion block
+// `cq[c]`) along its worst axis, `variance` being that of one image coordinate. nullopt for
+// cameras not adjusted.
+PerCamera<double> RotationStdDevsDeg(ceres::Problem& problem, const ReducedCovariance& reduced,
+                                     const std::vector<Eigen::Vector4d>& cq, double variance);
+
 }  // namespace rigsim

@@ -344,6 +344,7 @@ struct BundleRoundResult {
   int iterations = 0;
   // With BundleRound::covariance only.
   PerCamera<Eigen::Matrix3d> centre_covariance;
+  PerCamera<double> rotation_stddev_deg;
   std::vector<std::vector<double>> intrinsics_stddev;  // per camera; empty when not refined
   PerCamera<double> time_offset_stddev_s, readout_stddev_s;  // per camera, where estimated
 };
@@ -469,6 +470,7 @@ void ReadCovariances(BundleProblem& bp, const std::vector<WorldPoint>& points, c
   // Observations weighed up (inter_camera_weight) are no more precise than the others: the
   // covariance of what they alone fix is scaled back, and of the rest over-stated (the safe side).
   out.centre_covariance = CentreCovariances(problem, reduced, bp.cq, bp.ct, variance * options.inter_camera_weight);
+  out.rotation_stddev_deg = RotationStdDevsDeg(problem, reduced, bp.cq, variance * options.inter_camera_weight);
   out.time_offset_stddev_s.assign(n, std::nullopt);
   out.readout_stddev_s.assign(n, std::nullopt);
   for (int c = 0; c < n && bp.timing; ++c) {
@@ -640,6 +642,7 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
       if (setup.final_round) {
         if (last) {
           result.centre_covariance = std::move(solved.centre_covariance);
+          result.rotation_stddev_deg = std::move(solved.rotation_stddev_deg);
           result.time_offset_stddev_s = std::move(solved.time_offset_stddev_s);
           result.readout_stddev_s = std::move(solved.readout_stddev_s);
           if (refine) result.intrinsics_stddev = std::move(solved.intrinsics_stddev);

@@ -129,6 +129,9 @@ struct MultiFrameBundleAdjustmentResult {
   // solution, from the Jacobian and the reprojection RMS; nullopt for camera 0 and cameras not
   // adjusted, or when it could not be computed.
   PerCamera<Eigen::Matrix3d> centre_covariance;
+  // Per camera: the standard deviation of its rotation in the rig (deg, along the covariance's
+  // worst axis), from the same covariance; nullopt where the centre's is.
+  PerCamera<double> rotation_stddev_deg;
   // With a CaptureTiming: per camera its (offset, readout) in seconds as adjusted (or as given), and
   // the standard deviations of the estimated ones from the covariance (nullopt where held).
   std::vector<Eigen::Vector2d> timing;

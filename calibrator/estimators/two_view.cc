@@ -16,6 +16,7 @@
 #include <opencv2/core.hpp>
 
 #include "calibrator/estimators/cost_functions.h"
+#include "common/format.h"
 
 namespace rigsim {
 namespace {
@@ -279,6 +280,56 @@ TwoViewResult Fail(TwoViewResult r, TwoViewFailure failure, const std::string& w
   return r;
 }
 
+// The strongest rival of `pose` (TwoViewOptions::rival_*), or nullopt. Seeds on a Fibonacci
+// sphere (deterministic); the refinement runs on every k-th valid match so that at most
+// rival_max_matches take part, and each minimum is scored on all of them.
+std::optional<RivalPose> StrongestRival(const Rigid3d& pose, const std::vector<int>& pose_inlier_set,
+                                        const std::vector<Eigen::Vector3d>& fa,
+                                        const std::vector<Eigen::Vector3d>& fb, const std::vector<int>& valid,
+                                        double thr, const TwoViewOptions& options) {
+  if (options.rival_seeds == 0 || pose.translation.norm() == 0.0) return std::nullopt;
+  const size_t stride = (valid.size() + options.rival_max_matches - 1) / options.rival_max_matches;
+  std::vector<Eigen::Vector3d> sa, sb;
+  for (size_t j = 0; j < valid.size(); j += std::max<size_t>(1, stride)) {
+    sa.push_back(fa[valid[j]]);
+    sb.push_back(fb[valid[j]]);
+  }
+  const Eigen::Vector3d t = pose.translation.normalized();
+  const double golden_angle = M_PI * (3.0 - std::sqrt(5.0));
+  std::optional<RivalPose> best;
+  for (int k = 0; k < options.rival_seeds; ++k) {
+    const double z = 1.0 - (k + 0.5) * 2.0 / options.rival_seeds;
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    const Eigen::Vector3d seed(r * std::cos(golden_angle * k), r * std::sin(golden_angle * k), z);
+    if (std::abs(seed.dot(t)) > std::cos(DegToRad(options.rival_min_direction_deg))) continue;  // +-t: the pose itself
+    const Rigid3d refined = RefineRelativePose(sa, sb, Rigid3d(pose.rotation, seed), thr, options.refine_max_iterations);
+    const std::vector<int> inliers = EpipolarInliers(refined, fa, fb, valid, thr);
+    // A sign test over the matches either pose explains: which of the two fits each one closer.
+    // Were the two equally right, each would be as likely to fit a match closer.
+    std::vector<char> in_either(fa.size(), 0);
+    for (int i : pose_inlier_set) in_either[i] = 1;
+    for (int i : inliers) in_either[i] = 1;
+    int rival_closer = 0, pose_closer = 0;
+    for (int i : valid) {
+      if (!in_either[i]) continue;
+      const double by_pose = EpipolarAngle(pose, fa[i], fb[i]), by_rival = EpipolarAngle(refined, fa[i], fb[i]);
+      pose_closer += by_pose < by_rival;
+      rival_closer += by_rival < by_pose;
+    }
+    if (pose_closer - rival_closer > options.rival_sign_test_sigma * std::sqrt(double(pose_closer + rival_closer))) continue;
+    // The sign of a translation and the twisted pair fit the matches alike: the rival is the one of
+    // its four poses that puts the most inliers in front, as for the reported pose.
+    const Rigid3d rival =
+        ResolveCheirality(refined, fa, fb, inliers, options.cheirality_min_angle_factor * thr).pose;
+    const double direction = RadToDeg(std::acos(std::clamp(rival.translation.normalized().dot(t), -1.0, 1.0)));
+    if (direction <= options.rival_min_direction_deg) continue;
+    if (best && static_cast<int>(inliers.size()) <= best->inliers) continue;
+    best = RivalPose{direction, RotationDifferenceDeg(rival.rotation, pose.rotation), static_cast<int>(inliers.size()),
+                     rival_closer, pose_closer};
+  }
+  return best;
+}
+
 }  // namespace
 
 void TwoViewOptions::Check() const {
@@ -298,6 +349,15 @@ void TwoViewOptions::Check() const {
   if (!(cheirality_min_angle_factor > 0)) fail("cheirality_min_angle_factor must be > 0");
   if (min_cheirality_points < 1) fail("min_cheirality_points must be >= 1");
   if (!(cheirality_margin >= 1)) fail("cheirality_margin must be >= 1");
+  if (rival_seeds < 0) fail("rival_seeds must be >= 0");
+  if (rival_max_matches < 5) fail("rival_max_matches must be >= 5");
+  if (!(rival_min_direction_deg > 0 && rival_min_direction_deg < 180)) fail("rival_min_direction_deg must be in (0, 180)");
+  if (!(rival_sign_test_sigma >= 0)) fail("rival_sign_test_sigma must be >= 0");
+}
+
+TwoViewOptions WithoutRivalSearch(TwoViewOptions options) {
+  options.rival_seeds = 0;
+  return options;
 }
 
 Eigen::Vector2d EpipolarAngularResidual(const Rigid3d& cam_b_from_cam_a, const Eigen::Vector3d& bearing_a,
@@ -490,7 +550,6 @@ TwoViewResult EstimateRelativePoseFromBearings(const std::vector<Eigen::Vector3d
     return Fail(result, TwoViewFailure::kCheiralityUndecided, why.str());
   }
   est.cam_b_from_cam_a = pose;
-
   // Planar pairs: a homography explaining about as many matches as the essential matrix. The
   // pose stays the essential matrix's; the type says how far to trust it.
   const double thr_h = thr * std::sqrt(5.991 / 3.841);  // chi-square 95%: 2 dof vs 1 dof
@@ -503,7 +562,8 @@ TwoViewResult EstimateRelativePoseFromBearings(const std::vector<Eigen::Vector3d
     est.pair_type = PairType::kPlanar;
     est.planar_alternatives = OtherPlanarPoses(hfit, pose, result.num_essential_inliers, fa, fb, valid, thr, options);
   }
-
+  // A plane fits a family of poses; a planar pair reports the homography's other pose instead.
+  if (est.pair_type != PairType::kPlanar) est.rival = StrongestRival(pose, inliers, fa, fb, valid, thr, options);
   std::vector<double> res;
   for (int i : inliers) {
     result.inlier_mask[i] = 1;

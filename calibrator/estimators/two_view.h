@@ -5,7 +5,8 @@
 // MAGSAC++) on the bearings in front of both cameras, as normalised coordinates with K = I;
 // pose recovery (cheirality); non-linear refinement of R and the unit t over all bearings with
 // a robust angular epipolar error (Ceres); a pure-rotation model fitted alongside detects pairs
-// whose translation is unobservable, and a homography fitted alongside detects planar pairs.
+// whose translation is unobservable, a homography fitted alongside detects planar pairs, and the
+// refinement restarted from other translations finds a rival pose that fits the matches as well.
 //
 // Conventions: the result is cam_b_from_cam_a (x_in_b = R x_in_a + t) with |t| = 1; the scale of
 // a relative pose is unobservable from images. Angles in options and results are in degrees or
@@ -75,6 +76,20 @@ struct TwoViewOptions {
   // a guess) and the pair fails rather than report a direction that may be reversed.
   int min_cheirality_points = 10;
   double cheirality_margin = 3.0;
+  // Rival poses. Points at one depth in one part of the view cannot tell a baseline's parallax
+  // from a small turn: poses far apart then fit the matches equally, and the refinement keeps
+  // whichever RANSAC began near. The refinement restarts from rival_seeds translation directions
+  // spread over the sphere (at the reported rotation, on at most rival_max_matches of the
+  // matches); a minimum whose translation (cheirality resolved) is more than
+  // rival_min_direction_deg from the reported one is a rival unless the reported pose fits the
+  // matches clearly better: of the matches either explains, those the reported pose fits closer
+  // outnumber those the rival fits closer by more than rival_sign_test_sigma standard deviations
+  // of a fair split (a sign test). The pair keeps its pose and reports the rival
+  // (TwoViewEstimate::rival): other pairs may decide what its matches cannot; the rig stage judges.
+  int rival_seeds = 16;
+  int rival_max_matches = 400;
+  double rival_min_direction_deg = 30.0;
+  double rival_sign_test_sigma = 2.5;
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;
@@ -89,6 +104,10 @@ struct TwoViewResult {
   int num_rotation_inliers = 0;   // of the pure-rotation model
   int num_valid = 0;              // correspondences with a valid bearing in both cameras
 };
+
+// `options` without the rival search (rival_seeds 0), for the view pairs whose rivals nothing
+// judges (a camera with itself across frames, a cross-time pair): the restarts are most of the fit.
+TwoViewOptions WithoutRivalSearch(TwoViewOptions options);
 
 // From pixel correspondences (px_a[i] <-> px_b[i]).
 TwoViewResult EstimateRelativePose(const Camera& cam_a, const std::vector<Eigen::Vector2d>& px_a,

@@ -28,7 +28,7 @@ enum class PositionOutcome {
   kPlaced,
   kNotObservable,  // nothing links its position to the placed cameras' (no start for it)
   kNotDetermined,  // the images fix its direction from camera 0 too loosely (max_direction_std_deg)
-  kAmbiguous,      // bundle adjustments from different starts put it in different places
+  kAmbiguous,      // starts adjusted apart, or its one pair fits a rival pose (rig_options.h)
   kOpenAlongTurnAxis,  // placed across the turn axis of a planar motion, open along it
 };
 

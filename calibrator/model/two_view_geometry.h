@@ -3,6 +3,7 @@
 // (x_in_b = R x_in_a + t) with |t| = 1; the scale of a relative pose is unobservable from images.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -36,6 +37,16 @@ enum class TwoViewFailure {
   kCheiralityUndecided,   // the matches do not say which way the baseline points
 };
 
+// Another local minimum of the relative pose that explains a pair's matches about as well as the
+// reported pose (TwoViewOptions::rival_*): its distance from the reported pose and its support.
+struct RivalPose {
+  double direction_deg = 0.0;  // between the two translations' directions
+  double rotation_deg = 0.0;   // between the two rotations
+  int inliers = 0;             // matches it explains
+  // Of the matches either explains: those it fits closer than the reported pose, and the other way.
+  int rival_closer = 0, pose_closer = 0;
+};
+
 // One camera pair's two-view outcome: what the pairwise report, the view graph and the rig stages
 // keep of an estimate (the estimator's TwoViewResult holds it, with its inlier mask).
 struct TwoViewEstimate {
@@ -62,6 +73,10 @@ struct TwoViewEstimate {
   int cheirality_points = 0;
   int points_in_front = 0;
   int points_in_front_otherwise = 0;
+  // The strongest rival pose whose translation points elsewhere, when one explains the matches
+  // about as well: these matches alone do not fix the translation (nor the rotation closer than
+  // the rival's). General pairs only: a planar pair reports planar_alternatives instead.
+  std::optional<RivalPose> rival;
   // The failure in words, with its figures (what the pairwise report prints); empty on success.
   std::string failure_reason;
 };

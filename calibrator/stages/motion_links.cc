@@ -57,7 +57,8 @@ std::optional<ViewPairFit> FitViewPair(const RigObservations& obs, const CrossTi
     px_a.push_back(kp_a.at(a));
     px_b.push_back(kp_b.at(b));
   }
-  fit.two_view = EstimateRelativePose(obs.cameras[c.cam_a], px_a, obs.cameras[c.cam_b], px_b, options.pairwise.two_view);
+  fit.two_view = EstimateRelativePose(obs.cameras[c.cam_a], px_a, obs.cameras[c.cam_b], px_b,
+                                      WithoutRivalSearch(options.pairwise.two_view));
   const TwoViewEstimate& e = fit.two_view.estimate;
   if (!e.success || e.num_inliers < options.view_graph.min_inliers) return std::nullopt;
   return fit;

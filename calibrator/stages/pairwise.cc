@@ -93,7 +93,7 @@ PairScreening ScreenPairs(const PairwiseJob& job, const PairwiseOptions& options
     }
     // Screening asks whether the views share geometry, not which way the baseline points: a few
     // thousand keypoints may not decide that where the full matches do.
-    TwoViewOptions screen_two_view = options.two_view;
+    TwoViewOptions screen_two_view = WithoutRivalSearch(options.two_view);  // a rival still shows a shared view
     screen_two_view.min_cheirality_points = 1;
     screen_two_view.cheirality_margin = 1.0;
     const TwoViewResult tv = EstimateRelativePose(job.camera(pair.a), px_a, job.camera(pair.b), px_b, screen_two_view);
@@ -254,7 +254,8 @@ TemporalFits EstimateTemporalPairs(const PairwiseJob& job, const PairwiseOptions
       pb.push_back(fb.keypoints[x.b].px);
     }
     const auto start = StageClock::now();
-    const TwoViewResult tv = EstimateRelativePose(job.camera(c), pa, job.camera(c), pb, options.two_view);
+    const TwoViewResult tv =
+        EstimateRelativePose(job.camera(c), pa, job.camera(c), pb, WithoutRivalSearch(options.two_view));
     out.pose_time_s[i] = SecondsSince(start);
     TemporalPairEstimate& te = out.estimates[i];
     te.camera = c;

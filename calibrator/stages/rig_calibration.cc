@@ -46,18 +46,25 @@ void ScaleTranslations(double s, PerCamera<Rigid3d>* cam_from_rig,
 // Herz-Jesus explain 60-90%. The pose is kept, with a warning that says what to look at.
 constexpr double kWeakPairInlierRatio = 0.25;
 
+// The edges (= input pairs) that place camera c: active, with a translation, between two cameras
+// with a rotation.
+std::vector<int> PlacingEdges(const ViewGraph& graph, const std::vector<char>& rotated, int c) {
+  std::vector<int> held_by;
+  for (int e = 0; e < static_cast<int>(graph.edges.size()); ++e) {
+    const ViewGraphEdge& g = graph.edges[e];
+    if (g.active && !g.rotation_only && (g.cam_a == c || g.cam_b == c) && rotated[g.cam_a] && rotated[g.cam_b]) {
+      held_by.push_back(e);
+    }
+  }
+  return held_by;
+}
+
 void WarnAboutCamerasHeldByOneWeakPair(const ViewGraph& graph, const RigObservations& obs,
                                        const std::vector<char>& rotated, const std::vector<char>& reached,
                                        std::vector<std::string>* warnings) {
   for (int c = 1; c < graph.num_cameras; ++c) {
     if (!reached[c]) continue;
-    std::vector<int> held_by;  // edges (= input pairs) that place camera c
-    for (int e = 0; e < static_cast<int>(graph.edges.size()); ++e) {
-      const ViewGraphEdge& g = graph.edges[e];
-      if (g.active && !g.rotation_only && (g.cam_a == c || g.cam_b == c) && rotated[g.cam_a] && rotated[g.cam_b]) {
-        held_by.push_back(e);
-      }
-    }
+    const std::vector<int> held_by = PlacingEdges(graph, rotated, c);
     if (held_by.size() != 1) continue;
     const PairEstimate& p = obs.pairs[held_by[0]];
     const TwoViewEstimate& tv = p.two_view;
@@ -308,6 +315,8 @@ struct AdjustedRig {
   MultiFrameBundleAdjustmentResult ba;
   std::vector<RigStartSummary> starts;
   std::vector<std::string> ambiguous;  // per camera: why its position is ambiguous; empty if not
+  // Per camera: why its rotation is ambiguous too (JudgeCamerasHeldByOneRivalledPair); empty if not.
+  std::vector<std::string> rotation_ambiguous;
 };
 
 // The angle (deg) between two estimates of the direction of a camera's centre from camera 0's.
@@ -323,6 +332,7 @@ AdjustedRig AdjustFromEveryStart(const RigObservations& obs, const std::vector<V
   const int n = static_cast<int>(obs.cameras.size());
   AdjustedRig out;
   out.ambiguous.assign(n, "");
+  out.rotation_ambiguous.assign(n, "");
   RigBundleAdjustmentOptions ba_options = options.bundle_adjustment;
   ba_options.keep_points = ba_options.keep_points || options.keep_details;
   if (obs.HasMotionLinks()) {
@@ -364,6 +374,38 @@ AdjustedRig AdjustFromEveryStart(const RigObservations& obs, const std::vector<V
   return out;
 }
 
+// Step 5b: a camera placed by one pair only, whose matches fit a rival pose about as well
+// (TwoViewEstimate::rival), has nothing that decides between the two poses unless the rig's motion
+// links it to another camera: its position is ambiguous, and so is its rotation when the rival's
+// is more than RigCalibrationOptions::max_rival_rotation_deg away.
+void JudgeCamerasHeldByOneRivalledPair(const RigObservations& obs, const RotationStage& rs,
+                                       const RigCalibrationOptions& options, AdjustedRig* adjusted) {
+  const int n = static_cast<int>(obs.cameras.size());
+  std::vector<char> rotated(n, 0), linked_across_time(n, 0);
+  for (int c = 0; c < n; ++c) rotated[c] = rs.rot.cam_from_rig[c].has_value();
+  for (size_t i = 0; rs.joint && i < obs.cross_time.size() && i < rs.joint->cross_time_used.size(); ++i) {
+    const CrossTimePairEstimate& x = obs.cross_time[i];
+    if (!rs.joint->cross_time_used[i] || x.cam_a == x.cam_b) continue;
+    linked_across_time[x.cam_a] = linked_across_time[x.cam_b] = 1;
+  }
+  for (int c = 1; c < n; ++c) {
+    if (!adjusted->ba.poses.cam_from_rig[c] || linked_across_time[c]) continue;
+    const std::vector<int> held_by = PlacingEdges(rs.graph, rotated, c);
+    if (held_by.size() != 1 || !obs.pairs[held_by[0]].two_view.rival) continue;
+    const PairEstimate& p = obs.pairs[held_by[0]];
+    const RivalPose& rival = *p.two_view.rival;
+    const std::string why = "ambiguous: its one pair with a baseline, " + obs.camera_names[p.cam_a] + "-" +
+                            obs.camera_names[p.cam_b] + ", fits another pose about as well, its baseline " +
+                            Fixed(rival.direction_deg, 0) + " deg away and turned " + Fixed(rival.rotation_deg, 1) +
+                            " deg (of the matches either explains, that pose fits " +
+                            std::to_string(rival.rival_closer) + " closer, this one " +
+                            std::to_string(rival.pose_closer) + "): points at one depth in one part of the view, "
+                            "where a turn mimics the baseline's parallax";
+    if (adjusted->ambiguous[c].empty()) adjusted->ambiguous[c] = why;
+    if (rival.rotation_deg > options.max_rival_rotation_deg) adjusted->rotation_ambiguous[c] = why;
+  }
+}
+
 // Step 6: the positions the bundle adjustment's covariance leaves undetermined are dropped
 // (max_direction_std_deg), the unit scale is moved to a camera that kept its position, and a
 // known distance makes the result metric.
@@ -372,6 +414,7 @@ struct ScaledRig {
   RigPoses poses;
   std::vector<std::string> undetermined;             // why a camera's adjusted position is dropped
   std::vector<PositionOutcome> position;              // kPlaced, or which of the two dropped it
+  std::vector<std::string> rotation_dropped;          // why a camera's rotation is dropped too
   PerCamera<double> direction_std_deg;
   // Per camera whose centre is open along an axis (PositionStage::held_axis): its centre without
   // that component; nullopt otherwise.
@@ -390,6 +433,7 @@ ScaledRig DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& adju
   out.poses.cam_from_rig = ba.poses.cam_from_rig;
   out.undetermined.assign(n, "");
   out.position.assign(n, PositionOutcome::kPlaced);
+  out.rotation_dropped.assign(n, "");
   out.direction_std_deg.assign(n, std::nullopt);
   PerCamera<Rigid3d>& pose = out.poses.cam_from_rig;
   for (int c = 1; c < n && c < static_cast<int>(ba.centre_covariance.size()); ++c) {
@@ -409,6 +453,7 @@ ScaledRig DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& adju
     out.undetermined[c] = adjusted.ambiguous[c] + "; " + ps.remedy;
     out.position[c] = PositionOutcome::kAmbiguous;
     pose[c].reset();
+    if (!adjusted.rotation_ambiguous[c].empty()) out.rotation_dropped[c] = out.undetermined[c];
   }
   int scale_camera = ps.scale_camera;
   if (scale_camera >= 0 && !pose[scale_camera]) {  // the unit was a camera without a position now
@@ -481,13 +526,14 @@ void SetCameraAndEdgeStatus(const RigObservations& obs, const RotationStage& rs,
   std::vector<char> reached(n, 0), rotated(n, 0);
   for (int c = 0; c < n; ++c) {
     reached[c] = scaled.poses.cam_from_rig[c].has_value();
-    rotated[c] = rot.cam_from_rig[c].has_value();
+    rotated[c] = rot.cam_from_rig[c].has_value() && scaled.rotation_dropped[c].empty();
   }
   result->cam_from_rig_rotation = rot.cam_from_rig;
   result->partial_centre.assign(n, std::nullopt);
   result->open_axis.assign(n, std::nullopt);
   for (int c = 0; c < n; ++c) {  // the adjusted rotation, also of a camera whose position is not determined
     if (ba.poses.cam_from_rig[c]) result->cam_from_rig_rotation[c] = ba.poses.cam_from_rig[c]->rotation;
+    if (!scaled.rotation_dropped[c].empty()) result->cam_from_rig_rotation[c].reset();
   }
   for (int c = 0; c < n; ++c) {
     result->camera_stats[c].observations = ba.observations_per_camera[c];
@@ -514,6 +560,8 @@ void SetCameraAndEdgeStatus(const RigObservations& obs, const RotationStage& rs,
                                                    "cameras' (only rotation-only pairs or too little parallax); to "
                                                    "place it: more overlap with a placed camera, or more frames "
                                                    "while the rig moves")};
+    } else if (!scaled.rotation_dropped[c].empty()) {
+      result->camera_status[c] = {CameraOutcome::kNotConnected, PositionOutcome::kAmbiguous, scaled.rotation_dropped[c]};
     } else {
       result->camera_status[c] = {CameraOutcome::kNotConnected, PositionOutcome::kNotObservable,
                                   NotConnectedReason(graph, c, rotated, obs.camera_names)};
@@ -661,6 +709,7 @@ std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, 
     ba.poses.rig_from_world[0] = Rigid3d();
     ba.observations_per_camera.assign(n, 0);
   }
+  JudgeCamerasHeldByOneRivalledPair(obs, rotations, options, &adjusted);
   result.bundle_adjustment_time_s = SecondsSince(start);
   result.position_starts = adjusted.starts;
   result.initial_reprojection_rms_px = ba.initial_rms_px;
@@ -677,7 +726,12 @@ std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, 
   SetRefinedIntrinsics(obs, options, ba, &result);
   ScaledRig scaled = DropUndeterminedAndScale(obs, adjusted, initial, options, known_a, known_b);
   SetAsideOpenAxes(obs, initial, &scaled);
-  for (int c = 0; c < n; ++c) result.camera_stats[c].direction_std_deg = scaled.direction_std_deg[c];
+  for (int c = 0; c < n; ++c) {
+    result.camera_stats[c].direction_std_deg = scaled.direction_std_deg[c];
+    if (c < static_cast<int>(ba.rotation_stddev_deg.size()) && scaled.rotation_dropped[c].empty()) {
+      result.camera_stats[c].rotation_std_deg = ba.rotation_stddev_deg[c];
+    }
+  }
   result.rig_from_world = scaled.poses.rig_from_world;
   result.scale = scaled.scale;
   result.scale_kind = scaled.scale_kind;

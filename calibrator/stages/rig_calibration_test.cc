@@ -290,6 +290,52 @@ TEST_F(RigCalibrationTest, CameraHeldByOneWeakPairIsWarnedAbout) {
   EXPECT_EQ(other_warnings, static_cast<int>(strong.warnings.size()));
 }
 
+// A camera placed by one pair whose matches fit a rival pose as well is not placed: its position
+// is ambiguous, and its rotation too when the rival's is more than max_rival_rotation_deg away. A
+// rival on a pair of a camera that other pairs place changes nothing.
+TEST_F(RigCalibrationTest, CameraHeldByOnePairWithARivalPoseIsNotPlaced) {
+  RigObservations obs = *observations_;
+  int held = -1;  // cam1-cam2 is the only pair left to place cam2
+  for (size_t p = 0; p < obs.pairs.size(); ++p) {
+    PairEstimate& e = obs.pairs[p];
+    if (e.cam_a == 1 && e.cam_b == 2) {
+      held = static_cast<int>(p);
+    } else if (e.cam_a == 2 || e.cam_b == 2) {
+      e.two_view.success = false;
+      e.two_view.failure = TwoViewFailure::kTooFewMatches;
+      e.two_view.failure_reason = "too few matches";
+    }
+  }
+  ASSERT_GE(held, 0);
+  const RigCalibrationResult alone = EstimateRig(obs, {});
+  ASSERT_EQ(alone.camera_status[2].outcome, CameraOutcome::kCalibrated) << alone.camera_status[2];
+  ASSERT_TRUE(alone.camera_stats[2].rotation_std_deg.has_value());
+
+  obs.pairs[held].two_view.rival = RivalPose{120.0, 0.4, 300, 150, 160};
+  const RigCalibrationResult near_turn = EstimateRig(obs, {});
+  EXPECT_EQ(near_turn.camera_status[2].outcome, CameraOutcome::kRotationOnly) << near_turn.camera_status[2];
+  EXPECT_EQ(near_turn.camera_status[2].position, PositionOutcome::kAmbiguous);
+  EXPECT_THAT(near_turn.camera_status[2].reason, ::testing::HasSubstr("cam1-cam2, fits another pose about as well"));
+  EXPECT_FALSE(near_turn.rig.cameras[2].cam_from_rig.has_value());
+  EXPECT_TRUE(near_turn.cam_from_rig_rotation[2].has_value());
+  for (int c : {1, 3, 4, 5}) EXPECT_EQ(near_turn.camera_status[c].outcome, CameraOutcome::kCalibrated) << c;
+
+  obs.pairs[held].two_view.rival->rotation_deg = 2.5;
+  const RigCalibrationResult far_turn = EstimateRig(obs, {});
+  EXPECT_EQ(far_turn.camera_status[2].outcome, CameraOutcome::kNotConnected) << far_turn.camera_status[2];
+  EXPECT_EQ(far_turn.camera_status[2].position, PositionOutcome::kAmbiguous);
+  EXPECT_FALSE(far_turn.cam_from_rig_rotation[2].has_value());
+  EXPECT_FALSE(far_turn.camera_stats[2].rotation_std_deg.has_value());
+
+  // cam1 is placed by cam0-cam1 too: a rival on cam1-cam2 leaves it placed.
+  RigObservations both = *observations_;
+  for (PairEstimate& e : both.pairs) {
+    if (e.cam_a == 1 && e.cam_b == 2) e.two_view.rival = RivalPose{120.0, 2.5, 300, 150, 160};
+  }
+  const RigCalibrationResult ring = EstimateRig(both, {});
+  for (int c = 1; c < 6; ++c) EXPECT_EQ(ring.camera_status[c].outcome, CameraOutcome::kCalibrated) << c;
+}
+
 TEST_F(RigCalibrationTest, BadOptionsThrow) {
   RigCalibrationOptions options;
   options.known_distance = KnownDistance{"cam0", "nope", 1.0};

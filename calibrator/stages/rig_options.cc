@@ -55,6 +55,7 @@ void RigCalibrationOptions::Check() const {
   auto fail = [](const std::string& why) { throw std::invalid_argument("RigCalibrationOptions: " + why); };
   if (!(max_direction_std_deg > 0)) fail("max_direction_std_deg must be > 0");
   if (!(max_start_disagreement_deg > 0)) fail("max_start_disagreement_deg must be > 0");
+  if (!(max_rival_rotation_deg > 0)) fail("max_rival_rotation_deg must be > 0");
   if (!(min_start_cost_ratio >= 1)) fail("min_start_cost_ratio must be >= 1");
   if (!(max_pair_rotation_disagreement_deg > 0)) fail("max_pair_rotation_disagreement_deg must be > 0");
   if (!(max_pair_direction_disagreement_deg > 0)) fail("max_pair_direction_disagreement_deg must be > 0");

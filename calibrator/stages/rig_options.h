@@ -98,6 +98,9 @@ struct RigCalibrationOptions {
   // rig fit best is left to the pair checks (cheirality, the pair-vs-rig check).
   double max_start_disagreement_deg = 2.0;
   double min_start_cost_ratio = 1.5;
+  // A camera placed by one pair only, whose matches fit a rival pose as well (two_view.h), is not
+  // placed; its rotation is kept only when the rival's is at most this far (deg) from the pair's.
+  double max_rival_rotation_deg = 1.0;
   // A used pair whose two-view rotation is more than max_pair_rotation_disagreement_deg from the
   // rig's, or whose baseline direction is more than max_pair_direction_disagreement_deg from the
   // rig's, is left out and the rig made again without it (at most max_rejected_pairs times, the

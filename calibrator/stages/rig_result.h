@@ -27,6 +27,8 @@ struct RigCameraStats {
   // Standard deviation of the direction of the camera's centre from camera 0's (deg), from the
   // bundle adjustment's covariance: how well the images fix where the camera is, without truth.
   std::optional<double> direction_std_deg;
+  // Standard deviation of its rotation in the rig (deg, worst axis), from the same covariance.
+  std::optional<double> rotation_std_deg;
   // With RigBundleAdjustmentOptions::refine_intrinsics, for a camera in the bundle adjustment: its
   // given and refined intrinsics and their standard deviations.
   std::optional<RefinedIntrinsics> intrinsics;
