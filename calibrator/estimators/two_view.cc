@@ -550,6 +550,7 @@ TwoViewResult EstimateRelativePoseFromBearings(const std::vector<Eigen::Vector3d
     return Fail(result, TwoViewFailure::kCheiralityUndecided, why.str());
   }
   est.cam_b_from_cam_a = pose;
+
   // Planar pairs: a homography explaining about as many matches as the essential matrix. The
   // pose stays the essential matrix's; the type says how far to trust it.
   const double thr_h = thr * std::sqrt(5.991 / 3.841);  // chi-square 95%: 2 dof vs 1 dof
@@ -564,6 +565,7 @@ TwoViewResult EstimateRelativePoseFromBearings(const std::vector<Eigen::Vector3d
   }
   // A plane fits a family of poses; a planar pair reports the homography's other pose instead.
   if (est.pair_type != PairType::kPlanar) est.rival = StrongestRival(pose, inliers, fa, fb, valid, thr, options);
+
   std::vector<double> res;
   for (int i : inliers) {
     result.inlier_mask[i] = 1;

@@ -453,7 +453,12 @@ ScaledRig DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& adju
     out.undetermined[c] = adjusted.ambiguous[c] + "; " + ps.remedy;
     out.position[c] = PositionOutcome::kAmbiguous;
     pose[c].reset();
-    if (!adjusted.rotation_ambiguous[c].empty()) out.rotation_dropped[c] = out.undetermined[c];
+  }
+  for (int c = 1; c < n; ++c) {  // whether or not the covariance dropped its position already
+    if (adjusted.rotation_ambiguous[c].empty()) continue;
+    out.rotation_dropped[c] = adjusted.rotation_ambiguous[c] + "; " + ps.remedy;
+    out.position[c] = PositionOutcome::kAmbiguous;
+    pose[c].reset();
   }
   int scale_camera = ps.scale_camera;
   if (scale_camera >= 0 && !pose[scale_camera]) {  // the unit was a camera without a position now
