@@ -19,7 +19,6 @@ agree with the calibration (a check of the truth). Standard library only.
 
 import argparse
 import json
-import subprocess
 import sys
 from pathlib import Path
 
@@ -30,14 +29,6 @@ import rig_common as rc  # noqa: E402
 def pose(p):
     r, t = p["rotation"], p["translation"]
     return rc.q_normalize([r["qw"], r["qx"], r["qy"], r["qz"]]), [t["x"], t["y"], t["z"]]
-
-
-def git_commit(src):
-    try:
-        return subprocess.run(["git", "-C", str(src), "rev-parse", "HEAD"], capture_output=True, text=True,
-                              check=True).stdout.strip()
-    except (OSError, subprocess.CalledProcessError):
-        return "unknown (not a git checkout)"
 
 
 def main():
@@ -117,7 +108,7 @@ def main():
                  "the cameras' timestamps differ within a frame: " + "; ".join(
                      f"{n} {', '.join(s)}" for n, s in zip(names, stems)))
 
-    commit = a.commit or git_commit(a.source)
+    commit = a.commit or rc.git_commit(a.source)
     rel = f"tests/data/dgp/test_scene/{a.scene}"
     desc = rc.describe_rig(cameras)
     readme = f"""# DDAD {a.scene} (TRI-ML/dgp test data) — a real vehicle rig with its factory calibration

@@ -18,7 +18,6 @@ Standard library only.
 """
 
 import argparse
-import subprocess
 import sys
 from pathlib import Path
 
@@ -41,14 +40,6 @@ def read_calib(path):
         except ValueError:
             calib[key.strip()] = value.strip()
     return calib
-
-
-def git_commit(src):
-    try:
-        return subprocess.run(["git", "-C", str(src), "rev-parse", "HEAD"], capture_output=True, text=True,
-                              check=True).stdout.strip()
-    except (OSError, subprocess.CalledProcessError):
-        return "unknown (not a git checkout)"
 
 
 def main():
@@ -94,7 +85,7 @@ def main():
               f"about {sum(speeds) / len(speeds) / 10:.2f} m between frames") if speeds else "speed unknown"
 
     desc = rc.describe_rig(cameras)
-    commit = a.commit or git_commit(a.source)
+    commit = a.commit or rc.git_commit(a.source)
     readme = f"""# KITTI raw 2011_09_26_drive_0023, colour stereo pair, 7 frames (TRI-ML/packnet-sfm KITTI_tiny)
 
 2 cameras (KITTI's colour cameras 2 and 3, left and right, rectified), {len(stems)} frames at 10 Hz of a

@@ -19,7 +19,6 @@ the standard library.
 import argparse
 import math
 import pickle
-import subprocess
 import sys
 from pathlib import Path
 
@@ -53,14 +52,6 @@ def jpeg_size(path):
     raise ValueError(f"{path}: no JPEG frame header")
 
 
-def git_commit(src):
-    try:
-        return subprocess.run(["git", "-C", str(src), "rev-parse", "HEAD"], capture_output=True, text=True,
-                              check=True).stdout.strip()
-    except (OSError, subprocess.CalledProcessError):
-        return "unknown (not a git checkout)"
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("source", type=Path, help="a clone of open-mmlab/mmdetection3d")
@@ -92,7 +83,7 @@ def main():
 
     fovs = [f"{c['name']} {2 * math.degrees(math.atan(c['width'] / 2 / c['params'][0])):.0f}°" for c in cameras]
     desc = rc.describe_rig(cameras)
-    commit = a.commit or git_commit(a.source)
+    commit = a.commit or rc.git_commit(a.source)
     readme = f"""# nuScenes, one sample (open-mmlab/mmdetection3d demo data) — a real 6-camera vehicle rig
 
 6 cameras of a car's surround rig ({', '.join(ORDER)}), **1 frame** (one key frame of nuScenes

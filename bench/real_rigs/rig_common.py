@@ -16,7 +16,17 @@ Standard library only.
 import json
 import math
 import shutil
+import subprocess
 from pathlib import Path
+
+
+def git_commit(src):
+    """The checkout's commit, for a README; says so when SRC is not a git checkout."""
+    try:
+        return subprocess.run(["git", "-C", str(src), "rev-parse", "HEAD"], capture_output=True, text=True,
+                              check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown (not a git checkout)"
 
 
 def q_normalize(q):
