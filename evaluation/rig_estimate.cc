@@ -113,11 +113,12 @@ std::vector<RigEstimate> FromCalibrationFolder(const fs::path& dir, const Rig& t
       if (cam.is_object() && cam.value("holds_if_synchronised", false)) {
         e.if_synchronised[CameraIndex(truth, cam.value("name", ""), evaluation_path.string())] = 1;
       }
-      for (const char* key : {"rotation_std_deg", "direction_std_deg"}) {
-        if (!cam.is_object() || !cam.contains(key) || !cam[key].is_number()) continue;
-        const size_t c = CameraIndex(truth, cam.value("name", ""), evaluation_path.string());
-        (std::string(key) == "rotation_std_deg" ? e.rotation_std_deg : e.direction_std_deg)[c] = cam[key].get<double>();
-      }
+      const auto read_std = [&](const char* key, std::vector<std::optional<double>>* into) {
+        if (!cam.is_object() || !cam.contains(key) || !cam[key].is_number()) return;
+        (*into)[CameraIndex(truth, cam.value("name", ""), evaluation_path.string())] = cam[key].get<double>();
+      };
+      read_std("rotation_std_deg", &e.rotation_std_deg);
+      read_std("direction_std_deg", &e.direction_std_deg);
       if (!cam.is_object() || cam.value("position_known", true) || !cam.contains("rotation_wxyz") ||
           !cam["rotation_wxyz"].is_array()) {
         continue;

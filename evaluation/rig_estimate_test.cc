@@ -134,8 +134,13 @@ TEST(RigEstimate, ACalibrationFolderGivesOneEstimatePerModeWithItsRotationOnlyCa
     WriteRig(estimate, dir / mode / "rig.json");
   }
   const Eigen::Quaterniond q = truth.cameras[2].cam_from_rig->rotation;
-  const nlohmann::json cam2 = {{"name", "cam2"}, {"position_known", false}, {"rotation_wxyz", {q.w(), q.x(), q.y(), q.z()}}};
-  const nlohmann::json rig = {{"cameras", {cam2}}, {"summary", {{"metric_scale", true}}}};
+  const nlohmann::json cam2 = {{"name", "cam2"},
+                               {"position_known", false},
+                               {"rotation_wxyz", {q.w(), q.x(), q.y(), q.z()}},
+                               {"rotation_std_deg", 0.02},
+                               {"direction_std_deg", nullptr}};
+  const nlohmann::json cam1 = {{"name", "cam1"}, {"rotation_std_deg", 0.01}, {"direction_std_deg", 0.3}};
+  const nlohmann::json rig = {{"cameras", {cam1, cam2}}, {"summary", {{"metric_scale", true}}}};
   WriteFile(dir / "evaluation.json", nlohmann::ordered_json{{"methods", {{"none", {{"rig", rig}}}, {"mask", {{"rig", rig}}}}}}.dump());
   const std::vector<RigEstimate> e = ReadRigEstimates(dir, truth, Frames());
   ASSERT_EQ(e.size(), 2u);
@@ -144,6 +149,12 @@ TEST(RigEstimate, ACalibrationFolderGivesOneEstimatePerModeWithItsRotationOnlyCa
   EXPECT_TRUE(e[0].metric);
   EXPECT_FALSE(e[0].cam_from_rig[2].has_value());
   ASSERT_TRUE(e[0].rotation_only[2].has_value());
+  // The deviations the calibration stated come back with it.
+  EXPECT_EQ(e[0].rotation_std_deg[1], 0.01);
+  EXPECT_EQ(e[0].direction_std_deg[1], 0.3);
+  EXPECT_EQ(e[0].rotation_std_deg[2], 0.02);
+  EXPECT_FALSE(e[0].direction_std_deg[2].has_value());
+  EXPECT_FALSE(e[0].rotation_std_deg[0].has_value());
   const RigScores s = ScoreRig(truth, e[1]);
   EXPECT_EQ(s.cameras_rotation_only, 1);
   EXPECT_NEAR(*s.cameras[2].rotation_error_deg, 0.0, 1e-6);

@@ -80,6 +80,10 @@ std::string FormatPairTable(const CalibrationRun& run) {
       const std::string type = tv.success ? std::string(PairTypeName(tv.pair_type)) : "-";
       std::string status = PairStatus(p);
       if (p.Solved() && !PairWithinTolerance(p, truth).value_or(true)) status += " (outside tolerance against the truth)";
+      if (p.Solved() && tv.rival) {  // two_view.h: the matches alone do not decide between the two
+        status += "; another pose fits its matches as well: baseline " + Fixed(tv.rival->direction_deg, 0) +
+                  " deg away, turned " + Fixed(tv.rival->rotation_deg, 1) + " deg";
+      }
       // The status goes last and whole: it says what to do.
       std::snprintf(line, sizeof(line), "%-14s %7s  %-10s %8d %8d %9s %10s %10s  %-13s  ", pair.c_str(), ov.c_str(),
                     run.results[m].semantic_mode.c_str(), tv.num_matches, tv.num_inliers,

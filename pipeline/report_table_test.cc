@@ -46,6 +46,18 @@ TEST(FormatPairTable, OneRowPerPairAndMethod) {
   EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 4) << table;  // header and 3 pairs
 }
 
+// A solved pair whose matches fit a rival pose as well says so in its status.
+TEST(FormatPairTable, APairWithARivalPoseSaysSo) {
+  CalibrationRun run = PairsRun({});
+  ASSERT_TRUE(run.results[0].pairwise.pairs[0].Solved());
+  EXPECT_EQ(FormatPairTable(run).find("another pose fits its matches as well"), std::string::npos);
+  run.results[0].pairwise.pairs[0].two_view.rival = RivalPose{133.0, 2.1, 300, 166, 176};
+  const std::string table = FormatPairTable(run);
+  EXPECT_NE(table.find("another pose fits its matches as well: baseline 133 deg away, turned 2.1 deg"),
+            std::string::npos)
+      << table;
+}
+
 // A ring's many pairs that see nothing in common are one line, not a row each per method.
 TEST(FormatPairTable, PairsScreenedOutInEveryMethodShareOneLine) {
   CalibrationRun run = PairsRun({});
