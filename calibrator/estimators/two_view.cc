@@ -296,6 +296,8 @@ std::optional<RivalPose> StrongestRival(const Rigid3d& pose, const std::vector<i
   }
   const Eigen::Vector3d t = pose.translation.normalized();
   const double golden_angle = M_PI * (3.0 - std::sqrt(5.0));
+  std::vector<char> in_pose(fa.size(), 0), in_either;
+  for (int i : pose_inlier_set) in_pose[i] = 1;
   std::optional<RivalPose> best;
   for (int k = 0; k < options.rival_seeds; ++k) {
     const double z = 1.0 - (k + 0.5) * 2.0 / options.rival_seeds;
@@ -306,8 +308,7 @@ std::optional<RivalPose> StrongestRival(const Rigid3d& pose, const std::vector<i
     const std::vector<int> inliers = EpipolarInliers(refined, fa, fb, valid, thr);
     // A sign test over the matches either pose explains: which of the two fits each one closer.
     // Were the two equally right, each would be as likely to fit a match closer.
-    std::vector<char> in_either(fa.size(), 0);
-    for (int i : pose_inlier_set) in_either[i] = 1;
+    in_either = in_pose;
     for (int i : inliers) in_either[i] = 1;
     int rival_closer = 0, pose_closer = 0;
     for (int i : valid) {

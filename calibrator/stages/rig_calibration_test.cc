@@ -257,11 +257,11 @@ TEST(CameraStatus, TextNamesTheOutcomeAndSaysWhy) {
             "not connected: cam0-cam1: why");
 }
 
-TEST_F(RigCalibrationTest, CameraHeldByOneWeakPairIsWarnedAbout) {
-  RigObservations obs = *observations_;
-  int held = -1;  // cam1-cam2 is the only pair left to place cam2
-  for (size_t p = 0; p < obs.pairs.size(); ++p) {
-    PairEstimate& e = obs.pairs[p];
+// Fails every pair of cam2 but cam1-cam2, which then alone places cam2; returns its index (-1: none).
+int LeaveCam1Cam2AloneToPlaceCam2(RigObservations* obs) {
+  int held = -1;
+  for (size_t p = 0; p < obs->pairs.size(); ++p) {
+    PairEstimate& e = obs->pairs[p];
     if (e.cam_a == 1 && e.cam_b == 2) {
       held = static_cast<int>(p);
     } else if (e.cam_a == 2 || e.cam_b == 2) {
@@ -270,6 +270,12 @@ TEST_F(RigCalibrationTest, CameraHeldByOneWeakPairIsWarnedAbout) {
       e.two_view.failure_reason = "too few matches";
     }
   }
+  return held;
+}
+
+TEST_F(RigCalibrationTest, CameraHeldByOneWeakPairIsWarnedAbout) {
+  RigObservations obs = *observations_;
+  const int held = LeaveCam1Cam2AloneToPlaceCam2(&obs);
   ASSERT_GE(held, 0);
   ASSERT_TRUE(obs.pairs[held].two_view.success);
   auto warned = [](const RigCalibrationResult& r) {
@@ -295,17 +301,7 @@ TEST_F(RigCalibrationTest, CameraHeldByOneWeakPairIsWarnedAbout) {
 // rival on a pair of a camera that other pairs place changes nothing.
 TEST_F(RigCalibrationTest, CameraHeldByOnePairWithARivalPoseIsNotPlaced) {
   RigObservations obs = *observations_;
-  int held = -1;  // cam1-cam2 is the only pair left to place cam2
-  for (size_t p = 0; p < obs.pairs.size(); ++p) {
-    PairEstimate& e = obs.pairs[p];
-    if (e.cam_a == 1 && e.cam_b == 2) {
-      held = static_cast<int>(p);
-    } else if (e.cam_a == 2 || e.cam_b == 2) {
-      e.two_view.success = false;
-      e.two_view.failure = TwoViewFailure::kTooFewMatches;
-      e.two_view.failure_reason = "too few matches";
-    }
-  }
+  const int held = LeaveCam1Cam2AloneToPlaceCam2(&obs);
   ASSERT_GE(held, 0);
   const RigCalibrationResult alone = EstimateRig(obs, {});
   ASSERT_EQ(alone.camera_status[2].outcome, CameraOutcome::kCalibrated) << alone.camera_status[2];
