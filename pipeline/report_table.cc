@@ -242,7 +242,9 @@ std::string FormatTimeTable(const CalibrationRun& run) {
       if (!timed(st)) continue;
       const CalibrationScores* scores = run.Truth(m);
       const CameraAgainstTruth* t = scores ? &scores->cameras[c] : nullptr;
-      const std::string offset = c == 0 && o.estimate_offsets ? "0 (reference)" : with_std(st.time_offset_s, st.time_offset_stddev_s);
+      const std::string offset = c == 0 && o.estimate_offsets ? "0 (reference)"
+                                 : st.time_offset_undetermined ? "not determined"
+                                                               : with_std(st.time_offset_s, st.time_offset_stddev_s);
       const char* how = o.estimate_offsets || o.estimate_readout ? "estimated in the bundle adjustment"
                                                                  : "measured by the synchronisation check";
       auto ms = [](const std::optional<double>& v) { return v ? Fmt("%.2f ms", 1000.0 * std::abs(*v)) : std::string("-"); };

@@ -67,6 +67,9 @@ TEST_F(MessagesCli, OptionParserErrorsExitWith1AndSuggestTheNameMeant) {
   ExpectError({}, "give a command: demo, make-rig, render, render-merge, calibrate");
   ExpectError({"make-rig", "--cameras", "2", "--time-offset", "cam7=0.01", "--out", (dir_ / "t").string()},
               "--time-offset: no camera named 'cam7' in the rig (did you mean 'cam0'?); its cameras are cam0, cam1");
+  ExpectError({"make-rig", "--cameras", "3", "--time-offset", "0", "0.03", "0.06", "--out", (dir_ / "t").string()},
+              "--time-offset: give one plain VALUE (every camera) or CAMERA=VALUE per camera, e.g. --time-offset cam1=0.03 "
+              "cam2=0.06; several plain values are not read in camera order");
 }
 
 TEST_F(MessagesCli, CalibrateSpeaksOfItsOptionsNotOfTheLibrary) {

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -169,6 +170,11 @@ void AddTimingOptions(CLI::App* cmd, MakeRigArgs& a) {
 // Applies "VALUE" (every camera) then "CAMERA=VALUE" entries of one timing option.
 template <class Set>
 void ApplyPerCamera(const std::vector<std::string>& entries, const std::string& option, Rig* rig, Set&& set) {
+  // Two plain values would silently keep the last one: a list of values is not read in camera order.
+  if (std::count_if(entries.begin(), entries.end(), [](const std::string& e) { return e.find('=') == std::string::npos; }) > 1) {
+    throw CLI::ValidationError(option, "give one plain VALUE (every camera) or CAMERA=VALUE per camera, e.g. " + option +
+                                           " cam1=0.03 cam2=0.06; several plain values are not read in camera order");
+  }
   for (const bool named : {false, true}) {
     for (const std::string& entry : entries) {
       const size_t eq = entry.find('=');

@@ -37,19 +37,14 @@ std::optional<std::string> WhyNoTimingModel(const std::vector<double>& frame_tim
   return std::nullopt;
 }
 
-namespace {
-
-// The median time between consecutive frames (s).
-double FrameInterval(std::vector<double> times) {
-  std::sort(times.begin(), times.end());
+double MedianFrameInterval(std::vector<double> frame_times_s) {
+  std::sort(frame_times_s.begin(), frame_times_s.end());
   std::vector<double> steps;
-  for (size_t k = 1; k < times.size(); ++k) steps.push_back(times[k] - times[k - 1]);
+  for (size_t k = 1; k < frame_times_s.size(); ++k) steps.push_back(frame_times_s[k] - frame_times_s[k - 1]);
   if (steps.empty()) return 0.0;
   std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
   return steps[steps.size() / 2];
 }
-
-}  // namespace
 
 std::vector<double> StartTimeOffsets(int num_cameras, const std::vector<double>& frame_times_s,
                                      const std::vector<TemporalPairEstimate>& temporal,
@@ -147,7 +142,7 @@ double ReadoutVisibilityPx(const PerFrame<Rigid3d>& rig_from_world,
 
 double IntervalVisibilityPx(const PerFrame<Rigid3d>& rig_from_world,
                             const std::vector<double>& frame_times_s, double pixels_per_radian, double scene_depth) {
-  return OffsetVisibilityPx(rig_from_world, frame_times_s, FrameInterval(frame_times_s), pixels_per_radian,
+  return OffsetVisibilityPx(rig_from_world, frame_times_s, MedianFrameInterval(frame_times_s), pixels_per_radian,
                             scene_depth);
 }
 
@@ -177,7 +172,61 @@ bool FoundInTheImages(double value_s, double stddev_s, double visibility_px, dou
   return magnitude > min_value_s && magnitude > options.min_sigmas * stddev_s && visibility_px >= options.min_visible_px;
 }
 
+// `best`'s solve started again with the offsets of `moved` cameras moved by `step_s`, every
+// offset free. Each moved camera's mounting starts turned by the rig's mean motion over the step,
+// so that on a path moving alike at every frame the start lies in the valley the step moves along.
+template <typename Solve>
+MultiFrameBundleAdjustmentResult SolveFromMovedOffsets(const MultiFrameBundleAdjustmentResult& best,
+                                                       const std::vector<int>& moved, double step_s,
+                                                       const std::vector<double>& frame_times_s, CaptureTiming timing,
+                                                       const Solve& solve) {
+  for (size_t k = 0; k < timing.time_offset_s.size() && k < best.timing.size(); ++k) timing.time_offset_s[k] = best.timing[k][0];
+  RigPoses start = best.poses;
+  const std::optional<Rigid3d> d = MeanRigChange(best.poses.rig_from_world, frame_times_s, step_s);
+  for (int c : moved) {
+    timing.time_offset_s[c] += step_s;
+    if (d && start.cam_from_rig[c]) start.cam_from_rig[c] = *start.cam_from_rig[c] * d->Inverse();
+  }
+  return solve(start, timing);
+}
+
 }  // namespace
+
+std::vector<std::optional<OffsetRestart>> RestartFromMovedOffsets(
+    const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, const std::vector<ViewTrack>& tracks,
+    const MultiFrameBundleAdjustmentResult& solved, int scale_camera, RigBundleAdjustmentOptions ba_options,
+    const CaptureTiming& timing, const std::vector<int>& restarted, const CaptureTimeOptions& options) {
+  std::vector<std::optional<OffsetRestart>> out(cameras.size());
+  if (restarted.empty() || options.restart_max_tracks < 0 || solved.timing.size() != cameras.size()) return out;
+  const std::vector<ViewTrack> few = EvenSubsample(tracks, options.restart_max_tracks);
+  ba_options.refine_intrinsics = false;
+  ba_options.keep_points = false;
+  ba_options.covariance = false;  // the restarts compare costs only
+  auto solve = [&](const RigPoses& poses, const CaptureTiming& start) {
+    return MultiFrameRigBundleAdjust(solved.cameras, keypoints, few, poses, scale_camera, ba_options, false, &start);
+  };
+  const double max_error_px = ba_options.max_reprojection_error_px;
+  const MultiFrameBundleAdjustmentResult reference = SolveFromMovedOffsets(solved, {}, 0.0, timing.frame_times_s, timing, solve);
+  const double variance = 0.5 * reference.reprojection_rms_px * reference.reprojection_rms_px;  // per coordinate
+  if (!(variance > 0) || reference.timing.size() != cameras.size()) return out;
+  const double quarter = 0.25 * MedianFrameInterval(timing.frame_times_s);
+  for (double step : {quarter, -quarter, 2 * quarter, -2 * quarter}) {
+    std::vector<int> open;  // cameras not yet found to fit elsewhere as well
+    for (int c : restarted) {
+      if (!out[c] || out[c]->sigmas >= options.min_sigmas) open.push_back(c);
+    }
+    if (open.empty()) break;
+    const MultiFrameBundleAdjustmentResult moved = SolveFromMovedOffsets(reference, open, step, timing.frame_times_s, timing, solve);
+    if (moved.num_observations == 0 || moved.timing.size() != reference.timing.size()) continue;
+    const double change = (TruncatedCost(moved, max_error_px) - TruncatedCost(reference, max_error_px)) / variance;
+    const double sigmas = std::copysign(std::sqrt(std::abs(change)), change);
+    for (int c : open) {
+      if (std::abs(moved.timing[c][0] - reference.timing[c][0]) < 0.5 * quarter) continue;  // back where it was
+      if (!out[c] || sigmas < out[c]->sigmas) out[c] = OffsetRestart{moved.timing[c][0], sigmas};
+    }
+  }
+  return out;
+}
 
 std::vector<CameraSynchronisation> CheckSynchronisation(
     const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, const std::vector<ViewTrack>& tracks,
@@ -203,22 +252,23 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
   timing.estimate_offsets = true;
   ba_options.refine_intrinsics = false;  // held: the question is time, asked of the rig as adjusted
   ba_options.keep_points = false;
-  auto solve = [&](const std::vector<ViewTrack>& solved_tracks, CaptureTiming start) {
-    return MultiFrameRigBundleAdjust(adjusted.cameras, keypoints, solved_tracks, adjusted.poses, scale_camera,
-                                     ba_options, false, &start);
+  auto solve = [&](const std::vector<ViewTrack>& solved_tracks, CaptureTiming start, const RigPoses& poses) {
+    return MultiFrameRigBundleAdjust(adjusted.cameras, keypoints, solved_tracks, poses, scale_camera, ba_options,
+                                     false, &start);
   };
   const std::vector<ViewTrack> subsample = EvenSubsample(tracks, options.check_max_tracks);
-  MultiFrameBundleAdjustmentResult freed = solve(subsample, timing);
+  MultiFrameBundleAdjustmentResult freed = solve(subsample, timing, adjusted.poses);
   // The turn angles' start can be wrong (camera 0 tracked over few frames): the synchronised start is
   // solved too, and the one the images fit better kept, so that a wrong start cannot condemn a camera.
   if (std::any_of(start_offsets_s.begin(), start_offsets_s.end(), [](double o) { return o != 0.0; })) {
     timing.time_offset_s.assign(n, 0.0);
-    MultiFrameBundleAdjustmentResult from_zero = solve(subsample, timing);
+    MultiFrameBundleAdjustmentResult from_zero = solve(subsample, timing, adjusted.poses);
     if (TruncatedCost(from_zero, ba_options.max_reprojection_error_px) <
         TruncatedCost(freed, ba_options.max_reprojection_error_px)) {
       freed = std::move(from_zero);
     }
   }
+  std::vector<int> restarted;
   for (int c = 1; c < n && c < static_cast<int>(freed.timing.size()); ++c) {
     CameraSynchronisation& s = out[c];
     if (!s.checked || !freed.time_offset_stddev_s[c] || s.interval_visibility_px < options.min_interval_visibility_px) {
@@ -230,6 +280,26 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
                                                 PixelsPerRadian(adjusted.cameras[c]), adjusted.median_depth);
     s.unsynchronised =
         FoundInTheImages(*s.offset_s, *s.offset_stddev_s, s.offset_visibility_px, options.min_offset_s, options);
+    if (!s.unsynchronised) restarted.push_back(c);
+  }
+  // The freed offset can sit at a kink of the cost rather than at its minimum (at zero each
+  // capture meets a frame, where the path between frames bends), with a standard deviation that
+  // claims it: the cameras that seem to capture with camera 0 are solved again from moved offsets.
+  const std::vector<std::optional<OffsetRestart>> restarts =
+      RestartFromMovedOffsets(cameras, keypoints, tracks, freed, scale_camera, ba_options, timing, restarted, options);
+  for (int c : restarted) {
+    if (!restarts[c]) continue;
+    CameraSynchronisation& s = out[c];
+    s.offset_alternative_s = restarts[c]->offset_s;
+    s.offset_restart_sigmas = restarts[c]->sigmas;
+    s.offset_undetermined = restarts[c]->sigmas < options.min_sigmas;
+    // Clearly better: the camera captures there (the restart solved no covariance).
+    if (restarts[c]->sigmas <= -options.min_sigmas && std::abs(restarts[c]->offset_s) > options.min_offset_s) {
+      s.offset_undetermined = false;
+      s.unsynchronised = true;
+      s.offset_s = restarts[c]->offset_s;
+      s.offset_stddev_s.reset();
+    }
   }
   // Rolling shutters: offsets held at zero and every readout free. Freed together with the offsets,
   // readouts and offsets trade against each other over few frames and condemned a synchronised
@@ -243,7 +313,8 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
   rows.readout_s.assign(n, 0.0);
   rows.readout_bottom_to_top = readout_bottom_to_top;
   rows.estimate_readout = true;
-  const MultiFrameBundleAdjustmentResult read_out = solve(EvenSubsample(tracks, options.readout_max_tracks), rows);
+  const MultiFrameBundleAdjustmentResult read_out =
+      solve(EvenSubsample(tracks, options.readout_max_tracks), rows, adjusted.poses);
   for (int c = 0; c < n && c < static_cast<int>(read_out.timing.size()); ++c) {
     CameraSynchronisation& s = out[c];
     if ((c > 0 && !s.checked) || !read_out.readout_stddev_s[c]) continue;

@@ -53,6 +53,10 @@ struct CaptureTimeOptions {
   // matters moves thousands of observations alike, and the standard deviation it is judged by is
   // that of the subsample. Its solve costs several times a solve of the rig (the timed costs).
   int check_max_tracks = 2000;
+  // The cameras the check finds capturing with camera 0, and estimated offsets, are solved again
+  // from moved offsets (RestartFromMovedOffsets) on an even subsample of at most this many tracks
+  // (0: all; negative: not at all): up to five solves of the rig, whatever its size.
+  int restart_max_tracks = 300;
   TimeOffsetSearchOptions search;
 
   // Throws std::invalid_argument naming the first bad field.
@@ -64,6 +68,9 @@ struct CaptureTimeOptions {
 std::vector<double> StartTimeOffsets(int num_cameras, const std::vector<double>& frame_times_s,
                                      const std::vector<TemporalPairEstimate>& temporal,
                                      const TimeOffsetSearchOptions& options);
+
+// The median time between consecutive frames (s); 0 with fewer than two frames.
+double MedianFrameInterval(std::vector<double> frame_times_s);
 
 // Whether capture times can be modelled at all: at least three frames at distinct, finite times.
 // Otherwise the reason, in words.
@@ -114,6 +121,13 @@ struct CameraSynchronisation {
   std::optional<double> offset_s, offset_stddev_s;
   double offset_visibility_px = 0.0;
   bool unsynchronised = false;
+  // For a camera found capturing with camera 0, or with an estimated offset: where its offset goes
+  // when the solve starts from moved offsets (RestartFromMovedOffsets). Below min_sigmas the
+  // images do not fix the offset, whatever the covariance at the freed one says: the camera is then
+  // not known to capture with camera 0, nor known not to. At -min_sigmas or less (and beyond
+  // min_offset_s) it captures there: unsynchronised, with that offset and no standard deviation.
+  std::optional<double> offset_alternative_s, offset_restart_sigmas;
+  bool offset_undetermined = false;
   // The freed readout (first row to last, s), and how much the rig's motion over it shows
   // (ReadoutVisibilityPx): rows read out over a moving rig's path see
   // from different places, which no mounting explains, so it is judged on any path that shows time.
@@ -123,11 +137,35 @@ struct CameraSynchronisation {
   bool rolling_shutter = false;
 };
 
+// Where a camera's offset goes when the solve starts elsewhere: the offset it ends at and how many
+// standard deviations of the reprojection noise that fits worse than the solve it started from
+// (sqrt of the rise in chi-square; negative where it fits better).
+struct OffsetRestart {
+  double offset_s = 0.0;
+  double sigmas = 0.0;
+};
+
+// `solved` (a bundle adjustment with `timing`'s offsets free; its offsets and poses are the start)
+// solved again on an even subsample of at most options.restart_max_tracks tracks, first as it is
+// (the reference), then from the offsets of the `restarted` cameras moved a quarter, then half a
+// frame interval either way, each moved camera's mounting turned by the rig's mean motion over the
+// step (on a path moving alike at every frame the start then lies in the valley the step moves
+// along). Per camera: the restart whose offset stayed away from the reference's (by an eighth of
+// an interval or more) with the least rise, nullopt where none stayed away. The restarts stop for
+// a camera once one fits within options.min_sigmas.
+std::vector<std::optional<OffsetRestart>> RestartFromMovedOffsets(
+    const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, const std::vector<ViewTrack>& tracks,
+    const MultiFrameBundleAdjustmentResult& solved, int scale_camera, RigBundleAdjustmentOptions ba_options,
+    const CaptureTiming& timing, const std::vector<int>& restarted, const CaptureTimeOptions& options);
+
 // The bundle adjustment solved again from `adjusted` (a result taken as synchronised) with every
 // camera's offset free (camera 0's the gauge), started at StartTimeOffsets and, when those are not
 // all zero, at zero too (the start the images fit better is kept); then, with check_readout, with
 // the offsets at zero and every readout free. One verdict per camera: an offset beyond min_offset_s,
-// min_sigmas and min_visible_px, a readout beyond min_readout_s, min_sigmas and min_visible_px.
+// min_sigmas and min_visible_px is unsynchronised; one within them is restarted
+// (RestartFromMovedOffsets): undetermined where another start fits about as well, unsynchronised
+// where one fits clearly better; a readout beyond min_readout_s, min_sigmas and min_visible_px is
+// a rolling shutter.
 // Where the path hides time for every camera, nothing is solved: the check could not condemn one.
 std::vector<CameraSynchronisation> CheckSynchronisation(
     const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, const std::vector<ViewTrack>& tracks,

@@ -142,6 +142,28 @@ TEST(CheckSynchronisation, APathThatHidesOffsetsDoesNotCondemnACamera) {
   }
 }
 
+// Offsets estimated where the images fix them (a path that changes its turn rate, and in this
+// model of exact tracks a circle too), restarted from offsets moved by a quarter and half a frame
+// interval: every restart comes back to the estimate, so none is reported. (Where the images do
+// not fix them, a restart stays away: CaptureTimeCli.AnOffsetStoppedAtZeroIsNeverTakenForSynchronised.)
+TEST(RestartFromMovedOffsets, AnOffsetTheImagesFixComesBackFromEveryStart) {
+  const std::vector<int> restarted = {1, 2};
+  for (const std::vector<Rigid3d>& path : {VariedPath(), TurningPath(6, 1.5, 8.0, 0.0, 0.0, 0.0)}) {
+    const TimedRing ring(path, 0.3, TestSeed(), {0.0, 0.030, 0.060}, {0.0, 0.0, 0.0});
+    CaptureTiming offsets = ring.timing;
+    offsets.estimate_readout = false;
+    const MultiFrameBundleAdjustmentResult estimated = ring.Adjust(&offsets);
+    for (int c : restarted) ASSERT_NEAR(estimated.timing[c][0], 0.030 * c, 0.002) << c;
+    const std::vector<std::optional<OffsetRestart>> restarts =
+        RestartFromMovedOffsets(ring.cameras, ring.s.keypoints, ring.tracks, estimated, 1, {}, offsets, restarted, {});
+    ASSERT_EQ(restarts.size(), 3u);
+    EXPECT_FALSE(restarts[0]) << "camera 0 is the gauge, not restarted";
+    for (int c : restarted) {
+      EXPECT_FALSE(restarts[c]) << c << ": ends at " << restarts[c]->offset_s << " s, " << restarts[c]->sigmas << " sd";
+    }
+  }
+}
+
 TEST(StartTimeOffsets, ComesFromEachCameraOwnTurns) {
   SyntheticRigOptions o;
   o.cameras.assign(3, Camera(CameraModelId::kPinhole, 640, 480, {300, 300, 319.5, 239.5}));

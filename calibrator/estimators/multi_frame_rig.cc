@@ -404,7 +404,8 @@ void HoldAndBoundParameters(BundleProblem& bp, const BundleRound& round, const R
   for (int c = 0; c < n && bp.timing; ++c) {
     double* block = bp.time[c].data();
     if (!problem.HasParameterBlock(block)) continue;
-    const bool offset = bp.timing->estimate_offsets && c > 0, readout = bp.timing->estimate_readout;
+    const bool held = !bp.timing->offset_held.empty() && bp.timing->offset_held[c];
+    const bool offset = bp.timing->estimate_offsets && c > 0 && !held, readout = bp.timing->estimate_readout;
     if (!offset && !readout) {
       problem.SetParameterBlockConstant(block);
     } else if (!offset || !readout) {
@@ -487,7 +488,8 @@ void ReadCovariances(BundleProblem& bp, const std::vector<WorldPoint>& points, c
       cov = reduced.covariance.block<2, 2>(it->second, it->second);
     }
     cov *= variance;
-    if (bp.timing->estimate_offsets && c > 0) out.time_offset_stddev_s[c] = std::sqrt(std::max(cov(0, 0), 0.0));
+    const bool held = !bp.timing->offset_held.empty() && bp.timing->offset_held[c];
+    if (bp.timing->estimate_offsets && c > 0 && !held) out.time_offset_stddev_s[c] = std::sqrt(std::max(cov(0, 0), 0.0));
     if (bp.timing->estimate_readout) out.readout_stddev_s[c] = std::sqrt(std::max(cov(1, 1), 0.0));
   }
   out.intrinsics_stddev.assign(n, {});
@@ -568,6 +570,9 @@ void CaptureTiming::Check(int cameras, int frames) const {
   if (!readout_bottom_to_top.empty() && static_cast<int>(readout_bottom_to_top.size()) != cameras) {
     fail("readout_bottom_to_top needs one flag per camera, or none");
   }
+  if (!offset_held.empty() && static_cast<int>(offset_held.size()) != cameras) {
+    fail("offset_held needs one flag per camera, or none");
+  }
   std::vector<double> sorted = frame_times_s;
   std::sort(sorted.begin(), sorted.end());
   for (size_t k = 0; k < sorted.size(); ++k) {
@@ -636,7 +641,7 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
       }
       if (points.empty()) break;
       setup.point_stride = round < 0 ? points.size() / options.coarse_points : 1;
-      setup.covariance = setup.final_round && last;
+      setup.covariance = setup.final_round && last && options.covariance;
       BundleRoundResult solved = SolveBundle(bp, points, setup, options);
       result.iterations += solved.iterations;
       if (setup.final_round) {

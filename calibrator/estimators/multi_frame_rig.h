@@ -66,6 +66,9 @@ struct RigBundleAdjustmentOptions {
   int num_threads = 1;
   // Keep the points and every observation's reprojection error in the result (for a report).
   bool keep_points = false;
+  // The covariance at the solution (the result's standard deviations); off for solves that are
+  // only compared by their cost.
+  bool covariance = true;
   // Refine each camera's intrinsics too, under Gaussian priors centred on the given ones
   // (intrinsics_refinement.h). The poses are first adjusted with the given intrinsics held;
   // then intrinsics_passes times: every track triangulated again from the current poses and
@@ -102,6 +105,9 @@ struct CaptureTiming {
   // every camera's readout time.
   bool estimate_offsets = false;
   bool estimate_readout = false;
+  // Per camera, or empty: a camera marked here keeps its time_offset_s while the others' are
+  // estimated (a profile of the cost over one camera's offset).
+  std::vector<char> offset_held;
 
   // Throws std::invalid_argument naming the first bad field, for `cameras` cameras and `frames` frames.
   void Check(int cameras, int frames) const;

@@ -31,6 +31,63 @@ void TakePoseWhenThePathHidesTime(const RigObservations& obs, const CaptureTimeO
   result->cam_from_rig_rotation[c].reset();
 }
 
+// Estimated offsets can stop at a kink of the cost (at zero each capture meets a frame), with a
+// standard deviation that claims them: each is solved again from moved offsets
+// (RestartFromMovedOffsets), and a camera whose offset goes elsewhere at a cost within min_sigmas,
+// or fits clearly better there, is marked undetermined.
+std::vector<CameraSynchronisation> RestartEstimatedOffsets(const RigObservations& obs, const CaptureTimeOptions& o,
+                                                           const RigBundleAdjustmentOptions& bundle_adjustment,
+                                                           const std::vector<ViewTrack>& tracks, int scale_camera,
+                                                           const MultiFrameBundleAdjustmentResult& ba) {
+  const int n = static_cast<int>(obs.cameras.size());
+  std::vector<CameraSynchronisation> out(n);
+  std::vector<int> estimated;
+  CaptureTiming timing;
+  timing.frame_times_s = obs.frame_times_s;
+  timing.readout_bottom_to_top = obs.readout_bottom_to_top;
+  timing.estimate_offsets = true;
+  timing.estimate_readout = o.estimate_readout;
+  for (int c = 0; c < n; ++c) {
+    timing.time_offset_s.push_back(ba.timing[c][0]);
+    timing.readout_s.push_back(ba.timing[c][1]);
+    if (c > 0 && ba.poses.cam_from_rig[c] && ba.time_offset_stddev_s[c]) estimated.push_back(c);
+  }
+  const std::vector<std::optional<OffsetRestart>> restarts =
+      RestartFromMovedOffsets(ba.cameras, obs.keypoints, tracks, ba, scale_camera, bundle_adjustment, timing, estimated, o);
+  for (int c : estimated) {
+    out[c].checked = true;
+    if (!restarts[c]) continue;
+    out[c].offset_alternative_s = restarts[c]->offset_s;
+    out[c].offset_restart_sigmas = restarts[c]->sigmas;
+    out[c].offset_undetermined = restarts[c]->sigmas < o.min_sigmas;
+  }
+  return out;
+}
+
+// An estimated offset that another start moves elsewhere, fitting as well or better: the images do
+// not fix it, nor the mounting it trades with.
+void TakePoseWhenAnotherStartMovesTheOffset(const RigObservations& obs, const std::vector<CameraSynchronisation>& checked,
+                                            int c, RigCalibrationResult* result) {
+  if (c >= static_cast<int>(checked.size()) || !checked[c].offset_undetermined) return;
+  if (result->camera_status[c].outcome != CameraOutcome::kCalibrated &&
+      result->camera_status[c].outcome != CameraOutcome::kRotationOnly) {
+    return;
+  }
+  const double sigmas = *checked[c].offset_restart_sigmas;
+  result->camera_stats[c].time_offset_undetermined = true;
+  result->camera_stats[c].time_offset_stddev_s.reset();
+  result->camera_status[c] = {
+      CameraOutcome::kTimeNotDetermined, PositionOutcome::kNotObservable,
+      "its time offset is not determined: solved from another start it ends at " +
+          Fixed(1000.0 * *checked[c].offset_alternative_s, 0) + " ms, where the images fit " +
+          (sigmas < 0 ? Fixed(-sigmas, 1) + " standard deviations better (the estimate stopped short of its best)"
+                      : "about as well") +
+          ", so neither its offset nor its mounting is known; to calibrate it: drive a path that changes speed or "
+          "turn rate more, or synchronise the cameras"};
+  result->rig.cameras[c].cam_from_rig.reset();
+  result->cam_from_rig_rotation[c].reset();
+}
+
 }  // namespace
 
 // Step 8: capture times. Estimated, each camera's offset and readout go into its stats and the
@@ -57,7 +114,10 @@ void SetCaptureTimes(const RigObservations& obs, const CaptureTimeOptions& o,
         stats.readout_s = ba.timing[c][1];
         stats.readout_stddev_s = ba.readout_stddev_s[c];
       }
-      if (c > 0 && o.estimate_offsets) TakePoseWhenThePathHidesTime(obs, o, ba, c, result);
+      if (c > 0 && o.estimate_offsets) {
+        TakePoseWhenThePathHidesTime(obs, o, ba, c, result);
+        TakePoseWhenAnotherStartMovesTheOffset(obs, checked, c, result);
+      }
     }
     return;
   }
@@ -65,7 +125,17 @@ void SetCaptureTimes(const RigObservations& obs, const CaptureTimeOptions& o,
   for (int c = 1; c < n && c < static_cast<int>(checked.size()); ++c) {
     if (!checked[c].checked) continue;
     result->camera_stats[c].interval_visibility_px = checked[c].interval_visibility_px;
-    if (checked[c].interval_visibility_px >= o.min_interval_visibility_px) continue;
+    if (checked[c].interval_visibility_px >= o.min_interval_visibility_px) {
+      if (checked[c].offset_undetermined && result->camera_status[c].outcome == CameraOutcome::kCalibrated) {
+        result->camera_status[c] = {
+            CameraOutcome::kCalibratedIfSynchronised, PositionOutcome::kPlaced,
+            "the images fit it capturing " + Fixed(1000.0 * *checked[c].offset_alternative_s, 0) + " ms after " +
+                obs.camera_names[0] + " about as well (" + Fixed(std::max(*checked[c].offset_restart_sigmas, 0.0), 1) +
+                " standard deviations worse), so they cannot show whether it captured with it; a path that "
+                "changes speed or turn rate more would show it"};
+      }
+      continue;
+    }
     hidden.push_back(obs.camera_names[c]);
     if (result->camera_status[c].outcome != CameraOutcome::kCalibrated) continue;
     result->camera_status[c] = {
@@ -109,14 +179,16 @@ void SetCaptureTimes(const RigObservations& obs, const CaptureTimeOptions& o,
     const CameraSynchronisation& v = checked[c];
     if (!v.offset_s) continue;
     result->camera_stats[c].time_offset_s = v.offset_s;
-    result->camera_stats[c].time_offset_stddev_s = v.offset_stddev_s;
+    result->camera_stats[c].time_offset_undetermined = v.offset_undetermined;
+    if (!v.offset_undetermined) result->camera_stats[c].time_offset_stddev_s = v.offset_stddev_s;
     // A camera whose rolling shutter was found keeps that reason: its offset is then the readout's.
     const CameraOutcome outcome = result->camera_status[c].outcome;
     if (!v.unsynchronised || outcome == CameraOutcome::kNotConnected || outcome == CameraOutcome::kUnsynchronised) continue;
     const double ms = 1000.0 * *v.offset_s;
     result->camera_status[c] = {
         CameraOutcome::kUnsynchronised, PositionOutcome::kNotObservable,
-        "it captures " + Fixed(std::abs(ms), 1) + PlusMinus(1000.0 * *v.offset_stddev_s, 1) + " ms " +
+        "it captures " + Fixed(std::abs(ms), 1) + (v.offset_stddev_s ? PlusMinus(1000.0 * *v.offset_stddev_s, 1) : "") +
+            " ms " +
             (ms > 0 ? "after " : "before ") + obs.camera_names[0] +
             " while the rig moves, so a pose taken as synchronised would hold the rig's motion; to calibrate it: "
             "estimate the time offsets (--estimate-time-offsets; with --rolling-shutter where rows are read out "
@@ -133,9 +205,12 @@ std::vector<CameraSynchronisation> CheckCaptureTimes(const RigObservations& obs,
                                                      const RigBundleAdjustmentOptions& bundle_adjustment,
                                                      bool rig_moving, const std::vector<ViewTrack>& tracks,
                                                      int scale_camera, const MultiFrameBundleAdjustmentResult& ba) {
+  const int n = static_cast<int>(obs.cameras.size());
+  if (o.estimate_offsets && rig_moving && static_cast<int>(ba.timing.size()) == n && ba.num_points > 0) {
+    return RestartEstimatedOffsets(obs, o, bundle_adjustment, tracks, scale_camera, ba);
+  }
   if (o.estimate_offsets || o.estimate_readout || !o.check_synchronisation || !rig_moving) return {};
   if (WhyNoTimingModel(obs.frame_times_s) || ba.poses.cam_from_rig.empty() || ba.num_points == 0) return {};
-  const int n = static_cast<int>(obs.cameras.size());
   return CheckSynchronisation(ba.cameras, obs.keypoints, tracks, ba, scale_camera, bundle_adjustment,
                               obs.frame_times_s, StartTimeOffsets(n, obs.frame_times_s, obs.temporal, o.search),
                               obs.readout_bottom_to_top, o);

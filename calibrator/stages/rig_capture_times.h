@@ -13,8 +13,9 @@
 namespace rigsim {
 
 // The synchronisation check of a result taken as synchronised (CaptureTimeOptions), on the bundle
-// adjustment `ba` before it is scaled; empty when it does not apply (offsets estimated, the check
-// off, a static rig, frames without distinct times, no bundle adjustment).
+// adjustment `ba` before it is scaled; with offsets estimated, the restarts of those offsets
+// (RestartFromMovedOffsets); empty when neither applies (the check off, a static rig, frames
+// without distinct times, no bundle adjustment).
 std::vector<CameraSynchronisation> CheckCaptureTimes(const RigObservations& obs, const CaptureTimeOptions& options,
                                                      const RigBundleAdjustmentOptions& bundle_adjustment,
                                                      bool rig_moving, const std::vector<ViewTrack>& tracks,

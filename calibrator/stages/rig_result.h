@@ -36,6 +36,9 @@ struct RigCameraStats {
   // CaptureTimeOptions::estimate_offsets / estimate_readout, or, for the offset, measured by the
   // synchronisation check; nullopt otherwise.
   std::optional<double> time_offset_s, time_offset_stddev_s;
+  // The check's offset is where the solve stopped, not a measurement: other offsets fit the images
+  // as well (CameraSynchronisation::offset_undetermined); time_offset_stddev_s is then nullopt.
+  bool time_offset_undetermined = false;
   std::optional<double> readout_s, readout_stddev_s;
   // With the synchronisation check or offsets estimated: how much an offset of one frame interval
   // would change the camera's view on the rig's path (px, capture_time.h IntervalVisibilityPx);
