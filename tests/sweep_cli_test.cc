@@ -77,6 +77,38 @@ TEST(SweepCli, ATinySweepRunsEndToEndAndResumes) {
   EXPECT_EQ(ReadFile(out / "results.jsonl"), rows_before);
 }
 
+// The sweep parameter `sensor`: each cell renders with its preset (sensor.json in the kept
+// dataset), and the results name the preset that ran.
+TEST(SweepCli, TheSensorParameterReachesTheRender) {
+  const TempDir dir;
+  WriteFile(dir / "sensors.yaml", R"(name: sensors
+base: {rig: ring, cameras: 2, spacing: 40, width: 320, height: 180, frames: 2, spp: 1}
+methods: {semantics: [none]}
+grid:
+  sensor: [ideal, automotive]
+)");
+  const fs::path out = dir / "out";
+  const CliResult run = RunRigsim({"sweep", (dir / "sensors.yaml").string(), "--out", out.string(), "--keep-datasets"},
+                                  dir / "run", std::chrono::seconds(300));
+  ASSERT_EQ(run.code, 0) << run.err;
+  std::set<std::string> presets;
+  std::istringstream jsonl(ReadFile(out / "results.jsonl"));
+  std::string line;
+  while (std::getline(jsonl, line)) {
+    const nlohmann::json row = nlohmann::json::parse(line);
+    presets.insert(row.at("sensor").get<std::string>());
+    const fs::path sensor_json = out / "datasets" / row.at("key").get<std::string>() / "dataset" / "sensor.json";
+    if (row.at("sensor") == "ideal") {
+      EXPECT_FALSE(fs::exists(sensor_json));
+    } else {
+      ASSERT_TRUE(fs::exists(sensor_json)) << sensor_json;
+      EXPECT_EQ(nlohmann::json::parse(ReadFile(sensor_json)).at("preset"), "automotive");
+    }
+  }
+  EXPECT_EQ(presets, (std::set<std::string>{"ideal", "automotive"}));
+  EXPECT_NE(ReadFile(out / "report.md").find("sensor=automotive"), std::string::npos);
+}
+
 // A sweep resumes only its own results: another config's are replaced only with --force.
 TEST(SweepCli, AnotherConfigsResultsAreReplacedOnlyWithForce) {
   const TempDir dir;
