@@ -171,19 +171,24 @@ void ApplyPhotometry(const CameraPhotometry& p, const PhotometricNoiseKey& key, 
   });
 }
 
-ImageF LinearBeforeNoise(const CameraPhotometry& p, double cx, double cy, const ImageU8& rgb, const ImageU8* invalid) {
+ImageF LinearBeforeNoise(const CameraPhotometry& p, double cx, double cy, const ImageU8& rgb, const ImageU8* invalid,
+                         int num_threads) {
   CheckSizes("LinearBeforeNoise", rgb, invalid);
   const VignettingField vignetting(p, rgb.width, rgb.height, cx, cy);
   const Eigen::Vector3d channel_gain = p.gain() * p.white_balance;
   const std::array<float, 256>& decode = LinearFromSrgbCodeTable();
   ImageF linear(rgb.width, rgb.height, 3, 0.0f);
-  for (int y = 0; y < rgb.height; ++y) {
-    for (int x = 0; x < rgb.width; ++x) {
-      if (invalid && invalid->at(x, y) != 0) continue;
-      const double v = vignetting(x, y);
-      for (int c = 0; c < 3; ++c) linear.at(x, y, c) = float(decode[rgb.at(x, y, c)] * channel_gain[c] * v);
+  auto rows = [&](const tbb::blocked_range<int>& range) {
+    for (int y = range.begin(); y < range.end(); ++y) {
+      for (int x = 0; x < rgb.width; ++x) {
+        if (invalid && invalid->at(x, y) != 0) continue;
+        const double v = vignetting(x, y);
+        for (int c = 0; c < 3; ++c) linear.at(x, y, c) = float(decode[rgb.at(x, y, c)] * channel_gain[c] * v);
+      }
     }
-  }
+  };
+  tbb::task_arena arena(num_threads > 0 ? num_threads : tbb::task_arena::automatic);
+  arena.execute([&] { tbb::parallel_for(tbb::blocked_range<int>(0, rgb.height, 8), rows); });
   return linear;
 }
 

@@ -79,7 +79,7 @@ void ApplyPhotometry(const CameraPhotometry& params, const PhotometricNoiseKey& 
 // noise as ApplyPhotometry to them and writes the sRGB codes into `rgb` (invalid pixels left as
 // they are). Together they give ApplyPhotometry's bytes up to the float rounding of the values.
 ImageF LinearBeforeNoise(const CameraPhotometry& params, double cx, double cy, const ImageU8& rgb,
-                         const ImageU8* invalid = nullptr);
+                         const ImageU8* invalid = nullptr, int num_threads = 0);
 void AddNoiseAndEncode(const CameraPhotometry& params, const PhotometricNoiseKey& key, const ImageF& linear, ImageU8& rgb,
                        const ImageU8* invalid = nullptr, int num_threads = 0);
 

@@ -11,7 +11,7 @@ namespace rigsim {
 namespace {
 
 // A preset from its datasheet figures; the sources and which values are estimates are in
-// docs/rendering.md ("Sensor presets").
+// docs/scenes-and-rigs.md ("Sensor presets").
 SensorPreset Make(std::string name, std::string summary, double full_well_e, double read_noise_e, double gain,
                   double exposure_sigma, double white_balance_sigma, double vignetting, double f_number,
                   double focus_distance_m, double pixel_pitch_um, int jpeg_quality) {
@@ -116,7 +116,7 @@ void JpegRoundTrip(ImageU8& rgb, int quality, const ImageU8* invalid) {
 void ApplySensorStages(const SensorStages& s, double fx_px, double cx, double cy, const ImageF& range, ImageU8& rgb,
                        const ImageU8* invalid, int num_threads) {
   if (s.defocus.enabled()) {
-    ImageF linear = LinearBeforeNoise(s.photometry, cx, cy, rgb, invalid);
+    ImageF linear = LinearBeforeNoise(s.photometry, cx, cy, rgb, invalid, num_threads);
     ApplyDefocus(s.defocus, fx_px, range, linear, invalid, num_threads);
     AddNoiseAndEncode(s.photometry, s.noise_key, linear, rgb, invalid, num_threads);
   } else if (s.photometric) {

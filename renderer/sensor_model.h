@@ -9,8 +9,8 @@
 // calibrator sees are the JPEG's blocks and ringing. Pixels outside the lens's valid region stay black.
 //
 // A preset is a set of these values from a real camera class's datasheets (EMVA 1288 figures where
-// published): docs/rendering.md has the table, the sources and which values are estimates. The
-// noise comes from the datasheet: a signal of I (linear, 1 = full well) holds I * full_well
+// published): docs/scenes-and-rigs.md ("Sensor presets") has the table, the sources and which
+// values are estimates. The noise comes from the datasheet: a signal of I (linear, 1 = full well) holds I * full_well
 // electrons, so at an analog gain g (white = full_well / g electrons)
 //   shot_noise a = g / full_well,   read_noise_stddev = g * read_noise_electrons / full_well.
 #pragma once

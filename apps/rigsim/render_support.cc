@@ -107,7 +107,7 @@ std::string FullNumber(double v) {
 }  // namespace
 
 void AddSensorOptions(CLI::App& cmd, SensorSettings& s) {
-  const std::string group = "Sensor model (RGB only; docs/rendering.md lists each preset's values and sources)";
+  const std::string group = "Sensor model (RGB only; docs/scenes-and-rigs.md lists each preset's values and sources)";
   std::string presets;
   for (const SensorPreset& p : SensorPresets()) {
     presets += "\n  " + p.name + ": " + p.summary;
