@@ -63,6 +63,8 @@ TEST(SweepCli, ATinySweepRunsEndToEndAndResumes) {
   EXPECT_EQ(rows, 4);
   const std::string report = ReadFile(out / "report.md");
   EXPECT_NE(report.find("# Sweep: tiny"), std::string::npos);
+  EXPECT_NE(report.find("Images: sensor preset `ideal` in every cell: renders without a sensor model"), std::string::npos)
+      << report;
   EXPECT_NE(report.find("| radius=0.3 | none |"), std::string::npos) << report;
   EXPECT_NE(report.find("## The thesis's claims"), std::string::npos);  // none and mask: the claims are tested
   EXPECT_TRUE(fs::exists(out / "plots" / "tiny_success.png"));
@@ -106,7 +108,11 @@ grid:
     }
   }
   EXPECT_EQ(presets, (std::set<std::string>{"ideal", "automotive"}));
-  EXPECT_NE(ReadFile(out / "report.md").find("sensor=automotive"), std::string::npos);
+  const std::string report = ReadFile(out / "report.md");
+  EXPECT_NE(report.find("sensor=automotive"), std::string::npos) << report;
+  EXPECT_NE(report.find("Images: sensor preset `ideal` in 1 cell, `automotive` in 1 cell (`render --sensor`"),
+            std::string::npos)
+      << report;
 }
 
 // A sweep resumes only its own results: another config's are replaced only with --force.
