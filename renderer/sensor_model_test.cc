@@ -91,9 +91,10 @@ TEST(SensorModel, UnknownPresetNamesThePresets) {
 
 // The noise model's statistics pinned: flat grey images at several levels through each noisy
 // preset's noise have the mean and variance the model predicts (Gaussian of variance a I + b,
-// rounded to sRGB codes), within 5 standard errors of 360,000 samples.
+// rounded to sRGB codes), within 5 standard errors of 360,000 samples. machine-vision's noise is
+// below a code step at these levels: its variance is mostly the rounding's.
 TEST(SensorModel, NoiseMeanAndVariancePerLevelMatchTheModel) {
-  for (const std::string name : {"automotive", "phone"}) {
+  for (const std::string name : {"machine-vision", "automotive", "phone"}) {
     const SensorPreset& preset = FindSensorPreset(name);
     CameraPhotometry p;  // gain 1, no vignetting: the noise alone
     p.shot_noise = preset.photometric.shot_noise;
@@ -116,7 +117,7 @@ TEST(SensorModel, NoiseMeanAndVariancePerLevelMatchTheModel) {
       EXPECT_NEAR(mean, expected_mean, 5 * std::sqrt(expected_variance / n)) << name << " code " << code;
       EXPECT_NEAR(variance, expected_variance, 5 * expected_variance * std::sqrt(2 / n)) << name << " code " << code;
       // Rounding to codes adds little to the model's variance at these levels.
-      EXPECT_NEAR(expected_variance / model_variance, 1.0, 0.15) << name << " code " << code;
+      if (name != "machine-vision") EXPECT_NEAR(expected_variance / model_variance, 1.0, 0.15) << name << " code " << code;
     }
   }
 }
