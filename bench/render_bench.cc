@@ -1,3 +1,6 @@
+// The sensor stages (renderer/sensor_model.h) on the same street view, each timed alone: the
+// cost a sensor preset adds to a render (BM_StreetSensorStage).
+//
 // Renderer speed against its lower bounds: a labelled frame (RGB + label + instance + range) of
 // the built-in street at 1280x720 through the demo rig's first camera, the minimal labelled frame
 // (MinimalFrameForBenchmark: the same rays, flat grey Lambert, no texture or material), and Embree
@@ -22,6 +25,7 @@
 #include "common/data_dir.h"
 #include "gltf/gltf_loader.h"
 #include "renderer/renderer.h"
+#include "renderer/sensor_model.h"
 #include "renderer/trace_only_benchmark.h"
 #include "rigs/rig_presets.h"
 #include "rigs/trajectories.h"
@@ -189,6 +193,56 @@ void BM_Grid1MEmbreeAlone(benchmark::State& state) {
   TraceOnly(state, *v.renderer, v.camera, v.cam_from_world, Key("grid1M embree", state));
 }
 
+// The sensor stages of the automotive preset on the street frame (1 spp), each alone, on a copy of
+// the rendered view: 0 photometry (exposure, white balance, vignetting, noise, 8-bit: ApplyPhotometry),
+// 1 the same in two steps around a defocus (LinearBeforeNoise + AddNoiseAndEncode), 2 defocus at
+// the preset's lens, 3 defocus focused at 0.3 m (the street beyond blurred by several pixels),
+// 4 the JPEG round trip at quality 75, 5 every stage as a render runs them (ApplySensorStages).
+void BM_StreetSensorStage(benchmark::State& state) {
+  StreetView& v = Street();
+  static const RenderedView view = v.renderer->Render(v.camera, v.cam_from_world, Options(1, 0));
+  const int stage = int(state.range(0)), threads = int(state.range(1));
+  const SensorPreset& preset = FindSensorPreset("automotive");
+  PhotometricOptions photometric = preset.photometric;
+  photometric.seed = 1;
+  SensorStages stages;
+  stages.photometric = true;
+  stages.photometry = DrawCameraPhotometry(photometric, 0);
+  stages.noise_key = {1, 0, 0};
+  stages.defocus = preset.defocus;
+  if (stage == 3) stages.defocus.focus_distance_m = 0.3;
+  stages.jpeg_quality = preset.jpeg_quality;
+  const double fx = v.camera.fx(), cx = v.camera.cx(), cy = v.camera.cy();
+  const ImageF linear = LinearBeforeNoise(stages.photometry, cx, cy, view.rgb);
+  double seconds = 0;
+  for (auto _ : state) {
+    ImageU8 rgb = view.rgb;
+    ImageF blurred = linear;
+    const auto start = std::chrono::steady_clock::now();
+    switch (stage) {
+      case 0: ApplyPhotometry(stages.photometry, stages.noise_key, cx, cy, rgb, nullptr, threads); break;
+      case 1: {
+        const ImageF l = LinearBeforeNoise(stages.photometry, cx, cy, rgb, nullptr, threads);
+        AddNoiseAndEncode(stages.photometry, stages.noise_key, l, rgb, nullptr, threads);
+        break;
+      }
+      case 2:
+      case 3: ApplyDefocus(stages.defocus, fx, view.range, blurred, nullptr, threads); break;
+      case 4: JpegRoundTrip(rgb, stages.jpeg_quality); break;
+      default: ApplySensorStages(stages, fx, cx, cy, view.range, rgb, nullptr, threads); break;
+    }
+    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    benchmark::DoNotOptimize(rgb.data.data());
+    benchmark::DoNotOptimize(blurred.data.data());
+  }
+  state.counters["ms_per_frame"] = 1e3 * seconds / double(std::max<benchmark::IterationCount>(1, state.iterations()));
+  state.counters["blur_px_at_infinity"] = BlurCircleDiameterPx(stages.defocus, fx, 0.0);
+  static const char* kNames[] = {"photometry", "photometry in two steps", "defocus (preset lens)",
+                                 "defocus (focused at 0.3 m)", "JPEG 75 round trip", "all stages"};
+  state.SetLabel(std::string("street sensor ") + kNames[std::min(stage, 5)] + " threads=" +
+                 (threads == 0 ? std::string("all") : std::to_string(threads)));
+}
+
 // Args: {samples per pixel, threads (0 = all cores)}.
 BENCHMARK(BM_StreetLabelledFrame)->Args({1, 0})->Args({4, 0})->Args({1, 1})->Args({1, 2})
     ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
@@ -197,6 +251,8 @@ BENCHMARK(BM_StreetEmbreeAlone)->Args({1, 0})->Args({4, 0})->Args({1, 1})->Args(
 BENCHMARK(BM_StreetMinimalFrame)->Args({1, 0})->Args({1, 1})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 BENCHMARK(BM_Grid1MLabelledFrame)->Args({1, 0})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 BENCHMARK(BM_Grid1MEmbreeAlone)->Args({1, 0})->Unit(benchmark::kMillisecond)->UseManualTime()->MinTime(2.0);
+// Args: {stage (above), threads (0 = all cores)}.
+BENCHMARK(BM_StreetSensorStage)->ArgsProduct({{0, 1, 2, 3, 4, 5}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
 
 }  // namespace
 }  // namespace rigsim

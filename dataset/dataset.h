@@ -14,6 +14,9 @@
 //   DATASET/photometric.json                per-camera exposure, white balance, vignetting, noise
 //                                           drawn for the images (only when render varied them;
 //                                           renderer/photometric.h)
+//   DATASET/sensor.json                     the sensor preset, defocus and JPEG the images went
+//                                           through (only with render --sensor other than ideal;
+//                                           renderer/sensor_model.h)
 //
 // A real-photo dataset has rig.json (intrinsics, no poses), frames.json may be absent (frames
 // are then the image file stems found for the first camera), and labels/ is optional.
@@ -58,6 +61,7 @@ class DatasetLayout {
   std::filesystem::path FramesJson() const { return root_ / "frames.json"; }
   std::filesystem::path OverlapJson() const { return root_ / "overlap.json"; }
   std::filesystem::path PhotometricJson() const { return root_ / "photometric.json"; }
+  std::filesystem::path SensorJson() const { return root_ / "sensor.json"; }
   std::filesystem::path EvaluationJson() const { return root_ / "evaluation.json"; }
   std::filesystem::path Image(const std::string& cam, const std::string& frame) const;
   std::filesystem::path Label(const std::string& cam, const std::string& frame) const;

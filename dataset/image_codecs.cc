@@ -182,6 +182,7 @@ bool RunJpegRead(const uint8_t* bytes, size_t size, JpegErrorManager* err, Decod
     return false;
   }
   cinfo.out_color_space = cinfo.num_components == 1 ? JCS_GRAYSCALE : JCS_RGB;
+  cinfo.dct_method = JDCT_ISLOW;  // the default, pinned (see RunJpegWrite)
   out->width = int(cinfo.image_width);
   out->height = int(cinfo.image_height);
   out->channels = cinfo.num_components == 1 ? 1 : 3;
@@ -232,6 +233,7 @@ bool RunJpegWrite(const uint8_t* samples, int width, int height, int channels, c
   cinfo.in_color_space = channels == 1 ? JCS_GRAYSCALE : JCS_RGB;
   jpeg_set_defaults(&cinfo);
   jpeg_set_quality(&cinfo, s.quality, TRUE);
+  cinfo.dct_method = JDCT_ISLOW;  // the default, pinned: the integer DCT gives the same bytes on every SIMD path
   cinfo.optimize_coding = s.optimize_coding ? TRUE : FALSE;
   jpeg_start_compress(&cinfo, TRUE);
   if (s.empty_exif) {

@@ -91,35 +91,50 @@ CameraPhotometry DrawCameraPhotometry(const PhotometricOptions& o, int camera_in
   return p;
 }
 
-void ApplyPhotometry(const CameraPhotometry& p, const PhotometricNoiseKey& key, double cx, double cy, ImageU8& rgb,
-                     const ImageU8* invalid, int num_threads) {
+namespace {
+
+void CheckSizes(const char* what, const ImageU8& rgb, const ImageU8* invalid) {
   if (rgb.channels != 3 || rgb.data.size() != size_t(rgb.width) * rgb.height * 3) {
-    throw std::invalid_argument("ApplyPhotometry: the image must have 3 channels");
+    throw std::invalid_argument(std::string(what) + ": the image must have 3 channels");
   }
   if (invalid && (invalid->width != rgb.width || invalid->height != rgb.height || invalid->channels != 1)) {
-    throw std::invalid_argument("ApplyPhotometry: the invalid-pixel mask must be 1 channel of the image's size");
+    throw std::invalid_argument(std::string(what) + ": the invalid-pixel mask must be 1 channel of the image's size");
   }
-  const double w = rgb.width, h = rgb.height;
-  // Normalising radius: the farthest image corner from the principal point.
-  double max_r2 = 0.0;
-  for (double x : {-0.5, w - 0.5}) {
-    for (double y : {-0.5, h - 0.5}) max_r2 = std::max(max_r2, (x - cx) * (x - cx) + (y - cy) * (y - cy));
+}
+
+// The vignetting at every pixel, V(r) = 1 / (1 + k r^2)^2 (CameraPhotometry::Vignetting), evaluated
+// from r^2 directly, r normalised by the farthest image corner from the principal point.
+class VignettingField {
+ public:
+  VignettingField(const CameraPhotometry& p, int width, int height, double cx, double cy) : cx_(cx), cy_(cy) {
+    double max_r2 = 0.0;
+    for (double x : {-0.5, width - 0.5}) {
+      for (double y : {-0.5, height - 0.5}) max_r2 = std::max(max_r2, (x - cx) * (x - cx) + (y - cy) * (y - cy));
+    }
+    inv_max_r2_ = max_r2 > 0 ? 1.0 / max_r2 : 0.0;
+    k_ = p.vignetting_strength > 0 ? 1.0 / std::sqrt(1.0 - p.vignetting_strength) - 1.0 : 0.0;
   }
-  const double inv_max_r2 = max_r2 > 0 ? 1.0 / max_r2 : 0.0;
+  double operator()(int x, int y) const {
+    const double d = 1.0 + k_ * ((x - cx_) * (x - cx_) + (y - cy_) * (y - cy_)) * inv_max_r2_;
+    return 1.0 / (d * d);
+  }
+
+ private:
+  double cx_, cy_, inv_max_r2_ = 0.0, k_ = 0.0;
+};
+
+// Adds the noise to the noise-free linear value `linear(x, y, c)` of every valid pixel and writes
+// its sRGB code into `rgb`, in parallel over rows (the noise is keyed by pixel, not by thread).
+template <class Linear>
+void NoiseAndEncode(const CameraPhotometry& p, const PhotometricNoiseKey& key, ImageU8& rgb, const ImageU8* invalid,
+                    int num_threads, const Linear& linear) {
   const bool noisy = p.shot_noise > 0.0 || p.read_noise_stddev > 0.0;
   const double read_var = p.read_noise_stddev * p.read_noise_stddev;
-  const Eigen::Vector3d channel_gain = p.gain() * p.white_balance;
   const uint64_t frame_key = SplitMix64(SplitMix64(SplitMix64(SplitMix64(key.seed) ^ uint64_t(uint32_t(key.camera_index))) ^ uint64_t(uint32_t(key.frame_index))) ^ kNoise);
-  const std::array<float, 256>& decode = LinearFromSrgbCodeTable();
-  // V(r) = 1 / (1 + k r^2)^2 (CameraPhotometry::Vignetting), evaluated from r^2 directly.
-  const double k = p.vignetting_strength > 0 ? 1.0 / std::sqrt(1.0 - p.vignetting_strength) - 1.0 : 0.0;
-
   auto rows = [&](const tbb::blocked_range<int>& range) {
     for (int y = range.begin(); y < range.end(); ++y) {
       for (int x = 0; x < rgb.width; ++x) {
         if (invalid && invalid->at(x, y) != 0) continue;
-        const double d = 1.0 + k * ((x - cx) * (x - cx) + (y - cy) * (y - cy)) * inv_max_r2;
-        const double v = 1.0 / (d * d);
         // Three normals per pixel: both of one Box-Muller pair and one of a second.
         double z[3] = {0.0, 0.0, 0.0};
         if (noisy) {
@@ -128,8 +143,9 @@ void ApplyPhotometry(const CameraPhotometry& p, const PhotometricNoiseKey& key, 
           z[2] = Gaussian(SplitMix64(frame_key ^ (2 * pixel + 1)));
         }
         uint8_t* px = &rgb.at(x, y, 0);
+        const Eigen::Vector3d values = linear(x, y, px);
         for (int c = 0; c < 3; ++c) {
-          double value = decode[px[c]] * channel_gain[c] * v;
+          double value = values[c];
           if (noisy) value += std::sqrt(p.shot_noise * std::max(value, 0.0) + read_var) * z[c];
           px[c] = SrgbCodeFromLinear(value);
         }
@@ -138,6 +154,54 @@ void ApplyPhotometry(const CameraPhotometry& p, const PhotometricNoiseKey& key, 
   };
   tbb::task_arena arena(num_threads > 0 ? num_threads : tbb::task_arena::automatic);
   arena.execute([&] { tbb::parallel_for(tbb::blocked_range<int>(0, rgb.height, 8), rows); });
+}
+
+}  // namespace
+
+void ApplyPhotometry(const CameraPhotometry& p, const PhotometricNoiseKey& key, double cx, double cy, ImageU8& rgb,
+                     const ImageU8* invalid, int num_threads) {
+  CheckSizes("ApplyPhotometry", rgb, invalid);
+  const VignettingField vignetting(p, rgb.width, rgb.height, cx, cy);
+  const Eigen::Vector3d channel_gain = p.gain() * p.white_balance;
+  const std::array<float, 256>& decode = LinearFromSrgbCodeTable();
+  NoiseAndEncode(p, key, rgb, invalid, num_threads, [&](int x, int y, const uint8_t* px) {
+    const double v = vignetting(x, y);
+    return Eigen::Vector3d(decode[px[0]] * channel_gain[0] * v, decode[px[1]] * channel_gain[1] * v,
+                           decode[px[2]] * channel_gain[2] * v);
+  });
+}
+
+ImageF LinearBeforeNoise(const CameraPhotometry& p, double cx, double cy, const ImageU8& rgb, const ImageU8* invalid,
+                         int num_threads) {
+  CheckSizes("LinearBeforeNoise", rgb, invalid);
+  const VignettingField vignetting(p, rgb.width, rgb.height, cx, cy);
+  const Eigen::Vector3d channel_gain = p.gain() * p.white_balance;
+  const std::array<float, 256>& decode = LinearFromSrgbCodeTable();
+  ImageF linear(rgb.width, rgb.height, 3, 0.0f);
+  auto rows = [&](const tbb::blocked_range<int>& range) {
+    for (int y = range.begin(); y < range.end(); ++y) {
+      for (int x = 0; x < rgb.width; ++x) {
+        if (invalid && invalid->at(x, y) != 0) continue;
+        const double v = vignetting(x, y);
+        for (int c = 0; c < 3; ++c) linear.at(x, y, c) = float(decode[rgb.at(x, y, c)] * channel_gain[c] * v);
+      }
+    }
+  };
+  tbb::task_arena arena(num_threads > 0 ? num_threads : tbb::task_arena::automatic);
+  arena.execute([&] { tbb::parallel_for(tbb::blocked_range<int>(0, rgb.height, 8), rows); });
+  return linear;
+}
+
+void AddNoiseAndEncode(const CameraPhotometry& p, const PhotometricNoiseKey& key, const ImageF& linear, ImageU8& rgb,
+                       const ImageU8* invalid, int num_threads) {
+  CheckSizes("AddNoiseAndEncode", rgb, invalid);
+  if (linear.width != rgb.width || linear.height != rgb.height || linear.channels != 3) {
+    throw std::invalid_argument("AddNoiseAndEncode: the linear image must have 3 channels of the image's size");
+  }
+  NoiseAndEncode(p, key, rgb, invalid, num_threads,
+                 [&](int x, int y, const uint8_t*) {
+                   return Eigen::Vector3d(linear.at(x, y, 0), linear.at(x, y, 1), linear.at(x, y, 2));
+                 });
 }
 
 }  // namespace rigsim

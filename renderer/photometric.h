@@ -73,4 +73,14 @@ struct PhotometricNoiseKey {
 void ApplyPhotometry(const CameraPhotometry& params, const PhotometricNoiseKey& key, double cx, double cy, ImageU8& rgb,
                      const ImageU8* invalid = nullptr, int num_threads = 0);
 
+// ApplyPhotometry in two steps, for a stage between the optics and the noise (defocus,
+// renderer/defocus.h): LinearBeforeNoise gives the noise-free linear values (3 floats per pixel:
+// gain, white balance and vignetting applied; invalid pixels 0); AddNoiseAndEncode adds the same
+// noise as ApplyPhotometry to them and writes the sRGB codes into `rgb` (invalid pixels left as
+// they are). Together they give ApplyPhotometry's bytes up to the float rounding of the values.
+ImageF LinearBeforeNoise(const CameraPhotometry& params, double cx, double cy, const ImageU8& rgb,
+                         const ImageU8* invalid = nullptr, int num_threads = 0);
+void AddNoiseAndEncode(const CameraPhotometry& params, const PhotometricNoiseKey& key, const ImageF& linear, ImageU8& rgb,
+                       const ImageU8* invalid = nullptr, int num_threads = 0);
+
 }  // namespace rigsim

@@ -44,6 +44,10 @@ void CheckJob(const RenderJob& job) {
   if (job.frames.frames.empty()) throw std::invalid_argument("render: no frames to render");
   job.options.Check();
   job.photometric.Check();
+  job.defocus.Check();
+  if (job.jpeg_quality < 0 || job.jpeg_quality > 100) {
+    throw std::invalid_argument("render: JPEG quality " + std::to_string(job.jpeg_quality) + " must be 0 (none) or in 1..100");
+  }
   std::set<std::string> names;
   for (const RigCamera& cam : job.rig.cameras) {
     CheckName(cam.name, "camera");
@@ -118,6 +122,37 @@ nlohmann::json PhotometryJson(const RenderJob& job, const std::vector<CameraPhot
             {"shot_noise", o.shot_noise},
             {"read_noise_stddev", o.read_noise_stddev}}},
           {"cameras", cameras}};
+}
+
+// Whether the job asks for more than the photometric stage: then sensor.json says what ran.
+bool SensorStagesOn(const RenderJob& job) {
+  return job.defocus.enabled() || job.jpeg_quality > 0 || (!job.sensor_preset.empty() && job.sensor_preset != "ideal");
+}
+
+nlohmann::json SensorStagesJson(const RenderJob& job) {
+  nlohmann::json stages = nlohmann::json::array();
+  if (job.photometric.exposure_stops_sigma > 0 || job.photometric.white_balance_stops_sigma > 0) {
+    stages.push_back("exposure and white balance");
+  }
+  if (job.photometric.vignetting_strength > 0) stages.push_back("vignetting");
+  if (job.defocus.enabled()) stages.push_back("defocus");
+  if (job.photometric.shot_noise > 0 || job.photometric.read_noise_stddev > 0) stages.push_back("shot and read noise");
+  stages.push_back("8-bit sRGB");
+  if (job.jpeg_quality > 0) stages.push_back("JPEG");
+  const DefocusOptions& d = job.defocus;
+  return {{"preset", job.sensor_preset.empty() ? "ideal" : job.sensor_preset},
+          {"stages", stages},
+          {"defocus",
+           d.enabled() ? nlohmann::json{{"f_number", d.f_number},
+                                        {"focus_distance_m", d.focus_distance_m},
+                                        {"pixel_pitch_um", d.pixel_pitch_um},
+                                        {"max_radius_px", d.max_radius_px},
+                                        {"model", "thin lens: blur circle diameter (px) = fx (f / N) / (s - f) |d - s| / d, "
+                                                  "f = fx * pixel pitch, d = the pixel's range; a disc blur in linear light "
+                                                  "with a depth test (renderer/defocus.h)"}}
+                       : nlohmann::json()},
+          {"jpeg_quality", job.jpeg_quality},
+          {"photometric", "photometric.json"}};
 }
 
 // The scene posed at evenly spaced times over a camera's capture span (at most 5 ms apart, at most
@@ -284,7 +319,9 @@ std::string RenderIdentity(const RenderJob& job, const FramesFile& frames) {
                                {"shadows", o.shadows},
                                {"photometric", job.photometric.enabled() ? PhotometryJson(job, {}) : nlohmann::json()},
                                {"extras", {job.extras.correspondence, job.extras.normals, job.extras.coco, job.extras.previews}}};
-  return StableHash(RigToJsonText(job.rig) + FramesToJsonText(frames) + options.dump());
+  // The sensor stages join only when on, so that the hash of a render without them stays the same.
+  const std::string sensor = SensorStagesOn(job) ? SensorStagesJson(job).dump() : "";
+  return StableHash(RigToJsonText(job.rig) + FramesToJsonText(frames) + options.dump() + sensor);
 }
 
 // rig.json and frames.json; a shard's frames.json lists its frames, and its shard.json what the
@@ -319,6 +356,9 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
   Renderer renderer(*job.scene);
   const bool animated = job.scene->IsAnimated();
   const bool photometric = job.photometric.enabled();
+  const bool sensor_stages = SensorStagesOn(job);
+  // A focus distance inside a camera's focal length is refused before anything is written.
+  for (const RigCamera& cam : cams) BlurCircleDiameterPx(job.defocus, cam.camera.fx(), 0.0);
   std::vector<CameraPhotometry> photometry;
   if (photometric) {
     for (int c = 0; c < num_cams; ++c) photometry.push_back(DrawCameraPhotometry(job.photometric, c));
@@ -348,10 +388,16 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
     std::vector<CocoInstances> view_coco(job.extras.coco ? num_cams : 0);
     auto finish = [&](int c, RenderedView view) {
       if (written) {
-        if (photometric) {
+        if (photometric || sensor_stages) {
           const ImageU8 invalid = InvalidPixels(view);
-          ApplyPhotometry(photometry[c], PhotometricNoiseKey{job.photometric.seed, c, frame_index}, cams[c].camera.cx(),
-                          cams[c].camera.cy(), view.rgb, &invalid, job.options.num_threads);
+          SensorStages stages;
+          stages.photometric = photometric;
+          if (photometric) stages.photometry = photometry[c];
+          stages.noise_key = PhotometricNoiseKey{job.photometric.seed, c, frame_index};
+          stages.defocus = job.defocus;
+          stages.jpeg_quality = job.jpeg_quality;
+          ApplySensorStages(stages, cams[c].camera.fx(), cams[c].camera.cx(), cams[c].camera.cy(), view.range, view.rgb,
+                            &invalid, job.options.num_threads);
         }
         WriteView(layout, job.extras, cams[c].name, frame.name, view);
         if (job.extras.coco) view_coco[c].AddImage(cams[c].name + "/" + frame.name + ".png", view.label, view.instance);
@@ -411,6 +457,7 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
   for (const RigCamera& cam : cams) names.push_back(cam.name);
   json_io::WriteTextAtomic(layout.OverlapJson(), OverlapJson(names, overlap).dump(2) + "\n");
   if (photometric) json_io::WriteTextAtomic(layout.PhotometricJson(), PhotometryJson(job, photometry).dump(2) + "\n");
+  if (sensor_stages) json_io::WriteTextAtomic(layout.SensorJson(), SensorStagesJson(job).dump(2) + "\n");
   if (clock.timed()) json_io::WriteTextAtomic(layout.PosesJson(), PosesJsonOf(job, poses_json).dump() + "\n");
   if (job.extras.coco) json_io::WriteTextAtomic(layout.CocoJson(), coco.ToJson().dump() + "\n");
 

@@ -20,7 +20,8 @@
 // that camera's exposure, white balance, vignetting and sensor noise (renderer/photometric.h),
 // drawn from the job's photometric seed and recorded in photometric.json. Labels, instances and
 // depth are untouched; with the options off the output is byte-identical to a render without them
-// and no photometric.json is written.
+// and no photometric.json is written. Defocus and JPEG (RenderJob::defocus, jpeg_quality) and the
+// named sensor presets that set them with the photometric options: renderer/sensor_model.h.
 #pragma once
 
 #include <filesystem>
@@ -30,6 +31,7 @@
 #include "dataset/dataset.h"
 #include "geometry/rig.h"
 #include "renderer/photometric.h"
+#include "renderer/sensor_model.h"
 #include "renderer/renderer.h"
 #include "scene/scene.h"
 
@@ -56,6 +58,12 @@ struct RenderJob {
   // Per-camera RGB differences; all zero (the default) = none. Its seed is its own (the CLI passes
   // --seed) and is recorded in photometric.json.
   PhotometricOptions photometric;
+  // The lens's defocus and the camera's JPEG, after the photometric stage (renderer/sensor_model.h);
+  // off by default. `sensor_preset` names the preset they and `photometric` came from (recorded in
+  // sensor.json; "" or "ideal": none).
+  DefocusOptions defocus;
+  int jpeg_quality = 0;  // 0: no JPEG; 1..100: a JPEG round trip at that quality
+  std::string sensor_preset;
   ExtraOutputs extras;
   // Shard `index` of `count` renders only its block of the frames (dataset/render_shards.h): its
   // folder holds those frames' files, frames.json and overlap.json over them, and shard.json,
@@ -80,6 +88,9 @@ struct RenderJob {
 //                  "cameras": [{"name": "cam0", "exposure_stops": 0.1, "gain": 1.07,
 //                               "white_balance_rgb": [1.02, 1, 0.97], "vignetting_strength": 0.3,
 //                               "shot_noise": 1e-4, "read_noise_stddev": 0.002}, ...]} in rig order.
+//   sensor.json (only with a sensor preset other than ideal, defocus or JPEG):
+//                 {"preset": "automotive", "stages": [...in order...], "defocus": {...DefocusOptions
+//                  fields}, "jpeg_quality": 75}
 // Throws std::invalid_argument (before writing anything) when the job is incomplete, and
 // std::runtime_error when out_dir exists and `force` is false or when writing fails; any
 // exception, including one thrown by `progress`, leaves out_dir untouched.

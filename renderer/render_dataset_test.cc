@@ -280,6 +280,68 @@ TEST(RenderDatasetTest, PhotometricVariationChangesOnlyRgbAndIsRecorded) {
 
 
 
+// A sensor preset: "ideal" writes exactly the dataset of a job without it; another preset changes
+// only the RGB images (deterministically), its values reach the renderer (photometric.json,
+// sensor.json) and the ground truth stays exact.
+TEST(RenderDatasetTest, SensorPresetChangesOnlyRgbAndIsRecorded) {
+  const TempDir scratch;
+  const Scene scene = WallScene();
+  const RenderJob plain = WallJob(scene);
+  RenderJob ideal = plain;
+  ideal.sensor_preset = "ideal";
+  const SensorPreset& preset = FindSensorPreset("automotive");
+  RenderJob automotive = plain;
+  automotive.sensor_preset = preset.name;
+  automotive.photometric = preset.photometric;
+  automotive.photometric.seed = 3;
+  automotive.defocus = preset.defocus;
+  automotive.defocus.pixel_pitch_um = 100;  // fx 30 px: f = 3 mm, a visible blur on the box at 3 m
+  automotive.defocus.focus_distance_m = 0.1;
+  automotive.jpeg_quality = preset.jpeg_quality;
+  RenderJob again = automotive;
+  again.options.num_threads = 1;
+  const fs::path a = scratch / "plain", b = scratch / "ideal", c = scratch / "automotive", d = scratch / "again";
+  RenderDataset(plain, a, false);
+  RenderDataset(ideal, b, false);
+  RenderDataset(automotive, c, false);
+  RenderDataset(again, d, false);
+  const DatasetLayout la(a), lb(b), lc(c), ld(d);
+  EXPECT_FALSE(fs::exists(lb.SensorJson()));
+  EXPECT_FALSE(fs::exists(lb.PhotometricJson()));
+  for (const RigCamera& cam : plain.rig.cameras) {
+    for (const Frame& frame : plain.frames.frames) {
+      const std::string& n = cam.name;
+      const std::string& f = frame.name;
+      EXPECT_EQ(ReadFile(la.Image(n, f)), ReadFile(lb.Image(n, f))) << "ideal must not change a byte";
+      EXPECT_NE(ReadFile(la.Image(n, f)), ReadFile(lc.Image(n, f)));
+      EXPECT_EQ(ReadFile(lc.Image(n, f)), ReadFile(ld.Image(n, f))) << "same seed, same bytes";
+      for (const auto& path : {&DatasetLayout::Label, &DatasetLayout::LabelColor, &DatasetLayout::Instance, &DatasetLayout::Depth}) {
+        EXPECT_EQ(ReadFile((la.*path)(n, f)), ReadFile((lc.*path)(n, f))) << (la.*path)(n, f);
+      }
+    }
+  }
+  ASSERT_TRUE(fs::exists(lc.SensorJson()));
+  std::ifstream sensor_file(lc.SensorJson());
+  const nlohmann::json s = nlohmann::json::parse(sensor_file);
+  EXPECT_EQ(s.at("preset"), "automotive");
+  EXPECT_EQ(s.at("jpeg_quality").get<int>(), 75);
+  EXPECT_EQ(s.at("defocus").at("f_number").get<double>(), preset.defocus.f_number);
+  EXPECT_EQ(s.at("stages"), nlohmann::json({"exposure and white balance", "vignetting", "defocus", "shot and read noise",
+                                            "8-bit sRGB", "JPEG"}));
+  std::ifstream photometric_file(lc.PhotometricJson());
+  const nlohmann::json p = nlohmann::json::parse(photometric_file);
+  EXPECT_EQ(p.at("options").at("shot_noise").get<double>(), preset.photometric.shot_noise);
+  EXPECT_EQ(p.at("options").at("vignetting_strength").get<double>(), preset.photometric.vignetting_strength);
+
+  RenderJob bad = automotive;
+  bad.jpeg_quality = 101;
+  EXPECT_THROW(RenderDataset(bad, scratch / "bad", false), std::invalid_argument);
+  bad = automotive;
+  bad.defocus.focus_distance_m = 0.001;  // inside the 3 mm focal length
+  EXPECT_THROW(RenderDataset(bad, scratch / "bad", false), std::invalid_argument);
+  EXPECT_FALSE(fs::exists(scratch / "bad"));
+}
+
 // Five frames, every extra output, photometric differences and a rolling-shutter camera: all that
 // a shard must reproduce of the frames it renders and the merge of what spans frames.
 RenderJob EverythingJob(const Scene& scene) {

@@ -6,7 +6,8 @@
 #   bash scripts/output-digest.sh build /tmp/after  > after.txt    # on the new one
 #   diff before.txt after.txt                                      # empty: nothing changed
 #
-# Covers generate-scene, make-rig (every type, placed in a scene), render (with --photometric),
+# Covers generate-scene, make-rig (every type, placed in a scene), render (with --photometric, and
+# --sensor automotive),
 # calibrate (all four semantic modes, SIFT and ORB, noisy labels, a known distance, intrinsics
 # refinement, a ring of little overlap placed through its motion, time offsets and a rolling shutter
 # estimated), export (truth and estimate, every format) and the demo. JSON files are checksummed without their timings (keys ending in "time_s", the demo's
@@ -41,6 +42,8 @@ run render --scene "$root/assets/scenes/plaza.glb" --rig ring/rig.json --frames 
 run render --scene parking2.glb --rig surround/rig.json --frames surround/frames.json --out surround_data --spp 2 \
   --photometric --seed 4
 run render --scene "$root/assets/scenes/street.glb" --rig stereo/rig.json --frames stereo/frames.json --out stereo_data
+run render --scene "$root/assets/scenes/street.glb" --rig stereo/rig.json --frames stereo/frames.json --out stereo_sensor \
+  --sensor automotive --focus-distance 0.5
 
 run_calibrate calibrate ring_data --semantics none,mask,gated,mask+gated --out ring_cal
 run_calibrate calibrate surround_data --semantics none --features orb --out surround_cal

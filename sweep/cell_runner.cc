@@ -213,6 +213,14 @@ CellRunner MakeCellRunner(const SweepConfig& config, const CellRunnerOptions& op
       job.options.seed = Seed(p);
       job.options.num_threads = options.num_threads;
       job.photometric = Photometric(p);
+      const SensorPreset& sensor = FindSensorPreset(p.at("sensor").get<std::string>());
+      if (sensor.name != "ideal") {
+        job.photometric = sensor.photometric;
+        job.photometric.seed = Seed(p);
+        job.defocus = sensor.defocus;
+        job.jpeg_quality = sensor.jpeg_quality;
+        job.sensor_preset = sensor.name;
+      }
       status("rendering");
       const auto start = Clock::now();
       RenderDataset(job, dataset, false, [&](int, int) { status("rendering"); });

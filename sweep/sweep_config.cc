@@ -16,6 +16,7 @@
 #include "common/did_you_mean.h"
 #include "common/stable_hash.h"
 #include "procedural/presets.h"
+#include "renderer/sensor_model.h"
 #include "rigs/rig_params.h"
 #include "sweep/suites.h"
 #include "sweep/sweep_metrics.h"
@@ -55,6 +56,9 @@ std::vector<ParamSpec> MakeCellParamSpecs() {
   for (ParamSpec p : std::vector<ParamSpec>{
            {"photometric", K::kNumber, 0.0, {}, 0, 3,
             "per-camera exposure, white balance, vignetting and noise: 0 none, 1 render --photometric's spread"},
+           {"sensor", K::kChoice, "ideal", SensorPresetNames(), 0, 0,
+            "the cameras' sensor and lens, as render --sensor: " + JoinNames(SensorPresetNames()) +
+                " (exposure, white balance, vignetting, defocus, noise, JPEG from datasheets; with photometric 0)"},
            {"label_boundary", K::kInt, 0, {}, 0, 64, "label noise: class boundaries shift by up to this (px)"},
            {"label_confusion", K::kNumber, 0.0, {}, 0, 1, "label noise: share of blobs given a confusable class"},
            {"time_offset_ms", K::kNumber, 0.0, {}, 0, 1000,
@@ -413,6 +417,14 @@ SweepConfig ParseSweepConfig(const Json& j, const std::string& source) {
     }
   } else {
     config.studies.push_back(ParseStudy(j, source, "", config.name));
+  }
+  // A sensor preset brings its own photometric magnitudes: a cell takes one or the other.
+  for (const SweepCell& cell : ExpandCells(config)) {
+    const std::string sensor = cell.params.at("sensor").get<std::string>();
+    if (sensor != "ideal" && cell.params.at("photometric").get<double>() > 0) {
+      Fail(source, "", "a cell has sensor " + sensor + " and photometric " + FormatParamValue(cell.params.at("photometric")) +
+                           ": the sensor preset sets the photometric magnitudes itself; give photometric 0 with it");
+    }
   }
   return config;
 }

@@ -77,6 +77,23 @@ TEST(SweepConfig, StudiesShareTheirCommonCellAndSetFixesParameters) {
   EXPECT_EQ(names, (std::vector<std::string>{"none", "orb:none", "colmap"}));
 }
 
+// `sensor` takes the render's presets by name (ideal by default); a preset beside a photometric
+// scale, or a misspelt preset, is refused naming the file.
+TEST(SweepConfig, SensorIsAPresetNameAndExcludesPhotometric) {
+  const SweepConfig c = ParseSweepConfig(Json::parse(R"({"grid": {"sensor": ["ideal", "automotive"]}})"), "sweep.json");
+  const std::vector<SweepCell> cells = ExpandCells(c);
+  ASSERT_EQ(cells.size(), 2u);
+  EXPECT_EQ(cells[0].params["sensor"], "ideal");
+  EXPECT_EQ(cells[1].params["sensor"], "automotive");
+  EXPECT_EQ(ExpandCells(ParseSweepConfig(Json::parse(R"({"base": {"overlap": 20}})"), "s.json"))[0].params["sensor"], "ideal");
+  EXPECT_THAT(Parsing(R"({"base": {"sensor": "automotve"}})"),
+              ThrowsWith<std::runtime_error>("sweep.json: base.sensor: 'automotve' is not one of ideal, machine-vision, "
+                                             "automotive, phone (did you mean 'automotive'?)"));
+  EXPECT_THAT(Parsing(R"({"base": {"photometric": 1}, "grid": {"sensor": ["ideal", "phone"]}})"),
+              ThrowsWith<std::runtime_error>("sweep.json: a cell has sensor phone and photometric 1: the sensor preset "
+                                             "sets the photometric magnitudes itself; give photometric 0 with it"));
+}
+
 TEST(SweepConfig, HashesDependOnWhatIsComputedOnly) {
   const Json a = Json::parse(R"({"name": "a", "grid": {"overlap": [10, 20]}})");
   Json b = a;

@@ -3,7 +3,11 @@
 #include <algorithm>
 #include <cstdio>
 #include <map>
+#include <string>
+#include <utility>
+#include <vector>
 
+#include "common/format.h"
 #include "sweep/sweep_metrics.h"
 #include "sweep/sweep_plots.h"
 
@@ -106,6 +110,31 @@ std::string StudySection(const SweepStudy& study, const std::vector<SummaryRow>&
   return md + "\n";
 }
 
+// Which sensor presets the images went through (render --sensor), in the order of the cells.
+std::string SensorLine(const std::vector<SweepCell>& cells) {
+  std::vector<std::pair<std::string, int>> counts;
+  for (const SweepCell& cell : cells) {
+    const std::string sensor = cell.params.value("sensor", std::string("ideal"));
+    auto it = std::find_if(counts.begin(), counts.end(), [&](const auto& c) { return c.first == sensor; });
+    if (it == counts.end()) {
+      counts.push_back({sensor, 1});
+    } else {
+      ++it->second;
+    }
+  }
+  if (counts.empty()) return "";
+  std::string line = "Images: sensor preset ";
+  if (counts.size() == 1) {
+    line += "`" + counts[0].first + "` in every cell";
+  } else {
+    for (size_t i = 0; i < counts.size(); ++i) {
+      line += std::string(i == 0 ? "" : ", ") + "`" + counts[i].first + "` in " + Count(counts[i].second, "cell");
+    }
+  }
+  return line + (counts.size() == 1 && counts[0].first == "ideal" ? ": renders without a sensor model" : "") +
+         " (`render --sensor`; the presets' values and sources: docs/scenes-and-rigs.md).\n\n";
+}
+
 }  // namespace
 
 std::string SweepReportMarkdown(const SweepReportInput& in) {
@@ -131,6 +160,7 @@ std::string SweepReportMarkdown(const SweepReportInput& in) {
         std::to_string(config.seeds.size()) + " seeds each), methods " + methods + ": " + std::to_string(rows) +
         " results, " + std::to_string(failed_rows) + " of them failed runs. Sweep hash `" + in.sweep_hash + "`.\n\n";
   if (!in.command.empty()) md += "Run again (finished cells are kept): `" + in.command + "`\n\n";
+  md += SensorLine(*in.cells);
   md += "Every cell is rendered once and calibrated by every method; a camera counts as within N deg when it has a "
         "full pose whose rotation and translation-direction errors against the truth are both at most N deg. "
         "*Confidently wrong*: cameras reported with a full pose that are more than 5 deg off, or placed but for one "

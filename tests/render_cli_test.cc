@@ -2,7 +2,8 @@
 // images change and photometric.json records the draws while labels and depth stay the same; off,
 // nothing changes; bad values are refused before anything is written. --rules: a glTF without
 // extras.class is labelled by name; a bad rules file is refused, naming it, before rendering. The
-// ground-truth overlap is printed per camera pair, and not at all for one camera.
+// ground-truth overlap is printed per camera pair, and not at all for one camera. --sensor: a named
+// sensor preset.
 
 #include <cstdlib>
 #include <cstring>
@@ -127,6 +128,57 @@ TEST_F(RenderCli, BadPhotometricMagnitudesAreRefusedBeforeWriting) {
     EXPECT_NE(r.err.find(option), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(dir_ / "bad"));
   }
+}
+
+// --sensor PRESET: the RGB images change, the ground truth does not, sensor.json and
+// photometric.json record the preset's values; the same bytes with libjpeg-turbo's SIMD turned off;
+// --sensor ideal is the default's bytes; a misspelt preset and --photometric beside a preset are
+// refused before anything is written.
+TEST_F(RenderCli, SensorPresetChangesOnlyRgbAndIsRecorded) {
+  const CliResult plain = Render("plain", {});
+  ASSERT_EQ(plain.code, 0) << plain.err;
+  const CliResult ideal = Render("ideal", {"--sensor", "ideal"});
+  ASSERT_EQ(ideal.code, 0) << ideal.err;
+  const CliResult automotive = Render("automotive", {"--sensor", "automotive"});
+  ASSERT_EQ(automotive.code, 0) << automotive.err;
+  EXPECT_NE(automotive.out.find("sensor automotive: "), std::string::npos) << automotive.out;
+  EXPECT_NE(automotive.out.find("JPEG quality 75"), std::string::npos) << automotive.out;
+  ::setenv("JSIMD_FORCENONE", "1", 1);
+  const CliResult no_simd = Render("no_simd", {"--sensor", "automotive", "--threads", "1"});
+  ::unsetenv("JSIMD_FORCENONE");
+  ASSERT_EQ(no_simd.code, 0) << no_simd.err;
+  const DatasetLayout a(dir_ / "plain"), b(dir_ / "ideal"), c(dir_ / "automotive"), d(dir_ / "no_simd");
+  EXPECT_FALSE(fs::exists(b.SensorJson()));
+  for (const std::string cam : {"cam0", "cam1", "cam2"}) {
+    EXPECT_EQ(ReadFile(a.Image(cam, "000000")), ReadFile(b.Image(cam, "000000")));
+    EXPECT_NE(ReadFile(a.Image(cam, "000000")), ReadFile(c.Image(cam, "000000")));
+    EXPECT_EQ(ReadFile(c.Image(cam, "000000")), ReadFile(d.Image(cam, "000000"))) << "JPEG's SIMD paths give the same bytes";
+    EXPECT_EQ(ReadFile(a.Label(cam, "000000")), ReadFile(c.Label(cam, "000000")));
+    EXPECT_EQ(ReadFile(a.Depth(cam, "000000")), ReadFile(c.Depth(cam, "000000")));
+  }
+  const json sensor = json::parse(ReadFile(c.SensorJson()));
+  EXPECT_EQ(sensor.at("preset"), "automotive");
+  EXPECT_EQ(sensor.at("jpeg_quality"), 75);
+  EXPECT_EQ(sensor.at("defocus").at("f_number").get<double>(), 1.6);
+  EXPECT_EQ(json::parse(ReadFile(c.PhotometricJson())).at("options").at("vignetting_strength").get<double>(), 0.35);
+  // An override changes one value of the preset.
+  const CliResult sharper = Render("sharper", {"--sensor", "automotive", "--jpeg-quality", "95", "--vignetting", "0.1"});
+  ASSERT_EQ(sharper.code, 0) << sharper.err;
+  EXPECT_EQ(json::parse(ReadFile(DatasetLayout(dir_ / "sharper").SensorJson())).at("jpeg_quality"), 95);
+  EXPECT_EQ(json::parse(ReadFile(DatasetLayout(dir_ / "sharper").PhotometricJson())).at("options").at("vignetting_strength").get<double>(), 0.1);
+
+  const CliResult typo = Render("bad", {"--sensor", "automotve"});
+  EXPECT_NE(typo.code, 0);
+  EXPECT_NE(typo.err.find("unknown sensor preset 'automotve' (did you mean 'automotive'?); the presets are: ideal, "
+                          "machine-vision, automotive, phone"),
+            std::string::npos)
+      << typo.err;
+  const CliResult both = Render("bad", {"--sensor", "phone", "--photometric"});
+  EXPECT_NE(both.code, 0);
+  EXPECT_NE(both.err.find("--photometric and --sensor phone"), std::string::npos) << both.err;
+  EXPECT_FALSE(fs::exists(dir_ / "bad"));
+  const CliResult help = RunRigsim(dir_, {"render", "--help"});
+  EXPECT_NE(help.out.find("machine-vision: "), std::string::npos) << help.out;
 }
 
 TEST_F(RenderCli, RulesLabelAGltfWithoutClasses) {

@@ -63,6 +63,8 @@ TEST(SweepCli, ATinySweepRunsEndToEndAndResumes) {
   EXPECT_EQ(rows, 4);
   const std::string report = ReadFile(out / "report.md");
   EXPECT_NE(report.find("# Sweep: tiny"), std::string::npos);
+  EXPECT_NE(report.find("Images: sensor preset `ideal` in every cell: renders without a sensor model"), std::string::npos)
+      << report;
   EXPECT_NE(report.find("| radius=0.3 | none |"), std::string::npos) << report;
   EXPECT_NE(report.find("## The thesis's claims"), std::string::npos);  // none and mask: the claims are tested
   EXPECT_TRUE(fs::exists(out / "plots" / "tiny_success.png"));
@@ -75,6 +77,42 @@ TEST(SweepCli, ATinySweepRunsEndToEndAndResumes) {
   ASSERT_EQ(again.code, 0) << again.err;
   EXPECT_NE(again.out.find("(0 run now, 2 from an earlier run)"), std::string::npos) << again.out;
   EXPECT_EQ(ReadFile(out / "results.jsonl"), rows_before);
+}
+
+// The sweep parameter `sensor`: each cell renders with its preset (sensor.json in the kept
+// dataset), and the results name the preset that ran.
+TEST(SweepCli, TheSensorParameterReachesTheRender) {
+  const TempDir dir;
+  WriteFile(dir / "sensors.yaml", R"(name: sensors
+base: {rig: ring, cameras: 2, spacing: 40, width: 320, height: 180, frames: 2, spp: 1}
+methods: {semantics: [none]}
+grid:
+  sensor: [ideal, automotive]
+)");
+  const fs::path out = dir / "out";
+  const CliResult run = RunRigsim({"sweep", (dir / "sensors.yaml").string(), "--out", out.string(), "--keep-datasets"},
+                                  dir / "run", std::chrono::seconds(300));
+  ASSERT_EQ(run.code, 0) << run.err;
+  std::set<std::string> presets;
+  std::istringstream jsonl(ReadFile(out / "results.jsonl"));
+  std::string line;
+  while (std::getline(jsonl, line)) {
+    const nlohmann::json row = nlohmann::json::parse(line);
+    presets.insert(row.at("sensor").get<std::string>());
+    const fs::path sensor_json = out / "datasets" / row.at("key").get<std::string>() / "dataset" / "sensor.json";
+    if (row.at("sensor") == "ideal") {
+      EXPECT_FALSE(fs::exists(sensor_json));
+    } else {
+      ASSERT_TRUE(fs::exists(sensor_json)) << sensor_json;
+      EXPECT_EQ(nlohmann::json::parse(ReadFile(sensor_json)).at("preset"), "automotive");
+    }
+  }
+  EXPECT_EQ(presets, (std::set<std::string>{"ideal", "automotive"}));
+  const std::string report = ReadFile(out / "report.md");
+  EXPECT_NE(report.find("sensor=automotive"), std::string::npos) << report;
+  EXPECT_NE(report.find("Images: sensor preset `ideal` in 1 cell, `automotive` in 1 cell (`render --sensor`"),
+            std::string::npos)
+      << report;
 }
 
 // A sweep resumes only its own results: another config's are replaced only with --force.

@@ -26,12 +26,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string Number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
-
 std::string Absolute(const std::string& path) { return fs::absolute(path).lexically_normal().string(); }
 
 }  // namespace
@@ -41,6 +35,7 @@ void AddRenderCommand(CLI::App& app) {
     std::string scene, rules, rig, frames, out;
     RenderSettings settings;
     PhotometricSettings photometric;
+    SensorSettings sensor;
     bool force = false;
     ExtraOutputs extras;
     ShardSettings shards;
@@ -61,6 +56,7 @@ void AddRenderCommand(CLI::App& app) {
   cmd->add_option("--out", args->out, "output dataset folder (created; see --force)")->required();
   cmd->add_flag("--force", args->force, "replace an existing output folder");
   AddRenderSettingsOptions(*cmd, args->settings);
+  AddSensorOptions(*cmd, args->sensor);
   AddPhotometricOptions(*cmd, args->photometric);
   const std::string group = "More ground truth (off unless asked for; docs/datasets.md)";
   cmd->add_flag("--correspondence", args->extras.correspondence,
@@ -81,7 +77,7 @@ void AddRenderCommand(CLI::App& app) {
     RenderJob job;
     job.options = args->settings.ToRenderOptions();
     job.extras = args->extras;
-    job.photometric = args->photometric.ToOptions(args->settings.seed);
+    ApplySensorSettings(args->sensor, args->photometric, args->settings.seed, job);
     job.rig = ReadRig(args->rig);
     for (const std::string& w : CheckRigCoversImages(job.rig, args->rig)) std::fprintf(stderr, "warning: %s\n", w.c_str());
     job.frames = ReadFrames(args->frames);
@@ -104,12 +100,7 @@ void AddRenderCommand(CLI::App& app) {
       slurm.args = {"--scene", Absolute(args->scene), "--rig", Absolute(args->rig), "--frames", Absolute(args->frames),
                     "--spp", std::to_string(args->settings.samples_per_pixel), "--seed", std::to_string(args->settings.seed)};
       if (!args->rules.empty()) slurm.args.insert(slurm.args.end(), {"--rules", Absolute(args->rules)});
-      const PhotometricSettings& p = args->photometric;
-      if (p.defaults) slurm.args.push_back("--photometric");
-      for (const auto& [option, value] : {std::pair{"--exposure-sigma", p.exposure_sigma}, {"--white-balance-sigma", p.white_balance_sigma},
-                                          {"--vignetting", p.vignetting}, {"--shot-noise", p.shot_noise}, {"--read-noise", p.read_noise}}) {
-        if (value) slurm.args.insert(slurm.args.end(), {option, Number(*value)});
-      }
+      for (const std::string& a : SensorArgs(args->sensor, args->photometric)) slurm.args.push_back(a);
       for (const auto& [flag, on] : {std::pair{"--correspondence", args->extras.correspondence}, {"--normals", args->extras.normals},
                                      {"--coco", args->extras.coco}, {"--previews", args->extras.previews}}) {
         if (on) slurm.args.push_back(flag);

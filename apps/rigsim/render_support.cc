@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "apps/rigsim/interrupt.h"
 #include "apps/rigsim/parse_errors.h"
@@ -37,8 +39,8 @@ void AddRenderSettingsOptions(CLI::App& cmd, RenderSettings& s) {
       ->check(NonNegative());
 }
 
-PhotometricOptions PhotometricSettings::ToOptions(uint64_t seed) const {
-  PhotometricOptions o = defaults ? PhotometricOptions::Defaults() : PhotometricOptions{};
+PhotometricOptions PhotometricSettings::ToOptions(uint64_t seed, const PhotometricOptions& base) const {
+  PhotometricOptions o = defaults ? PhotometricOptions::Defaults() : base;
   if (exposure_sigma) o.exposure_stops_sigma = *exposure_sigma;
   if (white_balance_sigma) o.white_balance_stops_sigma = *white_balance_sigma;
   if (vignetting) o.vignetting_strength = *vignetting;
@@ -86,6 +88,96 @@ void AddPhotometricOptions(CLI::App& cmd, PhotometricSettings& s) {
                      num(d.read_noise_stddev))
       ->check(CLI::Range(0.0, 0.5))
       ->group(group);
+}
+
+namespace {
+
+std::string Num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%g", v);
+  return buf;
+}
+
+std::string FullNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.17g", v);
+  return buf;
+}
+
+}  // namespace
+
+void AddSensorOptions(CLI::App& cmd, SensorSettings& s) {
+  const std::string group = "Sensor model (RGB only; docs/scenes-and-rigs.md lists each preset's values and sources)";
+  std::string presets;
+  for (const SensorPreset& p : SensorPresets()) {
+    presets += "\n  " + p.name + ": " + p.summary;
+    if (p.name == "ideal") continue;
+    presets += "\n    full well " + Num(p.full_well_electrons) + " e-, read noise " + Num(p.read_noise_electrons) +
+               " e-, gain " + Num(p.analog_gain) + "; f/" + Num(p.defocus.f_number) + " focused at " +
+               Num(p.defocus.focus_distance_m) + " m, " + Num(p.defocus.pixel_pitch_um) + " um pixels; " +
+               (p.jpeg_quality > 0 ? "JPEG " + std::to_string(p.jpeg_quality) : std::string("no JPEG"));
+  }
+  cmd.add_option("--sensor", s.preset,
+                 "the camera's sensor and lens, a named preset: exposure and white balance per camera, vignetting, "
+                 "defocus (thin lens), shot and read noise, JPEG, drawn from --seed. Labels, instances and depth stay "
+                 "exact; sensor.json and photometric.json record what ran. The photometric options below override "
+                 "the preset's magnitudes; --photometric is its own set, not combined with a preset:" + presets)
+      ->capture_default_str()
+      ->group(group);
+  cmd.add_option("--f-number", s.f_number, "defocus: the lens's f-number N (0 = a pinhole, no defocus); overrides the preset's")
+      ->check(CLI::Range(0.0, 64.0))
+      ->group(group);
+  cmd.add_option("--focus-distance", s.focus_distance, "defocus: the distance in sharp focus (m); overrides the preset's")
+      ->check(CLI::PositiveNumber)
+      ->group(group);
+  cmd.add_option("--pixel-pitch", s.pixel_pitch,
+                 "defocus: the sensor's pixel size (um), which with fx gives the focal length; overrides the preset's "
+                 "(ideal: 3)")
+      ->check(CLI::Range(0.01, 100.0))
+      ->group(group);
+  cmd.add_option("--jpeg-quality", s.jpeg_quality,
+                 "a JPEG round trip at this quality (1..100; 0 = none): the images stay PNG with the JPEG's artefacts; "
+                 "overrides the preset's")
+      ->check(CLI::Range(0, 100))
+      ->group(group);
+}
+
+void ApplySensorSettings(const SensorSettings& sensor, const PhotometricSettings& photometric, uint64_t seed,
+                         RenderJob& job) {
+  const SensorPreset& preset = FindSensorPreset(sensor.preset);
+  if (photometric.defaults && preset.name != "ideal") {
+    throw std::invalid_argument("--photometric and --sensor " + preset.name +
+                                " both set the photometric magnitudes: give one of them (the options --exposure-sigma, "
+                                "--vignetting, --shot-noise, ... change one value of either)");
+  }
+  job.photometric = photometric.ToOptions(seed, preset.photometric);
+  job.defocus = preset.defocus;
+  if (sensor.f_number) job.defocus.f_number = *sensor.f_number;
+  if (sensor.focus_distance) job.defocus.focus_distance_m = *sensor.focus_distance;
+  if (sensor.pixel_pitch) job.defocus.pixel_pitch_um = *sensor.pixel_pitch;
+  if (job.defocus.enabled() && job.defocus.focus_distance_m <= 0) {
+    throw std::invalid_argument("--f-number " + Num(job.defocus.f_number) +
+                                ": defocus needs the distance in focus too (--focus-distance M)");
+  }
+  job.defocus.Check();
+  job.jpeg_quality = sensor.jpeg_quality ? *sensor.jpeg_quality : preset.jpeg_quality;
+  job.sensor_preset = preset.name;
+}
+
+std::vector<std::string> SensorArgs(const SensorSettings& sensor, const PhotometricSettings& p) {
+  std::vector<std::string> args;
+  if (sensor.preset != "ideal") args.insert(args.end(), {"--sensor", sensor.preset});
+  for (const auto& [option, value] : {std::pair{"--f-number", sensor.f_number}, {"--focus-distance", sensor.focus_distance},
+                                      {"--pixel-pitch", sensor.pixel_pitch}}) {
+    if (value) args.insert(args.end(), {option, FullNumber(*value)});
+  }
+  if (sensor.jpeg_quality) args.insert(args.end(), {"--jpeg-quality", std::to_string(*sensor.jpeg_quality)});
+  if (p.defaults) args.push_back("--photometric");
+  for (const auto& [option, value] : {std::pair{"--exposure-sigma", p.exposure_sigma}, {"--white-balance-sigma", p.white_balance_sigma},
+                                      {"--vignetting", p.vignetting}, {"--shot-noise", p.shot_noise}, {"--read-noise", p.read_noise}}) {
+    if (value) args.insert(args.end(), {option, FullNumber(*value)});
+  }
+  return args;
 }
 
 void AddLabelRulesOption(CLI::App& cmd, std::string& rules_path) {
@@ -148,6 +240,17 @@ void RenderAndReport(const RenderJob& job, const std::filesystem::path& out, boo
                 job.shard.index, job.shard.count, job.frames.frames[range.begin].name.c_str(),
                 job.frames.frames[range.end - 1].name.c_str(), job.frames.frames.size());
   }
+  if (!job.sensor_preset.empty() && job.sensor_preset != "ideal") {
+    std::printf("sensor %s: %s (%s)\n", job.sensor_preset.c_str(), FindSensorPreset(job.sensor_preset).summary.c_str(),
+                DatasetLayout(out).SensorJson().string().c_str());
+  }
+  if (job.defocus.enabled()) {
+    std::printf("  defocus: f/%g focused at %g m, %g um pixels: blur circle %.2f px across at infinity (%s)\n",
+                job.defocus.f_number, job.defocus.focus_distance_m, job.defocus.pixel_pitch_um,
+                BlurCircleDiameterPx(job.defocus, job.rig.cameras.front().camera.fx(), 0.0),
+                job.rig.cameras.front().name.c_str());
+  }
+  if (job.jpeg_quality > 0) std::printf("  JPEG quality %d (round trip; the images stay PNG)\n", job.jpeg_quality);
   if (job.photometric.enabled()) {
     std::printf("photometric differences (seed %llu; %s):\n", static_cast<unsigned long long>(job.photometric.seed),
                 DatasetLayout(out).PhotometricJson().string().c_str());

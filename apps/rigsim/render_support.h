@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -30,11 +31,29 @@ void AddRenderSettingsOptions(CLI::App& cmd, RenderSettings& settings);
 struct PhotometricSettings {
   bool defaults = false;  // --photometric
   std::optional<double> exposure_sigma, white_balance_sigma, vignetting, shot_noise, read_noise;
-  // Off (all zero) unless asked for; seeded with the render seed. Throws std::invalid_argument.
-  PhotometricOptions ToOptions(uint64_t seed) const;
+  // Off (all zero) unless asked for, or `base` (a sensor preset's) with the magnitudes given on the
+  // command line; seeded with the render seed. Throws std::invalid_argument.
+  PhotometricOptions ToOptions(uint64_t seed, const PhotometricOptions& base = {}) const;
 };
 
 void AddPhotometricOptions(CLI::App& cmd, PhotometricSettings& settings);
+
+// --sensor PRESET (renderer/sensor_model.h) and the lens and JPEG values that override the preset's.
+struct SensorSettings {
+  std::string preset = "ideal";
+  std::optional<double> f_number, focus_distance, pixel_pitch;
+  std::optional<int> jpeg_quality;
+};
+
+void AddSensorOptions(CLI::App& cmd, SensorSettings& settings);
+
+// Sets the job's photometric options, defocus, JPEG and preset name from --sensor, --photometric
+// and their overrides. Throws std::invalid_argument for an unknown preset (naming the presets) and
+// for --photometric with a preset other than ideal.
+void ApplySensorSettings(const SensorSettings& sensor, const PhotometricSettings& photometric, uint64_t seed, RenderJob& job);
+
+// The render command line of the sensor and photometric options as given (for Slurm's tasks).
+std::vector<std::string> SensorArgs(const SensorSettings& sensor, const PhotometricSettings& photometric);
 
 // --rules RULES.json: Cityscapes classes for a glTF without extras.class, from node, mesh or
 // material names (gltf/label_rules.h; docs/scenes-and-rigs.md, 'Labelling a foreign glTF with a rules file').
