@@ -17,13 +17,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// A field of a DGP message, 0 when it is left out: proto3's JSON leaves out the fields that are 0.
 double NumberOr0(const json_io::Json& j, const char* key) {
   return j.is_object() && j.contains(key) && j[key].is_number() ? j[key].get<double>() : 0.0;
 }
 
 Rigid3d DgpPose(const json_io::Json& pose, const std::string& file, const std::string& where) {
-  const json_io::Json r = json_io::Get<json_io::Json>(pose, "rotation", file, where);
-  const json_io::Json t = json_io::Get<json_io::Json>(pose, "translation", file, where);
+  if (!pose.is_object()) throw std::runtime_error(file + ": " + where + ": not a pose (rotation and translation)");
+  const json_io::Json r = pose.value("rotation", json_io::Json::object());
+  const json_io::Json t = pose.value("translation", json_io::Json::object());
   const Eigen::Quaterniond q(NumberOr0(r, "qw"), NumberOr0(r, "qx"), NumberOr0(r, "qy"), NumberOr0(r, "qz"));
   if (!(q.norm() > 0.5 && q.norm() < 2.0)) throw std::runtime_error(file + ": " + where + ": the rotation is not a unit quaternion");
   return Rigid3d(q, Eigen::Vector3d(NumberOr0(t, "x"), NumberOr0(t, "y"), NumberOr0(t, "z")));
