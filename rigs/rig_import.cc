@@ -54,8 +54,9 @@ RigFileFormat DetectRigFileFormat(const fs::path& path) {
   throw std::runtime_error(path.string() + ": not a rig file (by its name): " + kFormatsRead);
 }
 
-Rig ImportRig(const fs::path& path) {
-  const RigFileFormat format = DetectRigFileFormat(path);
+namespace {
+
+Rig ReadFormat(const fs::path& path, RigFileFormat format) {
   try {
     switch (format) {
       case RigFileFormat::kRigJson: return ReadRig(path);
@@ -70,6 +71,29 @@ Rig ImportRig(const fs::path& path) {
     throw std::runtime_error(path.string() + ": " + std::string(RigFileFormatName(format)) + ": unexpected value: " + e.what());
   }
   throw std::logic_error("ImportRig: unhandled format");
+}
+
+}  // namespace
+
+Rig ImportRig(const fs::path& path) {
+  const RigFileFormat format = DetectRigFileFormat(path);
+  Rig rig = ReadFormat(path, format);
+  // JSON, YAML and text numbers may spell infinity (1e999, .inf, inf): a pose must be finite.
+  for (const RigCamera& c : rig.cameras) {
+    if (c.cam_from_rig && !(c.cam_from_rig->rotation.coeffs().allFinite() && c.cam_from_rig->translation.allFinite())) {
+      throw std::runtime_error(path.string() + ": camera '" + c.name + "': its pose on the rig is not finite");
+    }
+  }
+  if (format == RigFileFormat::kRigJson) return rig;
+  // Another tool's rig obeys the rules of a rig.json (camera names usable as folder names, each
+  // once; what make-rig writes must read back), so it goes through rig.json's reader.
+  std::string text;
+  try {
+    text = RigToJsonText(rig);
+  } catch (const nlohmann::json::exception&) {
+    throw std::runtime_error(path.string() + ": a camera name is not UTF-8 text");
+  }
+  return RigFromJsonText(text, path.string());
 }
 
 }  // namespace rigsim

@@ -333,6 +333,18 @@ TEST(RigImport, BadFilesAreRefusedNamingTheFileAndWhy) {
   double_sphere["xi"] = -0.2;
   const fs::path ds = WriteDgpScene(dir / "ds", {{"CAMERA_01", Rigid3d()}}, {double_sphere}, {{1936, 1216}});
   EXPECT_THAT([&] { ReadRigFile(ds.string()); }, ThrowsNaming<std::runtime_error>(ds.string(), "camera 'CAMERA_01': xi is not 0"));
+  // A pose that is not a number.
+  const std::string pinhole_yaml = "  camera_model: pinhole\n  intrinsics: [400, 400, 320, 240]\n  resolution: [640, 480]\n";
+  refused("infinite.yaml", "cam0:\n" + pinhole_yaml + "cam1:\n  T_cn_cnm1:\n  - [1, 0, 0, .inf]\n  - [0, 1, 0, 0]\n  - [0, 0, 1, 0]\n"
+          "  - [0, 0, 0, 1]\n" + pinhole_yaml, "camera 'cam1': its pose on the rig is not finite");
+  // Names rig.json would refuse.
+  refused("names.json", R"([{"token": "a", "sensor_token": "s", "channel": "..", "translation": [0, 0, 0], "rotation": [1, 0, 0, 0],
+      "camera_intrinsic": [[1000, 0, 800], [0, 1000, 450], [0, 0, 1]], "width": 1600, "height": 900}])",
+          "camera name '..' must be non-empty and usable as a folder name");
+  fs::create_directories(dir / "latin1");
+  WriteFile(dir / "latin1" / "cameras.txt", "1 PINHOLE 64 48 50 50 32 24\n");
+  WriteFile(dir / "latin1" / "images.txt", "1 1 0 0 0 0 0 0 1 l\xe9" "ft/0.png\n\n");
+  refused("latin1/rigs.txt", "1 1 CAMERA 1\n", "a camera name is not UTF-8 text");
   // Missing fields and sizes.
   fs::create_directories(dir / "rigs_no_pose");
   WriteFile(dir / "rigs_no_pose" / "cameras.txt", "1 PINHOLE 64 48 50 50 32 24\n2 PINHOLE 64 48 50 50 32 24\n");
