@@ -8,6 +8,7 @@
 // holds nothing else.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>

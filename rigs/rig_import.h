@@ -37,7 +37,8 @@ std::string_view RigFileFormatName(RigFileFormat format);
 // the formats rigsim reads when it is none of them.
 RigFileFormat DetectRigFileFormat(const std::filesystem::path& path);
 
-// The rig of a file of any format above (a rig.json as ReadRig reads it).
+// The rig of a file of any format above (a rig.json as ReadRig reads it). Another tool's rig then
+// obeys a rig.json's rules too (finite poses, camera names usable as folder names, each once).
 Rig ImportRig(const std::filesystem::path& path);
 
 // One reader per format (ImportRig chooses).

@@ -1,5 +1,6 @@
 #include "rigs/rig_import.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
