@@ -146,6 +146,8 @@ Camera KalibrIntrinsics(const KalibrCamera& c) {
       model = CameraModelId::kOpenCV;
     }
     if (model != CameraModelId::kPinhole) params.insert(params.end(), c.distortion_coeffs.begin(), c.distortion_coeffs.end());
+  } else if (d.empty() && !c.distortion_coeffs.empty()) {
+    throw std::invalid_argument("distortion_coeffs without a distortion_model (radtan or equidistant)");
   } else if (d != "none" && !d.empty()) {
     throw std::invalid_argument("distortion_model '" + d + "': rigsim reads radtan, equidistant and none (the fov model "
                                 "has no rigsim equivalent)");

@@ -334,6 +334,8 @@ TEST(RigImport, BadFilesAreRefusedNamingTheFileAndWhy) {
   double_sphere["xi"] = -0.2;
   const fs::path ds = WriteDgpScene(dir / "ds", {{"CAMERA_01", Rigid3d()}}, {double_sphere}, {{1936, 1216}});
   EXPECT_THAT([&] { ReadRigFile(ds.string()); }, ThrowsNaming<std::runtime_error>(ds.string(), "camera 'CAMERA_01': xi is not 0"));
+  refused("no_model.yaml", "cam0:\n  camera_model: pinhole\n  intrinsics: [400, 400, 320, 240]\n  distortion_coeffs: [0.1, 0, 0, 0]\n"
+          "  resolution: [640, 480]\n", "cam0: distortion_coeffs without a distortion_model");
   // A pose that is not a number.
   const std::string pinhole_yaml = "  camera_model: pinhole\n  intrinsics: [400, 400, 320, 240]\n  resolution: [640, 480]\n";
   refused("infinite.yaml", "cam0:\n" + pinhole_yaml + "cam1:\n  T_cn_cnm1:\n  - [1, 0, 0, .inf]\n  - [0, 1, 0, 0]\n  - [0, 0, 1, 0]\n"
