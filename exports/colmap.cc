@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <locale>
 #include <sstream>
 #include <stdexcept>
 
@@ -224,6 +225,131 @@ std::filesystem::path FindColmapTextModel(const std::filesystem::path& path) {
   }
   if (best.empty()) throw std::runtime_error(path.string() + ": no images.txt here or in a sub-model folder (0, 1, ...)");
   return best;
+}
+
+namespace {
+
+// The data lines of a COLMAP text file with their line numbers ('#' comments and blank lines left
+// out).
+std::vector<std::pair<int, std::string>> DataLines(const std::filesystem::path& path, const std::string& what) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path.string() + ": cannot read the COLMAP model's " + what);
+  std::vector<std::pair<int, std::string>> lines;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const size_t first = line.find_first_not_of(" \t");
+    if (first == std::string::npos || line[first] == '#') continue;
+    lines.push_back({number, line});
+  }
+  return lines;
+}
+
+}  // namespace
+
+std::vector<ColmapCamera> ReadColmapCameras(const std::filesystem::path& cameras_txt) {
+  std::vector<ColmapCamera> cameras;
+  for (const auto& [number, line] : DataLines(cameras_txt, "cameras")) {
+    std::istringstream fields(line);
+    fields.imbue(std::locale::classic());
+    ColmapCamera camera;
+    if (!(fields >> camera.camera_id >> camera.model >> camera.width >> camera.height)) {
+      throw std::runtime_error(cameras_txt.string() + ":" + std::to_string(number) +
+                               ": not a camera line (CAMERA_ID MODEL WIDTH HEIGHT PARAMS[])");
+    }
+    std::string value;
+    while (fields >> value) {
+      try {
+        size_t used = 0;
+        camera.params.push_back(std::stod(value, &used));
+        if (used != value.size()) throw std::invalid_argument(value);
+      } catch (const std::exception&) {
+        throw std::runtime_error(cameras_txt.string() + ":" + std::to_string(number) + ": parameter '" + value +
+                                 "' is not a number");
+      }
+    }
+    cameras.push_back(std::move(camera));
+  }
+  return cameras;
+}
+
+Camera CameraFromColmap(const ColmapCamera& c) {
+  // COLMAP's models rigsim has, with the parameters in rigsim's order: {rigsim model, count,
+  // where each rigsim parameter comes from (-1: 0), the focal length repeated where COLMAP has one}.
+  struct Mapping {
+    const char* name;
+    CameraModelId model;
+    size_t count;
+    std::vector<int> from;
+  };
+  static const Mapping kMappings[] = {
+      {"PINHOLE", CameraModelId::kPinhole, 4, {0, 1, 2, 3}},
+      {"OPENCV", CameraModelId::kOpenCV, 8, {0, 1, 2, 3, 4, 5, 6, 7}},
+      {"FULL_OPENCV", CameraModelId::kFullOpenCV, 12, {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11}},
+      {"OPENCV_FISHEYE", CameraModelId::kOpenCVFisheye, 8, {0, 1, 2, 3, 4, 5, 6, 7}},
+      {"SIMPLE_PINHOLE", CameraModelId::kPinhole, 3, {0, 0, 1, 2}},
+      {"SIMPLE_RADIAL", CameraModelId::kOpenCV, 4, {0, 0, 1, 2, 3, -1, -1, -1}},
+      {"RADIAL", CameraModelId::kOpenCV, 5, {0, 0, 1, 2, 3, 4, -1, -1}},
+      {"SIMPLE_RADIAL_FISHEYE", CameraModelId::kOpenCVFisheye, 4, {0, 0, 1, 2, 3, -1, -1, -1}},
+      {"RADIAL_FISHEYE", CameraModelId::kOpenCVFisheye, 5, {0, 0, 1, 2, 3, 4, -1, -1}},
+  };
+  for (const Mapping& m : kMappings) {
+    if (c.model != m.name) continue;
+    if (c.params.size() != m.count) {
+      throw std::invalid_argument(c.model + " has " + std::to_string(m.count) + " parameters, not " +
+                                  std::to_string(c.params.size()));
+    }
+    std::vector<double> params;
+    for (int k : m.from) params.push_back(k < 0 ? 0.0 : c.params[k]);
+    params[2] -= 0.5;  // COLMAP's pixel centres are rigsim's plus 0.5
+    params[3] -= 0.5;
+    return Camera(m.model, c.width, c.height, params);
+  }
+  std::string names;
+  for (const Mapping& m : kMappings) names += (names.empty() ? "" : ", ") + std::string(m.name);
+  throw std::invalid_argument("model " + c.model + " has no rigsim equivalent (rigsim reads " + names + ")");
+}
+
+std::vector<ColmapRig> ReadColmapRigs(const std::filesystem::path& rigs_txt) {
+  std::vector<ColmapRig> rigs;
+  for (const auto& [number, line] : DataLines(rigs_txt, "rigs")) {
+    const auto fail = [&, number = number](const std::string& what) {
+      return std::runtime_error(rigs_txt.string() + ":" + std::to_string(number) + ": " + what);
+    };
+    std::istringstream fields(line);
+    fields.imbue(std::locale::classic());
+    ColmapRig rig;
+    int num_sensors = 0;
+    if (!(fields >> rig.rig_id >> num_sensors) || num_sensors < 0) {
+      throw fail("not a rig line (RIG_ID NUM_SENSORS REF_SENSOR_TYPE REF_SENSOR_ID SENSORS[])");
+    }
+    for (int k = 0; k < num_sensors; ++k) {
+      ColmapRig::Sensor sensor;
+      if (!(fields >> sensor.type >> sensor.sensor_id)) throw fail("sensor " + std::to_string(k + 1) + " is not SENSOR_TYPE SENSOR_ID");
+      if (k == 0) {
+        sensor.sensor_from_rig = Rigid3d();  // the reference sensor defines the rig frame
+      } else {
+        int has_pose = 0;
+        if (!(fields >> has_pose) || (has_pose != 0 && has_pose != 1)) {
+          throw fail("sensor " + std::to_string(k + 1) + ": HAS_POSE must be 0 or 1");
+        }
+        if (has_pose == 1) {
+          double qw, qx, qy, qz, tx, ty, tz;
+          if (!(fields >> qw >> qx >> qy >> qz >> tx >> ty >> tz)) {
+            throw fail("sensor " + std::to_string(k + 1) + ": its pose is not QW QX QY QZ TX TY TZ");
+          }
+          const Eigen::Quaterniond q(qw, qx, qy, qz);
+          if (!(q.norm() > 0.5 && q.norm() < 2.0)) throw fail("sensor " + std::to_string(k + 1) + ": the rotation is not a unit quaternion");
+          sensor.sensor_from_rig = Rigid3d(q.normalized(), Eigen::Vector3d(tx, ty, tz));
+        }
+      }
+      rig.sensors.push_back(std::move(sensor));
+    }
+    std::string rest;
+    if (fields >> rest) throw fail("more values than its " + std::to_string(num_sensors) + " sensors take");
+    rigs.push_back(std::move(rig));
+  }
+  return rigs;
 }
 
 }  // namespace rigsim

@@ -76,4 +76,41 @@ std::vector<ColmapImage> ReadColmapImages(const std::filesystem::path& images_tx
 // `colmap model_converter --output_type TXT`).
 std::filesystem::path FindColmapTextModel(const std::filesystem::path& path);
 
+// One camera of cameras.txt as COLMAP writes it (its pixel convention: the centre of the top-left
+// pixel at (0.5, 0.5)).
+struct ColmapCamera {
+  int camera_id = 0;
+  std::string model;  // COLMAP's model name
+  int width = 0, height = 0;
+  std::vector<double> params;
+};
+
+// The cameras of a model's cameras.txt. Throws std::runtime_error naming the file and the line
+// when a line does not parse.
+std::vector<ColmapCamera> ReadColmapCameras(const std::filesystem::path& cameras_txt);
+
+// The rigsim camera of a COLMAP camera: cx, cy less 0.5; PINHOLE, OPENCV, FULL_OPENCV and
+// OPENCV_FISHEYE as they are, SIMPLE_PINHOLE as PINHOLE, SIMPLE_RADIAL and RADIAL as OPENCV,
+// SIMPLE_RADIAL_FISHEYE and RADIAL_FISHEYE as OPENCV_FISHEYE (the other coefficients 0). Throws
+// std::invalid_argument saying why for a model rigsim has no equivalent of or a wrong number of
+// parameters.
+Camera CameraFromColmap(const ColmapCamera& camera);
+
+// One rig of a model's rigs.txt (COLMAP 3.12): its sensors, the reference sensor first (its
+// sensor_from_rig is the identity); sensor_from_rig is nullopt where the file gives no pose.
+struct ColmapRig {
+  int rig_id = 0;
+  struct Sensor {
+    std::string type;  // "CAMERA", "IMU"
+    int sensor_id = 0;
+    std::optional<Rigid3d> sensor_from_rig;
+  };
+  std::vector<Sensor> sensors;
+};
+
+// The rigs of a model's rigs.txt
+// (RIG_ID NUM_SENSORS REF_SENSOR_TYPE REF_SENSOR_ID [SENSOR_TYPE SENSOR_ID HAS_POSE [QW QX QY QZ TX TY TZ]]...).
+// Throws std::runtime_error naming the file and the line when a line does not parse.
+std::vector<ColmapRig> ReadColmapRigs(const std::filesystem::path& rigs_txt);
+
 }  // namespace rigsim

@@ -1,5 +1,6 @@
 #include "exports/kalibr.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include <yaml-cpp/yaml.h>
@@ -91,6 +92,10 @@ std::vector<KalibrCamera> ReadKalibrCamchain(const std::filesystem::path& path) 
         cam.width = res[0].as<int>();
         cam.height = res[1].as<int>();
       }
+      if (const YAML::Node v = node["camera_model"]) cam.camera_model = v.as<std::string>();
+      if (const YAML::Node v = node["distortion_model"]) cam.distortion_model = v.as<std::string>();
+      if (const YAML::Node v = node["intrinsics"]) cam.intrinsics = v.as<std::vector<double>>();
+      if (const YAML::Node v = node["distortion_coeffs"]) cam.distortion_coeffs = v.as<std::vector<double>>();
       Rigid3d cam_from_previous;
       if (i > 0) {
         const YAML::Node t = node["T_cn_cnm1"];
@@ -115,6 +120,39 @@ std::vector<KalibrCamera> ReadKalibrCamchain(const std::filesystem::path& path) 
     cameras.push_back(std::move(cam));
   }
   return cameras;
+}
+
+Camera KalibrIntrinsics(const KalibrCamera& c) {
+  if (c.camera_model != "pinhole") {
+    throw std::invalid_argument(
+        c.camera_model.empty() ? std::string("no camera_model")
+                               : "camera_model '" + c.camera_model + "': rigsim has pinhole cameras only (with radtan, "
+                                 "equidistant or no distortion); omni, ds and eucm have no rigsim model");
+  }
+  if (c.intrinsics.size() != 4) throw std::invalid_argument("intrinsics must be 4 numbers [fu, fv, pu, pv]");
+  if (c.width <= 0 || c.height <= 0) throw std::invalid_argument("no resolution [width, height]");
+  std::vector<double> params = c.intrinsics;
+  const std::string& d = c.distortion_model;
+  CameraModelId model = CameraModelId::kPinhole;
+  if (d == "radtan" || d == "equidistant") {
+    if (c.distortion_coeffs.size() != 4) {
+      throw std::invalid_argument("distortion_coeffs of " + d + " must be 4 numbers, not " +
+                                  std::to_string(c.distortion_coeffs.size()));
+    }
+    const bool all_zero = std::all_of(c.distortion_coeffs.begin(), c.distortion_coeffs.end(), [](double v) { return v == 0.0; });
+    if (d == "equidistant") {
+      model = CameraModelId::kOpenCVFisheye;
+    } else if (!all_zero) {
+      model = CameraModelId::kOpenCV;
+    }
+    if (model != CameraModelId::kPinhole) params.insert(params.end(), c.distortion_coeffs.begin(), c.distortion_coeffs.end());
+  } else if (d.empty() && !c.distortion_coeffs.empty()) {
+    throw std::invalid_argument("distortion_coeffs without a distortion_model (radtan or equidistant)");
+  } else if (d != "none" && !d.empty()) {
+    throw std::invalid_argument("distortion_model '" + d + "': rigsim reads radtan, equidistant and none (the fov model "
+                                "has no rigsim equivalent)");
+  }
+  return Camera(model, c.width, c.height, params);
 }
 
 }  // namespace rigsim

@@ -37,18 +37,27 @@ void WriteKalibrCamchain(const Rig& rig, const std::filesystem::path& path,
                          const std::optional<EstimateGauge>& gauge = std::nullopt);
 
 // One camera of a camchain.yaml as read back: its key (cam0, cam1, ...), its name (from
-// `rostopic` /<name>/image_raw, else empty), its resolution, and cam_from_cam0 (the chain of
-// T_cn_cnm1 multiplied out; cam0 is the identity).
+// `rostopic` /<name>/image_raw, else empty), its resolution, cam_from_cam0 (the chain of
+// T_cn_cnm1 multiplied out; cam0 is the identity), and its intrinsics as the file states them
+// (empty where it states none; KalibrIntrinsics turns them into a rigsim camera).
 struct KalibrCamera {
   std::string key;
   std::string name;
   int width = 0, height = 0;
   Rigid3d cam_from_cam0;
+  std::string camera_model, distortion_model;
+  std::vector<double> intrinsics, distortion_coeffs;
 };
 
 // Reads the cameras of a camchain.yaml in order cam0, cam1, ... Throws std::runtime_error naming
 // the file and the key when the chain is broken (a camera without T_cn_cnm1, a matrix that is not
 // 4x4 with a rotation in its top-left 3x3).
 std::vector<KalibrCamera> ReadKalibrCamchain(const std::filesystem::path& path);
+
+// The rigsim camera of a camchain's camera, the inverse of the export's mapping: pinhole with
+// radtan -> OPENCV (PINHOLE when every coefficient is 0), with equidistant -> OPENCV_FISHEYE, with
+// none -> PINHOLE. Throws std::invalid_argument saying why for what rigsim has no model of (omni,
+// ds, eucm, the fov distortion), a missing resolution or a wrong number of values.
+Camera KalibrIntrinsics(const KalibrCamera& camera);
 
 }  // namespace rigsim

@@ -43,8 +43,9 @@ std::vector<RigParam> MakeRigParams() {
               "rig type (as rigsim make-rig builds it); file: the cameras of rig_file"),
        G_::kRig, "type,--type", true, {}, [](const Json& v, RigSpec& s) { s.type = RigTypeFromName(v.get<std::string>()); }},
       {Text("rig_file", nullptr,
-            "rig file: a rig.json (as make-rig writes it) whose cameras, intrinsics and cam_from_rig, make the rig; "
-            "the options of the preset types, image size and lens do not apply to it"),
+            "rig file: a rig.json (as make-rig writes it) whose cameras, intrinsics and cam_from_rig, make the rig, "
+            "or another tool's calibration (Kalibr camchain.yaml, COLMAP rigs.txt or rig_config.json, DGP calibration, "
+            "nuScenes calibrated_sensor.json); the options of the preset types, image size and lens do not apply to it"),
        G_::kRig, "", true, {}, [](const Json& v, RigSpec& s) { s.rig_file = v.get<std::string>(); }},
       {Int("cameras", 4, 1, 64, "ring: number of cameras"), G_::kRig, "", true, {},
        [](const Json& v, RigSpec& s) { s.ring.num_cameras = v.get<int>(); }},

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "common/param_spec.h"
+#include "rigs/rig_import.h"
 
 namespace rigsim {
 
@@ -91,15 +92,15 @@ Rig BuildPresetRig(const RigSpec& s) {
       return MakeWideBaselineRig(o);
     }
     case RigType::kFile:
-      if (s.rig_file.empty()) throw std::invalid_argument("rig file: give the rig.json to use (rig_file, --rig-file)");
+      if (s.rig_file.empty()) throw std::invalid_argument("rig file: give the rig file to use (rig_file, --rig-file)");
       return ReadRigFile(s.rig_file);
   }
   throw std::invalid_argument("BuildPresetRig: invalid rig type " + std::to_string(static_cast<int>(s.type)));
 }
 
 Rig ReadRigFile(const std::string& path) {
-  if (!std::filesystem::is_regular_file(path)) throw std::runtime_error(path + ": rig file not found");
-  Rig rig = ReadRig(path);
+  if (!std::filesystem::exists(path)) throw std::runtime_error(path + ": rig file not found");
+  Rig rig = ImportRig(path);
   for (const RigCamera& c : rig.cameras) {
     if (!c.cam_from_rig) {
       throw std::runtime_error(path + ": camera '" + c.name + "' has no cam_from_rig: a rig to move along a path needs "

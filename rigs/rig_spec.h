@@ -19,7 +19,8 @@
 
 namespace rigsim {
 
-// A preset, or kFile: the cameras of a rig.json (RigSpec::rig_file), such as make-rig writes.
+// A preset, or kFile: the cameras of a rig file (RigSpec::rig_file): a rig.json such as make-rig
+// writes, or another tool's calibration (rigs/rig_import.h).
 enum class RigType { kRing, kStereo, kSurround, kWideBaseline, kFile };
 
 inline constexpr RigType kPresetRigTypes[] = {RigType::kRing, RigType::kStereo, RigType::kSurround,
@@ -51,8 +52,8 @@ struct RigSpec {
   // Unset: ring.yaw_spacing_deg.
   std::optional<double> overlap_percent;
   RigPerturbation perturbation;
-  // kFile: the rig.json whose cameras (intrinsics, cam_from_rig) make the rig; the preset options,
-  // image size, field of view, lens and overlap do not apply to it.
+  // kFile: the rig file whose cameras (intrinsics, cam_from_rig) make the rig (ReadRigFile); the
+  // preset options, image size, field of view, lens and overlap do not apply to it.
   std::string rig_file;
   TrajectoryOptions trajectory;  // start and heading are chosen by the placement in a scene
   PlacementOptions placement;    // in a scene
@@ -61,7 +62,8 @@ struct RigSpec {
 // The rig of the spec's type with the overrides applied, before mounting errors; kFile: ReadRigFile.
 Rig BuildPresetRig(const RigSpec& spec);
 
-// The rig of a rig.json for placing on a path: every camera needs its cam_from_rig. Throws
+// The rig of a rig file for placing on a path: a rig.json, or another tool's calibration
+// (rigs/rig_import.h: Kalibr, COLMAP, DGP, nuScenes); every camera needs its cam_from_rig. Throws
 // std::runtime_error naming the file and the problem.
 Rig ReadRigFile(const std::string& path);
 

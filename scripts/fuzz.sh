@@ -22,7 +22,7 @@ if [ -n "${RIGSIM_BUILD_LOCK:-}" ]; then lock=(flock "$RIGSIM_BUILD_LOCK"); fi
 
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-  targets=(fuzz_gltf fuzz_rig_json fuzz_frames_json)
+  targets=(fuzz_gltf fuzz_rig_json fuzz_frames_json fuzz_rig_import)
   if [ -f gltf/label_rules.h ]; then targets+=(fuzz_label_rules); fi
 fi
 
@@ -35,7 +35,7 @@ mkdir -p "$build_dir"
 # Only the libraries the readers need: no renderer, calibrator or CLI.
 CC=clang CXX=clang++ "${lock[@]}" cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DRIGSIM_FUZZ=ON \
   -DRIGSIM_BUILD_TESTS=$with_tests -DRIGSIM_BUILD_BENCHMARKS=OFF \
-  -DRIGSIM_SKIP_MODULES="exports;renderer;calibrator;pipeline;apps/rigsim" > "$build_dir/configure.log" 2>&1 ||
+  -DRIGSIM_SKIP_MODULES="renderer;calibrator;pipeline;apps/rigsim" > "$build_dir/configure.log" 2>&1 ||
   { cat "$build_dir/configure.log"; exit 1; }
 "${lock[@]}" cmake --build "$build_dir" --target "${targets[@]}" "${also[@]}" -j"$(nproc)"
 

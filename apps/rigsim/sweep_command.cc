@@ -127,7 +127,7 @@ void AddSweepCommand(CLI::App& app) {
       cmd->add_option("--suite", args->suite, "a built-in sweep instead of CONFIG: thesis, motion")->excludes(config);
   cmd->add_option("--rig", args->rig,
                   "with --suite motion: your rig, a rig.json as make-rig writes it (every camera's intrinsics and "
-                  "cam_from_rig)")
+                  "cam_from_rig) or a calibration file that make-rig --type file reads (Kalibr, COLMAP, DGP, nuScenes)")
       ->check(CLI::ExistingFile)
       ->excludes(config);
   cmd->add_option("--scene", args->scene,
