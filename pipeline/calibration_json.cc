@@ -377,6 +377,27 @@ Json PairsJson(const CalibrationRun& run, size_t m, const Json& label_source) {
           {"pairs", pairs}};
 }
 
+Json IntrinsicsErrorJson(const CalibrationRun& run) {
+  const Rig given = CalibratorRig(run.inputs, run.options);
+  const auto pinhole = [](const Camera& c) { return Json{{"fx", c.fx()}, {"fy", c.fy()}, {"cx", c.cx()}, {"cy", c.cy()}}; };
+  Json cameras = Json::array();
+  for (size_t c = 0; c < given.cameras.size() && c < run.inputs.rig.cameras.size(); ++c) {
+    const Camera& g = given.cameras[c].camera;
+    const Camera& t = run.inputs.rig.cameras[c].camera;
+    cameras.push_back({{"name", given.cameras[c].name},
+                       {"given", pinhole(g)},
+                       {"true", pinhole(t)},
+                       {"given_params", g.params()},
+                       {"true_params", t.params()},
+                       {"focal_error_percent", 100.0 * (g.fx() / t.fx() - 1.0)},
+                       {"principal_point_error_px", {g.cx() - t.cx(), g.cy() - t.cy()}}});
+  }
+  return {{"error", run.options.intrinsics_error.error},
+          {"seed", run.options.intrinsics_error.seed},
+          {"meaning", "E = error; " + IntrinsicsErrorMeaning() + "; 'true' is the dataset's rig.json"},
+          {"cameras", cameras}};
+}
+
 Json EvaluationJson(const CalibrationRun& run) {
   Json methods = Json::object();
   for (size_t m = 0; m < run.results.size(); ++m) {
@@ -385,7 +406,9 @@ Json EvaluationJson(const CalibrationRun& run) {
     entry["rig"] = RigResultJson(r, run.Truth(m), DetectTimeOf(run, m));
     methods[r.semantic_mode] = entry;
   }
-  return {{"methods", methods}, {"features", std::string(FeatureTypeName(run.options.features.type))}};
+  Json out = {{"methods", methods}, {"features", std::string(FeatureTypeName(run.options.features.type))}};
+  if (run.options.intrinsics_error.Enabled()) out["intrinsics_error"] = IntrinsicsErrorJson(run);
+  return out;
 }
 
 }  // namespace rigsim

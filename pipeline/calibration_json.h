@@ -55,8 +55,15 @@ nlohmann::json LabelSourceJson(const LabelSource& source, bool used);
 // "rig_edge", what the rig stage made of it (null when it has no edge).
 nlohmann::json PairsJson(const CalibrationRun& run, size_t m, const nlohmann::json& label_source);
 
+// evaluation.json's "intrinsics_error" (a run with CalibrationRunOptions::intrinsics_error): E,
+// the seed, what they mean, and per camera the intrinsics the calibrator was given against
+// rig.json's (the truth of a rendered dataset): "given" and "true" fx, fy, cx, cy, both full
+// parameter lists, the focal error (percent, given - true) and the principal point's (px, x and y).
+nlohmann::json IntrinsicsErrorJson(const CalibrationRun& run);
+
 // evaluation.json without "label_source" and the "outputs" records: per method the pairwise
-// report with the rig result of the same method under "rig".
+// report with the rig result of the same method under "rig", and "intrinsics_error" when the
+// calibrator was given intrinsics with an error.
 nlohmann::json EvaluationJson(const CalibrationRun& run);
 
 // The rig stage's edge of a pairwise pair (same camera names), nullptr when it has none.

@@ -18,13 +18,12 @@
 namespace rigsim {
 namespace {
 
-// The rig the calibration uses: rig.json's, with the given intrinsics when there are some.
+// The rig the calibration uses (CalibratorRig).
 // Checks what the options do not decide: two cameras or more, given intrinsics for every camera at
 // its size, some frames.
 Rig CalibrationRig(const CalibrationInputs& inputs, const CalibrationRunOptions& options) {
   const std::filesystem::path rig_json = DatasetLayout(inputs.dataset_dir).RigJson();
-  const Rig rig =
-      options.intrinsics ? WithGivenIntrinsics(inputs.rig, options.intrinsics->rig, options.intrinsics->source) : inputs.rig;
+  const Rig rig = CalibratorRig(inputs, options);
   if (rig.cameras.size() < 2) throw std::runtime_error(rig_json.string() + ": calibration needs at least 2 cameras");
   if (inputs.frames.frames.empty()) throw std::runtime_error(inputs.dataset_dir.string() + ": no frames found");
   return rig;
@@ -120,6 +119,7 @@ void CalibrationRunOptions::Check() const {
   features.Check();
   precision.Check();
   labels.Check();
+  intrinsics_error.Check();
 }
 
 Rig WithGivenIntrinsics(const Rig& rig, const Rig& intrinsics, const std::string& source) {
@@ -141,6 +141,12 @@ Rig WithGivenIntrinsics(const Rig& rig, const Rig& intrinsics, const std::string
     rc.camera = given;
   }
   return out;
+}
+
+Rig CalibratorRig(const CalibrationInputs& inputs, const CalibrationRunOptions& options) {
+  const Rig given =
+      options.intrinsics ? WithGivenIntrinsics(inputs.rig, options.intrinsics->rig, options.intrinsics->source) : inputs.rig;
+  return WithIntrinsicsError(given, options.intrinsics_error);
 }
 
 namespace {

@@ -25,6 +25,7 @@
 #include "geometry/rig.h"
 #include "labels/cityscapes.h"
 #include "pipeline/calibration_scores.h"
+#include "pipeline/intrinsics_error.h"
 
 namespace rigsim {
 
@@ -72,6 +73,10 @@ struct CalibrationRunOptions {
     std::string source;
   };
   std::optional<GivenIntrinsics> intrinsics;
+  // Intrinsics as a user has them (`calibrate --intrinsics-error E`, intrinsics_error.h): the
+  // intrinsics above (rig.json's or the given ones) with a seeded error of relative size E before
+  // the calibrator sees them; the truth stays rig.json's. 0: none, the run is as without it.
+  IntrinsicsErrorOptions intrinsics_error;
   // Compare with the truth when rig.json has every cam_from_rig (calibration_scores.h), with
   // match precision against the range images where depth/ has them.
   bool evaluate = true;
@@ -86,6 +91,10 @@ struct CalibrationRunOptions {
 // std::invalid_argument starting with `source` when a camera of `rig` is not in it, or its image
 // size differs from rig.json's (the photos' size).
 Rig WithGivenIntrinsics(const Rig& rig, const Rig& intrinsics, const std::string& source);
+
+// The rig the calibrator is given: rig.json's (`inputs.rig`), with options.intrinsics' cameras
+// (WithGivenIntrinsics) and then options.intrinsics_error's error (WithIntrinsicsError).
+Rig CalibratorRig(const CalibrationInputs& inputs, const CalibrationRunOptions& options);
 
 // One camera pair's two-view inliers in the frame where it has the most, in pixels: what a
 // person looks at to judge a pair (match_image.h draws them).

@@ -108,20 +108,7 @@ MethodRow Failed(const std::string& method, const std::string& why) {
 
 MethodRow RunRigsim(const SweepMethod& method, const Json& p, const CalibrationInputs& inputs,
                     const CellRunnerOptions& options) {
-  CalibrationRunOptions o;
-  o.features.type = FeatureTypeFromName(method.features);
-  o.rig.pairwise.num_threads = options.num_threads;
-  o.rig.capture_time.estimate_offsets = method.time != "synchronised";
-  o.rig.capture_time.estimate_readout = method.time == "estimated+rolling-shutter";
-  const int boundary = p.at("label_boundary").get<int>();
-  const double confusion = p.at("label_confusion").get<double>();
-  if (boundary > 0 || confusion > 0) {
-    SegmentationNoiseOptions noise;
-    noise.boundary_px = boundary;
-    noise.confusion_rate = confusion;
-    noise.seed = Seed(p);
-    o.labels = LabelSource::Noisy(noise);
-  }
+  const CalibrationRunOptions o = CellCalibrationOptions(method, p, options.num_threads);
   const auto start = Clock::now();
   const CalibrationRun run = CalibrateDataset(inputs, o, {SemanticModeFromName(method.semantics)});
   const RigCalibrationResult& r = run.results.at(0);
@@ -149,6 +136,25 @@ MethodRow RunColmap(const SweepMethod& method, const CalibrationInputs& inputs, 
 }
 
 }  // namespace
+
+CalibrationRunOptions CellCalibrationOptions(const SweepMethod& method, const Json& p, int num_threads) {
+  CalibrationRunOptions o;
+  o.features.type = FeatureTypeFromName(method.features);
+  o.rig.pairwise.num_threads = num_threads;
+  o.rig.capture_time.estimate_offsets = method.time != "synchronised";
+  o.rig.capture_time.estimate_readout = method.time == "estimated+rolling-shutter";
+  const int boundary = p.at("label_boundary").get<int>();
+  const double confusion = p.at("label_confusion").get<double>();
+  if (boundary > 0 || confusion > 0) {
+    SegmentationNoiseOptions noise;
+    noise.boundary_px = boundary;
+    noise.confusion_rate = confusion;
+    noise.seed = Seed(p);
+    o.labels = LabelSource::Noisy(noise);
+  }
+  o.intrinsics_error = {p.at("intrinsics_error").get<double>(), Seed(p)};
+  return o;
+}
 
 RigSpec CellRigSpec(const Json& p, const fs::path& config_dir) {
   Json values = Json::object();

@@ -14,6 +14,8 @@
 
 namespace rigsim {
 
+struct CalibrationRunOptions;  // pipeline/calibration_run.h
+
 struct CellRunnerOptions {
   // Scene files named in the config are relative to this folder (the config's).
   std::filesystem::path config_dir;
@@ -30,6 +32,12 @@ RigSpec CellRigSpec(const nlohmann::ordered_json& params, const std::filesystem:
 // before anything renders. Throws std::runtime_error naming the file and the problem, or
 // std::invalid_argument naming the cell whose rig parameters do not fit together.
 void CheckCellRigFiles(const std::vector<SweepCell>& cells, const std::filesystem::path& config_dir);
+
+// The options rigsim's method `method` calibrates a cell with (`params` its parameters): the
+// feature type, the capture-time mode, label noise (label_boundary, label_confusion) and the
+// intrinsics' error (intrinsics_error), each drawn from the cell's seed.
+CalibrationRunOptions CellCalibrationOptions(const SweepMethod& method, const nlohmann::ordered_json& params,
+                                             int num_threads);
 
 // Renders a cell, calibrates it by every method of the config and scores each against the truth.
 // A method that fails gets a row with status "failed" and the reason; a render that fails (no

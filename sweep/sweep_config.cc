@@ -15,6 +15,7 @@
 #include "calibrator/features/semantics.h"
 #include "common/did_you_mean.h"
 #include "common/stable_hash.h"
+#include "pipeline/intrinsics_error.h"
 #include "procedural/presets.h"
 #include "renderer/sensor_model.h"
 #include "rigs/rig_params.h"
@@ -61,6 +62,9 @@ std::vector<ParamSpec> MakeCellParamSpecs() {
                 " (exposure, white balance, vignetting, defocus, noise, JPEG from datasheets; with photometric 0)"},
            {"label_boundary", K::kInt, 0, {}, 0, 64, "label noise: class boundaries shift by up to this (px)"},
            {"label_confusion", K::kNumber, 0.0, {}, 0, 1, "label noise: share of blobs given a confusable class"},
+           {"intrinsics_error", K::kNumber, 0.0, {}, 0, IntrinsicsErrorOptions::kMaxError,
+            "rigsim's calibrations are given intrinsics off the rendered ones by this relative error, as calibrate "
+            "--intrinsics-error, drawn from the cell's seed (0.01: focal lengths about 1 % off; colmap keeps the true ones)"},
            {"time_offset_ms", K::kNumber, 0.0, {}, 0, 1000,
             "camera c captures c times this after camera 0 (ms): the rig moves on along its path in between, "
             "and so do animated objects"},

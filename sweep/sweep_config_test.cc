@@ -7,6 +7,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "pipeline/calibration_run.h"
+#include "sweep/cell_runner.h"
 #include "sweep/suites.h"
 #include "testing/expect_error.h"
 
@@ -92,6 +94,25 @@ TEST(SweepConfig, SensorIsAPresetNameAndExcludesPhotometric) {
   EXPECT_THAT(Parsing(R"({"base": {"photometric": 1}, "grid": {"sensor": ["ideal", "phone"]}})"),
               ThrowsWith<std::runtime_error>("sweep.json: a cell has sensor phone and photometric 1: the sensor preset "
                                              "sets the photometric magnitudes itself; give photometric 0 with it"));
+}
+
+// `intrinsics_error` (0 by default) reaches each rigsim calibration of the cell with the cell's
+// seed, as calibrate --intrinsics-error and --intrinsics-error-seed; out of 0 to 0.5 it is refused.
+TEST(SweepConfig, IntrinsicsErrorReachesTheCalibrationWithTheCellsSeed) {
+  const SweepConfig c =
+      ParseSweepConfig(Json::parse(R"({"grid": {"intrinsics_error": [0, 0.02]}, "seeds": [3]})"), "sweep.json");
+  const std::vector<SweepCell> cells = ExpandCells(c);
+  ASSERT_EQ(cells.size(), 2u);
+  const CalibrationRunOptions zero = CellCalibrationOptions(c.methods.at(0), cells[0].params, 1);
+  const CalibrationRunOptions some = CellCalibrationOptions(c.methods.at(0), cells[1].params, 1);
+  EXPECT_FALSE(zero.intrinsics_error.Enabled());
+  EXPECT_EQ(some.intrinsics_error.error, 0.02);
+  EXPECT_EQ(some.intrinsics_error.seed, 3u);
+  EXPECT_EQ(ExpandCells(ParseSweepConfig(Json::parse(R"({"base": {"overlap": 20}})"), "s.json"))[0].params["intrinsics_error"], 0.0);
+  EXPECT_THAT(Parsing(R"({"base": {"intrinsics_error": 0.6}})"),
+              ThrowsWith<std::runtime_error>("sweep.json: base.intrinsics_error: 0.6 is outside 0 to 0.5"));
+  EXPECT_THAT(Parsing(R"({"grid": {"intrinsics_error": [0.01, -0.01]}})"),
+              ThrowsWith<std::runtime_error>("sweep.json: grid.intrinsics_error[1]: -0.01 is outside 0 to 0.5"));
 }
 
 TEST(SweepConfig, HashesDependOnWhatIsComputedOnly) {

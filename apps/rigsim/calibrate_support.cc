@@ -120,6 +120,25 @@ void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& s) {
                  "size) are calibrated with instead of DATASET/rig.json's, e.g. a datasheet's. The dataset's\n"
                  "stay the truth a rendered dataset is compared with")
       ->check(CLI::ExistingFile);
+  IntrinsicsErrorOptions& error = s.options.intrinsics_error;
+  cmd.add_option("--intrinsics-error", error.error,
+                 "E: calibrate with intrinsics as a user has them, off the given ones (rig.json's or\n"
+                 "--intrinsics') by a seeded error of relative size E (0.01 is 1 %): " + IntrinsicsErrorMeaning() +
+                     ".\nThe dataset's rig.json stays the truth; evaluation.json's intrinsics_error has each camera's\n"
+                     "given and true fx, fy, cx, cy. 0 to " + Fixed(IntrinsicsErrorOptions::kMaxError, 1) + "; 0: none")
+      ->capture_default_str()
+      ->check(CLI::Validator(
+          [](std::string& input) -> std::string {
+            double v = 0;
+            if (!CLI::detail::lexical_cast(input, v) || !std::isfinite(v) || v < 0 || v > IntrinsicsErrorOptions::kMaxError) {
+              return "must be 0 to " + Fixed(IntrinsicsErrorOptions::kMaxError, 1) + ", a fraction (0.01 is 1 %) (got " + input + ")";
+            }
+            return "";
+          },
+          "0 to " + Fixed(IntrinsicsErrorOptions::kMaxError, 1)));
+  cmd.add_option("--intrinsics-error-seed", error.seed,
+                 "seed of --intrinsics-error's draws; each camera's depend only on (seed, camera index)")
+      ->capture_default_str();
   const IntrinsicsPriorOptions priors;
   cmd.add_flag("--refine-intrinsics", s.options.rig.bundle_adjustment.refine_intrinsics,
                "refine every camera's intrinsics (focal lengths, principal point, distortion) in the\n"
@@ -229,6 +248,10 @@ CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const Ca
     std::printf("\nCapture times: each camera's offset from %s's (positive: it captures later) and its rolling-shutter "
                 "readout, +- one standard deviation%s:\n\n%s",
                 results[0].rig.cameras[0].name.c_str(), inputs.truth ? "; error against the truth" : "", times.c_str());
+  }
+  if (const IntrinsicsErrorOptions& e = plan.options.intrinsics_error; e.Enabled()) {
+    std::printf("\nIntrinsics given with an error of %s (seed %llu): see intrinsics_error in evaluation.json\n",
+                (Fixed(100 * e.error, 1) + " %").c_str(), static_cast<unsigned long long>(e.seed));
   }
   if (plan.options.rig.bundle_adjustment.refine_intrinsics) {
     std::printf("\nIntrinsics refined in the bundle adjustment (change from the given values, +- one standard "
