@@ -82,6 +82,10 @@ TEST_F(MessagesCli, CalibrateSpeaksOfItsOptionsNotOfTheLibrary) {
   ExpectError({"calibrate", data.string(), "--known-distance", "cam0", "cam7", "1"},
               "--known-distance: no camera 'cam7' in " + (data / "rig.json").string() + " (did you mean 'cam0'?); its cameras are cam0, cam1");
   ExpectError({"calibrate", data.string(), "--reliable", "road,buildng"}, "--reliable: unknown class 'buildng' (did you mean 'building'?)");
+  for (const std::string bad : {"-0.01", "nan", "inf", "0.6", "2%"}) {
+    ExpectError({"calibrate", data.string(), "--intrinsics-error", bad},
+                "--intrinsics-error: must be 0 to 0.5, a fraction (0.01 is 1 %) (got " + bad + ")");
+  }
   EXPECT_FALSE(fs::exists(data / "calibration"));
 }
 

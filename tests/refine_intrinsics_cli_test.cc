@@ -113,6 +113,54 @@ TEST_F(RefineIntrinsicsCli, WithoutTheFlagTheIntrinsicsAreTheGivenOnes) {
     EXPECT_EQ(written.at("cameras")[c].at("params"), datasheet.at("cameras")[c].at("params")) << c;
     EXPECT_TRUE(evaluation.at("methods").at("none").at("rig").at("cameras")[c].at("intrinsics").is_null()) << c;
   }
+  EXPECT_FALSE(evaluation.contains("intrinsics_error")) << "no --intrinsics-error, no record";
+}
+
+// --intrinsics-error 0.02: the calibrator is given rig.json's intrinsics about 2 % off (focal
+// lengths), evaluation.json says by how much per camera against the truth, which stays rig.json's,
+// and the calibration runs on them.
+TEST_F(RefineIntrinsicsCli, AnIntrinsicsErrorGivesTheCalibratorIntrinsicsOffTheTruth) {
+  const fs::path out = Dir() / "intrinsics-error";
+  const CliResult r = RunRigsim({"calibrate", (Dir() / "demo").string(), "--semantics", "none", "--intrinsics-error",
+                                 "0.02", "--out", out.string()},
+                                out, std::chrono::seconds(300));
+  ASSERT_TRUE(r.code == 0 || r.code == 3) << r.out << r.err;
+  EXPECT_NE(r.out.find("Intrinsics given with an error of 2.0 % (seed 1)"), std::string::npos) << r.out;
+  const Json evaluation = Json::parse(ReadFile(out / "evaluation.json"));
+  const Json truth = Json::parse(ReadFile(Dir() / "demo" / "rig.json"));
+  const Json written = Json::parse(ReadFile(out / "none" / "rig.json"));
+  const Json& record = evaluation.at("intrinsics_error");
+  EXPECT_EQ(record.at("error").get<double>(), 0.02);
+  EXPECT_EQ(record.at("seed").get<int>(), 1);
+  const Json& cameras = record.at("cameras");
+  ASSERT_EQ(cameras.size(), 4u);
+  double focal_sum_sq = 0;
+  for (size_t c = 0; c < cameras.size(); ++c) {
+    const Json& cam = cameras[c];
+    const Json& p = truth.at("cameras")[c].at("params");
+    EXPECT_EQ(cam.at("name"), truth.at("cameras")[c].at("name"));
+    EXPECT_EQ(cam.at("true_params"), p) << "the truth is rig.json's";
+    EXPECT_EQ(cam.at("true").at("fx").get<double>(), p[0].get<double>());
+    // What the calibrator used is what it was given: the estimate's rig.json has those intrinsics.
+    EXPECT_EQ(written.at("cameras")[c].at("params"), cam.at("given_params")) << c;
+    const double focal = cam.at("focal_error_percent").get<double>();
+    EXPECT_NEAR(focal, 100 * (cam.at("given").at("fx").get<double>() / p[0].get<double>() - 1), 1e-9);
+    EXPECT_GT(std::abs(focal), 0.0) << c;
+    EXPECT_LT(std::abs(focal), 4 * 2.0) << "within 4 sigma of 2 %: " << cam.dump();
+    focal_sum_sq += focal * focal;
+    // The principal point moves by 2 % of half the image (6.4 px, 3.6 px) per axis.
+    EXPECT_LT(std::abs(cam.at("principal_point_error_px")[0].get<double>()), 4 * 6.4) << cam.dump();
+    EXPECT_LT(std::abs(cam.at("principal_point_error_px")[1].get<double>()), 4 * 3.6) << cam.dump();
+    EXPECT_NE(cam.at("given_params"), p) << c;
+  }
+  // About 2 % over the four cameras (seed 1): not 0.2 %, not 20 %.
+  const double focal_rms = std::sqrt(focal_sum_sq / 4);
+  EXPECT_GT(focal_rms, 0.5);
+  EXPECT_LT(focal_rms, 5.0);
+  // The calibration ran on them: every camera has its entry and the gauge camera its pose.
+  const Json& rig = evaluation.at("methods").at("none").at("rig").at("cameras");
+  ASSERT_EQ(rig.size(), 4u);
+  EXPECT_TRUE(rig[0].at("calibrated").get<bool>()) << rig[0].dump();
 }
 
 TEST_F(RefineIntrinsicsCli, IntrinsicsOfAnotherRigAreRefused) {
