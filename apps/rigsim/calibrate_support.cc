@@ -123,9 +123,12 @@ void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& s) {
   IntrinsicsErrorOptions& error = s.options.intrinsics_error;
   cmd.add_option("--intrinsics-error", error.error,
                  "E: calibrate with intrinsics as a user has them, off the given ones (rig.json's or\n"
-                 "--intrinsics') by a seeded error of relative size E (0.01 is 1 %): " + IntrinsicsErrorMeaning() +
-                     ".\nThe dataset's rig.json stays the truth; evaluation.json's intrinsics_error has each camera's\n"
-                     "given and true fx, fy, cx, cy. 0 to " + Fixed(IntrinsicsErrorOptions::kMaxError, 1) + "; 0: none")
+                 "--intrinsics') by a seeded error of relative size E (0.01 is 1 %): each camera's focal\n"
+                 "lengths multiplied by exp(E z), its principal point moved by E z times half the image's\n"
+                 "width and height (px), each distortion coefficient multiplied by 1 + E z, every z a\n"
+                 "standard normal draw of (--intrinsics-error-seed, camera index, parameter). The dataset's\n"
+                 "rig.json stays the truth; evaluation.json's intrinsics_error has each camera's given and\n"
+                 "true fx, fy, cx, cy. 0 to " + Fixed(IntrinsicsErrorOptions::kMaxError, 1) + "; 0: none")
       ->capture_default_str()
       ->check(CLI::Validator(
           [](std::string& input) -> std::string {
