@@ -6,6 +6,7 @@
 #include <random>
 #include <vector>
 
+#include <Eigen/Geometry>
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
 #include <gtest/gtest.h>
@@ -79,6 +80,41 @@ TEST(PoseCovariance, MatchesCeresCovarianceOfTheSameBlocks) {
       EXPECT_LT((got - expected).norm(), 1e-9 * (1 + expected.norm())) << "got\n" << got << "\nexpected\n" << expected;
     }
   }
+}
+
+// One rotation observed N times, each residual its angle-axis difference (rad) divided by s: the
+// rotation's variance is s^2 / N about every axis. RotationStdDevsDeg reads Ceres' quaternion
+// tangent (a turn of exp(delta), an angle of 2|delta|) as that angle, not half of it.
+struct RotationDifferenceCost {
+  Eigen::Quaterniond observed;
+  double scale = 1.0;
+  template <typename T>
+  bool operator()(const T* q_xyzw, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q(q_xyzw);
+    const Eigen::Quaternion<T> difference = q * observed.cast<T>().conjugate();
+    const T wxyz[4] = {difference.w(), difference.x(), difference.y(), difference.z()};
+    ceres::QuaternionToAngleAxis(wxyz, residual);
+    for (int i = 0; i < 3; ++i) residual[i] /= T(scale);
+    return true;
+  }
+};
+
+TEST(RotationStdDevsDeg, IsTheAngleOfTheRotationNotOfTheQuaternion) {
+  const Eigen::Quaterniond truth = Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()));
+  std::vector<Eigen::Vector4d> cq = {truth.coeffs()};
+  constexpr int kObservations = 25;
+  constexpr double kScale = 0.01;  // rad
+  ceres::Problem problem;
+  for (int i = 0; i < kObservations; ++i) {
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<RotationDifferenceCost, 3, 4>(
+                                 new RotationDifferenceCost{truth, kScale}),
+                             nullptr, cq[0].data());
+  }
+  problem.SetManifold(cq[0].data(), new ceres::EigenQuaternionManifold);
+  const ReducedCovariance reduced = PoseCovariance(problem, {cq[0].data()});
+  const PerCamera<double> std_deg = RotationStdDevsDeg(problem, reduced, cq, 1.0);
+  ASSERT_TRUE(std_deg[0]);
+  EXPECT_NEAR(*std_deg[0], kScale / std::sqrt(kObservations) * 180.0 / M_PI, 1e-9);
 }
 
 }  // namespace
