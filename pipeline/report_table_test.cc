@@ -170,6 +170,12 @@ TEST(FormatTimeTable, OffsetsAndReadoutsWithTheirStandardDeviations) {
   EXPECT_NE(measured.find("+30.10 +- 0.40 ms"), std::string::npos) << measured;
   EXPECT_NE(measured.find("measured by the synchronisation check"), std::string::npos) << measured;
   EXPECT_EQ(measured.find("cam2"), std::string::npos) << measured;  // nothing measured for it
+  // An offset another start moves as far at no worse a cost is where a solve stopped, not a measurement.
+  run.results[0].camera_stats[1].time_offset_undetermined = true;
+  const std::string undetermined = FormatTimeTable(run);
+  EXPECT_NE(undetermined.find("not determined"), std::string::npos) << undetermined;
+  EXPECT_EQ(undetermined.find("+30.10"), std::string::npos) << undetermined;
+  run.results[0].camera_stats[1].time_offset_undetermined = false;
 
   run.options.rig.capture_time.estimate_offsets = run.options.rig.capture_time.estimate_readout = true;
   run.results[0].camera_stats[0].time_offset_s = 0.0;
