@@ -56,6 +56,18 @@ double BlurCircleDiameterPx(const DefocusOptions& o, double fx_px, double distan
   return at_infinity * std::abs(distance_m - s) / distance_m;
 }
 
+ImageF AxialDistance(const PixelCentreRays& rays, const ImageF& range) {
+  if (range.channels != 1 || rays.width != range.width || rays.bearings.size() != range.data.size()) {
+    throw std::invalid_argument("AxialDistance: the rays and the range image must be of one camera");
+  }
+  ImageF out = range;
+  for (size_t i = 0; i < out.data.size(); ++i) {
+    const float z = rays.bearings[i].z();
+    if (rays.valid[i] && z > 0.0f) out.data[i] *= z;
+  }
+  return out;
+}
+
 void ApplyDefocus(const DefocusOptions& o, double fx_px, const ImageF& range, ImageF& linear, const ImageU8* invalid,
                   int num_threads) {
   o.Check();

@@ -5,15 +5,16 @@
 // imaged as a blur circle of diameter
 //   c = f^2 / (N (s - f)) * |d - s| / d            (metres on the sensor)
 //   c_px = c / pixel_pitch = fx * (f / N) / (s - f) * |d - s| / d
-// with f = fx * pixel_pitch (fx: the camera's focal length in pixels). d is the pixel's range (the
-// distance along its ray, as the depth images hold it), which is the thin lens's object distance at
-// the image centre and 1/cos(angle) of it off axis; for wide and fisheye lenses the thin lens is an
-// approximation anyway. Pixels without a surface (sky) are at infinity: c_px = fx (f / N) / (s - f).
+// with f = fx * pixel_pitch (fx: the camera's focal length in pixels). d is the point's distance
+// along the optical axis (AxialDistance: the depth image's range times its ray's z), so the surface
+// in focus is the plane at s, as a thin lens has it; beyond 90 deg off axis (a fisheye's rim) the
+// thin lens means nothing and d is the range. Pixels without a surface (sky) are at infinity:
+// c_px = fx (f / N) / (s - f).
 //
 // The blur: every pixel q spreads its value uniformly over a disc of radius r_q = c_px / 2 (edges
 // anti-aliased over one pixel; radii clipped to max_radius_px), computed as a gather: output pixel p
 // is the weighted mean of the q whose disc covers it, each weighted by its coverage of p divided by
-// its disc's area. Depth test: a q behind p (larger range) spreads over p with at most p's own
+// its disc's area. Depth test: a q behind p (larger distance) spreads over p with at most p's own
 // radius, so an in-focus foreground keeps a sharp edge against a blurred background, while a
 // blurred foreground still spreads over what is behind it (as its out-of-focus rim does in a real
 // lens; the background it hides is not recovered). Blur circles under one pixel across change
@@ -21,6 +22,7 @@
 #pragma once
 
 #include "geometry/image.h"
+#include "renderer/camera_rays.h"
 
 namespace rigsim {
 
@@ -36,16 +38,21 @@ struct DefocusOptions {
   void Check() const;
 };
 
-// The blur circle's diameter in pixels for a point at range `distance_m` (0 or infinite: no
+// Each pixel's distance along the optical axis from its `range` (the depth image: metres along the
+// pixel centre's ray, 0 = no surface): range times the z of the ray's unit bearing (`rays`, the
+// camera's, PixelCentreRayCache); where that z is not positive, the range. Same size as `range`.
+ImageF AxialDistance(const PixelCentreRays& rays, const ImageF& range);
+
+// The blur circle's diameter in pixels for a point at axial distance `distance_m` (0 or infinite: no
 // surface, at infinity) seen by a camera of focal length `fx_px`. Throws std::invalid_argument when
 // the focus distance is not beyond the focal length.
 double BlurCircleDiameterPx(const DefocusOptions& options, double fx_px, double distance_m);
 
-// Blurs `linear` (3 channels, linear light) in place by each pixel's blur circle from `range`
-// (1 channel, same size; 0 = no surface). `invalid` (optional, 1 channel): pixels outside the
+// Blurs `linear` (3 channels, linear light) in place by each pixel's blur circle from `distance`
+// (AxialDistance; 1 channel, same size; 0 = no surface). `invalid` (optional, 1 channel): pixels outside the
 // lens's valid region. `num_threads`: 0 = all cores; the result does not depend on it. Does nothing
 // when the options are off. Throws std::invalid_argument on a size mismatch or bad options.
-void ApplyDefocus(const DefocusOptions& options, double fx_px, const ImageF& range, ImageF& linear,
+void ApplyDefocus(const DefocusOptions& options, double fx_px, const ImageF& distance, ImageF& linear,
                   const ImageU8* invalid = nullptr, int num_threads = 0);
 
 }  // namespace rigsim

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "common/splitmix64.h"
+#include "geometry/camera.h"
 #include "testing/expect_error.h"
 
 namespace rigsim {
@@ -60,6 +61,26 @@ double Crossing(const ImageF& img, int y, float level) {
     if (a < level && b >= level) return x - 1 + (level - a) / (b - a);
   }
   return -1;
+}
+
+// A thin lens focuses on a plane: a wall facing the camera 3 m away, whose range grows off axis as
+// 1/cos, is one axial distance everywhere, the range at the principal point; sky stays 0.
+TEST(Defocus, AxialDistanceOfAFrontoParallelPlaneIsItsDistance) {
+  const Camera camera(CameraModelId::kOpenCV, 64, 48, {40, 40, 31.5, 23.5, -0.2, 0.05, 0, 0});
+  const PixelCentreRays rays = *PixelCentreRayCache().For(camera);
+  ImageF range(64, 48, 1, 0.0f);
+  for (int y = 0; y < 48; ++y) {
+    for (int x = 0; x < 63; ++x) {  // the last column is sky
+      const Eigen::Vector3d ray = camera.CamFromImg(Eigen::Vector2d(x, y))->normalized();
+      range.data[size_t(y) * 64 + x] = float(3.0 / ray.z());
+    }
+  }
+  EXPECT_GT(range.data[0], 4.0f) << "the corner is far off axis";
+  const ImageF axial = AxialDistance(rays, range);
+  for (int y = 0; y < 48; ++y) {
+    for (int x = 0; x < 63; ++x) EXPECT_NEAR(axial.data[size_t(y) * 64 + x], 3.0f, 1e-5) << x << ", " << y;
+    EXPECT_EQ(axial.data[size_t(y) * 64 + 63], 0.0f) << y;
+  }
 }
 
 TEST(Defocus, BlurCircleFollowsTheThinLens) {

@@ -148,7 +148,7 @@ nlohmann::json SensorStagesJson(const RenderJob& job) {
                                         {"pixel_pitch_um", d.pixel_pitch_um},
                                         {"max_radius_px", d.max_radius_px},
                                         {"model", "thin lens: blur circle diameter (px) = fx (f / N) / (s - f) |d - s| / d, "
-                                                  "f = fx * pixel pitch, d = the pixel's range; a disc blur in linear light "
+                                                  "f = fx * pixel pitch, d = the pixel's distance along the optical axis; a disc blur in linear light "
                                                   "with a depth test (renderer/defocus.h)"}}
                        : nlohmann::json()},
           {"jpeg_quality", job.jpeg_quality},
@@ -359,6 +359,12 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
   const bool sensor_stages = SensorStagesOn(job);
   // A focus distance inside a camera's focal length is refused before anything is written.
   for (const RigCamera& cam : cams) BlurCircleDiameterPx(job.defocus, cam.camera.fx(), 0.0);
+  // The thin lens focuses on a plane: each view's range goes along the optical axis by its pixels' rays.
+  std::vector<std::shared_ptr<const PixelCentreRays>> defocus_rays;
+  if (job.defocus.enabled()) {
+    const PixelCentreRayCache rays;
+    for (const RigCamera& cam : cams) defocus_rays.push_back(rays.For(cam.camera));
+  }
   std::vector<CameraPhotometry> photometry;
   if (photometric) {
     for (int c = 0; c < num_cams; ++c) photometry.push_back(DrawCameraPhotometry(job.photometric, c));
@@ -396,7 +402,8 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
           stages.noise_key = PhotometricNoiseKey{job.photometric.seed, c, frame_index};
           stages.defocus = job.defocus;
           stages.jpeg_quality = job.jpeg_quality;
-          ApplySensorStages(stages, cams[c].camera.fx(), cams[c].camera.cx(), cams[c].camera.cy(), view.range, view.rgb,
+          ApplySensorStages(stages, cams[c].camera.fx(), cams[c].camera.cx(), cams[c].camera.cy(),
+                            job.defocus.enabled() ? AxialDistance(*defocus_rays[c], view.range) : view.range, view.rgb,
                             &invalid, job.options.num_threads);
         }
         WriteView(layout, job.extras, cams[c].name, frame.name, view);

@@ -52,7 +52,7 @@ const SensorPreset& FindSensorPreset(const std::string& name);
 void JpegRoundTrip(ImageU8& rgb, int quality, const ImageU8* invalid = nullptr);
 
 // Every sensor stage on one rendered view, in place: photometry (when `photometric`), defocus (when
-// `defocus.enabled()`; `fx_px`, `cx`, `cy` the camera's, `range` its depth image), noise, JPEG (when
+// `defocus.enabled()`; `fx_px`, `cx`, `cy` the camera's, `range` its AxialDistance), noise, JPEG (when
 // `jpeg_quality` > 0). With everything off the bytes are untouched; without defocus the photometry
 // is ApplyPhotometry's, byte for byte.
 struct SensorStages {
