@@ -15,12 +15,19 @@ using exports_internal::Num;
 
 namespace {
 
-// COLMAP's intrinsics of `cam`: model name and parameters, the centre of the top-left pixel at
-// (0.5, 0.5) where rigsim has it at (0, 0).
+// COLMAP puts the centre of the top-left pixel at (0.5, 0.5) where rigsim has it at (0, 0): its
+// principal point is rigsim's plus this.
+constexpr double kColmapPixelCentreShift = 0.5;
+
+// Whether a quaternion read from a model's text is a rotation: within a factor of 2 of unit length
+// (Rigid3d normalises it), so that rounding passes and a zero or a typo does not.
+bool NearUnitQuaternion(const Eigen::Quaterniond& q) { return q.norm() > 0.5 && q.norm() < 2.0; }
+
+// COLMAP's intrinsics of `cam`: model name and parameters.
 std::vector<double> ColmapParams(const Camera& cam) {
   std::vector<double> p = cam.params();
-  p[2] += 0.5;
-  p[3] += 0.5;
+  p[2] += kColmapPixelCentreShift;
+  p[3] += kColmapPixelCentreShift;
   return p;
 }
 
@@ -190,7 +197,7 @@ std::vector<ColmapImage> ReadColmapImages(const std::filesystem::path& images_tx
                                ": not an image line (IMAGE_ID QW QX QY QZ TX TY TZ CAMERA_ID NAME)");
     }
     const Eigen::Quaterniond q(qw, qx, qy, qz);
-    if (!(q.norm() > 0.5 && q.norm() < 2.0)) {
+    if (!NearUnitQuaternion(q)) {
       throw std::runtime_error(images_txt.string() + ":" + std::to_string(line_number) + ": the rotation is not a unit quaternion");
     }
     image.cam_from_world = Rigid3d(q, Eigen::Vector3d(tx, ty, tz));
@@ -301,8 +308,8 @@ Camera CameraFromColmap(const ColmapCamera& c) {
     }
     std::vector<double> params;
     for (int k : m.from) params.push_back(k < 0 ? 0.0 : c.params[k]);
-    params[2] -= 0.5;  // COLMAP's pixel centres are rigsim's plus 0.5
-    params[3] -= 0.5;
+    params[2] -= kColmapPixelCentreShift;
+    params[3] -= kColmapPixelCentreShift;
     return Camera(m.model, c.width, c.height, params);
   }
   std::string names;
@@ -339,8 +346,8 @@ std::vector<ColmapRig> ReadColmapRigs(const std::filesystem::path& rigs_txt) {
             throw fail("sensor " + std::to_string(k + 1) + ": its pose is not QW QX QY QZ TX TY TZ");
           }
           const Eigen::Quaterniond q(qw, qx, qy, qz);
-          if (!(q.norm() > 0.5 && q.norm() < 2.0)) throw fail("sensor " + std::to_string(k + 1) + ": the rotation is not a unit quaternion");
-          sensor.sensor_from_rig = Rigid3d(q.normalized(), Eigen::Vector3d(tx, ty, tz));
+          if (!NearUnitQuaternion(q)) throw fail("sensor " + std::to_string(k + 1) + ": the rotation is not a unit quaternion");
+          sensor.sensor_from_rig = Rigid3d(q, Eigen::Vector3d(tx, ty, tz));
         }
       }
       rig.sensors.push_back(std::move(sensor));
