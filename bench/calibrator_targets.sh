@@ -62,7 +62,11 @@ import json, sys
 scratch, rigs = sys.argv[1], sys.argv[2:]
 targets = {"plaza", "surround", "wide", "ring8x45", "demo640"}
 total = {}
-print(f"{'rig':10} {'mode':5} {'posed':>6} {'within':>7} {'outside':>8} {'bad pairs':>9}  statuses")
+def overconfident(c):  # off by more than 3 stated standard deviations (rigsim evaluate's rule)
+    def beyond(err, sd): return err is not None and sd is not None and err > 3 * sd
+    return c["calibrated"] and (beyond(c.get("rotation_error_deg"), c.get("rotation_std_deg")) or
+                                beyond(c.get("translation_direction_error_deg"), c.get("direction_std_deg")))
+print(f"{'rig':10} {'mode':5} {'posed':>6} {'within':>7} {'outside':>8} {'bad pairs':>9} {'overconf':>8}  statuses")
 for rig in rigs:
     ev = json.load(open(f"{scratch}/{rig}/data/calibration/evaluation.json"))
     for mode, m in ev["methods"].items():
@@ -71,11 +75,12 @@ for rig in rigs:
         within = sum(c["within_tolerance"] is True for c in cams)
         outside = sum(c["calibrated"] and c["within_tolerance"] is False for c in cams)
         bad = sum(1 for p in m["pairs"] if p.get("success") and (p.get("rotation_error_deg") or 0) > 2)
+        over = sum(overconfident(c) for c in cams)
         st = "; ".join(f"{c['name']}: {c['status'][:60]}" for c in cams if not c["calibrated"])
-        print(f"{rig:10} {mode:5} {posed:>3}/{len(cams):<2} {within:>7} {outside:>8} {bad:>9}  {st}")
+        print(f"{rig:10} {mode:5} {posed:>3}/{len(cams):<2} {within:>7} {outside:>8} {bad:>9} {over:>8}  {st}")
         if rig in targets:
-            t = total.setdefault(mode, [0, 0, 0, 0, 0])
-            for i, v in enumerate((posed, within, outside, bad, len(cams))): t[i] += v
-for mode, (posed, within, outside, bad, n) in total.items():
-    print(f"targets {mode}: {posed}/{n} posed ({100*posed/n:.0f}%), {within} within tolerance, {outside} posed outside it, {bad} pairs marked success > 2 deg")
+            t = total.setdefault(mode, [0, 0, 0, 0, 0, 0])
+            for i, v in enumerate((posed, within, outside, bad, len(cams), over)): t[i] += v
+for mode, (posed, within, outside, bad, n, over) in total.items():
+    print(f"targets {mode}: {posed}/{n} posed ({100*posed/n:.0f}%), {within} within tolerance, {outside} posed outside it, {bad} pairs marked success > 2 deg, {over} overconfident")
 EOF

@@ -256,6 +256,7 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
                   {"scale", ScaleText(r)},
                   {"reprojection_rms_px", r.reprojection_rms_px},
                   {"initial_reprojection_rms_px", r.initial_reprojection_rms_px},
+                  {"residual_correlation", r.residual_correlation},
                   {"tracks", r.num_tracks},
                   {"conflicting_tracks", r.num_conflicting_tracks},
                   {"points", r.num_points},

@@ -208,7 +208,13 @@ std::string FormatRigSummary(const CalibrationRun& run) {
     }
     if (r.num_observations > 0) {
       out << ", reprojection RMS " << Fmt("%.2f px", r.reprojection_rms_px) << " over " << r.num_observations
-          << " observations; ";
+          << " observations";
+      // The stated deviations count the residuals of one image region as moving together.
+      if (r.residual_correlation > 1.1) {
+        out << " (residuals of one image region move together: deviations x"
+            << Fmt("%.1f", std::sqrt(r.residual_correlation)) << ")";
+      }
+      out << "; ";
     } else {
       out << ", no bundle adjustment (no camera joined " << (r.rig.cameras.empty() ? "" : r.rig.cameras[0].name)
           << "); ";

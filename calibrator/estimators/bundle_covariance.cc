@@ -143,4 +143,27 @@ PerCamera<Eigen::Matrix3d> CentreCovariances(ceres::Problem& problem, const Redu
   return out;
 }
 
+double CorrelatedResidualFactor(const std::vector<LocatedResidual>& residuals) {
+  // A grid needs enough regions for its sum to mean anything: over K regions the factor of
+  // independent residuals scatters by sqrt(1 / K) about 1 (both coordinates pooled).
+  constexpr int kMinRegions = 20;
+  double factor = 1.0;
+  for (const int cells : {2, 4, 8}) {
+    // Region -> summed residual; std::map keeps the sums in one order on every machine.
+    std::map<std::pair<int, int>, Eigen::Vector2d> sums;
+    double squares = 0.0;
+    for (const LocatedResidual& r : residuals) {
+      const int cx = std::clamp(static_cast<int>(std::floor(r.position.x() * cells)), 0, cells - 1);
+      const int cy = std::clamp(static_cast<int>(std::floor(r.position.y() * cells)), 0, cells - 1);
+      sums.try_emplace({r.view, cy * cells + cx}, Eigen::Vector2d::Zero()).first->second += r.residual_px;
+      squares += r.residual_px.squaredNorm();
+    }
+    if (static_cast<int>(sums.size()) < kMinRegions || !(squares > 0)) continue;
+    double clustered = 0.0;
+    for (const auto& [region, sum] : sums) clustered += sum.squaredNorm();
+    factor = std::max(factor, clustered / squares);
+  }
+  return factor;
+}
+
 }  // namespace rigsim

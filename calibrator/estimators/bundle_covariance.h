@@ -39,4 +39,22 @@ PerCamera<Eigen::Matrix3d> CentreCovariances(ceres::Problem& problem, const Redu
 PerCamera<double> RotationStdDevsDeg(ceres::Problem& problem, const ReducedCovariance& reduced,
                                      const std::vector<Eigen::Vector4d>& cq, double variance);
 
+// One reprojection residual of the adjustment and where in which image it lies.
+struct LocatedResidual {
+  int view = 0;                                      // any id unique to its image (camera and frame)
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();  // in its image, as fractions of width and height
+  Eigen::Vector2d residual_px = Eigen::Vector2d::Zero();
+};
+
+// How many residuals count as one independent residual: the covariance above treats every
+// residual as independent, but a lens model that does not quite fit, a keypoint detector's bias on
+// one texture, or an image's own small motion move the residuals of one image region together, and
+// the poses are then known only as well as the regions agree. The factor is the design effect of
+// cluster sampling, sum over regions of |sum of residuals|^2 over the sum of |residual|^2: about 1
+// for independent residuals, up to a region's size when they move as one. Regions are the cells of
+// a 2x2, 4x4 and 8x8 grid over each image, each grid counted when it has 20 regions with residuals
+// or more; the largest factor is returned (at least 1), so that whichever scale the errors share,
+// the variance covers it.
+double CorrelatedResidualFactor(const std::vector<LocatedResidual>& residuals);
+
 }  // namespace rigsim

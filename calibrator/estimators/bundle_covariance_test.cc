@@ -117,5 +117,39 @@ TEST(RotationStdDevsDeg, IsTheAngleOfTheRotationNotOfTheQuaternion) {
   EXPECT_NEAR(*std_deg[0], kScale / std::sqrt(kObservations) * 180.0 / M_PI, 1e-9);
 }
 
+// 64 residuals in each of the 64 cells of an 8x8 grid over each of 3 images, with noise of 0.3 px
+// and, per cell, a shared offset of `shared_px` (scaled by a fixed draw per cell).
+std::vector<LocatedResidual> CellResiduals(double shared_px, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> unit(0, 1);
+  std::uniform_real_distribution<double> within(0, 1);
+  std::vector<LocatedResidual> out;
+  for (int view = 0; view < 3; ++view) {
+    for (int cell = 0; cell < 64; ++cell) {
+      const Eigen::Vector2d shared(shared_px * unit(rng), shared_px * unit(rng));
+      for (int i = 0; i < 64; ++i) {
+        const Eigen::Vector2d at((cell % 8 + within(rng)) / 8, (cell / 8 + within(rng)) / 8);
+        out.push_back({view, at, shared + Eigen::Vector2d(0.3 * unit(rng), 0.3 * unit(rng))});
+      }
+    }
+  }
+  return out;
+}
+
+TEST(CorrelatedResidualFactor, IsAboutOneForIndependentResiduals) {
+  const double factor = CorrelatedResidualFactor(CellResiduals(0.0, 5));
+  EXPECT_GE(factor, 1.0);
+  EXPECT_LT(factor, 1.3);
+  EXPECT_EQ(CorrelatedResidualFactor({}), 1.0);
+}
+
+// Residuals that share an offset per cell count as far fewer independent ones: with a shared
+// offset as large as the noise, the factor is (64 * 0.09 + 0.09) / (0.09 + 0.09), about 32.
+TEST(CorrelatedResidualFactor, GrowsWithTheErrorTheResidualsOfARegionShare) {
+  const double half = CorrelatedResidualFactor(CellResiduals(0.3, 5));
+  EXPECT_GT(half, 20.0);
+  EXPECT_GT(CorrelatedResidualFactor(CellResiduals(0.6, 5)), half);
+}
+
 }  // namespace
 }  // namespace rigsim

@@ -298,6 +298,23 @@ struct BundleProblem {
   }
 
   // Every observation's reprojection error (px); behind the camera counts as infinite.
+  // Every observation's reprojection residual with its view and place in the image
+  // (CorrelatedResidualFactor); observations that do not project are left out.
+  std::vector<LocatedResidual> LocatedResiduals(const std::vector<WorldPoint>& points) const {
+    std::vector<LocatedResidual> out;
+    const int num_frames = static_cast<int>(keypoints.size());
+    for (const WorldPoint& p : points) {
+      for (const ViewObservation& o : p.observations) {
+        const auto px = cameras[o.camera].ImgFromCam(ViewPose(o) * p.x);
+        if (!px) continue;
+        const Camera& cam = cameras[o.camera];
+        const Eigen::Vector2d at(Observed(o).x() / cam.width(), Observed(o).y() / cam.height());
+        out.push_back({o.camera * num_frames + o.frame, at, *px - Observed(o)});
+      }
+    }
+    return out;
+  }
+
   std::vector<double> Residuals(const std::vector<WorldPoint>& points) const {
     std::vector<double> out;
     for (const WorldPoint& p : points) {
@@ -347,6 +364,7 @@ struct BundleRoundResult {
   PerCamera<double> rotation_stddev_deg;
   std::vector<std::vector<double>> intrinsics_stddev;  // per camera; empty when not refined
   PerCamera<double> time_offset_stddev_s, readout_stddev_s;  // per camera, where estimated
+  double residual_correlation = 1.0;  // CorrelatedResidualFactor, by which the variance was scaled
 };
 
 // One Levenberg-Marquardt solve over the points (every `point_stride`-th) and the poses they see,
@@ -467,7 +485,9 @@ void ReadCovariances(BundleProblem& bp, const std::vector<WorldPoint>& points, c
   for (Eigen::Vector2d& t : bp.time) pose_blocks.push_back(t.data());
   const ReducedCovariance reduced = PoseCovariance(problem, pose_blocks);
   const double rms_px = bp.RmsPx(points);
-  const double variance = 0.5 * rms_px * rms_px;  // per image coordinate
+  // Per image coordinate, and as many times that as the residuals of one image region move together.
+  out.residual_correlation = CorrelatedResidualFactor(bp.LocatedResiduals(points));
+  const double variance = 0.5 * rms_px * rms_px * out.residual_correlation;
   // Observations weighed up (inter_camera_weight) are no more precise than the others: the
   // covariance of what they alone fix is scaled back, and of the rest over-stated (the safe side).
   out.centre_covariance = CentreCovariances(problem, reduced, bp.cq, bp.ct, variance * options.inter_camera_weight);
@@ -650,6 +670,7 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
           result.rotation_stddev_deg = std::move(solved.rotation_stddev_deg);
           result.time_offset_stddev_s = std::move(solved.time_offset_stddev_s);
           result.readout_stddev_s = std::move(solved.readout_stddev_s);
+          result.residual_correlation = solved.residual_correlation;
           if (refine) result.intrinsics_stddev = std::move(solved.intrinsics_stddev);
         }
         break;

@@ -142,6 +142,9 @@ struct MultiFrameBundleAdjustmentResult {
   // the standard deviations of the estimated ones from the covariance (nullopt where held).
   std::vector<Eigen::Vector2d> timing;
   PerCamera<double> time_offset_stddev_s, readout_stddev_s;
+  // The factor by which every variance above was scaled for residuals that move together by image
+  // region (bundle_covariance.h CorrelatedResidualFactor); 1 without covariances.
+  double residual_correlation = 1.0;
   // With RigBundleAdjustmentOptions::keep_points only: the final solve's points (world frame) and
   // how many views see each, and the reprojection error (px) of every observation triangulated
   // from the initial poses (before any solve) and of every observation kept at the end.

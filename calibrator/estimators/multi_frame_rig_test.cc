@@ -1,5 +1,6 @@
 #include "calibrator/estimators/multi_frame_rig.h"
 
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <utility>
@@ -103,6 +104,49 @@ TEST(MultiFrameRig, ChainRingIsDeterminedByTheRigMotion) {
   std::printf("eigenvalue ratio %.1f\n", r.position_eigenvalue_ratio);
   std::printf("RMS %.3f px (initial %.3f), %d points, %d tracks, %d conflicting\n", r.reprojection_rms_px,
               r.initial_reprojection_rms_px, r.num_points, r.num_tracks, r.num_conflicting_tracks);
+}
+
+// A lens model that does not quite fit moves the keypoints of one image region together: here each
+// camera's keypoints are pushed outwards by up to 3 px toward the corners (a radial term the model
+// lacks). The poses then carry an error no count of independent residuals explains; the stated
+// deviations must still cover it (no camera off by more than 3 of them), because the covariance
+// counts the residuals of a region as moving together.
+TEST(MultiFrameRig, StatedDeviationsCoverTheErrorOfALensThatDoesNotFit) {
+  ChainRing s = MakeChainRing(3, 20240605u);
+  for (auto& frame : s.observations.keypoints) {
+    for (size_t c = 0; c < frame.size(); ++c) {
+      const Camera& cam = s.observations.cameras[c];
+      const Eigen::Vector2d centre(0.5 * cam.width(), 0.5 * cam.height());
+      const double corner = centre.squaredNorm();
+      for (Eigen::Vector2d& px : frame[c]) {
+        const Eigen::Vector2d off = px - centre;
+        if (off.norm() > 0) px += 3.0 * off.normalized() * (off.squaredNorm() / corner);
+      }
+    }
+  }
+  const RigCalibrationResult r = EstimateRig(s.observations, {});
+  const std::vector<CameraErrors> errors = ErrorsAgainst(s.truth, r);
+  EXPECT_GT(r.residual_correlation, 3.0);
+  int stated = 0;
+  for (int c = 1; c < 4; ++c) {
+    if (!r.rig.cameras[c].cam_from_rig) continue;
+    const RigCameraStats& stats = r.camera_stats[c];
+    if (stats.rotation_std_deg) {
+      ++stated;
+      EXPECT_LT(*errors[c].rotation_error_deg, 3 * *stats.rotation_std_deg) << c;
+    }
+    if (stats.direction_std_deg && errors[c].direction_error_deg) {
+      ++stated;
+      EXPECT_LT(*errors[c].direction_error_deg, 3 * *stats.direction_std_deg) << c;
+    }
+    // What the deviations would be if every residual counted as independent.
+    const double independent = 1 / std::sqrt(r.residual_correlation);
+    std::printf("cam%d rot %.4f deg (std %.4f, independent %.4f)  dir %.4f deg (std %.4f, independent %.4f)\n", c,
+                *errors[c].rotation_error_deg, stats.rotation_std_deg.value_or(0.0),
+                independent * stats.rotation_std_deg.value_or(0.0), errors[c].direction_error_deg.value_or(0.0),
+                stats.direction_std_deg.value_or(0.0), independent * stats.direction_std_deg.value_or(0.0));
+  }
+  EXPECT_GE(stated, 4);
 }
 
 TEST(MultiFrameRig, KnownDistanceGivesMetricPositions) {

@@ -719,6 +719,7 @@ std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, 
   result.position_starts = adjusted.starts;
   result.initial_reprojection_rms_px = ba.initial_rms_px;
   result.reprojection_rms_px = ba.reprojection_rms_px;
+  result.residual_correlation = ba.residual_correlation;
   result.num_points = ba.num_points;
   result.num_observations = ba.num_observations;
   result.num_filtered_observations = ba.num_filtered_observations;

@@ -131,6 +131,9 @@ struct RigCalibrationResult {
   std::vector<std::string> warnings;
   double initial_reprojection_rms_px = 0.0;
   double reprojection_rms_px = 0.0;
+  // How many residuals of one image region count as one independent residual in the stated
+  // deviations (bundle_covariance.h CorrelatedResidualFactor): 1 when they scatter independently.
+  double residual_correlation = 1.0;
   int num_tracks = 0;
   int num_conflicting_tracks = 0;  // dropped: two keypoints of one camera
   int num_points = 0;
