@@ -502,6 +502,14 @@ TEST_F(CalibrateIo, MasksHideTheirCamerasFeaturesInEveryModeAndAreRecorded) {
     EXPECT_NEAR(mean_masked * 8 + removed, mean_plain * 8, 1e-6);
     EXPECT_EQ(ReadJson(dir_ / "masked" / mode / "pairs.json")["masks"], mj["folder"]);
   }
+  // Another thread count: the same estimate.
+  with.insert(with.end(), {"--threads", "1"});
+  const CliResult one_thread = Calibrate(with, dir_ / "one_thread");
+  ASSERT_EQ(one_thread.code, 3) << one_thread.err;
+  for (const std::string mode : {"none", "mask+gated"}) {
+    EXPECT_EQ(ReadFile(dir_ / "masked" / mode / "rig.json"), ReadFile(dir_ / "one_thread" / mode / "rig.json")) << mode;
+  }
+  EXPECT_EQ(ReadJson(dir_ / "one_thread" / "evaluation.json")["masks"], mj);
 }
 
 TEST_F(CalibrateIo, BadMasksFailNamingTheFileAndLeaveNothing) {

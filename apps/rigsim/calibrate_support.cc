@@ -192,11 +192,12 @@ void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& s) {
 
 void AddMaskOption(CLI::App& cmd, CalibrateSettings& s) {
   cmd.add_option("--mask", s.mask,
-                 "DIR: hide what moves with the rig, its own vehicle (hood, body, mounts): DIR/<camera>.png\n"
+                 "hide what moves with the rig, its own vehicle (hood, body, mounts): DIR/<camera>.png\n"
                  "per camera, the camera's image size, applied to every frame in every semantic mode; no\n"
                  "feature is kept where the mask is black (0), anything else is used (COLMAP's convention;\n"
                  "grey or RGB(A), alpha ignored). A camera without a mask is not masked (with a warning).\n"
-                 "evaluation.json's masks says what each mask hid and how many keypoints it removed");
+                 "evaluation.json's masks says what each mask hid and how many keypoints it removed")
+      ->type_name("DIR");
 }
 
 OutputFolderRequest CalibrationOutputFolder(const std::filesystem::path& dataset, const CalibrateSettings& settings,
