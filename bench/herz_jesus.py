@@ -106,11 +106,12 @@ def build_folder(data, folder):
     (folder / "rig.json").write_text(json.dumps({"cameras": cameras}, indent=2) + "\n")
 
 
-def run_once(rigsim, folder, threads):
+def run_once(rigsim, folder, threads, extra_args=()):
     out = folder / "calibration"
     cmd = [str(rigsim), "calibrate", str(folder), "--semantics", "none", "--force"]
     if threads:
         cmd += ["--threads", str(threads)]
+    cmd += list(extra_args)
     start = time.monotonic()
     proc = subprocess.run(cmd, capture_output=True, text=True)
     wall = time.monotonic() - start
@@ -147,27 +148,29 @@ def summarise(wall, ev, stdout):
           f"direction {fmt(max(tdir_k) if tdir_k else None, '.3f')} deg")
 
 
-def parse_arguments(description, data_help, default_work, default_runs):
-    """The command line both real-data benchmarks share."""
+def parse_arguments(description, data_help, default_work, default_runs, add_arguments=None):
+    """The command line both real-data benchmarks share; add_arguments(parser) adds a data set's own."""
     ap = argparse.ArgumentParser(description=description)
     ap.add_argument("data", type=Path, help=data_help)
     ap.add_argument("--rigsim", type=Path, default=Path(__file__).resolve().parent.parent / "build/apps/rigsim/rigsim")
     ap.add_argument("--work", type=Path, default=default_work, help="scratch folder (replaced)")
     ap.add_argument("--runs", type=int, default=default_runs)
     ap.add_argument("--threads", type=int, default=0, help="calibrate --threads (0: all cores)")
+    if add_arguments:
+        add_arguments(ap)
     a = ap.parse_args()
     if not a.rigsim.exists():
         sys.exit(f"{a.rigsim}: no rigsim binary (build first, or give --rigsim)")
     return a
 
 
-def run_benchmark(a, build_folder, after_run=None):
-    """Builds the photo folder, calibrates it a.runs times, prints each run and the wall times;
-    after_run(evaluation) adds what a data set has to say of a run."""
+def run_benchmark(a, build_folder, after_run=None, extra_args=()):
+    """Builds the photo folder, calibrates it a.runs times (with calibrate's `extra_args`), prints
+    each run and the wall times; after_run(evaluation) adds what a data set has to say of a run."""
     build_folder(a.data, a.work)
     walls = []
     for i in range(a.runs):
-        wall, ev, stdout, cmd = run_once(a.rigsim, a.work, a.threads)
+        wall, ev, stdout, cmd = run_once(a.rigsim, a.work, a.threads, extra_args)
         if i == 0:
             print("$ " + " ".join(cmd))
         print(f"run {i + 1}:")

@@ -399,6 +399,32 @@ Json IntrinsicsErrorJson(const CalibrationRun& run) {
           {"cameras", cameras}};
 }
 
+Json RigMasksJson(const CalibrationRun& run) {
+  if (!run.options.masks) return nullptr;
+  const RigMasks& masks = *run.options.masks;
+  // ORB spends its budget inside the mask and finds nothing under it to count (FeatureSet).
+  const bool counted = run.options.features.type != FeatureType::kOrb;
+  Json cameras = Json::array();
+  for (size_t c = 0; c < run.inputs.rig.cameras.size(); ++c) {
+    const std::string& name = run.inputs.rig.cameras[c].name;
+    const CameraMask* m = masks.Of(name);
+    Json removed = Json::object();
+    for (size_t k = 0; k < run.results.size() && k < run.records.size(); ++k) {
+      const std::vector<int>& r = run.records[k].removed_by_mask;
+      removed[run.results[k].semantic_mode] = m && counted && c < r.size() ? Json(r[c]) : Json(nullptr);
+    }
+    cameras.push_back({{"name", name},
+                       {"file", m ? Json(fs::absolute(m->file).lexically_normal().string()) : Json(nullptr)},
+                       {"hidden_percent", m ? Json(100.0 * m->hidden_fraction) : Json(nullptr)},
+                       {"features_removed", removed}});
+  }
+  return {{"folder", fs::absolute(masks.folder).lexically_normal().string()},
+          {"meaning", "each camera's <camera>.png, applied to every frame in every semantic mode: no feature is "
+                      "kept where it is black (0); features_removed: keypoints found under the mask and dropped, "
+                      "summed over the frames (null for orb, which detects inside the mask only)"},
+          {"cameras", cameras}};
+}
+
 Json EvaluationJson(const CalibrationRun& run) {
   Json methods = Json::object();
   for (size_t m = 0; m < run.results.size(); ++m) {
@@ -409,6 +435,7 @@ Json EvaluationJson(const CalibrationRun& run) {
   }
   Json out = {{"methods", methods}, {"features", std::string(FeatureTypeName(run.options.features.type))}};
   if (run.options.intrinsics_error.Enabled()) out["intrinsics_error"] = IntrinsicsErrorJson(run);
+  if (run.options.masks) out["masks"] = RigMasksJson(run);
   return out;
 }
 

@@ -63,8 +63,11 @@ nlohmann::json IntrinsicsErrorJson(const CalibrationRun& run);
 
 // evaluation.json without "label_source" and the "outputs" records: per method the pairwise
 // report with the rig result of the same method under "rig", and "intrinsics_error" when the
-// calibrator was given intrinsics with an error.
+// calibrator was given intrinsics with an error, "masks" when the rig's masks were used.
 nlohmann::json EvaluationJson(const CalibrationRun& run);
+// evaluation.json's "masks" (present only with them): the folder, per camera its mask file, the
+// share of the image it hides and, per mode, the keypoints it removed; null without masks.
+nlohmann::json RigMasksJson(const CalibrationRun& run);
 
 // The rig stage's edge of a pairwise pair (same camera names), nullptr when it has none.
 const RigEdgeStats* RigEdgeOf(const RigCalibrationResult& result, const PairResult& pair);

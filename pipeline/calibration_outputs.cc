@@ -229,7 +229,9 @@ std::vector<std::string> WriteCalibrationResults(const CalibrationRun& run, cons
     fs::create_directories(mode_dir);
     WriteEstimateRig(EstimatedRig(r), GaugeOf(r), mode_dir / "rig.json");
     WriteFrames(EstimatedFrames(r, run.inputs.frames), mode_dir / "frames.json");
-    json_io::WriteTextAtomic(mode_dir / "pairs.json", PairsJson(run, m, evaluation["label_source"]).dump(2) + "\n");
+    Json pairs = PairsJson(run, m, evaluation["label_source"]);
+    if (evaluation.contains("masks")) pairs["masks"] = evaluation["masks"]["folder"];
+    json_io::WriteTextAtomic(mode_dir / "pairs.json", pairs.dump(2) + "\n");
     Json& outputs = evaluation["methods"][r.semantic_mode]["outputs"];
     outputs = WriteExports(r, run.inputs, mode_dir, &notes);
     for (const std::string& file :

@@ -114,6 +114,10 @@ CalibrationPlan PlanCalibration(const CalibrationRequest& request, const std::fu
   CheckReplaceableOutput(plan.out);
   plan.inputs = ReadCalibrationInputs(request.dataset);
   for (const std::string& w : plan.inputs.warnings) warn(w);
+  if (!request.mask_dir.empty()) {
+    plan.options.masks = std::make_shared<const RigMasks>(
+        ReadRigMasks(request.mask_dir, plan.inputs.rig, DatasetLayout(request.dataset).RigJson(), warn));
+  }
   CheckKnownDistance(plan.inputs, plan.options);
   CheckCaptureTimeOptions(plan.inputs, plan.options);
   if (plan.segmenter) plan.photos = PhotosToSegment(request.dataset);

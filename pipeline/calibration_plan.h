@@ -39,6 +39,9 @@ struct CalibrationRequest {
   std::filesystem::path segmenter_model;
   std::function<SegmenterOptions()> segmenter_options;
   OutputFolderRequest out;  // checked before anything is read
+  // The rig's own vehicle hidden in every mode: a folder of <camera>.png masks (rig_masks.h), or
+  // empty for none.
+  std::filesystem::path mask_dir;
 };
 
 // A request with every input read and checked.
@@ -55,7 +58,8 @@ struct CalibrationPlan {
 };
 
 // Resolves the modes against the dataset's labels, loads the network, checks the output folder,
-// reads the inputs and checks the options against them: the known distance (CheckKnownDistance),
+// reads the inputs and the rig's masks (ReadRigMasks, into options.masks) and checks the options
+// against them: the known distance (CheckKnownDistance),
 // capture times estimated only from frames at distinct times and not with refined intrinsics. Warnings go to
 // `warn` as they arise, before an error that follows them. Throws std::invalid_argument on options
 // that do not fit the inputs, std::runtime_error naming the file on input that cannot be used.

@@ -165,7 +165,7 @@ CalibrationRun CalibrateChecked(const CalibrationInputs& inputs, const Calibrati
   const int num_threads = options.rig.pairwise.num_threads;
   const ParallelScope parallel(num_threads);
   const FeatureCache features(DatasetLayout(inputs.dataset_dir), rig, inputs.frames, photos, modes, options.features,
-                              options.reliable.Ids(), options.labels, num_threads);
+                              options.reliable.Ids(), options.labels, num_threads, options.masks.get());
 
   // The modes side by side: each one's stages run in parallel too, and a mode's result does not
   // depend on the others'.
@@ -190,6 +190,7 @@ CalibrationRun CalibrateChecked(const CalibrationInputs& inputs, const Calibrati
     r = CalibrateRig(views, o, &matches[m]);
     r.semantic_mode = std::string(SemanticModeName(modes[m]));
     run.records[m].detect_time_s = features.DetectTimeS(modes[m]);
+    if (options.masks) run.records[m].removed_by_mask = features.RemovedByMask(modes[m]);
     run.records[m].inlier_samples = InlierSamples(inputs.rig, r.pairwise, matches[m]);
   });
 

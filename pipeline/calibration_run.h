@@ -9,6 +9,7 @@
 
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -26,6 +27,7 @@
 #include "labels/cityscapes.h"
 #include "pipeline/calibration_scores.h"
 #include "pipeline/intrinsics_error.h"
+#include "pipeline/rig_masks.h"
 
 namespace rigsim {
 
@@ -77,6 +79,9 @@ struct CalibrationRunOptions {
   // intrinsics above (rig.json's or the given ones) with a seeded error of relative size E before
   // the calibrator sees them; the truth stays rig.json's. 0: none, the run is as without it.
   IntrinsicsErrorOptions intrinsics_error;
+  // The rig's own vehicle hidden from detection in every mode (`calibrate --mask DIR`, read and
+  // checked by ReadRigMasks); null: none.
+  std::shared_ptr<const RigMasks> masks;
   // Compare with the truth when rig.json has every cam_from_rig (calibration_scores.h), with
   // match precision against the range images where depth/ has them.
   bool evaluate = true;
@@ -110,6 +115,8 @@ struct PairInlierSample {
 // What the pipeline measured around one semantic mode's calibration.
 struct ModeRecord {
   double detect_time_s = 0.0;  // the mode's features, summed over the images
+  // Per camera, the keypoints its mask removed (FeatureCache::RemovedByMask); empty without masks.
+  std::vector<int> removed_by_mask;
   // Per camera pair with two-view inliers (the pairwise report's order, failed pairs left out).
   std::vector<PairInlierSample> inlier_samples;
   // Against the truth (CalibrationRunOptions::evaluate, rendered data); nullopt without it.

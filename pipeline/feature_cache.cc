@@ -7,7 +7,8 @@ namespace rigsim {
 FeatureCache::FeatureCache(const DatasetLayout& layout, const Rig& rig, const FramesFile& frames,
                            const std::vector<std::filesystem::path>& image_paths, const std::vector<SemanticMode>& modes,
                            const FeatureOptions& features, const LabelIdSet& reliable, const LabelSource& labels,
-                           int num_threads) {
+                           int num_threads, const RigMasks* masks)
+    : num_cameras_(static_cast<int>(rig.cameras.size())), num_frames_(static_cast<int>(frames.frames.size())) {
   bool need_kind[2] = {false, false};
   bool need_labels = false;
   for (SemanticMode m : modes) {
@@ -21,12 +22,17 @@ FeatureCache::FeatureCache(const DatasetLayout& layout, const Rig& rig, const Fr
     kinds.push_back(k);
     detect_only_on.push_back(k == 1 ? &reliable : nullptr);
   }
-  const int num_frames = static_cast<int>(frames.frames.size());
+  const int num_frames = num_frames_;
+  std::vector<const ImageU8*> rig_mask(rig.cameras.size(), nullptr);
+  for (size_t c = 0; masks != nullptr && c < rig.cameras.size(); ++c) {
+    if (const CameraMask* m = masks->Of(rig.cameras[c].name)) rig_mask[c] = &m->keep;
+  }
   const auto load = [&](int image) {
     const int cam = image / num_frames, frame = image % num_frames;
     const RigCamera& rc = rig.cameras[cam];
     LabelledImage out;
     out.rgb = ReadImageU8(image_paths[image], 3);
+    out.rig_mask = rig_mask[cam];
     // Checks size and Cityscapes ids or colours; names the file.
     if (need_labels) {
       out.labels = LoadLabels(labels, layout, rc.name, frames.frames[frame].name, rc.camera.width(), rc.camera.height());
@@ -46,6 +52,13 @@ double FeatureCache::DetectTimeS(SemanticMode m) const {
   double sum = 0.0;
   for (double t : time_s_[Kind(m)]) sum += t;
   return sum;
+}
+
+std::vector<int> FeatureCache::RemovedByMask(SemanticMode m) const {
+  std::vector<int> removed(num_cameras_, 0);
+  const std::vector<FeatureSet>& f = features_[Kind(m)];
+  for (size_t v = 0; v < f.size() && num_frames_ > 0; ++v) removed[v / num_frames_] += f[v].removed_by_mask;
+  return removed;
 }
 
 }  // namespace rigsim

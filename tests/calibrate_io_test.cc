@@ -12,6 +12,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <set>
 #include <sstream>
 #include <string>
@@ -438,6 +439,101 @@ TEST_F(CalibrateIo, BadLabelSourcesFailNamingTheFileAndLeaveNothing) {
   ExpectCalibrateFails({"--labels", (dir_ / "nowhere").string()}, (dir_ / "nowhere").string(), "no such label folder");
   ExpectCalibrateFails({"--label-noise-boundary", "2"}, "", "--label-noise-boundary needs --labels noisy");
   ExpectCalibrateFails({"--labels", "noisy", "--label-noise-confusion", "1.5"}, "", "--label-noise-confusion");
+}
+
+// A mask of the fixture's image size hiding the rows from `hidden_from_row` down (a hood).
+ImageU8 HoodMask(int hidden_from_row, int width = 320, int height = 240) {
+  ImageU8 m(width, height, 1, 255);
+  for (int y = hidden_from_row; y < height; ++y) {
+    for (int x = 0; x < width; ++x) m.at(x, y) = 0;
+  }
+  return m;
+}
+
+// --mask hides the lower half of cam0 and cam1 in every mode: what each mask removed is in
+// evaluation.json, and it is exactly what the mean number of keypoints per image lost against a
+// run without masks; cam2 and back have no mask, which the run says.
+TEST_F(CalibrateIo, MasksHideTheirCamerasFeaturesInEveryModeAndAreRecorded) {
+  const fs::path masks = dir_ / "masks";
+  fs::create_directories(masks);
+  WriteImage(masks / "cam0.png", HoodMask(120));
+  ImageU8 rgb(320, 240, 3, 200);  // colour works too: black hides
+  for (int y = 120; y < 240; ++y) {
+    for (int x = 0; x < 320; ++x) rgb.at(x, y, 0) = rgb.at(x, y, 1) = rgb.at(x, y, 2) = 0;
+  }
+  WriteImage(masks / "cam1.png", rgb);
+  const std::vector<std::string> modes = {"--semantics", "none,mask,gated,mask+gated"};
+  std::vector<std::string> with = modes;
+  with.insert(with.end(), {"--mask", masks.string()});
+  const CliResult masked = Calibrate(with, dir_ / "masked");
+  const CliResult plain = Calibrate(modes, dir_ / "plain");
+  ExpectBackUncalibrated(plain);
+  // Half of two 320x240 views hidden leaves too little to place some cameras: written all the same.
+  ASSERT_EQ(masked.code, 3) << masked.err;
+  EXPECT_NE(masked.err.find("warning: --mask " + masks.string() + " has no mask for cam2, back: their features are not masked"),
+            std::string::npos)
+      << masked.err;
+  const std::string described = "masks: " + masks.string() + " (2 of 4 cameras; cam2, back have none)";
+  EXPECT_NE(masked.out.find(described), std::string::npos) << masked.out;
+  EXPECT_EQ(plain.out.find("masks:"), std::string::npos) << plain.out;
+
+  const json em = ReadJson(dir_ / "masked" / "evaluation.json"), ep = ReadJson(dir_ / "plain" / "evaluation.json");
+  EXPECT_FALSE(ep.contains("masks"));
+  const json& mj = em["masks"];
+  EXPECT_EQ(mj["folder"], fs::absolute(masks).lexically_normal().string());
+  ASSERT_EQ(mj["cameras"].size(), 4u);
+  EXPECT_EQ(mj["cameras"][0]["name"], "cam0");
+  EXPECT_EQ(mj["cameras"][0]["file"], fs::absolute(masks / "cam0.png").lexically_normal().string());
+  EXPECT_DOUBLE_EQ(mj["cameras"][0]["hidden_percent"].get<double>(), 50.0);
+  EXPECT_TRUE(mj["cameras"][2]["file"].is_null());
+  EXPECT_TRUE(mj["cameras"][3]["features_removed"]["none"].is_null());
+  for (const std::string mode : {"none", "mask", "gated", "mask+gated"}) {
+    SCOPED_TRACE(mode);
+    int removed = 0;
+    for (int c = 0; c < 2; ++c) {
+      const int n = mj["cameras"][c]["features_removed"][mode].get<int>();
+      EXPECT_GT(n, 20) << "camera " << c;
+      removed += n;
+    }
+    // 4 cameras x 2 frames; with every keypoint kept (far below --max-features), the masked run
+    // keeps the plain run's keypoints less those the masks removed.
+    const double mean_masked = em["methods"][mode]["summary"]["mean_keypoints_per_image"].get<double>();
+    const double mean_plain = ep["methods"][mode]["summary"]["mean_keypoints_per_image"].get<double>();
+    EXPECT_NEAR(mean_masked * 8 + removed, mean_plain * 8, 1e-6);
+    EXPECT_EQ(ReadJson(dir_ / "masked" / mode / "pairs.json")["masks"], mj["folder"]);
+  }
+  // Another thread count: the same estimate.
+  with.insert(with.end(), {"--threads", "1"});
+  const CliResult one_thread = Calibrate(with, dir_ / "one_thread");
+  ASSERT_EQ(one_thread.code, 3) << one_thread.err;
+  for (const std::string mode : {"none", "mask+gated"}) {
+    EXPECT_EQ(ReadFile(dir_ / "masked" / mode / "rig.json"), ReadFile(dir_ / "one_thread" / mode / "rig.json")) << mode;
+  }
+  EXPECT_EQ(ReadJson(dir_ / "one_thread" / "evaluation.json")["masks"], mj);
+}
+
+TEST_F(CalibrateIo, BadMasksFailNamingTheFileAndLeaveNothing) {
+  ExpectCalibrateFails({"--mask", (dir_ / "nowhere").string()}, "--mask " + (dir_ / "nowhere").string(), "no such folder");
+  int n = 0;
+  // A folder with cam0's good mask and `bad`.
+  const auto folder = [&](const std::function<void(const fs::path&)>& bad) {
+    const fs::path dir = dir_ / ("masks" + std::to_string(n++));
+    fs::create_directories(dir);
+    WriteImage(dir / "cam0.png", HoodMask(120));
+    bad(dir);
+    return dir;
+  };
+  fs::path d = folder([](const fs::path& dir) { WriteImage(dir / "cam3.png", HoodMask(120)); });
+  ExpectCalibrateFails({"--mask", d.string()}, (d / "cam3.png").string(),
+                       "no camera 'cam3' in " + (dataset() / "rig.json").string() + " (did you mean 'cam0'?); its cameras are "
+                       "cam0, cam1, cam2, back");
+  d = folder([](const fs::path& dir) { WriteImage(dir / "cam1.png", HoodMask(100, 320, 200)); });
+  ExpectCalibrateFails({"--mask", d.string()}, (d / "cam1.png").string(),
+                       "the mask is 320x200 but camera cam1's images are 320x240");
+  d = folder([](const fs::path& dir) { WriteFile(dir / "cam2.png", "no image"); });
+  ExpectCalibrateFails({"--mask", d.string()}, (d / "cam2.png").string(), "");
+  d = folder([](const fs::path& dir) { WriteImage(dir / "back.png", HoodMask(0)); });
+  ExpectCalibrateFails({"--mask", d.string()}, (d / "back.png").string(), "the mask is black everywhere");
 }
 
 TEST_F(CalibrateIo, LibraryNamesABadUserLabelImage) {

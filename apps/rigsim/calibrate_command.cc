@@ -36,6 +36,7 @@ void AddCalibrateCommand(CLI::App& app) {
   cmd->add_flag("--force", args->force, "replace an existing output folder");
   AddCalibrateSettingsOptions(*cmd, args->settings);
   AddLabelSourceOptions(*cmd, args->settings.labels);
+  AddMaskOption(*cmd, args->settings);
   AddSegmenterOptions(*cmd, args->settings.segmenter, "--segmenter",
                       "labels for the semantic modes from a segmentation network (an .onnx file) run on the\n"
                       "photos first, as `rigsim segment` does; written to OUT/segmentation/ (labels/,\n"

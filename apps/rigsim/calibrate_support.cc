@@ -190,6 +190,16 @@ void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& s) {
   }
 }
 
+void AddMaskOption(CLI::App& cmd, CalibrateSettings& s) {
+  cmd.add_option("--mask", s.mask,
+                 "hide what moves with the rig, its own vehicle (hood, body, mounts): DIR/<camera>.png\n"
+                 "per camera, the camera's image size, applied to every frame in every semantic mode; no\n"
+                 "feature is kept where the mask is black (0), anything else is used (COLMAP's convention;\n"
+                 "grey or RGB(A), alpha ignored). A camera without a mask is not masked (with a warning).\n"
+                 "evaluation.json's masks says what each mask hid and how many keypoints it removed")
+      ->type_name("DIR");
+}
+
 OutputFolderRequest CalibrationOutputFolder(const std::filesystem::path& dataset, const CalibrateSettings& settings,
                                             const std::filesystem::path& out_dir, bool force) {
   const DatasetLayout layout(dataset);
@@ -205,6 +215,7 @@ OutputFolderRequest CalibrationOutputFolder(const std::filesystem::path& dataset
   const std::string& labels = settings.labels.labels;
   if (labels != "truth" && labels != "noisy" && !labels.empty()) out.inputs.push_back({labels, "--labels"});
   if (!settings.segmenter.model.empty()) out.inputs.push_back({settings.segmenter.model, "--segmenter"});
+  if (!settings.mask.empty()) out.inputs.push_back({settings.mask, "--mask"});
   return out;
 }
 
@@ -224,6 +235,7 @@ CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const Ca
   request.segmenter_model = settings.segmenter.model;
   request.segmenter_options = [&settings] { return settings.segmenter.ToOptions(); };
   request.out = CalibrationOutputFolder(dataset, settings, out_dir, force);
+  request.mask_dir = settings.mask;
   CalibrationPlan plan = PlanCalibration(request, Warn);
   StagedOutput staged(plan.out);
   if (plan.segmenter) {
@@ -231,8 +243,11 @@ CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const Ca
       return SegmentLabels(&plan, staged.staging_dir(), progress);
     });
   }
-  std::fprintf(stderr, "calibrating %s (%s%s)...\n", dataset.string().c_str(), Count(plan.modes.size(), "semantic mode").c_str(),
-               plan.labels_used ? (", labels: " + plan.label_text).c_str() : "");
+  const std::string masks_text =
+      plan.options.masks ? DescribeRigMasks(*plan.options.masks, plan.inputs.rig.cameras.size()) : "";
+  std::fprintf(stderr, "calibrating %s (%s%s%s)...\n", dataset.string().c_str(), Count(plan.modes.size(), "semantic mode").c_str(),
+               plan.labels_used ? (", labels: " + plan.label_text).c_str() : "",
+               masks_text.empty() ? "" : (", masks: " + masks_text).c_str());
   CalibrationRun run = CalibrateDataset(plan);
   for (const std::string& note : WriteCalibrationResults(run, staged.staging_dir())) Warn(note);
   staged.Commit();
@@ -261,8 +276,9 @@ CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const Ca
                 "deviation%s):\n\n%s\n",
                 inputs.truth ? "; error against the truth" : "", FormatIntrinsicsTable(run).c_str());
   }
-  std::printf("calibration took %.1f s; labels: %s; results in %s:\n", run.seconds,
-              plan.labels_used ? plan.label_text.c_str() : "not used", out_dir.string().c_str());
+  std::printf("calibration took %.1f s; labels: %s%s; results in %s:\n", run.seconds,
+              plan.labels_used ? plan.label_text.c_str() : "not used",
+              masks_text.empty() ? "" : ("; masks: " + masks_text).c_str(), out_dir.string().c_str());
   if (plan.segmenter) std::printf("  segmentation/: the network's labels/, labels_color/ and segmentation.json\n");
   std::printf("  evaluation.json; per mode <mode>/: rig.json and frames.json (the estimate and its rig poses), camchain.yaml\n"
               "  (Kalibr), opencv.yaml, colmap/, pairs.json,\n"

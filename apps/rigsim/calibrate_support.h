@@ -51,12 +51,16 @@ struct CalibrateSettings {
   // --segmenter MODEL.onnx: labels from a network run on the photos first (by the pipeline,
   // pipeline/calibration_plan.h), written to OUT/segmentation/; in place of --labels.
   SegmenterSettings segmenter;
+  // --mask DIR: the rig's own vehicle hidden in every mode (pipeline/rig_masks.h), or empty.
+  std::string mask;
   // The options with the names above resolved; throws std::invalid_argument on bad values.
   CalibrationRunOptions ToOptions() const;
   std::vector<SemanticMode> Modes() const;
 };
 
 void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& settings);
+// --mask DIR into settings.mask (calibrate's; a rendered demo has no vehicle to hide).
+void AddMaskOption(CLI::App& cmd, CalibrateSettings& settings);
 
 // The output folder of a calibration of `dataset` with `settings` (calibrate's; the report's
 // adds its own inputs), with every input it reads: the photos, labels and rig it calibrates

@@ -108,7 +108,7 @@ void FeatureOptions::Check() const {
 }
 
 FeatureSet DetectFeatures(const ImageU8& rgb, const ImageU8* labels, const FeatureOptions& options,
-                          const LabelIdSet* detect_only_on) {
+                          const LabelIdSet* detect_only_on, const ImageU8* rig_mask) {
   options.Check();
   if (rgb.empty()) throw std::invalid_argument("DetectFeatures: empty image");
   if (labels != nullptr) {
@@ -119,16 +119,31 @@ FeatureSet DetectFeatures(const ImageU8& rgb, const ImageU8* labels, const Featu
   if (detect_only_on != nullptr && labels == nullptr) {
     throw std::invalid_argument("DetectFeatures: detection on reliable classes needs a label image");
   }
+  if (rig_mask != nullptr && (rig_mask->channels != 1 || !rig_mask->SameSize(rgb.width, rgb.height))) {
+    throw std::invalid_argument("DetectFeatures: the rig mask must have 1 channel and the image's size");
+  }
 
   UseOpenCvBaselinePaths();
   // Every detector gets 8-bit grey (AKAZE requires one channel; SIFT and ORB convert anyway).
   const cv::Mat grey = GreyFromImage(rgb);
   cv::Mat mask;
   ImageU8 mask_img;
-  if (detect_only_on != nullptr) {
-    mask_img = ReliableMask(*labels, *detect_only_on, options.mask_erosion_px);
-    mask = cv::Mat(mask_img.height, mask_img.width, CV_8UC1, mask_img.data.data());
+  if (detect_only_on != nullptr) mask_img = ReliableMask(*labels, *detect_only_on, options.mask_erosion_px);
+  // SIFT and AKAZE detect everywhere and then drop what lies outside the mask they are given
+  // (OpenCV's KeyPointsFilter::runByPixelsMask), so the rig mask is applied below, where what it
+  // drops is counted. ORB spends its budget level by level inside its mask: it gets the rig mask.
+  const bool orb = options.type == FeatureType::kOrb;
+  if (rig_mask != nullptr && orb) {
+    if (mask_img.empty()) {
+      mask_img = *rig_mask;
+    } else {
+      for (size_t i = 0; i < mask_img.data.size(); ++i) {
+        if (rig_mask->data[i] == 0) mask_img.data[i] = 0;
+      }
+    }
   }
+  if (!mask_img.empty()) mask = cv::Mat(mask_img.height, mask_img.width, CV_8UC1, mask_img.data.data());
+  const ImageU8* drop_by_rig_mask = orb ? nullptr : rig_mask;
 
   const bool sift_like = options.type == FeatureType::kSift || options.type == FeatureType::kRootSift;
   std::vector<cv::KeyPoint> kps;
@@ -140,8 +155,8 @@ FeatureSet DetectFeatures(const ImageU8& rgb, const ImageU8* labels, const Featu
     // the last) before computing descriptors: the same keypoints as keeping them below, without
     // computing the descriptors of the rest. With a mask, OpenCV would keep the strongest
     // before masking, which leaves fewer than max_features, so every keypoint is computed, masked,
-    // and the strongest kept below.
-    const int opencv_budget = mask.empty() ? options.max_features : 0;
+    // and the strongest kept below (the rig mask likewise).
+    const int opencv_budget = mask.empty() && drop_by_rig_mask == nullptr ? options.max_features : 0;
     cv::Ptr<cv::SIFT> sift = cv::SIFT::create(opencv_budget, options.octave_layers, options.contrast_threshold,
                                               options.edge_threshold, options.sigma);
     sift->detectAndCompute(grey, mask, kps, all_desc);
@@ -179,10 +194,18 @@ FeatureSet DetectFeatures(const ImageU8& rgb, const ImageU8* labels, const Featu
   // a keypoint scaled back to full resolution can land just outside), strongest first.
   std::vector<int> order;
   order.reserve(kps.size());
+  int removed_by_mask = 0;
   for (int i = 0; i < static_cast<int>(kps.size()); ++i) {
     if (!mask.empty()) {
       const auto [x, y] = PixelOf(kps[i], mask_img.width, mask_img.height);
       if (mask_img.at(x, y) == 0) continue;
+    }
+    if (drop_by_rig_mask != nullptr) {
+      const auto [x, y] = PixelOf(kps[i], drop_by_rig_mask->width, drop_by_rig_mask->height);
+      if (drop_by_rig_mask->at(x, y) == 0) {
+        ++removed_by_mask;
+        continue;
+      }
     }
     order.push_back(i);
   }
@@ -196,6 +219,7 @@ FeatureSet DetectFeatures(const ImageU8& rgb, const ImageU8* labels, const Featu
 
   FeatureSet out;
   out.descriptor_size = descriptor_size;
+  out.removed_by_mask = removed_by_mask;
   if (sift_like) {
     out.kind = DescriptorKind::kFloat;
     out.descriptors.resize(kept.size() * size_t(descriptor_size));
@@ -242,7 +266,8 @@ std::vector<std::vector<FeatureSet>> DetectFeaturesInImages(int num_images,
     const LabelledImage image = load(i);
     for (size_t k = 0; k < kinds; ++k) {
       const auto start = std::chrono::steady_clock::now();
-      out[k][i] = DetectFeatures(image.rgb, image.labels.empty() ? nullptr : &image.labels, options, detect_only_on[k]);
+      out[k][i] = DetectFeatures(image.rgb, image.labels.empty() ? nullptr : &image.labels, options, detect_only_on[k],
+                                 image.rig_mask);
       if (time_s) (*time_s)[k][i] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
   });

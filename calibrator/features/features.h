@@ -86,6 +86,10 @@ struct FeatureSet {
   // kBinary: keypoints.size() x descriptor_size bytes, row-major, bits packed as OpenCV packs them.
   std::vector<uint8_t> binary_descriptors;
   int descriptor_size = 0;  // floats (kFloat) or bytes (kBinary) per descriptor
+  // Keypoints the detector found where the rig's own mask hides the image (DetectFeatures'
+  // `rig_mask`), dropped. SIFT, RootSIFT and AKAZE detect everywhere and drop them, so this is what
+  // the mask removed; ORB spends its budget inside the mask, finds none there and counts 0.
+  int removed_by_mask = 0;
 
   int size() const { return static_cast<int>(keypoints.size()); }
   const float* descriptor(int i) const { return descriptors.data() + size_t(i) * descriptor_size; }
@@ -100,21 +104,26 @@ struct FeatureSet {
 // its class. When `detect_only_on` is given, keypoints are detected only where the class is
 // reliable (eroded mask, see FeatureOptions; checked again at each keypoint's pixel, since ORB
 // applies the mask on its downscaled pyramid levels); it requires labels.
+// `rig_mask` (1 channel, the image's size, may be null) hides what moves with the rig, its own
+// vehicle: no keypoint is kept where it is 0, whatever `detect_only_on` says, and the budget
+// (max_features) goes to the rest.
 // Deterministic: keypoints are ordered by decreasing response, ties by position.
 // Throws std::invalid_argument on bad inputs.
 FeatureSet DetectFeatures(const ImageU8& rgb, const ImageU8* labels, const FeatureOptions& options,
-                          const LabelIdSet* detect_only_on = nullptr);
+                          const LabelIdSet* detect_only_on = nullptr, const ImageU8* rig_mask = nullptr);
 
-// An image to detect features in and its label image (empty when there is none).
+// An image to detect features in, its label image (empty when there is none) and its camera's
+// rig mask (DetectFeatures' `rig_mask`; null when there is none; it outlives the detection).
 struct LabelledImage {
   ImageU8 rgb;
   ImageU8 labels;
+  const ImageU8* rig_mask = nullptr;
 };
 
 // The features of `num_images` images, detected in parallel (parallel_scope.h): each image is
 // obtained once from `load` (called from worker threads; what it throws is rethrown) and detected
 // once per entry of `detect_only_on` (nullptr: everywhere; a set: on those classes only, which
-// needs labels), as DetectFeatures. Returns [entry][image]; with `time_s`, each detection's time
+// needs labels), as DetectFeatures, with the image's rig mask for every entry. Returns [entry][image]; with `time_s`, each detection's time
 // (s) in the same shape.
 std::vector<std::vector<FeatureSet>> DetectFeaturesInImages(int num_images,
                                                            const std::function<LabelledImage(int)>& load,

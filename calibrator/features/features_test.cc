@@ -275,6 +275,47 @@ TEST_P(EveryFeatureType, DeterministicAndMaskRespectedWithClassLabels) {
   for (const Keypoint& k : limited.keypoints) EXPECT_EQ(k.class_id, 11);
 }
 
+// The rig's own mask (its vehicle) hides its pixels whether or not the reliable-class mask is used
+// (the detection kinds of every semantic mode), for every feature type, and the budget goes to the
+// rest of the image.
+TEST_P(EveryFeatureType, RigMaskHidesItsPixelsWithAndWithoutTheClassMask) {
+  const ImageU8 img = ShapesImage(320, 240, Similarity(), 7);
+  const ImageU8 labels = SplitLabels(320, 240, 192);
+  ImageU8 rig_mask(320, 240, 1, 255);
+  for (int y = 150; y < 240; ++y) {
+    for (int x = 0; x < 320; ++x) rig_mask.at(x, y) = 0;
+  }
+  const LabelIdSet reliable = ReliableClasses().Ids();
+  const bool orb = GetParam() == FeatureType::kOrb;
+  for (const LabelIdSet* only_on : {static_cast<const LabelIdSet*>(nullptr), &reliable}) {
+    SCOPED_TRACE(only_on ? "reliable classes only" : "everywhere");
+    FeatureOptions options = OptionsFor(GetParam());
+    options.max_features = orb ? 3000 : 0;  // 0: all, so that kept + removed is the unmasked detection
+    const FeatureSet plain = DetectFeatures(img, &labels, options, only_on);
+    const FeatureSet masked = DetectFeatures(img, &labels, options, only_on, &rig_mask);
+    int below = 0;
+    for (const Keypoint& k : plain.keypoints) below += std::lround(k.px.y()) >= 150;
+    ASSERT_GT(below, 20) << "without the rig mask the hidden rows have keypoints";
+    ASSERT_GT(masked.size(), 20);
+    for (const Keypoint& k : masked.keypoints) EXPECT_LT(std::lround(k.px.y()), 150) << "keypoint under the rig mask";
+    if (orb) {
+      EXPECT_EQ(masked.removed_by_mask, 0) << "ORB detects inside its mask only";
+    } else {
+      EXPECT_EQ(masked.removed_by_mask, below);
+      EXPECT_EQ(masked.size() + masked.removed_by_mask, plain.size());
+    }
+    EXPECT_EQ(plain.removed_by_mask, 0);
+    // The budget: a limit is filled above the hidden rows.
+    options.max_features = 40;
+    const FeatureSet limited = DetectFeatures(img, &labels, options, only_on, &rig_mask);
+    EXPECT_GT(limited.size(), 30);
+    EXPECT_LE(limited.size(), 40);
+    for (const Keypoint& k : limited.keypoints) EXPECT_LT(std::lround(k.px.y()), 150);
+  }
+  const ImageU8 wrong(320, 200, 1, 255);
+  EXPECT_THROW(DetectFeatures(img, &labels, OptionsFor(GetParam()), nullptr, &wrong), std::invalid_argument);
+}
+
 INSTANTIATE_TEST_SUITE_P(DetectFeatures, EveryFeatureType, ::testing::ValuesIn(kAllFeatureTypes),
                          [](const ::testing::TestParamInfo<FeatureType>& info) {
                            return std::string(FeatureTypeName(info.param));
