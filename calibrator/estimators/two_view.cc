@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <random>
 #include <optional>
 #include <sstream>
@@ -17,7 +16,6 @@
 #include <opencv2/core.hpp>
 
 #include "calibrator/estimators/cost_functions.h"
-#include "calibrator/estimators/match_significance.h"
 #include "common/format.h"
 
 namespace rigsim {
@@ -464,20 +462,6 @@ EssentialFit FitEssential(const std::vector<cv::Point2d>& pa, const std::vector<
 
 }  // namespace
 
-namespace {
-
-// The estimate's a contrario weight (TwoViewResult::log10_false_alarms): `residual(i, j)` of the
-// i-th valid match's first bearing with the j-th's second, for a model from `sample_size` matches.
-void WeighInliers(const std::vector<int>& valid, int inliers, int sample_size, double thr,
-                  const std::function<double(int, int)>& residual, TwoViewResult* result) {
-  const int n = static_cast<int>(valid.size());
-  if (n < sample_size) return;
-  result->chance_inlier = ChanceWithinThreshold(n, [&](int i, int j) { return residual(valid[i], valid[j]); }, thr);
-  result->log10_false_alarms = Log10FalseAlarms(n, inliers, result->chance_inlier, sample_size);
-}
-
-}  // namespace
-
 TwoViewResult EstimateRelativePoseFromBearings(const std::vector<Eigen::Vector3d>& fa,
                                                const std::vector<Eigen::Vector3d>& fb, double thr,
                                                const TwoViewOptions& options) {
@@ -549,8 +533,6 @@ TwoViewResult EstimateRelativePoseFromBearings(const std::vector<Eigen::Vector3d
     est.median_residual_deg = RadToDeg(Median(res));
     est.success = true;
     est.failure = TwoViewFailure::kNone;
-    WeighInliers(valid, est.num_inliers, 2, thr, [&](int i, int j) { return RotationAngle(rot.rotation, fa[i], fb[j]); },
-                 &result);
     return result;
   }
   if (!have_pose) return Fail(result, essential.failure, essential.failure_reason);
@@ -594,7 +576,6 @@ TwoViewResult EstimateRelativePoseFromBearings(const std::vector<Eigen::Vector3d
   est.median_residual_deg = RadToDeg(Median(res));
   est.success = true;
   est.failure = TwoViewFailure::kNone;
-  WeighInliers(valid, est.num_inliers, 5, thr, [&](int i, int j) { return EpipolarAngle(pose, fa[i], fb[j]); }, &result);
   return result;
 }
 

@@ -13,7 +13,6 @@
 // pixels as named; radians inside.
 #pragma once
 
-#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -104,11 +103,6 @@ struct TwoViewResult {
   int num_essential_inliers = 0;  // of the essential-matrix model after refinement
   int num_rotation_inliers = 0;   // of the pure-rotation model
   int num_valid = 0;              // correspondences with a valid bearing in both cameras
-  // With an estimate: log10 of the number of models that would gather its inliers by chance
-  // (match_significance.h); below 0 its inliers are meaningful. +infinity without an estimate.
-  double log10_false_alarms = std::numeric_limits<double>::infinity();
-  // The chance that a match that means nothing lies within the inlier threshold of the estimate.
-  double chance_inlier = 1.0;
 };
 
 // `options` without the rival search (rival_seeds 0), for the view pairs whose rivals nothing

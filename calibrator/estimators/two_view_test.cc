@@ -415,30 +415,6 @@ TEST(TwoView, Deterministic) {
   EXPECT_EQ(a.estimate.cam_b_from_cam_a.rotation.coeffs(), b.estimate.cam_b_from_cam_a.rotation.coeffs());
 }
 
-// 25 true correspondences among 50 random matches: too few for the fixed rule, but far more than
-// chance puts within a pixel of one pose, so the a contrario weight calls them meaningful; the
-// random matches alone are not.
-TEST(TwoView, TheInliersOfAFewTrueMatchesAmongManyAreWeighedMeaningful) {
-  const Camera cam = Pinhole();
-  TwoViewOptions any_count;  // as the pair screening weighs its estimates (pairwise.cc)
-  any_count.min_inliers = 5;
-  any_count.min_inlier_ratio = 0.0;
-  any_count.min_cheirality_points = 1;
-  any_count.cheirality_margin = 1.0;
-  Scenario s = MakeScenario(cam, cam, TestPose(), 25, 0.3, 0.0, 11);
-  const Scenario noise = MakeScenario(cam, cam, TestPose(), 50, 0.3, 1.0, 12);
-  s.px_a.insert(s.px_a.end(), noise.px_a.begin(), noise.px_a.end());
-  s.px_b.insert(s.px_b.end(), noise.px_b.begin(), noise.px_b.end());
-  const TwoViewResult r = EstimateRelativePose(cam, s.px_a, cam, s.px_b, any_count);
-  ASSERT_TRUE(r.estimate.success) << r.estimate.failure_reason;
-  EXPECT_GE(r.estimate.num_inliers, 22) << r.num_essential_inliers << " essential, " << r.num_rotation_inliers << " rotation inliers of " << r.num_valid << " " << PairTypeName(r.estimate.pair_type);
-  EXPECT_LT(r.log10_false_alarms, 0.0) << r.chance_inlier;
-  EXPECT_LT(RotationErrorDeg(r.estimate.cam_b_from_cam_a, TestPose()), 1.0);
-  const TwoViewResult chance = EstimateRelativePose(cam, noise.px_a, cam, noise.px_b, any_count);
-  EXPECT_TRUE(!chance.estimate.success || chance.log10_false_alarms > 0.0)
-      << chance.estimate.num_inliers << " inliers, 10^" << chance.log10_false_alarms;
-}
-
 }  // namespace
 }  // namespace rigsim
 

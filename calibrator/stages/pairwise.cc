@@ -1,9 +1,6 @@
 #include "calibrator/stages/pairwise.h"
 
 #include <chrono>
-#include <cmath>
-#include <iomanip>
-#include <sstream>
 #include <stdexcept>
 
 #include <tbb/parallel_for.h>
@@ -73,21 +70,6 @@ PairwiseJob MakeJob(const RigViews& views) {
   return job;
 }
 
-// Whether a screening estimate shows a shared view: an estimate whose inliers the full estimate's
-// rule would accept, or fewer that chance does not explain (fewer than one false alarm). Empty when
-// it does; otherwise why not, in the pairwise report's words.
-std::string ScreeningVerdict(const TwoViewResult& tv, const TwoViewOptions& full) {
-  const TwoViewEstimate& e = tv.estimate;
-  if (!e.success) return e.failure_reason;
-  const int required = std::max(full.min_inliers, static_cast<int>(std::ceil(full.min_inlier_ratio * tv.num_valid)));
-  if (e.num_inliers >= required || tv.log10_false_alarms < 0) return "";
-  std::ostringstream why;
-  why << "no consistent geometry: " << e.num_inliers << " inliers of " << tv.num_valid
-      << " matches, as many as chance gives (" << std::setprecision(2) << std::pow(10.0, tv.log10_false_alarms)
-      << " models expected to gather them by chance; need " << required << " inliers, or fewer than 1)";
-  return why.str();
-}
-
 // 1a. Screening: which pairs are worth matching in full, from the strongest `screen_features`
 //     keypoints of the first and the middle frame.
 PairScreening ScreenPairs(const PairwiseJob& job, const PairwiseOptions& options) {
@@ -114,17 +96,11 @@ PairScreening ScreenPairs(const PairwiseJob& job, const PairwiseOptions& options
     TwoViewOptions screen_two_view = WithoutRivalSearch(options.two_view);  // a rival still shows a shared view
     screen_two_view.min_cheirality_points = 1;
     screen_two_view.cheirality_margin = 1.0;
-    // A few thousand keypoints of views that share a little give fewer inliers than the full
-    // estimate needs: any count is weighed below, by the full estimate's rule or by how unlikely
-    // it is by chance (match_significance.h).
-    screen_two_view.min_inliers = 5;
-    screen_two_view.min_inlier_ratio = 0.0;
     const TwoViewResult tv = EstimateRelativePose(job.camera(pair.a), px_a, job.camera(pair.b), px_b, screen_two_view);
-    const std::string why_not = ScreeningVerdict(tv, options.two_view);
-    if (!why_not.empty()) {
+    if (!tv.estimate.success) {
       out.screened_out[p] = "screened out (no shared view found among the " + std::to_string(options.screen_features) +
                             " strongest keypoints of " + std::to_string(screen_frames.size()) + " frame(s): " +
-                            why_not + ")";
+                            tv.estimate.failure_reason + ")";
     }
     out.time_s[p] = SecondsSince(start);
   });
