@@ -249,6 +249,7 @@ EstimateCameras ReadEstimateCameras(const fs::path& estimate) {
       out.names.push_back(c.name.empty() ? c.key : c.name);
     }
   } else if (fs::is_directory(estimate) || estimate.filename() == "images.txt") {
+    out.ordered = false;
     std::set<std::string> frames;
     for (const ColmapImage& image : ReadColmapImages(FindColmapTextModel(estimate) / "images.txt")) {
       const size_t slash = image.name.find('/');

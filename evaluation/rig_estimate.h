@@ -77,6 +77,7 @@ std::vector<RigEstimate> ReadRigEstimates(const std::filesystem::path& estimate,
 struct EstimateCameras {
   std::vector<std::string> names;  // in the estimate's order
   bool named = true;               // false: a camchain without rostopics
+  bool ordered = true;             // false: a COLMAP model (no reference camera; its order is the images')
   FramesFile colmap_frames;        // a COLMAP model's frames (the images' stems), sorted by name
 };
 // Throws std::runtime_error as ReadRigEstimates.

@@ -295,7 +295,10 @@ std::string FormatRigScores(const std::vector<RigScores>& all) {
   std::string out;
   char line[256];
   // The errors over the stated deviations, when an estimate states them (a calibration folder).
-  const bool stated = std::any_of(all.begin(), all.end(), [](const RigScores& s) { return s.cameras_stating_sd > 0; });
+  const bool stated = std::any_of(all.begin(), all.end(), [](const RigScores& s) {
+    return std::any_of(s.cameras.begin(), s.cameras.end(),
+                       [](const CameraScore& c) { return c.rotation_sd_ratio || c.direction_sd_ratio; });
+  });
   const auto ratio = [](const std::optional<double>& r) { return r ? Deg(*r, "%.1f") : std::string("-"); };
   std::snprintf(line, sizeof line, "%-12s %-12s %12s %12s %12s%s  %s\n", "camera", "method", "rot_err", "t_dir_err",
                 "pos_err", stated ? "   rot/sd   dir/sd" : "", "pose");

@@ -278,6 +278,13 @@ TEST(RigScores, APoseIfSynchronisedIsJudgedOnlyWhereTheTruthIsSynchronised) {
   EXPECT_FALSE(s.cameras[2].overconfident.has_value());
   EXPECT_EQ(s.overconfident, 0);
   EXPECT_EQ(s.cameras_stating_sd, 1);  // cam1 only
+  e.direction_std_deg[1].reset();
+  s = ScoreRig(truth, e);
+  EXPECT_EQ(s.cameras_stating_sd, 0);
+  // Its ratio is still shown, with no verdict.
+  const std::string table = FormatRigScores({s});
+  EXPECT_NE(table.find("dir/sd"), std::string::npos) << table;
+  EXPECT_EQ(table.find("overconfident"), std::string::npos) << table;
 }
 
 // A rotation 4 stated sd off is overconfident and 2 sd off not; an error under the floor is not,

@@ -253,6 +253,22 @@ TEST_F(ExportEstimate, EvaluateAgainstARigFileScoresAsAgainstTheDataset) {
     }
   }
   EXPECT_GE(compared, 1);
+
+  // A COLMAP model of the estimate: its frames are its images' stems.
+  const CliResult colmap = RunRigsim({"export", (d / "data").string(), "--format", "colmap", "--rig",
+                                      (folder / "none" / "rig.json").string(), "--out", (d / "est_colmap").string()},
+                                     d / "export_colmap");
+  ASSERT_EQ(colmap.code, 0) << colmap.out << colmap.err;
+  const fs::path model = d / "est_colmap" / "colmap";
+  const CliResult colmap_dataset = RunRigsim(
+      {"evaluate", (d / "data").string(), model.string(), "--json", (d / "colmap_dataset.json").string()}, d / "cd");
+  const CliResult colmap_truth = RunRigsim({"evaluate", model.string(), "--truth", (d / "data" / "rig.json").string(),
+                                            "--json", (d / "colmap_truth.json").string()},
+                                           d / "ct");
+  ASSERT_EQ(colmap_dataset.code, 0) << colmap_dataset.err;
+  ASSERT_EQ(colmap_truth.code, 0) << colmap_truth.err;
+  EXPECT_EQ(Json::parse(ReadFile(d / "colmap_dataset.json")).at("methods"),
+            Json::parse(ReadFile(d / "colmap_truth.json")).at("methods"));
 }
 
 // Cameras are matched by name: those on one side only are named as not scored; none in common, a

@@ -60,8 +60,8 @@ void InCalibrateOrder(std::vector<RigEstimate>* estimates) {
 }
 
 // The truth of `rigsim evaluate ESTIMATE --truth RIG`: RIG's cameras that ESTIMATE names, in
-// ESTIMATE's order (so that its reference camera is the gauge); what only one side has is named
-// in `not_scored`. Throws naming both sets when no camera matches, or a matched camera without a
+// ESTIMATE's order (so that its reference camera is the gauge; RIG's order for a COLMAP model,
+// which has none); what only one side has is named in `not_scored`. Throws naming both sets when no camera matches, or a matched camera without a
 // pose in RIG.
 Rig TruthFromRigFile(const fs::path& rig_file, const fs::path& estimate, nlohmann::json* not_scored) {
   const Rig imported = ImportRig(rig_file);
@@ -82,12 +82,14 @@ Rig TruthFromRigFile(const fs::path& rig_file, const fs::path& estimate, nlohman
       const int c = imported.FindCamera(name);
       if (c < 0) {
         only_estimate.push_back(name);
-      } else {
+      } else if (cameras.ordered) {
         truth.cameras.push_back(imported.cameras[c]);
       }
     }
     for (const std::string& name : truth_names) {
-      if (std::find(cameras.names.begin(), cameras.names.end(), name) == cameras.names.end()) only_truth.push_back(name);
+      const bool in_estimate = std::find(cameras.names.begin(), cameras.names.end(), name) != cameras.names.end();
+      if (!in_estimate) only_truth.push_back(name);
+      if (in_estimate && !cameras.ordered) truth.cameras.push_back(imported.cameras[imported.FindCamera(name)]);
     }
     if (truth.cameras.empty()) {
       throw std::runtime_error("--truth " + what + ": no camera of it is in " + estimate.string() +
@@ -133,7 +135,8 @@ void AddEvaluateCommand(CLI::App& app) {
       "Per camera and camera pair: rotation error, translation-direction error, position error after\n"
       "fitting the scale (none when the estimate is metric), pose error = max(rotation, direction);\n"
       "the AUC of the pose errors at 1, 2, 5 and 10 deg. Gauge: the first camera is the rig frame\n"
-      "(with --truth: the estimate's first camera that the truth has). When the estimate states\n"
+      "(with --truth: the estimate's first camera that the truth has; a COLMAP model's: the truth's\n"
+      "first it has). When the estimate states\n"
       "standard deviations (a calibration folder), each error over its deviation (rot/sd, dir/sd) and\n"
       "the cameras overconfident: an error beyond 3 sd and 0.05 deg.\n"
       "Exit code 0 when scored (whatever the errors), 1 on bad input.");
