@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <set>
 #include <stdexcept>
 
 #include <Eigen/Eigenvalues>
@@ -25,11 +26,13 @@ std::vector<std::string> Names(const Rig& rig) {
   return names;
 }
 
-// Index of camera `name` in the truth, or an error naming `source`.
-size_t CameraIndex(const Rig& truth, const std::string& name, const std::string& source) {
+// Index of camera `name` in the truth, or an error naming `source`; with `skip_unknown`, the
+// number of cameras of the truth instead of the error (a camera the caller skips).
+size_t CameraIndex(const Rig& truth, const std::string& name, const std::string& source, bool skip_unknown = false) {
   for (size_t i = 0; i < truth.cameras.size(); ++i) {
     if (truth.cameras[i].name == name) return i;
   }
+  if (skip_unknown) return truth.cameras.size();
   std::string all;
   for (const std::string& n : Names(truth)) all += (all.empty() ? "" : ", ") + n;
   throw std::runtime_error(source + ": camera '" + name + "' is not in the dataset's rig (" + all + ")" +
@@ -48,9 +51,13 @@ RigEstimate Empty(const std::string& method, size_t n) {
   return e;
 }
 
-RigEstimate FromRig(const Rig& rig, const Rig& truth, const std::string& method, const std::string& source) {
+RigEstimate FromRig(const Rig& rig, const Rig& truth, const std::string& method, const std::string& source,
+                    bool skip_unknown) {
   RigEstimate e = Empty(method, truth.cameras.size());
-  for (const RigCamera& rc : rig.cameras) e.cam_from_rig[CameraIndex(truth, rc.name, source)] = rc.cam_from_rig;
+  for (const RigCamera& rc : rig.cameras) {
+    const size_t c = CameraIndex(truth, rc.name, source, skip_unknown);
+    if (c < truth.cameras.size()) e.cam_from_rig[c] = rc.cam_from_rig;
+  }
   return e;
 }
 
@@ -91,7 +98,7 @@ Eigen::Quaterniond MeanRotation(const std::vector<Eigen::Quaterniond>& qs) {
   return mean.normalized();
 }
 
-std::vector<RigEstimate> FromCalibrationFolder(const fs::path& dir, const Rig& truth) {
+std::vector<RigEstimate> FromCalibrationFolder(const fs::path& dir, const Rig& truth, bool skip_unknown) {
   const fs::path evaluation_path = dir / "evaluation.json";
   const Json evaluation = json_io::ReadFile(evaluation_path);
   if (!evaluation.contains("methods") || !evaluation["methods"].is_object()) {
@@ -107,24 +114,23 @@ std::vector<RigEstimate> FromCalibrationFolder(const fs::path& dir, const Rig& t
     const Json& method = evaluation["methods"][mode];
     const fs::path rig_path = dir / mode / "rig.json";
     if (!fs::exists(rig_path)) throw std::runtime_error(rig_path.string() + ": missing (the calibration folder is incomplete)");
-    RigEstimate e = FromRig(ReadRig(rig_path), truth, mode, rig_path.string());
+    RigEstimate e = FromRig(ReadRig(rig_path), truth, mode, rig_path.string(), skip_unknown);
     const Json rig = method.value("rig", Json::object());
     for (const Json& cam : rig.value("cameras", Json::array())) {
-      if (cam.is_object() && cam.value("holds_if_synchronised", false)) {
-        e.if_synchronised[CameraIndex(truth, cam.value("name", ""), evaluation_path.string())] = 1;
-      }
+      if (!cam.is_object()) continue;
+      const size_t c = CameraIndex(truth, cam.value("name", ""), evaluation_path.string(), skip_unknown);
+      if (c >= truth.cameras.size()) continue;
+      if (cam.value("holds_if_synchronised", false)) e.if_synchronised[c] = 1;
       const auto read_std = [&](const char* key, std::vector<std::optional<double>>* into) {
-        if (!cam.is_object() || !cam.contains(key) || !cam[key].is_number()) return;
-        (*into)[CameraIndex(truth, cam.value("name", ""), evaluation_path.string())] = cam[key].get<double>();
+        if (!cam.contains(key) || !cam[key].is_number()) return;
+        (*into)[c] = cam[key].get<double>();
       };
       read_std("rotation_std_deg", &e.rotation_std_deg);
       read_std("direction_std_deg", &e.direction_std_deg);
-      if (!cam.is_object() || cam.value("position_known", true) || !cam.contains("rotation_wxyz") ||
-          !cam["rotation_wxyz"].is_array()) {
+      if (cam.value("position_known", true) || !cam.contains("rotation_wxyz") || !cam["rotation_wxyz"].is_array()) {
         continue;
       }
       const Json& q = cam["rotation_wxyz"];
-      const size_t c = CameraIndex(truth, cam.value("name", ""), evaluation_path.string());
       e.rotation_only[c] =
           Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(), q[3].get<double>()).normalized();
       e.open_axis[c] = OpenAxisOf(cam, evaluation_path.string());
@@ -140,7 +146,7 @@ std::vector<RigEstimate> FromCalibrationFolder(const fs::path& dir, const Rig& t
   return estimates;
 }
 
-RigEstimate FromKalibr(const fs::path& path, const Rig& truth) {
+RigEstimate FromKalibr(const fs::path& path, const Rig& truth, bool skip_unknown) {
   const std::vector<KalibrCamera> cams = ReadKalibrCamchain(path);
   RigEstimate e = Empty("kalibr", truth.cameras.size());
   // rigsim's own camchain of an estimate says its unit in a comment; Kalibr's are in metres.
@@ -159,7 +165,8 @@ RigEstimate FromKalibr(const fs::path& path, const Rig& truth) {
                              "the dataset has " + std::to_string(truth.cameras.size()) + ": cannot tell which is which");
   }
   for (size_t i = 0; i < cams.size(); ++i) {
-    const size_t c = named ? CameraIndex(truth, cams[i].name, path.string() + ": " + cams[i].key) : i;
+    const size_t c = named ? CameraIndex(truth, cams[i].name, path.string() + ": " + cams[i].key, skip_unknown) : i;
+    if (c >= truth.cameras.size()) continue;
     const Camera& cam = truth.cameras[c].camera;
     if (cams[i].width > 0 && (cams[i].width != cam.width() || cams[i].height != cam.height())) {
       throw std::runtime_error(path.string() + ": " + cams[i].key + " is " + std::to_string(cams[i].width) + "x" +
@@ -217,20 +224,64 @@ RigEstimate RigEstimateFromColmap(const std::vector<std::pair<std::string, Rigid
   return e;
 }
 
+EstimateCameras ReadEstimateCameras(const fs::path& estimate) {
+  EstimateCameras out;
+  const std::string ext = estimate.extension().string();
+  if (!fs::exists(estimate)) throw std::runtime_error(estimate.string() + ": no such file or folder");
+  const auto names_of = [&](const Rig& rig) {
+    for (const RigCamera& c : rig.cameras) out.names.push_back(c.name);
+  };
+  if (fs::is_directory(estimate) && fs::exists(estimate / "evaluation.json")) {
+    const fs::path evaluation_path = estimate / "evaluation.json";
+    const nlohmann::ordered_json evaluation = nlohmann::ordered_json::parse(json_io::ReadText(evaluation_path), nullptr, false);
+    if (evaluation.is_discarded() || !evaluation.contains("methods") || !evaluation["methods"].is_object() ||
+        evaluation["methods"].empty()) {
+      throw std::runtime_error(evaluation_path.string() + ": not a calibration's evaluation.json (no \"methods\")");
+    }
+    const fs::path rig_path = estimate / evaluation["methods"].begin().key() / "rig.json";
+    if (!fs::exists(rig_path)) throw std::runtime_error(rig_path.string() + ": missing (the calibration folder is incomplete)");
+    names_of(ReadRig(rig_path));
+  } else if (fs::is_regular_file(estimate) && ext == ".json") {
+    names_of(RigFromJsonText(json_io::ReadText(estimate), estimate.string()));
+  } else if (fs::is_regular_file(estimate) && (ext == ".yaml" || ext == ".yml")) {
+    for (const KalibrCamera& c : ReadKalibrCamchain(estimate)) {
+      out.named = out.named && !c.name.empty();
+      out.names.push_back(c.name.empty() ? c.key : c.name);
+    }
+  } else if (fs::is_directory(estimate) || estimate.filename() == "images.txt") {
+    out.ordered = false;
+    std::set<std::string> frames;
+    for (const ColmapImage& image : ReadColmapImages(FindColmapTextModel(estimate) / "images.txt")) {
+      const size_t slash = image.name.find('/');
+      if (slash == std::string::npos) continue;
+      const std::string cam = image.name.substr(0, slash);
+      if (std::find(out.names.begin(), out.names.end(), cam) == out.names.end()) out.names.push_back(cam);
+      frames.insert(fs::path(image.name.substr(slash + 1)).stem().string());
+    }
+    for (const std::string& f : frames) out.colmap_frames.frames.push_back({f, std::nullopt, 0.0});
+  } else {
+    throw std::runtime_error(estimate.string() +
+                             ": not an estimate rigsim reads (a rig.json, a calibration folder, a COLMAP text model "
+                             "folder or a Kalibr camchain.yaml)");
+  }
+  return out;
+}
+
 std::vector<RigEstimate> ReadRigEstimates(const fs::path& estimate, const Rig& truth, const FramesFile& frames,
-                                          EstimateScale scale) {
+                                          EstimateScale scale, bool skip_unknown_cameras) {
   std::vector<RigEstimate> estimates;
   const std::string ext = estimate.extension().string();
   if (!fs::exists(estimate)) throw std::runtime_error(estimate.string() + ": no such file or folder");
   if (fs::is_directory(estimate) && fs::exists(estimate / "evaluation.json")) {
-    estimates = FromCalibrationFolder(estimate, truth);
+    estimates = FromCalibrationFolder(estimate, truth, skip_unknown_cameras);
   } else if (fs::is_regular_file(estimate) && ext == ".json") {
     const std::string text = json_io::ReadText(estimate);
-    estimates.push_back(FromRig(RigFromJsonText(text, estimate.string()), truth, "rig.json", estimate.string()));
+    estimates.push_back(
+        FromRig(RigFromJsonText(text, estimate.string()), truth, "rig.json", estimate.string(), skip_unknown_cameras));
     // An estimate's rig.json says its unit; any other is taken as unit scale.
     if (const auto gauge = EstimateGaugeFromJsonText(text, estimate.string())) estimates.back().metric = gauge->metric;
   } else if (fs::is_regular_file(estimate) && (ext == ".yaml" || ext == ".yml")) {
-    estimates.push_back(FromKalibr(estimate, truth));
+    estimates.push_back(FromKalibr(estimate, truth, skip_unknown_cameras));
   } else if (fs::is_directory(estimate) || estimate.filename() == "images.txt") {
     const fs::path model = FindColmapTextModel(estimate);
     std::vector<std::pair<std::string, Rigid3d>> images;

@@ -64,9 +64,24 @@ enum class EstimateScale { kAuto, kMetric, kFit };
 
 // Reads ESTIMATE for the cameras of `truth` (names) and the frames of the dataset (COLMAP).
 // Throws std::runtime_error naming the file and what is wrong (an unknown camera name with a
-// suggestion, an unrecognised file).
+// suggestion, an unrecognised file); with `skip_unknown_cameras`, a camera the truth does not have
+// is left out instead (a truth of only the cameras both sides have: ReadEstimateCameras).
 std::vector<RigEstimate> ReadRigEstimates(const std::filesystem::path& estimate, const Rig& truth,
-                                          const FramesFile& frames, EstimateScale scale = EstimateScale::kAuto);
+                                          const FramesFile& frames, EstimateScale scale = EstimateScale::kAuto,
+                                          bool skip_unknown_cameras = false);
+
+// The cameras an estimate names, for matching it with a truth that is not a dataset's (`rigsim
+// evaluate ESTIMATE --truth RIG`): a calibration folder's (its first mode's rig.json), a rig.json's,
+// a Kalibr camchain's rostopic names (none when a camera has none: matched in order), a COLMAP
+// model's image prefixes (<camera>/<frame>.*, in the order first seen), with the model's frames.
+struct EstimateCameras {
+  std::vector<std::string> names;  // in the estimate's order
+  bool named = true;               // false: a camchain without rostopics
+  bool ordered = true;             // false: a COLMAP model (no reference camera; its order is the images')
+  FramesFile colmap_frames;        // a COLMAP model's frames (the images' stems), sorted by name
+};
+// Throws std::runtime_error as ReadRigEstimates.
+EstimateCameras ReadEstimateCameras(const std::filesystem::path& estimate);
 
 // COLMAP images (name -> cam_from_world) as a rig: see the header comment. Images whose name is
 // not <camera>/<frame>.<ext> of the truth's cameras and the frames are named in the notes.

@@ -36,6 +36,11 @@ std::optional<double> Max(const std::vector<double>& v) {
 
 }  // namespace
 
+bool CapturesWithReference(const Rig& truth, size_t c) {
+  const RigCamera &cam = truth.cameras.at(c), &ref = truth.cameras.at(0);
+  return cam.time_offset_s == ref.time_offset_s && cam.readout_s == ref.readout_s;
+}
+
 RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate) {
   const size_t n = truth.cameras.size();
   if (!truth.HasAllPoses()) throw std::invalid_argument("ScoreRig: the truth needs every camera's cam_from_rig");
@@ -124,13 +129,16 @@ RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate) {
       const bool true_has_across = AcrossAxis(open.axis, true_centre).norm() > 1e-9;
       placed_error_deg = OpenAxisErrorDeg(cs.rotation_error_deg, cs.across_axis_direction_error_deg, true_has_across);
     }
-    const auto beyond = [](const std::optional<double>& error, const std::vector<std::optional<double>>& stated,
-                           size_t camera) {
-      return error && camera < stated.size() && stated[camera] && *error > kOverconfidentSigmas * *stated[camera];
+    const auto stated = [c](const std::vector<std::optional<double>>& sd) {
+      return c < sd.size() ? sd[c] : std::nullopt;
     };
-    cs.overconfident = c > 0 && ((cs.has_rotation && beyond(cs.rotation_error_deg, estimate.rotation_std_deg, c)) ||
-                                 (cs.posed && beyond(cs.direction_error_deg, estimate.direction_std_deg, c)));
-    s.overconfident += cs.overconfident;
+    const StatedError rotation{cs.rotation_error_deg, stated(estimate.rotation_std_deg)};
+    const StatedError direction{cs.posed ? cs.direction_error_deg : std::nullopt, stated(estimate.direction_std_deg)};
+    cs.rotation_sd_ratio = rotation.Ratio();
+    cs.direction_sd_ratio = direction.Ratio();
+    if (!cs.if_synchronised || CapturesWithReference(truth, c)) cs.overconfident = Overconfident({rotation, direction});
+    s.cameras_stating_sd += cs.overconfident.has_value();
+    s.overconfident += cs.overconfident.value_or(false);
     if (cs.if_synchronised) {
       s.wrong_if_synchronised += ConfidentlyWrong(true, placed_error_deg);
     } else {
@@ -211,6 +219,11 @@ namespace {
 
 nlohmann::json Opt(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
 nlohmann::json Finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+// A ratio to a stated deviation of 0 is +inf: JSON has no infinity, so "inf" says it.
+nlohmann::json OptFinite(const std::optional<double>& v) {
+  if (!v) return nullptr;
+  return std::isfinite(*v) ? nlohmann::json(*v) : nlohmann::json("inf");
+}
 
 std::string Deg(const std::optional<double>& v, const char* format = "%.3f deg") {
   if (!v) return "-";
@@ -233,7 +246,9 @@ nlohmann::json RigScoresToJson(const RigScores& s) {
                        {"across_axis_direction_error_deg", Opt(c.across_axis_direction_error_deg)},
                        {"position_error_m", Opt(c.position_error_m)},
                        {"pose_error_deg", Finite(c.pose_error_deg)},
-                       {"overconfident", c.overconfident}});
+                       {"overconfident", c.overconfident ? nlohmann::json(*c.overconfident) : nlohmann::json(nullptr)},
+                       {"error_sd_ratio",
+                        {{"rotation", OptFinite(c.rotation_sd_ratio)}, {"direction", OptFinite(c.direction_sd_ratio)}}}});
   }
   for (const PairScore& p : s.pairs) {
     pairs.push_back({{"cam_a", p.cam_a},
@@ -258,6 +273,7 @@ nlohmann::json RigScoresToJson(const RigScores& s) {
             {"success_2deg", s.success_2deg},
             {"confidently_wrong", s.confidently_wrong},
             {"overconfident", s.overconfident},
+            {"cameras_stating_sd", s.cameras_stating_sd},
             {"cameras_if_synchronised", s.cameras_if_synchronised},
             {"wrong_if_synchronised", s.wrong_if_synchronised},
             {"max_rotation_error_deg", Opt(s.max_rotation_error_deg)},
@@ -278,8 +294,14 @@ nlohmann::json RigScoresToJson(const RigScores& s) {
 std::string FormatRigScores(const std::vector<RigScores>& all) {
   std::string out;
   char line[256];
-  std::snprintf(line, sizeof line, "%-12s %-12s %12s %12s %12s  %s\n", "camera", "method", "rot_err", "t_dir_err",
-                "pos_err", "pose");
+  // The errors over the stated deviations, when an estimate states them (a calibration folder).
+  const bool stated = std::any_of(all.begin(), all.end(), [](const RigScores& s) {
+    return std::any_of(s.cameras.begin(), s.cameras.end(),
+                       [](const CameraScore& c) { return c.rotation_sd_ratio || c.direction_sd_ratio; });
+  });
+  const auto ratio = [](const std::optional<double>& r) { return r ? Deg(*r, "%.1f") : std::string("-"); };
+  std::snprintf(line, sizeof line, "%-12s %-12s %12s %12s %12s%s  %s\n", "camera", "method", "rot_err", "t_dir_err",
+                "pos_err", stated ? "   rot/sd   dir/sd" : "", "pose");
   out += line;
   if (all.empty()) return out;
   for (size_t c = 0; c < all[0].cameras.size(); ++c) {
@@ -294,9 +316,14 @@ std::string FormatRigScores(const std::vector<RigScores>& all) {
                          : cs.has_rotation ? "rotation only"
                                            : "missing";
       const std::optional<double>& direction = cs.open_axis ? cs.across_axis_direction_error_deg : cs.direction_error_deg;
-      std::snprintf(line, sizeof line, "%-12s %-12s %12s %12s %12s  %s\n", m == 0 ? cs.name.c_str() : "",
+      char ratios[64] = "";
+      if (stated) {
+        std::snprintf(ratios, sizeof ratios, " %8s %8s", ratio(cs.rotation_sd_ratio).c_str(),
+                      ratio(cs.direction_sd_ratio).c_str());
+      }
+      std::snprintf(line, sizeof line, "%-12s %-12s %12s %12s %12s%s  %s%s\n", m == 0 ? cs.name.c_str() : "",
                     all[m].method.c_str(), Deg(cs.rotation_error_deg).c_str(), Deg(direction).c_str(), pos.c_str(),
-                    pose);
+                    ratios, pose, cs.overconfident.value_or(false) ? ", overconfident" : "");
       out += line;
     }
   }
@@ -312,9 +339,10 @@ std::string FormatRigScores(const std::vector<RigScores>& all) {
                                              Deg(kConfidentlyWrongDeg, "%g deg") + " off").c_str()
                                           : "");
     out += line;
-    if (s.overconfident > 0) {
-      out += "  " + std::to_string(s.overconfident) + " camera(s) off by more than " +
-             Fixed(kOverconfidentSigmas, 0) + " times the standard deviation the estimate states\n";
+    if (s.cameras_stating_sd > 0) {
+      out += "  overconfident: " + std::to_string(s.overconfident) + " of " + std::to_string(s.cameras_stating_sd) +
+             " camera(s) that state a standard deviation (rot/sd, dir/sd: an error beyond " +
+             Fixed(kOverconfidentSigmas, 0) + " sd and " + Deg(kOverconfidentFloorDeg, "%g deg") + ")\n";
     }
     if (s.cameras_if_synchronised > 0) {
       out += "  " + std::to_string(s.cameras_if_synchronised) + " camera(s) posed if synchronised (the rig's path " +

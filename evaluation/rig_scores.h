@@ -43,9 +43,13 @@ struct CameraScore {
   bool has_rotation = false;   // full pose or rotation only
   bool open_axis = false;      // placed but for one axis: a rotation and the centre across the axis
   bool if_synchronised = false;  // the full pose holds only if the camera captured with camera 0
-  // Its rotation error exceeds kOverconfidentSigmas times the stated standard deviation of its
-  // rotation, or (with a full pose) its direction error that of its direction.
-  bool overconfident = false;
+  // Overconfident (verdicts.h) on its rotation error or, with a full pose, its direction error
+  // against the standard deviations the estimate states; nullopt where it states none for an error
+  // the camera has (a peer, camera 0), and for a camera posed if synchronised that the truth has
+  // capture at another time than camera 0 (the condition its deviations hold under is false).
+  std::optional<bool> overconfident;
+  // Those errors over their stated standard deviations (+inf for a stated 0); nullopt as above.
+  std::optional<double> rotation_sd_ratio, direction_sd_ratio;
   std::optional<double> rotation_error_deg;
   std::optional<double> direction_error_deg;
   std::optional<double> across_axis_direction_error_deg;  // open_axis cameras
@@ -83,13 +87,14 @@ struct RigScores {
   // Cameras ConfidentlyWrong (verdicts.h), placed but for one axis ones included, those whose pose
   // holds only if synchronised not.
   int confidently_wrong = 0;
-  int overconfident = 0;  // cameras CameraScore::overconfident
+  int overconfident = 0;        // cameras CameraScore::overconfident
+  int cameras_stating_sd = 0;   // cameras judged on it (CameraScore::overconfident not nullopt)
   std::vector<std::string> notes;
 };
 
-// An error beyond this many stated standard deviations is overconfident (a Gaussian gets there
-// once in 370).
-inline constexpr double kOverconfidentSigmas = 3.0;
+// Whether camera `c` of `truth` captures when camera 0 does (same time offset and readout): the
+// condition under which an estimate "calibrated if synchronised" holds.
+bool CapturesWithReference(const Rig& truth, size_t c);
 
 // The thresholds of RigScores::auc_*.
 inline constexpr double kAucThresholdsDeg[4] = {1.0, 2.0, 5.0, 10.0};

@@ -223,7 +223,12 @@ TEST(RigScores, ErrorsBeyondThreeStatedDeviationsAreOverconfident) {
   const Rig truth = Truth();
   const Rig off = Moved(truth, 2, Eigen::Vector3d(0.05, 0, 0));  // cam2's direction 2.9 deg off
   RigEstimate e = EstimateOf(off);
-  EXPECT_EQ(ScoreRig(truth, e).overconfident, 0);  // nothing stated
+  const RigScores unstated = ScoreRig(truth, e);
+  EXPECT_EQ(unstated.overconfident, 0);  // nothing stated: not judged, and so shown
+  EXPECT_EQ(unstated.cameras_stating_sd, 0);
+  EXPECT_FALSE(unstated.cameras[2].overconfident.has_value());
+  EXPECT_TRUE(RigScoresToJson(unstated)["cameras"][2]["overconfident"].is_null());
+  EXPECT_EQ(FormatRigScores({unstated}).find("rot/sd"), std::string::npos);  // no ratio columns for a peer
   e.rotation_std_deg.assign(3, 0.01);
   e.direction_std_deg.assign(3, std::nullopt);
   e.direction_std_deg[2] = 2.0;
@@ -232,9 +237,21 @@ TEST(RigScores, ErrorsBeyondThreeStatedDeviationsAreOverconfident) {
   e.direction_std_deg[2] = 0.5;
   s = ScoreRig(truth, e);
   EXPECT_EQ(s.overconfident, 1);
-  EXPECT_TRUE(s.cameras[2].overconfident);
-  EXPECT_FALSE(s.cameras[1].overconfident);
-  EXPECT_EQ(RigScoresToJson(s)["summary"]["overconfident"], 1);
+  EXPECT_EQ(s.cameras_stating_sd, 2);
+  EXPECT_EQ(s.cameras[2].overconfident, true);
+  EXPECT_EQ(s.cameras[1].overconfident, false);
+  EXPECT_FALSE(s.cameras[0].overconfident.has_value());  // the reference is the gauge
+  EXPECT_NEAR(s.cameras[2].direction_sd_ratio.value(), *s.cameras[2].direction_error_deg / 0.5, 1e-12);
+  const nlohmann::json j = RigScoresToJson(s);
+  EXPECT_EQ(j["summary"]["overconfident"], 1);
+  EXPECT_EQ(j["summary"]["cameras_stating_sd"], 2);
+  EXPECT_EQ(j["cameras"][2]["overconfident"], true);
+  EXPECT_NEAR(j["cameras"][2]["error_sd_ratio"]["direction"].get<double>(), *s.cameras[2].direction_sd_ratio, 1e-12);
+  // The evaluate table has the ratios and marks the camera.
+  const std::string table = FormatRigScores({s});
+  EXPECT_NE(table.find("rot/sd"), std::string::npos) << table;
+  EXPECT_NE(table.find("full pose, overconfident"), std::string::npos) << table;
+  EXPECT_NE(table.find("overconfident: 1 of 2 camera(s) that state a standard deviation"), std::string::npos) << table;
   // A rotation-only camera is judged on its rotation.
   RigEstimate turned = EstimateOf(truth);
   turned.rotation_only[1] =
@@ -244,6 +261,58 @@ TEST(RigScores, ErrorsBeyondThreeStatedDeviationsAreOverconfident) {
   EXPECT_EQ(ScoreRig(truth, turned).overconfident, 0);
   turned.rotation_std_deg[1] = 0.2;
   EXPECT_EQ(ScoreRig(truth, turned).overconfident, 1);
+}
+
+// A pose that holds if synchronised is judged against its stated deviations where the truth's
+// camera captured with camera 0, and not where it did not (the condition was stated, and is false).
+TEST(RigScores, APoseIfSynchronisedIsJudgedOnlyWhereTheTruthIsSynchronised) {
+  Rig truth = Truth();
+  RigEstimate e = EstimateOf(Moved(truth, 2, Eigen::Vector3d(0.05, 0, 0)));  // cam2's direction 2.9 deg off
+  e.if_synchronised = {0, 0, 1};
+  e.direction_std_deg = {std::nullopt, 0.5, 0.5};
+  RigScores s = ScoreRig(truth, e);
+  EXPECT_EQ(s.cameras[2].overconfident, true);
+  EXPECT_EQ(s.overconfident, 1);
+  truth.cameras[2].time_offset_s = 0.03;  // captured 30 ms after cam0
+  s = ScoreRig(truth, e);
+  EXPECT_FALSE(s.cameras[2].overconfident.has_value());
+  EXPECT_EQ(s.overconfident, 0);
+  EXPECT_EQ(s.cameras_stating_sd, 1);  // cam1 only
+  e.direction_std_deg[1].reset();
+  s = ScoreRig(truth, e);
+  EXPECT_EQ(s.cameras_stating_sd, 0);
+  // Its ratio is still shown, with no verdict.
+  const std::string table = FormatRigScores({s});
+  EXPECT_NE(table.find("dir/sd"), std::string::npos) << table;
+  EXPECT_EQ(table.find("overconfident"), std::string::npos) << table;
+}
+
+// A rotation 4 stated sd off is overconfident and 2 sd off not; an error under the floor is not,
+// however small the stated deviation.
+TEST(RigScores, OverconfidentNeedsFourNotTwoDeviationsAndAnErrorOverTheFloor) {
+  const Rig truth = Truth();
+  const auto turned_by = [&](double deg) {
+    RigEstimate e = EstimateOf(truth);
+    e.rotation_only[1] = Eigen::Quaterniond(Eigen::AngleAxisd(DegToRad(deg), Eigen::Vector3d::UnitZ())) *
+                         e.cam_from_rig[1]->rotation;
+    e.cam_from_rig[1].reset();
+    e.rotation_std_deg.assign(3, std::nullopt);
+    return e;
+  };
+  RigEstimate e = turned_by(0.4);
+  e.rotation_std_deg[1] = 0.1;  // 4 sd
+  RigScores s = ScoreRig(truth, e);
+  EXPECT_EQ(s.cameras[1].overconfident, true);
+  EXPECT_NEAR(s.cameras[1].rotation_sd_ratio.value(), 4.0, 1e-9);
+  e.rotation_std_deg[1] = 0.2;  // 2 sd
+  EXPECT_EQ(ScoreRig(truth, e).cameras[1].overconfident, false);
+  RigEstimate tiny = turned_by(0.04);
+  tiny.rotation_std_deg[1] = 0.001;  // 40 sd of an error under the 0.05 deg floor
+  s = ScoreRig(truth, tiny);
+  EXPECT_EQ(s.cameras[1].overconfident, false);
+  EXPECT_NEAR(s.cameras[1].rotation_sd_ratio.value(), 40.0, 1e-6);
+  EXPECT_EQ(s.overconfident, 0);
+  EXPECT_EQ(s.cameras_stating_sd, 1);
 }
 
 }  // namespace

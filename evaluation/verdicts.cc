@@ -1,6 +1,7 @@
 #include "evaluation/verdicts.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace rigsim {
@@ -31,6 +32,26 @@ double OpenAxisErrorDeg(const std::optional<double>& rotation_error_deg,
 
 bool ConfidentlyWrong(bool reported_placed, double error_deg) {
   return reported_placed && error_deg > kConfidentlyWrongDeg;
+}
+
+std::optional<double> StatedError::Ratio() const {
+  if (!error_deg || !stated_sd_deg) return std::nullopt;
+  if (*stated_sd_deg <= 0.0) return std::numeric_limits<double>::infinity();
+  return *error_deg / *stated_sd_deg;
+}
+
+bool StatedError::Beyond() const {
+  if (!error_deg || !stated_sd_deg) return false;
+  return *error_deg > std::max(kOverconfidentSigmas * *stated_sd_deg, kOverconfidentFloorDeg);
+}
+
+std::optional<bool> Overconfident(const std::vector<StatedError>& errors) {
+  std::optional<bool> out;
+  for (const StatedError& e : errors) {
+    if (!e.error_deg || !e.stated_sd_deg) continue;
+    out = out.value_or(false) || e.Beyond();
+  }
+  return out;
 }
 
 }  // namespace rigsim

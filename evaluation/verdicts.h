@@ -14,6 +14,10 @@
 //   confidently wrong   one camera reported placed whose error exceeds 5 deg: with a full pose, its
 //                       pose error; placed but for one axis (no full pose, so never a success),
 //                       its rotation or the direction of its centre across the axis.
+//   overconfident       one camera whose error, in its rotation or (with a full pose) the direction
+//                       of its centre, exceeds both 3 times the standard deviation the estimate
+//                       states for it and a floor of 0.05 deg; not judged where nothing is stated
+//                       (nor, rig_scores.h, a pose stated to hold if synchronised when it was not).
 #pragma once
 
 #include <optional>
@@ -58,5 +62,29 @@ double OpenAxisErrorDeg(const std::optional<double>& rotation_error_deg,
 // error (PoseErrorDeg, or OpenAxisErrorDeg) exceeds this (deg) is confidently wrong.
 inline constexpr double kConfidentlyWrongDeg = 5.0;
 bool ConfidentlyWrong(bool reported_placed, double error_deg);
+
+// An error beyond this many stated standard deviations is overconfident (a Gaussian gets there
+// once in 370).
+inline constexpr double kOverconfidentSigmas = 3.0;
+// Below this error (deg) no camera is overconfident, however small its stated deviation: it is
+// about how well the best real truths are known (a factory calibration or a rectified stereo pair
+// is good to a few hundredths of a degree), so an error below it says as much about the truth as
+// about the estimate; and a deviation of 0.001 deg would otherwise flag an error no one can act on.
+inline constexpr double kOverconfidentFloorDeg = 0.05;
+
+// One error against the standard deviation stated for it (deg).
+struct StatedError {
+  std::optional<double> error_deg;
+  std::optional<double> stated_sd_deg;
+  // error / stated sd; nullopt without both, +inf for a stated sd of 0.
+  std::optional<double> Ratio() const;
+  // Both known and the error beyond max(kOverconfidentSigmas * sd, kOverconfidentFloorDeg).
+  bool Beyond() const;
+};
+
+// Whether a camera is overconfident: one of its errors Beyond() what is stated for it; nullopt when
+// no error has a stated deviation (a peer's estimate, a camera without a stated deviation: not
+// judged, and not counted).
+std::optional<bool> Overconfident(const std::vector<StatedError>& errors);
 
 }  // namespace rigsim

@@ -35,6 +35,22 @@ TEST(Verdicts, SuccessNeedsTheReferenceAndEveryCameraWithinTheLimit) {
   EXPECT_FALSE(RigSucceeds(false, {}, kSuccessLimitsDeg[1]));
 }
 
+// An error 4 stated sd off is overconfident, 2 sd off not; below the 0.05 deg floor nothing is,
+// however small the stated sd; an error without a stated sd is not judged.
+TEST(Verdicts, OverconfidentIsBeyondThreeStatedDeviationsAndTheFloor) {
+  EXPECT_TRUE((StatedError{0.4, 0.1}.Beyond()));   // 4 sd
+  EXPECT_FALSE((StatedError{0.2, 0.1}.Beyond()));  // 2 sd
+  EXPECT_DOUBLE_EQ(StatedError({0.4, 0.1}).Ratio().value(), 4.0);
+  EXPECT_FALSE((StatedError{0.04, 0.001}.Beyond()));  // 40 sd, but under the floor
+  EXPECT_TRUE((StatedError{0.06, 0.001}.Beyond()));   // 60 sd and over the floor
+  EXPECT_EQ(StatedError({0.04, 0.0}).Ratio(), kInf);  // a stated 0
+  EXPECT_FALSE(StatedError({0.4, std::nullopt}).Ratio().has_value());
+  EXPECT_FALSE(StatedError({0.4, std::nullopt}).Beyond());
+  EXPECT_EQ(Overconfident({{0.2, 0.1}, {0.4, 0.1}}), true);   // one component is enough
+  EXPECT_EQ(Overconfident({{0.2, 0.1}, {0.4, std::nullopt}}), false);
+  EXPECT_FALSE(Overconfident({{0.4, std::nullopt}, {std::nullopt, 0.1}}).has_value());  // nothing to judge
+}
+
 TEST(Verdicts, ConfidentlyWrongIsAFullPoseBeyondFiveDegrees) {
   EXPECT_TRUE(ConfidentlyWrong(true, 5.7));
   EXPECT_FALSE(ConfidentlyWrong(true, 5.0));

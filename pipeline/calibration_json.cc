@@ -171,7 +171,7 @@ Json RefinedIntrinsicsToJson(const RefinedIntrinsics& r, const Camera& camera, c
 
 Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth, double detect_time_s) {
   Json cams = Json::array();
-  int calibrated = 0, within = 0, calibrated_outside = 0, open_along_axis = 0;
+  int calibrated = 0, within = 0, calibrated_outside = 0, open_along_axis = 0, overconfident = 0, stating_sd = 0;
   std::optional<double> max_rot, max_dir, max_across;  // worst over the cameras that have the error; none: null
   for (size_t c = 0; c < r.rig.cameras.size(); ++c) {
     const auto& pose = r.rig.cameras[c].cam_from_rig;
@@ -204,6 +204,14 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
     j["rotation_error_deg"] = json_io::OptionalNumber(e.rotation_error_deg);
     j["translation_direction_error_deg"] = json_io::OptionalNumber(e.translation_direction_error_deg);
     j["position_error_m"] = json_io::OptionalNumber(e.position_error_m);
+    // Null without the truth or without a stated deviation; a ratio to a stated 0 is "inf".
+    const auto ratio = [](const std::optional<double>& r) {
+      return !r ? Json(nullptr) : std::isfinite(*r) ? Json(*r) : Json("inf");
+    };
+    j["overconfident"] = e.overconfident ? Json(*e.overconfident) : Json(nullptr);
+    j["error_sd_ratio"] = {{"rotation", ratio(e.rotation_sd_ratio)}, {"direction", ratio(e.direction_sd_ratio)}};
+    overconfident += e.overconfident.value_or(false);
+    stating_sd += e.overconfident.has_value();
     j["intrinsics"] = s.intrinsics ? RefinedIntrinsicsToJson(*s.intrinsics, r.rig.cameras[c].camera,
                                                              e.intrinsics ? &*e.intrinsics : nullptr)
                                    : Json(nullptr);
@@ -286,6 +294,8 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
                           {"direction_deg", kCameraTolerance.direction_deg}};
   summary["cameras_within_tolerance"] = evaluated ? Json(within) : Json(nullptr);
   summary["cameras_calibrated_outside_tolerance"] = evaluated ? Json(calibrated_outside) : Json(nullptr);
+  summary["cameras_overconfident"] = evaluated ? Json(overconfident) : Json(nullptr);
+  summary["cameras_stating_sd"] = evaluated ? Json(stating_sd) : Json(nullptr);
   summary["max_rotation_error_deg"] = json_io::OptionalNumber(evaluated ? max_rot : std::nullopt);
   summary["max_translation_direction_error_deg"] = json_io::OptionalNumber(evaluated ? max_dir : std::nullopt);
   summary["max_across_axis_direction_error_deg"] = json_io::OptionalNumber(evaluated ? max_across : std::nullopt);

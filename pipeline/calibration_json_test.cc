@@ -171,6 +171,50 @@ TEST(EvaluationJson, ACameraPlacedButForOneAxisIsScoredApartAndReadBackAsSuch) {
   EXPECT_EQ(ScoreRig(truth, RigEstimateOf(off)).confidently_wrong, 1);
 }
 
+// A camera whose rotation is 4 stated sd off is overconfident in evaluation.json, with its ratio;
+// one 2 sd off is not; the same verdict comes from what the sweep scores (ScoreRig of the result)
+// and from what `rigsim evaluate` reads back of the folder.
+TEST(EvaluationJson, OverconfidentCamerasCarryTheirRatioAndAgreeWithTheSweepAndEvaluate) {
+  RigCalibrationResult r = ThreeCameraResult();
+  Rig truth = r.rig;
+  const Eigen::Quaterniond r2(Eigen::AngleAxisd(DegToRad(120), Eigen::Vector3d::UnitY()));
+  truth.cameras[2].cam_from_rig = Rigid3d(r2, -(r2 * Eigen::Vector3d(0.6, 0.0, 0.4)));
+  // cam1's true rotation 0.4 deg from the estimate's.
+  truth.cameras[1].cam_from_rig->rotation =
+      Eigen::Quaterniond(Eigen::AngleAxisd(DegToRad(0.4), Eigen::Vector3d::UnitX())) * truth.cameras[1].cam_from_rig->rotation;
+  r.camera_stats[1].rotation_std_deg = 0.1;
+  CalibrationScores scores = ScorePoses(truth, ThreeFrames(), r);
+  Json m = RigResultJson(r, &scores, 0.0);
+  EXPECT_EQ(m["cameras"][1]["overconfident"], true) << m["cameras"][1];
+  EXPECT_NEAR(m["cameras"][1]["error_sd_ratio"]["rotation"].get<double>(), 4.0, 1e-6);
+  EXPECT_TRUE(m["cameras"][1]["error_sd_ratio"]["direction"].is_null());  // no direction sd stated
+  EXPECT_TRUE(m["cameras"][2]["overconfident"].is_null());               // nothing stated for cam2
+  EXPECT_TRUE(m["cameras"][0]["overconfident"].is_null());               // the reference
+  EXPECT_EQ(m["summary"]["cameras_overconfident"], 1);
+  EXPECT_EQ(m["summary"]["cameras_stating_sd"], 1);
+  EXPECT_TRUE(RigResultJson(r, nullptr, 0.0)["cameras"][1]["overconfident"].is_null());  // no truth
+  const RigScores swept = ScoreRig(truth, RigEstimateOf(r));
+  EXPECT_EQ(swept.overconfident, 1);
+  EXPECT_EQ(swept.cameras_stating_sd, 1);
+
+  CalibrationRun run = RunOf({r});
+  run.records[0].truth = scores;
+  const TempDir dir;
+  WriteFile(dir / "evaluation.json", EvaluationJson(run).dump());
+  std::filesystem::create_directories(dir / "mask");
+  WriteRig(r.rig, dir / "mask" / "rig.json");
+  const std::vector<RigEstimate> read = ReadRigEstimates(dir, truth, ThreeFrames());
+  ASSERT_EQ(read.size(), 1u);
+  EXPECT_EQ(ScoreRig(truth, read[0]).cameras[1].overconfident, true);
+
+  r.camera_stats[1].rotation_std_deg = 0.2;  // 2 sd
+  scores = ScorePoses(truth, ThreeFrames(), r);
+  m = RigResultJson(r, &scores, 0.0);
+  EXPECT_EQ(m["cameras"][1]["overconfident"], false);
+  EXPECT_EQ(m["summary"]["cameras_overconfident"], 0);
+  EXPECT_EQ(ScoreRig(truth, RigEstimateOf(r)).overconfident, 0);
+}
+
 // The worst error over no camera is unknown, not zero: a rig whose positions the data do not
 // determine has no direction errors, and evaluation.json says null.
 TEST(RigResultJson, WorstErrorOverNoCameraIsNull) {

@@ -62,8 +62,11 @@ CalibrationScores ScorePoses(const Rig& truth, const FramesFile& frames, const R
   }
   const std::vector<CameraErrors> errors = CalibrationCameraErrors(truth, RigEstimateOf(result));
   for (size_t c = 0; c < errors.size(); ++c) {
-    CameraAgainstTruth cam{errors[c].rotation_error_deg, errors[c].direction_error_deg, errors[c].position_error_m, {}, {}, {},
-                           errors[c].across_axis_direction_error_deg};
+    CameraAgainstTruth cam;
+    cam.rotation_error_deg = errors[c].rotation_error_deg;
+    cam.translation_direction_error_deg = errors[c].direction_error_deg;
+    cam.position_error_m = errors[c].position_error_m;
+    cam.across_axis_direction_error_deg = errors[c].across_axis_direction_error_deg;
     if (const auto& in = result.camera_stats.at(c).intrinsics) {
       cam.intrinsics = ScoreIntrinsics(in->given, in->refined, truth.cameras[c].camera);
     }
@@ -72,6 +75,18 @@ CalibrationScores ScorePoses(const Rig& truth, const FramesFile& frames, const R
       cam.time_offset_error_s = *stats.time_offset_s - (truth.cameras[c].time_offset_s - truth.cameras[0].time_offset_s);
     }
     if (stats.readout_s) cam.readout_error_s = *stats.readout_s - truth.cameras[c].readout_s;
+    // Camera 0 is the gauge (its errors are 0 by construction); a pose that holds if synchronised is
+    // judged only where the truth's camera is.
+    const bool condition_holds = result.camera_status.at(c).outcome != CameraOutcome::kCalibratedIfSynchronised ||
+                                 CapturesWithReference(truth, c);
+    if (c > 0 && condition_holds) {
+      const StatedError rotation{cam.rotation_error_deg, stats.rotation_std_deg};
+      const StatedError direction{result.rig.cameras[c].cam_from_rig ? cam.translation_direction_error_deg : std::nullopt,
+                                  stats.direction_std_deg};
+      cam.rotation_sd_ratio = rotation.Ratio();
+      cam.direction_sd_ratio = direction.Ratio();
+      cam.overconfident = Overconfident({rotation, direction});
+    }
     s.cameras.push_back(cam);
   }
   return s;

@@ -59,6 +59,11 @@ struct CameraAgainstTruth {
   // Of a camera placed but for one axis: the angle between its centre across the axis and the true
   // one's (evaluation/rig_scores.h CameraErrors).
   std::optional<double> across_axis_direction_error_deg;
+  // The rotation error and (with a full pose) the direction error over the standard deviations the
+  // calibration states for them, and the verdict on them (evaluation/verdicts.h Overconfident);
+  // nullopt where none is stated (camera 0, a camera not placed).
+  std::optional<double> rotation_sd_ratio, direction_sd_ratio;
+  std::optional<bool> overconfident;
 };
 
 // One semantic mode's calibration against the truth.

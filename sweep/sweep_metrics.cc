@@ -120,10 +120,15 @@ std::vector<MethodMetricSpec> MakeSweepMetricSpecs() {
       {SummaryKind::kSum, G::kOutcome, "confidently wrong", "", "", false}, {},
       FromScores([](const RigScores& s) { return s.confidently_wrong; }));
   add("overconfident",
-      "cameras whose rotation error exceeds 3 times the standard deviation the method states for it, or whose "
-      "direction error exceeds 3 times that of its direction (rigsim states them; peers state none)",
+      "cameras whose rotation error, or with a full pose direction error, exceeds both 3 times the standard "
+      "deviation the method states for it and 0.05 deg (rigsim states them; peers state none)",
       true, {SummaryKind::kSum, G::kOutcome, "overconfident", "", "", false}, {},
       FromScores([](const RigScores& s) { return s.overconfident; }));
+  add("cameras_stating_sd",
+      "cameras other than the reference with an error and a standard deviation stated for it: those judged for "
+      "overconfident",
+      true, {SummaryKind::kSum, G::kOutcome, "stating a deviation", "", "", false}, {},
+      FromScores([](const RigScores& s) { return s.cameras_stating_sd; }));
   add("cameras_if_synchronised",
       "cameras given a full pose that holds only if they captured with camera 0 (the rig's path cannot show a time "
       "offset; rigsim's rows only)",

@@ -89,6 +89,39 @@ TEST(SweepResults, ARunGivesEveryMetricOfTheTableInItsOrder) {
   EXPECT_EQ(cell.size(), CellMetricSpecs().size());
 }
 
+// The sweep's overconfident metric counts the cameras ScoreRig finds beyond their stated
+// deviations, and cameras_stating_sd those judged; a peer's row judges none.
+TEST(SweepResults, OverconfidentCountsTheCamerasBeyondTheirStatedDeviations) {
+  Rig truth;
+  const Camera cam(CameraModelId::kPinhole, 64, 48, {50, 50, 31.5, 23.5});
+  for (int c = 0; c < 3; ++c) truth.cameras.push_back({"cam" + std::to_string(c), cam, Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(-c, 0, 0))});
+  RigEstimate e;
+  e.method = "none";
+  for (const RigCamera& c : truth.cameras) {
+    e.cam_from_rig.push_back(std::nullopt);
+    e.rotation_only.push_back(c.cam_from_rig->rotation);
+    e.open_axis.push_back(std::nullopt);
+  }
+  e.cam_from_rig[0] = truth.cameras[0].cam_from_rig;
+  e.rotation_only[0].reset();
+  // cam1 and cam2 both 0.4 deg off in rotation: cam1 states 0.1 (4 sd), cam2 0.2 (2 sd).
+  const Eigen::Quaterniond off(Eigen::AngleAxisd(DegToRad(0.4), Eigen::Vector3d::UnitY()));
+  for (int c : {1, 2}) e.rotation_only[c] = off * *e.rotation_only[c];
+  e.rotation_std_deg = {std::nullopt, 0.1, 0.2};
+  const RigScores scores = ScoreRig(truth, e);
+  RigCalibrationResult rigsim;
+  ModeRecord record;
+  const Json row = MethodMetrics({&scores, &rigsim, nullptr, 1.0, &record});
+  EXPECT_EQ(row["overconfident"], 1);
+  EXPECT_EQ(row["cameras_stating_sd"], 2);
+  e.rotation_std_deg.clear();  // as a peer: nothing stated
+  const RigScores peer = ScoreRig(truth, e);
+  const ColmapPeerResult colmap;
+  const Json peer_row = MethodMetrics({&peer, nullptr, &colmap, 1.0});
+  EXPECT_EQ(peer_row["overconfident"], 0);
+  EXPECT_EQ(peer_row["cameras_stating_sd"], 0);
+}
+
 TEST(SweepResults, AFinishedCellIsReadBackOnlyWhenItMatchesTheConfig) {
   const TempDir scratch;
   const fs::path out = scratch / "out";

@@ -6,6 +6,8 @@
 #include <map>
 #include <set>
 
+#include "common/format.h"
+
 namespace rigsim {
 
 using Json = nlohmann::ordered_json;
@@ -186,6 +188,33 @@ std::string CamerasPosedText(const SummaryRow& row) {
          text(by_share[(by_share.size() - 1) / 2].second);
 }
 
+namespace {
+
+// The cameras confidently wrong, and overconfident of those judged, when the method states
+// standard deviations (rigsim does; a peer does not).
+std::string JudgedLine(const SummaryRow& r) {
+  const int64_t judged = static_cast<int64_t>(r.Total("cameras_stating_sd"));
+  if (judged == 0) return "";
+  return "; confidently wrong " + std::to_string(static_cast<int64_t>(r.Total("confidently_wrong"))) +
+         ", overconfident " + std::to_string(static_cast<int64_t>(r.Total("overconfident"))) + " of " +
+         Count(judged, "camera") + " stating a deviation";
+}
+
+}  // namespace
+
+std::string ConfidenceLine(const std::vector<SummaryRow>& rows) {
+  double wrong = 0, overconfident = 0, judged = 0;
+  for (const SummaryRow& r : rows) {
+    wrong += r.Total("confidently_wrong");
+    overconfident += r.Total("overconfident");
+    judged += r.Total("cameras_stating_sd");
+  }
+  const std::string head = "cameras confidently wrong " + std::to_string(static_cast<int64_t>(wrong)) + "; ";
+  if (judged == 0) return head + "overconfident: no method stated a standard deviation";
+  return head + "overconfident " + std::to_string(static_cast<int64_t>(overconfident)) + " of " +
+         Count(static_cast<int64_t>(judged), "camera") + " stating a deviation (3 sd and 0.05 deg)";
+}
+
 std::vector<std::string> PlacementLines(const std::vector<SummaryRow>& rows) {
   std::vector<std::string> lines;
   std::set<std::string> methods;
@@ -202,7 +231,7 @@ std::vector<std::string> PlacementLines(const std::vector<SummaryRow>& rows) {
     if (methods.size() > 1) label += ", " + r.method;
     lines.push_back("  " + label + ": placed every camera within 1° / 5° in " + std::to_string(r.Count("success_1deg")) +
                     " / " + std::to_string(r.Count("success_5deg")) + " of " + std::to_string(r.cells) + " seeds (cameras posed " +
-                    CamerasPosedText(r) + ")");
+                    CamerasPosedText(r) + ")" + JudgedLine(r));
   }
   return lines;
 }

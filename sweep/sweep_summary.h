@@ -62,6 +62,9 @@ std::string CamerasPosedText(const SummaryRow& row);
 // 1 / 2 of 3 seeds (cameras posed 4/4, 4/4, 1/4)". The method follows the point when the sweep
 // has more than one.
 std::vector<std::string> PlacementLines(const std::vector<SummaryRow>& rows);
+// One line for every sweep, over all its rows: "cameras confidently wrong 0; overconfident 5 of
+// 72 cameras stating a deviation", or that no method states one.
+std::string ConfidenceLine(const std::vector<SummaryRow>& rows);
 std::string SummaryCsv(const std::vector<SummaryRow>& rows);
 
 // One claim of the config (SweepConfig::claims), tested by pairing each cell's `method` row with

@@ -68,7 +68,7 @@ TEST(SweepSummary, GroupsCellsByStudyPointAndMethod) {
   EXPECT_DOUBLE_EQ(*rows[2].Spread("overlap_pct").median, 18.0);
   const std::string csv = SummaryCsv(rows);
   EXPECT_EQ(csv.substr(0, csv.find('\n')).substr(0, 30), "study,point,method,cells,faile");
-  EXPECT_NE(csv.find("\nt,overlap=10,none,2,0,0,0.5,0,0,0,0,0,2,0.75,0.15,0.1,0.2,,3.5,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\nt,overlap=10,none,2,0,0,0.5,0,0,0,0,0,0,2,0.75,0.15,0.1,0.2,,3.5,"), std::string::npos) << csv;
   EXPECT_DOUBLE_EQ(rows[0].Total("cameras_open_axis"), 2.0);  // summed over the seeds
   EXPECT_EQ(rows[0].Spread("max_across_axis_direction_error_deg").count, 1);
   EXPECT_FALSE(rows[1].Spread("max_across_axis_direction_error_deg").median.has_value());
@@ -111,6 +111,19 @@ TEST(SweepSummary, PlacementSaysInHowManySeedsEveryCameraWasPlaced) {
                 "12 frames:",
                 "  figure-eight: placed every camera within 1° / 5° in 1 / 2 of 3 seeds (cameras posed 4/4, 4/4, 1/4)",
                 "  loop: placed every camera within 1° / 5° in 2 / 2 of 3 seeds (cameras posed 4/4, 4/4, -)"}));
+  // With the cameras judged for overconfident (rigsim's rows), the line counts them.
+  std::vector<CellRecord> judged = records;
+  for (size_t c = 0; c < 3; ++c) {
+    judged[c].rows[0].metrics["confidently_wrong"] = 0;
+    judged[c].rows[0].metrics["overconfident"] = c == 1 ? 2 : 0;
+    judged[c].rows[0].metrics["cameras_stating_sd"] = 3;
+  }
+  EXPECT_EQ(PlacementLines(Summarise(config, cells, judged))[1],
+            "  figure-eight: placed every camera within 1° / 5° in 1 / 2 of 3 seeds (cameras posed 4/4, 4/4, 1/4); "
+            "confidently wrong 0, overconfident 2 of 9 cameras stating a deviation");
+  EXPECT_EQ(ConfidenceLine(Summarise(config, cells, judged)),
+            "cameras confidently wrong 0; overconfident 2 of 9 cameras stating a deviation (3 sd and 0.05 deg)");
+  EXPECT_EQ(ConfidenceLine(rows), "cameras confidently wrong 0; overconfident: no method stated a standard deviation");
   // The study's table in report.md says the same.
   const std::vector<ClaimResult> claims;
   SweepReportInput input;

@@ -194,5 +194,137 @@ TEST_F(ExportEstimate, WithoutItsRigPosesAnEstimateIsRefusedAndNothingIsWritten)
   EXPECT_EQ(k.code, 0) << k.out << k.err;
 }
 
+// The per-camera errors and verdicts of an evaluate --json, by camera name, per method.
+std::map<std::string, Json> CamerasByName(const Json& scores) {
+  std::map<std::string, Json> out;
+  for (const auto& [method, m] : scores.at("methods").items()) {
+    for (const Json& cam : m.at("cameras")) out[method + "/" + cam.at("name").get<std::string>()] = cam;
+  }
+  return out;
+}
+
+// `evaluate FOLDER --truth RIG` scores a calibration folder as `evaluate DATASET FOLDER` does, with
+// the dataset's rig.json as RIG, and with the truth exported as a Kalibr camchain (read by
+// make-rig's importer) to the camchain's precision.
+TEST_F(ExportEstimate, EvaluateAgainstARigFileScoresAsAgainstTheDataset) {
+  const fs::path d = dir_->path();
+  const fs::path folder = d / "data" / "calibration";
+  const CliResult by_dataset =
+      RunRigsim({"evaluate", (d / "data").string(), folder.string(), "--json", (d / "by_dataset.json").string()},
+                d / "by_dataset");
+  ASSERT_EQ(by_dataset.code, 0) << by_dataset.err;
+  const CliResult by_truth = RunRigsim({"evaluate", folder.string(), "--truth", (d / "data" / "rig.json").string(),
+                                        "--json", (d / "by_truth.json").string()},
+                                       d / "by_truth");
+  ASSERT_EQ(by_truth.code, 0) << by_truth.err;
+  const Json a = Json::parse(ReadFile(d / "by_dataset.json")), b = Json::parse(ReadFile(d / "by_truth.json"));
+  EXPECT_EQ(a.at("methods"), b.at("methods"));  // the same cameras in the same order: the same scores
+  EXPECT_EQ(b.at("not_scored").at("only_in_truth"), Json::array());
+  // The same table, but for the lines naming the truth and the JSON file.
+  const auto table = [](const std::string& out) {
+    const size_t start = out.find('\n');
+    return out.substr(start, out.find("scores written to") - start);
+  };
+  EXPECT_EQ(table(by_dataset.out), table(by_truth.out));
+  EXPECT_NE(by_truth.out.find("against the truth in " + (d / "data" / "rig.json").string()), std::string::npos)
+      << by_truth.out;
+
+  // The truth as a Kalibr camchain (metric, cam0 its rig frame).
+  const CliResult exported = RunRigsim(
+      {"export", (d / "data").string(), "--format", "kalibr", "--out", (d / "truth_kalibr").string()}, d / "export_truth");
+  ASSERT_EQ(exported.code, 0) << exported.out << exported.err;
+  const CliResult by_kalibr = RunRigsim({"evaluate", folder.string(), "--truth",
+                                         (d / "truth_kalibr" / "camchain.yaml").string(), "--json",
+                                         (d / "by_kalibr.json").string()},
+                                        d / "by_kalibr");
+  ASSERT_EQ(by_kalibr.code, 0) << by_kalibr.err;
+  const std::map<std::string, Json> want = CamerasByName(a), got = CamerasByName(Json::parse(ReadFile(d / "by_kalibr.json")));
+  ASSERT_EQ(want.size(), got.size());
+  int compared = 0;
+  for (const auto& [key, cam] : want) {
+    const Json& other = got.at(key);
+    EXPECT_EQ(cam.at("posed"), other.at("posed")) << key;
+    EXPECT_EQ(cam.at("overconfident"), other.at("overconfident")) << key;
+    for (const char* error : {"rotation_error_deg", "translation_direction_error_deg"}) {
+      ASSERT_EQ(cam.at(error).is_null(), other.at(error).is_null()) << key << " " << error;
+      if (cam.at(error).is_null()) continue;
+      EXPECT_NEAR(cam.at(error).get<double>(), other.at(error).get<double>(), 1e-6) << key << " " << error;
+      ++compared;
+    }
+  }
+  EXPECT_GE(compared, 1);
+
+  // A COLMAP model of the estimate: its frames are its images' stems.
+  const CliResult colmap = RunRigsim({"export", (d / "data").string(), "--format", "colmap", "--rig",
+                                      (folder / "none" / "rig.json").string(), "--out", (d / "est_colmap").string()},
+                                     d / "export_colmap");
+  ASSERT_EQ(colmap.code, 0) << colmap.out << colmap.err;
+  const fs::path model = d / "est_colmap" / "colmap";
+  const CliResult colmap_dataset = RunRigsim(
+      {"evaluate", (d / "data").string(), model.string(), "--json", (d / "colmap_dataset.json").string()}, d / "cd");
+  const CliResult colmap_truth = RunRigsim({"evaluate", model.string(), "--truth", (d / "data" / "rig.json").string(),
+                                            "--json", (d / "colmap_truth.json").string()},
+                                           d / "ct");
+  ASSERT_EQ(colmap_dataset.code, 0) << colmap_dataset.err;
+  ASSERT_EQ(colmap_truth.code, 0) << colmap_truth.err;
+  EXPECT_EQ(Json::parse(ReadFile(d / "colmap_dataset.json")).at("methods"),
+            Json::parse(ReadFile(d / "colmap_truth.json")).at("methods"));
+}
+
+// Cameras are matched by name: those on one side only are named as not scored; none in common, a
+// truth without poses, --truth beside DATASET, or no ESTIMATE are refused, and --json is not written.
+TEST_F(ExportEstimate, EvaluateAgainstARigFileMatchesCamerasByNameAndRefusesBadInput) {
+  const fs::path d = dir_->path();
+  const fs::path folder = d / "data" / "calibration";
+  Json rig = Json::parse(ReadFile(d / "data" / "rig.json"));
+  // cam3 left out, and a camera the estimate does not have.
+  Json partial = rig;
+  Json cameras = Json::array();
+  for (const Json& cam : rig.at("cameras")) {
+    if (cam.at("name") != "cam3") cameras.push_back(cam);
+  }
+  Json extra = cameras[1];
+  extra["name"] = "cam_roof";
+  cameras.push_back(extra);
+  partial["cameras"] = cameras;
+  WriteFile(d / "partial.json", partial.dump());
+  const CliResult part = RunRigsim({"evaluate", folder.string(), "--truth", (d / "partial.json").string(), "--json",
+                                    (d / "partial_scores.json").string()},
+                                   d / "partial");
+  ASSERT_EQ(part.code, 0) << part.err;
+  EXPECT_NE(part.out.find("not scored, only in the truth: cam_roof"), std::string::npos) << part.out;
+  EXPECT_NE(part.out.find("not scored, only in the estimate: cam3"), std::string::npos) << part.out;
+  const Json scores = Json::parse(ReadFile(d / "partial_scores.json"));
+  EXPECT_EQ(scores.at("not_scored").at("only_in_estimate"), Json::array({"cam3"}));
+  EXPECT_EQ(scores.at("methods").at("none").at("cameras").size(), 3u);
+
+  const auto refused = [&](const std::vector<std::string>& args, const std::string& says) {
+    const fs::path json = d / "refused.json";
+    std::vector<std::string> all = args;
+    all.insert(all.end(), {"--json", json.string()});
+    const CliResult r = RunRigsim(all, d / "refused");
+    EXPECT_EQ(r.code, 1) << r.out << r.err;
+    EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(json)) << args[1];
+  };
+  Json strangers = rig;
+  for (size_t i = 0; i < strangers["cameras"].size(); ++i) strangers["cameras"][i]["name"] = "front" + std::to_string(i);
+  WriteFile(d / "strangers.json", strangers.dump());
+  refused({"evaluate", folder.string(), "--truth", (d / "strangers.json").string()},
+          "no camera of it is in " + folder.string() + ": the truth has front0, front1, front2, front3; the estimate "
+          "has cam0, cam1, cam2, cam3 (cameras are matched by name)");
+  Json unposed = rig;
+  unposed["cameras"][2].erase("cam_from_rig");
+  WriteFile(d / "unposed.json", unposed.dump());
+  refused({"evaluate", folder.string(), "--truth", (d / "unposed.json").string()},
+          "has no pose (cam_from_rig) for cam2");
+  refused({"evaluate", (d / "data").string(), folder.string(), "--truth", (d / "data" / "rig.json").string()},
+          "--truth replaces DATASET");
+  refused({"evaluate", "--truth", (d / "data" / "rig.json").string()}, "ESTIMATE is required");
+  refused({"evaluate", folder.string()}, "needs DATASET ESTIMATE, or ESTIMATE --truth RIG");
+  WriteFile(d / "notes.txt", "not a rig");
+  refused({"evaluate", folder.string(), "--truth", (d / "notes.txt").string()}, "notes.txt");
+}
+
 }  // namespace
 }  // namespace rigsim

@@ -219,6 +219,7 @@ void AddSweepCommand(CLI::App& app) {
                   options.num_shards, out.string().c_str());
       return;
     }
+    std::printf("%s\n", ConfidenceLine(outcome.summary).c_str());
     // The motion suite's answer: which path placed the rig, in how many of the seeds.
     if (args->suite == "motion") {
       for (const std::string& line : PlacementLines(outcome.summary)) std::printf("%s\n", line.c_str());
