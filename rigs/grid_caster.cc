@@ -15,6 +15,7 @@ GridCaster::GridCaster(const Scene& scene) {
   for (const SceneMesh& m : scene.meshes) {
     for (size_t t = 0; t + 2 < m.indices.size(); t += 3) {
       Tri tri;
+      tri.class_id = m.class_id;
       for (int k = 0; k < 3; ++k) {
         const uint32_t idx = m.indices[t + k];
         if (idx >= m.positions.size()) continue;
@@ -50,7 +51,7 @@ std::optional<GridCaster::Hit> GridCaster::Cast(const Eigen::Vector3d& o, const 
       double t;
       if (Intersect(tris_[i], o, d, &t) && t <= max_t && (!best || t < best->t)) {
         const Tri& tri = tris_[i];
-        best = Hit{t, (tri.v[1] - tri.v[0]).cross(tri.v[2] - tri.v[0])};
+        best = Hit{t, (tri.v[1] - tri.v[0]).cross(tri.v[2] - tri.v[0]), tri.class_id};
       }
     }
   };

@@ -26,6 +26,7 @@ class GridCaster {
   struct Hit {
     double t;
     Eigen::Vector3d normal;  // unnormalised geometric normal (v1-v0) x (v2-v0)
+    uint8_t class_id = 0;    // the hit mesh's Cityscapes label id (SceneMesh::class_id)
   };
 
   // First hit along origin + t dir, t in (1e-6, max_t].
@@ -34,6 +35,7 @@ class GridCaster {
  private:
   struct Tri {
     Eigen::Vector3d v[3];
+    uint8_t class_id = 0;
   };
   int CellX(double x) const;
   int CellZ(double z) const;

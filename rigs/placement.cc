@@ -7,7 +7,9 @@
 #include <vector>
 
 #include "rigs/grid_caster.h"
+#include "rigs/path_clearance.h"
 #include "rigs/rng.h"
+#include "rigs/road_placement.h"
 #include "rigs/trajectories.h"
 
 namespace rigsim {
@@ -46,47 +48,6 @@ double PredictedOverlapOneWay(const GridCaster& caster, const RigCamera& a, cons
 double PredictedOverlapWith(const GridCaster& caster, const Rig& rig, int a, int b, const Rigid3d& rig_from_world) {
   return std::min(PredictedOverlapOneWay(caster, rig.cameras[a], rig.cameras[b], rig_from_world),
                   PredictedOverlapOneWay(caster, rig.cameras[b], rig.cameras[a], rig_from_world));
-}
-
-// Whether something is within 0.5 m above `position` or 0.6 m around it horizontally: the rig would
-// stand inside geometry or against it.
-bool Boxed(const GridCaster& caster, const Eigen::Vector3d& position) {
-  if (caster.Cast(position, Eigen::Vector3d(0, 1, 0), 0.5)) return true;
-  for (int k = 0; k < 8; ++k) {
-    const double a = k * 0.7853981633974483;  // 45 deg steps
-    if (caster.Cast(position, Eigen::Vector3d(std::sin(a), 0, std::cos(a)), 0.6)) return true;
-  }
-  return false;
-}
-
-// Whether the straight segment from a to b crosses a surface.
-bool SegmentHits(const GridCaster& caster, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const double length = (b - a).norm();
-  return length > 1e-9 && caster.Cast(a, (b - a) / length, length).has_value();
-}
-
-// Whether a rig following `frames` stays clear of the scene: at every frame its centre stands on
-// the ground (the first surface below it within kGroundTolerance of height_m) and is not Boxed,
-// and no surface lies across the moves between frames of its centre and of every camera centre,
-// nor across the rig's arms from its centre to each camera.
-bool PathIsClear(const GridCaster& caster, const Rig& rig, const FramesFile& frames, double height_m) {
-  constexpr double kGroundTolerance = 0.5;
-  std::vector<Eigen::Vector3d> previous;  // centre, then each camera's, at the previous frame
-  for (const Frame& frame : frames.frames) {
-    const Rigid3d world_from_rig = frame.rig_from_world->Inverse();
-    std::vector<Eigen::Vector3d> centres = {world_from_rig.translation};
-    for (const RigCamera& rc : rig.cameras) centres.push_back(world_from_rig * rc.cam_from_rig->Inverse().translation);
-    const auto ground = caster.Cast(centres[0], Eigen::Vector3d(0, -1, 0), height_m + kGroundTolerance);
-    if (!ground || ground->t < height_m - kGroundTolerance || Boxed(caster, centres[0])) return false;
-    for (size_t i = 1; i < centres.size(); ++i) {
-      if (SegmentHits(caster, centres[0], centres[i])) return false;
-    }
-    for (size_t i = 0; i < previous.size(); ++i) {
-      if (SegmentHits(caster, previous[i], centres[i])) return false;
-    }
-    previous = std::move(centres);
-  }
-  return true;
 }
 
 }  // namespace
@@ -132,6 +93,21 @@ Rig MakeRingRigInScene(const RingRigOptions& options, const Scene& scene, const 
   return rig;
 }
 
+std::string_view PlacementModeName(PlacementMode mode) {
+  switch (mode) {
+    case PlacementMode::kStructure: return "structure";
+    case PlacementMode::kRoad: return "road";
+  }
+  throw std::invalid_argument("PlacementModeName: invalid mode " + std::to_string(static_cast<int>(mode)));
+}
+
+PlacementMode PlacementModeFromName(std::string_view name) {
+  for (PlacementMode m : kAllPlacementModes) {
+    if (PlacementModeName(m) == name) return m;
+  }
+  throw std::invalid_argument("unknown placement '" + std::string(name) + "': give structure or road");
+}
+
 void PlacementOptions::Check() const {
   const std::string w = "rig placement";
   if (!(height_m > 0)) FailPlacing(w, "height_m must be > 0");
@@ -139,6 +115,8 @@ void PlacementOptions::Check() const {
   if (!(travel_m >= 0)) FailPlacing(w, "travel_m must be >= 0");
   if (!(max_range_m > min_clearance_m)) FailPlacing(w, "max_range_m must exceed min_clearance_m");
   if (num_candidates < 1 || num_headings < 1) FailPlacing(w, "num_candidates and num_headings must be >= 1");
+  if (!(half_width_m >= 0)) FailPlacing(w, "half_width_m must be >= 0");
+  if (!(two_lane_width_m > 0)) FailPlacing(w, "two_lane_width_m must be > 0");
 }
 
 std::optional<RigPlacement> PlaceRig(const Scene& scene, const Rig& rig, const PlacementOptions& o,
@@ -147,6 +125,7 @@ std::optional<RigPlacement> PlaceRig(const Scene& scene, const Rig& rig, const P
   if (!rig.HasAllPoses()) FailPlacing("rig placement", "every camera needs cam_from_rig");
   const GridCaster caster(scene);
   if (caster.empty()) return std::nullopt;
+  if (o.mode == PlacementMode::kRoad) return PlaceRigOnRoad(scene, caster, rig, o, path);
   const Eigen::Vector3d lo = caster.lo(), hi = caster.hi();
   // Probe rays per camera, in the camera frame: the optical axis and a small cross around it
   // ("central rays", which must be clear), plus a wider fan that scores structure.
@@ -204,7 +183,7 @@ std::optional<RigPlacement> PlaceRig(const Scene& scene, const Rig& rig, const P
         from_here.heading_deg = heading;
         if (!PathIsClear(caster, rig, MakeTrajectory(from_here), o.height_m)) continue;
       }
-      best = RigPlacement{position, heading, score};
+      best = RigPlacement{position, heading, score, std::nullopt};
     }
   }
   return best;

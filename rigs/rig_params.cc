@@ -122,8 +122,19 @@ std::vector<RigParam> MakeRigParams() {
        G_::kPath, "", true, {}, [](const Json& v, RigSpec& s) { s.trajectory.tilt_deg = v.get<double>(); }},
       {Number("heading", 0.0, -360, 360, "rig heading at frame 0 without a scene (deg; 0 = world -Z, 90 = world +X)"),
        G_::kPath, "", false, {}, [](const Json& v, RigSpec& s) { s.trajectory.heading_deg = v.get<double>(); }},
-      {Number("clearance", 2.0, 0, 50, "placement in a scene: no surface closer along a camera axis (m)"), G_::kPath, "",
-       false, {}, [](const Json& v, RigSpec& s) { s.placement.min_clearance_m = v.get<double>(); }},
+      {Number("clearance", 2.0, 0, 50,
+              "placement in a scene: no surface closer along a camera axis (m); road: along the lane ahead of the path"),
+       G_::kPath, "", false, {}, [](const Json& v, RigSpec& s) { s.placement.min_clearance_m = v.get<double>(); }},
+      {Choice("placement", "structure", NamesOf(kAllPlacementModes, PlacementModeName),
+              "how the rig is placed in a scene: structure (a free spot on the ground where every camera sees "
+              "structure) or road (a vehicle in its lane: on the surface labelled road, heading along the road, right "
+              "of its centre line where it is wide enough for two lanes; the whole path stays on the road)"),
+       G_::kPath, "", false, {},
+       [](const Json& v, RigSpec& s) { s.placement.mode = PlacementModeFromName(v.get<std::string>()); }},
+      {Number("rig_height", PlacementOptions{}.height_m, 0.05, 100,
+              "placement in a scene: height of the rig's origin above the ground (m); a rig whose frame is its first "
+              "camera's (an imported rig) has that camera at this height"),
+       G_::kPath, "", false, {}, [](const Json& v, RigSpec& s) { s.placement.height_m = v.get<double>(); }},
   };
 }
 

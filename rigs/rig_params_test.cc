@@ -24,7 +24,8 @@ std::string Describe(const RigSpec& s) {
     << s.perturbation.rotation_deg << " " << s.perturbation.translation_m << " path "
     << TrajectoryKindName(s.trajectory.kind) << " " << s.trajectory.num_frames << " " << s.trajectory.step_m << " "
     << s.trajectory.circle_radius_m << " " << s.trajectory.heading_deg << " " << s.trajectory.tilt_deg << " every " << s.trajectory.frame_interval_s << " s clearance "
-    << s.placement.min_clearance_m << " file " << s.rig_file;
+    << s.placement.min_clearance_m << " placement " << PlacementModeName(s.placement.mode) << " at "
+    << s.placement.height_m << " m file " << s.rig_file;
   return o.str();
 }
 

@@ -111,6 +111,15 @@ Rig ReadRigFile(const std::string& path) {
 }
 
 std::string NoPlaceMessage(const RigSpec& s, const std::string& scene_name) {
+  if (s.placement.mode == PlacementMode::kRoad) {
+    char footprint[32];
+    std::snprintf(footprint, sizeof(footprint), "%g", 2 * s.placement.half_width_m);
+    return scene_name + ": no spot on the road where the rig stands in a lane and its " + DescribePath(s.trajectory) +
+           " keeps its " + footprint + " m wide footprint on the road and clear of the scene's geometry: the path "
+           "needs the road's room; try a shorter --step or fewer --frames, a straight path or a gentler circle (larger "
+           "--circle-radius), a loop or figure-eight whose circle fits within the road (smaller --circle-radius), or a "
+           "scene with more road";
+  }
   char clearance[32];
   std::snprintf(clearance, sizeof(clearance), "%g", s.placement.min_clearance_m);
   return scene_name + ": no place where the rig stands on the ground with " + clearance +

@@ -75,7 +75,7 @@ struct PlacedRig {
 
 // The rig with its mounting errors and its frames; with `scene`, placed in it where the whole path
 // stays clear (nullopt when no place qualifies: NoPlaceMessage says why). Throws
-// std::invalid_argument on bad options.
+// std::invalid_argument on bad options, and NoRoadError when road placement finds no road.
 std::optional<PlacedRig> MakePlacedRig(const RigSpec& spec, const Scene* scene);
 
 // Why MakePlacedRig found no place, in the user's words, naming the scene and the path.

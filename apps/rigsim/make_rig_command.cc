@@ -20,6 +20,7 @@
 #include "dataset/output_folder.h"
 #include "geometry/rig.h"
 #include "gltf/gltf_loader.h"
+#include "gltf/label_rules.h"
 #include "gltf/scene_cameras.h"
 #include "rigs/rig_params.h"
 #include "rigs/rig_spec.h"
@@ -34,6 +35,7 @@ struct MakeRigArgs {
   std::vector<double> position = {0.0, 1.6, 0.0};
   uint64_t seed = 1;
   std::string scene;
+  std::string rules;  // label rules for --scene
   std::string from_gltf;
   std::string rig_out, frames_out, out;
   bool force = false;
@@ -75,7 +77,14 @@ constexpr const char* kDescription =
     "                 every camera's place (a handheld or drone rig)\n"
     "With --scene the rig is placed automatically on the ground where every camera sees structure\n"
     "and no surface is closer than --clearance (overrides --position and --heading), where its whole\n"
-    "path stays on the ground and out of the scene's geometry.\n"
+    "path stays on the ground and out of the scene's geometry, its origin --rig-height above the ground.\n"
+    "--placement road places a vehicle rig as a car drives instead: on the surface labelled road\n"
+    "(Cityscapes 'road', from the scene's extras.class or a --rules file), heading along the road's long\n"
+    "direction (the way the road continues furthest), in the right-hand lane (a quarter of the road's width\n"
+    "right of its centre line) where the road is wide enough for two lanes (5.5 m), else on the centre\n"
+    "line; the whole path keeps the rig's 2 m wide footprint on the road and out of the geometry, and\n"
+    "--clearance is kept along the lane ahead. An imported rig's frame is its first camera's, so that\n"
+    "camera stands --rig-height (1.6 m) above the road.\n"
     "With --from-gltf SCENE the rig is the perspective cameras that SCENE places on its nodes instead\n"
     "(PINHOLE, --width x --height, field of view from each camera's yfov and aspectRatio; cam_from_rig\n"
     "relative to the first camera in file order) and frames.json holds one frame with the rig where the\n"
@@ -123,6 +132,11 @@ void AddRigOptions(CLI::App* cmd, MakeRigArgs& a) {
                   "place the rig automatically in this glTF scene: on the ground where every camera sees structure "
                   "(overrides --position and --heading)")
       ->check(CLI::ExistingFile);
+  cmd->add_option("--rules", a.rules,
+                  "label rules JSON for --scene: classes from node, mesh or material names (a glTF without "
+                  "extras.class), e.g. which surfaces are road for --placement road")
+      ->check(CLI::ExistingFile)
+      ->needs(cmd->get_option("--scene"));
 }
 
 // --from-gltf, which replaces the rig and path options, and where to write.
@@ -151,6 +165,7 @@ void AddSourceAndOutputOptions(CLI::App* cmd, MakeRigArgs& a) {
 std::vector<CommandInput> Inputs(const MakeRigArgs& a) {
   std::vector<CommandInput> inputs;
   if (!a.scene.empty()) inputs.push_back({a.scene, "--scene"});
+  if (!a.rules.empty()) inputs.push_back({a.rules, "--rules"});
   if (!a.from_gltf.empty()) inputs.push_back({a.from_gltf, "--from-gltf"});
   if (const std::string& rig_file = a.rig_text.at("rig_file"); !rig_file.empty()) inputs.push_back({rig_file, "--rig-file"});
   return inputs;
@@ -269,7 +284,10 @@ RigSpec SpecOf(const MakeRigArgs& a) {
   RigSpec s = RigSpecFromParams(a.RigValues());
   s.perturbation.seed = a.seed;
   s.trajectory.start_world = Eigen::Vector3d(a.position[0], a.position[1], a.position[2]);
-  if (a.position[1] > 0 && a.rig_position_given) s.placement.height_m = a.position[1];
+  // Without --rig-height, --position's height serves as the rig's height above the ground in a scene.
+  if (a.position[1] > 0 && a.rig_position_given && a.rig_options.at("rig_height")->count() == 0) {
+    s.placement.height_m = a.position[1];
+  }
   s.placement.seed = a.seed;
   return s;
 }
@@ -330,15 +348,46 @@ void MakeRig(const MakeRigArgs& a) {
     return;
   }
   const RigSpec spec = SpecOf(a);
+  for (const char* name : {"placement", "rig_height"}) {
+    if (a.scene.empty() && a.rig_options.at(name)->count() > 0) {
+      throw CLI::ValidationError(a.rig_options.at(name)->get_name(), "applies to placement in a scene: give --scene too "
+                                                                     "(without a scene the rig stands at --position)");
+    }
+  }
   std::optional<Scene> scene;
-  if (!a.scene.empty()) scene = LoadGltf(a.scene);
+  if (!a.scene.empty()) {
+    std::optional<LabelRules> rules;
+    GltfLoadOptions options;
+    if (!a.rules.empty()) {
+      rules = LabelRules::Read(a.rules);
+      options.label_rules = &*rules;
+    }
+    scene = LoadGltf(a.scene, options);
+  }
   if (scene && scene->NumTriangles() == 0) {
     throw std::runtime_error(a.scene + ": the scene holds no triangles: there is no ground to place the rig on; give a "
                              "scene with geometry, or leave out --scene and place the rig with --position and --heading");
   }
-  std::optional<PlacedRig> placed = MakePlacedRig(spec, scene ? &*scene : nullptr);
+  std::optional<PlacedRig> placed;
+  try {
+    placed = MakePlacedRig(spec, scene ? &*scene : nullptr);
+  } catch (const NoRoadError& e) {
+    throw std::runtime_error(a.scene + ": " + e.what() + "; label the road's surface (extras.class \"road\" on its "
+                             "node, mesh or material, or a --rules file by their names), or leave out --placement road");
+  }
   if (!placed) throw std::runtime_error(NoPlaceMessage(spec, a.scene));
-  if (placed->placement) {
+  if (placed->placement && placed->placement->road) {
+    const RigPlacement& p = *placed->placement;
+    const RoadSpot& r = *p.road;
+    const std::string lane = r.lane_offset_m > 0
+                                 ? "in the right-hand lane, " + Fixed(r.lane_offset_m, 1) + " m right of its centre line"
+                                 : "on its centre line (too narrow for two lanes)";
+    std::printf("placed on the road at (%.2f, %.2f, %.2f), heading %.1f deg along it: road %.1f m wide, %s, clear road "
+                "%.0f m ahead and %.0f m behind\n",
+                p.position_world.x(), p.position_world.y(), p.position_world.z(), p.heading_deg, r.width_m, lane.c_str(),
+                r.clear_ahead_m, r.clear_behind_m);
+    placed->frames.scene = std::filesystem::path(a.scene).filename().string();
+  } else if (placed->placement) {
     const RigPlacement& p = *placed->placement;
     std::printf("placed at (%.2f, %.2f, %.2f), heading %.1f deg (%.0f%% of probe rays see structure)\n",
                 p.position_world.x(), p.position_world.y(), p.position_world.z(), p.heading_deg, 100.0 * p.score);
