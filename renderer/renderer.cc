@@ -17,6 +17,7 @@
 #include "renderer/embree_scene.h"
 #include "renderer/prepared_scene.h"
 #include "renderer/shading.h"
+#include "renderer/specular_bounce.h"
 #include "renderer/srgb.h"
 #include "renderer/tiles.h"
 #include "scene/scene_validation.h"
@@ -161,6 +162,7 @@ RenderedView Renderer::RenderView(const Camera& camera, const ViewPoses& poses, 
   if (options.normals) view.normal = ImageF(width, height, 3, 0.0f);
 
   const ShadeParams shade = ShadeParamsOf(options);
+  const bool glossy = prepared.glossy;
   const float exposure = float(options.exposure);
   const SrgbEncodeTables& srgb = SrgbEncodeTables::Get();
 
@@ -174,6 +176,7 @@ RenderedView Renderer::RenderView(const Camera& camera, const ViewPoses& poses, 
       std::vector<CameraRayInfo> info;
       std::vector<SampleRecord> records;
       std::vector<RTCRay> shadow;
+      SpecularBounce bounce;
       TileOutputs out;
       for (int tile = tiles.begin(); tile < tiles.end(); ++tile) {
         const Eigen::Vector2i corner = TileCorner(tile, width);
@@ -195,6 +198,9 @@ RenderedView Renderer::RenderView(const Camera& camera, const ViewPoses& poses, 
               for (int c = 0; c < 3; ++c) view.normal.at(x, y, c) = n[c];
             }
           });
+          // 1b. Glossy hits' reflected rays, traced and shaded together (only in scenes that have
+          // glossy materials).
+          if (glossy) bounce.Trace(records, meshes, prepared.embree, shade);
           // 2. Shading without the sun: no rays traced, so the hits' work can overlap. A pixel's
           // samples on one triangle share one lighting.
           if (options.samples_per_pixel > 1) ShareShadingWithinPixels(records);
@@ -220,12 +226,15 @@ RenderedView Renderer::RenderView(const Camera& camera, const ViewPoses& poses, 
                 radiance += SkyRadiance(r.dir, shade);
                 continue;
               }
+              const MeshShading& m = meshes[r.hit.geom];
+              Eigen::Vector3f sample;
               if (r.lit_by >= 0) {  // lit as an earlier sample on the same triangle, finished before it
-                radiance += LitAs(meshes[r.hit.geom], r, records[size_t(r.lit_by)]);
-                continue;
+                sample = LitAs(m, r, records[size_t(r.lit_by)]);
+              } else {
+                const bool sun_visible = !(shade.shadows && r.sun_ray) || !IsOccluded(shadow[next_shadow++]);
+                sample = FinishShading(m, r, sun_visible);
               }
-              const bool sun_visible = !(shade.shadows && r.sun_ray) || !IsOccluded(shadow[next_shadow++]);
-              radiance += FinishShading(meshes[r.hit.geom], r, sun_visible);
+              radiance += glossy && bounce.Reflects(i) ? bounce.Mix(i, r, m, sample) : sample;
             }
             radiance *= exposure / float(num_samples);
             for (int c = 0; c < 3; ++c) out.rgb[3 * pixel + c] = SrgbCodeFromLinear(radiance[c], srgb);

@@ -30,6 +30,8 @@ void ApplyMaterial(const Material& material, const SceneMesh& mesh, const Materi
   m.alpha_tested = material.alpha_mode != AlphaMode::kOpaque;
   m.alpha_cutoff = material.alpha_cutoff;
   m.unlit = material.unlit;
+  m.gloss = GlossOf(material);
+  m.metallic = material.metallic;
   m.emissive = material.emissive;
   m.emits = !material.unlit && material.emissive != Eigen::Vector3f::Zero();
   if (material.emissive_texture >= 0 && !mesh.emissive_texcoords.empty()) {
