@@ -139,6 +139,19 @@ MeshShading PrepareMeshShading(const SceneMesh& mesh, const Scene& scene, const 
   return m;
 }
 
+MeshShading RotatedShading(const MeshShading& m, const Eigen::Matrix3f& rotation) {
+  MeshShading out = m;
+  for (MeshShading::TriangleShading& t : out.triangles) t.face_normal = rotation * t.face_normal;
+  for (auto& corners : out.corner_normals) {
+    for (Eigen::Vector3f& n : corners) n = rotation * n;
+  }
+  for (TangentFrame& f : out.tangent_frames) {
+    f.along_u = rotation * f.along_u;
+    f.up_image = rotation * f.up_image;
+  }
+  return out;
+}
+
 ShadeParams ShadeParamsOf(const RenderOptions& options) {
   ShadeParams shade;
   shade.sun_dir = options.sun_direction_world.normalized().cast<float>();

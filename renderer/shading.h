@@ -101,6 +101,21 @@ struct MeshShading {
   std::vector<TangentFrame> tangent_frames;
 };
 
+// The shading data a hit's geom indexes: the scene's meshes below kAttachedGeom, and from it on
+// those of a scene attached to the rig (Renderer::SetAttached), turned into the world frame.
+constexpr unsigned kAttachedGeom = 1u << 30;
+
+struct MeshTable {
+  const std::vector<MeshShading>* scene = nullptr;
+  const std::vector<MeshShading>* attached = nullptr;
+  const MeshShading& operator[](unsigned geom) const {
+    return geom < kAttachedGeom ? (*scene)[geom] : (*attached)[geom - kAttachedGeom];
+  }
+};
+
+// `m` with its normals and tangent frames turned by `rotation` (a mesh moved rigidly).
+MeshShading RotatedShading(const MeshShading& m, const Eigen::Matrix3f& rotation);
+
 // The shading data of `mesh`, whose material and textures are those of `scene` (mip pyramids in
 // `textures`, which must outlive the result). `mesh` must have passed scene/scene_validation.h.
 MeshShading PrepareMeshShading(const SceneMesh& mesh, const Scene& scene, const MaterialTextures& textures);

@@ -2,7 +2,7 @@
 
 namespace rigsim {
 
-void SpecularBounce::Trace(const std::vector<SampleRecord>& records, const std::vector<MeshShading>& meshes,
+void SpecularBounce::Trace(const std::vector<SampleRecord>& records, const MeshTable& meshes,
                            const EmbreeScene& embree, const ShadeParams& shade) {
   slot_.assign(records.size(), -1);
   source_.clear();

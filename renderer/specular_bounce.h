@@ -1,7 +1,9 @@
 // The reflected rays of a batch's glossy hits (renderer/shading.h, "One specular bounce"): traced
 // together after the batch's camera rays, at each camera ray's own time (the scene posed as the
 // camera ray saw it), shaded as a camera ray's hit is, and mixed into their samples' colour.
-// Labels, instances, depth and normals stay those of the camera ray's hit. Internal to the
+// Labels, instances, depth and normals stay those of the camera ray's hit. Reflected rays meet
+// the scene only, not a scene attached to the rig (a car's paint shows the world, not itself),
+// and a glossy hit on the attached scene reflects the world like any other. Internal to the
 // renderer (it holds Embree rays); a scene without glossy materials never runs it.
 #pragma once
 
@@ -18,7 +20,7 @@ class SpecularBounce {
  public:
   // Traces and shades the reflected ray of every record that hit a mesh with gloss > 0. `records`
   // as CollectRecords leaves them (shadow_origin is the hit point): before ShadeWithoutShadow.
-  void Trace(const std::vector<SampleRecord>& records, const std::vector<MeshShading>& meshes, const EmbreeScene& embree,
+  void Trace(const std::vector<SampleRecord>& records, const MeshTable& meshes, const EmbreeScene& embree,
              const ShadeParams& shade);
 
   // Whether record `i` of the last Trace has a reflection to mix in.
