@@ -61,6 +61,24 @@ StreetView& Street() {
   return *view;
 }
 
+// The street with every material glossy (a dielectric of roughness 0.1): every hit traces a
+// reflected ray and shades its hit, the most the specular bounce can add to the street's frame.
+StreetView& GlossyStreet() {
+  static StreetView* view = [] {
+    auto* v = new StreetView;
+    v->scene = LoadGltf(DataPath("assets/scenes/street.glb").string());
+    for (Material& m : v->scene.materials) {
+      m.metallic = 0.0f;
+      m.roughness = 0.1f;
+    }
+    v->renderer = std::make_unique<Renderer>(v->scene);
+    v->camera = Street().camera;
+    v->cam_from_world = Street().cam_from_world;
+    return v;
+  }();
+  return *view;
+}
+
 // A 1M-triangle heightfield (708 x 708 quads, gently rolling), seen from 2 m above at an angle.
 struct GridView {
   Scene scene;
@@ -172,6 +190,11 @@ void BM_StreetLabelledFrame(benchmark::State& state) {
   RenderFrames(state, *v.renderer, v.camera, v.cam_from_world, Key("street frame", state));
 }
 
+void BM_GlossyStreetLabelledFrame(benchmark::State& state) {
+  StreetView& v = GlossyStreet();
+  RenderFrames(state, *v.renderer, v.camera, v.cam_from_world, Key("glossy street frame", state));
+}
+
 void BM_StreetEmbreeAlone(benchmark::State& state) {
   StreetView& v = Street();
   TraceOnly(state, *v.renderer, v.camera, v.cam_from_world, Key("street embree", state));
@@ -246,6 +269,7 @@ void BM_StreetSensorStage(benchmark::State& state) {
 // Args: {samples per pixel, threads (0 = all cores)}.
 BENCHMARK(BM_StreetLabelledFrame)->Args({1, 0})->Args({4, 0})->Args({1, 1})->Args({1, 2})
     ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK(BM_GlossyStreetLabelledFrame)->Args({1, 0})->Args({4, 0})->Args({1, 1})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 BENCHMARK(BM_StreetEmbreeAlone)->Args({1, 0})->Args({4, 0})->Args({1, 1})->Args({1, 2})
     ->Unit(benchmark::kMillisecond)->UseManualTime()->MinTime(2.0);
 BENCHMARK(BM_StreetMinimalFrame)->Args({1, 0})->Args({1, 1})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);

@@ -103,6 +103,14 @@ Rig RigFromJsonText(const std::string& text, const std::string& source) {
     ReadTiming(c, source, where, rc);
     rig.cameras.push_back(std::move(rc));
   }
+  if (root.contains("ego_vehicle")) {
+    rig.ego_vehicle = Get<std::string>(root, "ego_vehicle", source, "the rig");
+    const std::filesystem::path name(rig.ego_vehicle);
+    if (rig.ego_vehicle.empty() || name != name.filename() || rig.ego_vehicle == "." || rig.ego_vehicle == "..") {
+      throw std::runtime_error(source + ": ego_vehicle '" + rig.ego_vehicle +
+                               "' must be the name of a file beside rig.json (no folder)");
+    }
+  }
   return rig;
 }
 
@@ -123,7 +131,9 @@ std::string RigToJsonText(const Rig& rig) {
     if (rc.exposure_s > 0) c["exposure_s"] = rc.exposure_s;
     cams.push_back(std::move(c));
   }
-  return Json{{"cameras", cams}}.dump(2) + "\n";
+  Json root{{"cameras", cams}};
+  if (!rig.ego_vehicle.empty()) root["ego_vehicle"] = rig.ego_vehicle;
+  return root.dump(2) + "\n";
 }
 
 Rig ReadRig(const std::filesystem::path& path) {

@@ -51,6 +51,10 @@ struct RigCamera {
 
 struct Rig {
   std::vector<RigCamera> cameras;
+  // The rig's own vehicle: a glTF file beside rig.json (a plain file name) whose meshes are in the
+  // rig frame turned to glTF's axes (procedural/ego_vehicle.h); "" = none. rig.json's optional
+  // "ego_vehicle".
+  std::string ego_vehicle;
 
   // Index of the camera with this name, or -1.
   int FindCamera(const std::string& name) const;

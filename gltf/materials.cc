@@ -1,5 +1,6 @@
 #include <cmath>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "gltf/loader.h"
@@ -46,7 +47,16 @@ void Loader::ConvertMaterials() {
     }
     out.alpha_cutoff = float(m.alphaCutoff);
     out.double_sided = m.doubleSided;
-    if (pbr.metallicRoughnessTexture.index >= 0) Ignore("metallicRoughnessTexture (materials)");
+    for (const auto& [factor, name, field] : {std::tuple{pbr.metallicFactor, "metallicFactor", &out.metallic},
+                                              std::tuple{pbr.roughnessFactor, "roughnessFactor", &out.roughness}}) {
+      if (!(factor >= 0.0 && factor <= 1.0)) {
+        Fail(material_label + ": pbrMetallicRoughness " + name + " must be in [0, 1], got " + std::to_string(factor));
+      }
+      *field = float(factor);
+    }
+    // The texture scales the factors (roughness by its G channel, metallic by its B): read as the
+    // factors alone, a surface is never glossier than the file makes it.
+    if (pbr.metallicRoughnessTexture.index >= 0) Ignore("metallicRoughnessTexture (materials; its factors are used)");
     for (const auto& [name, value] : m.extensions) {
       if (name == "KHR_materials_unlit") {
         out.unlit = true;

@@ -29,6 +29,30 @@ TEST(GltfLoader, UnlitMaterialsAreMarked) {
   EXPECT_FALSE(HasWarning(s, "unlit"));
 }
 
+// pbrMetallicRoughness's factors reach the scene (glTF's defaults, 1 and 1, when absent); a factor
+// outside [0, 1] is refused, naming the material.
+TEST(GltfLoader, MetallicAndRoughnessFactorsAreRead) {
+  const TempDir dir;
+  GltfBuilder g;
+  const int pos = g.Positions(kUnitQuad);
+  g.doc["materials"] = json::array({{{"name", "plain"}},
+                                    {{"name", "paint"}, {"pbrMetallicRoughness", {{"metallicFactor", 0.25}, {"roughnessFactor", 0.1}}}}});
+  g.Node({{"mesh", g.Mesh({{"POSITION", pos}}, -1, 6, 0)}});
+  g.Node({{"mesh", g.Mesh({{"POSITION", pos}}, -1, 6, 1)}});
+  g.Scene({0, 1});
+  const Scene s = LoadGltf(g.Write(dir, "glossy"));
+  ASSERT_EQ(s.materials.size(), 2u);
+  EXPECT_EQ(s.materials[0].metallic, 1.0f);
+  EXPECT_EQ(s.materials[0].roughness, 1.0f);
+  EXPECT_EQ(s.materials[1].metallic, 0.25f);
+  EXPECT_EQ(s.materials[1].roughness, 0.1f);
+  g.doc["materials"][1]["pbrMetallicRoughness"]["roughnessFactor"] = 1.5;
+  ExpectLoadFails(g.Write(dir, "too_rough"), "material 1 'paint': pbrMetallicRoughness roughnessFactor must be in [0, 1]");
+  g.doc["materials"][1]["pbrMetallicRoughness"]["roughnessFactor"] = 0.1;
+  g.doc["materials"][1]["pbrMetallicRoughness"]["metallicFactor"] = -0.5;
+  ExpectLoadFails(g.Write(dir, "negative_metal"), "material 1 'paint': pbrMetallicRoughness metallicFactor must be in [0, 1]");
+}
+
 // emissiveFactor times KHR_materials_emissive_strength, and an emissive texture sampled through its
 // own texCoord and KHR_texture_transform, baked apart from the base colour's coordinates.
 TEST(GltfLoader, EmissionIsReadWithItsStrengthAndItsOwnTexcoords) {

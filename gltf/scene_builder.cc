@@ -161,6 +161,17 @@ void SceneBuilder::SetAlphaMask(int material, float cutoff) {
   materials_[material].alpha_cutoff = cutoff;
 }
 
+void SceneBuilder::SetMetallicRoughness(int material, float metallic, float roughness) {
+  if (material < 0 || material >= int(materials_.size())) {
+    throw std::invalid_argument("SceneBuilder::SetMetallicRoughness: material index out of range");
+  }
+  if (!(metallic >= 0.f && metallic <= 1.f) || !(roughness >= 0.f && roughness <= 1.f)) {
+    throw std::invalid_argument("SceneBuilder::SetMetallicRoughness: factors must be in [0, 1]");
+  }
+  materials_[material].metallic = metallic;
+  materials_[material].roughness = roughness;
+}
+
 void SceneBuilder::CheckAnimation(const std::string& who, int node, const std::string& path, const std::vector<float>& times_s,
                                   size_t keys) const {
   if (node < 0 || node >= int(nodes_.size())) throw std::invalid_argument(who + "node index out of range");
@@ -237,8 +248,8 @@ std::vector<uint8_t> SceneBuilder::ToGlb() const {
   }
   for (const MaterialData& m : materials_) {
     json pbr = {{"baseColorFactor", {m.factor[0], m.factor[1], m.factor[2], m.factor[3]}},
-                {"metallicFactor", 0.0},
-                {"roughnessFactor", 1.0}};
+                {"metallicFactor", double(m.metallic)},
+                {"roughnessFactor", double(m.roughness)}};
     if (m.texture >= 0) pbr["baseColorTexture"] = {{"index", m.texture}};
     json jm = {{"name", m.name}, {"pbrMetallicRoughness", pbr}};
     if (m.double_sided) jm["doubleSided"] = true;

@@ -40,6 +40,9 @@ class SceneBuilder {
   // Adds a material; `texture` = -1 for none. Colour factor is linear RGBA. Returns its index.
   int AddMaterial(const std::string& name, const Eigen::Vector4f& base_color_factor, int texture = -1,
                   bool double_sided = false);
+  // Sets `material`'s pbrMetallicRoughness factors (each in [0, 1]; by default metallic 0 and
+  // roughness 1, a diffuse surface). Throws std::invalid_argument on a bad index or factor.
+  void SetMetallicRoughness(int material, float metallic, float roughness);
   // Makes `material` alpha-masked (glTF alphaMode MASK): texels with alpha < cutoff are cut out.
   void SetAlphaMask(int material, float cutoff = 0.5f);
   // Adds a root node carrying `mesh` with `material` (-1 = default) and class `class_name`
@@ -82,6 +85,7 @@ class SceneBuilder {
     int texture;
     bool double_sided;
     float alpha_cutoff = -1.f;  // < 0: opaque
+    float metallic = 0.f, roughness = 1.f;
   };
   struct NodeData {
     std::string name, class_name;

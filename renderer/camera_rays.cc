@@ -140,9 +140,10 @@ CameraRays::CameraRays(const Camera& camera, const PixelCentreRays& centres, con
 }
 
 void CameraRays::Batch(const Eigen::Vector2i& tile_corner, int y, int x_begin, int x_end, std::vector<RTCRayHit>* rays,
-                       std::vector<CameraRayInfo>* info) {
+                       std::vector<CameraRayInfo>* info, std::vector<Eigen::Vector3f>* bearings) {
   rays->clear();
   info->clear();
+  if (bearings != nullptr) bearings->clear();
   const int width = centres_.width;
   const RowPose& pose = poses_.Row(y);
   for (int x = x_begin; x < x_end; ++x) {
@@ -152,6 +153,7 @@ void CameraRays::Batch(const Eigen::Vector2i& tile_corner, int y, int x_begin, i
     rays->push_back(CameraRay(pose.origin, pose.world_from_cam_f * centres_.bearings[idx]));
     rays->back().ray.time = pose.ray_time;
     info->push_back({pixel, centres_.angle[idx], true});
+    if (bearings != nullptr) bearings->push_back(centres_.bearings[idx]);
     if (spp_ == 1) continue;
     const uint64_t pixel_hash = PixelHash(seed_, x, y);
     if (grid_ == 0) {  // n-rooks: a per-pixel random permutation of the y strata
@@ -184,6 +186,7 @@ void CameraRays::Batch(const Eigen::Vector2i& tile_corner, int y, int x_begin, i
         rays->back().ray.time = pose.ray_time;
       }
       info->push_back({pixel, sample_angle, false});
+      if (bearings != nullptr) bearings->push_back(*bearing);
     }
   }
 }

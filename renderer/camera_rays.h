@@ -101,8 +101,10 @@ class CameraRays {
   CameraRays(const Camera& camera, const PixelCentreRays& centres, const ViewPoses& poses, const RenderOptions& options);
 
   // Pixels [x_begin, x_end) of image row y, in the tile whose top-left pixel is `tile_corner`.
+  // With `bearings`, also each ray's unit bearing in the camera frame (for a scene attached to the
+  // rig, which moves with the camera whatever the camera's motion).
   void Batch(const Eigen::Vector2i& tile_corner, int y, int x_begin, int x_end, std::vector<RTCRayHit>* rays,
-             std::vector<CameraRayInfo>* info);
+             std::vector<CameraRayInfo>* info, std::vector<Eigen::Vector3f>* bearings = nullptr);
 
  private:
   const Camera& camera_;

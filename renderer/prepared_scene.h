@@ -38,6 +38,7 @@ struct PreparedScene {
   EmbreeScene embree;
   PixelCentreRayCache centre_rays;
   double motion_begin_s = 0.0, motion_end_s = 0.0;  // the moving geometry's time span; equal: none
+  bool glossy = false;  // some mesh reflects the world (MeshShading::gloss > 0): Render runs SpecularBounce
 };
 
 }  // namespace rigsim

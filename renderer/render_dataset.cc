@@ -354,6 +354,7 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
 
   // Built before the staging folder exists so that a bad scene leaves nothing behind.
   Renderer renderer(*job.scene);
+  if (job.ego_vehicle != nullptr) renderer.SetAttached(*job.ego_vehicle);
   const bool animated = job.scene->IsAnimated();
   const bool photometric = job.photometric.enabled();
   const bool sensor_stages = SensorStagesOn(job);
@@ -434,7 +435,7 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
       }
       for (int c : group) {
         views[c].pose = clock.Of(cams[c], frame);
-        finish(c, renderer.Render(cams[c].camera, views[c].pose.Row(0), options));
+        finish(c, renderer.Render(cams[c].camera, views[c].pose.Row(0), options, *cams[c].cam_from_rig));
       }
     }
     for (int c : spanning) {

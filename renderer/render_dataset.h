@@ -51,6 +51,9 @@ struct ExtraOutputs {
 
 struct RenderJob {
   const Scene* scene = nullptr;  // must outlive the call
+  // The rig's own vehicle, its meshes in the rig frame (procedural/ego_vehicle.h), attached to the
+  // rig (Renderer::SetAttached): every view shows it where its camera sees it; nullptr = none.
+  const Scene* ego_vehicle = nullptr;
   std::string scene_name;        // recorded in frames.json ("scene") when frames.scene is empty
   Rig rig;                       // every camera needs cam_from_rig
   FramesFile frames;             // every frame needs rig_from_world

@@ -17,6 +17,7 @@
 #include "renderer/embree_scene.h"
 #include "renderer/prepared_scene.h"
 #include "renderer/shading.h"
+#include "renderer/specular_bounce.h"
 #include "renderer/srgb.h"
 #include "renderer/tiles.h"
 #include "scene/scene_validation.h"
@@ -62,6 +63,31 @@ struct TileOutputs {
     }
   }
 };
+
+// Traces `rays` (world) again through the attached scene, as rays of the rig frame from the
+// camera's place on the rig along their `bearings`, and takes its hit where it is nearer than the
+// scene's (geom offset by kAttachedGeom). The rays' directions are unit vectors in both frames, so
+// their distances compare.
+void NearerAttachedHits(const PreparedScene& attached, const Eigen::Matrix3f& rig_from_cam, const Eigen::Vector3f& camera_in_rig,
+                        const std::vector<Eigen::Vector3f>& bearings, std::vector<RTCRayHit>* attached_rays,
+                        std::vector<RTCRayHit>* rays) {
+  attached_rays->clear();
+  for (size_t i = 0; i < rays->size(); ++i) {
+    RTCRayHit& rh = attached_rays->emplace_back(CameraRay(camera_in_rig, rig_from_cam * bearings[i]));
+    rh.ray.tfar = (*rays)[i].ray.tfar;  // only what lies before the scene's hit
+  }
+  attached.embree.Intersect(*attached_rays);
+  for (size_t i = 0; i < rays->size(); ++i) {
+    const RTCRayHit& a = (*attached_rays)[i];
+    if (a.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+    RTCRayHit& rh = (*rays)[i];
+    rh.hit.geomID = kAttachedGeom + a.hit.geomID;
+    rh.hit.primID = a.hit.primID;
+    rh.hit.u = a.hit.u;
+    rh.hit.v = a.hit.v;
+    rh.ray.tfar = a.ray.tfar;
+  }
+}
 
 // The unit normal (world) of the surface a pixel centre's ray hit, turned towards the ray.
 Eigen::Vector3f CentreNormal(const MeshShading& mesh, const RTCRayHit& rh) {
@@ -110,8 +136,18 @@ void Renderer::SetMeshesOverTime(const std::vector<std::vector<SceneMesh>>& pose
   prepared_->SetMeshesOverTime(posed, t_begin, t_end);
 }
 
+void Renderer::SetAttached(const Scene& attached) {
+  ValidateScene(attached);
+  attached_ = std::make_unique<PreparedScene>(attached);
+}
+
 RenderedView Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, const RenderOptions& options) const {
   return RenderView(camera, ViewPoses::Still(cam_from_world), options);
+}
+
+RenderedView Renderer::Render(const Camera& camera, const Rigid3d& cam_from_world, const RenderOptions& options,
+                              const Rigid3d& cam_from_rig) const {
+  return RenderView(camera, ViewPoses::Still(cam_from_world), options, &cam_from_rig);
 }
 
 namespace {
@@ -148,19 +184,34 @@ RenderedView Renderer::Render(const MovingCameraView& view, const RenderOptions&
   const int rows = cam.readout_s > 0 ? cam.camera.height() : 1;
   poses.rows.resize(size_t(rows));
   tbb::parallel_for(0, rows, [&](int y) { poses.rows[size_t(y)] = RowPoseAt(view, view.RowTime(y), cam.exposure_s, ray_time); });
-  return RenderView(cam.camera, poses, options);
+  return RenderView(cam.camera, poses, options, cam.cam_from_rig ? &*cam.cam_from_rig : nullptr);
 }
 
-RenderedView Renderer::RenderView(const Camera& camera, const ViewPoses& poses, const RenderOptions& options) const {
+RenderedView Renderer::RenderView(const Camera& camera, const ViewPoses& poses, const RenderOptions& options,
+                                  const Rigid3d* cam_from_rig) const {
   options.Check();
   const PreparedScene& prepared = *prepared_;
-  const std::vector<MeshShading>& meshes = prepared.meshes;
   const int width = camera.width(), height = camera.height();
+  // The attached scene: camera rays go into the rig frame by their bearing (the camera does not
+  // move on the rig), and its shading data into the world frame by the rig's rotation at the
+  // view's middle row (within one view's readout the rig turns little; only shading uses it).
+  const PreparedScene* attached = attached_ != nullptr && cam_from_rig != nullptr ? attached_.get() : nullptr;
+  std::vector<MeshShading> attached_world;
+  Eigen::Matrix3f rig_from_cam_rotation = Eigen::Matrix3f::Identity();
+  Eigen::Vector3f camera_in_rig = Eigen::Vector3f::Zero();
+  if (attached != nullptr) {
+    rig_from_cam_rotation = cam_from_rig->rotation.conjugate().toRotationMatrix().cast<float>();
+    camera_in_rig = cam_from_rig->SourceOriginInTarget().cast<float>();
+    const Eigen::Matrix3f world_from_rig = poses.Row(height / 2).world_from_cam_f * rig_from_cam_rotation.transpose();
+    for (const MeshShading& m : attached->meshes) attached_world.push_back(RotatedShading(m, world_from_rig));
+  }
+  const MeshTable meshes{&prepared.meshes, attached != nullptr ? &attached_world : nullptr};
 
   RenderedView view = RenderedView::Blank(width, height);
   if (options.normals) view.normal = ImageF(width, height, 3, 0.0f);
 
   const ShadeParams shade = ShadeParamsOf(options);
+  const bool glossy = prepared.glossy || (attached != nullptr && attached->glossy);
   const float exposure = float(options.exposure);
   const SrgbEncodeTables& srgb = SrgbEncodeTables::Get();
 
@@ -174,6 +225,9 @@ RenderedView Renderer::RenderView(const Camera& camera, const ViewPoses& poses, 
       std::vector<CameraRayInfo> info;
       std::vector<SampleRecord> records;
       std::vector<RTCRay> shadow;
+      std::vector<Eigen::Vector3f> bearings;
+      std::vector<RTCRayHit> attached_rays;
+      SpecularBounce bounce;
       TileOutputs out;
       for (int tile = tiles.begin(); tile < tiles.end(); ++tile) {
         const Eigen::Vector2i corner = TileCorner(tile, width);
@@ -182,8 +236,9 @@ RenderedView Renderer::RenderView(const Camera& camera, const ViewPoses& poses, 
             if (!centres.valid[size_t(y) * width + x]) out.SetInvalid((y - corner.y()) * kTileSize + (x - corner.x()));
           }
           // 1. Camera rays, traced together: label, instance and depth from each pixel centre's ray.
-          camera_rays.Batch(corner, y, x_begin, x_end, &rays, &info);
+          camera_rays.Batch(corner, y, x_begin, x_end, &rays, &info, attached != nullptr ? &bearings : nullptr);
           prepared.embree.Intersect(rays);
+          if (attached != nullptr) NearerAttachedHits(*attached, rig_from_cam_rotation, camera_in_rig, bearings, &attached_rays, &rays);
           CollectRecords(rays, info, &records, [&](const CameraRayInfo& centre, const RTCRayHit& rh) {
             const bool hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
             out.label[centre.pixel] = hit ? meshes[rh.hit.geomID].class_id : kSkyId;
@@ -195,6 +250,9 @@ RenderedView Renderer::RenderView(const Camera& camera, const ViewPoses& poses, 
               for (int c = 0; c < 3; ++c) view.normal.at(x, y, c) = n[c];
             }
           });
+          // 1b. Glossy hits' reflected rays, traced and shaded together (only in scenes that have
+          // glossy materials).
+          if (glossy) bounce.Trace(records, meshes, prepared.embree, shade);
           // 2. Shading without the sun: no rays traced, so the hits' work can overlap. A pixel's
           // samples on one triangle share one lighting.
           if (options.samples_per_pixel > 1) ShareShadingWithinPixels(records);
@@ -220,12 +278,15 @@ RenderedView Renderer::RenderView(const Camera& camera, const ViewPoses& poses, 
                 radiance += SkyRadiance(r.dir, shade);
                 continue;
               }
+              const MeshShading& m = meshes[r.hit.geom];
+              Eigen::Vector3f sample;
               if (r.lit_by >= 0) {  // lit as an earlier sample on the same triangle, finished before it
-                radiance += LitAs(meshes[r.hit.geom], r, records[size_t(r.lit_by)]);
-                continue;
+                sample = LitAs(m, r, records[size_t(r.lit_by)]);
+              } else {
+                const bool sun_visible = !(shade.shadows && r.sun_ray) || !IsOccluded(shadow[next_shadow++]);
+                sample = FinishShading(m, r, sun_visible);
               }
-              const bool sun_visible = !(shade.shadows && r.sun_ray) || !IsOccluded(shadow[next_shadow++]);
-              radiance += FinishShading(meshes[r.hit.geom], r, sun_visible);
+              radiance += glossy && bounce.Reflects(i) ? bounce.Mix(i, r, m, sample) : sample;
             }
             radiance *= exposure / float(num_samples);
             for (int c = 0; c < 3; ++c) out.rgb[3 * pixel + c] = SrgbCodeFromLinear(radiance[c], srgb);
@@ -237,6 +298,7 @@ RenderedView Renderer::RenderView(const Camera& camera, const ViewPoses& poses, 
     });
   });
   prepared.embree.ThrowIfAny("rendering");
+  if (attached != nullptr) attached->embree.ThrowIfAny("rendering the attached scene");
   return view;
 }
 

@@ -14,6 +14,13 @@
 //   - Every surface is seen from both sides (glTF double_sided is not needed for ground truth:
 //     a culled back face would let rays see through walls). Alpha MASK cuts geometry out of every
 //     output; BLEND is treated as MASK at its cutoff (a single-hit tracer cannot composite).
+//   - Glossy materials (roughness below 0.3) also reflect the world by one specular bounce
+//     (renderer/shading.h); the ground truth is that of the surface the pixel sees.
+//   - A scene attached to the rig (SetAttached, e.g. the rig's own vehicle) is given in the rig
+//     frame and moves with the cameras: every camera ray meets it where the camera sees it from
+//     its place on the rig, whatever the rig's motion (rolling shutter and exposure included), and
+//     the nearer of its hit and the scene's is the pixel's. It is lit by the sun and sky, shadowed
+//     by the scene, and reflects the scene; it casts no shadow and is seen in no reflection.
 //   - Results are byte-identical for a given seed whatever the thread count: every random
 //     number is a hash of (seed, x, y, sample).
 #pragma once
@@ -126,10 +133,19 @@ class Renderer {
   // SetMeshes*. Throws like SetMeshes.
   void SetMeshesOverTime(const std::vector<std::vector<SceneMesh>>& posed, double t_begin, double t_end);
 
+  // Attaches `attached` (its meshes in the rig frame: x right, y down, z forward) to the rig;
+  // views rendered with their camera's cam_from_rig show it. `attached` must outlive the renderer.
+  // Throws like the constructor.
+  void SetAttached(const Scene& attached);
+
   // Renders one view. Thread-safe (const): several views may render concurrently.
   RenderedView Render(const Camera& camera, const Rigid3d& cam_from_world, const RenderOptions& options) const;
+  // The same for a camera at `cam_from_rig` on the rig, which shows the attached scene.
+  RenderedView Render(const Camera& camera, const Rigid3d& cam_from_world, const RenderOptions& options,
+                      const Rigid3d& cam_from_rig) const;
 
-  // Renders one view of a camera on a moving rig: each row's rays leave from where the camera is at
+  // Renders one view of a camera on a moving rig (with the attached scene when the camera has a
+  // cam_from_rig): each row's rays leave from where the camera is at
   // the row's capture time, and label, instance, range and normal are those of the pixel centre's
   // ray at that time; with exposure_s > 0 the colour samples are spread evenly (stratified,
   // jittered) over each row's exposure. Motion within one row's exposure is taken as linear
@@ -149,10 +165,13 @@ class Renderer {
   friend RenderedView MinimalFrameForBenchmark(const Renderer& renderer, const Camera& camera,
                                                const Rigid3d& cam_from_world, const RenderOptions& options);
 
-  // Renders a view whose rows are captured from `poses`.
-  RenderedView RenderView(const Camera& camera, const ViewPoses& poses, const RenderOptions& options) const;
+  // Renders a view whose rows are captured from `poses`; with `cam_from_rig` and an attached scene,
+  // that scene too.
+  RenderedView RenderView(const Camera& camera, const ViewPoses& poses, const RenderOptions& options,
+                          const Rigid3d* cam_from_rig = nullptr) const;
 
   std::unique_ptr<PreparedScene> prepared_;  // Embree handles and per-mesh data stay out of this header
+  std::unique_ptr<PreparedScene> attached_;  // SetAttached's scene, in the rig frame; null: none
 };
 
 }  // namespace rigsim

@@ -30,6 +30,8 @@ void ApplyMaterial(const Material& material, const SceneMesh& mesh, const Materi
   m.alpha_tested = material.alpha_mode != AlphaMode::kOpaque;
   m.alpha_cutoff = material.alpha_cutoff;
   m.unlit = material.unlit;
+  m.gloss = GlossOf(material);
+  m.metallic = material.metallic;
   m.emissive = material.emissive;
   m.emits = !material.unlit && material.emissive != Eigen::Vector3f::Zero();
   if (material.emissive_texture >= 0 && !mesh.emissive_texcoords.empty()) {
@@ -135,6 +137,19 @@ MeshShading PrepareMeshShading(const SceneMesh& mesh, const Scene& scene, const 
   if (mesh.material >= 0) ApplyMaterial(scene.materials[mesh.material], mesh, textures, m);
   CopyTriangleAttributes(mesh, m);
   return m;
+}
+
+MeshShading RotatedShading(const MeshShading& m, const Eigen::Matrix3f& rotation) {
+  MeshShading out = m;
+  for (MeshShading::TriangleShading& t : out.triangles) t.face_normal = rotation * t.face_normal;
+  for (auto& corners : out.corner_normals) {
+    for (Eigen::Vector3f& n : corners) n = rotation * n;
+  }
+  for (TangentFrame& f : out.tangent_frames) {
+    f.along_u = rotation * f.along_u;
+    f.up_image = rotation * f.up_image;
+  }
+  return out;
 }
 
 ShadeParams ShadeParamsOf(const RenderOptions& options) {

@@ -81,6 +81,11 @@ struct MeshShading {
   float normal_scale = 1.0f;
   TextureLayer occlusion_layer;                         // scales the sky light
   float occlusion_strength = 1.0f;
+  // How much of a mirror the surface is (GlossOf): 0, the surface reflects no world (and costs
+  // no reflected ray); 1, a perfect mirror. Its material's metallic factor mixes the reflection's
+  // colour (SpecularMix).
+  float gloss = 0.0f;
+  float metallic = 0.0f;
   // Per-triangle shading data, copied out of the indexed mesh so that shading a hit reads one or
   // two cache lines instead of chasing the index buffer into three vertex arrays (that chase cost
   // more than a third of the shading time in the street benchmark).
@@ -95,6 +100,21 @@ struct MeshShading {
   // Per triangle, only with a normal map: its tangent frame.
   std::vector<TangentFrame> tangent_frames;
 };
+
+// The shading data a hit's geom indexes: the scene's meshes below kAttachedGeom, and from it on
+// those of a scene attached to the rig (Renderer::SetAttached), turned into the world frame.
+constexpr unsigned kAttachedGeom = 1u << 30;
+
+struct MeshTable {
+  const std::vector<MeshShading>* scene = nullptr;
+  const std::vector<MeshShading>* attached = nullptr;
+  const MeshShading& operator[](unsigned geom) const {
+    return geom < kAttachedGeom ? (*scene)[geom] : (*attached)[geom - kAttachedGeom];
+  }
+};
+
+// `m` with its normals and tangent frames turned by `rotation` (a mesh moved rigidly).
+MeshShading RotatedShading(const MeshShading& m, const Eigen::Matrix3f& rotation);
 
 // The shading data of `mesh`, whose material and textures are those of `scene` (mip pyramids in
 // `textures`, which must outlive the result). `mesh` must have passed scene/scene_validation.h.
@@ -120,6 +140,51 @@ inline float AlphaAt(const MeshShading& m, unsigned prim, float u, float v) {
     alpha *= SampleTexture(*m.texture, uv.x(), uv.y(), 0.0f)[3];
   }
   return alpha;
+}
+
+// One specular bounce. A material rougher than kGlossyRoughness is shaded as a diffuse surface
+// only; a smoother one also reflects the world: one ray leaves its hit in the mirror direction,
+// its hit is shaded as a camera ray's would be (sun, shadow and sky; a glossy surface it meets is
+// shaded without a further bounce) or it sees the sky, and that radiance is mixed in:
+//   L = (1 - g k) L_surface + g F L_reflected,    g = 1 - roughness / kGlossyRoughness,
+//   F = F0 + (1 - F0) (1 - cos theta)^5 (Schlick), F0 = 0.04 (1 - metallic) + albedo metallic,
+//   k = metallic + (1 - metallic) F_0.04: a metal keeps none of its diffuse light, a dielectric
+//   what it does not reflect. theta is the angle between the ray and the shading normal.
+// The threshold keeps every rough material's radiance (and so the shipped scenes' bytes) as it
+// was; a smooth surface's reflection fades out continuously as its roughness nears it.
+constexpr float kGlossyRoughness = 0.3f;
+constexpr float kDielectricF0 = 0.04f;
+
+// g above for a material (0 for unlit ones, which show their colour).
+inline float GlossOf(const Material& material) {
+  if (material.unlit || !(material.roughness < kGlossyRoughness)) return 0.0f;
+  return 1.0f - material.roughness / kGlossyRoughness;
+}
+
+// The direction a ray `dir` leaves a surface in after a mirror reflection about the shading normal
+// `n` (facing the ray); about the geometric normal `ng` when the shading normal would send it
+// into the surface.
+inline Eigen::Vector3f MirrorDirection(const Eigen::Vector3f& dir, const Eigen::Vector3f& n, const Eigen::Vector3f& ng) {
+  Eigen::Vector3f out = dir - 2.0f * dir.dot(n) * n;
+  if (!(out.dot(ng) > 0.0f)) out = dir - 2.0f * dir.dot(ng) * ng;
+  return out.normalized();
+}
+
+// How a glossy hit's own radiance and its reflection combine (the law above).
+struct SpecularMix {
+  float keep = 1.0f;                                          // factor of L_surface
+  Eigen::Vector3f reflect = Eigen::Vector3f::Zero();          // factor of L_reflected, per channel
+};
+
+inline SpecularMix SpecularMixOf(float gloss, float metallic, const Eigen::Vector3f& albedo, float cos_theta) {
+  const float c = std::clamp(1.0f - cos_theta, 0.0f, 1.0f);
+  const float c5 = (c * c) * (c * c) * c;
+  const Eigen::Vector3f f0 = Eigen::Vector3f::Constant(kDielectricF0 * (1.0f - metallic)) + metallic * albedo;
+  SpecularMix mix;
+  mix.reflect = gloss * (f0 + c5 * (Eigen::Vector3f::Ones() - f0));
+  const float dielectric = kDielectricF0 + c5 * (1.0f - kDielectricF0);
+  mix.keep = 1.0f - gloss * (metallic + (1.0f - metallic) * dielectric);
+  return mix;
 }
 
 // Everything shading needs for one Render call, in float.

@@ -60,6 +60,11 @@ struct Material {
   // occlusion to indirect light only.
   int occlusion_texture = -1;  // index into Scene::textures
   float occlusion_strength = 1.0f;
+  // glTF pbrMetallicRoughness factors, in [0, 1], glTF's defaults: a surface rougher than the
+  // renderer's glossy threshold (renderer/shading.h kGlossyRoughness) is shaded as before, one
+  // below it also reflects the world (one specular bounce).
+  float metallic = 1.0f;
+  float roughness = 1.0f;
 };
 
 // One glTF morph target of a mesh: the displacement of every vertex, in the mesh's own frame.

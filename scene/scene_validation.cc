@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace rigsim {
@@ -45,6 +46,12 @@ void ValidateMesh(const Scene& scene, const SceneMesh& mesh, const std::string& 
   check_texture(material.emissive_texture, "emissive texture");
   check_texture(material.normal_texture, "normal texture");
   check_texture(material.occlusion_texture, "occlusion texture");
+  for (const auto& [value, name] : {std::pair{material.metallic, "metallic"}, std::pair{material.roughness, "roughness"}}) {
+    if (!(value >= 0.0f && value <= 1.0f)) {
+      throw std::invalid_argument(where + ": material '" + material.name + "' " + name + " must be in [0, 1], got " +
+                                  std::to_string(value));
+    }
+  }
 }
 
 void ValidateTextures(const Scene& scene) {

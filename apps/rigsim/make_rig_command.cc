@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <optional>
@@ -22,6 +23,7 @@
 #include "gltf/gltf_loader.h"
 #include "gltf/label_rules.h"
 #include "gltf/scene_cameras.h"
+#include "procedural/ego_vehicle.h"
 #include "rigs/rig_params.h"
 #include "rigs/rig_spec.h"
 
@@ -39,6 +41,7 @@ struct MakeRigArgs {
   std::string from_gltf;
   std::string rig_out, frames_out, out;
   bool force = false;
+  bool ego_vehicle = false;
   bool rig_position_given = false;  // --position, after parsing
   // Capture timing: "SECONDS" for every camera or "CAMERA=SECONDS" for one (repeatable).
   std::vector<std::string> time_offset, readout, readout_direction, exposure;
@@ -89,7 +92,13 @@ constexpr const char* kDescription =
     "(PINHOLE, --width x --height, field of view from each camera's yfov and aspectRatio; cam_from_rig\n"
     "relative to the first camera in file order) and frames.json holds one frame with the rig where the\n"
     "file puts it, so `rigsim render` reproduces the file's views.\n"
-    "Output: --rig-out and --frames-out, or --out DIR for DIR/rig.json and DIR/frames.json.";
+    "Output: --rig-out and --frames-out, or --out DIR for DIR/rig.json and DIR/frames.json.\n"
+    "With --ego-vehicle (needs --out) the rig gets its own car: DIR/ego_vehicle.glb, named in rig.json, a\n"
+    "low-poly body sized from where the cameras are (roof 5 cm below the lowest camera and 5-10 cm beyond the\n"
+    "outermost, bonnet and boot beyond it, down to 0.2 m above the ground), labelled `ego vehicle`, with glossy\n"
+    "paint and glass that reflect the world. `rigsim render` moves it with the rig at every camera's capture\n"
+    "time (rolling shutter and time offsets included): it shows in the lower part of views that look out and\n"
+    "down past the roof, as a real car's body does.";
 
 // A parameter's check as an option's validator: the refusal reads as the sweep's does.
 CLI::Validator CheckOf(const ParamSpec& spec) {
@@ -158,6 +167,9 @@ void AddSourceAndOutputOptions(CLI::App* cmd, MakeRigArgs& a) {
                   "complete or not at all; see --force)")
       ->excludes(rig_out)
       ->excludes(frames_out);
+  cmd->add_flag("--ego-vehicle", a.ego_vehicle,
+                "attach a car body around the rig (DIR/ego_vehicle.glb, labelled 'ego vehicle', glossy paint): "
+                "render shows it in every view that sees it; needs --out");
   cmd->add_flag("--force", a.force, "replace an existing --out folder rigsim wrote, or existing --rig-out and --frames-out JSON files");
 }
 
@@ -250,6 +262,10 @@ void CheckOutput(const MakeRigArgs& a) {
   if (a.out.empty() && (a.rig_out.empty() || a.frames_out.empty())) {
     throw CLI::ValidationError("make-rig", "give --out DIR, or both --rig-out FILE and --frames-out FILE");
   }
+  if (a.ego_vehicle && a.out.empty()) {
+    throw CLI::ValidationError("make-rig", "--ego-vehicle writes ego_vehicle.glb beside rig.json: give --out DIR "
+                                           "instead of --rig-out and --frames-out");
+  }
   if (!a.out.empty()) {
     CheckReplaceableOutput(OutputFolder(a));
     return;
@@ -261,11 +277,23 @@ void CheckOutput(const MakeRigArgs& a) {
 
 // Writes rig.json and frames.json (into --out, complete or not at all, or to --rig-out and
 // --frames-out) and says so; `what` names the rig and `path` its path.
-void WriteRigAndFrames(const MakeRigArgs& a, const Rig& rig, const FramesFile& frames, const std::string& what,
-                       const std::string& path) {
+void WriteRigAndFrames(const MakeRigArgs& a, const Rig& rig_in, const FramesFile& frames, const std::string& what,
+                       const std::string& path, double ground_below_rig_m) {
   std::string rig_path = a.rig_out, frames_path = a.frames_out;
+  Rig rig = rig_in;
+  std::vector<uint8_t> ego_vehicle;
+  if (a.ego_vehicle) {  // before anything is written: a camera that looks into the body is refused
+    ego_vehicle = EgoVehicleGlb(rig, ground_below_rig_m);
+    rig.ego_vehicle = kEgoVehicleFile;
+  }
   if (!a.out.empty()) {
     StagedOutput staged(OutputFolder(a));
+    if (a.ego_vehicle) {
+      const std::filesystem::path glb = staged.staging_dir() / kEgoVehicleFile;
+      std::ofstream file(glb, std::ios::binary);
+      file.write(reinterpret_cast<const char*>(ego_vehicle.data()), std::streamsize(ego_vehicle.size()));
+      if (!file.flush()) throw std::runtime_error(glb.string() + ": cannot write");
+    }
     WriteRig(rig, staged.staging_dir() / "rig.json");
     WriteFrames(frames, staged.staging_dir() / "frames.json");
     staged.Commit();
@@ -277,6 +305,7 @@ void WriteRigAndFrames(const MakeRigArgs& a, const Rig& rig, const FramesFile& f
   }
   std::printf("wrote %s (%s, %s) and %s (%s, %s)\n", rig_path.c_str(), what.c_str(), Count(rig.cameras.size(), "camera").c_str(),
               frames_path.c_str(), Count(frames.frames.size(), "frame").c_str(), path.c_str());
+  if (a.ego_vehicle) std::printf("wrote %s (the rig's own vehicle)\n", (std::filesystem::path(a.out) / kEgoVehicleFile).string().c_str());
 }
 
 // The rig, its path and its placement as the options give them.
@@ -306,7 +335,7 @@ void MakeRigFromGltf(const MakeRigArgs& a) {
                 c.camera.height(), c.camera.fx(), c.camera.fy(), centre.x(), centre.y(), centre.z());
   }
   WriteRigAndFrames(a, from_file.rig, from_file.frames, "from " + std::filesystem::path(a.from_gltf).filename().string(),
-                    "the file's camera poses");
+                    "the file's camera poses", spec.placement.height_m);
 }
 
 // What the rig will see: the overlap of each pair that shares a view at the first frame, and a
@@ -401,7 +430,7 @@ void MakeRig(const MakeRigArgs& a) {
   ApplyTiming(a, &placed->rig);
   ReportOverlaps(spec, *placed, scene ? &*scene : nullptr);
   WriteRigAndFrames(a, placed->rig, placed->frames, std::string(RigTypeName(spec.type)),
-                    std::string(TrajectoryKindName(spec.trajectory.kind)));
+                    std::string(TrajectoryKindName(spec.trajectory.kind)), spec.placement.height_m);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -18,6 +19,7 @@
 #include "geometry/camera_validation.h"
 #include "geometry/rig.h"
 #include "gltf/gltf_loader.h"
+#include "procedural/ego_vehicle.h"
 #include "renderer/render_dataset.h"
 
 namespace rigsim::cli {
@@ -88,6 +90,19 @@ void AddRenderCommand(CLI::App& app) {
       std::fprintf(stderr, "warning: %s: the scene holds no triangles: every view will be empty sky\n", args->scene.c_str());
     }
     job.scene = &scene;
+    // The rig's own vehicle (make-rig --ego-vehicle), beside rig.json, in the rig frame.
+    std::optional<Scene> ego_vehicle;
+    if (!job.rig.ego_vehicle.empty()) {
+      const fs::path path = fs::path(args->rig).parent_path() / job.rig.ego_vehicle;
+      if (!fs::is_regular_file(path)) {
+        throw std::runtime_error(args->rig + ": ego_vehicle '" + job.rig.ego_vehicle + "': no such file beside it (" +
+                                 path.string() + "); make-rig --ego-vehicle writes it with rig.json");
+      }
+      ego_vehicle = LoadSceneVerbose(path);
+      EgoVehicleToRigFrame(*ego_vehicle);
+      job.ego_vehicle = &*ego_vehicle;
+      job.rig.ego_vehicle.clear();  // the dataset's rig.json names no file the dataset does not hold
+    }
     job.scene_name = std::filesystem::path(args->scene).filename().string();
     job.frames.label_rules = args->rules.empty() ? "" : std::filesystem::path(args->rules).filename().string();
     job.frames.tool_version = RIGSIM_VERSION_STRING;
