@@ -62,10 +62,8 @@ import json, sys
 scratch, rigs = sys.argv[1], sys.argv[2:]
 targets = {"plaza", "surround", "wide", "ring8x45", "demo640"}
 total = {}
-def overconfident(c):  # off by more than 3 stated standard deviations (rigsim evaluate's rule)
-    def beyond(err, sd): return err is not None and sd is not None and err > 3 * sd
-    return c["calibrated"] and (beyond(c.get("rotation_error_deg"), c.get("rotation_std_deg")) or
-                                beyond(c.get("translation_direction_error_deg"), c.get("direction_std_deg")))
+def overconfident(c):  # evaluation.json's verdict (evaluation/verdicts.h: beyond 3 stated sd and 0.05 deg)
+    return c.get("overconfident") is True
 print(f"{'rig':10} {'mode':5} {'posed':>6} {'within':>7} {'outside':>8} {'bad pairs':>9} {'overconf':>8}  statuses")
 for rig in rigs:
     ev = json.load(open(f"{scratch}/{rig}/data/calibration/evaluation.json"))

@@ -57,7 +57,7 @@ run make-rig ring --cameras 4 --overlap 2 --scene "$root/assets/scenes/street.gl
 run render --scene "$root/assets/scenes/street.glb" --rig motion/rig.json --frames motion/frames.json --out motion_data --spp 1
 run_calibrate calibrate motion_data --semantics none --out motion_cal
 run make-rig ring --cameras 3 --overlap 30 --scene "$root/assets/scenes/street.glb" --trajectory handheld --frames 5 \
-  --time-offset 0 0.02 0.05 --readout 0.03 "${small[@]}" --out timed
+  --time-offset cam1=0.02 cam2=0.05 --readout 0.03 "${small[@]}" --out timed
 run render --scene "$root/assets/scenes/street.glb" --rig timed/rig.json --frames timed/frames.json --out timed_data --spp 1
 run_calibrate calibrate timed_data --semantics none --out timed_cal
 run_calibrate calibrate timed_data --semantics none --estimate-time-offsets --rolling-shutter --out timed_cal_estimated

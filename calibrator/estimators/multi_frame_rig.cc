@@ -429,6 +429,8 @@ void HoldAndBoundParameters(BundleProblem& bp, const BundleRound& round, const R
     } else if (!offset || !readout) {
       problem.SetManifold(block, new ceres::SubsetManifold(2, {offset ? 1 : 0}));
     }
+    // A readout takes time: a global shutter's comes out at zero, not below it by the noise.
+    if (readout) problem.SetParameterLowerBound(block, 1, 0.0);
   }
   for (int c = 0; c < n; ++c) {
     if (!problem.HasParameterBlock(bp.cq[c].data())) continue;

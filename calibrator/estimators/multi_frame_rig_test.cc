@@ -277,6 +277,19 @@ TEST(MultiFrameRig, TimeOffsetsAndReadoutTimesAreEstimatedExactlyOnCleanData) {
   EXPECT_FALSE(r.time_offset_stddev_s[0]);
 }
 
+// With noise, the readout of camera 2, a global shutter, is estimated at zero or above: a readout
+// time below zero is no camera's, and the restarts of the offsets refuse one.
+TEST(MultiFrameRig, AGlobalShuttersReadoutIsNotEstimatedBelowZero) {
+  for (uint32_t seed : {TestSeed(), TestSeed() + 1, TestSeed() + 2}) {
+    const TimedRing ring(TurningPath(6, 1.5, 8.0, 1.5, 3.0, 2.0), 1.0, seed, kOffsets, kReadouts);
+    const MultiFrameBundleAdjustmentResult r = ring.Adjust(&ring.timing);
+    ASSERT_EQ(r.timing.size(), 3u);
+    for (int c = 0; c < 3; ++c) EXPECT_GE(r.timing[c][1], 0.0) << c;
+    EXPECT_LT(r.timing[2][1], 0.002);
+    std::printf("seed %u: readouts %.5f %.5f %.5f s\n", seed, r.timing[0][1], r.timing[1][1], r.timing[2][1]);
+  }
+}
+
 // The same cameras taken as synchronised: the motion during the offsets goes into the mounting.
 TEST(MultiFrameRig, OffsetsLeftOutBendTheMounting) {
   const TimedRing ring(TurningPath(6, 1.5, 8.0, 1.5, 3.0, 2.0), 0.0, TestSeed(), kOffsets, kReadouts);
