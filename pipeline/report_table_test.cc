@@ -106,6 +106,24 @@ TEST(FormatRigTable, OneRowPerCameraAndMethod) {
       << FormatRigSummary(run);
 }
 
+// The summary says when the stated deviations count residuals of one image region as moving
+// together, and by how much that widens them (the square root of the variance factor).
+TEST(FormatRigSummary, SaysWhenResidualsMoveTogetherByRegion) {
+  RigCalibrationResult r;
+  r.semantic_mode = "none";
+  r.rig.cameras = {{"cam0", Camera(CameraModelId::kPinhole, 64, 48, {50, 50, 32, 24}), Rigid3d(), 0.0}};
+  r.camera_status = {{CameraOutcome::kCalibrated, PositionOutcome::kPlaced, "reference: rig frame"}};
+  r.camera_stats.assign(1, {});
+  r.num_observations = 500;
+  r.reprojection_rms_px = 0.3;
+  r.residual_correlation = 4.0;
+  const std::string summary = FormatRigSummary(RunOf({r}));
+  EXPECT_NE(summary.find("(residuals of one image region move together: deviations x2.0)"), std::string::npos)
+      << summary;
+  r.residual_correlation = 1.05;
+  EXPECT_EQ(FormatRigSummary(RunOf({r})).find("move together"), std::string::npos);
+}
+
 // The status is what tells a user what to change; the table once cut it at a column width
 // ("the tracks leave the positi...").
 TEST(FormatRigTable, StatusIsPrintedWhole) {
