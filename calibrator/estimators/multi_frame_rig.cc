@@ -297,7 +297,6 @@ struct BundleProblem {
     return depths[depths.size() / 2];
   }
 
-  // Every observation's reprojection error (px); behind the camera counts as infinite.
   // Every observation's reprojection residual with its view and place in the image
   // (CorrelatedResidualFactor); observations that do not project are left out.
   std::vector<LocatedResidual> LocatedResiduals(const std::vector<WorldPoint>& points) const {
@@ -315,6 +314,7 @@ struct BundleProblem {
     return out;
   }
 
+  // Every observation's reprojection error (px); behind the camera counts as infinite.
   std::vector<double> Residuals(const std::vector<WorldPoint>& points) const {
     std::vector<double> out;
     for (const WorldPoint& p : points) {

@@ -440,7 +440,9 @@ ScaledRig DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& adju
     if (!pose[c] || !ba.centre_covariance[c]) continue;
     const double std_deg = DirectionStdDeg(pose[c]->SourceOriginInTarget(), *ba.centre_covariance[c]);
     out.direction_std_deg[c] = std_deg;
-    if (std_deg > options.max_direction_std_deg) {
+    // The bound was measured on deviations that count every residual as independent: it is held
+    // against those, not against the wider ones that count residuals moving together by region.
+    if (std_deg / std::sqrt(ba.residual_correlation) > options.max_direction_std_deg) {
       out.undetermined[c] = "not determined: the images fix its direction from " + obs.camera_names[0] + " to +-" +
                             Fixed(std_deg, 1) + " deg only (cameras close together for the depth of the scene); " +
                             ps.remedy;

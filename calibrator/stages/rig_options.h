@@ -86,7 +86,9 @@ struct RigCalibrationOptions {
   // covariance is optimistic (correlated feature errors): the real direction errors of the target
   // rigs (bench/calibrator_targets.sh) are several times it, so the bound sits where they stay
   // within the 5 deg direction tolerance, above well-fixed cameras and far below cameras that sit
-  // (next to) together (VALIDATION.md, "Where the calibrator's thresholds come from").
+  // (next to) together (VALIDATION.md, "Where the calibrator's thresholds come from"). Held
+  // against the deviation that counts every residual as independent, on which it was measured (the
+  // stated one is wider by the square root of MultiFrameBundleAdjustmentResult::residual_correlation).
   double max_direction_std_deg = 0.5;
   // The bundle adjustment runs from every initial position estimate (rig_positions.h) and keeps
   // the result the images agree with best. A camera that another start puts more than
