@@ -117,6 +117,20 @@ class CameraRays {
   std::vector<int> time_strata_;  // with an exposure: a per-pixel permutation of the samples' time strata
 };
 
+// A traced ray's hit, direction, hit point and time into a shading record (field by field: no
+// wide copy over narrow stores); the pixel and footprint angle are the caller's.
+inline void RecordHit(const RTCRayHit& rh, SampleRecord* r) {
+  r->hit.hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+  r->hit.geom = rh.hit.geomID;
+  r->hit.prim = rh.hit.primID;
+  r->hit.u = rh.hit.u;
+  r->hit.v = rh.hit.v;
+  r->hit.t = rh.ray.tfar;
+  r->dir = Eigen::Vector3f(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
+  r->shadow_origin = Eigen::Vector3f(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z) + r->hit.t * r->dir;  // the hit point
+  r->time = rh.ray.time;
+}
+
 // A traced batch's colour samples as shading records, in pixel order; `on_centre(info, ray)`
 // sees every pixel's centre ray (labels, instance and depth).
 template <class OnCentre>
@@ -124,17 +138,8 @@ void CollectRecords(const std::vector<RTCRayHit>& rays, const std::vector<Camera
                     std::vector<SampleRecord>* records, OnCentre&& on_centre) {
   records->clear();
   auto add = [&](size_t i) {
-    const RTCRayHit& rh = rays[i];
-    SampleRecord& r = records->emplace_back();  // field by field: no wide copy over narrow stores
-    r.hit.hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-    r.hit.geom = rh.hit.geomID;
-    r.hit.prim = rh.hit.primID;
-    r.hit.u = rh.hit.u;
-    r.hit.v = rh.hit.v;
-    r.hit.t = rh.ray.tfar;
-    r.dir = Eigen::Vector3f(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
-    r.shadow_origin = Eigen::Vector3f(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z) + r.hit.t * r.dir;  // the hit point
-    r.time = rh.ray.time;
+    SampleRecord& r = records->emplace_back();
+    RecordHit(rays[i], &r);
     r.angle = info[i].angle;
     r.pixel = info[i].pixel;
   };

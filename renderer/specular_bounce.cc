@@ -1,5 +1,7 @@
 #include "renderer/specular_bounce.h"
 
+#include "renderer/camera_rays.h"
+
 namespace rigsim {
 
 void SpecularBounce::Trace(const std::vector<SampleRecord>& records, const MeshTable& meshes,
@@ -32,17 +34,9 @@ void SpecularBounce::Trace(const std::vector<SampleRecord>& records, const MeshT
     const RTCRayHit& rh = rays_[k];
     const SampleRecord& from = records[source_[k]];
     SampleRecord& s = hits_.emplace_back();
-    s.hit.hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-    s.hit.geom = rh.hit.geomID;
-    s.hit.prim = rh.hit.primID;
-    s.hit.u = rh.hit.u;
-    s.hit.v = rh.hit.v;
-    s.hit.t = rh.ray.tfar;
-    s.dir = Eigen::Vector3f(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
-    s.time = rh.ray.time;
+    RecordHit(rh, &s);
     s.pixel = from.pixel;
     if (!s.hit.hit) continue;
-    s.shadow_origin = Eigen::Vector3f(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z) + s.hit.t * s.dir;
     // A flat mirror's pixel covers the reflected surface as if the path were one straight ray.
     s.angle = s.hit.t > 0.0f ? from.angle * (from.hit.t + s.hit.t) / s.hit.t : from.angle;
     ShadeWithoutShadow(meshes[s.hit.geom], s, shade);
