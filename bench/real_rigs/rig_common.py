@@ -161,6 +161,37 @@ def write_folder(out, cameras, images, readme, force=False):
     (out / "README.md").write_text(readme)
 
 
+def truth_rig_json(folder):
+    """The folder's rig with its truth as rigsim reads a rig.json (make-rig --rig-file, calibrate).
+
+    truth_rig.json names each cam_from_rig rotation "rotation"; rig.json's key is "rotation_wxyz".
+    A folder without truth_rig.json gives its rig.json when every camera there has a cam_from_rig.
+    Anything else stops with a message naming the file and what is missing.
+    """
+    folder = Path(folder)
+    path = folder / "truth_rig.json"
+    if not path.is_file():
+        path = folder / "rig.json"
+        if not path.is_file():
+            raise SystemExit(f"{folder}: neither truth_rig.json nor rig.json: no rig to compare with")
+    try:
+        rig = json.loads(path.read_text())
+        cameras = rig["cameras"]
+    except (OSError, ValueError, KeyError, TypeError) as e:
+        raise SystemExit(f"{path}: not a rig file with a 'cameras' list ({e})")
+    if not isinstance(cameras, list) or not cameras:
+        raise SystemExit(f"{path}: no cameras")
+    for cam in cameras:
+        pose = cam.get("cam_from_rig") if isinstance(cam, dict) else None
+        if not isinstance(pose, dict) or not ({"rotation", "rotation_wxyz"} & pose.keys()) or "translation" not in pose:
+            name = cam.get("name", "?") if isinstance(cam, dict) else "?"
+            raise SystemExit(f"{path}: camera {name} has no cam_from_rig (rotation and translation): "
+                             "the rig's truth is needed (truth_rig.json, as prepare_*.py write it)")
+        if "rotation" in pose:
+            pose["rotation_wxyz"] = pose.pop("rotation")
+    return rig
+
+
 def describe_rig(cameras):
     """Lines describing each camera in the rig frame (view direction, centre, baseline to the first)."""
     lines = []
