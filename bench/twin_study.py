@@ -55,7 +55,8 @@ IMAGE_SUFFIXES = {".png", ".jpg", ".jpeg", ".webp", ".tif", ".tiff", ".exr"}
 def pair_fit(pair):
     """How a pair came out: its two-view fit, or why there is none."""
     if pair.get("success"):
-        return pair.get("pair_type") or "solved"
+        fit = pair.get("pair_type") or "solved"
+        return fit + (", beyond tolerance" if pair.get("within_tolerance") is False else "")
     reason = pair.get("failure_reason") or ""
     return "screened out" if reason.startswith("screened out") else "not solved"
 
@@ -334,7 +335,7 @@ def main(argv=None):
     truth = rc.truth_rig_json(real)
 
     # The path of the photos.
-    n_frames, step, interval, source = None, None, None, "options"
+    n_frames, step, interval, source = None, None, None, None
     frames_file = real / "frames.json"
     if frames_file.is_file():
         try:
@@ -348,6 +349,9 @@ def main(argv=None):
                 print(f"note: the photos' rig turns {turn:.0f}° over its frames; the twin drives straight")
     if n_frames is None:
         n_frames = count_photos(real, truth["cameras"][0]["name"])
+        source = ("--frames" if a.frames is not None else "the photos per camera") + " and --step"
+    elif a.frames is not None or a.step is not None:
+        source += " and the options given"
     if a.frames is not None:
         n_frames = a.frames
     if a.step is not None:

@@ -13,6 +13,7 @@ import twin_study as ts  # noqa: E402
 
 def pair(a, b, matches, inliers=0, rot=None, kind="general", success=True, reason=""):
     return {"cam_a": a, "cam_b": b, "matches": matches, "inliers": inliers,
+            "within_tolerance": rot is not None and rot <= 2.0,
             "inlier_ratio": inliers / matches if success and matches else None,
             "rotation_error_deg": rot, "pair_type": kind, "success": success, "failure_reason": reason}
 
@@ -39,6 +40,7 @@ class SummariseTest(unittest.TestCase):
         self.assertEqual(s["solved_pairs"], 2)
         self.assertAlmostEqual(s["median_pair_rotation_error_deg"], 1.55)
         self.assertEqual(s["pairs"]["A-B"]["fit"], "rotation-only")
+        self.assertEqual(s["pairs"]["A-C"]["fit"], "general, beyond tolerance")
         self.assertEqual(s["pairs"]["B-C"]["fit"], "screened out")
         self.assertIsNone(s["pairs"]["B-C"]["inlier_ratio"])
         self.assertAlmostEqual(s["pairs"]["A-C"]["inlier_ratio"], 0.375)
