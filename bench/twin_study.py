@@ -287,7 +287,8 @@ def parse_arguments(argv=None):
                                  epilog="\n".join(__doc__.split("\n")[6:]))
     ap.add_argument("real", type=Path, metavar="REAL_FOLDER",
                     help="a real-rig folder: images/<camera>/, truth_rig.json (or rig.json with poses)")
-    ap.add_argument("--rigsim", default="build/apps/rigsim/rigsim", help="the rigsim program (default %(default)s)")
+    ap.add_argument("--rigsim", default=str(ROOT / "build/apps/rigsim/rigsim"),
+                    help="the rigsim program (default: build/apps/rigsim/rigsim of this checkout)")
     ap.add_argument("--work", type=Path, default=Path("/tmp/twin-study"),
                     help="scratch folder: its real/, twin/ and logs/ are replaced (default %(default)s)")
     ap.add_argument("--presets", default="ideal,automotive",
@@ -309,8 +310,8 @@ def parse_arguments(argv=None):
     return ap.parse_args(argv)
 
 
-def main(argv=None):
-    a = parse_arguments(argv)
+def check_arguments(a):
+    """The real folder, the rigsim program and the presets, each checked before anything runs."""
     real = a.real.resolve()
     if not real.is_dir():
         raise SystemExit(f"{a.real}: no such folder (a real-rig folder: images/<camera>/ and truth_rig.json)")
@@ -318,50 +319,57 @@ def main(argv=None):
         raise SystemExit(f"{a.real}: no images/ folder (the photos, images/<camera>/<frame>.jpg)")
     if not a.scene.is_file():
         raise SystemExit(f"--scene {a.scene}: no such file")
+    if a.frames is not None and a.frames < 1:
+        raise SystemExit("--frames: at least 1")
     rigsim = find_rigsim(a.rigsim)
     presets = [p.strip() for p in a.presets.split(",") if p.strip()]
     if not presets:
         raise SystemExit("--presets: give at least one sensor preset")
-    known = sensor_presets(rigsim)
-    if known is not None:
-        unknown = [p for p in presets if p not in known]
-        if unknown:
-            raise SystemExit(f"--presets: unknown sensor preset {', '.join(unknown)}; {rigsim.name} knows "
-                             f"{', '.join(known)}")
     if len(set(presets)) != len(presets):
         raise SystemExit("--presets: a preset is named twice")
-    if a.frames is not None and a.frames < 1:
-        raise SystemExit("--frames: at least 1")
-    truth = rc.truth_rig_json(real)
+    known = sensor_presets(rigsim)
+    unknown = [p for p in presets if known is not None and p not in known]
+    if unknown:
+        raise SystemExit(f"--presets: unknown sensor preset {', '.join(unknown)}; {rigsim.name} knows {', '.join(known)}")
+    return real, rigsim, presets
 
-    # The path of the photos.
+
+def photos_path(a, real, first_camera):
+    """(frames, step in metres, frame interval in seconds, where they came from) of the twin's path:
+    the folder's frames.json poses when it has them, else the photos per camera and --step; the
+    options override either."""
     n_frames, step, interval, source = None, None, None, None
     frames_file = real / "frames.json"
     if frames_file.is_file():
         try:
-            from_poses = frames_from_poses(json.loads(frames_file.read_text()))
+            frames_json = json.loads(frames_file.read_text())
+            from_poses = frames_from_poses(frames_json)
         except (ValueError, KeyError, TypeError, IndexError) as e:
             raise SystemExit(f"{frames_file}: not a frames.json with rig_from_world per frame ({e})")
         if from_poses:
             n_frames, step, interval, turn = from_poses
-            source = f"{frames_file.name}'s poses"
+            source = "frames.json's poses"
             if turn > 5:
                 print(f"note: the photos' rig turns {turn:.0f}° over its frames; the twin drives straight")
     if n_frames is None:
-        n_frames = count_photos(real, truth["cameras"][0]["name"])
+        n_frames = count_photos(real, first_camera)
         source = ("--frames" if a.frames is not None else "the photos per camera") + " and --step"
     elif a.frames is not None or a.step is not None:
         source += " and the options given"
-    if a.frames is not None:
-        n_frames = a.frames
-    if a.step is not None:
-        step = a.step
+    n_frames = a.frames if a.frames is not None else n_frames
+    step = a.step if a.step is not None else step
     if step is None:
         raise SystemExit(f"{a.real}: no frames.json with the rig's poses, so the distance between frames is "
                          "unknown: give --step (metres; 0 for a rig that stood still)")
-    if a.frame_interval is not None:
-        interval = a.frame_interval
-    interval = interval if interval and interval > 0 else 0.1
+    interval = a.frame_interval if a.frame_interval is not None else interval
+    return n_frames, step, (interval if interval and interval > 0 else 0.1), source
+
+
+def main(argv=None):
+    a = parse_arguments(argv)
+    real, rigsim, presets = check_arguments(a)
+    truth = rc.truth_rig_json(real)
+    n_frames, step, interval, source = photos_path(a, real, truth["cameras"][0]["name"])
 
     work = a.work.resolve()
     for sub in ("real", "twin", "logs"):
@@ -384,9 +392,9 @@ def main(argv=None):
     real_dir.mkdir()
     (real_dir / "rig.json").write_text(json.dumps(truth, indent=1) + "\n")
     os.symlink(real / "images", real_dir / "images")
-    if frames_file.is_file():
-        os.symlink(frames_file, real_dir / "frames.json")
-    progress(f"calibrating the real photos of {a.real} ({len(truth['cameras'])} cameras, {n_frames} frames)")
+    if (real / "frames.json").is_file():
+        os.symlink(real / "frames.json", real_dir / "frames.json")
+    progress(f"calibrating the real photos of {a.real} ({len(truth['cameras'])} cameras)")
     took, _ = runner.run("real-calibrate", ["calibrate", real_dir, "--semantics", "none", "--out",
                                             real_dir / "calibration", "--force"] + threads, ok_codes=(0, 3))
     real_summary = summarise_calibration(json.loads((real_dir / "calibration/evaluation.json").read_text()))
@@ -423,10 +431,9 @@ def main(argv=None):
             "calibrate", render_dir, "--semantics", "none", "--out", work / "twin" / f"{preset}-calibration",
             "--force"] + threads, ok_codes=(0, 3))
         summary = summarise_calibration(json.loads((work / "twin" / f"{preset}-calibration/evaluation.json").read_text()))
-        comparison = compare_with_real(real_summary, summary)
         print(f"      {took_cal:.0f} s: {len(summary['placed'])} of {len(summary['cameras'])} cameras placed, "
               f"median pair rotation error {_deg(summary['median_pair_rotation_error_deg'])}")
-        twins.append({"preset": preset, "summary": summary, "comparison": comparison,
+        twins.append({"preset": preset, "summary": summary, "comparison": compare_with_real(real_summary, summary),
                       "render_time_s": took_render, "calibrate_time_s": took_cal})
 
     # 4. The table.
@@ -434,6 +441,7 @@ def main(argv=None):
     columns = [("real photos", real_summary, None)] + [(f"twin {t['preset']}{suffix}", t["summary"], t["comparison"])
                                                         for t in twins]
     rows = table_rows(columns)
+    targets = [targets_line(title, comparison) for title, _, comparison in columns[1:]]
     command = "python3 bench/twin_study.py " + " ".join(sys.argv[1:] if argv is None else argv)
     setting = (f"{a.real.name}: {len(truth['cameras'])} cameras, {n_frames} frames {step:g} m apart ({source}); "
                f"twin placed by {a.placement} in {a.scene.name}" + (", with its ego vehicle" if a.ego_vehicle else "")
@@ -442,7 +450,6 @@ def main(argv=None):
     print(setting)
     print(text_table(rows))
     print(f"twin/real: ok within {TARGET_FACTOR:g}x, off beyond (or a value on one side only)")
-    targets = [targets_line(title, comparison) for title, _, comparison in columns[1:]]
     print("\n".join(targets))
     md = (f"{setting}\n\n`{command}`\n\n{markdown_table(rows)}\n\n"
           f"twin/real: *ok* within {TARGET_FACTOR:g}×, *off* beyond (or a value on one side only).\n\n"
