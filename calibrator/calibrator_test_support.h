@@ -7,6 +7,7 @@
 
 #include "calibrator/estimators/multi_frame_rig.h"
 #include "calibrator/estimators/two_view.h"
+#include "calibrator/stages/motion_links.h"
 #include "calibrator/stages/rig_calibration.h"
 #include "evaluation/rig_scores.h"
 #include "testing/synthetic_rig.h"
@@ -24,6 +25,11 @@ struct SyntheticObservationOptions {
 // and outliers) through EstimatePairFromMatches; with temporal_pairs, each camera's consecutive
 // frames through EstimateRelativePose too.
 RigObservations ObserveSyntheticRig(SyntheticRig& s, const SyntheticObservationOptions& options = {});
+
+// What a matcher finds between two views: the true correspondences and a twentieth as many wrong
+// ones, drawn from the view pair alone (the matcher runs on several threads at once). `s` must
+// outlive it.
+ViewPairMatcher SyntheticMatcher(const SyntheticRig& s);
 
 // A ring of three overlapping cameras that capture at `offsets_s` from their frame's timestamp with
 // rolling-shutter `readouts_s` (one per camera), along `path`; every point's track from the truth.

@@ -6,6 +6,8 @@
 
 #include "calibrator/model/rig_state.h"
 #include "calibrator/stages/rig_calibration.h"
+#include "calibrator/stages/track_registration.h"
+#include "common/format.h"
 
 namespace rigsim {
 namespace {
@@ -93,16 +95,21 @@ bool FoundNothing(const MotionLinks& links) {
                                                   [](const HandEyeCamera& h) { return h.status == HandEyeStatus::kSolved; });
 }
 
-// The rig stages on `obs` with the motion stage's links.
-RigCalibrationResult EstimateRigWithLinks(const RigObservations& obs, const MotionLinks& links,
-                                          const RigCalibrationOptions& options) {
+// `obs` with the motion stage's links.
+RigObservations Linked(const RigObservations& obs, const MotionLinks& links) {
   RigObservations linked = obs;
   linked.temporal = links.temporal;
   linked.cross_time = links.cross_time;
   linked.rotation_start = links.rotation_start;
   linked.hand_eye_rotation = links.hand_eye_rotation;
   linked.open_axis = links.open_axis;
-  return EstimateRig(linked, options);
+  return linked;
+}
+
+// The rig stages on `obs` with the motion stage's links.
+RigCalibrationResult EstimateRigWithLinks(const RigObservations& obs, const MotionLinks& links,
+                                          const RigCalibrationOptions& options) {
+  return EstimateRig(Linked(obs, links), options);
 }
 
 // Whether `second` (with the links) keeps its own tracks and is contradicted for none of its
@@ -113,9 +120,9 @@ bool Holds(const RigObservations& obs, const RigCalibrationResult& second, const
 
 // `second` (with the links) where it places more cameras than `first` (without), keeps its own
 // tracks and is contradicted for none of its cameras by the views it predicts (`check`); `first`
-// otherwise; either counts the work of both.
+// otherwise; either counts the work of both. `used` becomes the observations of the one kept.
 RigCalibrationResult TheBetterPass(const RigObservations& obs, RigCalibrationResult first, RigCalibrationResult second,
-                                   const MotionLinks& links, const PredictionCheck& check) {
+                                   const MotionLinks& links, const PredictionCheck& check, RigObservations* used) {
   if (CamerasPlaced(second) <= CamerasPlaced(first) || !Holds(obs, second, check)) {
     SayWhatTheMotionFound(links, check, &first);
     AddRigWork(second, &first);
@@ -123,13 +130,15 @@ RigCalibrationResult TheBetterPass(const RigObservations& obs, RigCalibrationRes
   }
   second.motion_links = SummaryOf(links, true, second.num_cross_time_pairs_used, check);
   AddRigWork(first, &second);
+  *used = Linked(obs, links);
   return second;
 }
 
 // After the full pass without links, `first`: the motion stage only where it leaves a camera
 // without a full pose.
 RigCalibrationResult LinkWhereTheFullPassNeedsIt(const RigObservations& obs, RigCalibrationResult first,
-                                                 const ViewPairMatcher& match, const RigCalibrationOptions& options) {
+                                                 const ViewPairMatcher& match, const RigCalibrationOptions& options,
+                                                 RigObservations* used) {
   if (!NeedsMotionLinks(first, obs, options)) return first;
   const MotionLinks links = FindMotionLinks(obs, first.cam_from_rig_rotation, match, options);
   if (FoundNothing(links)) {
@@ -138,7 +147,7 @@ RigCalibrationResult LinkWhereTheFullPassNeedsIt(const RigObservations& obs, Rig
   }
   RigCalibrationResult second = EstimateRigWithLinks(obs, links, options);
   const PredictionCheck check = CheckPredictedViews(obs, links, second, match, options);
-  return TheBetterPass(obs, std::move(first), std::move(second), links, check);
+  return TheBetterPass(obs, std::move(first), std::move(second), links, check, used);
 }
 
 // The motion stage first, from the rotations where the pass without links stopped
@@ -147,7 +156,8 @@ RigCalibrationResult LinkWhereTheFullPassNeedsIt(const RigObservations& obs, Rig
 // only otherwise, to compare as LinkWhereTheFullPassNeedsIt does.
 RigCalibrationResult LinkBeforeTheFullPass(const RigObservations& obs,
                                            const PerCamera<Eigen::Quaterniond>& known_rotations,
-                                           const ViewPairMatcher& match, const RigCalibrationOptions& options) {
+                                           const ViewPairMatcher& match, const RigCalibrationOptions& options,
+                                           RigObservations* used) {
   const MotionLinks links = FindMotionLinks(obs, known_rotations, match, options);
   std::optional<RigCalibrationResult> second;
   PredictionCheck check;
@@ -156,6 +166,7 @@ RigCalibrationResult LinkBeforeTheFullPass(const RigObservations& obs,
     check = CheckPredictedViews(obs, links, *second, match, options);
     if (CamerasPlaced(*second) == static_cast<int>(obs.cameras.size()) && Holds(obs, *second, check)) {
       second->motion_links = SummaryOf(links, true, second->num_cross_time_pairs_used, check);
+      *used = Linked(obs, links);
       return *std::move(second);
     }
   }
@@ -168,19 +179,118 @@ RigCalibrationResult LinkBeforeTheFullPass(const RigObservations& obs,
     if (second) AddRigWork(*second, &first);
     return first;
   }
-  return TheBetterPass(obs, std::move(first), *std::move(second), links, check);
+  return TheBetterPass(obs, std::move(first), *std::move(second), links, check, used);
 }
 
-}  // namespace
-RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, const ViewPairMatcher& match,
-                                                const RigCalibrationOptions& options) {
+// The motion passes of EstimateRigWithMotionLinks; `used` becomes the observations of the result.
+RigCalibrationResult MotionPasses(const RigObservations& obs, const ViewPairMatcher& match,
+                                  const RigCalibrationOptions& options, RigObservations* used) {
   if (!MotionCanLink(obs, options)) return EstimateRig(obs, options);
   RigPreCheck stop;
   std::optional<RigCalibrationResult> first = EstimateRigUnlessUnplaced(obs, options, &stop);
-  if (first) return LinkWhereTheFullPassNeedsIt(obs, *std::move(first), match, options);
-  RigCalibrationResult result = LinkBeforeTheFullPass(obs, stop.cam_from_rig_rotation, match, options);
+  if (first) return LinkWhereTheFullPassNeedsIt(obs, *std::move(first), match, options, used);
+  RigCalibrationResult result = LinkBeforeTheFullPass(obs, stop.cam_from_rig_rotation, match, options, used);
   AddRigWork(stop.work, &result);
   return result;
+}
+
+bool SomeCameraUnplaced(const RigCalibrationResult& r) {
+  return std::any_of(r.camera_status.begin(), r.camera_status.end(), [](const CameraStatus& s) {
+    return s.outcome == CameraOutcome::kNotConnected || s.outcome == CameraOutcome::kRotationOnly;
+  });
+}
+
+// A registration may add cameras, not move the ones placed without it: a camera placed before
+// that loses its pose or turns by more than this (deg) means the registered camera's matches pull
+// the rig somewhere its own pairs do not put it.
+constexpr double kMaxPlacedRotationChangeDeg = 1.0;
+
+// Why the rig adjusted with the registered cameras, `after`, is not kept over `before`: it places no
+// more cameras, moves or un-places one `before` placed, or loses a camera's own tracks
+// (LosesOwnTracks). Empty when it is kept.
+std::string WhyNotKept(const RigObservations& obs, const RigCalibrationResult& before, const RigCalibrationResult& after,
+                       const TrackRegistration& reg) {
+  for (size_t c = 0; c < before.camera_status.size(); ++c) {
+    if (!HasFullPose(before.camera_status[c].outcome)) continue;
+    const std::string& name = before.rig.cameras[c].name;
+    if (!HasFullPose(after.camera_status[c].outcome)) return "the rig adjusted with it leaves " + name + " unplaced";
+    const auto& a = before.cam_from_rig_rotation[c];
+    const auto& b = after.cam_from_rig_rotation[c];
+    const double turn = a && b ? RotationDifferenceDeg(*a, *b) : 0.0;
+    if (turn > kMaxPlacedRotationChangeDeg) {
+      return "the rig adjusted with it turns " + name + " by " + Fixed(turn, 2) + " deg from where its pairs put it";
+    }
+  }
+  if (LosesOwnTracks(obs, after)) return "the rig adjusted with it no longer fits a placed camera's own tracks";
+  if (CamerasPlaced(after) > CamerasPlaced(before)) return "";
+  std::string why = "the rig adjusted with it places no more cameras";
+  for (const CameraRegistration& r : reg.cameras) {
+    if (!r.registered) continue;
+    why += "; " + after.rig.cameras[r.camera].name + " there: " + after.camera_status[r.camera].reason;
+  }
+  return why;
+}
+
+// Says, for each camera the registration did not place, why: in its status.
+void SayWhyNotRegistered(const TrackRegistration& reg, const std::string& why_not_kept, RigCalibrationResult* result) {
+  for (const CameraRegistration& r : reg.cameras) {
+    CameraStatus& s = result->camera_status[r.camera];
+    if (HasFullPose(s.outcome)) continue;
+    s.reason += "; nor was it registered through tracks (" +
+                (r.registered ? why_not_kept : r.reason + ", over " + std::to_string(r.view_pairs_matched) +
+                                                   " view pairs with placed cameras") +
+                ")";
+  }
+}
+
+void SayWhatWasRegistered(const TrackRegistration& reg, RigCalibrationResult* result) {
+  for (const CameraRegistration& r : reg.cameras) {
+    if (!r.registered || !HasFullPose(result->camera_status[r.camera].outcome)) continue;
+    result->warnings.push_back(result->rig.cameras[r.camera].name + " is placed through tracks: " +
+                               std::to_string(r.inliers) + " of its " + std::to_string(r.correspondences) +
+                               " matches with points the other cameras placed fit one pose (chance: 10^" +
+                               Fixed(r.log10_false_alarms, 0) + "), over " + std::to_string(r.view_pairs.size()) +
+                               " view pairs; no pair of it placed it alone");
+  }
+}
+
+// Registration through tracks (track_registration.h) of the cameras `result` leaves without a full
+// pose, round after round while it places more: the rig stage on `used` with the registered
+// cameras' matches, kept when it places more cameras, keeps the placed ones where they were and
+// keeps their own tracks.
+RigCalibrationResult RegisterWhereUnplaced(RigObservations used, RigCalibrationResult result,
+                                           const ViewPairMatcher& match, const RigCalibrationOptions& options) {
+  constexpr int kMaxRounds = 3;
+  for (int round = 0; round < kMaxRounds && options.registration.enabled && SomeCameraUnplaced(result); ++round) {
+    const TrackRegistration reg = RegisterCamerasThroughTracks(used, result, match, options.registration);
+    if (!reg.AnyRegistered()) {
+      SayWhyNotRegistered(reg, "", &result);
+      break;
+    }
+    RigObservations next = WithRegisteredCameras(used, result, reg);
+    RigCalibrationResult second = EstimateRig(next, options);
+    const std::string why_not = WhyNotKept(used, result, second, reg);
+    if (!why_not.empty()) {
+      SayWhyNotRegistered(reg, "a pose fits its matches with placed points, but " + why_not, &result);
+      AddRigWork(second, &result);
+      break;
+    }
+    second.motion_links = result.motion_links;
+    SayWhatWasRegistered(reg, &second);
+    AddRigWork(result, &second);
+    result = std::move(second);
+    used = std::move(next);
+  }
+  return result;
+}
+
+}  // namespace
+
+RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, const ViewPairMatcher& match,
+                                                const RigCalibrationOptions& options) {
+  RigObservations used = obs;
+  RigCalibrationResult result = MotionPasses(obs, match, options, &used);
+  return RegisterWhereUnplaced(std::move(used), std::move(result), match, options);
 }
 
 }  // namespace rigsim

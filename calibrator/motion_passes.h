@@ -1,5 +1,6 @@
 // The controller's passes with the motion stage (stages/motion_links.h): the rig stage
-// (stages/rig_calibration.h) without the links and with them, and which result is kept.
+// (stages/rig_calibration.h) without the links and with them, and which result is kept; then
+// registration through tracks (stages/track_registration.h) of the cameras still unplaced.
 #pragma once
 
 #include "calibrator/model/rig_observations.h"
@@ -15,7 +16,10 @@ namespace rigsim {
 // (CheckPredictedViews). Where the stages before a bundle adjustment already show it
 // (EstimateRigUnlessUnplaced stops), the pass with the links runs next and is the result when it
 // places every camera, without a full pass without them; otherwise the full pass runs, and the
-// links only where its result needs them. Throws like EstimateRig.
+// links only where its result needs them. Then, while a camera is left without a full pose,
+// registration through tracks (stages/track_registration.h; RigCalibrationOptions::registration),
+// kept when the rig adjusted with it places more cameras and moves none placed before. Throws like
+// EstimateRig.
 RigCalibrationResult EstimateRigWithMotionLinks(const RigObservations& obs, const ViewPairMatcher& match,
                                                 const RigCalibrationOptions& options);
 

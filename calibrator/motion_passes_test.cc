@@ -34,21 +34,6 @@ SyntheticRigOptions LowOverlapRing(const std::vector<Rigid3d>& path, bool isolat
   return o;
 }
 
-// What a matcher finds between two views: the true correspondences and a twentieth as many wrong
-// ones, drawn from the view pair alone (the matcher runs on several threads at once).
-ViewPairMatcher SyntheticMatcher(const SyntheticRig& s) {
-  return [&s](int cam_a, int frame_a, int cam_b, int frame_b) {
-    std::vector<std::pair<int, int>> m = s.TrueMatches({frame_a, cam_a}, {frame_b, cam_b});
-    const int na = static_cast<int>(s.keypoints[frame_a][cam_a].size());
-    const int nb = static_cast<int>(s.keypoints[frame_b][cam_b].size());
-    const int wrong = static_cast<int>(m.size()) / 20 + 6;
-    for (int i = 0; i < wrong && na > 0 && nb > 0; ++i) {
-      m.push_back({(i * 7919 + 31 * frame_a + cam_a) % na, (i * 104729 + 17 * frame_b + cam_b) % nb});
-    }
-    return m;
-  };
-}
-
 struct Calibrated {
   RigCalibrationResult result;
   std::vector<CameraErrors> errors;

@@ -31,8 +31,21 @@ Eigen::Matrix3d ProjectToRotation(const Eigen::Matrix3d& m) {
   return svd.matrixU() * d * svd.matrixV().transpose();
 }
 
-// Least-squares point closest to the rays; nullopt when the rays span less than min_angle_rad or
-// the point lies behind one of them.
+std::optional<double> ReprojectionError(const Camera& camera, const Rigid3d& cam_from_world, const Eigen::Vector3d& x,
+                                        const Eigen::Vector2d& observed) {
+  const auto px = camera.ImgFromCam(cam_from_world * x);
+  if (!px) return std::nullopt;
+  return (*px - observed).norm();
+}
+
+struct WorldPoint {
+  int track = -1;
+  Eigen::Vector3d x = Eigen::Vector3d::Zero();
+  std::vector<ViewObservation> observations;
+};
+
+}  // namespace
+
 std::optional<Eigen::Vector3d> TriangulateRays(const std::vector<Eigen::Vector3d>& origins,
                                                const std::vector<Eigen::Vector3d>& dirs, double min_angle_rad) {
   if (dirs.size() < 2) return std::nullopt;
@@ -57,21 +70,6 @@ std::optional<Eigen::Vector3d> TriangulateRays(const std::vector<Eigen::Vector3d
   }
   return x;
 }
-
-std::optional<double> ReprojectionError(const Camera& camera, const Rigid3d& cam_from_world, const Eigen::Vector3d& x,
-                                        const Eigen::Vector2d& observed) {
-  const auto px = camera.ImgFromCam(cam_from_world * x);
-  if (!px) return std::nullopt;
-  return (*px - observed).norm();
-}
-
-struct WorldPoint {
-  int track = -1;
-  Eigen::Vector3d x = Eigen::Vector3d::Zero();
-  std::vector<ViewObservation> observations;
-};
-
-}  // namespace
 
 void RigBundleAdjustmentOptions::Check() const {
   auto fail = [](const std::string& why) { throw std::invalid_argument("RigBundleAdjustmentOptions: " + why); };

@@ -153,6 +153,11 @@ struct MultiFrameBundleAdjustmentResult {
   std::vector<double> initial_residuals_px, final_residuals_px;
 };
 
+// Least-squares point closest to the rays (origins, unit directions); nullopt when the rays span
+// less than min_angle_rad or the point lies behind one of them.
+std::optional<Eigen::Vector3d> TriangulateRays(const std::vector<Eigen::Vector3d>& origins,
+                                               const std::vector<Eigen::Vector3d>& dirs, double min_angle_rad);
+
 // Triangulates the tracks (world frame) over the posed views, then solves and filters
 // (RigBundleAdjustmentOptions). Camera 0's cam_from_rig and frame 0's rig_from_world must be
 // given and are held constant (normally the identity); `scale_camera` (-1: none) keeps |its

@@ -34,7 +34,8 @@ std::vector<ViewTrack> BuildViewTracksAcrossTime(int num_cameras, int num_frames
   }
   for (const CrossTimePairEstimate& x : cross_time) {
     if (x.cam_a < 0 || x.cam_b < 0 || x.cam_a >= num_cameras || x.cam_b >= num_cameras || x.frame_a < 0 ||
-        x.frame_b < 0 || x.frame_a >= num_frames || x.frame_b >= num_frames || x.frame_a == x.frame_b) {
+        x.frame_b < 0 || x.frame_a >= num_frames || x.frame_b >= num_frames ||
+        (x.cam_a == x.cam_b && x.frame_a == x.frame_b)) {
       throw std::invalid_argument("BuildViewTracks: cross-time pair out of range");
     }
   }

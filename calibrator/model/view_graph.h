@@ -48,9 +48,11 @@ struct TemporalPairEstimate {
   bool PoseUsable() const { return two_view.success && pose_left_out.empty(); }
 };
 
-// Two cameras at different frames (calibrator/motion_links.h): camera a at frame_a with camera b at
-// frame_b, where the rig's motion brought b to look where a looked. `two_view.cam_b_from_cam_a` is
-// view (b, frame_b) from view (a, frame_a); cam_a == cam_b is a camera back where it was (a loop).
+// A view pair beyond the same-instant pairs: camera a at frame_a with camera b at frame_b. From the
+// motion stage (calibrator/motion_links.h) at different frames, where the rig's motion brought b to
+// look where a looked; cam_a == cam_b is a camera back where it was (a loop). From registration
+// through tracks (stages/track_registration.h) also at one frame: a registered camera's inliers
+// with a placed view. `two_view.cam_b_from_cam_a` is view (b, frame_b) from view (a, frame_a).
 struct CrossTimePairEstimate {
   int cam_a = -1, frame_a = -1;
   int cam_b = -1, frame_b = -1;

@@ -34,10 +34,22 @@ void MotionLinkOptions::Check() const {
   if (!(max_inter_camera_weight >= 1)) fail("max_inter_camera_weight must be >= 1");
 }
 
+void TrackRegistrationOptions::Check() const {
+  auto fail = [](const std::string& why) { throw std::invalid_argument("TrackRegistrationOptions: " + why); };
+  if (frame_reach < 0) fail("frame_reach must be >= 0");
+  if (max_view_pairs_per_camera < 1) fail("max_view_pairs_per_camera must be >= 1");
+  if (!(min_triangulation_angle_deg >= 0)) fail("min_triangulation_angle_deg must be >= 0");
+  if (!(max_track_error_px > 0)) fail("max_track_error_px must be > 0");
+  if (!(max_rotation_disagreement_deg > 0)) fail("max_rotation_disagreement_deg must be > 0");
+  if (min_view_pair_inliers < 1) fail("min_view_pair_inliers must be >= 1");
+  resection.Check();
+}
+
 void RigCalibrationOptions::Check() const {
   pairwise.Check();
   capture_time.Check();
   motion.Check();
+  registration.Check();
   if ((capture_time.estimate_offsets || capture_time.estimate_readout) && bundle_adjustment.refine_intrinsics) {
     throw std::invalid_argument("RigCalibrationOptions: capture times are not estimated together with refined intrinsics");
   }

@@ -12,6 +12,7 @@
 #include "calibrator/estimators/hand_eye.h"
 #include "calibrator/estimators/multi_frame_rig.h"
 #include "calibrator/estimators/rig_positions.h"
+#include "calibrator/estimators/rig_resection.h"
 #include "calibrator/estimators/rig_rotation_averaging.h"
 #include "calibrator/estimators/rig_turns.h"
 #include "calibrator/estimators/rotation_averaging.h"
@@ -63,6 +64,31 @@ struct MotionLinkOptions {
   // quarter of the ratio of all observations to theirs, at most this much
   // (RigBundleAdjustmentOptions::inter_camera_weight).
   double max_inter_camera_weight = 10.0;
+
+  // Throws std::invalid_argument naming the first bad field.
+  void Check() const;
+};
+
+// Registration through tracks (track_registration.h) of the cameras the rig stage left without a
+// full pose.
+struct TrackRegistrationOptions {
+  // Registration runs after the rig stage where a camera is left without a full pose.
+  bool enabled = true;
+  // A camera's view at frame f is matched with the placed cameras' views of frames f - reach ..
+  // f + reach: a moving rig brings one camera to look where another looked a frame before.
+  int frame_reach = 1;
+  // At most this many view pairs per camera, spread over the frames.
+  int max_view_pairs_per_camera = 48;
+  // Points from tracks whose rays meet at under this angle (deg) are too far to place anything, and
+  // a track any of whose views its point misses by more than max_track_error_px is not used.
+  double min_triangulation_angle_deg = 0.5;
+  double max_track_error_px = 3.0;
+  RigResectionOptions resection;
+  // A camera with a rotation already (rotation only) is registered only where the resection's
+  // rotation agrees with it within this (deg).
+  double max_rotation_disagreement_deg = 3.0;
+  // A view pair passes its inliers on to the rig stage when it has at least this many.
+  int min_view_pair_inliers = 3;
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;
@@ -129,6 +155,8 @@ struct RigCalibrationOptions {
   CaptureTimeOptions capture_time;
   // Links between cameras from the rig's motion (motion_links.h; EstimateRigFromPairs only).
   MotionLinkOptions motion;
+  // Registration through tracks of the cameras left without a full pose (EstimateRigFromPairs only).
+  TrackRegistrationOptions registration;
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;

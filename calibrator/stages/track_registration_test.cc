@@ -1,0 +1,120 @@
+#include "calibrator/stages/track_registration.h"
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "calibrator/calibrator_test_support.h"
+#include "calibrator/motion_passes.h"
+#include "testing/synthetic_rig.h"
+
+namespace rigsim {
+namespace {
+
+constexpr int kWeakCamera = 3;
+
+// Five cameras of 90 deg round a ring, neighbours sharing a little, on a rig driving a gently
+// turning path: each camera's pairs place it, and camera kWeakCamera's are made to fail as pairs
+// that find too few inliers do.
+SyntheticRig FiveCameraRing() {
+  const Camera pinhole(CameraModelId::kPinhole, 640, 360, {320, 320, 319.5, 179.5});
+  SyntheticRigOptions o;
+  o.cameras.assign(5, pinhole);
+  o.max_tilt_deg = 3;
+  o.max_offset_m = 0.05;
+  o.path = TurningPath(4, 1.0, 4.0, 0.3, 2.0, 1.0);
+  o.num_frames = static_cast<int>(o.path.size());
+  o.num_points = 3000;
+  o.min_distance_m = 4;
+  o.max_distance_m = 25;
+  o.noise_px = 0.5;
+  o.seed = TestSeed();
+  return SynthesizeRig(o);
+}
+
+// The observations with every pair of the `weak` cameras failed.
+RigObservations ObserveWithWeakCameras(SyntheticRig& s, const std::vector<int>& weak) {
+  SyntheticObservationOptions observe;
+  observe.temporal_pairs = true;
+  RigObservations obs = ObserveSyntheticRig(s, observe);
+  auto is_weak = [&](int c) { return std::find(weak.begin(), weak.end(), c) != weak.end(); };
+  for (size_t p = 0; p < obs.pairs.size(); ++p) {
+    PairEstimate& e = obs.pairs[p];
+    if (!is_weak(e.cam_a) && !is_weak(e.cam_b)) continue;
+    e.two_view = TwoViewEstimate{};
+    e.two_view.failure = TwoViewFailure::kTooFewInliers;
+    e.two_view.failure_reason = "no consistent geometry: 12 inliers of 110 matches";
+    for (auto& frame : obs.inliers[p].per_frame) frame.clear();
+  }
+  return obs;
+}
+
+RigCalibrationOptions WithoutMotionLinks() {
+  RigCalibrationOptions options;
+  options.pairwise.num_threads = 2;
+  options.motion.enabled = false;  // what places the camera here is the registration alone
+  return options;
+}
+
+TEST(TrackRegistration, PlacesACameraWhosePairsFailThroughItsMatchesWithPlacedPoints) {
+  SyntheticRig s = FiveCameraRing();
+  const RigObservations obs = ObserveWithWeakCameras(s, {kWeakCamera});
+  RigCalibrationOptions off = WithoutMotionLinks();
+  off.registration.enabled = false;
+  const RigCalibrationResult before = EstimateRigWithMotionLinks(obs, SyntheticMatcher(s), off);
+  ASSERT_EQ(before.camera_status[kWeakCamera].outcome, CameraOutcome::kNotConnected);
+  for (int c : {0, 1, 2, 4}) ASSERT_TRUE(HasFullPose(before.camera_status[c].outcome)) << c;
+
+  const RigCalibrationResult r = EstimateRigWithMotionLinks(obs, SyntheticMatcher(s), WithoutMotionLinks());
+  ASSERT_TRUE(HasFullPose(r.camera_status[kWeakCamera].outcome)) << r.camera_status[kWeakCamera].reason;
+  const std::vector<CameraErrors> errors = ErrorsAgainst(s.rig, r);
+  for (int c = 1; c < 5; ++c) {
+    EXPECT_LT(*errors[c].rotation_error_deg, 0.1) << c;
+    EXPECT_LT(*errors[c].direction_error_deg, 1.0) << c;
+  }
+  bool said = false;
+  for (const std::string& w : r.warnings) said = said || w.find("cam3 is placed through tracks") != std::string::npos;
+  EXPECT_TRUE(said);
+}
+
+TEST(TrackRegistration, LeavesACameraWhoseMatchesFitNoPoseUnplacedAndSaysWhy) {
+  SyntheticRig s = FiveCameraRing();
+  const RigObservations obs = ObserveWithWeakCameras(s, {kWeakCamera});
+  const ViewPairMatcher truthful = SyntheticMatcher(s);
+  // The weak camera's view pairs match keypoints that are not of one point.
+  const ViewPairMatcher wrong_for_weak = [&](int cam_a, int frame_a, int cam_b, int frame_b) {
+    std::vector<std::pair<int, int>> m = truthful(cam_a, frame_a, cam_b, frame_b);
+    if (cam_a != kWeakCamera && cam_b != kWeakCamera) return m;
+    const int nb = static_cast<int>(s.keypoints[frame_b][cam_b].size());
+    for (size_t i = 0; i < m.size(); ++i) m[i].second = static_cast<int>((m[i].second + 977 * (i + 1)) % nb);
+    return m;
+  };
+  const RigCalibrationResult r = EstimateRigWithMotionLinks(obs, wrong_for_weak, WithoutMotionLinks());
+  const CameraStatus& weak = r.camera_status[kWeakCamera];
+  EXPECT_EQ(weak.outcome, CameraOutcome::kNotConnected);
+  EXPECT_NE(weak.reason.find("nor was it registered through tracks"), std::string::npos) << weak.reason;
+  for (int c : {0, 1, 2, 4}) EXPECT_TRUE(HasFullPose(r.camera_status[c].outcome)) << c;
+}
+
+TEST(TrackRegistration, PlacesTheRigAgainstTheReferenceCamerasOwnMotionWhenNoPairHolds) {
+  SyntheticRig s = FiveCameraRing();
+  const RigObservations obs = ObserveWithWeakCameras(s, {1, 2, 3, 4});
+  RigCalibrationOptions off = WithoutMotionLinks();
+  off.registration.enabled = false;
+  const RigCalibrationResult before = EstimateRigWithMotionLinks(obs, SyntheticMatcher(s), off);
+  for (int c = 1; c < 5; ++c) ASSERT_FALSE(HasFullPose(before.camera_status[c].outcome)) << c;
+
+  const RigCalibrationResult r = EstimateRigWithMotionLinks(obs, SyntheticMatcher(s), WithoutMotionLinks());
+  const std::vector<CameraErrors> errors = ErrorsAgainst(s.rig, r);
+  // Camera 0's neighbours see what it saw; the far ones what its neighbours saw, a round later.
+  for (int c = 1; c < 5; ++c) {
+    ASSERT_TRUE(HasFullPose(r.camera_status[c].outcome)) << c << ": " << r.camera_status[c].reason;
+    EXPECT_LT(*errors[c].rotation_error_deg, 0.1) << c;
+    EXPECT_LT(*errors[c].direction_error_deg, 1.0) << c;
+  }
+}
+
+}  // namespace
+}  // namespace rigsim
