@@ -40,13 +40,15 @@ MeshData Puddles(Rng& rng, float x0, float z0, float x1, float z1, float y, floa
   constexpr int kRim = 20;          // outline vertices
   constexpr float kMaxWobble = 1.3f;  // the outline's largest radius over the ellipse's
   const float target = wet * (x1 - x0) * (z1 - z0);
-  struct Disc {
-    float x, z, r;
+  struct Box {  // a puddle's extent: centre and half sizes
+    float x, z, hx, hz;
   };
-  std::vector<Disc> placed;
+  std::vector<Box> placed;
   float area = 0;
-  for (int attempt = 0; attempt < 400 && area < target; ++attempt) {
-    const float rx = rng.Uniform(0.3f, 1.0f);
+  for (int attempt = 0; attempt < 600 && area < target; ++attempt) {
+    // Smaller puddles once the large ones have found their places, to fill the gaps between them.
+    const float size = attempt < 200 ? 1.f : attempt < 400 ? 0.6f : 0.35f;
+    const float rx = size * rng.Uniform(0.3f, 1.0f);
     const float stretch = rng.Uniform(1.f, 2.f);
     const float rz = rx * stretch;
     const float reach_x = kMaxWobble * rx, reach_z = kMaxWobble * rz;
@@ -55,11 +57,12 @@ MeshData Puddles(Rng& rng, float x0, float z0, float x1, float z1, float y, floa
     const float cz = rng.Uniform(z0 + kMargin + reach_z, z1 - kMargin - reach_z);
     const float p1 = rng.Uniform(0, 2 * kPi), p2 = rng.Uniform(0, 2 * kPi);
     const float p3 = rng.Uniform(0, 2 * kPi);
-    const Disc disc{cx, cz, reach_z};
-    const bool overlaps = std::any_of(placed.begin(), placed.end(),
-                                      [&](const Disc& d) { return std::hypot(d.x - disc.x, d.z - disc.z) < d.r + disc.r; });
+    const Box box{cx, cz, reach_x, reach_z};
+    const bool overlaps = std::any_of(placed.begin(), placed.end(), [&](const Box& o) {
+      return std::abs(o.x - box.x) < o.hx + box.hx && std::abs(o.z - box.z) < o.hz + box.hz;
+    });
     if (overlaps) continue;
-    placed.push_back(disc);
+    placed.push_back(box);
     // A fan from the centre; the rim's radius wobbles by three harmonics of random phase.
     auto vertex = [&](float x, float z) {
       m.positions.emplace_back(x, y + kPuddleHeightM, z);

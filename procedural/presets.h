@@ -35,8 +35,9 @@ namespace rigsim {
 // 6 m between cars.
 inline constexpr double kDefaultTraffic = 2.0;
 inline constexpr double kMaxTraffic = 15.0;
-// The most of a road puddles may cover: enough for a rainy street, with dry asphalt between them.
-inline constexpr double kMaxWet = 0.3;
+// The most of a road puddles may cover: a street after rain, with dry asphalt between the puddles
+// (the placement of puddles that never overlap fills up near a quarter).
+inline constexpr double kMaxWet = 0.2;
 
 enum class ScenePreset { kStreet, kPlaza, kParking };
 
