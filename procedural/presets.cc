@@ -10,6 +10,7 @@
 
 #include "common/param_spec.h"
 #include "gltf/scene_builder.h"
+#include "procedural/glass_and_water.h"
 #include "procedural/motion.h"
 #include "procedural/objects.h"
 #include "procedural/street_scene.h"
@@ -41,20 +42,39 @@ class PresetGenerator {
     float yaw;
   };
 
-  // The motion draws from its own stream, so that the static scene is the same with and without it.
-  PresetGenerator(uint64_t seed, bool animated, double traffic)
-      : rng_(seed), motion_rng_(seed ^ 0x9e3779b97f4a7c15ull), animated_(animated), traffic_(traffic) {}
+  // The motion and the puddles draw from their own streams, so that the rest of the scene is the
+  // same with and without them; the glass draws nothing (it lies on the painted windows).
+  PresetGenerator(const ScenePresetOptions& o)
+      : rng_(o.seed),
+        motion_rng_(o.seed ^ 0x9e3779b97f4a7c15ull),
+        wet_rng_(o.seed ^ 0xc2b2ae3d27d4eb4full),
+        animated_(o.animated),
+        traffic_(o.traffic),
+        glass_(o.glass),
+        wet_(o.wet) {}
 
-  int Material(const std::string& name, const Canvas& c) {
+  // A material showing `c`; `texture` receives the texture's index, for the glossy parts over it.
+  int Material(const std::string& name, const Canvas& c, int* texture = nullptr) {
     const int tex = b_.AddTexture(name, c.w, c.h, 3, c.ToRgb8());
+    if (texture != nullptr) *texture = tex;
     return b_.AddMaterial(name, Eigen::Vector4f::Ones(), tex);
   }
 
-  // A horizontal ground tile [x0, x1] x [z0, z1] at height y, u along +x, v along +z.
-  void GroundTile(const std::string& name, const std::string& cls, float x0, float z0, float x1, float z1, float y, int material) {
+  // A horizontal ground tile [x0, x1] x [z0, z1] at height y, u along +x, v along +z. With a
+  // `texture` (the material's) and a wet world, puddles lie on it, parts of its node.
+  void GroundTile(const std::string& name, const std::string& cls, float x0, float z0, float x1, float z1, float y, int material,
+                  int texture = -1) {
     MeshData m;
     AddQuad(m, Vector3f(x0, y, z0), Vector3f(x1 - x0, 0, 0), Vector3f(0, 0, z1 - z0));
-    b_.AddNode(name, cls, std::move(m), material);
+    MeshData puddles = texture >= 0 ? Puddles(wet_rng_, x0, z0, x1, z1, y, float(wet_)) : MeshData{};
+    if (puddles.indices.empty()) {
+      b_.AddNode(name, cls, std::move(m), material);
+      return;
+    }
+    std::vector<MeshPart> parts;
+    parts.push_back({std::move(m), material});
+    parts.push_back({std::move(puddles), PuddleMaterial(b_, name + "_puddles", texture)});
+    b_.AddNode(name, cls, std::move(parts));
   }
 
   // A building box whose facade faces the origin side: `facing` = direction of the facade normal
@@ -62,32 +82,38 @@ class PresetGenerator {
   void Building(const std::string& name, char axis, int facing, float front, float a0, float a1, float height, float depth,
                 float ppm) {
     const float width = a1 - a0;
-    const int facade = Material(name + "_facade", PaintFacade(rng_.Fork(), width, height, ppm));
+    std::vector<Pane> panes;
+    const Canvas painted = PaintFacade(rng_.Fork(), width, height, ppm, glass_ ? &panes : nullptr);
+    int facade_tex = -1;
+    const int facade = Material(name + "_facade", painted, &facade_tex);
     const uint64_t sides_seed = rng_.Fork();
     const Vector3f sides_color = RandomColor(rng_, 0.4f, 0.8f);
     const int sides = Material(name + "_sides", PaintPlain(sides_seed, 128, 128, sides_color, 0.08f, 20));
     MeshData front_quad, rest;
     const float back = front - facing * depth;
+    // The facade quad (top-left corner, right and down edges, as AddQuad takes them).
+    Vector3f tl, right;
+    const Vector3f down(0, -height, 0);
     if (axis == 'x') {  // facade plane x = front, normal (facing, 0, 0)
-      if (facing < 0) {
-        AddQuad(front_quad, Vector3f(front, height, a0), Vector3f(0, 0, width), Vector3f(0, -height, 0));
-      } else {
-        AddQuad(front_quad, Vector3f(front, height, a1), Vector3f(0, 0, -width), Vector3f(0, -height, 0));
-      }
+      tl = facing < 0 ? Vector3f(front, height, a0) : Vector3f(front, height, a1);
+      right = Vector3f(0, 0, facing < 0 ? width : -width);
+      AddQuad(front_quad, tl, right, down);
       AddBox(rest, Vector3f(std::min(front, back) + (facing < 0 ? 0.001f : 0.f), 0, a0),
              Vector3f(std::max(front, back) - (facing > 0 ? 0.001f : 0.f), height, a1));
     } else {  // facade plane z = front, normal (0, 0, facing)
-      if (facing < 0) {
-        AddQuad(front_quad, Vector3f(a1, height, front), Vector3f(-width, 0, 0), Vector3f(0, -height, 0));
-      } else {
-        AddQuad(front_quad, Vector3f(a0, height, front), Vector3f(width, 0, 0), Vector3f(0, -height, 0));
-      }
+      tl = facing < 0 ? Vector3f(a1, height, front) : Vector3f(a0, height, front);
+      right = Vector3f(facing < 0 ? -width : width, 0, 0);
+      AddQuad(front_quad, tl, right, down);
       AddBox(rest, Vector3f(a0, 0, std::min(front, back) + (facing < 0 ? 0.001f : 0.f)),
              Vector3f(a1, height, std::max(front, back) - (facing > 0 ? 0.001f : 0.f)));
     }
+    // One node (one instance): the facade, the plain body behind it, and the windows' glass when
+    // the world has it.
     std::vector<MeshPart> parts;
     parts.push_back({std::move(front_quad), facade});
     parts.push_back({std::move(rest), sides});
+    MeshData glass = GlassPanes(tl, right, down, painted.w, painted.h, panes);
+    if (!glass.indices.empty()) parts.push_back({std::move(glass), GlassMaterial(b_, name + "_glass", facade_tex)});
     b_.AddNode(name, "building", std::move(parts));
   }
 
@@ -248,9 +274,11 @@ class PresetGenerator {
     }
   }
 
-  Rng rng_, motion_rng_;
+  Rng rng_, motion_rng_, wet_rng_;
   bool animated_;
   double traffic_;
+  bool glass_;  // glass in the windows
+  double wet_;  // the share of the ground's asphalt the puddles cover
   SceneBuilder b_;
   std::vector<int> foliage_, car_materials_, lane_cars_;
   std::vector<Placed> trees_, people_, buses_;
@@ -262,7 +290,7 @@ class PresetGenerator {
 // people, lamps, a poster wall and a bus with the same poster.
 class PlazaGenerator : public PresetGenerator {
  public:
-  PlazaGenerator(uint64_t seed, bool animated, double traffic) : PresetGenerator(seed, animated, traffic) {}
+  explicit PlazaGenerator(const ScenePresetOptions& o) : PresetGenerator(o) {}
 
   SceneBuilder Build() {
     Ground();
@@ -339,7 +367,7 @@ class PlazaGenerator : public PresetGenerator {
 // models, light poles, fences, a supermarket with a poster and a bus with the same poster.
 class ParkingGenerator : public PresetGenerator {
  public:
-  ParkingGenerator(uint64_t seed, bool animated, double traffic) : PresetGenerator(seed, animated, traffic) {}
+  explicit ParkingGenerator(const ScenePresetOptions& o) : PresetGenerator(o) {}
 
   SceneBuilder Build() {
     Ground();
@@ -435,7 +463,9 @@ class ParkingGenerator : public PresetGenerator {
           }
         }
         const std::string tag = std::to_string(int(x0)) + "_" + std::to_string(int(z0));
-        GroundTile("parking_" + tag, "parking", x0, z0, x0 + 10.f, z0 + 10.f, 0.f, Material("parking_" + tag, c));
+        int tex = -1;
+        const int mat = Material("parking_" + tag, c, &tex);
+        GroundTile("parking_" + tag, "parking", x0, z0, x0 + 10.f, z0 + 10.f, 0.f, mat, tex);
       }
     }
     // Sidewalks around the lot, and a road along its west side.
@@ -443,8 +473,9 @@ class ParkingGenerator : public PresetGenerator {
     GroundTile("sidewalk_north", "sidewalk", -30.f, -46.f, 30.f, -40.f, 0.f, walk);
     GroundTile("sidewalk_south", "sidewalk", -30.f, 40.f, 30.f, 46.f, 0.f, walk);
     GroundTile("sidewalk_east", "sidewalk", 30.f, -46.f, 40.f, 46.f, 0.f, walk);
-    const int road = Material("road", PaintAsphalt(rng_.Fork(), 8.f, 46.f, 10.f));
-    GroundTile("road_west", "road", -40.f, -46.f, -30.f, 46.f, 0.f, road);
+    int road_tex = -1;
+    const int road = Material("road", PaintAsphalt(rng_.Fork(), 8.f, 46.f, 10.f), &road_tex);
+    GroundTile("road_west", "road", -40.f, -46.f, -30.f, 46.f, 0.f, road, road_tex);
   }
 
   void Fences() {
@@ -490,6 +521,12 @@ void ScenePresetOptions::Check() const {
   if (preset != ScenePreset::kStreet && preset != ScenePreset::kPlaza && preset != ScenePreset::kParking) {
     throw std::invalid_argument("scene preset: unknown preset");
   }
+  if (!(wet >= 0 && wet <= kMaxWet)) {
+    char range[128];
+    std::snprintf(range, sizeof range, "scene preset: wet must be between 0 and %g (the share of the road under puddles)",
+                  kMaxWet);
+    throw std::invalid_argument(range);
+  }
   if (!(traffic >= 0 && traffic <= kMaxTraffic)) {
     throw std::invalid_argument("scene preset: traffic must be between 0 and " + std::to_string(int(kMaxTraffic)) +
                                 " vehicles per 100 m of lane");
@@ -499,9 +536,9 @@ void ScenePresetOptions::Check() const {
 std::vector<uint8_t> ScenePresetGlb(const ScenePresetOptions& o) {
   o.Check();
   switch (o.preset) {
-    case ScenePreset::kStreet: return StreetSceneGlb(o.seed, o.animated, o.traffic);
-    case ScenePreset::kPlaza: return PlazaGenerator(o.seed, o.animated, o.traffic).Build().ToGlb();
-    case ScenePreset::kParking: return ParkingGenerator(o.seed, o.animated, o.traffic).Build().ToGlb();
+    case ScenePreset::kStreet: return StreetSceneGlb(o.seed, o.animated, o.traffic, o.glass, o.wet);
+    case ScenePreset::kPlaza: return PlazaGenerator(o).Build().ToGlb();
+    case ScenePreset::kParking: return ParkingGenerator(o).Build().ToGlb();
   }
   return {};
 }

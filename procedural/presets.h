@@ -14,7 +14,12 @@
 // The sky is the renderer's, not geometry: it has no clouds to drift. The static scene is the
 // same with and without animation (the motion draws from its own random stream and extra cars
 // come last). World: glTF (+Y up, metres); the origin is a free spot on the ground from
-// which a rig at 1.6 m sees structure in every direction. Deterministic: same options, same bytes.
+// which a rig at 1.6 m sees structure in every direction. With `glass` and `wet`, the facades'
+// windows are glass and puddles lie on the street's road and the parking's asphalt (the plaza is
+// paved: it gets glass only), glossy surfaces that mirror the world (procedural/glass_and_water.h);
+// they draw from their own stream, so the rest of the world is the same with and without them,
+// and without them (the default, and the shipped scenes) the world is as it was.
+// Deterministic: same options, same bytes.
 #pragma once
 
 #include <cstdint>
@@ -30,6 +35,9 @@ namespace rigsim {
 // 6 m between cars.
 inline constexpr double kDefaultTraffic = 2.0;
 inline constexpr double kMaxTraffic = 15.0;
+// The most of a road puddles may cover: a street after rain, with dry asphalt between the puddles
+// (the placement of puddles that never overlap fills up near a quarter).
+inline constexpr double kMaxWet = 0.2;
 
 enum class ScenePreset { kStreet, kPlaza, kParking };
 
@@ -44,6 +52,8 @@ struct ScenePresetOptions {
   uint64_t seed = 1;      // every random choice derives from it
   bool animated = false;  // people walk, vehicles drive, trees sway
   double traffic = kDefaultTraffic;  // animated only: 0 (no vehicle moves) to kMaxTraffic
+  bool glass = false;  // the facades' windows are glass that mirrors the world
+  double wet = 0.0;    // the share of the road (street, parking) puddles cover: 0 to kMaxWet
   void Check() const;     // throws std::invalid_argument
 };
 

@@ -13,6 +13,7 @@
 
 #include "gltf/gltf_loader.h"
 #include "labels/cityscapes.h"
+#include "procedural/glass_and_water.h"
 #include "procedural/textures.h"
 #include "scene/scene_pose.h"
 #include "testing/temp_dir.h"
@@ -229,6 +230,88 @@ TEST(ScenePresets, AnimationIsDeterministicPerSeed) {
 
 TEST(ScenePresets, SeedChangesTheScene) {
   EXPECT_NE(ScenePresetGlb({ScenePreset::kPlaza, 1, false}), ScenePresetGlb({ScenePreset::kPlaza, 2, false}));
+}
+
+// A preset with glass and puddles: what each glossy primitive is, and that the rest is the world
+// without them.
+TEST(ScenePresets, GlassAndWetAddGlossyPartsAndKeepTheRest) {
+  const uint8_t building = FindClassByName("building")->id;
+  for (ScenePreset p : AllScenePresets()) {
+    SCOPED_TRACE(std::string(ScenePresetName(p)));
+    ScenePresetOptions o{p, 2, false};
+    const Scene dry = LoadPreset(o);
+    o.glass = true;
+    o.wet = 0.15;
+    const Scene wet = LoadPreset(o);
+    EXPECT_TRUE(wet.warnings.empty()) << wet.warnings.front();
+    std::vector<const SceneMesh*> rest;
+    int glass = 0, puddles = 0;
+    for (const SceneMesh& m : wet.meshes) {
+      const Material& mat = wet.materials[size_t(m.material)];
+      if (mat.roughness >= 1.f) {
+        rest.push_back(&m);
+        continue;
+      }
+      EXPECT_EQ(mat.metallic, 0.f) << m.name;  // glass and water are dielectrics
+      // It lies over the texture of the primitive it belongs to: the same node's first one.
+      const auto owner = std::find_if(wet.meshes.begin(), wet.meshes.end(), [&](const SceneMesh& o) { return o.instance_id == m.instance_id; });
+      ASSERT_NE(&*owner, &m) << m.name;
+      EXPECT_EQ(owner->class_id, m.class_id) << m.name;  // its class and instance
+      EXPECT_EQ(mat.base_color_texture, wet.materials[size_t(owner->material)].base_color_texture) << m.name;
+      if (m.class_id == building) {
+        ++glass;
+        EXPECT_FLOAT_EQ(mat.roughness, procedural::kWindowGlassRoughness) << m.name;
+        EXPECT_FLOAT_EQ(mat.base_color_factor.x(), procedural::kWindowGlassShade) << m.name;
+      } else {
+        ++puddles;
+        const std::string cls(FindClassById(m.class_id)->name);
+        EXPECT_TRUE(cls == "road" || cls == "parking") << m.name << " is " << cls;
+        EXPECT_FLOAT_EQ(mat.roughness, procedural::kPuddleRoughness) << m.name;
+        EXPECT_FLOAT_EQ(mat.base_color_factor.x(), procedural::kPuddleShade) << m.name;
+      }
+    }
+    EXPECT_GT(glass, 10);
+    if (p == ScenePreset::kPlaza) {
+      EXPECT_EQ(puddles, 0);  // paved, no road
+    } else {
+      EXPECT_GT(puddles, 3);
+    }
+    // Everything else is the dry world's, primitive by primitive.
+    ASSERT_EQ(rest.size(), dry.meshes.size());
+    for (size_t i = 0; i < rest.size(); ++i) {
+      EXPECT_EQ(rest[i]->name, dry.meshes[i].name);
+      EXPECT_EQ(rest[i]->class_id, dry.meshes[i].class_id);
+      EXPECT_EQ(rest[i]->positions, dry.meshes[i].positions) << rest[i]->name;
+    }
+  }
+}
+
+TEST(ScenePresets, GlassAndWetAreSeeded) {
+  ScenePresetOptions o{ScenePreset::kStreet, 4, false};
+  o.glass = true;
+  o.wet = 0.1;
+  const std::vector<uint8_t> glb = ScenePresetGlb(o);
+  EXPECT_TRUE(glb == ScenePresetGlb(o));
+  ScenePresetOptions other = o;
+  other.seed = 5;
+  EXPECT_NE(glb, ScenePresetGlb(other));
+  // Without them the world is the one of old: the shipped scenes' tests (ShippedAssetsMatchTheCode,
+  // StreetPresetIsTheBuiltInStreet) generate them with these defaults.
+  EXPECT_FALSE(ScenePresetOptions().glass);
+  EXPECT_EQ(ScenePresetOptions().wet, 0.0);
+}
+
+TEST(ScenePresets, WetOutsideItsRangeIsRefused) {
+  for (const double wet : {-0.1, kMaxWet + 0.01, std::nan("")}) {
+    ScenePresetOptions o;
+    o.wet = wet;
+    try {
+      o.Check();
+      ADD_FAILURE() << wet << " accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("wet must be between 0 and 0.2"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace

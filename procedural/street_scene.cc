@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "gltf/scene_builder.h"
+#include "procedural/glass_and_water.h"
 #include "procedural/motion.h"
 #include "procedural/objects.h"
 #include "procedural/textures.h"
@@ -144,8 +145,10 @@ Canvas PaintSidewalk(uint64_t seed, float len, float ppm) {
 
 class StreetGenerator {
  public:
-  // The motion draws from its own stream, so that the static scene is the same with and without it.
-  explicit StreetGenerator(uint64_t seed) : rng_(seed), motion_rng_(seed ^ 0x9e3779b97f4a7c15ull) {}
+  // The motion and the puddles draw from their own streams, so that the rest of the scene is the
+  // same with and without them; the glass draws nothing (it lies on the painted windows).
+  StreetGenerator(uint64_t seed, bool glass, double wet)
+      : rng_(seed), motion_rng_(seed ^ 0x9e3779b97f4a7c15ull), wet_rng_(seed ^ 0xc2b2ae3d27d4eb4full), glass_(glass), wet_(wet) {}
 
   SceneBuilder Build(bool animated = false, double traffic = 0) {
     Road();
@@ -163,9 +166,20 @@ class StreetGenerator {
   }
 
  private:
-  int Material(const std::string& name, const Canvas& c) {
+  // A material showing `c`; `texture` receives the texture's index, for the glossy parts over it.
+  int Material(const std::string& name, const Canvas& c, int* texture = nullptr) {
     const int tex = b_.AddTexture(name, c.w, c.h, 3, c.ToRgb8());
+    if (texture != nullptr) *texture = tex;
     return b_.AddMaterial(name, Eigen::Vector4f::Ones(), tex);
+  }
+
+  // `parts` (the facade first), and the glass of the facade's `panes` when the street has glass:
+  // one node, so the glass is the building's class and instance.
+  void AddFacadeNode(const std::string& name, std::vector<MeshPart> parts, const Vector3f& tl, const Vector3f& right,
+                     const Vector3f& down, const Canvas& facade, int facade_texture, const std::vector<Pane>& panes) {
+    MeshData glass = GlassPanes(tl, right, down, facade.w, facade.h, panes);
+    if (!glass.indices.empty()) parts.push_back({std::move(glass), GlassMaterial(b_, name + "_glass", facade_texture)});
+    b_.AddNode(name, "building", std::move(parts));
   }
   static float PpmAt(float z_near) { return std::abs(z_near) < 25.f ? kNearPpm : kFarPpm; }
   static float NearestAbs(float z0, float z1) { return (z0 <= 0 && z1 >= 0) ? 0.f : std::min(std::abs(z0), std::abs(z1)); }
@@ -173,11 +187,22 @@ class StreetGenerator {
   void Road() {
     for (float z0 = -kStreetHalfLength; z0 < kStreetHalfLength; z0 += 10.f) {
       const float ppm = NearestAbs(z0, z0 + 10) < 25.f ? 64.f : 32.f;
-      const int mat = Material("road_" + std::to_string(int(z0)), PaintRoad(rng_.Fork(), z0, 10.f, ppm));
+      const std::string name = "road_" + std::to_string(int(z0));
+      int tex = -1;
+      const int mat = Material(name, PaintRoad(rng_.Fork(), z0, 10.f, ppm), &tex);
       MeshData m;
       // Seen from above: u along +x, v along +z, normal +y.
       AddQuad(m, Vector3f(-kRoadHalfWidth, 0, z0), Vector3f(2 * kRoadHalfWidth, 0, 0), Vector3f(0, 0, 10.f));
-      b_.AddNode("road_" + std::to_string(int(z0)), "road", std::move(m), mat);
+      MeshData puddles = Puddles(wet_rng_, -kRoadHalfWidth, z0, kRoadHalfWidth, z0 + 10.f, 0.f, float(wet_));
+      if (puddles.indices.empty()) {
+        b_.AddNode(name, "road", std::move(m), mat);
+        continue;
+      }
+      // The puddles are part of their road segment: its class and instance, its asphalt beneath.
+      std::vector<MeshPart> parts;
+      parts.push_back({std::move(m), mat});
+      parts.push_back({std::move(puddles), PuddleMaterial(b_, name + "_puddles", tex)});
+      b_.AddNode(name, "road", std::move(parts));
     }
   }
 
@@ -213,24 +238,30 @@ class StreetGenerator {
   void Building(const std::string& name, int side, float front_x, float z0, float z1, float height) {
     const float ppm = PpmAt(NearestAbs(z0, z1));
     const float width = z1 - z0;
-    const int facade = Material(name + "_facade", PaintFacade(rng_.Fork(), width, height, ppm));
+    std::vector<Pane> panes;
+    const Canvas painted = PaintFacade(rng_.Fork(), width, height, ppm, glass_ ? &panes : nullptr);
+    int facade_tex = -1;
+    const int facade = Material(name + "_facade", painted, &facade_tex);
     const uint64_t sides_seed = rng_.Fork();
     const Vector3f sides_color = RandomColor(rng_, 0.4f, 0.8f);
     const int sides = Material(name + "_sides", PaintPlain(sides_seed, 256, 256, sides_color, 0.08f, 30));
     const float depth = 10.f;
     MeshData front, rest;
-    if (side > 0) {  // facade at x = front_x facing -x: right = +z
-      AddQuad(front, Vector3f(front_x, height, z0), Vector3f(0, 0, width), Vector3f(0, -height, 0));
+    // The facade quad: at x = front_x facing -x (right = +z), or at x = -front_x facing +x (right = -z).
+    const Vector3f tl = side > 0 ? Vector3f(front_x, height, z0) : Vector3f(-front_x, height, z1);
+    const Vector3f right(0, 0, side > 0 ? width : -width), down(0, -height, 0);
+    AddQuad(front, tl, right, down);
+    if (side > 0) {
       AddBox(rest, Vector3f(front_x + 0.001f, 0, z0), Vector3f(front_x + depth, height, z1));
-    } else {  // facade at x = -front_x facing +x: right = -z
-      AddQuad(front, Vector3f(-front_x, height, z1), Vector3f(0, 0, -width), Vector3f(0, -height, 0));
+    } else {
       AddBox(rest, Vector3f(-front_x - depth, 0, z0), Vector3f(-front_x - 0.001f, height, z1));
     }
-    // One node (one instance) with two primitives: the facade and the plain body behind it.
+    // One node (one instance) with two primitives, the facade and the plain body behind it, and
+    // the windows' glass when the street has it.
     std::vector<MeshPart> parts;
     parts.push_back({std::move(front), facade});
     parts.push_back({std::move(rest), sides});
-    b_.AddNode(name, "building", std::move(parts));
+    AddFacadeNode(name, std::move(parts), tl, right, down, painted, facade_tex, panes);
   }
 
   void Buildings() {
@@ -279,15 +310,22 @@ class StreetGenerator {
     for (int end = -1; end <= 1; end += 2) {
       const std::string name = end < 0 ? "building_end_south" : "building_end_north";
       const float height = rng_.Uniform(12.f, 18.f), width = 2 * kFacadeX;
-      const int facade = Material(name + "_facade", PaintFacade(rng_.Fork(), width, height, kFarPpm));
+      std::vector<Pane> panes;
+      const Canvas painted = PaintFacade(rng_.Fork(), width, height, kFarPpm, glass_ ? &panes : nullptr);
+      int facade_tex = -1;
+      const int facade = Material(name + "_facade", painted, &facade_tex);
       MeshData front;
       const float z = end * kStreetHalfLength;
-      if (end > 0) {  // at +z facing -z: right = -x
-        AddQuad(front, Vector3f(kFacadeX, height, z), Vector3f(-width, 0, 0), Vector3f(0, -height, 0));
-      } else {
-        AddQuad(front, Vector3f(-kFacadeX, height, z), Vector3f(width, 0, 0), Vector3f(0, -height, 0));
+      // At +z facing -z (right = -x), or at -z facing +z (right = +x).
+      const Vector3f tl(end > 0 ? kFacadeX : -kFacadeX, height, z), right(end > 0 ? -width : width, 0, 0), down(0, -height, 0);
+      AddQuad(front, tl, right, down);
+      if (panes.empty()) {
+        b_.AddNode(name, "building", std::move(front), facade);
+        continue;
       }
-      b_.AddNode(name, "building", std::move(front), facade);
+      std::vector<MeshPart> parts;
+      parts.push_back({std::move(front), facade});
+      AddFacadeNode(name, std::move(parts), tl, right, down, painted, facade_tex, panes);
     }
   }
 
@@ -488,17 +526,22 @@ class StreetGenerator {
   std::vector<Placed> cars_, people_, trees_;
   Rng rng_;
   Rng motion_rng_;
+  Rng wet_rng_;
+  bool glass_;   // glass in the windows
+  double wet_;   // the share of the road the puddles cover
   SceneBuilder b_;
 };
 
 }  // namespace
 
-std::vector<uint8_t> StreetSceneGlb(uint64_t seed) { return StreetGenerator(seed).Build().ToGlb(); }
+std::vector<uint8_t> StreetSceneGlb(uint64_t seed) { return StreetGenerator(seed, false, 0.0).Build().ToGlb(); }
 
-std::vector<uint8_t> StreetSceneGlb(uint64_t seed, bool animated, double traffic) {
-  return StreetGenerator(seed).Build(animated, traffic).ToGlb();
+std::vector<uint8_t> StreetSceneGlb(uint64_t seed, bool animated, double traffic, bool glass, double wet) {
+  return StreetGenerator(seed, glass, wet).Build(animated, traffic).ToGlb();
 }
 
-void WriteStreetScene(const std::filesystem::path& glb_path, uint64_t seed) { StreetGenerator(seed).Build().WriteGlb(glb_path); }
+void WriteStreetScene(const std::filesystem::path& glb_path, uint64_t seed) {
+  StreetGenerator(seed, false, 0.0).Build().WriteGlb(glb_path);
+}
 
 }  // namespace rigsim

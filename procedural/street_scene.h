@@ -25,7 +25,8 @@ void WriteStreetScene(const std::filesystem::path& glb_path, uint64_t seed);
 // Returns the same bytes WriteStreetScene would write.
 std::vector<uint8_t> StreetSceneGlb(uint64_t seed);
 // With `animated`, the street moves (procedural/presets.h says how): people walk, `traffic` cars
-// per 100 m of lane drive, trees sway.
-std::vector<uint8_t> StreetSceneGlb(uint64_t seed, bool animated, double traffic);
+// per 100 m of lane drive, trees sway. With `glass` its windows are glass, and puddles cover about
+// `wet` (0 to kMaxWet) of its road (procedural/glass_and_water.h); the rest is the same either way.
+std::vector<uint8_t> StreetSceneGlb(uint64_t seed, bool animated, double traffic, bool glass = false, double wet = 0.0);
 
 }  // namespace rigsim

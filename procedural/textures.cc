@@ -151,8 +151,10 @@ void Bricks(Canvas& c, Rng& rng, float ppm, float y_from, float y_to, const Vect
   }
 }
 
-void Window(Canvas& c, Rng& rng, float x0, float y0, float x1, float y1, float ppm, const Vector3f& frame) {
+void Window(Canvas& c, Rng& rng, float x0, float y0, float x1, float y1, float ppm, const Vector3f& frame,
+            std::vector<Pane>* panes) {
   const float f = std::max(2.f, 0.08f * ppm);
+  if (panes != nullptr && x1 - x0 > 2 * f && y1 - y0 > 2 * f) panes->push_back({x0 + f, y0 + f, x1 - f, y1 - f});
   FillRect(c, x0 - f * 0.5f, y1, x1 + f * 0.5f, y1 + f * 0.8f, Vector3f(0.8f, 0.78f, 0.74f));  // sill
   FillRect(c, x0, y0, x1, y1, frame);
   // Glass: dark with a vertical reflection gradient, random curtains and a reflected blob.
@@ -195,7 +197,7 @@ void Door(Canvas& c, Rng& rng, float x0, float y0, float x1, float y1, float ppm
 
 // A facade `width` x `height` metres: bricks or plaster, floors of windows, a shop or entrance on
 // the ground floor, signs, posters and graffiti. Pixel (0, 0) = top-left seen from the street.
-Canvas PaintFacade(uint64_t seed, float width, float height, float ppm) {
+Canvas PaintFacade(uint64_t seed, float width, float height, float ppm, std::vector<Pane>* panes) {
   Rng rng(seed);
   const int w = std::max(8, int(width * ppm)), h = std::max(8, int(height * ppm));
   const bool brick = rng.Chance(0.55f);
@@ -251,7 +253,7 @@ Canvas PaintFacade(uint64_t seed, float width, float height, float ppm) {
     for (int k = 0; k < cols; ++k) {
       const float cx = (margin + (k + 0.5f) * pitch) * ppm;
       const float bottom = Y(fy + 0.9f);
-      Window(c, rng, cx - win_w * ppm * 0.5f, bottom - win_h * ppm, cx + win_w * ppm * 0.5f, bottom, ppm, frame);
+      Window(c, rng, cx - win_w * ppm * 0.5f, bottom - win_h * ppm, cx + win_w * ppm * 0.5f, bottom, ppm, frame, panes);
       if (rng.Chance(0.15f)) {  // a balcony rail or flower box
         FillRect(c, cx - win_w * ppm * 0.6f, bottom, cx + win_w * ppm * 0.6f, bottom + 0.3f * ppm, RandomColor(rng, 0.1f, 0.6f));
         for (float x = cx - win_w * ppm * 0.6f; x < cx + win_w * ppm * 0.6f; x += 0.12f * ppm) {
@@ -270,14 +272,14 @@ Canvas PaintFacade(uint64_t seed, float width, float height, float ppm) {
       Board(c, rng, x, Y(3.75f), x + unit, Y(3.1f));
       const float door_w = 1.1f * ppm;
       Door(c, rng, x + 0.2f * ppm, Y(2.4f), x + 0.2f * ppm + door_w, Y(0.05f), ppm);
-      Window(c, rng, x + 0.4f * ppm + door_w, Y(2.7f), x + unit - 0.2f * ppm, Y(0.5f), ppm, RandomColor(rng, 0.1f, 0.5f));
+      Window(c, rng, x + 0.4f * ppm + door_w, Y(2.7f), x + unit - 0.2f * ppm, Y(0.5f), ppm, RandomColor(rng, 0.1f, 0.5f), panes);
       if (rng.Chance(0.5f)) {  // lettering on the shop window
         Glyphs(c, rng, x + 0.6f * ppm + door_w, Y(2.2f), 0.25f * ppm, rng.Int(3, 8), Vector3f(0.95f, 0.95f, 0.9f));
       }
     } else {
       Door(c, rng, x + unit * 0.5f - 0.5f * ppm, Y(2.3f), x + unit * 0.5f + 0.5f * ppm, Y(0.05f), ppm);
-      Window(c, rng, x + 0.2f * ppm, Y(2.6f), x + unit * 0.5f - 0.8f * ppm, Y(1.0f), ppm, frame);
-      Window(c, rng, x + unit * 0.5f + 0.8f * ppm, Y(2.6f), x + unit - 0.2f * ppm, Y(1.0f), ppm, frame);
+      Window(c, rng, x + 0.2f * ppm, Y(2.6f), x + unit * 0.5f - 0.8f * ppm, Y(1.0f), ppm, frame, panes);
+      Window(c, rng, x + unit * 0.5f + 0.8f * ppm, Y(2.6f), x + unit - 0.2f * ppm, Y(1.0f), ppm, frame, panes);
       if (rng.Chance(0.7f)) {  // house number plate
         FillRect(c, x + unit * 0.5f + 0.6f * ppm, Y(2.2f), x + unit * 0.5f + 0.85f * ppm, Y(2.0f), Vector3f(0.1f, 0.2f, 0.6f));
         Glyphs(c, rng, x + unit * 0.5f + 0.63f * ppm, Y(2.17f), 0.13f * ppm, 1, Vector3f(1, 1, 1));

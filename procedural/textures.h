@@ -101,13 +101,22 @@ void Board(Canvas& c, Rng& rng, float x0, float y0, float x1, float y1);
 
 void Bricks(Canvas& c, Rng& rng, float ppm, float y_from, float y_to, const Vector3f& base);
 
-void Window(Canvas& c, Rng& rng, float x0, float y0, float x1, float y1, float ppm, const Vector3f& frame);
+// A window's glass, in canvas pixels (x0, y0 the top-left corner): where a generator puts a pane.
+struct Pane {
+  float x0, y0, x1, y1;
+};
+
+// A framed window over [x0, x1] x [y0, y1]; its glass (inside the frame) is appended to `panes`
+// when given. Recording draws nothing from `rng`: the pixels are the same either way.
+void Window(Canvas& c, Rng& rng, float x0, float y0, float x1, float y1, float ppm, const Vector3f& frame,
+            std::vector<Pane>* panes = nullptr);
 
 void Door(Canvas& c, Rng& rng, float x0, float y0, float x1, float y1, float ppm);
 
 // A facade `width` x `height` metres: bricks or plaster, floors of windows, a shop or entrance on
 // the ground floor, signs, posters and graffiti. Pixel (0, 0) = top-left seen from the street.
-Canvas PaintFacade(uint64_t seed, float width, float height, float ppm);
+// `panes`, when given, receives the glass of every window and shop window (Window's).
+Canvas PaintFacade(uint64_t seed, float width, float height, float ppm, std::vector<Pane>* panes = nullptr);
 
 // Generic noisy material texture (walls, poles, bodies): colour + noise + a few marks.
 Canvas PaintPlain(uint64_t seed, int w, int h, const Vector3f& base, float amplitude, int marks);

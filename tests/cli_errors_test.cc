@@ -146,6 +146,18 @@ TEST_F(RigsimCli, GenerateSceneTrafficNeedsAnAnimatedSceneAndARange) {
   }
 }
 
+// --wet is a share of the road, 0 to 0.2: outside it generate-scene stops before writing anything.
+TEST_F(RigsimCli, GenerateSceneWetNeedsARange) {
+  const fs::path out = dir_ / "street.glb";
+  for (const std::string wet : {"0.5", "-0.1", "wet"}) {
+    const CliResult r = Run({"generate-scene", "--preset", "street", "--glass", "--wet", wet, "--out", out.string()});
+    EXPECT_NE(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("--wet"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_FALSE(fs::exists(out.string() + ".tmp"));
+  }
+}
+
 TEST_F(RigsimCli, TruncatedGlb) {
   const std::string glb = ReadFile(base() / "scene.glb");
   const fs::path cut = dir_ / "cut.glb";

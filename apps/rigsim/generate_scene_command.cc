@@ -1,4 +1,4 @@
-// rigsim generate-scene --preset street|plaza|parking --seed S --out FILE.glb [--animated [--traffic N]]
+// rigsim generate-scene --preset street|plaza|parking --seed S --out FILE.glb [--animated [--traffic N]] [--glass] [--wet F]
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -16,6 +16,8 @@ void AddGenerateSceneCommand(CLI::App& app) {
     uint64_t seed = 1;
     bool animated = false;
     double traffic = kDefaultTraffic;
+    bool glass = false;
+    double wet = 0.0;
     bool force = false;
     std::string out;
   };
@@ -43,6 +45,15 @@ void AddGenerateSceneCommand(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(0.0, kMaxTraffic))
       ->needs(animated);
+  cmd->add_flag("--glass", args->glass,
+                "the facades' windows and shop windows are glass (smooth, dark, labelled building) that mirrors the "
+                "street in render's one specular bounce; the rest of the world is unchanged");
+  cmd->add_option("--wet", args->wet,
+                  "puddles (smooth water over darkened asphalt, labelled as the road they lie on) cover about this share "
+                  "of the road: the street's road and the parking's asphalt; the plaza has none. They mirror the world "
+                  "above them; the rest of the world is unchanged. 0 = dry")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, kMaxWet));
   cmd->add_option("--out", args->out, "output .glb")->required();
   cmd->add_flag("--force", args->force, "replace an existing .glb file");
   cmd->callback([args] {
@@ -55,6 +66,8 @@ void AddGenerateSceneCommand(CLI::App& app) {
     o.seed = args->seed;
     o.animated = args->animated;
     o.traffic = args->traffic;
+    o.glass = args->glass;
+    o.wet = args->wet;
     try {
       WriteScenePreset(o, tmp);
     } catch (...) {
@@ -67,10 +80,15 @@ void AddGenerateSceneCommand(CLI::App& app) {
       std::filesystem::remove(tmp);
       throw std::runtime_error(out.string() + ": cannot move the written scene into place: " + ec.message());
     }
-    char motion[64] = "";
+    char motion[64] = "", surfaces[64] = "";
     if (args->animated) std::snprintf(motion, sizeof motion, ", animated, traffic %g", args->traffic);
-    std::printf("wrote %s (%s, seed %llu%s, %.1f MB); check it with `rigsim inspect %s`\n", out.string().c_str(),
-                args->preset.c_str(), static_cast<unsigned long long>(args->seed), motion,
+    if (args->wet > 0) {
+      std::snprintf(surfaces, sizeof surfaces, "%s, wet %g", args->glass ? ", glass" : "", args->wet);
+    } else if (args->glass) {
+      std::snprintf(surfaces, sizeof surfaces, ", glass");
+    }
+    std::printf("wrote %s (%s, seed %llu%s%s, %.1f MB); check it with `rigsim inspect %s`\n", out.string().c_str(),
+                args->preset.c_str(), static_cast<unsigned long long>(args->seed), motion, surfaces,
                 std::filesystem::file_size(out) / 1e6, out.string().c_str());
   });
 }
