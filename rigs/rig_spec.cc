@@ -147,6 +147,8 @@ std::optional<PlacedRig> MakePlacedRig(const RigSpec& s, const Scene* scene) {
       PerturbIfAsked(s, &out.rig);
     }
   }
+  // Last, so that the placement and the ring's spacing are the model's as without it.
+  ApplyLensResidual(out.rig, s.lens_residual);
   out.frames = MakeTrajectory(trajectory);
   return out;
 }

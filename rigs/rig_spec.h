@@ -12,6 +12,7 @@
 
 #include "dataset/dataset.h"
 #include "geometry/rig.h"
+#include "rigs/lens_residual.h"
 #include "rigs/placement.h"
 #include "rigs/rig_presets.h"
 #include "rigs/trajectories.h"
@@ -52,6 +53,9 @@ struct RigSpec {
   // Unset: ring.yaw_spacing_deg.
   std::optional<double> overlap_percent;
   RigPerturbation perturbation;
+  // Each camera rendered through a lens its model misses by this much at the corners, the model
+  // fitted to it in rig.json (rigs/lens_residual.h); off by default.
+  LensResidualOptions lens_residual;
   // kFile: the rig file whose cameras (intrinsics, cam_from_rig) make the rig (ReadRigFile); the
   // preset options, image size, field of view, lens and overlap do not apply to it.
   std::string rig_file;
