@@ -45,7 +45,10 @@ FitSamples SampleLens(const Camera& lens) {
     for (int i = 0; i < kFitColumns; ++i) {
       const Eigen::Vector2d px((lens.width() - 1) * double(i) / (kFitColumns - 1), (lens.height() - 1) * double(j) / (rows - 1));
       const auto ray = lens.CamFromImg(px);
-      if (!ray) throw std::invalid_argument("the lens does not image pixel (" + Px(px.x()) + ", " + Px(px.y()) + ")");
+      if (!ray) {
+        throw std::invalid_argument("the lens folds over inside the image (pixel (" + Px(px.x()) + ", " + Px(px.y()) +
+                                    ") has no ray)");
+      }
       s.px.push_back(px);
       s.rays.push_back(*ray);
     }
@@ -95,7 +98,10 @@ double CornerResidualPx(const Camera& model, const Camera& lens) {
   for (const Eigen::Vector2d& corner : Corners(lens)) {
     const auto ray = lens.CamFromImg(corner);
     const auto px = ray ? model.ImgFromCam(*ray) : std::nullopt;
-    if (!px) throw std::invalid_argument("the lens or its model does not image the corner pixel (" + Px(corner.x()) + ", " + Px(corner.y()) + ")");
+    if (!px) {
+      throw std::invalid_argument("the lens or its model folds over before the corner pixel (" + Px(corner.x()) + ", " +
+                                  Px(corner.y()) + ")");
+    }
     worst = std::max(worst, (*px - corner).norm());
   }
   return worst;
@@ -166,7 +172,7 @@ LensAndModel DrawLensResidual(const Camera& camera, double corner_px, uint64_t s
   double lo = 0, hi = std::numeric_limits<double>::infinity();
   double previous_log_a = 0, previous_log_residual = 0, slope = 1.0;
   bool have_previous = false;
-  std::string why = "the lens folds over before its corners";
+  std::string why = "the lens folds over inside the image";
   for (int iteration = 0; iteration < 60; ++iteration) {
     LensAndModel out{Camera(), Camera()};
     double residual = 0;

@@ -153,7 +153,8 @@ std::optional<PlacedRig> MakePlacedRig(const RigSpec& s, const Scene* scene) {
   return out;
 }
 
-std::vector<PairOverlap> RigPairOverlaps(const Rig& rig, const Scene* scene, const Rigid3d& rig_from_world) {
+std::vector<PairOverlap> RigPairOverlaps(const Rig& model_rig, const Scene* scene, const Rigid3d& rig_from_world) {
+  const Rig rig = model_rig.AsRendered();  // the overlap the images will have: through the render lenses
   const int n = int(rig.cameras.size());
   Eigen::MatrixXd overlap = Eigen::MatrixXd::Zero(n, n);
   if (scene != nullptr) {

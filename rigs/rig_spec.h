@@ -94,6 +94,7 @@ struct PairOverlap {
 
 // Every pair of `rig`'s cameras: in `scene`, the ground-truth overlap predicted at `rig_from_world`
 // (PredictedOverlaps); without a scene, the angular overlap of points at infinity (AngularOverlap).
-std::vector<PairOverlap> RigPairOverlaps(const Rig& rig, const Scene* scene, const Rigid3d& rig_from_world);
+// Cameras with a render lens are seen through it, as render sees them.
+std::vector<PairOverlap> RigPairOverlaps(const Rig& model_rig, const Scene* scene, const Rigid3d& rig_from_world);
 
 }  // namespace rigsim
