@@ -5,6 +5,7 @@
 #include <limits>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -163,8 +164,11 @@ LensAndModel DrawLensResidual(const Camera& camera, double corner_px, uint64_t s
   // PINHOLE: k1 and k2 mixed by an angle; OPENCV: k3 barrel (-1) or pincushion (+1) at the rim.
   const double mix = pinhole ? 2 * std::numbers::pi * rng.Uniform() : (rng.Uniform() < 0.5 ? -1.0 : 1.0);
   // A first guess from the size of the term at the corner (the fit then takes some of it up).
-  const Eigen::Vector3d corner_ray = *camera.CamFromImg(Eigen::Vector2d(0, 0));
-  const double rc = corner_ray.head<2>().norm() / corner_ray.z();
+  const std::optional<Eigen::Vector3d> corner_ray = camera.CamFromImg(Eigen::Vector2d(0, 0));
+  if (!corner_ray || !(corner_ray->z() > 0)) {
+    throw std::invalid_argument("its model folds over inside the image (pixel (0, 0) has no ray)");
+  }
+  const double rc = corner_ray->head<2>().norm() / corner_ray->z();
   double a = corner_px / (camera.fx() * std::pow(rc, pinhole ? 3 : 7));
   // The residual grows as a power of the extra terms' size (about linearly while they are small):
   // secant steps in log-log coordinates from a slope of 1, kept inside the bracket of sizes that

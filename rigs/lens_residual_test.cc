@@ -87,6 +87,9 @@ TEST(LensResidual, BadValuesAndModelsAreRefusedInTheUsersWords) {
                              Rigid3d(), 0.0});
   EXPECT_THAT([&] { ApplyLensResidual(fisheye, {1.0, 1}); },
               ThrowsWith<E>("lens residual", "'side'", "PINHOLE and OPENCV", "OPENCV_FISHEYE"));
+  // A model that does not image its own corners has no fit to miss them by.
+  EXPECT_THAT([] { DrawLensResidual(Camera(CameraModelId::kOpenCV, 640, 360, {200, 200, 319.5, 179.5, -0.5, 0, 0, 0}), 1.0, 1); },
+              ThrowsWith<E>("folds over", "(0, 0)"));
   // A residual the lens cannot reach before it folds over at the corners is refused, not clipped.
   EXPECT_THAT([] { DrawLensResidual(Camera::PinholeFromHorizontalFov(32, 24, 60.0), 20.0, 1); },
               ThrowsWith<E>("20 px", "smaller residual"));
