@@ -94,6 +94,12 @@ std::vector<std::string> CheckRigCoversImages(const Rig& rig, const std::string&
   std::vector<std::string> warnings;
   for (const RigCamera& rc : rig.cameras) {
     for (std::string& w : CheckCameraCoversImage(rc.camera, rc.name, source)) warnings.push_back(std::move(w));
+    // The lens the images are rendered through must cover them as well as the model.
+    if (rc.render_lens) {
+      for (std::string& w : CheckCameraCoversImage(*rc.render_lens, rc.name + " (render_lens)", source)) {
+        warnings.push_back(std::move(w));
+      }
+    }
   }
   return warnings;
 }

@@ -42,7 +42,7 @@ CameraCoverage MeasureCameraCoverage(const Camera& camera);
 // rule above; returns the warnings (fisheye pixels outside the image circle) otherwise.
 std::vector<std::string> CheckCameraCoversImage(const Camera& camera, const std::string& name, const std::string& source);
 
-// The same for every camera of a rig; warnings are concatenated.
+// The same for every camera of a rig and its render lens, if any; warnings are concatenated.
 std::vector<std::string> CheckRigCoversImages(const Rig& rig, const std::string& source);
 
 }  // namespace rigsim

@@ -69,5 +69,14 @@ TEST(CameraValidation, RigCheckNamesTheCamera) {
               ThrowsNaming<std::runtime_error>("/data/rig.json: camera 'bad': ", ""));
 }
 
+TEST(CameraValidation, ARenderLensThatFoldsInsideTheImageIsRejectedNamingIt) {
+  Rig rig;
+  rig.cameras.push_back({"cam3", Camera(CameraModelId::kPinhole, 1280, 720, {400, 400, 639.5, 359.5}), Rigid3d(), 0.0});
+  EXPECT_TRUE(CheckRigCoversImages(rig, "rig.json").empty());
+  rig.cameras[0].render_lens = Camera(CameraModelId::kOpenCV, 1280, 720, {400, 400, 639.5, 359.5, -0.5, 0, 0, 0});
+  EXPECT_THAT([&] { CheckRigCoversImages(rig, "rig.json"); },
+              ThrowsNaming<std::runtime_error>("rig.json: camera 'cam3 (render_lens)'", "cannot be inverted"));
+}
+
 }  // namespace
 }  // namespace rigsim

@@ -39,6 +39,21 @@ void ReadTiming(const Json& c, const std::string& source, const std::string& whe
   }
 }
 
+// A camera's "render_lens": a model and its parameters at the camera's image size.
+Camera ReadRenderLens(const Json& c, const std::string& source, const std::string& where, const RigCamera& rc) {
+  const Json& lens = c["render_lens"];
+  const std::string at = where + ".render_lens";
+  if (!lens.is_object()) {
+    throw std::runtime_error(source + ": " + at + " ('" + rc.name + "'): expected an object with \"model\" and \"params\"");
+  }
+  try {
+    const CameraModelId model = CameraModelFromName(Get<std::string>(lens, "model", source, at));
+    return Camera(model, rc.camera.width(), rc.camera.height(), Get<std::vector<double>>(lens, "params", source, at));
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(source + ": " + at + " ('" + rc.name + "'): " + e.what());
+  }
+}
+
 }  // namespace
 
 int Rig::FindCamera(const std::string& name) const {
@@ -61,6 +76,15 @@ Rig Rig::PosedCameras() const {
     if (c.cam_from_rig) posed.cameras.push_back(c);
   }
   return posed;
+}
+
+Rig Rig::AsRendered() const {
+  Rig rendered = *this;
+  for (RigCamera& c : rendered.cameras) {
+    if (c.render_lens) c.camera = *c.render_lens;
+    c.render_lens.reset();
+  }
+  return rendered;
 }
 
 Rig RigFromJsonText(const std::string& text, const std::string& source) {
@@ -99,6 +123,7 @@ Rig RigFromJsonText(const std::string& text, const std::string& source) {
     if (c.contains("cam_from_rig") && !c["cam_from_rig"].is_null()) {
       rc.cam_from_rig = json_io::PoseFromJson(c["cam_from_rig"], source, where + ".cam_from_rig");
     }
+    if (c.contains("render_lens")) rc.render_lens = ReadRenderLens(c, source, where, rc);
     if (c.contains("time_offset_s")) rc.time_offset_s = Get<double>(c, "time_offset_s", source, where);
     ReadTiming(c, source, where, rc);
     rig.cameras.push_back(std::move(rc));
@@ -129,6 +154,10 @@ std::string RigToJsonText(const Rig& rig) {
       c["readout_direction"] = rc.readout_bottom_to_top ? "bottom-to-top" : "top-to-bottom";
     }
     if (rc.exposure_s > 0) c["exposure_s"] = rc.exposure_s;
+    if (rc.render_lens) {
+      c["render_lens"] = Json{{"model", std::string(CameraModelName(rc.render_lens->model()))},
+                              {"params", rc.render_lens->params()}};
+    }
     cams.push_back(std::move(c));
   }
   Json root{{"cameras", cams}};

@@ -8,11 +8,14 @@
 //       "cam_from_rig": { "rotation_wxyz": [w, x, y, z], "translation": [x, y, z] },  // optional
 //       "time_offset_s": 0.0,                                  // optional, capture delay
 //       "readout_s": 0.0, "readout_direction": "top-to-bottom", // optional, rolling shutter
-//       "exposure_s": 0.0 }                                    // optional, motion blur
+//       "exposure_s": 0.0,                                     // optional, motion blur
+//       "render_lens": { "model": "FULL_OPENCV", "params": [...] } }  // optional, see below
 //   ]
 // }
 // The three timing fields are written only when they differ from their defaults, so a rig
-// without them reads and writes as before they existed.
+// without them reads and writes as before they existed. "render_lens" likewise: the lens the
+// images were rendered through when it is not the camera's model (the real lens beside a user's
+// calibration of it); the renderer and the ground truth use it, the calibrator never reads it.
 #pragma once
 
 #include <filesystem>
@@ -38,7 +41,12 @@ struct RigCamera {
   // Each row integrates light over [t - exposure_s / 2, t + exposure_s / 2] around its capture
   // time t (motion blur in the colour image; ground truth is at t). 0 = instantaneous.
   double exposure_s = 0.0;
+  // The lens the images are rendered through when it differs from `camera`, the model a user has
+  // of it (same image size); unset: `camera` itself. The calibrator is given `camera` only.
+  std::optional<Camera> render_lens = std::nullopt;
 
+  // The lens the images are rendered through: render_lens, or the model when there is none.
+  const Camera& RenderedCamera() const { return render_lens ? *render_lens : camera; }
   // Whether the camera's capture is spread over time (rolling shutter or exposure).
   bool CaptureSpansTime() const { return readout_s > 0 || exposure_s > 0; }
   // Seconds after the frame's timestamp at which image row `row` is captured (mid exposure).
@@ -61,6 +69,9 @@ struct Rig {
   bool HasAllPoses() const;
   // The cameras that have a cam_from_rig, in order: what the exports can place.
   Rig PosedCameras() const;
+  // The rig as it is rendered: each camera's model replaced by its render lens (the renderer's and
+  // the ground truth's rig; render_lens unset in the copy).
+  Rig AsRendered() const;
 };
 
 // Parse / serialise. Errors throw std::runtime_error whose message starts with `source`

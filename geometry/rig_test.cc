@@ -68,16 +68,48 @@ TEST(Rig, BadTimingIsRefusedNamingTheField) {
   }
 }
 
+// A call that reads `text` as my/rig.json.
+auto Parsing(const std::string& text) {
+  return [text] { RigFromJsonText(text, "my/rig.json"); };
+}
+
+TEST(Rig, RenderLensRoundTripsAndIsWrittenOnlyWhenSet) {
+  Rig rig = TwoCameraRig();
+  EXPECT_EQ(RigToJsonText(rig).find("render_lens"), std::string::npos);  // unset: the file is as before
+  const Camera lens(CameraModelId::kFullOpenCV, 64, 48, {40, 41, 32, 24, -0.1, 0.01, 0.001, 0.002, 0.03, 0, 0, 0});
+  rig.cameras[1].render_lens = lens;
+  const Rig back = RigFromJsonText(RigToJsonText(rig), "test");
+  EXPECT_FALSE(back.cameras[0].render_lens.has_value());
+  ASSERT_TRUE(back.cameras[1].render_lens.has_value());
+  EXPECT_EQ(back.cameras[1].render_lens->model(), CameraModelId::kFullOpenCV);
+  EXPECT_EQ(back.cameras[1].render_lens->params(), lens.params());
+  EXPECT_EQ(back.cameras[1].camera.params(), rig.cameras[1].camera.params());  // the model stays the user's
+  EXPECT_EQ(&back.cameras[0].RenderedCamera(), &back.cameras[0].camera);
+  // As rendered: the lens in the model's place, the model untouched in the original.
+  const Rig rendered = back.AsRendered();
+  EXPECT_EQ(rendered.cameras[1].camera.model(), CameraModelId::kFullOpenCV);
+  EXPECT_EQ(rendered.cameras[1].camera.params(), lens.params());
+  EXPECT_FALSE(rendered.cameras[1].render_lens.has_value());
+  EXPECT_EQ(rendered.cameras[0].camera.params(), back.cameras[0].camera.params());
+}
+
+TEST(Rig, BadRenderLensIsRefusedNamingTheField) {
+  using E = std::runtime_error;
+  const std::string head = R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5],)";
+  EXPECT_THAT(Parsing(head + R"("render_lens": 3}]})"), ThrowsWith<E>("my/rig.json", "render_lens", "'a'", "object"));
+  EXPECT_THAT(Parsing(head + R"("render_lens": {"params": [5,5,4.5,4.5]}}]})"),
+              ThrowsWith<E>("my/rig.json", "render_lens", "model"));
+  EXPECT_THAT(Parsing(head + R"("render_lens": {"model": "FISH", "params": [5,5,4.5,4.5]}}]})"),
+              ThrowsWith<E>("my/rig.json", "render_lens", "FISH"));
+  EXPECT_THAT(Parsing(head + R"("render_lens": {"model": "OPENCV", "params": [5,5,4.5,4.5]}}]})"),
+              ThrowsWith<E>("my/rig.json", "render_lens", "8 parameters"));
+}
+
 TEST(Rig, PosesAreOptionalForRealPhotos) {
   const Rig rig = RigFromJsonText(
       R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5]}]})", "rig.json");
   EXPECT_FALSE(rig.cameras[0].cam_from_rig.has_value());
   EXPECT_FALSE(rig.HasAllPoses());
-}
-
-// A call that reads `text` as my/rig.json.
-auto Parsing(const std::string& text) {
-  return [text] { RigFromJsonText(text, "my/rig.json"); };
 }
 
 TEST(Rig, BadJsonNamesTheFileAndTheProblem) {

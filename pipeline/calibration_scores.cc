@@ -129,7 +129,7 @@ void ScoreMatches(const std::filesystem::path& dataset_dir, const Rig& truth, co
     for (int c = 0; c < num_cams; ++c) {
       if (!have_depth[image(c, f)]) continue;
       pose[c] = capture_poses.Of(truth.cameras[c], frames.frames[f]);
-      const Camera& camera = truth.cameras[c].camera;
+      const Camera& camera = truth.cameras[c].RenderedCamera();  // the lens the range images were made through
       const auto path = layout.Depth(truth.cameras[c].name, frames.frames[f].name);
       range[c] = ReadImageF(path);
       if (!range[c].SameSize(camera.width(), camera.height()) || range[c].channels != 1) {
@@ -152,8 +152,9 @@ void ScoreMatches(const std::filesystem::path& dataset_dir, const Rig& truth, co
         }
         Counts& cnt = counts[f * num_mp + first_pair[m] + p];
         int at_infinity = 0;
-        const std::vector<char> ok = CheckMatches(pa, pb, truth.cameras[a].camera, range[a], pose[a],
-                                                  truth.cameras[b].camera, range[b], pose[b], options, &at_infinity);
+        const std::vector<char> ok = CheckMatches(pa, pb, truth.cameras[a].RenderedCamera(), range[a], pose[a],
+                                                  truth.cameras[b].RenderedCamera(), range[b], pose[b], options,
+                                                  &at_infinity);
         (*scores)[m].match_correct[p][f] = ok;
         cnt.evaluated = true;
         cnt.all.evaluated = static_cast<int>(mt.size());

@@ -343,9 +343,13 @@ void WriteRigAndFrames(const RenderJob& job, FrameRange range, std::vector<Frame
 
 }  // namespace
 
-void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
+void RenderDataset(const RenderJob& given, const fs::path& out_dir, bool force,
                    const std::function<void(int done, int total)>& progress) {
-  CheckJob(job);
+  CheckJob(given);
+  // Everything is rendered, and its ground truth made, through each camera's render lens; rig.json
+  // keeps the model beside it (WriteRigAndFrames below writes `given`).
+  RenderJob job = given;
+  job.rig = given.rig.AsRendered();
   const std::vector<RigCamera>& cams = job.rig.cameras;
   const int num_cams = int(cams.size());
   const FrameRange range = ShardFrames(int(job.frames.frames.size()), job.shard.index, job.shard.count);
@@ -469,7 +473,7 @@ void RenderDataset(const RenderJob& job, const fs::path& out_dir, bool force,
   if (clock.timed()) json_io::WriteTextAtomic(layout.PosesJson(), PosesJsonOf(job, poses_json).dump() + "\n");
   if (job.extras.coco) json_io::WriteTextAtomic(layout.CocoJson(), coco.ToJson().dump() + "\n");
 
-  WriteRigAndFrames(job, range, std::move(overlap), layout);
+  WriteRigAndFrames(given, range, std::move(overlap), layout);
 
   staged.Commit();
 }

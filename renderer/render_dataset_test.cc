@@ -1,5 +1,6 @@
 #include "renderer/render_dataset.h"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -132,6 +133,67 @@ TEST(RenderDatasetTest, WritesTheWholeLayout) {
   EXPECT_EQ(pairs[1].at("b"), "cam2");
   EXPECT_EQ(pairs[1].at("overlap_a_in_b").get<double>(), 0.0);
   EXPECT_EQ(pairs[1].at("overlap_b_in_a").get<double>(), 0.0);
+}
+
+// Every file of a dataset but rig.json, by its path inside the dataset, with its bytes.
+std::map<std::string, std::string> FilesBesideRigJson(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    if (!e.is_regular_file() || e.path().filename() == "rig.json") continue;
+    std::ifstream in(e.path(), std::ios::binary);
+    files[fs::relative(e.path(), dir).string()] = std::string(std::istreambuf_iterator<char>(in), {});
+  }
+  return files;
+}
+
+TEST(RenderDatasetTest, ACameraWithARenderLensIsRenderedThroughItAndKeepsItsModel) {
+  const TempDir scratch;
+  // A pinhole model, and the lens it models: barrel-distorted, as a real lens is.
+  const Camera model(CameraModelId::kPinhole, 80, 60, {40, 40, 39.5, 29.5});
+  const Camera lens(CameraModelId::kFullOpenCV, 80, 60, {40, 40, 39.5, 29.5, -0.2, 0.02, 0, 0, 0.01, 0, 0, 0});
+  // A small plate 3 m away where the lens images pixel (10, 8), near the corner, on a wall.
+  const Eigen::Vector3d ray = *lens.CamFromImg(Eigen::Vector2d(10, 8));
+  const Eigen::Vector3d point = ray / ray.z() * 3.0;
+  const Eigen::Vector2d by_lens = *lens.ImgFromCam(point), by_model = *model.ImgFromCam(point);
+  ASSERT_GT((by_lens - by_model).norm(), 5.0);  // the two put it pixels apart
+  Scene scene;
+  scene.source = "plate";
+  AddQuad(scene, {-20, -20, 5}, {20, -20, 5}, {20, 20, 5}, {-20, 20, 5}, 11 /*building*/, 1);
+  const Eigen::Vector3f c = point.cast<float>();
+  const float h = 0.06f;
+  AddQuad(scene, c + Eigen::Vector3f(-h, -h, 0), c + Eigen::Vector3f(h, -h, 0), c + Eigen::Vector3f(h, h, 0),
+          c + Eigen::Vector3f(-h, h, 0), 26 /*car*/, 2);
+  RenderJob job;
+  job.scene = &scene;
+  job.scene_name = "plate.glb";
+  job.rig.cameras = {RigCamera{"cam0", model, Rigid3d(), 0.0}};
+  job.rig.cameras[0].render_lens = lens;
+  Frame frame;
+  frame.name = "000000";
+  frame.rig_from_world = Rigid3d();
+  job.frames.frames.push_back(frame);
+  job.options.samples_per_pixel = 1;
+  RenderDataset(job, scratch / "lens", false);
+
+  // The plate is where the lens puts it, with its true range; where the model puts it is the wall.
+  const DatasetLayout layout(scratch / "lens");
+  const ImageU16 instance = ReadImageU16(layout.Instance("cam0", "000000"));
+  const ImageF range = ReadImageF(layout.Depth("cam0", "000000"));
+  const int lx = int(std::lround(by_lens.x())), ly = int(std::lround(by_lens.y()));
+  EXPECT_EQ(instance.at(lx, ly), 2);
+  EXPECT_NEAR(range.at(lx, ly), point.norm(), 0.05);
+  EXPECT_EQ(instance.at(int(std::lround(by_model.x())), int(std::lround(by_model.y()))), 1);
+  // rig.json keeps the model, the one the calibrator is given, with the lens beside it.
+  const Rig written = ReadRig(layout.RigJson());
+  EXPECT_EQ(written.cameras[0].camera.params(), model.params());
+  ASSERT_TRUE(written.cameras[0].render_lens.has_value());
+  EXPECT_EQ(written.cameras[0].render_lens->params(), lens.params());
+  // Every other file, ground truth and overlap included, is the render of a camera that is the lens.
+  RenderJob through_lens = job;
+  through_lens.rig = job.rig.AsRendered();
+  RenderDataset(through_lens, scratch / "plain", false);
+  EXPECT_EQ(FilesBesideRigJson(scratch / "lens"), FilesBesideRigJson(scratch / "plain"));
+  EXPECT_EQ(ReadRig(scratch / "plain" / "rig.json").cameras[0].camera.params(), lens.params());
 }
 
 TEST(RenderDatasetTest, IncompleteJobWritesNothing) {

@@ -77,6 +77,11 @@ std::vector<RigParam> MakeRigParams() {
          s.lens.fisheye_fov_deg = v.get<double>();
          s.surround.side_fov_deg = v.get<double>();
        }},
+      {Number("lens_residual", 0.0, 0, LensResidualOptions::kMaxCornerPx,
+              "render each camera through a richer lens than its model: the lens has the radial terms the model "
+              "lacks (PINHOLE: k1, k2; OPENCV: k3; drawn from the seed), sized so that the model fitted to it, which "
+              "rig.json keeps and the calibrator is given, misses it by this much at the image corners (px); 0 = none"),
+       G_::kRig, "", true, {}, [](const Json& v, RigSpec& s) { s.lens_residual.corner_px = v.get<double>(); }},
       {Int("distorted", nullptr, -1, 63,
            "ring: index of the camera with barrel distortion (k1, k2; -1 = none); unset: cam1 from two cameras on"),
        G_::kRig, "", false, {}, [](const Json& v, RigSpec& s) { s.distorted_camera = v.get<int>(); }},

@@ -21,7 +21,8 @@ std::string Describe(const RigSpec& s) {
     << s.wide.convergence_deg << " " << s.wide.baseline_m << " image " << s.width << "x" << s.height << " hfov "
     << s.hfov_deg.value_or(-1) << " baseline " << s.baseline_m.value_or(-1) << " lens " << LensKindName(s.lens.kind) << " "
     << s.lens.k1 << " " << s.lens.fisheye_fov_deg << " overlap " << s.overlap_percent.value_or(-1) << " jitter "
-    << s.perturbation.rotation_deg << " " << s.perturbation.translation_m << " path "
+    << s.perturbation.rotation_deg << " " << s.perturbation.translation_m << " lens residual " << s.lens_residual.corner_px
+    << " path "
     << TrajectoryKindName(s.trajectory.kind) << " " << s.trajectory.num_frames << " " << s.trajectory.step_m << " "
     << s.trajectory.circle_radius_m << " " << s.trajectory.heading_deg << " " << s.trajectory.tilt_deg << " every " << s.trajectory.frame_interval_s << " s clearance "
     << s.placement.min_clearance_m << " placement " << PlacementModeName(s.placement.mode) << " at "

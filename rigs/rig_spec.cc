@@ -147,11 +147,14 @@ std::optional<PlacedRig> MakePlacedRig(const RigSpec& s, const Scene* scene) {
       PerturbIfAsked(s, &out.rig);
     }
   }
+  // Last, so that the placement and the ring's spacing are the model's as without it.
+  ApplyLensResidual(out.rig, s.lens_residual);
   out.frames = MakeTrajectory(trajectory);
   return out;
 }
 
-std::vector<PairOverlap> RigPairOverlaps(const Rig& rig, const Scene* scene, const Rigid3d& rig_from_world) {
+std::vector<PairOverlap> RigPairOverlaps(const Rig& model_rig, const Scene* scene, const Rigid3d& rig_from_world) {
+  const Rig rig = model_rig.AsRendered();  // the overlap the images will have: through the render lenses
   const int n = int(rig.cameras.size());
   Eigen::MatrixXd overlap = Eigen::MatrixXd::Zero(n, n);
   if (scene != nullptr) {

@@ -12,6 +12,7 @@
 
 #include "dataset/dataset.h"
 #include "geometry/rig.h"
+#include "rigs/lens_residual.h"
 #include "rigs/placement.h"
 #include "rigs/rig_presets.h"
 #include "rigs/trajectories.h"
@@ -52,6 +53,9 @@ struct RigSpec {
   // Unset: ring.yaw_spacing_deg.
   std::optional<double> overlap_percent;
   RigPerturbation perturbation;
+  // Each camera rendered through a lens its model misses by this much at the corners, the model
+  // fitted to it in rig.json (rigs/lens_residual.h); off by default.
+  LensResidualOptions lens_residual;
   // kFile: the rig file whose cameras (intrinsics, cam_from_rig) make the rig (ReadRigFile); the
   // preset options, image size, field of view, lens and overlap do not apply to it.
   std::string rig_file;
@@ -90,6 +94,7 @@ struct PairOverlap {
 
 // Every pair of `rig`'s cameras: in `scene`, the ground-truth overlap predicted at `rig_from_world`
 // (PredictedOverlaps); without a scene, the angular overlap of points at infinity (AngularOverlap).
-std::vector<PairOverlap> RigPairOverlaps(const Rig& rig, const Scene* scene, const Rigid3d& rig_from_world);
+// Cameras with a render lens are seen through it, as render sees them.
+std::vector<PairOverlap> RigPairOverlaps(const Rig& model_rig, const Scene* scene, const Rigid3d& rig_from_world);
 
 }  // namespace rigsim

@@ -163,6 +163,7 @@ RigSpec CellRigSpec(const Json& p, const fs::path& config_dir) {
   }
   RigSpec s = RigSpecFromParams(values);
   s.placement.seed = Seed(p);
+  s.lens_residual.seed = Seed(p);
   if (!s.rig_file.empty() && fs::path(s.rig_file).is_relative()) s.rig_file = (config_dir / s.rig_file).string();
   return s;
 }

@@ -40,7 +40,7 @@ TEST(OneDescription, MakeRigAndASweepCellBuildTheSameRigFromTheSameValues) {
     "base": {"width": 160, "height": 96, "frames": 2, "step": 1.5, "circle_radius": -9, "spacing": 55, "radius": 0.3},
     "seeds": [4],
     "zip": {"rig": ["ring", "surround"], "lens": ["opencv", "preset"], "distortion": [-0.1, -0.1],
-            "fisheye_fov": [190, 170]}
+            "fisheye_fov": [190, 170], "lens_residual": [0.3, 0]}
   })"), "test");
   for (const SweepCell& cell : ExpandCells(config)) {
     SCOPED_TRACE(cell.params.dump());

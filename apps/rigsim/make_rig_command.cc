@@ -136,7 +136,7 @@ void AddRigOptions(CLI::App* cmd, MakeRigArgs& a) {
       ->delimiter(',')
       ->expected(3)
       ->capture_default_str();
-  cmd->add_option("--seed", a.seed, "seed of the mounting error and of the automatic placement")->capture_default_str();
+  cmd->add_option("--seed", a.seed, "seed of the mounting error, the lens residual and the automatic placement")->capture_default_str();
   cmd->add_option("--scene", a.scene,
                   "place the rig automatically in this glTF scene: on the ground where every camera sees structure "
                   "(overrides --position and --heading)")
@@ -312,6 +312,7 @@ void WriteRigAndFrames(const MakeRigArgs& a, const Rig& rig_in, const FramesFile
 RigSpec SpecOf(const MakeRigArgs& a) {
   RigSpec s = RigSpecFromParams(a.RigValues());
   s.perturbation.seed = a.seed;
+  s.lens_residual.seed = a.seed;
   s.trajectory.start_world = Eigen::Vector3d(a.position[0], a.position[1], a.position[2]);
   // Without --rig-height, --position's height serves as the rig's height above the ground in a scene.
   if (a.position[1] > 0 && a.rig_position_given && a.rig_options.at("rig_height")->count() == 0) {
