@@ -236,8 +236,9 @@ PoseStart ToStart(const std::string& source, const RigPositions& positions, cons
   return s;
 }
 
-PositionStage EstimateInitialPoses(const RigObservations& obs, const RotationStage& rs, const RigMotion& motion,
-                                   const std::vector<ViewTrack>& tracks, const RigCalibrationOptions& options) {
+PositionStage EstimateInitialPosesFromRotations(const RigObservations& obs, const RotationStage& rs,
+                                                const RigMotion& motion, const std::vector<ViewTrack>& tracks,
+                                                const RigCalibrationOptions& options) {
   PositionStage s;
   s.remedy = PositionRemedy(motion, static_cast<int>(obs.keypoints.size()));
   if (obs.HasMotionLinks()) s.held_axis = HeldCentreAxes(obs, tracks);
@@ -284,6 +285,22 @@ PositionStage EstimateInitialPoses(const RigObservations& obs, const RotationSta
     s.position_reason = "not observable: " +
                         (!from_directions.reason.empty() ? from_directions.reason : from_tracks.reason) + "; " + s.remedy;
   }
+  return s;
+}
+
+// Step 4, with the start a registration through tracks gives (RigObservations::pose_start) beside
+// the position estimates': the bundle adjustment runs from each and keeps the best.
+PositionStage EstimateInitialPoses(const RigObservations& obs, const RotationStage& rs, const RigMotion& motion,
+                                   const std::vector<ViewTrack>& tracks, const RigCalibrationOptions& options) {
+  PositionStage s = EstimateInitialPosesFromRotations(obs, rs, motion, tracks, options);
+  const RigPoses& start = obs.pose_start;
+  if (start.cam_from_rig.empty()) return s;
+  for (int c = 1; c < static_cast<int>(start.cam_from_rig.size()) && s.scale_camera < 0; ++c) {
+    if (start.cam_from_rig[c] && start.cam_from_rig[c]->translation.norm() > 1e-9) s.scale_camera = c;
+  }
+  if (s.scale_camera < 0 || !start.cam_from_rig[s.scale_camera]) return s;
+  s.starts.push_back({"registration through tracks", start});
+  s.position_reason.clear();
   return s;
 }
 

@@ -255,6 +255,7 @@ TrackRegistration RegisterCamerasThroughTracks(const RigObservations& obs, const
     PoseFramesFromReferenceMotion(obs, placed, options, &views);
   }
   if (views.frames.empty()) return out;
+  out.placed_poses = views.poses;
   const PlacedPoints points = TriangulatePlacedTracks(obs, views, PlacedTracks(obs, placed, views.camera_placed, num_frames), options);
   out.num_points = static_cast<int>(points.x.size());
   if (points.x.empty()) return out;
@@ -291,8 +292,10 @@ RigObservations WithRegisteredCameras(const RigObservations& obs, const RigCalib
     out.pairs[p].two_view.failure_reason = "not used by the rig its cameras were registered into";
     for (auto& frame : out.inliers[p].per_frame) frame.clear();
   }
+  out.pose_start = registration.placed_poses;
   for (const CameraRegistration& r : registration.cameras) {
     if (!r.registered) continue;
+    out.pose_start.cam_from_rig[r.camera] = r.cam_from_rig;
     out.rotation_start[r.camera] = r.cam_from_rig.rotation;
     out.cross_time.insert(out.cross_time.end(), r.view_pairs.begin(), r.view_pairs.end());
   }

@@ -35,6 +35,9 @@ struct CameraRegistration {
 struct TrackRegistration {
   std::vector<CameraRegistration> cameras;  // one per camera without a full pose in `placed`
   int num_points = 0;                       // placed points the cameras were matched against
+  // The rig the cameras were registered into: `placed`'s placed cameras and the frames posed
+  // (`placed`'s, or the reference camera's own motion's).
+  RigPoses placed_poses;
   double time_s = 0.0;
 
   bool AnyRegistered() const;
@@ -47,8 +50,9 @@ TrackRegistration RegisterCamerasThroughTracks(const RigObservations& obs, const
                                                const ViewPairMatcher& match, const TrackRegistrationOptions& options);
 
 // `obs` with the registered cameras' view pairs added as links (cross_time), every rotation
-// started where `placed` and the registrations put it, and the pairs `placed` did not use failed
-// (left out, or between cameras it did not join): what the rig stage adjusts next.
+// started where `placed` and the registrations put it, the pairs `placed` did not use failed
+// (left out, or between cameras it did not join), and the registered rig as a start of the bundle
+// adjustment (RigObservations::pose_start): what the rig stage adjusts next.
 RigObservations WithRegisteredCameras(const RigObservations& obs, const RigCalibrationResult& placed,
                                       const TrackRegistration& registration);
 
