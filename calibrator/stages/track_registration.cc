@@ -1,7 +1,6 @@
 #include "calibrator/stages/track_registration.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <unordered_map>
@@ -243,7 +242,6 @@ bool TrackRegistration::AnyRegistered() const {
 TrackRegistration RegisterCamerasThroughTracks(const RigObservations& obs, const RigCalibrationResult& placed,
                                                const ViewPairMatcher& match, const TrackRegistrationOptions& options) {
   options.Check();
-  const auto start = std::chrono::steady_clock::now();
   const int n = static_cast<int>(obs.cameras.size());
   const int num_frames = static_cast<int>(obs.keypoints.size());
   if (static_cast<int>(placed.camera_status.size()) != n) {
@@ -257,7 +255,6 @@ TrackRegistration RegisterCamerasThroughTracks(const RigObservations& obs, const
   if (views.frames.empty()) return out;
   out.placed_poses = views.poses;
   const PlacedPoints points = TriangulatePlacedTracks(obs, views, PlacedTracks(obs, placed, views.camera_placed, num_frames), options);
-  out.num_points = static_cast<int>(points.x.size());
   if (points.x.empty()) return out;
   for (int c = 1; c < n; ++c) {
     if (views.camera_placed[c]) continue;
@@ -269,7 +266,6 @@ TrackRegistration RegisterCamerasThroughTracks(const RigObservations& obs, const
     });
     out.cameras.push_back(Register(obs, placed, views, points, c, std::move(jobs), options));
   }
-  out.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
 

@@ -34,11 +34,9 @@ struct CameraRegistration {
 
 struct TrackRegistration {
   std::vector<CameraRegistration> cameras;  // one per camera without a full pose in `placed`
-  int num_points = 0;                       // placed points the cameras were matched against
   // The rig the cameras were registered into: `placed`'s placed cameras and the frames posed
   // (`placed`'s, or the reference camera's own motion's).
   RigPoses placed_poses;
-  double time_s = 0.0;
 
   bool AnyRegistered() const;
 };
