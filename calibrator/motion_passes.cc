@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "calibrator/model/rig_state.h"
+#include "calibrator/stages/registered_rig_adjustment.h"
 #include "calibrator/stages/rig_calibration.h"
 #include "calibrator/stages/track_registration.h"
 #include "common/format.h"
@@ -208,8 +209,8 @@ constexpr double kMaxPlacedRotationChangeDeg = 1.0;
 // Why the rig adjusted with the registered cameras, `after`, is not kept over `before`: it places no
 // more cameras, moves or un-places one `before` placed, or loses a camera's own tracks
 // (LosesOwnTracks). Empty when it is kept.
-std::string WhyNotKept(const RigObservations& obs, const RigCalibrationResult& before, const RigCalibrationResult& after,
-                       const TrackRegistration& reg) {
+std::string WhyNotKept(const RigObservations& obs, const RigCalibrationResult& before, const RegisteredRig& registered) {
+  const RigCalibrationResult& after = registered.result;
   for (size_t c = 0; c < before.camera_status.size(); ++c) {
     if (!HasFullPose(before.camera_status[c].outcome)) continue;
     const std::string& name = before.rig.cameras[c].name;
@@ -224,10 +225,7 @@ std::string WhyNotKept(const RigObservations& obs, const RigCalibrationResult& b
   if (LosesOwnTracks(obs, after)) return "the rig adjusted with it no longer fits a placed camera's own tracks";
   if (CamerasPlaced(after) > CamerasPlaced(before)) return "";
   std::string why = "the rig adjusted with it places no more cameras";
-  for (const CameraRegistration& r : reg.cameras) {
-    if (!r.registered) continue;
-    why += "; " + after.rig.cameras[r.camera].name + " there: " + after.camera_status[r.camera].reason;
-  }
+  for (const std::string& camera_why : registered.not_placed) why += "; " + camera_why;
   return why;
 }
 
@@ -260,10 +258,6 @@ void SayWhatWasRegistered(const TrackRegistration& reg, RigCalibrationResult* re
 // keeps their own tracks.
 RigCalibrationResult RegisterWhereUnplaced(RigObservations used, RigCalibrationResult result,
                                            const ViewPairMatcher& match, const RigCalibrationOptions& options) {
-  // Not with refined intrinsics: adjusted with free intrinsics, a registered rig came out confidently
-  // wrong (the refine-intrinsics fixture: a camera 2.4 deg / 98 deg off with deviations of 1e-8 deg),
-  // until the registered rig is adjusted on its own rather than by the rig stage again.
-  if (options.bundle_adjustment.refine_intrinsics) return result;
   constexpr int kMaxRounds = 3;
   for (int round = 0; round < kMaxRounds && options.registration.enabled && SomeCameraUnplaced(result); ++round) {
     const TrackRegistration reg = RegisterCamerasThroughTracks(used, result, match, options.registration);
@@ -271,18 +265,16 @@ RigCalibrationResult RegisterWhereUnplaced(RigObservations used, RigCalibrationR
       SayWhyNotRegistered(reg, "", &result);
       break;
     }
-    RigObservations next = WithRegisteredCameras(used, result, reg);
-    RigCalibrationResult second = EstimateRig(next, options);
-    const std::string why_not = WhyNotKept(used, result, second, reg);
+    RigObservations next = WithRegisteredViewPairs(used, reg);
+    RegisteredRig second = AdjustRegisteredRig(next, result, reg, options);
+    const std::string why_not = WhyNotKept(used, result, second);
     if (!why_not.empty()) {
       SayWhyNotRegistered(reg, "a pose fits its matches with placed points, but " + why_not, &result);
-      AddRigWork(second, &result);
+      result.bundle_adjustment_time_s = second.result.bundle_adjustment_time_s;  // `second` is `result` adjusted
       break;
     }
-    second.motion_links = result.motion_links;
-    SayWhatWasRegistered(reg, &second);
-    AddRigWork(result, &second);
-    result = std::move(second);
+    SayWhatWasRegistered(reg, &second.result);
+    result = std::move(second.result);
     used = std::move(next);
   }
   return result;

@@ -166,4 +166,13 @@ double CorrelatedResidualFactor(const std::vector<LocatedResidual>& residuals) {
   return factor;
 }
 
+double DirectionStdDeg(const Eigen::Vector3d& centre, const Eigen::Matrix3d& cov) {
+  const double d = centre.norm();
+  if (!(d > 0)) return 180.0;
+  const Eigen::Vector3d u = centre / d;
+  const Eigen::Matrix3d across = Eigen::Matrix3d::Identity() - u * u.transpose();
+  const double spread = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(across * cov * across).eigenvalues().maxCoeff();
+  return RadToDeg(std::atan2(std::sqrt(std::max(spread, 0.0)), d));
+}
+
 }  // namespace rigsim

@@ -57,4 +57,8 @@ struct LocatedResidual {
 // the variance covers it.
 double CorrelatedResidualFactor(const std::vector<LocatedResidual>& residuals);
 
+// Standard deviation (deg) of the direction of `centre` (from camera 0 at the origin) under the
+// covariance `cov` of the centre: the largest spread across the direction, over the distance.
+double DirectionStdDeg(const Eigen::Vector3d& centre, const Eigen::Matrix3d& cov);
+
 }  // namespace rigsim

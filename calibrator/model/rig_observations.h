@@ -41,9 +41,6 @@ struct RigObservations {
   PerCamera<Eigen::Quaterniond> rotation_start;
   PerCamera<Eigen::Quaterniond> hand_eye_rotation;
   PerCamera<Eigen::Vector3d> open_axis;
-  // A start of the bundle adjustment beside the rig stage's own, in camera 0's frame and frame 0's
-  // world: the rig a registration through tracks made (stages/track_registration.h). Empty: none.
-  RigPoses pose_start;
 
   bool HasMotionLinks() const { return !rotation_start.empty(); }
 };

@@ -34,4 +34,13 @@ struct RigPoses {
   Rigid3d CamFromWorld(int camera, int frame) const { return *cam_from_rig[camera] * *rig_from_world[frame]; }
 };
 
+// Changes the unit of length of a rig estimate: the cameras' and the frames' translations.
+inline void ScaleTranslations(double s, PerCamera<Rigid3d>* cam_from_rig, PerFrame<Rigid3d>* rig_from_world) {
+  for (auto* poses : {cam_from_rig, rig_from_world}) {
+    for (auto& p : *poses) {
+      if (p) p->translation *= s;
+    }
+  }
+}
+
 }  // namespace rigsim

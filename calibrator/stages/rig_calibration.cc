@@ -6,8 +6,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include <Eigen/Eigenvalues>
-
+#include "calibrator/estimators/bundle_covariance.h"
 #include "calibrator/estimators/camera_centres.h"
 #include "calibrator/estimators/rig_positions.h"
 #include "calibrator/model/rig_state.h"
@@ -18,27 +17,6 @@
 
 namespace rigsim {
 namespace {
-
-// Standard deviation (deg) of the direction of `centre` (from camera 0 at the origin) under the
-// covariance `cov` of the centre: the largest spread across the direction, over the distance.
-double DirectionStdDeg(const Eigen::Vector3d& centre, const Eigen::Matrix3d& cov) {
-  const double d = centre.norm();
-  if (!(d > 0)) return 180.0;
-  const Eigen::Vector3d u = centre / d;
-  const Eigen::Matrix3d across = Eigen::Matrix3d::Identity() - u * u.transpose();
-  const double spread = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(across * cov * across).eigenvalues().maxCoeff();
-  return RadToDeg(std::atan2(std::sqrt(std::max(spread, 0.0)), d));
-}
-
-// Changes the unit of length of a rig estimate: the cameras' and the frames' translations.
-void ScaleTranslations(double s, PerCamera<Rigid3d>* cam_from_rig,
-                       PerFrame<Rigid3d>* rig_from_world) {
-  for (auto* poses : {cam_from_rig, rig_from_world}) {
-    for (auto& p : *poses) {
-      if (p) p->translation *= s;
-    }
-  }
-}
 
 // A calibrated camera whose place rests on one pair only, a pair whose fit explains under a
 // quarter of its matches, may be a wrong view that agreed with some pose by chance (a mirrored
@@ -236,7 +214,7 @@ PoseStart ToStart(const std::string& source, const RigPositions& positions, cons
   return s;
 }
 
-PositionStage EstimateInitialPosesFromRotations(const RigObservations& obs, const RotationStage& rs,
+PositionStage EstimateInitialPoses(const RigObservations& obs, const RotationStage& rs,
                                                 const RigMotion& motion, const std::vector<ViewTrack>& tracks,
                                                 const RigCalibrationOptions& options) {
   PositionStage s;
@@ -285,22 +263,6 @@ PositionStage EstimateInitialPosesFromRotations(const RigObservations& obs, cons
     s.position_reason = "not observable: " +
                         (!from_directions.reason.empty() ? from_directions.reason : from_tracks.reason) + "; " + s.remedy;
   }
-  return s;
-}
-
-// Step 4, with the start a registration through tracks gives (RigObservations::pose_start) beside
-// the position estimates': the bundle adjustment runs from each and keeps the best.
-PositionStage EstimateInitialPoses(const RigObservations& obs, const RotationStage& rs, const RigMotion& motion,
-                                   const std::vector<ViewTrack>& tracks, const RigCalibrationOptions& options) {
-  PositionStage s = EstimateInitialPosesFromRotations(obs, rs, motion, tracks, options);
-  const RigPoses& start = obs.pose_start;
-  if (start.cam_from_rig.empty()) return s;
-  for (int c = 1; c < static_cast<int>(start.cam_from_rig.size()) && s.scale_camera < 0; ++c) {
-    if (start.cam_from_rig[c] && start.cam_from_rig[c]->translation.norm() > 1e-9) s.scale_camera = c;
-  }
-  if (s.scale_camera < 0 || !start.cam_from_rig[s.scale_camera]) return s;
-  s.starts.push_back({"registration through tracks", start});
-  s.position_reason.clear();
   return s;
 }
 
@@ -638,20 +600,6 @@ void CompareEdgesWithRig(const RigObservations& obs, RigCalibrationResult* resul
   }
 }
 
-// The refined intrinsics of the cameras the bundle adjustment refined into the result's rig, with
-// their given values and standard deviations.
-void SetRefinedIntrinsics(const RigObservations& obs, const RigCalibrationOptions& options,
-                          const MultiFrameBundleAdjustmentResult& ba, RigCalibrationResult* result) {
-  const std::vector<Camera>& centres = options.bundle_adjustment.intrinsics_priors.centres;
-  for (size_t c = 0; c < ba.intrinsics_stddev.size() && c < ba.cameras.size(); ++c) {
-    if (ba.observations_per_camera[c] == 0) continue;
-    const Camera& given = centres.empty() ? obs.cameras[c] : centres.at(c);
-    result->rig.cameras[c].camera = ba.cameras[c];
-    result->camera_stats[c].intrinsics =
-        RefinedIntrinsics{given.params(), ba.cameras[c].params(), ba.intrinsics_stddev[c]};
-  }
-}
-
 // Steps 1-4, before the bundle adjustment; their counts and times go into `result`.
 struct EarlyStages {
   RotationStage rotations;
@@ -879,6 +827,18 @@ std::optional<RigCalibrationResult> EstimateRigUnlessUnplaced(const RigObservati
                                                               const RigCalibrationOptions& options, RigPreCheck* stop) {
   *stop = RigPreCheck{};
   return EstimateRigRounds(obs, options, stop);
+}
+
+void SetRefinedIntrinsics(const RigObservations& obs, const RigCalibrationOptions& options,
+                          const MultiFrameBundleAdjustmentResult& ba, RigCalibrationResult* result) {
+  const std::vector<Camera>& centres = options.bundle_adjustment.intrinsics_priors.centres;
+  for (size_t c = 0; c < ba.intrinsics_stddev.size() && c < ba.cameras.size(); ++c) {
+    if (ba.observations_per_camera[c] == 0) continue;
+    const Camera& given = centres.empty() ? obs.cameras[c] : centres.at(c);
+    result->rig.cameras[c].camera = ba.cameras[c];
+    result->camera_stats[c].intrinsics =
+        RefinedIntrinsics{given.params(), ba.cameras[c].params(), ba.intrinsics_stddev[c]};
+  }
 }
 
 }  // namespace rigsim

@@ -67,4 +67,9 @@ std::optional<RigCalibrationResult> EstimateRigUnlessUnplaced(const RigObservati
 // Adds `from`'s rig_passes and stage times into `into`, which then counts the work of both.
 void AddRigWork(const RigCalibrationResult& from, RigCalibrationResult* into);
 
+// The intrinsics of the cameras `ba` refined (RigBundleAdjustmentOptions::refine_intrinsics) into
+// `result`'s rig, with their given values and standard deviations (RigCameraStats::intrinsics).
+void SetRefinedIntrinsics(const RigObservations& obs, const RigCalibrationOptions& options,
+                          const MultiFrameBundleAdjustmentResult& ba, RigCalibrationResult* result);
+
 }  // namespace rigsim

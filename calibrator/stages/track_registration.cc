@@ -39,28 +39,6 @@ PlacedViews PlacedViewsOf(const RigCalibrationResult& placed, int n, int num_fra
   return v;
 }
 
-// The tracks of the placed cameras: the inliers of the pairs the rig used, of their own motion and
-// of their view pairs across time.
-std::vector<ViewTrack> PlacedTracks(const RigObservations& obs, const RigCalibrationResult& placed,
-                                    const std::vector<char>& camera_placed, int num_frames) {
-  std::vector<PairMatches> pairs;
-  for (size_t p = 0; p < obs.pairs.size(); ++p) {
-    const PairEstimate& e = obs.pairs[p];
-    if (!camera_placed[e.cam_a] || !camera_placed[e.cam_b] || !e.two_view.success) continue;
-    if (p < placed.edges.size() && !placed.edges[p].Used()) continue;
-    if (static_cast<int>(obs.inliers[p].per_frame.size()) == num_frames) pairs.push_back(obs.inliers[p]);
-  }
-  std::vector<TemporalPairEstimate> temporal;
-  for (const TemporalPairEstimate& t : obs.temporal) {
-    if (t.two_view.success && camera_placed[t.camera]) temporal.push_back(t);
-  }
-  std::vector<CrossTimePairEstimate> cross_time;
-  for (const CrossTimePairEstimate& x : obs.cross_time) {
-    if (x.two_view.success && camera_placed[x.cam_a] && camera_placed[x.cam_b]) cross_time.push_back(x);
-  }
-  return BuildViewTracksAcrossTime(static_cast<int>(obs.cameras.size()), num_frames, pairs, temporal, cross_time);
-}
-
 // Placed points (world frame), and per view (frame * n + camera) which keypoint sees which point.
 struct PlacedPoints {
   std::vector<Eigen::Vector3d> x;
@@ -122,7 +100,7 @@ void PoseFramesFromReferenceMotion(const RigObservations& obs, const RigCalibrat
     }
     if (into == nullptr) break;
     const PlacedPoints points =
-        TriangulatePlacedTracks(obs, *views, PlacedTracks(obs, placed, views->camera_placed, num_frames), options);
+        TriangulatePlacedTracks(obs, *views, TracksOfCameras(obs, placed, views->camera_placed), options);
     const int n = static_cast<int>(obs.cameras.size());
     const auto& point_of = points.point_of[(f - 1) * n];
     std::vector<RigResectionCorrespondence> correspondences;
@@ -254,7 +232,7 @@ TrackRegistration RegisterCamerasThroughTracks(const RigObservations& obs, const
   }
   if (views.frames.empty()) return out;
   out.placed_poses = views.poses;
-  const PlacedPoints points = TriangulatePlacedTracks(obs, views, PlacedTracks(obs, placed, views.camera_placed, num_frames), options);
+  const PlacedPoints points = TriangulatePlacedTracks(obs, views, TracksOfCameras(obs, placed, views.camera_placed), options);
   if (points.x.empty()) return out;
   for (int c = 1; c < n; ++c) {
     if (views.camera_placed[c]) continue;
@@ -269,31 +247,31 @@ TrackRegistration RegisterCamerasThroughTracks(const RigObservations& obs, const
   return out;
 }
 
-RigObservations WithRegisteredCameras(const RigObservations& obs, const RigCalibrationResult& placed,
-                                      const TrackRegistration& registration) {
-  const int n = static_cast<int>(obs.cameras.size());
+std::vector<ViewTrack> TracksOfCameras(const RigObservations& obs, const RigCalibrationResult& placed,
+                                       const std::vector<char>& cameras) {
+  const int num_frames = static_cast<int>(obs.keypoints.size());
+  std::vector<PairMatches> pairs;
+  for (size_t p = 0; p < obs.pairs.size(); ++p) {
+    const PairEstimate& e = obs.pairs[p];
+    if (!cameras[e.cam_a] || !cameras[e.cam_b] || !e.two_view.success) continue;
+    if (p < placed.edges.size() && !placed.edges[p].Used()) continue;
+    if (static_cast<int>(obs.inliers[p].per_frame.size()) == num_frames) pairs.push_back(obs.inliers[p]);
+  }
+  std::vector<TemporalPairEstimate> temporal;
+  for (const TemporalPairEstimate& t : obs.temporal) {
+    if (t.two_view.success && cameras[t.camera]) temporal.push_back(t);
+  }
+  std::vector<CrossTimePairEstimate> cross_time;
+  for (const CrossTimePairEstimate& x : obs.cross_time) {
+    if (x.two_view.success && cameras[x.cam_a] && cameras[x.cam_b]) cross_time.push_back(x);
+  }
+  return BuildViewTracksAcrossTime(static_cast<int>(obs.cameras.size()), num_frames, pairs, temporal, cross_time);
+}
+
+RigObservations WithRegisteredViewPairs(const RigObservations& obs, const TrackRegistration& registration) {
   RigObservations out = obs;
-  if (out.rotation_start.empty()) out.rotation_start.assign(n, std::nullopt);
-  for (int c = 0; c < n && c < static_cast<int>(placed.cam_from_rig_rotation.size()); ++c) {
-    if (placed.cam_from_rig_rotation[c]) out.rotation_start[c] = placed.cam_from_rig_rotation[c];
-  }
-  // The pairs the rig did not use stay out (between cameras it did not join, or left out): the
-  // registered cameras are placed through many view pairs, where one pair between two of them may
-  // be biased (a rotation-only fit across a baseline to a near facade turned a twin's rear cameras
-  // 2 deg together).
-  for (size_t p = 0; p < out.pairs.size() && p < placed.edges.size(); ++p) {
-    if (placed.edges[p].Used() || !out.pairs[p].two_view.success) continue;
-    out.pairs[p].two_view.success = false;
-    out.pairs[p].two_view.failure = TwoViewFailure::kNotEstimated;
-    out.pairs[p].two_view.failure_reason = "not used by the rig its cameras were registered into";
-    for (auto& frame : out.inliers[p].per_frame) frame.clear();
-  }
-  out.pose_start = registration.placed_poses;
   for (const CameraRegistration& r : registration.cameras) {
-    if (!r.registered) continue;
-    out.pose_start.cam_from_rig[r.camera] = r.cam_from_rig;
-    out.rotation_start[r.camera] = r.cam_from_rig.rotation;
-    out.cross_time.insert(out.cross_time.end(), r.view_pairs.begin(), r.view_pairs.end());
+    if (r.registered) out.cross_time.insert(out.cross_time.end(), r.view_pairs.begin(), r.view_pairs.end());
   }
   return out;
 }

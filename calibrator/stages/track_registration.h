@@ -4,14 +4,15 @@
 // keypoint of a triangulated track sees that point. The camera is fixed in the rig, so all frames'
 // correspondences make one resection (estimators/rig_resection.h): many weak view pairs, none of
 // which passes a pair's test alone, can together fix a camera. The registered camera's inlier
-// matches become view pairs (RigObservations::cross_time) for the rig stage, which adjusts and
-// judges the whole rig again (motion_passes.h decides whether that result is kept).
+// matches become view pairs (RigObservations::cross_time), and the rig with the registered cameras
+// is adjusted as it stands (registered_rig_adjustment.h).
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "calibrator/model/rig_observations.h"
+#include "calibrator/model/tracks.h"
 #include "calibrator/stages/motion_links.h"
 #include "calibrator/stages/rig_options.h"
 #include "calibrator/stages/rig_result.h"
@@ -47,11 +48,13 @@ struct TrackRegistration {
 TrackRegistration RegisterCamerasThroughTracks(const RigObservations& obs, const RigCalibrationResult& placed,
                                                const ViewPairMatcher& match, const TrackRegistrationOptions& options);
 
-// `obs` with the registered cameras' view pairs added as links (cross_time), every rotation
-// started where `placed` and the registrations put it, the pairs `placed` did not use failed
-// (left out, or between cameras it did not join), and the registered rig as a start of the bundle
-// adjustment (RigObservations::pose_start): what the rig stage adjusts next.
-RigObservations WithRegisteredCameras(const RigObservations& obs, const RigCalibrationResult& placed,
-                                      const TrackRegistration& registration);
+// The tracks of the cameras marked in `cameras` (one entry per camera): the inliers of the pairs
+// between them that `placed` used, of their own motion, and of their view pairs across time.
+std::vector<ViewTrack> TracksOfCameras(const RigObservations& obs, const RigCalibrationResult& placed,
+                                       const std::vector<char>& cameras);
+
+// `obs` with the registered cameras' inlier view pairs added as view pairs across time
+// (cross_time): their tracks join the placed cameras' in the adjustment and in the next round.
+RigObservations WithRegisteredViewPairs(const RigObservations& obs, const TrackRegistration& registration);
 
 }  // namespace rigsim

@@ -8,6 +8,7 @@
 
 #include "calibrator/calibrator_test_support.h"
 #include "calibrator/motion_passes.h"
+#include "calibrator/stages/registered_rig_adjustment.h"
 #include "testing/synthetic_rig.h"
 
 namespace rigsim {
@@ -77,6 +78,16 @@ TEST(TrackRegistration, PlacesACameraWhosePairsFailThroughItsMatchesWithPlacedPo
   bool said = false;
   for (const std::string& w : r.warnings) said = said || w.find("cam3 is placed through tracks") != std::string::npos;
   EXPECT_TRUE(said);
+  // Its deviations are the adjustment's, and they bound its errors: independent noise of 0.5 px,
+  // so three deviations (and a hair for the truth's own rounding) cover it.
+  const RigCameraStats& stats = r.camera_stats[kWeakCamera];
+  ASSERT_TRUE(stats.rotation_std_deg && stats.direction_std_deg);
+  EXPECT_GT(*stats.rotation_std_deg, 1e-4);
+  EXPECT_GT(*stats.direction_std_deg, 1e-3);
+  EXPECT_LT(*errors[kWeakCamera].rotation_error_deg, 3 * *stats.rotation_std_deg + 1e-3);
+  EXPECT_LT(*errors[kWeakCamera].direction_error_deg, 3 * *stats.direction_std_deg + 1e-2);
+  EXPECT_GT(stats.observations, 0);
+  EXPECT_EQ(r.scale_kind, before.scale_kind);
 }
 
 TEST(TrackRegistration, LeavesACameraWhoseMatchesFitNoPoseUnplacedAndSaysWhy) {
@@ -113,6 +124,52 @@ TEST(TrackRegistration, PlacesTheRigAgainstTheReferenceCamerasOwnMotionWhenNoPai
     ASSERT_TRUE(HasFullPose(r.camera_status[c].outcome)) << c << ": " << r.camera_status[c].reason;
     EXPECT_LT(*errors[c].rotation_error_deg, 0.1) << c;
     EXPECT_LT(*errors[c].direction_error_deg, 1.0) << c;
+  }
+  // Camera 0 alone had no unit of length; a registered camera's distance from it is now the unit.
+  EXPECT_EQ(before.scale_kind, ScaleKind::kNone);
+  ASSERT_EQ(r.scale_kind, ScaleKind::kUnit) << r.scale;
+  int unit_camera = -1;
+  for (int c = 1; c < 5; ++c) {
+    if (r.scale.find("|centre of " + r.rig.cameras[c].name + "| = 1") != std::string::npos) unit_camera = c;
+  }
+  ASSERT_GE(unit_camera, 1) << r.scale;
+  EXPECT_NEAR(r.rig.cameras[unit_camera].cam_from_rig->translation.norm(), 1.0, 1e-9);
+  // The frames are in the same unit: the rig's first step against the truth's, in units of that
+  // camera's distance from camera 0.
+  const double truth_unit = s.rig.cameras[unit_camera].cam_from_rig->SourceOriginInTarget().norm();
+  const double truth_step = (s.rig_from_world[1].Inverse().translation - s.rig_from_world[0].Inverse().translation).norm();
+  ASSERT_TRUE(r.rig_from_world[1]);
+  const double step = r.rig_from_world[1]->Inverse().translation.norm();
+  EXPECT_NEAR(step, truth_step / truth_unit, 0.02 * truth_step / truth_unit);
+}
+
+// The adjustment confirms a registration or does not place the camera: a registered pose turned
+// 5 deg from where its matches put it is pulled back by the adjustment, and the camera is left
+// unplaced with why, the placed ones where they were.
+TEST(RegisteredRigAdjustment, DoesNotPlaceACameraItsAdjustmentTurnsAwayFromTheRegisteredPose) {
+  SyntheticRig s = FiveCameraRing();
+  const RigObservations obs = ObserveWithWeakCameras(s, {kWeakCamera});
+  RigCalibrationOptions options = WithoutMotionLinks();
+  options.registration.enabled = false;
+  const RigCalibrationResult placed = EstimateRigWithMotionLinks(obs, SyntheticMatcher(s), options);
+  TrackRegistration reg = RegisterCamerasThroughTracks(obs, placed, SyntheticMatcher(s), options.registration);
+  ASSERT_EQ(reg.cameras.size(), 1u);
+  ASSERT_TRUE(reg.cameras[0].registered) << reg.cameras[0].reason;
+  const RigObservations with_pairs = WithRegisteredViewPairs(obs, reg);
+
+  const RegisteredRig good = AdjustRegisteredRig(with_pairs, placed, reg, options);
+  EXPECT_TRUE(HasFullPose(good.result.camera_status[kWeakCamera].outcome));
+  EXPECT_TRUE(good.not_placed.empty());
+
+  reg.cameras[0].cam_from_rig.rotation =
+      Eigen::Quaterniond(Eigen::AngleAxisd(DegToRad(5.0), Eigen::Vector3d::UnitY())) * reg.cameras[0].cam_from_rig.rotation;
+  const RegisteredRig turned = AdjustRegisteredRig(with_pairs, placed, reg, options);
+  EXPECT_EQ(turned.result.camera_status[kWeakCamera].outcome, CameraOutcome::kNotConnected);
+  ASSERT_EQ(turned.not_placed.size(), 1u);
+  EXPECT_EQ(turned.not_placed[0].rfind("cam3: the adjustment", 0), 0u) << turned.not_placed[0];
+  for (int c : {0, 1, 2, 4}) {
+    EXPECT_TRUE(HasFullPose(turned.result.camera_status[c].outcome)) << c;
+    EXPECT_LT(RotationDifferenceDeg(*turned.result.cam_from_rig_rotation[c], *placed.cam_from_rig_rotation[c]), 0.05) << c;
   }
 }
 

@@ -1,0 +1,218 @@
+#include "calibrator/stages/registered_rig_adjustment.h"
+
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "calibrator/estimators/bundle_covariance.h"
+#include "calibrator/estimators/multi_frame_rig.h"
+#include "calibrator/stages/rig_calibration.h"
+#include "calibrator/stages/rig_motion_links.h"
+#include "calibrator/stages/stage_clock.h"
+#include "common/format.h"
+
+namespace rigsim {
+namespace {
+
+// The start: the placed rig's poses with the registered cameras' (registration.placed_poses is in
+// `placed`'s unit).
+RigPoses StartPoses(const TrackRegistration& registration) {
+  RigPoses start = registration.placed_poses;
+  for (const CameraRegistration& r : registration.cameras) {
+    if (r.registered) start.cam_from_rig[r.camera] = r.cam_from_rig;
+  }
+  return start;
+}
+
+// The camera whose distance from camera 0 holds the unit of length: a placed one where there is
+// one (the result keeps `placed`'s unit), else a registered one; -1 when no camera but camera 0
+// has a centre apart from it.
+int ScaleCamera(const RigCalibrationResult& placed, const RigPoses& start) {
+  for (const bool placed_only : {true, false}) {
+    for (int c = 1; c < static_cast<int>(start.cam_from_rig.size()); ++c) {
+      if (placed_only && !HasFullPose(placed.camera_status[c].outcome)) continue;
+      if (start.cam_from_rig[c] && start.cam_from_rig[c]->translation.norm() > 1e-9) return c;
+    }
+  }
+  return -1;
+}
+
+// The placed rig's capture times, held: nullopt when every camera captures at its frame's
+// timestamp (or the frames have none). A registered camera captures at its frame's timestamp.
+std::optional<CaptureTiming> HeldTiming(const RigObservations& obs, const RigCalibrationResult& placed) {
+  const int n = static_cast<int>(obs.cameras.size());
+  CaptureTiming timing;
+  timing.frame_times_s = obs.frame_times_s;
+  timing.readout_bottom_to_top = obs.readout_bottom_to_top;
+  bool any = false;
+  for (int c = 0; c < n; ++c) {
+    const RigCamera& rc = placed.rig.cameras[c];
+    const bool placed_camera = HasFullPose(placed.camera_status[c].outcome);
+    timing.time_offset_s.push_back(placed_camera ? rc.time_offset_s : 0.0);
+    timing.readout_s.push_back(placed_camera ? rc.readout_s : 0.0);
+    any = any || timing.time_offset_s.back() != 0.0 || timing.readout_s.back() != 0.0;
+  }
+  if (!any || obs.frame_times_s.size() != obs.keypoints.size()) return std::nullopt;
+  return timing;
+}
+
+// What the adjustment makes of registered camera `c`: its status, and whether its pose is kept.
+struct RegisteredOutcome {
+  CameraStatus status;
+  bool placed = false;
+  bool rotated = false;
+};
+
+RegisteredOutcome JudgeRegistered(const RigObservations& obs, const CameraRegistration& r,
+                                  const MultiFrameBundleAdjustmentResult& ba, const RigCalibrationOptions& options) {
+  const int c = r.camera;
+  RegisteredOutcome out;
+  out.status = {CameraOutcome::kNotConnected, PositionOutcome::kNotObservable, ""};
+  const auto& pose = ba.poses.cam_from_rig[c];
+  const int kept = ba.observations_per_camera[c];
+  if (!pose || kept < options.registration.resection.min_inliers) {
+    out.status.reason = "the adjustment keeps only " + std::to_string(kept) + " of its observations";
+    return out;
+  }
+  const double turn = RotationDifferenceDeg(pose->rotation, r.cam_from_rig.rotation);
+  if (turn > kMaxRegisteredRotationChangeDeg) {
+    out.status.reason = "the adjustment turns it " + Fixed(turn, 2) + " deg from where its matches put it";
+    return out;
+  }
+  out.rotated = true;
+  const auto& cov = c < static_cast<int>(ba.centre_covariance.size()) ? ba.centre_covariance[c] : std::nullopt;
+  const double std_deg = cov ? DirectionStdDeg(pose->SourceOriginInTarget(), *cov) : 180.0;
+  // The bound is held against deviations that count every residual as independent, as the rig
+  // stage holds it (rig_calibration.cc).
+  if (std_deg / std::sqrt(ba.residual_correlation) > options.max_direction_std_deg) {
+    out.status = {CameraOutcome::kRotationOnly, PositionOutcome::kNotDetermined,
+                  "the adjusted rig fixes its direction from " + obs.camera_names[0] + " to +-" + Fixed(std_deg, 1) +
+                      " deg only"};
+    return out;
+  }
+  out.placed = true;
+  out.status = {CameraOutcome::kCalibrated, PositionOutcome::kPlaced, ""};
+  return out;
+}
+
+// Per camera of the adjustment: the observations kept and the deviations.
+void SetStats(const MultiFrameBundleAdjustmentResult& ba, int c, RigCameraStats* stats) {
+  stats->observations = ba.observations_per_camera[c];
+  const auto& pose = ba.poses.cam_from_rig[c];
+  if (c > 0 && pose && c < static_cast<int>(ba.centre_covariance.size()) && ba.centre_covariance[c]) {
+    stats->direction_std_deg = DirectionStdDeg(pose->SourceOriginInTarget(), *ba.centre_covariance[c]);
+  }
+  if (c < static_cast<int>(ba.rotation_stddev_deg.size())) stats->rotation_std_deg = ba.rotation_stddev_deg[c];
+}
+
+// Sets the unit of length: |centre of `scale_camera`| = 1, or metres from the known distance when
+// both its cameras are placed; returns the factor the lengths were scaled by.
+double SetScale(const RigObservations& obs, const RigCalibrationOptions& options, int scale_camera,
+              RigCalibrationResult* result) {
+  PerCamera<Rigid3d> poses;
+  for (const RigCamera& rc : result->rig.cameras) poses.push_back(rc.cam_from_rig);
+  double factor = 1.0 / poses[scale_camera]->translation.norm();
+  ScaleTranslations(factor, &poses, &result->rig_from_world);
+  result->scale_kind = ScaleKind::kUnit;
+  result->scale = "unit scale: |centre of " + obs.camera_names[scale_camera] + "| = 1";
+  if (options.known_distance) {
+    const auto [a, b] = KnownDistanceCameras(*options.known_distance, obs.camera_names, "AdjustRegisteredRig");
+    if (poses[a] && poses[b]) {
+      const double d = (poses[a]->SourceOriginInTarget() - poses[b]->SourceOriginInTarget()).norm();
+      if (d > 1e-12) {
+        factor *= options.known_distance->metres / d;
+        ScaleTranslations(options.known_distance->metres / d, &poses, &result->rig_from_world);
+        result->scale_kind = ScaleKind::kMetric;
+        result->scale = "metric: |" + obs.camera_names[a] + " - " + obs.camera_names[b] +
+                        "| = " + Fixed(options.known_distance->metres, 4) + " m";
+      }
+    }
+  }
+  for (size_t c = 0; c < poses.size(); ++c) result->rig.cameras[c].cam_from_rig = poses[c];
+  return factor;
+}
+
+}  // namespace
+
+RegisteredRig AdjustRegisteredRig(const RigObservations& obs, const RigCalibrationResult& placed,
+                                  const TrackRegistration& registration, const RigCalibrationOptions& options) {
+  const int n = static_cast<int>(obs.cameras.size());
+  const auto start_time = StageClock::now();
+  const RigPoses start = StartPoses(registration);
+  std::vector<char> in_rig(n, 0);
+  for (int c = 0; c < n; ++c) in_rig[c] = start.cam_from_rig[c].has_value();
+  const std::vector<ViewTrack> tracks = TracksOfCameras(obs, placed, in_rig);
+  std::vector<Camera> cameras;
+  for (int c = 0; c < n; ++c) cameras.push_back(placed.rig.cameras[c].camera);  // refined where they were
+
+  RigBundleAdjustmentOptions ba_options = options.bundle_adjustment;
+  if (ba_options.refine_intrinsics && ba_options.intrinsics_priors.centres.empty()) {
+    ba_options.intrinsics_priors.centres = obs.cameras;
+  }
+  ba_options.keep_points = ba_options.keep_points || options.keep_details;
+  ba_options.inter_camera_weight = InterCameraWeight(tracks, options.motion.max_inter_camera_weight);
+  const std::optional<CaptureTiming> timing =
+      ba_options.refine_intrinsics ? std::nullopt : HeldTiming(obs, placed);
+  const int scale_camera = ScaleCamera(placed, start);
+  const MultiFrameBundleAdjustmentResult ba =
+      MultiFrameRigBundleAdjust(cameras, obs.keypoints, tracks, start, scale_camera, ba_options,
+                                !placed.rig_motion_estimated, timing ? &*timing : nullptr);
+
+  RegisteredRig out;
+  RigCalibrationResult& result = out.result;
+  result = placed;
+  SetRefinedIntrinsics(obs, options, ba, &result);
+  result.num_tracks = static_cast<int>(tracks.size());
+  result.num_points = ba.num_points;
+  result.num_observations = ba.num_observations;
+  result.num_filtered_observations = ba.num_filtered_observations;
+  result.initial_reprojection_rms_px = ba.initial_rms_px;
+  result.reprojection_rms_px = ba.reprojection_rms_px;
+  result.residual_correlation = ba.residual_correlation;
+  result.rig_from_world = ba.poses.rig_from_world;
+  for (int c = 0; c < n; ++c) {
+    if (!HasFullPose(placed.camera_status[c].outcome) || !ba.poses.cam_from_rig[c]) continue;
+    result.rig.cameras[c].cam_from_rig = ba.poses.cam_from_rig[c];
+    result.cam_from_rig_rotation[c] = ba.poses.cam_from_rig[c]->rotation;
+    SetStats(ba, c, &result.camera_stats[c]);
+  }
+  const std::string remedy = "to place it: more overlap with a placed camera, or more frames while the rig moves";
+  bool registered_unit = false;
+  for (const CameraRegistration& r : registration.cameras) {
+    if (!r.registered) continue;
+    const RegisteredOutcome judged = JudgeRegistered(obs, r, ba, options);
+    CameraStatus& s = result.camera_status[r.camera];
+    if (!judged.placed) out.not_placed.push_back(result.rig.cameras[r.camera].name + ": " + judged.status.reason);
+    if (!judged.rotated || (!judged.placed && s.outcome == CameraOutcome::kRotationOnly)) continue;
+    s = judged.status;
+    if (!judged.placed) {
+      s.reason = "registered through tracks (" + std::to_string(r.inliers) + " of its " +
+                 std::to_string(r.correspondences) + " matches with placed points), but " + s.reason + "; " + remedy;
+    }
+    result.cam_from_rig_rotation[r.camera] = ba.poses.cam_from_rig[r.camera]->rotation;
+    SetStats(ba, r.camera, &result.camera_stats[r.camera]);
+    if (judged.placed) {
+      result.rig.cameras[r.camera].cam_from_rig = ba.poses.cam_from_rig[r.camera];
+      registered_unit = registered_unit || r.camera == scale_camera;
+    } else {
+      result.camera_stats[r.camera].direction_std_deg.reset();
+    }
+  }
+  // Camera 0 was the only one placed: the unit was the reference camera's first step.
+  const double length_scale = registered_unit && placed.scale_kind == ScaleKind::kNone
+                                  ? SetScale(obs, options, scale_camera, &result)
+                                  : 1.0;
+  if (options.keep_details) {
+    result.details = std::make_shared<RigCalibrationDetails>(placed.details ? *placed.details : RigCalibrationDetails{});
+    result.details->points.clear();
+    for (const Eigen::Vector3d& x : ba.points) result.details->points.push_back(length_scale * x);
+    result.details->point_observations = ba.point_observations;
+    result.details->initial_residuals_px = ba.initial_residuals_px;
+    result.details->final_residuals_px = ba.final_residuals_px;
+  }
+  result.bundle_adjustment_time_s += SecondsSince(start_time);
+  return out;
+}
+
+}  // namespace rigsim
