@@ -86,5 +86,42 @@ TEST(CellRunner, PlacementRoadDrivesTheLaneAndEgoVehicleBringsTheCar) {
   }
 }
 
+// A rig with a camera looking down into where its car would be: the cell fails naming the camera,
+// before anything renders, as make-rig --ego-vehicle refuses it (in its lane: structure placement
+// finds no place for a camera that looks at the ground).
+TEST(CellRunner, ACameraLookingIntoTheCarFailsTheCell) {
+  const TempDir dir;
+  Rig rig;
+  // Cameras at the roof's front and rear edges looking out keep the roof 5 cm under them (no mount),
+  // and the third looks straight down at it.
+  const Camera camera(CameraModelId::kPinhole, 32, 24, {20, 20, 15.5, 11.5});
+  const Eigen::Quaterniond looks_back(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()));
+  const Eigen::Quaterniond looks_down(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()));  // its z along rig +y
+  const auto at = [](const Eigen::Quaterniond& cam_from_rig, const Eigen::Vector3d& centre) {
+    return Rigid3d(cam_from_rig, -(cam_from_rig * centre));
+  };
+  rig.cameras = {{"ahead", camera, Rigid3d(), 0.0},
+                 {"behind", camera, at(looks_back, {0, 0, -1.8}), 0.0},
+                 {"down", camera, at(looks_down, {0.3, 0, -0.9}), 0.0}};
+  WriteRig(rig, dir / "rig.json");
+  Json j = Json::parse(R"({"base": {"rig": "file", "rig_file": "rig.json", "frames": 1, "spp": 1,
+                                    "placement": "road", "ego_vehicle": true},
+                           "methods": {"semantics": ["none"]}})");
+  j["base"]["scene"] = DataPath("assets/scenes/street.glb").string();
+  const SweepConfig config = ParseSweepConfig(j, "t.json");
+  CellRunnerOptions options;
+  options.config_dir = dir.path();
+  options.scene_dir = dir / "scenes";
+  options.num_threads = 1;
+  const SweepCell cell = ExpandCells(config).at(0);
+  ASSERT_TRUE((rig.cameras[2].cam_from_rig->rotation.conjugate() * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d::UnitY()));
+  const CellRecord record = MakeCellRunner(config, options)(cell, dir.path(), [](const std::string&) {});
+  ASSERT_EQ(record.rows.size(), 1u);
+  EXPECT_EQ(record.rows[0].status, "failed");
+  EXPECT_EQ(record.rows[0].failure_reason.rfind("ego_vehicle: camera 'down' looks into the car body", 0), 0u)
+      << record.rows[0].failure_reason;
+  EXPECT_FALSE(fs::exists(dir / "dataset"));
+}
+
 }  // namespace
 }  // namespace rigsim
