@@ -104,12 +104,12 @@ EgoVehicleMeshes EgoVehicleInRig(const Rig& rig, double ground_below_rig_m) {
   const double roof_front = std::max(hi.z() + kRoofEndMargin, z_mid + 0.9);
   const double roof_rear = std::min(lo.z() - kRoofEndMargin, z_mid - 0.9);
   // Heights (y down): the roof kRoofGap under the lowest camera, and lower where the roof reaches
-  // further beyond a camera looking out, in the direction it looks, than kRoofMargin: there the cameras stand
-  // on a mount, as cameras clustered on a roof rack do, so that each sees the roof's edge no higher
-  // in its view than a camera at the roof's side edge. Without it, cameras grouped in less than the
-  // roof's least size (a ring, a rig mounted at one height) look across a roof that fills the lower
-  // half of every view. Then the beltline (bonnet and boot) below it, the sills 0.2 m above the
-  // ground (or 0.3 m below the beltline when the rig stands lower than that).
+  // further beyond a camera looking out, in the direction it looks, than kRoofMargin: there the
+  // cameras stand on a mount, as cameras grouped on a roof rack do, so that each sees the roof's
+  // edge no higher in its view than a camera at the roof's side edge. Without it, cameras grouped in
+  // less than the roof's least size (a ring, a rig mounted at one height) look across a roof that
+  // fills the lower half of every view. Then the beltline (bonnet and boot) below it, the sills
+  // 0.2 m above the ground (or 0.3 m below the beltline when the rig stands lower than that).
   double roof = hi.y() + kRoofGap;
   for (const RigCamera& c : rig.cameras) {
     const Eigen::Vector3d centre = c.cam_from_rig->SourceOriginInTarget();
@@ -151,8 +151,8 @@ EgoVehicleMeshes EgoVehicleInRig(const Rig& rig, double ground_below_rig_m) {
       char cm[32];
       std::snprintf(cm, sizeof(cm), "%.0f cm", 100 * t);
       throw std::invalid_argument("camera '" + c.name + "' looks into the car body " + cm +
-                                  " from its lens (the roof is at least 5 cm below the lowest camera): turn it to look out, "
-                                  "or go without the car body");
+                                  " from its lens (the roof is at least 5 cm below the lowest camera): turn it to "
+                                  "look out, or go without the car body");
     }
   }
   return body;

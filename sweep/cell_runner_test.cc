@@ -114,7 +114,8 @@ TEST(CellRunner, ACameraLookingIntoTheCarFailsTheCell) {
   options.scene_dir = dir / "scenes";
   options.num_threads = 1;
   const SweepCell cell = ExpandCells(config).at(0);
-  ASSERT_TRUE((rig.cameras[2].cam_from_rig->rotation.conjugate() * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d::UnitY()));
+  const Eigen::Vector3d down_axis = rig.cameras[2].cam_from_rig->rotation.conjugate() * Eigen::Vector3d::UnitZ();
+  ASSERT_TRUE(down_axis.isApprox(Eigen::Vector3d::UnitY()));
   const CellRecord record = MakeCellRunner(config, options)(cell, dir.path(), [](const std::string&) {});
   ASSERT_EQ(record.rows.size(), 1u);
   EXPECT_EQ(record.rows[0].status, "failed");
