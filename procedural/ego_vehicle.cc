@@ -87,19 +87,15 @@ double NearestHit(const MeshData& mesh, const Eigen::Vector3d& origin, const Eig
 }  // namespace
 
 EgoVehicleMeshes EgoVehicleInRig(const Rig& rig, double ground_below_rig_m) {
-  if (rig.cameras.empty()) throw std::invalid_argument("--ego-vehicle: the rig has no cameras");
+  if (rig.cameras.empty()) throw std::invalid_argument("the rig has no cameras");
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector3d hi = -lo;
   for (const RigCamera& c : rig.cameras) {
-    if (!c.cam_from_rig) throw std::invalid_argument("--ego-vehicle: camera '" + c.name + "' has no cam_from_rig");
+    if (!c.cam_from_rig) throw std::invalid_argument("camera '" + c.name + "' has no cam_from_rig");
     const Eigen::Vector3d centre = c.cam_from_rig->SourceOriginInTarget();
     lo = lo.cwiseMin(centre);
     hi = hi.cwiseMax(centre);
   }
-  // Heights (y down): roof under the lowest camera, beltline (bonnet and boot) below it, the sills
-  // 0.2 m above the ground (or 0.3 m below the beltline when the rig stands lower than that).
-  const double roof = hi.y() + 0.05, belt = roof + 0.4;
-  const double bottom = std::max(belt + 0.3, ground_below_rig_m - 0.2);
   // The cabin's roof over the cameras' footprint and a margin, at least 1.3 m x 1.8 m. The front
   // and rear margins are small and the windshield and rear window shallow, so that a camera at the
   // roof's front edge sees the bonnet below the horizon as a camera behind a windshield does.
@@ -107,6 +103,32 @@ EgoVehicleMeshes EgoVehicleInRig(const Rig& rig, double ground_below_rig_m) {
   const double half_width = std::max(0.65, 0.5 * (hi.x() - lo.x()) + kRoofMargin);
   const double roof_front = std::max(hi.z() + kRoofEndMargin, z_mid + 0.9);
   const double roof_rear = std::min(lo.z() - kRoofEndMargin, z_mid - 0.9);
+  // Heights (y down): the roof kRoofGap under the lowest camera, and lower where the roof reaches
+  // further beyond a camera looking out, in the direction it looks, than kRoofMargin: there the
+  // cameras stand on a mount, as cameras grouped on a roof rack do, so that each sees the roof's
+  // edge no higher in its view than a camera at the roof's side edge. Without it, cameras grouped in
+  // less than the roof's least size (a ring, a rig mounted at one height) look across a roof that
+  // fills the lower half of every view. Then the beltline (bonnet and boot) below it, the sills
+  // 0.2 m above the ground (or 0.3 m below the beltline when the rig stands lower than that).
+  double roof = hi.y() + kRoofGap;
+  for (const RigCamera& c : rig.cameras) {
+    const Eigen::Vector3d centre = c.cam_from_rig->SourceOriginInTarget();
+    const Eigen::Vector3d dir = c.cam_from_rig->rotation.conjugate() * Eigen::Vector3d::UnitZ();
+    const Eigen::Vector2d along(dir.x(), dir.z());
+    // Only cameras looking out: one looking more up than out sees no roof, one looking more down
+    // sees the car whatever its height (and is refused below when it looks into it).
+    if (std::abs(dir.y()) >= along.norm()) continue;
+    const Eigen::Vector2d d = along.normalized();
+    // Where the camera's horizontal line of sight leaves the roof's rectangle.
+    double to_edge = std::numeric_limits<double>::infinity();
+    if (d.x() > 1e-9) to_edge = std::min(to_edge, (x_mid + half_width - centre.x()) / d.x());
+    if (d.x() < -1e-9) to_edge = std::min(to_edge, (x_mid - half_width - centre.x()) / d.x());
+    if (d.y() > 1e-9) to_edge = std::min(to_edge, (roof_front - centre.z()) / d.y());
+    if (d.y() < -1e-9) to_edge = std::min(to_edge, (roof_rear - centre.z()) / d.y());
+    roof = std::max(roof, centre.y() + to_edge * kRoofGap / kRoofMargin);
+  }
+  const double belt = roof + 0.4;
+  const double bottom = std::max(belt + 0.3, ground_below_rig_m - 0.2);
   const double windshield_base = roof_front + 0.8, rear_window_base = roof_rear - 0.6;
   const double front = windshield_base + 1.1, rear = rear_window_base - 0.5;
 
@@ -128,9 +150,9 @@ EgoVehicleMeshes EgoVehicleInRig(const Rig& rig, double ground_below_rig_m) {
     if (t < kMinClearance) {
       char cm[32];
       std::snprintf(cm, sizeof(cm), "%.0f cm", 100 * t);
-      throw std::invalid_argument("--ego-vehicle: camera '" + c.name + "' looks into the car body " + cm +
-                                  " from its lens (the roof is 5 cm below the lowest camera): turn it to look out, "
-                                  "or leave out --ego-vehicle");
+      throw std::invalid_argument("camera '" + c.name + "' looks into the car body " + cm +
+                                  " from its lens (the roof is at least 5 cm below the lowest camera): turn it to "
+                                  "look out, or go without the car body");
     }
   }
   return body;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -79,6 +80,56 @@ TEST(EgoVehicle, ACompactRigGetsACarSizedBody) {
   const Eigen::AlignedBox3f box = Bounds(EgoVehicleInRig(rig, 1.6));
   EXPECT_GT(box.sizes().x(), 1.5f);
   EXPECT_GT(box.sizes().z(), 3.5f);
+}
+
+// Distance along the ray (origin, unit dir) to the nearest triangle of the body (Moller-Trumbore),
+// infinity when it meets none.
+double Hit(const EgoVehicleMeshes& body, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) {
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const MeshData* m : {&body.paint, &body.glass}) {
+    for (size_t i = 0; i + 2 < m->indices.size(); i += 3) {
+      const Eigen::Vector3d a = m->positions[m->indices[i]].cast<double>();
+      const Eigen::Vector3d e1 = m->positions[m->indices[i + 1]].cast<double>() - a;
+      const Eigen::Vector3d e2 = m->positions[m->indices[i + 2]].cast<double>() - a;
+      const Eigen::Vector3d p = dir.cross(e2), s = origin - a, q = s.cross(e1);
+      const double det = e1.dot(p);
+      if (std::abs(det) < 1e-12) continue;
+      const double u = s.dot(p) / det, v = dir.dot(q) / det, t = e2.dot(q) / det;
+      if (u >= 0 && v >= 0 && u + v <= 1 && t >= 0) nearest = std::min(nearest, t);
+    }
+  }
+  return nearest;
+}
+
+// Cameras at one height grouped closer than a car's roof is long and wide, as on a roof rack: a
+// ring of four looking out, and ddad-scene01's arrangement (a front camera, two more 0.15 and 0.7 m
+// behind it and beside it, within 3 cm of its height). Each sees the roof's edge, in the direction
+// it looks, no higher than a camera at the roof's side edge does (kRoofGap down over kRoofMargin
+// out), not across a roof that fills the lower half of its view; and the body is still under it.
+TEST(EgoVehicle, CamerasAtOneHeightSeeTheRoofOnlyLowInTheirViews) {
+  Rig ring, rack;
+  ring.cameras = {CameraAt("front", {0, 0, 0.5}, {0, 0, 1}), CameraAt("right", {0.5, 0, 0}, {1, 0, 0}),
+                  CameraAt("back", {0, 0, -0.5}, {0, 0, -1}), CameraAt("left", {-0.5, 0, 0}, {-1, 0, 0})};
+  rack.cameras = {CameraAt("front", {0, 0, 0}, {0, 0, 1}), CameraAt("left", {-0.15, 0.01, -0.15}, {-1, 0, 0.3}),
+                  CameraAt("right", {0.15, -0.02, -0.7}, {1, 0, -0.4})};
+  const double edge_slope = kRoofGap / kRoofMargin;
+  for (const Rig* rig : {&ring, &rack}) {
+    const EgoVehicleMeshes body = EgoVehicleInRig(*rig, 1.6);
+    const float roof = Bounds(body).min().y();  // y down: the body's top
+    for (const RigCamera& c : rig->cameras) {
+      SCOPED_TRACE(std::string(rig == &ring ? "ring " : "rack ") + c.name);
+      const Eigen::Vector3d centre = c.cam_from_rig->SourceOriginInTarget();
+      Eigen::Vector3d level = c.cam_from_rig->rotation.conjugate() * Eigen::Vector3d::UnitZ();
+      level.y() = 0;
+      level.normalize();
+      // A little above the edge's depression the camera sees past the roof (the bonnet or boot far
+      // beyond it may still show); a ray straight down meets the roof within half a metre.
+      const Eigen::Vector3d above_edge = (level + 0.9 * edge_slope * Eigen::Vector3d::UnitY()).normalized();
+      const double t = Hit(body, centre, above_edge);
+      if (std::isfinite(t)) EXPECT_GT((centre + t * above_edge).y(), roof + 0.01) << "meets the roof " << t << " m out";
+      EXPECT_LT(Hit(body, centre, Eigen::Vector3d::UnitY()), 0.5);
+    }
+  }
 }
 
 TEST(EgoVehicle, ACameraLookingIntoTheBodyIsRefused) {

@@ -134,7 +134,7 @@ std::vector<RigParam> MakeRigParams() {
               "how the rig is placed in a scene: structure (a free spot on the ground where every camera sees "
               "structure) or road (a vehicle in its lane: on the surface labelled road, heading along the road, right "
               "of its centre line where it is wide enough for two lanes; the whole path stays on the road)"),
-       G_::kPath, "", false, {},
+       G_::kPath, "", true, {},
        [](const Json& v, RigSpec& s) { s.placement.mode = PlacementModeFromName(v.get<std::string>()); }},
       {Number("rig_height", PlacementOptions{}.height_m, 0.05, 100,
               "placement in a scene: height of the rig's origin above the ground (m); a rig whose frame is its first "

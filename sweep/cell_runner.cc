@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <fstream>
 #include <memory>
 #include <mutex>
 #include <set>
@@ -15,6 +16,7 @@
 #include "evaluation/rig_scores.h"
 #include "gltf/gltf_loader.h"
 #include "pipeline/calibration_run.h"
+#include "procedural/ego_vehicle.h"
 #include "procedural/presets.h"
 #include "renderer/render_dataset.h"
 #include "rigs/rig_params.h"
@@ -159,7 +161,7 @@ CalibrationRunOptions CellCalibrationOptions(const SweepMethod& method, const Js
 RigSpec CellRigSpec(const Json& p, const fs::path& config_dir) {
   Json values = Json::object();
   for (const RigParam& r : RigParams()) {
-    if (r.in_sweep) values[r.spec.name] = p.at(r.spec.name);
+    if (r.in_sweep) values[r.spec.name] = CellParam(p, r.spec.name);
   }
   RigSpec s = RigSpecFromParams(values);
   s.placement.seed = Seed(p);
@@ -203,7 +205,13 @@ CellRunner MakeCellRunner(const SweepConfig& config, const CellRunnerOptions& op
       const Scene& scene = cache->Get(scene_file);
       status("placing the rig");
       const RigSpec spec = CellRigSpec(p, options.config_dir);
-      std::optional<PlacedRig> placed = MakePlacedRig(spec, &scene);
+      std::optional<PlacedRig> placed;
+      try {
+        placed = MakePlacedRig(spec, &scene);
+      } catch (const NoRoadError& e) {
+        return fail_all(p.at("scene").get<std::string>() + ": " + e.what() + "; placement road needs a scene whose road "
+                        "surface is labelled road (the presets' is)");
+      }
       if (!placed) return fail_all(NoPlaceMessage(spec, p.at("scene").get<std::string>()));
       const double offset_s = p.at("time_offset_ms").get<double>() / 1000.0;
       const double readout_s = p.at("readout_ms").get<double>() / 1000.0;
@@ -220,6 +228,24 @@ CellRunner MakeCellRunner(const SweepConfig& config, const CellRunnerOptions& op
       job.options.seed = Seed(p);
       job.options.num_threads = options.num_threads;
       job.photometric = Photometric(p);
+      // The rig's own car as make-rig --ego-vehicle writes it and render reads it.
+      std::optional<Scene> ego_vehicle;
+      if (CellParam(p, "ego_vehicle").get<bool>()) {
+        std::vector<uint8_t> glb;
+        try {
+          glb = EgoVehicleGlb(placed->rig, spec.placement.height_m);
+        } catch (const std::invalid_argument& e) {
+          return fail_all(std::string("ego_vehicle: ") + e.what());
+        }
+        const fs::path file = work / kEgoVehicleFile;
+        std::ofstream out(file, std::ios::binary);
+        out.write(reinterpret_cast<const char*>(glb.data()), std::streamsize(glb.size()));
+        if (!out.flush()) throw std::runtime_error(file.string() + ": cannot write");
+        out.close();
+        ego_vehicle = LoadGltf(file);
+        EgoVehicleToRigFrame(*ego_vehicle);
+        job.ego_vehicle = &*ego_vehicle;
+      }
       const SensorPreset& sensor = FindSensorPreset(p.at("sensor").get<std::string>());
       if (sensor.name != "ideal") {
         job.photometric = sensor.photometric;

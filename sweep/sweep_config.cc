@@ -50,6 +50,9 @@ std::vector<ParamSpec> MakeCellParamSpecs() {
        "when above 0); 0: no vehicle moves"},
   };
   AddRigParams(RigParamGroup::kRig, specs);
+  specs.push_back({"ego_vehicle", K::kBool, false, {}, 0, 0,
+                   "the rig's own car around it, as make-rig --ego-vehicle: a body sized from where the cameras are, "
+                   "labelled ego vehicle, with glossy paint; render shows it in every view that sees it"});
   AddRigParams(RigParamGroup::kImage, specs);
   AddRigParams(RigParamGroup::kMounting, specs);
   specs.push_back({"spp", K::kInt, 2, {}, 1, 256, "samples per pixel"});
@@ -81,6 +84,16 @@ std::vector<ParamSpec> MakeCellParamSpecs() {
 const std::vector<ParamSpec>& CellParamSpecs() {
   static const std::vector<ParamSpec> specs = MakeCellParamSpecs();
   return specs;
+}
+
+bool HeldWhenSet(const ParamSpec& spec) { return spec.name == "placement" || spec.name == "ego_vehicle"; }
+
+Json CellParam(const Json& params, const std::string& name) {
+  if (const auto it = params.find(name); it != params.end()) return *it;
+  for (const ParamSpec& s : CellParamSpecs()) {
+    if (s.name == name) return s.default_value;
+  }
+  throw std::out_of_range("no cell parameter '" + name + "'");
 }
 
 std::vector<std::string> SweepPeerNames() { return {"colmap"}; }
@@ -501,6 +514,7 @@ std::vector<SweepCell> ExpandCells(const SweepConfig& config) {
           if (config.base.contains(spec.name)) v = &config.base[spec.name];
           if (study.set.contains(spec.name)) v = &study.set[spec.name];
           if (combo.contains(spec.name)) v = &combo[spec.name];
+          if (HeldWhenSet(spec) && *v == spec.default_value) continue;
           params[spec.name] = spec.kind == ParamSpec::Kind::kNumber && v->is_number() ? Json(v->get<double>()) : *v;
         }
         params["seed"] = seed;

@@ -34,6 +34,15 @@ namespace rigsim {
 // defaults), the render's, the rig's path, and the images' errors.
 const std::vector<ParamSpec>& CellParamSpecs();
 
+// Whether a cell holds `spec` only where its value is not the default (placement, ego_vehicle):
+// parameters that came after sweeps had written their folders, kept out of the cells of a config
+// that leaves them at their default so that its keys, records and results stay what they were.
+bool HeldWhenSet(const ParamSpec& spec);
+
+// The value of parameter `name` in a cell's `params`, its default where the cell does not hold it
+// (HeldWhenSet). Throws std::out_of_range for a name that is no cell parameter.
+nlohmann::ordered_json CellParam(const nlohmann::ordered_json& params, const std::string& name);
+
 // A sweep axis: a parameter and the values it takes.
 struct SweepAxis {
   std::string param;
@@ -103,7 +112,9 @@ struct SweepConfig {
 struct SweepCell {
   int index = 0;                    // position in the sweep (0-based), for people
   std::string key;                  // 16 hex digits of the parameters' hash: names the cell's files
-  nlohmann::ordered_json params;            // every parameter of CellParamSpecs, defaults filled in, and "seed"
+  // Every parameter of CellParamSpecs, defaults filled in (but those HeldWhenSet at their
+  // default: read them with CellParam), and "seed".
+  nlohmann::ordered_json params;
   std::vector<std::string> studies; // the studies that include it
 };
 

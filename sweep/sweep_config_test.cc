@@ -115,6 +115,47 @@ TEST(SweepConfig, IntrinsicsErrorReachesTheCalibrationWithTheCellsSeed) {
               ThrowsWith<std::runtime_error>("sweep.json: grid.intrinsics_error[1]: -0.01 is outside 0 to 0.5"));
 }
 
+TEST(SweepConfig, PlacementAndEgoVehicleAreTakenAndCheckedBeforeAnythingRuns) {
+  const std::vector<SweepCell> cells = ExpandCells(ParseSweepConfig(Json::parse(R"({
+    "base": {"ego_vehicle": true}, "grid": {"placement": ["structure", "road"]}})"), "sweep.json"));
+  ASSERT_EQ(cells.size(), 2u);
+  EXPECT_EQ(CellParam(cells[0].params, "placement"), "structure");
+  EXPECT_EQ(CellParam(cells[1].params, "placement"), "road");
+  EXPECT_EQ(CellParam(cells[1].params, "ego_vehicle"), true);
+  EXPECT_EQ(CellRigSpec(cells[0].params, ".").placement.mode, PlacementMode::kStructure);
+  EXPECT_EQ(CellRigSpec(cells[1].params, ".").placement.mode, PlacementMode::kRoad);
+  EXPECT_NE(cells[0].key, cells[1].key);
+  // Bad values stop the config where it is read, naming the file, the key and what is accepted.
+  EXPECT_THAT(Parsing(R"({"base": {"placement": "roof"}})"),
+              ThrowsWith<std::runtime_error>("sweep.json: base.placement: 'roof' is not one of structure, road"));
+  EXPECT_THAT(Parsing(R"({"studies": [{"name": "s", "grid": {"ego_vehicle": [false, "yes"]}}]})"),
+              ThrowsWith<std::runtime_error>("sweep.json: studies[0].grid.ego_vehicle[1]: must be true or false, got \"yes\""));
+}
+
+TEST(SweepConfig, ConfigsThatLeaveOutPlacementAndEgoVehicleKeepTheirKeys) {
+  const auto cells = [](const std::string& text) { return ExpandCells(ParseSweepConfig(Json::parse(text), "sweep.json")); };
+  const std::vector<SweepCell> without = cells(R"({"name": "t", "seeds": [7], "grid": {"overlap": [10, 20]}})");
+  ASSERT_EQ(without.size(), 2u);
+  // The keys this config's cells had before either parameter existed: they name the records of its
+  // folders, which a run resumes from.
+  EXPECT_EQ(without[0].key, "93b96ac75d25e87b");
+  EXPECT_EQ(without[1].key, "906aae330a7c3764");
+  // Given at their defaults, they are the same cells; set otherwise, other cells.
+  const std::vector<SweepCell> defaults = cells(
+      R"({"name": "t", "seeds": [7], "base": {"placement": "structure", "ego_vehicle": false}, "grid": {"overlap": [10, 20]}})");
+  const std::vector<SweepCell> road = cells(R"({"name": "t", "seeds": [7], "base": {"placement": "road"}, "grid": {"overlap": [10, 20]}})");
+  const std::vector<SweepCell> car = cells(R"({"name": "t", "seeds": [7], "base": {"ego_vehicle": true}, "grid": {"overlap": [10, 20]}})");
+  for (size_t i = 0; i < without.size(); ++i) {
+    EXPECT_FALSE(without[i].params.contains("placement"));
+    EXPECT_FALSE(without[i].params.contains("ego_vehicle"));
+    EXPECT_EQ(defaults[i].key, without[i].key);
+    EXPECT_EQ(defaults[i].params, without[i].params);
+    EXPECT_NE(road[i].key, without[i].key);
+    EXPECT_NE(car[i].key, without[i].key);
+    EXPECT_NE(road[i].key, car[i].key);
+  }
+}
+
 TEST(SweepConfig, HashesDependOnWhatIsComputedOnly) {
   const Json a = Json::parse(R"({"name": "a", "grid": {"overlap": [10, 20]}})");
   Json b = a;

@@ -172,7 +172,12 @@ std::string SweepReportMarkdown(const SweepReportInput& in) {
   if (failed_rows > 0) md += "## Failed runs\n\n" + failures + "\n";
   md += "## Columns of results.csv\n\n| column | meaning |\n|---|---|\n";
   md += "| cell, key, studies, seed | the cell's number, its key (names `cells/<key>.json`), its studies, its seed |\n";
-  for (const ParamSpec& p : CellParamSpecs()) md += "| " + p.name + " | " + Cell(p.help) + " |\n";
+  for (const ParamSpec& p : CellParamSpecs()) {
+    // A parameter held only where it is set is a column when some cell sets it (sweep_results.cc).
+    const auto set = [&](const SweepCell& c) { return c.params.contains(p.name); };
+    if (HeldWhenSet(p) && std::none_of(in.cells->begin(), in.cells->end(), set)) continue;
+    md += "| " + p.name + " | " + Cell(p.help) + " |\n";
+  }
   for (const MetricSpec& m : CellMetricSpecs()) md += "| " + m.name + " | " + Cell(m.help) + " |\n";
   md += "| method, tool, semantics, features, time | how the cell was calibrated (time: how rigsim took the cameras' "
         "capture times, synchronised or estimated) |\n"

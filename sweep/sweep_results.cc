@@ -1,5 +1,6 @@
 #include "sweep/sweep_results.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -86,7 +87,7 @@ Json ResultRow(const SweepCell& cell, const SweepMethod& method, const CellRecor
   j["key"] = cell.key;
   j["studies"] = studies;
   j["seed"] = cell.params.at("seed");
-  for (const ParamSpec& p : CellParamSpecs()) j[p.name] = cell.params.at(p.name);
+  for (const ParamSpec& p : CellParamSpecs()) j[p.name] = CellParam(cell.params, p.name);
   for (const MetricSpec& m : CellMetricSpecs()) j[m.name] = record.cell_metrics.value(m.name, Json(nullptr));
   j["method"] = method.name;
   j["tool"] = method.tool;
@@ -101,10 +102,14 @@ Json ResultRow(const SweepCell& cell, const SweepMethod& method, const CellRecor
 
 namespace {
 
-// The column names in order: the same for every row.
-std::vector<std::string> Columns() {
+// The column names in order, the same for every row: a parameter held only where it is set
+// (HeldWhenSet) is a column when some row sets it, so that results without it stay as they were.
+std::vector<std::string> Columns(const std::vector<Json>& rows) {
   std::vector<std::string> c = {"cell", "key", "studies", "seed"};
-  for (const ParamSpec& p : CellParamSpecs()) c.push_back(p.name);
+  for (const ParamSpec& p : CellParamSpecs()) {
+    const auto set = [&](const Json& r) { return r.contains(p.name) && r.at(p.name) != p.default_value; };
+    if (!HeldWhenSet(p) || std::any_of(rows.begin(), rows.end(), set)) c.push_back(p.name);
+  }
   for (const MetricSpec& m : CellMetricSpecs()) c.push_back(m.name);
   for (const char* n : {"method", "tool", "semantics", "features", "time", "status", "failure_reason"}) c.push_back(n);
   for (const MetricSpec& m : SweepMetricSpecs()) c.push_back(m.name);
@@ -130,7 +135,7 @@ std::string CsvField(const Json& v) {
 }  // namespace
 
 std::string ResultsCsv(const std::vector<Json>& rows) {
-  const std::vector<std::string> columns = Columns();
+  const std::vector<std::string> columns = Columns(rows);
   std::string out;
   for (size_t i = 0; i < columns.size(); ++i) {
     if (i) out += ',';
@@ -148,7 +153,7 @@ std::string ResultsCsv(const std::vector<Json>& rows) {
 }
 
 std::string ResultsJsonl(const std::vector<Json>& rows) {
-  const std::vector<std::string> columns = Columns();
+  const std::vector<std::string> columns = Columns(rows);
   std::string out;
   for (const Json& r : rows) {
     nlohmann::ordered_json o;

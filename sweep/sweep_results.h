@@ -57,7 +57,8 @@ std::optional<CellRecord> ReadFinishedCell(const std::filesystem::path& out_dir,
 nlohmann::ordered_json ResultRow(const SweepCell& cell, const SweepMethod& method, const CellRecord& record,
                          const MethodRow& row);
 // The CSV header and one line per row (RFC 4180 quoting; numbers with up to 6 significant digits,
-// unknown values empty).
+// unknown values empty). A parameter a cell holds only where it is set (HeldWhenSet) is a column
+// when some row sets it.
 std::string ResultsCsv(const std::vector<nlohmann::ordered_json>& rows);
 std::string ResultsJsonl(const std::vector<nlohmann::ordered_json>& rows);
 

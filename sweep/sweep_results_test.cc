@@ -28,7 +28,10 @@ TEST(SweepResults, CsvHasEveryParameterAndMetricQuotedAsRfc4180) {
   const std::string csv = ResultsCsv(rows);
   const std::string header = csv.substr(0, csv.find('\n'));
   EXPECT_EQ(header.substr(0, 40), "cell,key,studies,seed,scene,scene_seed,a");
-  for (const ParamSpec& p : CellParamSpecs()) EXPECT_NE(header.find("," + p.name + ","), std::string::npos) << p.name;
+  for (const ParamSpec& p : CellParamSpecs()) {
+    // A parameter held where it is set is no column of a sweep that leaves it out.
+    EXPECT_EQ(header.find("," + p.name + ",") != std::string::npos, !HeldWhenSet(p)) << p.name;
+  }
   for (const MetricSpec& m : SweepMetricSpecs()) EXPECT_NE(header.find("," + m.name), std::string::npos) << m.name;
   EXPECT_NE(csv.find(",31.25,"), std::string::npos);
   EXPECT_NE(csv.find(",0.612346,"), std::string::npos);  // 6 significant digits
@@ -39,6 +42,24 @@ TEST(SweepResults, CsvHasEveryParameterAndMetricQuotedAsRfc4180) {
   EXPECT_DOUBLE_EQ(first["match_precision"].get<double>(), 0.6123456789);
   EXPECT_EQ(jsonl.substr(0, 9), "{\"cell\":0");
   EXPECT_TRUE(first["max_rotation_error_deg"].is_null());
+}
+
+TEST(SweepResults, PlacementIsAColumnWhenSomeCellSetsIt) {
+  const SweepConfig config = ParseSweepConfig(Json::parse(R"({"grid": {"placement": ["structure", "road"]}})"), "t.json");
+  const std::vector<SweepCell> cells = ExpandCells(config);
+  ASSERT_EQ(cells.size(), 2u);
+  const CellRecord record;
+  const MethodRow ok{"none", "ok", "", Json::object()};
+  const std::vector<Json> rows = {ResultRow(cells[0], config.methods[0], record, ok),
+                                  ResultRow(cells[1], config.methods[0], record, ok)};
+  const std::string csv = ResultsCsv(rows);
+  EXPECT_NE(csv.find(",placement,"), std::string::npos) << csv;
+  EXPECT_EQ(csv.find(",ego_vehicle,"), std::string::npos) << csv;
+  // The cell that leaves it at its default reads as the default, not as an empty field.
+  EXPECT_NE(csv.find(",structure,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",road,"), std::string::npos) << csv;
+  const std::string jsonl = ResultsJsonl(rows);
+  EXPECT_EQ(Json::parse(jsonl.substr(0, jsonl.find('\n')))["placement"], "structure");
 }
 
 // The rows are made from the metric table: a run gives every metric of the table, in its order

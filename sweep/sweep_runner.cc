@@ -112,7 +112,7 @@ std::string Describe(const SweepCell& cell, const std::vector<SweepStudy>& studi
   for (const SweepStudy& s : studies) {
     if (std::find(cell.studies.begin(), cell.studies.end(), s.name) == cell.studies.end()) continue;
     for (const std::string& p : s.VariedParams()) {
-      const Json& v = cell.params.at(p);
+      const Json v = CellParam(cell.params, p);
       what += (first ? "" : ", ") + p + "=" + FormatParamValue(v);
       first = false;
     }

@@ -57,7 +57,7 @@ StudyPoints PointsOf(const SweepStudy& study, const std::vector<SweepCell>& cell
   for (size_t i = 0; i < cells.size(); ++i) {
     if (std::find(cells[i].studies.begin(), cells[i].studies.end(), study.name) == cells[i].studies.end()) continue;
     Json v = Json::object();
-    for (const std::string& p : varied) v[p] = cells[i].params.at(p);
+    for (const std::string& p : varied) v[p] = CellParam(cells[i].params, p);
     auto it = std::find(sp.values.begin(), sp.values.end(), v);
     if (it == sp.values.end()) {
       sp.values.push_back(v);

@@ -40,7 +40,7 @@ TEST(OneDescription, MakeRigAndASweepCellBuildTheSameRigFromTheSameValues) {
     "base": {"width": 160, "height": 96, "frames": 2, "step": 1.5, "circle_radius": -9, "spacing": 55, "radius": 0.3},
     "seeds": [4],
     "zip": {"rig": ["ring", "surround"], "lens": ["opencv", "preset"], "distortion": [-0.1, -0.1],
-            "fisheye_fov": [190, 170], "lens_residual": [0.3, 0]}
+            "fisheye_fov": [190, 170], "lens_residual": [0.3, 0], "placement": ["road", "structure"]}
   })"), "test");
   for (const SweepCell& cell : ExpandCells(config)) {
     SCOPED_TRACE(cell.params.dump());
@@ -54,9 +54,9 @@ TEST(OneDescription, MakeRigAndASweepCellBuildTheSameRigFromTheSameValues) {
 
     std::vector<std::string> args = {"make-rig"};
     for (const RigParam& p : RigParams()) {
-      if (!p.in_sweep || cell.params.at(p.spec.name).is_null()) continue;
+      if (!p.in_sweep || CellParam(cell.params, p.spec.name).is_null()) continue;
       args.push_back(LongFlag(p));
-      args.push_back(FormatParamValue(cell.params.at(p.spec.name)));
+      args.push_back(FormatParamValue(CellParam(cell.params, p.spec.name)));
     }
     const fs::path out = dir / ("make-rig" + std::to_string(cell.index));
     for (const std::string& a : std::vector<std::string>{"--scene", scene_file.string(), "--seed",

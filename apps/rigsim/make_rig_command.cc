@@ -95,7 +95,8 @@ constexpr const char* kDescription =
     "Output: --rig-out and --frames-out, or --out DIR for DIR/rig.json and DIR/frames.json.\n"
     "With --ego-vehicle (needs --out) the rig gets its own car: DIR/ego_vehicle.glb, named in rig.json, a\n"
     "low-poly body sized from where the cameras are (roof 5 cm below the lowest camera and 5-10 cm beyond the\n"
-    "outermost, bonnet and boot beyond it, down to 0.2 m above the ground), labelled `ego vehicle`, with glossy\n"
+    "outermost, lower where cameras grouped closer than a car's roof would look across it; bonnet and boot\n"
+    "beyond it, down to 0.2 m above the ground), labelled `ego vehicle`, with glossy\n"
     "paint and glass that reflect the world. `rigsim render` moves it with the rig at every camera's capture\n"
     "time (rolling shutter and time offsets included): it shows in the lower part of views that look out and\n"
     "down past the roof, as a real car's body does.";
@@ -283,7 +284,11 @@ void WriteRigAndFrames(const MakeRigArgs& a, const Rig& rig_in, const FramesFile
   Rig rig = rig_in;
   std::vector<uint8_t> ego_vehicle;
   if (a.ego_vehicle) {  // before anything is written: a camera that looks into the body is refused
-    ego_vehicle = EgoVehicleGlb(rig, ground_below_rig_m);
+    try {
+      ego_vehicle = EgoVehicleGlb(rig, ground_below_rig_m);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("--ego-vehicle: ") + e.what());
+    }
     rig.ego_vehicle = kEgoVehicleFile;
   }
   if (!a.out.empty()) {
