@@ -154,12 +154,11 @@ RigCalibrationResult LinkWhereTheFullPassNeedsIt(const RigObservations& obs, Rig
 // The motion stage first, from the rotations where the pass without links stopped
 // (EstimateRigUnlessUnplaced): a pass with the links that places every camera, keeps its own
 // tracks and holds against the views it predicts is the result, and the full pass without them runs
-// only otherwise, to compare as LinkWhereTheFullPassNeedsIt does.
-RigCalibrationResult LinkBeforeTheFullPass(const RigObservations& obs,
-                                           const PerCamera<Eigen::Quaterniond>& known_rotations,
+// only otherwise (resumed where it stopped), to compare as LinkWhereTheFullPassNeedsIt does.
+RigCalibrationResult LinkBeforeTheFullPass(const RigObservations& obs, const RigPreCheck& stop,
                                            const ViewPairMatcher& match, const RigCalibrationOptions& options,
                                            RigObservations* used) {
-  const MotionLinks links = FindMotionLinks(obs, known_rotations, match, options);
+  const MotionLinks links = FindMotionLinks(obs, stop.cam_from_rig_rotation, match, options);
   std::optional<RigCalibrationResult> second;
   PredictionCheck check;
   if (!FoundNothing(links)) {
@@ -171,7 +170,7 @@ RigCalibrationResult LinkBeforeTheFullPass(const RigObservations& obs,
       return *std::move(second);
     }
   }
-  RigCalibrationResult first = EstimateRig(obs, options);
+  RigCalibrationResult first = EstimateRigFrom(obs, options, stop);
   // Where the full pass leaves no camera without a full pose after all (a pair a later round
   // rejected had left it out of rotation averaging), the motion stage was not needed: it ran, not
   // kept.
@@ -190,7 +189,7 @@ RigCalibrationResult MotionPasses(const RigObservations& obs, const ViewPairMatc
   RigPreCheck stop;
   std::optional<RigCalibrationResult> first = EstimateRigUnlessUnplaced(obs, options, &stop);
   if (first) return LinkWhereTheFullPassNeedsIt(obs, *std::move(first), match, options, used);
-  RigCalibrationResult result = LinkBeforeTheFullPass(obs, stop.cam_from_rig_rotation, match, options, used);
+  RigCalibrationResult result = LinkBeforeTheFullPass(obs, stop, match, options, used);
   AddRigWork(stop.work, &result);
   return result;
 }

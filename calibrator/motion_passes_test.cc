@@ -127,6 +127,21 @@ TEST(MotionLinks, ACameraThatOnlyAPairTheRigRejectsReachesIsPlacedByTheLinksInOn
   EXPECT_GT(stop.work.bundle_adjustment_time_s, 0.0);  // the first round's
   EXPECT_FALSE(stop.may_be_placed[3]);
   EXPECT_FALSE(stop.cam_from_rig_rotation[3].has_value());
+  // The full pass resumed where the check stopped is the full pass run from the start, to the bit.
+  const RigCalibrationResult resumed = EstimateRigFrom(obs, TwoThreads(), stop);
+  const RigCalibrationResult whole = EstimateRig(obs, TwoThreads());
+  EXPECT_EQ(resumed.rig_passes, 1);
+  ASSERT_EQ(resumed.edges.size(), whole.edges.size());
+  for (size_t e = 0; e < whole.edges.size(); ++e) EXPECT_EQ(resumed.edges[e].status, whole.edges[e].status) << e;
+  for (int cam = 0; cam < 4; ++cam) {
+    EXPECT_EQ(resumed.camera_status[cam].Text(), whole.camera_status[cam].Text()) << cam;
+    const auto& a = resumed.rig.cameras[cam].cam_from_rig;
+    const auto& b = whole.rig.cameras[cam].cam_from_rig;
+    ASSERT_EQ(a.has_value(), b.has_value()) << cam;
+    if (!a) continue;
+    EXPECT_EQ(a->rotation.coeffs(), b->rotation.coeffs()) << cam;
+    EXPECT_EQ(a->translation, b->translation) << cam;
+  }
   const RigCalibrationResult r = EstimateRigWithMotionLinks(obs, SyntheticMatcher(s), TwoThreads());
   ASSERT_TRUE(r.motion_links.has_value());
   EXPECT_TRUE(r.motion_links->kept);

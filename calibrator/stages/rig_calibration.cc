@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include <tbb/parallel_for.h>
+
 #include "calibrator/estimators/bundle_covariance.h"
 #include "calibrator/estimators/camera_centres.h"
 #include "calibrator/estimators/rig_positions.h"
@@ -318,19 +320,20 @@ AdjustedRig AdjustFromEveryStart(const RigObservations& obs, const std::vector<V
     ba_options.inter_camera_weight = InterCameraWeight(tracks, options.motion.max_inter_camera_weight);
     ba_options.held_centre_axis = ps.held_axis;
   }
-  std::vector<MultiFrameBundleAdjustmentResult> adjusted;
   const std::optional<CaptureTiming> timing = TimingModel(obs, motion, options.capture_time);
-  for (const PoseStart& start : ps.starts) {
-    adjusted.push_back(MultiFrameRigBundleAdjust(obs.cameras, obs.keypoints, tracks, start.poses, ps.scale_camera,
-                                                 ba_options, !motion.moving,
-                                                 timing ? &*timing : nullptr));
-    RigStartSummary summary;
-    summary.source = start.source;
-    summary.cost = TruncatedReprojectionCost(adjusted.back().cameras, obs.keypoints, tracks, adjusted.back().poses,
+  // Each start's adjustment is its own single-threaded solve: they run side by side, and each
+  // gives the same bits as alone.
+  std::vector<MultiFrameBundleAdjustmentResult> adjusted(ps.starts.size());
+  out.starts.resize(ps.starts.size());
+  tbb::parallel_for(0, static_cast<int>(ps.starts.size()), [&](int i) {
+    adjusted[i] = MultiFrameRigBundleAdjust(obs.cameras, obs.keypoints, tracks, ps.starts[i].poses, ps.scale_camera,
+                                            ba_options, !motion.moving, timing ? &*timing : nullptr);
+    RigStartSummary& summary = out.starts[i];
+    summary.source = ps.starts[i].source;
+    summary.cost = TruncatedReprojectionCost(adjusted[i].cameras, obs.keypoints, tracks, adjusted[i].poses,
                                              options.bundle_adjustment.max_reprojection_error_px,
                                              options.bundle_adjustment.min_triangulation_angle_deg, &summary.observations);
-    out.starts.push_back(summary);
-  }
+  });
   if (adjusted.empty()) return out;
   size_t best = 0;
   for (size_t i = 1; i < adjusted.size(); ++i) {
@@ -770,48 +773,79 @@ std::pair<int, int> CheckInputs(const RigObservations& obs, const RigCalibration
   return KnownDistanceCameras(*options.known_distance, obs.camera_names, "EstimateRig");
 }
 
-// EstimateRig, or with `stop` EstimateRigUnlessUnplaced.
+}  // namespace
+
+// Where the pair-rejection rounds stand: the pairs left out so far and why, the observations with
+// the pairs whose direction was left out (a copy made only then), and the result of the last round
+// completed (nullopt before the first).
+struct RigRounds {
+  std::vector<std::string> rejected, direction_left_out;
+  std::optional<RigObservations> kept;
+  std::optional<RigCalibrationResult> result;
+  int round = 0;  // of the estimate to run next: 0 the first, r after r pairs were left out
+};
+
+namespace {
+
+// The stage times and passes of `r` set to none (they are counted elsewhere already).
+void ClearRigWork(RigCalibrationResult* r) {
+  RigCalibrationResult none;
+  r->rig_passes = none.rig_passes;
+  r->rotation_averaging_time_s = none.rotation_averaging_time_s;
+  r->tracks_time_s = none.tracks_time_s;
+  r->positions_time_s = none.positions_time_s;
+  r->bundle_adjustment_time_s = none.bundle_adjustment_time_s;
+  r->synchronisation_check_time_s = none.synchronisation_check_time_s;
+}
+
+// The rounds from `state` on (EstimateRig), or with `stop` EstimateRigUnlessUnplaced: then nullopt
+// where a round's early stages leave a camera unplaced, with `stop` (its `rounds` the state to
+// resume from, the work done so far in its `work`).
 std::optional<RigCalibrationResult> EstimateRigRounds(const RigObservations& obs, const RigCalibrationOptions& options,
-                                                      RigPreCheck* stop) {
+                                                      RigRounds state, RigPreCheck* stop) {
   const auto [known_a, known_b] = CheckInputs(obs, options);
   // Every pair the rig used must agree with the rig it helped make: one that does not is left
   // out and the rig made again without it, the worst first.
   // A pair off in its direction only keeps its rotation and matches (max_direction_only_disagreement_deg):
-  // in `kept`, a copy made only then, it is a rotation-only pair.
-  std::vector<std::string> rejected(obs.pairs.size()), direction_left_out(obs.pairs.size());
-  std::optional<RigObservations> kept;
-  std::optional<RigCalibrationResult> first = EstimateRigOnce(obs, options, rejected, known_a, known_b, stop);
-  if (!first) return std::nullopt;
-  RigCalibrationResult result = *std::move(first);
-  for (int round = 0; round < options.max_rejected_pairs; ++round) {
-    const auto [edge, why] = MostDisagreeingEdge(result, options);
-    if (edge < 0) break;
-    const RigEdgeStats& worst = result.edges[edge];
-    if (worst.rotation_disagreement_deg.value_or(0.0) <= 0.5 * options.max_pair_rotation_disagreement_deg &&
-        worst.direction_disagreement_deg.value_or(0.0) <= options.max_direction_only_disagreement_deg) {
-      direction_left_out[edge] = "rotation used, baseline direction left out: " + why;
-      if (!kept) kept = obs;
-      kept->pairs[edge].two_view.rotation_only = true;
-      kept->pairs[edge].two_view.cam_b_from_cam_a.translation.setZero();
-    } else {
-      rejected[edge] = why;
-    }
-    std::optional<RigCalibrationResult> next = EstimateRigOnce(kept ? *kept : obs, options, rejected, known_a, known_b, stop);
+  // in `state.kept` it is a rotation-only pair.
+  if (state.rejected.empty()) state.rejected.assign(obs.pairs.size(), "");
+  if (state.direction_left_out.empty()) state.direction_left_out.assign(obs.pairs.size(), "");
+  for (;;) {
+    std::optional<RigCalibrationResult> next =
+        EstimateRigOnce(state.kept ? *state.kept : obs, options, state.rejected, known_a, known_b, stop);
     if (!next) {
-      stop->round = round + 1;
-      AddRigWork(result, &stop->work);
+      stop->round = state.round;
+      if (state.result) {
+        AddRigWork(*state.result, &stop->work);
+        ClearRigWork(&*state.result);
+      }
+      stop->rounds = std::make_shared<RigRounds>(std::move(state));
       return std::nullopt;
     }
-    AddRigWork(result, &*next);  // a round is part of this pass
-    result = *std::move(next);
+    if (state.result) AddRigWork(*state.result, &*next);  // a round is part of this pass
+    state.result = std::move(next);
+    const auto [edge, why] = MostDisagreeingEdge(*state.result, options);
+    if (edge < 0 || state.round == options.max_rejected_pairs) break;
+    ++state.round;
+    const RigEdgeStats& worst = state.result->edges[edge];
+    if (worst.rotation_disagreement_deg.value_or(0.0) <= 0.5 * options.max_pair_rotation_disagreement_deg &&
+        worst.direction_disagreement_deg.value_or(0.0) <= options.max_direction_only_disagreement_deg) {
+      state.direction_left_out[edge] = "rotation used, baseline direction left out: " + why;
+      if (!state.kept) state.kept = obs;
+      state.kept->pairs[edge].two_view.rotation_only = true;
+      state.kept->pairs[edge].two_view.cam_b_from_cam_a.translation.setZero();
+    } else {
+      state.rejected[edge] = why;
+    }
   }
+  RigCalibrationResult result = *std::move(state.result);
   result.rig_passes = 1;
   for (int e = 0; e < static_cast<int>(result.edges.size()); ++e) {
     RigEdgeStats& s = result.edges[e];
-    s.direction_left_out = !direction_left_out[e].empty();
+    s.direction_left_out = !state.direction_left_out[e].empty();
     if (s.direction_left_out && s.Used()) {
       s.outcome = EdgeOutcome::kDirectionLeftOut;
-      s.status = direction_left_out[e];
+      s.status = state.direction_left_out[e];
     }
   }
   return result;
@@ -820,13 +854,18 @@ std::optional<RigCalibrationResult> EstimateRigRounds(const RigObservations& obs
 }  // namespace
 
 RigCalibrationResult EstimateRig(const RigObservations& obs, const RigCalibrationOptions& options) {
-  return *EstimateRigRounds(obs, options, nullptr);
+  return *EstimateRigRounds(obs, options, {}, nullptr);
+}
+
+RigCalibrationResult EstimateRigFrom(const RigObservations& obs, const RigCalibrationOptions& options,
+                                     const RigPreCheck& stop) {
+  return *EstimateRigRounds(obs, options, stop.rounds ? *stop.rounds : RigRounds{}, nullptr);
 }
 
 std::optional<RigCalibrationResult> EstimateRigUnlessUnplaced(const RigObservations& obs,
                                                               const RigCalibrationOptions& options, RigPreCheck* stop) {
   *stop = RigPreCheck{};
-  return EstimateRigRounds(obs, options, stop);
+  return EstimateRigRounds(obs, options, {}, stop);
 }
 
 void SetRefinedIntrinsics(const RigObservations& obs, const RigCalibrationOptions& options,

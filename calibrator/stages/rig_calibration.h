@@ -23,6 +23,7 @@
 // that many metres apart ("metric").
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -39,6 +40,8 @@ namespace rigsim {
 // std::invalid_argument on inconsistent observations or a known distance naming an unknown camera.
 RigCalibrationResult EstimateRig(const RigObservations& observations, const RigCalibrationOptions& options);
 
+struct RigRounds;  // where the pair-rejection rounds stand (rig_calibration.cc)
+
 // Where EstimateRigUnlessUnplaced stopped. Exists so that the motion stage can run before a full
 // pass whose result it would replace.
 struct RigPreCheck {
@@ -54,6 +57,8 @@ struct RigPreCheck {
   PerCamera<Eigen::Quaterniond> cam_from_rig_rotation;
   // The stage times of what ran until the stop (every earlier round whole, rig_passes 0).
   RigCalibrationResult work;
+  // The rounds completed before the stop, for EstimateRigFrom.
+  std::shared_ptr<const RigRounds> rounds;
 
   bool SomeCameraWithoutFullPose() const;
 };
@@ -63,6 +68,12 @@ struct RigPreCheck {
 // Throws like EstimateRig.
 std::optional<RigCalibrationResult> EstimateRigUnlessUnplaced(const RigObservations& observations,
                                                               const RigCalibrationOptions& options, RigPreCheck* stop);
+
+// EstimateRig on the same observations and options, resumed where EstimateRigUnlessUnplaced
+// stopped (`stop`): the rounds it completed are not run again, and their work is in stop.work,
+// not in the result.
+RigCalibrationResult EstimateRigFrom(const RigObservations& observations, const RigCalibrationOptions& options,
+                                     const RigPreCheck& stop);
 
 // Adds `from`'s rig_passes and stage times into `into`, which then counts the work of both.
 void AddRigWork(const RigCalibrationResult& from, RigCalibrationResult* into);
