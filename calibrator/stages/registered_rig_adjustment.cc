@@ -8,7 +8,6 @@
 #include "calibrator/estimators/bundle_covariance.h"
 #include "calibrator/estimators/multi_frame_rig.h"
 #include "calibrator/stages/rig_calibration.h"
-#include "calibrator/stages/rig_motion_links.h"
 #include "calibrator/stages/stage_clock.h"
 #include "common/format.h"
 
@@ -25,15 +24,13 @@ RigPoses StartPoses(const TrackRegistration& registration) {
   return start;
 }
 
-// The camera whose distance from camera 0 holds the unit of length: a placed one where there is
-// one (the result keeps `placed`'s unit), else a registered one; -1 when no camera but camera 0
-// has a centre apart from it.
-int ScaleCamera(const RigCalibrationResult& placed, const RigPoses& start) {
-  for (const bool placed_only : {true, false}) {
-    for (int c = 1; c < static_cast<int>(start.cam_from_rig.size()); ++c) {
-      if (placed_only && !HasFullPose(placed.camera_status[c].outcome)) continue;
-      if (start.cam_from_rig[c] && start.cam_from_rig[c]->translation.norm() > 1e-9) return c;
-    }
+// The camera whose distance from camera 0 is held in the adjustment and is then the unit of
+// length: `placed`'s unit camera where it has one, else a registered camera; -1 when no camera but
+// camera 0 has a centre apart from it.
+int UnitCamera(const RigCalibrationResult& placed, const RigPoses& start) {
+  if (placed.unit_camera >= 0) return placed.unit_camera;
+  for (int c = 1; c < static_cast<int>(start.cam_from_rig.size()); ++c) {
+    if (start.cam_from_rig[c] && start.cam_from_rig[c]->translation.norm() > 1e-9) return c;
   }
   return -1;
 }
@@ -106,16 +103,18 @@ void SetStats(const MultiFrameBundleAdjustmentResult& ba, int c, RigCameraStats*
   if (c < static_cast<int>(ba.rotation_stddev_deg.size())) stats->rotation_std_deg = ba.rotation_stddev_deg[c];
 }
 
-// Sets the unit of length: |centre of `scale_camera`| = 1, or metres from the known distance when
-// both its cameras are placed; returns the factor the lengths were scaled by.
-double SetScale(const RigObservations& obs, const RigCalibrationOptions& options, int scale_camera,
-              RigCalibrationResult* result) {
+// Sets the unit of length, as the rig stage does: |centre of `unit_camera`| = 1, then metres from
+// the known distance when both its cameras are placed; returns the factor the lengths were scaled
+// by.
+double SetScale(const RigObservations& obs, const RigCalibrationOptions& options, int unit_camera,
+                RigCalibrationResult* result) {
   PerCamera<Rigid3d> poses;
   for (const RigCamera& rc : result->rig.cameras) poses.push_back(rc.cam_from_rig);
-  double factor = 1.0 / poses[scale_camera]->translation.norm();
+  double factor = 1.0 / poses[unit_camera]->translation.norm();
   ScaleTranslations(factor, &poses, &result->rig_from_world);
+  result->unit_camera = unit_camera;
   result->scale_kind = ScaleKind::kUnit;
-  result->scale = "unit scale: |centre of " + obs.camera_names[scale_camera] + "| = 1";
+  result->scale = "unit scale: |centre of " + obs.camera_names[unit_camera] + "| = 1";
   if (options.known_distance) {
     const auto [a, b] = KnownDistanceCameras(*options.known_distance, obs.camera_names, "AdjustRegisteredRig");
     if (poses[a] && poses[b]) {
@@ -151,12 +150,11 @@ RegisteredRig AdjustRegisteredRig(const RigObservations& obs, const RigCalibrati
     ba_options.intrinsics_priors.centres = obs.cameras;
   }
   ba_options.keep_points = ba_options.keep_points || options.keep_details;
-  ba_options.inter_camera_weight = InterCameraWeight(tracks, options.motion.max_inter_camera_weight);
   const std::optional<CaptureTiming> timing =
       ba_options.refine_intrinsics ? std::nullopt : HeldTiming(obs, placed);
-  const int scale_camera = ScaleCamera(placed, start);
+  const int unit_camera = UnitCamera(placed, start);
   const MultiFrameBundleAdjustmentResult ba =
-      MultiFrameRigBundleAdjust(cameras, obs.keypoints, tracks, start, scale_camera, ba_options,
+      MultiFrameRigBundleAdjust(cameras, obs.keypoints, tracks, start, unit_camera, ba_options,
                                 !placed.rig_motion_estimated, timing ? &*timing : nullptr);
 
   RegisteredRig out;
@@ -178,7 +176,6 @@ RegisteredRig AdjustRegisteredRig(const RigObservations& obs, const RigCalibrati
     SetStats(ba, c, &result.camera_stats[c]);
   }
   const std::string remedy = "to place it: more overlap with a placed camera, or more frames while the rig moves";
-  bool registered_unit = false;
   for (const CameraRegistration& r : registration.cameras) {
     if (!r.registered) continue;
     const RegisteredOutcome judged = JudgeRegistered(obs, r, ba, options);
@@ -194,15 +191,18 @@ RegisteredRig AdjustRegisteredRig(const RigObservations& obs, const RigCalibrati
     SetStats(ba, r.camera, &result.camera_stats[r.camera]);
     if (judged.placed) {
       result.rig.cameras[r.camera].cam_from_rig = ba.poses.cam_from_rig[r.camera];
-      registered_unit = registered_unit || r.camera == scale_camera;
     } else {
       result.camera_stats[r.camera].direction_std_deg.reset();
     }
   }
-  // Camera 0 was the only one placed: the unit was the reference camera's first step.
-  const double length_scale = registered_unit && placed.scale_kind == ScaleKind::kNone
-                                  ? SetScale(obs, options, scale_camera, &result)
-                                  : 1.0;
+  // The unit (and the metres of a known distance) as the rig stage sets them; where camera 0 was
+  // the only one placed, the unit had been the reference camera's first step.
+  int unit = unit_camera >= 0 && result.rig.cameras[unit_camera].cam_from_rig ? unit_camera : -1;
+  for (int c = 1; c < n && unit < 0; ++c) {
+    const auto& pose = result.rig.cameras[c].cam_from_rig;
+    if (pose && pose->translation.norm() > 1e-12) unit = c;
+  }
+  const double length_scale = unit >= 0 ? SetScale(obs, options, unit, &result) : 1.0;
   if (options.keep_details) {
     result.details = std::make_shared<RigCalibrationDetails>(placed.details ? *placed.details : RigCalibrationDetails{});
     result.details->points.clear();

@@ -402,6 +402,7 @@ struct ScaledRig {
   // that component; nullopt otherwise.
   PerCamera<Eigen::Vector3d> partial_centre, open_axis;
   double length_scale = 1.0;  // the bundle adjustment's unit of length in the result's
+  int unit_camera = -1;       // whose distance from camera 0 is the unit; -1: none
   ScaleKind scale_kind = ScaleKind::kNone;
   std::string scale;
   std::vector<std::string> warnings;
@@ -456,6 +457,7 @@ ScaledRig DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& adju
     }
   }
   if (!ps.starts.empty()) out.poses.rig_from_world = ba.poses.rig_from_world;
+  out.unit_camera = scale_camera;
   out.scale_kind = scale_camera >= 0 ? ScaleKind::kUnit : ScaleKind::kNone;
   out.scale = scale_camera >= 0 ? "unit scale: |centre of " + obs.camera_names[scale_camera] + "| = 1"
                                 : "no scale (no camera with a position besides " + obs.camera_names[0] + ")";
@@ -711,6 +713,7 @@ std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, 
   result.rig_from_world = scaled.poses.rig_from_world;
   result.scale = scaled.scale;
   result.scale_kind = scaled.scale_kind;
+  result.unit_camera = scaled.unit_camera;
   if (motion.moving && result.num_frames_posed < num_frames) {
     result.warnings.push_back(std::to_string(num_frames - result.num_frames_posed) + " of " +
                               std::to_string(num_frames) +

@@ -128,6 +128,9 @@ struct RigCalibrationResult {
   // How the unit of length was fixed, and in words, e.g. "unit scale: |centre of cam1| = 1".
   ScaleKind scale_kind = ScaleKind::kNone;
   std::string scale;
+  // The camera whose distance from camera 0 was made the unit (before a known distance made the
+  // result metric); -1 with ScaleKind::kNone.
+  int unit_camera = -1;
   std::vector<std::string> warnings;
   double initial_reprojection_rms_px = 0.0;
   double reprojection_rms_px = 0.0;
