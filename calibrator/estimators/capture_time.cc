@@ -278,8 +278,14 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
     s.offset_stddev_s = *freed.time_offset_stddev_s[c];
     s.offset_visibility_px = OffsetVisibilityPx(adjusted.poses.rig_from_world, frame_times_s, *s.offset_s,
                                                 PixelsPerRadian(adjusted.cameras[c]), adjusted.median_depth);
-    s.unsynchronised =
-        FoundInTheImages(*s.offset_s, *s.offset_stddev_s, s.offset_visibility_px, options.min_offset_s, options);
+    // An offset so long that fewer than two frames' captures fall within the path: nothing shows the
+    // rig's motion over it, so it cannot pass for another mounting, and where the images put it
+    // beyond min_offset_s and min_sigmas the camera did not capture with camera 0.
+    const bool longer_than_the_path = !MeanRigChange(adjusted.poses.rig_from_world, frame_times_s, *s.offset_s);
+    s.unsynchronised = longer_than_the_path ? FoundInTheImages(*s.offset_s, *s.offset_stddev_s, options.min_visible_px,
+                                                               options.min_offset_s, options)
+                                            : FoundInTheImages(*s.offset_s, *s.offset_stddev_s, s.offset_visibility_px,
+                                                               options.min_offset_s, options);
     if (!s.unsynchronised) restarted.push_back(c);
   }
   // The freed offset can sit at a kink of the cost rather than at its minimum (at zero each

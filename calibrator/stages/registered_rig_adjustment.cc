@@ -7,7 +7,9 @@
 
 #include "calibrator/estimators/bundle_covariance.h"
 #include "calibrator/estimators/multi_frame_rig.h"
+#include "calibrator/estimators/capture_time.h"
 #include "calibrator/stages/rig_calibration.h"
+#include "calibrator/stages/rig_capture_times.h"
 #include "calibrator/stages/stage_clock.h"
 #include "common/format.h"
 
@@ -35,22 +37,32 @@ int UnitCamera(const RigCalibrationResult& placed, const RigPoses& start) {
   return -1;
 }
 
-// The placed rig's capture times, held: nullopt when every camera captures at its frame's
-// timestamp (or the frames have none). A registered camera captures at its frame's timestamp.
-std::optional<CaptureTiming> HeldTiming(const RigObservations& obs, const RigCalibrationResult& placed) {
+// The capture times of the adjustment. Estimated where the rig stage estimated them (started from
+// the placed rig's and, for a registered camera, from its own turns, as the rig stage starts them);
+// otherwise the placed rig's, held (nullopt when every camera captures at its frame's timestamp, or
+// the frames have none).
+std::optional<CaptureTiming> TimingOf(const RigObservations& obs, const RigCalibrationResult& placed,
+                                      const CaptureTimeOptions& options) {
   const int n = static_cast<int>(obs.cameras.size());
+  if (obs.frame_times_s.size() != obs.keypoints.size() || WhyNoTimingModel(obs.frame_times_s)) return std::nullopt;
+  const bool estimate = options.estimate_offsets || options.estimate_readout;
+  const std::vector<double> own_start =
+      options.estimate_offsets ? StartTimeOffsets(n, obs.frame_times_s, obs.temporal, options.search)
+                               : std::vector<double>(n, 0.0);
   CaptureTiming timing;
   timing.frame_times_s = obs.frame_times_s;
   timing.readout_bottom_to_top = obs.readout_bottom_to_top;
+  timing.estimate_offsets = options.estimate_offsets;
+  timing.estimate_readout = options.estimate_readout;
   bool any = false;
   for (int c = 0; c < n; ++c) {
     const RigCamera& rc = placed.rig.cameras[c];
     const bool placed_camera = HasFullPose(placed.camera_status[c].outcome);
-    timing.time_offset_s.push_back(placed_camera ? rc.time_offset_s : 0.0);
+    timing.time_offset_s.push_back(placed_camera ? rc.time_offset_s : own_start[c]);
     timing.readout_s.push_back(placed_camera ? rc.readout_s : 0.0);
     any = any || timing.time_offset_s.back() != 0.0 || timing.readout_s.back() != 0.0;
   }
-  if (!any || obs.frame_times_s.size() != obs.keypoints.size()) return std::nullopt;
+  if (!estimate && !any) return std::nullopt;
   return timing;
 }
 
@@ -72,8 +84,10 @@ RegisteredOutcome JudgeRegistered(const RigObservations& obs, const CameraRegist
     out.status.reason = "the adjustment keeps only " + std::to_string(kept) + " of its observations";
     return out;
   }
+  // The resection takes the camera as capturing at its frame's time: with offsets estimated, the
+  // adjustment may turn it from there, by the rig's turn over its offset.
   const double turn = RotationDifferenceDeg(pose->rotation, r.cam_from_rig.rotation);
-  if (turn > kMaxRegisteredRotationChangeDeg) {
+  if (turn > kMaxRegisteredRotationChangeDeg && !options.capture_time.estimate_offsets) {
     out.status.reason = "the adjustment turns it " + Fixed(turn, 2) + " deg from where its matches put it";
     return out;
   }
@@ -151,11 +165,12 @@ RegisteredRig AdjustRegisteredRig(const RigObservations& obs, const RigCalibrati
   }
   ba_options.keep_points = ba_options.keep_points || options.keep_details;
   const std::optional<CaptureTiming> timing =
-      ba_options.refine_intrinsics ? std::nullopt : HeldTiming(obs, placed);
+      ba_options.refine_intrinsics ? std::nullopt : TimingOf(obs, placed, options.capture_time);
   const int unit_camera = UnitCamera(placed, start);
   const MultiFrameBundleAdjustmentResult ba =
       MultiFrameRigBundleAdjust(cameras, obs.keypoints, tracks, start, unit_camera, ba_options,
                                 !placed.rig_motion_estimated, timing ? &*timing : nullptr);
+  const double adjustment_s = SecondsSince(start_time);
 
   RegisteredRig out;
   RigCalibrationResult& result = out.result;
@@ -195,6 +210,19 @@ RegisteredRig AdjustRegisteredRig(const RigObservations& obs, const RigCalibrati
       result.camera_stats[r.camera].direction_std_deg.reset();
     }
   }
+  // The capture times judged as the rig stage judges them: a registered camera that did not capture
+  // with the reference, or whose capture time the path cannot show, is not placed as if it had.
+  const auto check_start = StageClock::now();
+  const std::vector<CameraSynchronisation> synchronisation = CheckCaptureTimes(
+      obs, options.capture_time, ba_options, placed.rig_motion_estimated, tracks, unit_camera, ba);
+  result.synchronisation_check_time_s += SecondsSince(check_start);
+  SetCaptureTimes(obs, options.capture_time, ba, synchronisation, &result);
+  for (const CameraRegistration& r : registration.cameras) {
+    const CameraStatus& s = result.camera_status[r.camera];
+    if (r.registered && (s.outcome == CameraOutcome::kUnsynchronised || s.outcome == CameraOutcome::kTimeNotDetermined)) {
+      out.not_placed.push_back(result.rig.cameras[r.camera].name + ": " + s.reason);
+    }
+  }
   // The unit (and the metres of a known distance) as the rig stage sets them; where camera 0 was
   // the only one placed, the unit had been the reference camera's first step.
   int unit = unit_camera >= 0 && result.rig.cameras[unit_camera].cam_from_rig ? unit_camera : -1;
@@ -211,7 +239,7 @@ RegisteredRig AdjustRegisteredRig(const RigObservations& obs, const RigCalibrati
     result.details->initial_residuals_px = ba.initial_residuals_px;
     result.details->final_residuals_px = ba.final_residuals_px;
   }
-  result.bundle_adjustment_time_s += SecondsSince(start_time);
+  result.bundle_adjustment_time_s += adjustment_s;
   return out;
 }
 

@@ -1,10 +1,11 @@
 // The rig with the cameras a registration through tracks placed (track_registration.h), adjusted
 // as it stands: the placed rig and the registered poses are the start, and the observations are
 // the placed cameras' tracks, the registered cameras' own motion and their inlier view pairs with
-// placed views. Capture times and intrinsics stay as the placed rig has them. Rotation averaging
-// and the position estimates do not run again: on a straight drive they let a shift along the
-// path pose as a time offset and turn a group of cameras together, where the registered poses
-// already fit.
+// placed views. Capture times are estimated where the rig stage estimated them and held
+// otherwise, then checked as the rig stage checks them (rig_capture_times.h); refined intrinsics
+// are refined again under the same priors. Rotation averaging and the position estimates do not
+// run again: on a straight drive they let a shift along the path pose as a time offset and turn a
+// group of cameras together, where the registered poses already fit.
 #pragma once
 
 #include <string>

@@ -19,7 +19,7 @@ constexpr int kWeakCamera = 3;
 // Five cameras of 90 deg round a ring, neighbours sharing a little, on a rig driving a gently
 // turning path: each camera's pairs place it, and camera kWeakCamera's are made to fail as pairs
 // that find too few inliers do.
-SyntheticRig FiveCameraRing() {
+SyntheticRig FiveCameraRing(const std::vector<double>& time_offset_s = {}) {
   const Camera pinhole(CameraModelId::kPinhole, 640, 360, {320, 320, 319.5, 179.5});
   SyntheticRigOptions o;
   o.cameras.assign(5, pinhole);
@@ -31,6 +31,7 @@ SyntheticRig FiveCameraRing() {
   o.min_distance_m = 4;
   o.max_distance_m = 25;
   o.noise_px = 0.5;
+  o.time_offset_s = time_offset_s;
   o.seed = TestSeed();
   return SynthesizeRig(o);
 }
@@ -171,6 +172,36 @@ TEST(RegisteredRigAdjustment, DoesNotPlaceACameraItsAdjustmentTurnsAwayFromTheRe
     EXPECT_TRUE(HasFullPose(turned.result.camera_status[c].outcome)) << c;
     EXPECT_LT(RotationDifferenceDeg(*turned.result.cam_from_rig_rotation[c], *placed.cam_from_rig_rotation[c]), 0.05) << c;
   }
+}
+
+// A registered camera that captured 30 ms after the others while the rig drove on (0.3 m): taken
+// as synchronised, the check the rig stage runs finds it, and it is not placed as if it had
+// captured with them (its status says when it captured); with the offsets estimated, it is placed
+// and its offset found.
+TEST(RegisteredRigAdjustment, ChecksARegisteredCamerasCaptureTimeAsTheRigStageDoes) {
+  SyntheticRig s = FiveCameraRing({0.0, 0.0, 0.0, 0.03, 0.0});
+  RigObservations obs = ObserveWithWeakCameras(s, {kWeakCamera});
+  for (int k = 0; k < static_cast<int>(obs.keypoints.size()); ++k) obs.frame_times_s.push_back(0.1 * k);
+
+  const RigCalibrationResult synchronised = EstimateRigWithMotionLinks(obs, SyntheticMatcher(s), WithoutMotionLinks());
+  const CameraStatus& taken = synchronised.camera_status[kWeakCamera];
+  EXPECT_FALSE(HasFullPose(taken.outcome)) << taken.Text();
+  EXPECT_FALSE(synchronised.rig.cameras[kWeakCamera].cam_from_rig);
+  const size_t says = taken.reason.find("cam3: it captures ");
+  ASSERT_NE(says, std::string::npos) << taken.reason;
+  EXPECT_NEAR(std::stod(taken.reason.substr(says + 18)), 30.0, 1.5) << taken.reason;  // ms after cam0
+
+  RigCalibrationOptions options = WithoutMotionLinks();
+  options.capture_time.estimate_offsets = true;
+  const RigCalibrationResult estimated = EstimateRigWithMotionLinks(obs, SyntheticMatcher(s), options);
+  ASSERT_EQ(estimated.camera_status[kWeakCamera].outcome, CameraOutcome::kCalibrated)
+      << estimated.camera_status[kWeakCamera].Text();
+  const RigCameraStats& stats = estimated.camera_stats[kWeakCamera];
+  ASSERT_TRUE(stats.time_offset_s && stats.time_offset_stddev_s);
+  EXPECT_NEAR(*stats.time_offset_s, 0.03, 3 * *stats.time_offset_stddev_s + 1e-3);
+  const std::vector<CameraErrors> errors = ErrorsAgainst(s.rig, estimated);
+  EXPECT_LT(*errors[kWeakCamera].rotation_error_deg, 0.1);
+  EXPECT_LT(*errors[kWeakCamera].direction_error_deg, 1.0);
 }
 
 }  // namespace
