@@ -22,6 +22,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include "calibrator/calibrate_rig.h"
@@ -285,8 +286,12 @@ int main(int argc, char** argv) {
   const Rigid3d world_from_rig0 = in.frames.frames[0].rig_from_world->Inverse();
   for (int c = 0; c < nc; ++c) tp.cam_from_rig.push_back(*truth.cameras[c].cam_from_rig);
   for (int f = 0; f < nf; ++f) tp.rig_from_world.push_back(*in.frames.frames[f].rig_from_world * world_from_rig0);
+  // rearrange: 0 the keypoints as detected; 1 each observation at its track's point (triangulated
+  // from the true poses) projected, plus its own residual there (a check: as detected); 2 plus
+  // another observation's residual (shuffled over all); 3 plus its own residual with a random sign.
   const auto experiment = [&](const char* label, const std::function<bool(const Match&)>& keep, double synthetic_noise_px,
-                              int seed) {
+                              int seed, int rearrange = 0, PerCamera<Rigid3d>* adjusted = nullptr,
+                              PerCamera<double>* stated_sd = nullptr) {
     std::vector<PairMatches> pm;
     std::vector<TemporalPairEstimate> temporal = md.temporal;
     size_t i = 0;
@@ -331,6 +336,44 @@ int main(int argc, char** argv) {
         }
       }
     }
+    if (rearrange > 0) {
+      struct Slot {
+        int f, c, k;
+        Eigen::Vector2d exact, residual;
+        bool multi;
+      };
+      std::vector<Slot> slots;
+      for (const ViewTrack& tr : tracks) {
+        std::vector<Eigen::Vector3d> o, d;
+        bool multi = false;
+        for (const ViewObservation& ob : tr.observations) {
+          const Rigid3d wfc = tp.CamFromWorld(ob.camera, ob.frame).Inverse();
+          o.push_back(wfc.translation);
+          d.push_back(wfc.rotation * *truth.cameras[ob.camera].camera.CamFromImg(kps[ob.frame][ob.camera][ob.keypoint]));
+          multi = multi || ob.camera != tr.observations[0].camera;
+        }
+        const std::optional<Eigen::Vector3d> X = TriangulateRays(o, d, 0.25 / kDeg);
+        if (!X) continue;
+        for (const ViewObservation& ob : tr.observations) {
+          const std::optional<Eigen::Vector2d> px = truth.cameras[ob.camera].camera.ImgFromCam(tp.CamFromWorld(ob.camera, ob.frame) * *X);
+          if (!px) continue;
+          const Eigen::Vector2d r = kps[ob.frame][ob.camera][ob.keypoint] - *px;
+          if (r.norm() > 3.0) continue;
+          slots.push_back({ob.frame, ob.camera, ob.keypoint, *px, r, multi});
+        }
+      }
+      std::mt19937 rng(seed);
+      std::vector<size_t> perm(slots.size());
+      for (size_t j = 0; j < perm.size(); ++j) perm[j] = j;
+      if (rearrange == 2) std::shuffle(perm.begin(), perm.end(), rng);
+      for (size_t j = 0; j < slots.size(); ++j) {
+        Eigen::Vector2d r = slots[perm[j]].residual;
+        // 4: random sign on the one-camera tracks only; 5: on the tracks across cameras only.
+        const bool flip = rearrange == 3 || (rearrange == 4 && !slots[j].multi) || (rearrange == 5 && slots[j].multi);
+        if (flip && (rng() & 1)) r = -r;
+        kps[slots[j].f][slots[j].c][slots[j].k] = slots[j].exact + r;
+      }
+    }
     Stat at_truth;
     for (const ViewTrack& tr : tracks) {
       std::vector<Eigen::Vector3d> o, d;
@@ -352,6 +395,8 @@ int main(int argc, char** argv) {
     }
     RigBundleAdjustmentOptions bo;
     const MultiFrameBundleAdjustmentResult ba = MultiFrameRigBundleAdjust(views.cameras, kps, tracks, tp, 1, bo);
+    if (adjusted) *adjusted = ba.poses.cam_from_rig;
+    if (stated_sd) *stated_sd = ba.rotation_stddev_deg;
     std::printf("%-34s tracks %5zu residuals at truth rms %.3f | adjusted from truth: RMS %.3f px, %d obs, corr %.2f |", label,
                 tracks.size(), std::sqrt(at_truth.sq / std::max(at_truth.n, 1)), ba.reprojection_rms_px, ba.num_observations,
                 ba.residual_correlation);
@@ -383,6 +428,105 @@ int main(int argc, char** argv) {
     char label[64];
     std::snprintf(label, sizeof label, "exact(<=2px) + 0.25 px noise, seed %d", seed);
     experiment(label, [](const Match& m) { return m.err <= 2.0; }, 0.25, seed);
+  }
+  {
+    // Residuals at the true poses by kind of observation: is the error the same everywhere?
+    std::map<std::string, Stat> groups;
+    const std::vector<ViewTrack> all_tracks = BuildViewTracks(nc, nf, [&] {
+      std::vector<PairMatches> pm;
+      for (size_t p = 0; p < result.pairwise.pairs.size(); ++p) {
+        const PairResult& pr = result.pairwise.pairs[p];
+        if (pr.two_view.success && p < md.inliers.size()) pm.push_back({truth.FindCamera(pr.cam_a), truth.FindCamera(pr.cam_b), md.inliers[p]});
+      }
+      return pm;
+    }(), md.temporal);
+    for (const ViewTrack& tr : all_tracks) {
+      std::vector<Eigen::Vector3d> o, d;
+      bool multi = false;
+      for (const ViewObservation& ob : tr.observations) {
+        const Rigid3d wfc = tp.CamFromWorld(ob.camera, ob.frame).Inverse();
+        o.push_back(wfc.translation);
+        d.push_back(wfc.rotation * *truth.cameras[ob.camera].camera.CamFromImg(md.keypoints[ob.frame][ob.camera][ob.keypoint]));
+        multi = multi || ob.camera != tr.observations[0].camera;
+      }
+      const std::optional<Eigen::Vector3d> X = TriangulateRays(o, d, 0.25 / kDeg);
+      if (!X) continue;
+      for (const ViewObservation& ob : tr.observations) {
+        const Camera& cam = truth.cameras[ob.camera].camera;
+        const Eigen::Vector3d xc = tp.CamFromWorld(ob.camera, ob.frame) * *X;
+        const std::optional<Eigen::Vector2d> px = cam.ImgFromCam(xc);
+        if (!px) continue;
+        const Eigen::Vector2d kp = md.keypoints[ob.frame][ob.camera][ob.keypoint];
+        const Eigen::Vector2d r = kp - *px;
+        if (r.norm() > 3.0) continue;
+        const double rad = std::hypot((kp.x() - cam.cx()) / cam.cx(), (kp.y() - cam.cy()) / cam.cy()) / std::sqrt(2.0);
+        const double depth = xc.norm();
+        const int len = int(tr.observations.size());
+        groups[std::string("track ") + (multi ? "across cameras" : "one camera")].Add(r);
+        groups[std::string("radius ") + (rad < 0.4 ? "<0.4" : rad < 0.7 ? "0.4-0.7" : ">0.7")].Add(r);
+        groups[std::string("depth ") + (depth < 5 ? "<5 m" : depth < 15 ? "5-15 m" : depth < 40 ? "15-40 m" : ">40 m")].Add(r);
+        groups[std::string("track length ") + (len == 2 ? "2" : len <= 4 ? "3-4" : "5+")].Add(r);
+        groups["camera " + truth.cameras[ob.camera].name].Add(r);
+        const Keypoint& k = features[ob.camera * nf + ob.frame].keypoints[ob.keypoint];
+        char ob_s[32];
+        std::snprintf(ob_s, sizeof ob_s, "octave %+d", std::min(Octave(k.size), 2));
+        groups[ob_s].Add(r);
+      }
+    }
+    std::printf("\nResiduals at the true poses by kind of observation:\n");
+    for (const auto& [k, st] : groups) std::printf("  %-26s %s\n", k.c_str(), st.Str().c_str());
+  }
+  for (int seed = 1; seed <= 3; ++seed) {
+    char label[64];
+    std::snprintf(label, sizeof label, "random half of the matches, seed %d", seed);
+    experiment(label, [seed](const Match& m) { return (std::hash<long>()(long(m.va) * 1000003L + m.ka * 7919L + seed * 104729L) >> 3) % 2 == 0; }, -1, 0);
+  }
+  for (int seed = 1; seed <= 3; ++seed) {
+    char label[64];
+    std::snprintf(label, sizeof label, "sign kept across cameras only, %d", seed);
+    experiment(label, [](const Match&) { return true; }, -1, seed, 4);
+    std::snprintf(label, sizeof label, "sign kept in one camera only, %d", seed);
+    experiment(label, [](const Match&) { return true; }, -1, seed, 5);
+  }
+  {
+    // Leave one frame's same-instant matches out at a time: the spread of the cameras' rotations
+    // over those adjustments (jackknife) against the error, from the images alone.
+    PerCamera<Rigid3d> full;
+    PerCamera<double> full_sd;
+    experiment("jackknife: all frames", [](const Match&) { return true; }, -1, 0, 0, &full, &full_sd);
+    std::vector<PerCamera<Rigid3d>> loo(static_cast<size_t>(nf));
+    for (int k = 0; k < nf; ++k) {
+      char label[64];
+      std::snprintf(label, sizeof label, "jackknife: without frame %d's pairs", k);
+      experiment(label, [k, nf](const Match& m) { return m.temporal || m.va % nf != k; }, -1, 0, 0, &loo[k]);
+    }
+    for (int c = 1; c < nc; ++c) {
+      if (!full[c]) continue;
+      std::vector<Eigen::Vector3d> d;
+      for (int k = 0; k < nf; ++k) {
+        if (!loo[k][c]) continue;
+        const Eigen::AngleAxisd aa(loo[k][c]->rotation * full[c]->rotation.conjugate());
+        d.push_back(aa.angle() * aa.axis() * kDeg);
+      }
+      const int n = int(d.size());
+      if (n < 2) continue;
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      for (const auto& v : d) mean += v / n;
+      Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+      for (const auto& v : d) cov += (v - mean) * (v - mean).transpose() * double(n - 1) / n;
+      const double jsd = std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvalues().maxCoeff());
+      const double err = full[c]->rotation.angularDistance(tp.cam_from_rig[c]->rotation) * kDeg;
+      std::printf("  jackknife %s: rotation error %.3f deg, stated sd %.4f (ratio %.1f), jackknife sd over %d frames %.4f (ratio %.1f)\n",
+                  truth.cameras[c].name.c_str(), err, full_sd[c].value_or(NAN), err / full_sd[c].value_or(NAN), n, jsd, err / jsd);
+    }
+  }
+  experiment("own residuals at truth, in place", [](const Match&) { return true; }, -1, 1, 1);
+  for (int seed = 1; seed <= 3; ++seed) {
+    char label[64];
+    std::snprintf(label, sizeof label, "residuals shuffled, seed %d", seed);
+    experiment(label, [](const Match&) { return true; }, -1, seed, 2);
+    std::snprintf(label, sizeof label, "residuals random sign, seed %d", seed);
+    experiment(label, [](const Match&) { return true; }, -1, seed, 3);
   }
   return 0;
 }
