@@ -209,9 +209,10 @@ std::string FormatRigSummary(const CalibrationRun& run) {
     if (r.num_observations > 0) {
       out << ", reprojection RMS " << Fmt("%.2f px", r.reprojection_rms_px) << " over " << r.num_observations
           << " observations";
-      // The stated deviations count the residuals of one image region as moving together.
+      // The stated deviations count the residual coordinates the points take up, and the residuals
+      // of one image region as moving together.
       if (r.residual_correlation > 1.1) {
-        out << " (residuals of one image region move together: deviations x"
+        out << " (residuals counted over what the fit leaves free and by image region: deviations x"
             << Fmt("%.1f", std::sqrt(r.residual_correlation)) << ")";
       }
       out << "; ";

@@ -106,8 +106,9 @@ TEST(FormatRigTable, OneRowPerCameraAndMethod) {
       << FormatRigSummary(run);
 }
 
-// The summary says when the stated deviations count residuals of one image region as moving
-// together, and by how much that widens them (the square root of the variance factor).
+// The summary says when the stated deviations count the residual coordinates the fit takes up and
+// residuals of one image region as moving together, and by how much that widens them (the square
+// root of the variance factor).
 TEST(FormatRigSummary, SaysWhenResidualsMoveTogetherByRegion) {
   RigCalibrationResult r;
   r.semantic_mode = "none";
@@ -118,10 +119,10 @@ TEST(FormatRigSummary, SaysWhenResidualsMoveTogetherByRegion) {
   r.reprojection_rms_px = 0.3;
   r.residual_correlation = 4.0;
   const std::string summary = FormatRigSummary(RunOf({r}));
-  EXPECT_NE(summary.find("(residuals of one image region move together: deviations x2.0)"), std::string::npos)
+  EXPECT_NE(summary.find("(residuals counted over what the fit leaves free and by image region: deviations x2.0)"), std::string::npos)
       << summary;
   r.residual_correlation = 1.05;
-  EXPECT_EQ(FormatRigSummary(RunOf({r})).find("move together"), std::string::npos);
+  EXPECT_EQ(FormatRigSummary(RunOf({r})).find("deviations x"), std::string::npos);
 }
 
 // The status is what tells a user what to change; the table once cut it at a column width

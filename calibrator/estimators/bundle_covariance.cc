@@ -166,6 +166,21 @@ double CorrelatedResidualFactor(const std::vector<LocatedResidual>& residuals) {
   return factor;
 }
 
+double ResidualDegreesOfFreedomFactor(int residuals, int parameters) {
+  if (residuals <= parameters || parameters <= 0) return 1.0;
+  return static_cast<double>(residuals) / static_cast<double>(residuals - parameters);
+}
+
+int FreeParameterCount(ceres::Problem& problem) {
+  std::vector<double*> blocks;
+  problem.GetParameterBlocks(&blocks);
+  int free = 0;
+  for (double* b : blocks) {
+    if (!problem.IsParameterBlockConstant(b)) free += problem.ParameterBlockTangentSize(b);
+  }
+  return free;
+}
+
 double DirectionStdDeg(const Eigen::Vector3d& centre, const Eigen::Matrix3d& cov) {
   const double d = centre.norm();
   if (!(d > 0)) return 180.0;

@@ -57,6 +57,16 @@ struct LocatedResidual {
 // the variance covers it.
 double CorrelatedResidualFactor(const std::vector<LocatedResidual>& residuals);
 
+// How much larger the variance of one residual coordinate is than the mean square residual at the
+// solution: `residuals` coordinates fitted with `parameters` free parameters (tangent dimensions:
+// points, poses) leave residuals - parameters degrees of freedom, and the unbiased variance is the
+// sum of squares over those, not over every coordinate. A point seen twice takes 3 of its 4
+// coordinates, so on short tracks the factor is large. 1 when the fit leaves no freedom.
+double ResidualDegreesOfFreedomFactor(int residuals, int parameters);
+
+// The free tangent dimensions of `problem`'s parameter blocks (those not held constant).
+int FreeParameterCount(ceres::Problem& problem);
+
 // Standard deviation (deg) of the direction of `centre` (from camera 0 at the origin) under the
 // covariance `cov` of the centre: the largest spread across the direction, over the distance.
 double DirectionStdDeg(const Eigen::Vector3d& centre, const Eigen::Matrix3d& cov);

@@ -151,5 +151,15 @@ TEST(CorrelatedResidualFactor, GrowsWithTheErrorTheResidualsOfARegionShare) {
   EXPECT_GT(CorrelatedResidualFactor(CellResiduals(0.6, 5)), half);
 }
 
+TEST(ResidualDegreesOfFreedomFactor, CountsTheCoordinatesTheFitLeavesFree) {
+  // 100 points seen twice (400 coordinates) and 5 pose dimensions: 95 coordinates left.
+  EXPECT_DOUBLE_EQ(ResidualDegreesOfFreedomFactor(400, 305), 400.0 / 95.0);
+  // Long tracks: almost every coordinate is free.
+  EXPECT_NEAR(ResidualDegreesOfFreedomFactor(2000, 30), 1.015, 1e-3);
+  // Nothing left to estimate the variance from, or nothing fitted: no scaling.
+  EXPECT_EQ(ResidualDegreesOfFreedomFactor(10, 10), 1.0);
+  EXPECT_EQ(ResidualDegreesOfFreedomFactor(10, 0), 1.0);
+}
+
 }  // namespace
 }  // namespace rigsim

@@ -485,8 +485,12 @@ void ReadCovariances(BundleProblem& bp, const std::vector<WorldPoint>& points, c
   for (Eigen::Vector2d& t : bp.time) pose_blocks.push_back(t.data());
   const ReducedCovariance reduced = PoseCovariance(problem, pose_blocks);
   const double rms_px = bp.RmsPx(points);
-  // Per image coordinate, and as many times that as the residuals of one image region move together.
-  out.residual_correlation = CorrelatedResidualFactor(bp.LocatedResiduals(points));
+  // Per image coordinate, over the coordinates the fit leaves free, and as many times that as the
+  // residuals of one image region move together.
+  int observations = 0;
+  for (const WorldPoint& p : points) observations += static_cast<int>(p.observations.size());
+  out.residual_correlation = ResidualDegreesOfFreedomFactor(2 * observations, FreeParameterCount(problem)) *
+                             CorrelatedResidualFactor(bp.LocatedResiduals(points));
   const double variance = 0.5 * rms_px * rms_px * out.residual_correlation;
   // Observations weighed up (inter_camera_weight) are no more precise than the others: the
   // covariance of what they alone fix is scaled back, and of the rest over-stated (the safe side).

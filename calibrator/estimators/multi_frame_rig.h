@@ -142,8 +142,11 @@ struct MultiFrameBundleAdjustmentResult {
   // the standard deviations of the estimated ones from the covariance (nullopt where held).
   std::vector<Eigen::Vector2d> timing;
   PerCamera<double> time_offset_stddev_s, readout_stddev_s;
-  // The factor by which every variance above was scaled for residuals that move together by image
-  // region (bundle_covariance.h CorrelatedResidualFactor); 1 without covariances.
+  // The factor by which every variance above was scaled: for the residual coordinates the fit
+  // itself takes up (bundle_covariance.h ResidualDegreesOfFreedomFactor: each point takes 3 of the
+  // coordinates of its observations, so short tracks leave a residual RMS well below the keypoints'
+  // error) times that for residuals that move together by image region (CorrelatedResidualFactor);
+  // 1 without covariances.
   double residual_correlation = 1.0;
   // With RigBundleAdjustmentOptions::keep_points only: the final solve's points (world frame) and
   // how many views see each, and the reprojection error (px) of every observation triangulated

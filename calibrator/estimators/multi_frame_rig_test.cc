@@ -3,10 +3,12 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <random>
 #include <utility>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
 
 #include "calibrator/calibrator_test_support.h"
 #include "calibrator/stages/rig_calibration.h"
@@ -147,6 +149,59 @@ TEST(MultiFrameRig, StatedDeviationsCoverTheErrorOfALensThatDoesNotFit) {
                 stats.direction_std_deg.value_or(0.0), independent * stats.direction_std_deg.value_or(0.0));
   }
   EXPECT_GE(stated, 4);
+}
+
+// Points seen by two cameras once each: every point takes 3 of its 4 residual coordinates, so the
+// residual RMS at the solution is about half the keypoints' noise. The stated rotation deviation
+// must still be the spread of the estimate over noise draws (the variance over the residual
+// degrees of freedom, not over every coordinate); counted over every coordinate it comes out
+// about half the spread.
+TEST(MultiFrameRig, StatedRotationDeviationIsTheSpreadOnTwoViewTracks) {
+  std::mt19937 rng(TestSeed());
+  const Camera cam(CameraModelId::kPinhole, 640, 480, {400, 400, 319.5, 239.5});
+  const std::vector<Camera> cameras = {cam, cam};
+  const Eigen::Matrix3d r1 = Eigen::AngleAxisd(20.0 * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const Eigen::Vector3d c1(0.4, 0.0, 0.05);
+  RigPoses truth;
+  truth.cam_from_rig = {Rigid3d(), Rigid3d(r1, -(r1 * c1))};
+  truth.rig_from_world = {Rigid3d()};
+  std::vector<Eigen::Vector3d> points;
+  std::uniform_real_distribution<double> u(-1.0, 1.0), depth(4.0, 12.0);
+  while (points.size() < 300) {
+    const double z = depth(rng);
+    const Eigen::Vector3d x(u(rng) * 0.6 * z, u(rng) * 0.5 * z, z);
+    const auto p0 = cam.ImgFromCam(x), p1 = cam.ImgFromCam(*truth.cam_from_rig[1] * x);
+    if (p0 && p1 && cam.IsInImage(*p0) && cam.IsInImage(*p1)) points.push_back(x);
+  }
+  std::vector<ViewTrack> tracks;
+  for (int k = 0; k < static_cast<int>(points.size()); ++k) tracks.push_back({{{0, 0, k}, {1, 0, k}}});
+  constexpr double kNoisePx = 0.5;
+  std::normal_distribution<double> noise(0.0, kNoisePx);
+  constexpr int kDraws = 40;
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  double stated = 0.0, rms = 0.0;
+  for (int d = 0; d < kDraws; ++d) {
+    FrameKeypoints keypoints(1, std::vector<std::vector<Eigen::Vector2d>>(2));
+    for (const Eigen::Vector3d& x : points) {
+      for (int c = 0; c < 2; ++c) {
+        keypoints[0][c].push_back(*cam.ImgFromCam(*truth.cam_from_rig[c] * x) + Eigen::Vector2d(noise(rng), noise(rng)));
+      }
+    }
+    const MultiFrameBundleAdjustmentResult ba = MultiFrameRigBundleAdjust(cameras, keypoints, tracks, truth, 1, {});
+    ASSERT_TRUE(ba.poses.cam_from_rig[1] && ba.rotation_stddev_deg[1]) << d;
+    const Eigen::AngleAxisd e(ba.poses.cam_from_rig[1]->rotation * truth.cam_from_rig[1]->rotation.conjugate());
+    const Eigen::Vector3d v = e.angle() * e.axis() * 180.0 / M_PI;
+    scatter += v * v.transpose() / kDraws;
+    stated += *ba.rotation_stddev_deg[1] / kDraws;
+    rms += ba.reprojection_rms_px / kDraws;
+  }
+  const double spread = std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvalues().maxCoeff());
+  std::printf("rotation spread %.4f deg, stated %.4f deg, RMS %.3f px (noise %.2f px per coordinate)\n", spread, stated,
+              rms, kNoisePx);
+  // The residuals show about half the noise: what the covariance has to make up for.
+  EXPECT_LT(rms, 0.6 * std::sqrt(2.0) * kNoisePx);
+  EXPECT_GT(stated, 0.75 * spread);
+  EXPECT_LT(stated, 1.33 * spread);
 }
 
 TEST(MultiFrameRig, KnownDistanceGivesMetricPositions) {
