@@ -216,6 +216,7 @@ RegisteredRig AdjustRegisteredRig(const RigObservations& obs, const RigCalibrati
   const std::vector<CameraSynchronisation> synchronisation = CheckCaptureTimes(
       obs, options.capture_time, ba_options, placed.rig_motion_estimated, tracks, unit_camera, ba);
   result.synchronisation_check_time_s += SecondsSince(check_start);
+  DropHiddenTimeWarning(&result);
   SetCaptureTimes(obs, options.capture_time, ba, synchronisation, &result);
   for (const CameraRegistration& r : registration.cameras) {
     const CameraStatus& s = result.camera_status[r.camera];

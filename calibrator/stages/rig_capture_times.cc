@@ -1,5 +1,6 @@
 #include "calibrator/stages/rig_capture_times.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -93,6 +94,15 @@ void TakePoseWhenAnotherStartMovesTheOffset(const RigObservations& obs, const st
 // Step 8: capture times. Estimated, each camera's offset and readout go into its stats and the
 // rig; not estimated, the synchronisation check (run on the adjustment before it is scaled) takes
 // the pose of every camera that did not capture with camera 0.
+// The start of the warning that names the cameras whose capture time the path hides.
+constexpr const char* kHiddenTimeWarning = "the rig's path cannot show whether ";
+
+void DropHiddenTimeWarning(RigCalibrationResult* result) {
+  auto& w = result->warnings;
+  w.erase(std::remove_if(w.begin(), w.end(), [](const std::string& s) { return s.rfind(kHiddenTimeWarning, 0) == 0; }),
+          w.end());
+}
+
 void SetCaptureTimes(const RigObservations& obs, const CaptureTimeOptions& o,
                      const MultiFrameBundleAdjustmentResult& ba, const std::vector<CameraSynchronisation>& checked,
                      RigCalibrationResult* result) {
@@ -148,7 +158,7 @@ void SetCaptureTimes(const RigObservations& obs, const CaptureTimeOptions& o,
     std::string names;
     for (const std::string& name : hidden) names += (names.empty() ? "" : ", ") + name;
     result->warnings.push_back(
-        "the rig's path cannot show whether " + names + " captured together with " + obs.camera_names[0] +
+        kHiddenTimeWarning + names + " captured together with " + obs.camera_names[0] +
         ": it moves alike at every frame (constant speed and turn rate), so a time offset would look like a "
         "different mounting; these poses hold only if the cameras are synchronised. A path that changes speed or "
         "turn rate would show it");

@@ -28,4 +28,8 @@ void SetCaptureTimes(const RigObservations& obs, const CaptureTimeOptions& optio
                      const MultiFrameBundleAdjustmentResult& ba, const std::vector<CameraSynchronisation>& checked,
                      RigCalibrationResult* result);
 
+// Removes the warning SetCaptureTimes writes about the cameras whose capture time the rig's path
+// hides, so that a result judged again (a registered rig) names the cameras of its own check.
+void DropHiddenTimeWarning(RigCalibrationResult* result);
+
 }  // namespace rigsim
