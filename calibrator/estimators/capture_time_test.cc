@@ -33,6 +33,22 @@ TEST(CheckSynchronisation, FindsCamerasThatDidNotCaptureWithCameraZero) {
   }
 }
 
+// A camera that captures 0.45 s after camera 0 on a path of 6 frames 0.1 s apart (its start found
+// near there): only frame 0's capture falls within the path, so nothing shows how far the rig moves
+// over the offset; it cannot pass for another mounting, and the check finds the camera
+// unsynchronised.
+TEST(CheckSynchronisation, FindsAnOffsetLongerThanThePath) {
+  const TimedRing ring(VariedPath(), 0.3, TestSeed(), {0.0, 0.0, 0.45}, {0.0, 0.0, 0.0});
+  const std::vector<CameraSynchronisation> verdict =
+      CheckSynchronisation(ring.cameras, ring.s.keypoints, ring.tracks, ring.Adjust(nullptr), 1, {},
+                           ring.timing.frame_times_s, {0.0, 0.0, 0.44}, TopToBottom(), {});
+  ASSERT_TRUE(verdict[2].offset_s && verdict[2].offset_stddev_s);
+  EXPECT_GT(*verdict[2].offset_s, 0.4);
+  EXPECT_EQ(verdict[2].offset_visibility_px, 0.0);  // no two frames' captures within the path
+  EXPECT_TRUE(verdict[2].unsynchronised);
+  EXPECT_FALSE(verdict[1].unsynchronised);
+}
+
 TEST(CheckSynchronisation, ASynchronisedRigPasses) {
   const TimedRing ring(VariedPath(), 0.3, TestSeed(), {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0});
   const std::vector<CameraSynchronisation> verdict =
