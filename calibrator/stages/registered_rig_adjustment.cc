@@ -177,12 +177,7 @@ RegisteredRig AdjustRegisteredRig(const RigObservations& obs, const RigCalibrati
   result = placed;
   SetRefinedIntrinsics(obs, options, ba, &result);
   result.num_tracks = static_cast<int>(tracks.size());
-  result.num_points = ba.num_points;
-  result.num_observations = ba.num_observations;
-  result.num_filtered_observations = ba.num_filtered_observations;
-  result.initial_reprojection_rms_px = ba.initial_rms_px;
-  result.reprojection_rms_px = ba.reprojection_rms_px;
-  result.residual_correlation = ba.residual_correlation;
+  SetAdjustmentSummary(ba, &result);
   result.rig_from_world = ba.poses.rig_from_world;
   for (int c = 0; c < n; ++c) {
     if (!HasFullPose(placed.camera_status[c].outcome) || !ba.poses.cam_from_rig[c]) continue;

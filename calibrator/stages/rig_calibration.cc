@@ -689,12 +689,7 @@ std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, 
   JudgeCamerasHeldByOneRivalledPair(obs, rotations, options, &adjusted);
   result.bundle_adjustment_time_s = SecondsSince(start);
   result.position_starts = adjusted.starts;
-  result.initial_reprojection_rms_px = ba.initial_rms_px;
-  result.reprojection_rms_px = ba.reprojection_rms_px;
-  result.residual_correlation = ba.residual_correlation;
-  result.num_points = ba.num_points;
-  result.num_observations = ba.num_observations;
-  result.num_filtered_observations = ba.num_filtered_observations;
+  SetAdjustmentSummary(ba, &result);
 
   start = StageClock::now();
   const std::vector<CameraSynchronisation> synchronisation =
@@ -881,6 +876,15 @@ void SetRefinedIntrinsics(const RigObservations& obs, const RigCalibrationOption
     result->camera_stats[c].intrinsics =
         RefinedIntrinsics{given.params(), ba.cameras[c].params(), ba.intrinsics_stddev[c]};
   }
+}
+
+void SetAdjustmentSummary(const MultiFrameBundleAdjustmentResult& ba, RigCalibrationResult* result) {
+  result->initial_reprojection_rms_px = ba.initial_rms_px;
+  result->reprojection_rms_px = ba.reprojection_rms_px;
+  result->residual_correlation = ba.residual_correlation;
+  result->num_points = ba.num_points;
+  result->num_observations = ba.num_observations;
+  result->num_filtered_observations = ba.num_filtered_observations;
 }
 
 }  // namespace rigsim

@@ -78,6 +78,9 @@ RigCalibrationResult EstimateRigFrom(const RigObservations& observations, const 
 // Adds `from`'s rig_passes and stage times into `into`, which then counts the work of both.
 void AddRigWork(const RigCalibrationResult& from, RigCalibrationResult* into);
 
+// The bundle adjustment's counts and reprojection figures into `result`.
+void SetAdjustmentSummary(const MultiFrameBundleAdjustmentResult& ba, RigCalibrationResult* result);
+
 // The intrinsics of the cameras `ba` refined (RigBundleAdjustmentOptions::refine_intrinsics) into
 // `result`'s rig, with their given values and standard deviations (RigCameraStats::intrinsics).
 void SetRefinedIntrinsics(const RigObservations& obs, const RigCalibrationOptions& options,
