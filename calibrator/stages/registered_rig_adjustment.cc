@@ -130,16 +130,11 @@ double SetScale(const RigObservations& obs, const RigCalibrationOptions& options
   result->scale_kind = ScaleKind::kUnit;
   result->scale = "unit scale: |centre of " + obs.camera_names[unit_camera] + "| = 1";
   if (options.known_distance) {
-    const auto [a, b] = KnownDistanceCameras(*options.known_distance, obs.camera_names, "AdjustRegisteredRig");
-    if (poses[a] && poses[b]) {
-      const double d = (poses[a]->SourceOriginInTarget() - poses[b]->SourceOriginInTarget()).norm();
-      if (d > 1e-12) {
-        factor *= options.known_distance->metres / d;
-        ScaleTranslations(options.known_distance->metres / d, &poses, &result->rig_from_world);
-        result->scale_kind = ScaleKind::kMetric;
-        result->scale = "metric: |" + obs.camera_names[a] + " - " + obs.camera_names[b] +
-                        "| = " + Fixed(options.known_distance->metres, 4) + " m";
-      }
+    const MetricScale metric = ScaleToKnownDistance(obs, *options.known_distance, &poses, &result->rig_from_world);
+    if (metric.why_not.empty()) {
+      factor *= metric.factor;
+      result->scale_kind = ScaleKind::kMetric;
+      result->scale = metric.scale;
     }
   }
   for (size_t c = 0; c < poses.size(); ++c) result->rig.cameras[c].cam_from_rig = poses[c];

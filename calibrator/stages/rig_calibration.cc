@@ -409,7 +409,7 @@ struct ScaledRig {
 };
 
 ScaledRig DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& adjusted, const PositionStage& ps,
-                                     const RigCalibrationOptions& options, int known_a, int known_b) {
+                                     const RigCalibrationOptions& options) {
   const int n = static_cast<int>(obs.cameras.size());
   MultiFrameBundleAdjustmentResult& ba = adjusted.ba;
   ScaledRig out;
@@ -462,21 +462,14 @@ ScaledRig DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& adju
   out.scale = scale_camera >= 0 ? "unit scale: |centre of " + obs.camera_names[scale_camera] + "| = 1"
                                 : "no scale (no camera with a position besides " + obs.camera_names[0] + ")";
   if (!options.known_distance) return out;
-  if (pose[known_a] && pose[known_b]) {
-    const double d = (pose[known_a]->SourceOriginInTarget() - pose[known_b]->SourceOriginInTarget()).norm();
-    if (d > 1e-12) {
-      out.length_scale *= options.known_distance->metres / d;
-      ScaleTranslations(options.known_distance->metres / d, &pose, &out.poses.rig_from_world);
-      out.scale_kind = ScaleKind::kMetric;
-      out.scale = "metric: |" + obs.camera_names[known_a] + " - " + obs.camera_names[known_b] +
-                  "| = " + Fixed(options.known_distance->metres, 4) + " m";
-    } else {
-      out.warnings.push_back("known distance ignored: the two cameras' estimated centres coincide");
-    }
-  } else {
-    out.warnings.push_back("known distance ignored: " + obs.camera_names[pose[known_a] ? known_b : known_a] +
-                           " has no position, so the result has no metric scale");
+  const MetricScale metric = ScaleToKnownDistance(obs, *options.known_distance, &pose, &out.poses.rig_from_world);
+  if (!metric.why_not.empty()) {
+    out.warnings.push_back("known distance ignored: " + metric.why_not);
+    return out;
   }
+  out.length_scale *= metric.factor;
+  out.scale_kind = ScaleKind::kMetric;
+  out.scale = metric.scale;
   return out;
 }
 
@@ -657,7 +650,7 @@ void PreCheckEarlyStages(const EarlyStages& early, int n, RigPreCheck* check) {
 // One round of the rig stages. With `stop`: nullopt, and `stop` filled but for its work, where
 // the early stages leave a camera without a rotation or a start position.
 std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, const RigCalibrationOptions& options,
-                                                    const std::vector<std::string>& rejected, int known_a, int known_b,
+                                                    const std::vector<std::string>& rejected,
                                                     RigPreCheck* stop) {
   const int n = static_cast<int>(obs.cameras.size());
   const int num_frames = static_cast<int>(obs.keypoints.size());
@@ -697,7 +690,7 @@ std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, 
                         initial.scale_camera, ba);
   result.synchronisation_check_time_s = SecondsSince(start);
   SetRefinedIntrinsics(obs, options, ba, &result);
-  ScaledRig scaled = DropUndeterminedAndScale(obs, adjusted, initial, options, known_a, known_b);
+  ScaledRig scaled = DropUndeterminedAndScale(obs, adjusted, initial, options);
   SetAsideOpenAxes(obs, initial, &scaled);
   for (int c = 0; c < n; ++c) {
     result.camera_stats[c].direction_std_deg = scaled.direction_std_deg[c];
@@ -755,9 +748,9 @@ std::pair<int, std::string> MostDisagreeingEdge(const RigCalibrationResult& r, c
   return {worst, why};
 }
 
-// The known distance's two cameras ((-1, -1) without one). Throws std::invalid_argument on bad
-// options or inconsistent observations.
-std::pair<int, int> CheckInputs(const RigObservations& obs, const RigCalibrationOptions& options) {
+// Throws std::invalid_argument on bad options (a known distance naming an unknown camera among
+// them) or inconsistent observations.
+void CheckInputs(const RigObservations& obs, const RigCalibrationOptions& options) {
   options.Check();
   const int n = static_cast<int>(obs.cameras.size());
   if (n < 1 || static_cast<int>(obs.camera_names.size()) != n) {
@@ -767,8 +760,7 @@ std::pair<int, int> CheckInputs(const RigObservations& obs, const RigCalibration
   for (const auto& frame : obs.keypoints) {
     if (frame.size() != obs.cameras.size()) throw std::invalid_argument("EstimateRig: keypoints need every camera per frame");
   }
-  if (!options.known_distance) return {-1, -1};
-  return KnownDistanceCameras(*options.known_distance, obs.camera_names, "EstimateRig");
+  if (options.known_distance) KnownDistanceCameras(*options.known_distance, obs.camera_names, "EstimateRig");
 }
 
 }  // namespace
@@ -801,7 +793,7 @@ void ClearRigWork(RigCalibrationResult* r) {
 // resume from, the work done so far in its `work`).
 std::optional<RigCalibrationResult> EstimateRigRounds(const RigObservations& obs, const RigCalibrationOptions& options,
                                                       RigRounds state, RigPreCheck* stop) {
-  const auto [known_a, known_b] = CheckInputs(obs, options);
+  CheckInputs(obs, options);
   // Every pair the rig used must agree with the rig it helped make: one that does not is left
   // out and the rig made again without it, the worst first.
   // A pair off in its direction only keeps its rotation and matches (max_direction_only_disagreement_deg):
@@ -810,7 +802,7 @@ std::optional<RigCalibrationResult> EstimateRigRounds(const RigObservations& obs
   if (state.direction_left_out.empty()) state.direction_left_out.assign(obs.pairs.size(), "");
   for (;;) {
     std::optional<RigCalibrationResult> next =
-        EstimateRigOnce(state.kept ? *state.kept : obs, options, state.rejected, known_a, known_b, stop);
+        EstimateRigOnce(state.kept ? *state.kept : obs, options, state.rejected, stop);
     if (!next) {
       stop->round = state.round;
       if (state.result) {
@@ -885,6 +877,26 @@ void SetAdjustmentSummary(const MultiFrameBundleAdjustmentResult& ba, RigCalibra
   result->num_points = ba.num_points;
   result->num_observations = ba.num_observations;
   result->num_filtered_observations = ba.num_filtered_observations;
+}
+
+MetricScale ScaleToKnownDistance(const RigObservations& obs, const KnownDistance& known,
+                                 PerCamera<Rigid3d>* cam_from_rig, PerFrame<Rigid3d>* rig_from_world) {
+  const auto [a, b] = KnownDistanceCameras(known, obs.camera_names, "EstimateRig");
+  const auto& pose = *cam_from_rig;
+  MetricScale out;
+  if (!pose[a] || !pose[b]) {
+    out.why_not = obs.camera_names[pose[a] ? b : a] + " has no position, so the result has no metric scale";
+    return out;
+  }
+  const double d = (pose[a]->SourceOriginInTarget() - pose[b]->SourceOriginInTarget()).norm();
+  if (!(d > 1e-12)) {
+    out.why_not = "the two cameras' estimated centres coincide";
+    return out;
+  }
+  out.factor = known.metres / d;
+  ScaleTranslations(out.factor, cam_from_rig, rig_from_world);
+  out.scale = "metric: |" + obs.camera_names[a] + " - " + obs.camera_names[b] + "| = " + Fixed(known.metres, 4) + " m";
+  return out;
 }
 
 }  // namespace rigsim

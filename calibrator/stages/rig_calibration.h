@@ -25,6 +25,7 @@
 
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -77,6 +78,18 @@ RigCalibrationResult EstimateRigFrom(const RigObservations& observations, const 
 
 // Adds `from`'s rig_passes and stage times into `into`, which then counts the work of both.
 void AddRigWork(const RigCalibrationResult& from, RigCalibrationResult* into);
+
+// Lengths made metres by a known distance between two cameras (ScaleToKnownDistance).
+struct MetricScale {
+  double factor = 1.0;  // applied to every translation; 1 when nothing was scaled
+  std::string scale;    // "metric: |A - B| = 0.5000 m"
+  std::string why_not;  // why nothing was scaled; empty when scaled
+};
+
+// Scales the poses so that the known distance's two cameras (both must have a position) are
+// `known.metres` apart.
+MetricScale ScaleToKnownDistance(const RigObservations& obs, const KnownDistance& known,
+                                 PerCamera<Rigid3d>* cam_from_rig, PerFrame<Rigid3d>* rig_from_world);
 
 // The bundle adjustment's counts and reprojection figures into `result`.
 void SetAdjustmentSummary(const MultiFrameBundleAdjustmentResult& ba, RigCalibrationResult* result);
