@@ -68,8 +68,8 @@ void BM_CalibrateSixCameraRing(benchmark::State& state) {
   state.counters["screen_s"] = p.screen_time_s;
   state.counters["match_s"] = p.match_time_s + p.temporal_match_time_s;
   state.counters["pose_s"] = p.pose_time_s + p.temporal_pose_time_s;
-  state.counters["rig_s"] = result.rotation_averaging_time_s + result.tracks_time_s + result.positions_time_s;
-  state.counters["ba_s"] = result.bundle_adjustment_time_s;
+  state.counters["rig_s"] = result.work.rotation_averaging_time_s + result.work.tracks_time_s + result.work.positions_time_s;
+  state.counters["ba_s"] = result.work.bundle_adjustment_time_s;
 
   const CalibrationScores truth = ScorePoses(ReadRig(dir / "rig.json"), run.inputs.frames, result);
   double worst_rot = 0.0, worst_dir = 0.0;

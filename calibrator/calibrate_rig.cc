@@ -1,5 +1,6 @@
 #include "calibrator/calibrate_rig.h"
 
+#include <algorithm>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -9,6 +10,7 @@
 
 #include "calibrator/motion_passes.h"
 #include "calibrator/rig_intrinsics.h"
+#include "calibrator/stages/stage_clock.h"
 
 namespace rigsim {
 namespace {
@@ -73,6 +75,29 @@ void MarkPairsTheRigLeftOut(RigCalibrationResult* result) {
   }
 }
 
+// Each stated deviation becomes the larger of the covariance's and the frame jackknife's: the
+// covariance alone states a pose several times too tightly where the keypoints' error is
+// structured, and a deviation rigsim states must bound its error. The placement bound
+// (max_direction_std_deg) stays on the covariance, where it was measured.
+void StateFrameJackknife(RigCalibrationResult* result) {
+  if (!result->adjustment) return;
+  const auto start = StageClock::now();
+  const FrameJackknife jackknife = JackknifeOverFrames(*result->adjustment);
+  for (size_t c = 0; c < result->camera_stats.size() && c < jackknife.rotation_std_deg.size(); ++c) {
+    RigCameraStats& s = result->camera_stats[c];
+    if (s.rotation_std_deg && jackknife.rotation_std_deg[c]) {
+      s.rotation_jackknife_std_deg = jackknife.rotation_std_deg[c];
+      s.rotation_std_deg = std::max(*s.rotation_std_deg, *jackknife.rotation_std_deg[c]);
+    }
+    if (s.direction_std_deg && jackknife.direction_std_deg[c]) {
+      s.direction_jackknife_std_deg = jackknife.direction_std_deg[c];
+      s.direction_std_deg = std::max(*s.direction_std_deg, *jackknife.direction_std_deg[c]);
+    }
+  }
+  result->adjustment.reset();  // its copies of the keypoints and tracks are not needed further
+  result->work.frame_jackknife_time_s += SecondsSince(start);
+}
+
 RigCalibrationResult EstimateRigFromPairs(const RigViews& views, const PairwiseResult& pairwise,
                                           const RigCalibrationOptions& options) {
   const RigObservations obs = ObservationsOfPairs(views, pairwise);
@@ -85,6 +110,7 @@ RigCalibrationResult EstimateRigFromPairs(const RigViews& views, const PairwiseR
     return EstimateRigWithMotionLinks(o, match, opt);
   };
   RigCalibrationResult r = refine ? EstimateRigAndIntrinsics(obs, options, with_motion) : with_motion(obs, options);
+  StateFrameJackknife(&r);
   r.pairwise = pairwise.report;
   UseReestimatedPairs(&r);
   MarkPairsTheRigLeftOut(&r);

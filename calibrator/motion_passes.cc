@@ -126,11 +126,11 @@ RigCalibrationResult TheBetterPass(const RigObservations& obs, RigCalibrationRes
                                    const MotionLinks& links, const PredictionCheck& check, RigObservations* used) {
   if (CamerasPlaced(second) <= CamerasPlaced(first) || !Holds(obs, second, check)) {
     SayWhatTheMotionFound(links, check, &first);
-    AddRigWork(second, &first);
+    first.work += second.work;
     return first;
   }
   second.motion_links = SummaryOf(links, true, second.num_cross_time_pairs_used, check);
-  AddRigWork(first, &second);
+  second.work += first.work;
   *used = Linked(obs, links);
   return second;
 }
@@ -176,7 +176,7 @@ RigCalibrationResult LinkBeforeTheFullPass(const RigObservations& obs, const Rig
   // kept.
   if (!second || !NeedsMotionLinks(first, obs, options)) {
     SayWhatTheMotionFound(links, check, &first);
-    if (second) AddRigWork(*second, &first);
+    if (second) first.work += second->work;
     return first;
   }
   return TheBetterPass(obs, std::move(first), *std::move(second), links, check, used);
@@ -190,7 +190,7 @@ RigCalibrationResult MotionPasses(const RigObservations& obs, const ViewPairMatc
   std::optional<RigCalibrationResult> first = EstimateRigUnlessUnplaced(obs, options, &stop);
   if (first) return LinkWhereTheFullPassNeedsIt(obs, *std::move(first), match, options, used);
   RigCalibrationResult result = LinkBeforeTheFullPass(obs, stop, match, options, used);
-  AddRigWork(stop.work, &result);
+  result.work += stop.work;
   return result;
 }
 
@@ -269,7 +269,7 @@ RigCalibrationResult RegisterWhereUnplaced(RigObservations used, RigCalibrationR
     const std::string why_not = WhyNotKept(used, result, second);
     if (!why_not.empty()) {
       SayWhyNotRegistered(reg, "a pose fits its matches with placed points, but " + why_not, &result);
-      result.bundle_adjustment_time_s = second.result.bundle_adjustment_time_s;  // `second` is `result` adjusted
+      result.work.bundle_adjustment_time_s = second.result.work.bundle_adjustment_time_s;  // `second` is `result` adjusted
       break;
     }
     SayWhatWasRegistered(reg, &second.result);

@@ -71,7 +71,7 @@ TEST(MotionLinks, OverlappingRingRunsOnePassWithoutTheMotionStage) {
   SyntheticRig s = SynthesizeRig(o);
   const RigCalibrationResult r = EstimateRigWithMotionLinks(ObserveMoving(s), SyntheticMatcher(s), TwoThreads());
   EXPECT_FALSE(r.motion_links.has_value());  // no round stopped, and the result places every camera
-  EXPECT_EQ(r.rig_passes, 1);
+  EXPECT_EQ(r.work.rig_passes, 1);
   for (int cam = 0; cam < 4; ++cam) {
     EXPECT_EQ(r.camera_status[cam].outcome, CameraOutcome::kCalibrated) << r.camera_status[cam];
   }
@@ -94,7 +94,7 @@ TEST(MotionLinks, LinksThatPlaceEveryCameraMakeTheOnlyFullPass) {
   const RigCalibrationResult r = EstimateRigWithMotionLinks(obs, SyntheticMatcher(s), TwoThreads());
   ASSERT_TRUE(r.motion_links.has_value());
   EXPECT_TRUE(r.motion_links->kept);
-  EXPECT_EQ(r.rig_passes, 1);
+  EXPECT_EQ(r.work.rig_passes, 1);
   for (int cam = 0; cam < 4; ++cam) EXPECT_EQ(r.camera_status[cam].outcome, CameraOutcome::kCalibrated) << cam;
 }
 
@@ -130,7 +130,7 @@ TEST(MotionLinks, ACameraThatOnlyAPairTheRigRejectsReachesIsPlacedByTheLinksInOn
   // The full pass resumed where the check stopped is the full pass run from the start, to the bit.
   const RigCalibrationResult resumed = EstimateRigFrom(obs, TwoThreads(), stop);
   const RigCalibrationResult whole = EstimateRig(obs, TwoThreads());
-  EXPECT_EQ(resumed.rig_passes, 1);
+  EXPECT_EQ(resumed.work.rig_passes, 1);
   ASSERT_EQ(resumed.edges.size(), whole.edges.size());
   for (size_t e = 0; e < whole.edges.size(); ++e) EXPECT_EQ(resumed.edges[e].status, whole.edges[e].status) << e;
   for (int cam = 0; cam < 4; ++cam) {
@@ -145,7 +145,7 @@ TEST(MotionLinks, ACameraThatOnlyAPairTheRigRejectsReachesIsPlacedByTheLinksInOn
   const RigCalibrationResult r = EstimateRigWithMotionLinks(obs, SyntheticMatcher(s), TwoThreads());
   ASSERT_TRUE(r.motion_links.has_value());
   EXPECT_TRUE(r.motion_links->kept);
-  EXPECT_EQ(r.rig_passes, 1);
+  EXPECT_EQ(r.work.rig_passes, 1);
   const std::vector<CameraErrors> errors = ErrorsAgainst(s.rig, r);
   for (int cam = 1; cam < 4; ++cam) {
     SCOPED_TRACE(cam);
@@ -168,7 +168,7 @@ TEST(MotionLinks, PassWithoutTheLinksIsKeptWhenTheLinksPlaceNoMoreCameras) {
   const RigCalibrationResult r = EstimateRigWithMotionLinks(obs, SyntheticMatcher(s), options);
   ASSERT_TRUE(r.motion_links.has_value());
   EXPECT_FALSE(r.motion_links->kept);
-  EXPECT_EQ(r.rig_passes, 2);  // with the links, then without
+  EXPECT_EQ(r.work.rig_passes, 2);  // with the links, then without
   for (int cam = 0; cam < 4; ++cam) {
     SCOPED_TRACE(cam);
     EXPECT_EQ(r.camera_status[cam].outcome, without.camera_status[cam].outcome);
@@ -404,7 +404,7 @@ TEST(MotionLinks, TurningAtAConstantRateWithoutSharedPointsPlacesNoCameraByGuess
   const Calibrated c = CalibrateFromMotion(s);
   ASSERT_TRUE(c.result.motion_links.has_value());  // it ran, and its result was not kept
   EXPECT_FALSE(c.result.motion_links->kept);
-  EXPECT_EQ(c.result.rig_passes, 1);  // it found nothing to link: no pass with the links
+  EXPECT_EQ(c.result.work.rig_passes, 1);  // it found nothing to link: no pass with the links
   for (int cam = 1; cam < 4; ++cam) {
     EXPECT_EQ(c.result.camera_status[cam].outcome, CameraOutcome::kNotConnected) << cam;
     EXPECT_FALSE(c.result.cam_from_rig_rotation[cam].has_value()) << cam;

@@ -51,7 +51,7 @@ RigCalibrationResult EstimateRigAndIntrinsics(const RigObservations& obs, const 
   const RigObservations reestimated = ReestimateWithIntrinsics(obs, refined, options.pairwise.two_view);
   RigCalibrationResult result = pass(reestimated, second);
   for (const PairEstimate& p : reestimated.pairs) result.reestimated_pairs.push_back(p.two_view);
-  AddRigWork(rough, &result);
+  result.work += rough.work;
   return result;
 }
 

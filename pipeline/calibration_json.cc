@@ -201,6 +201,8 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
     j["observations"] = s.observations;
     j["direction_std_deg"] = json_io::OptionalNumber(s.direction_std_deg);
     j["rotation_std_deg"] = json_io::OptionalNumber(s.rotation_std_deg);
+    j["direction_jackknife_std_deg"] = json_io::OptionalNumber(s.direction_jackknife_std_deg);
+    j["rotation_jackknife_std_deg"] = json_io::OptionalNumber(s.rotation_jackknife_std_deg);
     j["rotation_error_deg"] = json_io::OptionalNumber(e.rotation_error_deg);
     j["translation_direction_error_deg"] = json_io::OptionalNumber(e.translation_direction_error_deg);
     j["position_error_m"] = json_io::OptionalNumber(e.position_error_m);
@@ -306,12 +308,13 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
                  {"pose_time_s", r.pairwise.pose_time_s},
                  {"temporal_match_time_s", r.pairwise.temporal_match_time_s},
                  {"temporal_pose_time_s", r.pairwise.temporal_pose_time_s},
-                 {"rotation_averaging_time_s", r.rotation_averaging_time_s},
-                 {"positions_time_s", r.positions_time_s},
-                 {"tracks_time_s", r.tracks_time_s},
-                 {"bundle_adjustment_time_s", r.bundle_adjustment_time_s},
-                 {"synchronisation_check_time_s", r.synchronisation_check_time_s},
-                 {"rig_passes", r.rig_passes}};
+                 {"rotation_averaging_time_s", r.work.rotation_averaging_time_s},
+                 {"positions_time_s", r.work.positions_time_s},
+                 {"tracks_time_s", r.work.tracks_time_s},
+                 {"bundle_adjustment_time_s", r.work.bundle_adjustment_time_s},
+                 {"synchronisation_check_time_s", r.work.synchronisation_check_time_s},
+                 {"frame_jackknife_time_s", r.work.frame_jackknife_time_s},
+                 {"rig_passes", r.work.rig_passes}};
   m["cameras"] = cams;
   Json frames = Json::array();  // per frame index: the rig's pose, or null
   for (const auto& p : r.rig_from_world) frames.push_back(p ? json_io::PoseToJson(*p) : Json(nullptr));

@@ -171,6 +171,9 @@ RegisteredRig AdjustRegisteredRig(const RigObservations& obs, const RigCalibrati
   RigCalibrationResult& result = out.result;
   result = placed;
   SetRefinedIntrinsics(obs, options, ba, &result);
+  result.adjustment = std::make_shared<const RigAdjustmentProblem>(SolvedProblem(
+      cameras, obs.keypoints, tracks, unit_camera, ba_options, !placed.rig_motion_estimated,
+      timing ? &*timing : nullptr, ba));
   result.num_tracks = static_cast<int>(tracks.size());
   SetAdjustmentSummary(ba, &result);
   result.rig_from_world = ba.poses.rig_from_world;
@@ -205,7 +208,7 @@ RegisteredRig AdjustRegisteredRig(const RigObservations& obs, const RigCalibrati
   const auto check_start = StageClock::now();
   const std::vector<CameraSynchronisation> synchronisation = CheckCaptureTimes(
       obs, options.capture_time, ba_options, placed.rig_motion_estimated, tracks, unit_camera, ba);
-  result.synchronisation_check_time_s += SecondsSince(check_start);
+  result.work.synchronisation_check_time_s += SecondsSince(check_start);
   DropHiddenTimeWarning(&result);
   SetCaptureTimes(obs, options.capture_time, ba, synchronisation, &result);
   for (const CameraRegistration& r : registration.cameras) {
@@ -230,7 +233,7 @@ RegisteredRig AdjustRegisteredRig(const RigObservations& obs, const RigCalibrati
     result.details->initial_residuals_px = ba.initial_residuals_px;
     result.details->final_residuals_px = ba.final_residuals_px;
   }
-  result.bundle_adjustment_time_s += adjustment_s;
+  result.work.bundle_adjustment_time_s += adjustment_s;
   return out;
 }
 

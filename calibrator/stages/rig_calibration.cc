@@ -64,13 +64,15 @@ bool RigPreCheck::SomeCameraWithoutFullPose() const {
   return std::find(may_be_placed.begin(), may_be_placed.end(), 0) != may_be_placed.end();
 }
 
-void AddRigWork(const RigCalibrationResult& from, RigCalibrationResult* into) {
-  into->rig_passes += from.rig_passes;
-  into->rotation_averaging_time_s += from.rotation_averaging_time_s;
-  into->tracks_time_s += from.tracks_time_s;
-  into->positions_time_s += from.positions_time_s;
-  into->bundle_adjustment_time_s += from.bundle_adjustment_time_s;
-  into->synchronisation_check_time_s += from.synchronisation_check_time_s;
+RigWork& RigWork::operator+=(const RigWork& other) {
+  rig_passes += other.rig_passes;
+  rotation_averaging_time_s += other.rotation_averaging_time_s;
+  tracks_time_s += other.tracks_time_s;
+  positions_time_s += other.positions_time_s;
+  bundle_adjustment_time_s += other.bundle_adjustment_time_s;
+  synchronisation_check_time_s += other.synchronisation_check_time_s;
+  frame_jackknife_time_s += other.frame_jackknife_time_s;
+  return *this;
 }
 
 namespace {
@@ -298,6 +300,7 @@ struct AdjustedRig {
   std::vector<std::string> ambiguous;  // per camera: why its position is ambiguous; empty if not
   // Per camera: why its rotation is ambiguous too (JudgeCamerasHeldByOneRivalledPair); empty if not.
   std::vector<std::string> rotation_ambiguous;
+  std::shared_ptr<const RigAdjustmentProblem> problem;  // the chosen start's, as solved
 };
 
 // The angle (deg) between two estimates of the direction of a camera's centre from camera 0's.
@@ -353,6 +356,8 @@ AdjustedRig AdjustFromEveryStart(const RigObservations& obs, const std::vector<V
     }
   }
   out.ba = std::move(adjusted[best]);
+  out.problem = std::make_shared<const RigAdjustmentProblem>(SolvedProblem(
+      obs.cameras, obs.keypoints, tracks, ps.scale_camera, ba_options, !motion.moving, timing ? &*timing : nullptr, out.ba));
   return out;
 }
 
@@ -613,7 +618,7 @@ EarlyStages RunEarlyStages(const RigObservations& obs, const RigCalibrationOptio
   auto start = StageClock::now();
   s.rotations = AverageCameraRotations(obs, options, rejected);
   result->num_rotation_outliers = s.rotations.rot.num_outliers;
-  result->rotation_averaging_time_s = SecondsSince(start);
+  result->work.rotation_averaging_time_s = SecondsSince(start);
 
   start = StageClock::now();
   s.motion = EstimateRigMotion(obs, s.rotations, num_frames);
@@ -626,13 +631,13 @@ EarlyStages RunEarlyStages(const RigObservations& obs, const RigCalibrationOptio
   }
   s.tracks = TracksOfUsedPairs(obs, s.rotations, s.motion, num_frames, &result->num_conflicting_tracks);
   result->num_tracks = static_cast<int>(s.tracks.size());
-  result->tracks_time_s = SecondsSince(start);
+  result->work.tracks_time_s = SecondsSince(start);
 
   start = StageClock::now();
   s.initial = EstimateInitialPoses(obs, s.rotations, s.motion, s.tracks, options);
   result->position_eigenvalue_ratio = s.initial.eigenvalue_ratio;
   for (int k = 0; k < num_frames; ++k) result->num_frames_posed += s.motion.rig_rotation[k].has_value();
-  result->positions_time_s = SecondsSince(start);
+  result->work.positions_time_s = SecondsSince(start);
   return s;
 }
 
@@ -662,7 +667,7 @@ std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, 
   if (stop) {
     PreCheckEarlyStages(early, n, stop);
     if (stop->SomeCameraWithoutFullPose()) {
-      stop->work = std::move(result);
+      stop->work = result.work;
       return std::nullopt;
     }
   }
@@ -680,15 +685,16 @@ std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, 
     ba.observations_per_camera.assign(n, 0);
   }
   JudgeCamerasHeldByOneRivalledPair(obs, rotations, options, &adjusted);
-  result.bundle_adjustment_time_s = SecondsSince(start);
+  result.work.bundle_adjustment_time_s = SecondsSince(start);
   result.position_starts = adjusted.starts;
+  result.adjustment = adjusted.problem;
   SetAdjustmentSummary(ba, &result);
 
   start = StageClock::now();
   const std::vector<CameraSynchronisation> synchronisation =
       CheckCaptureTimes(obs, options.capture_time, options.bundle_adjustment, motion.moving, tracks,
                         initial.scale_camera, ba);
-  result.synchronisation_check_time_s = SecondsSince(start);
+  result.work.synchronisation_check_time_s = SecondsSince(start);
   SetRefinedIntrinsics(obs, options, ba, &result);
   ScaledRig scaled = DropUndeterminedAndScale(obs, adjusted, initial, options);
   SetAsideOpenAxes(obs, initial, &scaled);
@@ -777,17 +783,6 @@ struct RigRounds {
 
 namespace {
 
-// The stage times and passes of `r` set to none (they are counted elsewhere already).
-void ClearRigWork(RigCalibrationResult* r) {
-  RigCalibrationResult none;
-  r->rig_passes = none.rig_passes;
-  r->rotation_averaging_time_s = none.rotation_averaging_time_s;
-  r->tracks_time_s = none.tracks_time_s;
-  r->positions_time_s = none.positions_time_s;
-  r->bundle_adjustment_time_s = none.bundle_adjustment_time_s;
-  r->synchronisation_check_time_s = none.synchronisation_check_time_s;
-}
-
 // The rounds from `state` on (EstimateRig), or with `stop` EstimateRigUnlessUnplaced: then nullopt
 // where a round's early stages leave a camera unplaced, with `stop` (its `rounds` the state to
 // resume from, the work done so far in its `work`).
@@ -806,13 +801,13 @@ std::optional<RigCalibrationResult> EstimateRigRounds(const RigObservations& obs
     if (!next) {
       stop->round = state.round;
       if (state.result) {
-        AddRigWork(*state.result, &stop->work);
-        ClearRigWork(&*state.result);
+        stop->work += state.result->work;
+        state.result->work = {};  // counted in the stop's work
       }
       stop->rounds = std::make_shared<RigRounds>(std::move(state));
       return std::nullopt;
     }
-    if (state.result) AddRigWork(*state.result, &*next);  // a round is part of this pass
+    if (state.result) next->work += state.result->work;  // a round is part of this pass
     state.result = std::move(next);
     const auto [edge, why] = MostDisagreeingEdge(*state.result, options);
     if (edge < 0 || state.round == options.max_rejected_pairs) break;
@@ -829,7 +824,7 @@ std::optional<RigCalibrationResult> EstimateRigRounds(const RigObservations& obs
     }
   }
   RigCalibrationResult result = *std::move(state.result);
-  result.rig_passes = 1;
+  result.work.rig_passes = 1;
   for (int e = 0; e < static_cast<int>(result.edges.size()); ++e) {
     RigEdgeStats& s = result.edges[e];
     s.direction_left_out = !state.direction_left_out[e].empty();

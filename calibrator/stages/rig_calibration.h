@@ -57,7 +57,7 @@ struct RigPreCheck {
   // Per camera: cam_from_rig's rotation from that round's rotation averaging; nullopt where none.
   PerCamera<Eigen::Quaterniond> cam_from_rig_rotation;
   // The stage times of what ran until the stop (every earlier round whole, rig_passes 0).
-  RigCalibrationResult work;
+  RigWork work;
   // The rounds completed before the stop, for EstimateRigFrom.
   std::shared_ptr<const RigRounds> rounds;
 
@@ -75,9 +75,6 @@ std::optional<RigCalibrationResult> EstimateRigUnlessUnplaced(const RigObservati
 // not in the result.
 RigCalibrationResult EstimateRigFrom(const RigObservations& observations, const RigCalibrationOptions& options,
                                      const RigPreCheck& stop);
-
-// Adds `from`'s rig_passes and stage times into `into`, which then counts the work of both.
-void AddRigWork(const RigCalibrationResult& from, RigCalibrationResult* into);
 
 // Lengths made metres by a known distance between two cameras (ScaleToKnownDistance).
 struct MetricScale {

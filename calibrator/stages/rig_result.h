@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "calibrator/estimators/frame_jackknife.h"
 #include "calibrator/estimators/hand_eye.h"
 #include "calibrator/estimators/intrinsics_refinement.h"
 #include "calibrator/estimators/rig_turns.h"
@@ -24,11 +25,15 @@ namespace rigsim {
 
 struct RigCameraStats {
   int observations = 0;  // bundle-adjustment observations kept
-  // Standard deviation of the direction of the camera's centre from camera 0's (deg), from the
-  // bundle adjustment's covariance: how well the images fix where the camera is, without truth.
+  // Standard deviation of the direction of the camera's centre from camera 0's (deg): how well the
+  // images fix where the camera is, without truth. The larger of the bundle adjustment's
+  // covariance's and the frame jackknife's (below) where that ran.
   std::optional<double> direction_std_deg;
-  // Standard deviation of its rotation in the rig (deg, worst axis), from the same covariance.
+  // Standard deviation of its rotation in the rig (deg, worst axis), the same way.
   std::optional<double> rotation_std_deg;
+  // The same two from the adjustment run again without each frame (frame_jackknife.h); nullopt
+  // with fewer than 3 posed frames or where the camera had no deviation to state.
+  std::optional<double> direction_jackknife_std_deg, rotation_jackknife_std_deg;
   // With RigBundleAdjustmentOptions::refine_intrinsics, for a camera in the bundle adjustment: its
   // given and refined intrinsics and their standard deviations.
   std::optional<RefinedIntrinsics> intrinsics;
@@ -105,6 +110,23 @@ struct RigCalibrationDetails {
   std::vector<double> initial_residuals_px, final_residuals_px;
 };
 
+// The work that made a rig result: full runs of the rig stages (EstimateRig, its pair-rejection
+// rounds included; 2 where a pass with the motion links and one without both ran, or intrinsics
+// were refined) and the wall time of each stage (the pairwise ones are in
+// RigCalibrationResult::pairwise), summed over the passes and the rounds of a pass stopped before
+// its bundle adjustment (EstimateRigUnlessUnplaced).
+struct RigWork {
+  int rig_passes = 0;
+  double rotation_averaging_time_s = 0.0;
+  double positions_time_s = 0.0;
+  double tracks_time_s = 0.0;
+  double bundle_adjustment_time_s = 0.0;
+  double synchronisation_check_time_s = 0.0;  // CaptureTimeOptions::check_synchronisation
+  double frame_jackknife_time_s = 0.0;        // once, on the finished result (frame_jackknife.h)
+
+  RigWork& operator+=(const RigWork& other);
+};
+
 struct RigCalibrationResult {
   std::string semantic_mode;
   // Intrinsics as given (refined with RigBundleAdjustmentOptions::refine_intrinsics); cam_from_rig
@@ -177,16 +199,10 @@ struct RigCalibrationResult {
   };
   std::optional<MotionLinkSummary> motion_links;
   CalibrationReport pairwise;
-  // Full runs of the rig stages (EstimateRig, its pair-rejection rounds included) that made this
-  // result: 2 where a pass with the motion links and one without both ran, or intrinsics were refined.
-  int rig_passes = 0;
-  // Wall time of the rig stages (the pairwise ones are in `pairwise`), summed over the rig_passes
-  // and the rounds of a pass stopped before its bundle adjustment (EstimateRigUnlessUnplaced).
-  double rotation_averaging_time_s = 0.0;
-  double positions_time_s = 0.0;
-  double tracks_time_s = 0.0;
-  double bundle_adjustment_time_s = 0.0;
-  double synchronisation_check_time_s = 0.0;  // CaptureTimeOptions::check_synchronisation
+  RigWork work;
+  // The bundle adjustment that made this result, for the frame jackknife run once on the finished
+  // result (StateFrameJackknife); nullopt where none ran.
+  std::shared_ptr<const RigAdjustmentProblem> adjustment;
   // With RigCalibrationOptions::keep_details only; shared, so copies of a result stay cheap.
   std::shared_ptr<RigCalibrationDetails> details;
 };
