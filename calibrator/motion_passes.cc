@@ -230,6 +230,14 @@ std::string WhyNotKept(const RigObservations& obs, const RigCalibrationResult& b
 
 // Says, for each camera the registration did not place, why: in its status.
 void SayWhyNotRegistered(const TrackRegistration& reg, const std::string& why_not_kept, RigCalibrationResult* result) {
+  if (reg.cameras.empty() && !reg.why_none.empty()) {
+    for (CameraStatus& s : result->camera_status) {
+      if (s.outcome == CameraOutcome::kNotConnected || s.outcome == CameraOutcome::kRotationOnly) {
+        s.reason += "; nor was it registered through tracks (" + reg.why_none + ")";
+      }
+    }
+    return;
+  }
   for (const CameraRegistration& r : reg.cameras) {
     CameraStatus& s = result->camera_status[r.camera];
     if (HasFullPose(s.outcome)) continue;

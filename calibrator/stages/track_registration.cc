@@ -230,10 +230,19 @@ TrackRegistration RegisterCamerasThroughTracks(const RigObservations& obs, const
   if (views.frames.size() < 2 && std::count(views.camera_placed.begin(), views.camera_placed.end(), 1) == 1) {
     PoseFramesFromReferenceMotion(obs, placed, options, &views);
   }
-  if (views.frames.empty()) return out;
+  if (views.frames.empty()) {
+    out.why_none = "no frame has a rig pose to register it against: the reference camera's own motion has no baseline "
+                   "(the rig stood still or only turned)";
+    return out;
+  }
   out.placed_poses = views.poses;
   const PlacedPoints points = TriangulatePlacedTracks(obs, views, TracksOfCameras(obs, placed, views.camera_placed), options);
-  if (points.x.empty()) return out;
+  if (points.x.empty()) {
+    out.why_none = "the placed cameras' views give no point to register it against: their rays meet at under " +
+                   Fixed(options.min_triangulation_angle_deg, 1) +
+                   " deg (the rig stood still or only turned, and no pair with a baseline was placed)";
+    return out;
+  }
   for (int c = 1; c < n; ++c) {
     if (views.camera_placed[c]) continue;
     const CameraOutcome o = placed.camera_status[c].outcome;

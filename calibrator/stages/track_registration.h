@@ -38,13 +38,17 @@ struct TrackRegistration {
   // The rig the cameras were registered into: `placed`'s placed cameras and the frames posed
   // (`placed`'s, or the reference camera's own motion's).
   RigPoses placed_poses;
+  // When `cameras` is empty: why no camera could be tried (nothing posed or placed to register
+  // against), in words for a camera's status.
+  std::string why_none;
 
   bool AnyRegistered() const;
 };
 
 // Registers the cameras `placed` left without a full pose (not connected, rotation only) against
 // the points of its placed cameras over its posed frames. `obs` are the observations `placed` was
-// estimated from. Empty when nothing can be registered (no posed frame, no placed point).
+// estimated from. Without cameras, and why_none says why, when nothing can be registered (no posed
+// frame, no placed point).
 TrackRegistration RegisterCamerasThroughTracks(const RigObservations& obs, const RigCalibrationResult& placed,
                                                const ViewPairMatcher& match, const TrackRegistrationOptions& options);
 

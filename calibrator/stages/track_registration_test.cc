@@ -19,13 +19,13 @@ constexpr int kWeakCamera = 3;
 // Five cameras of 90 deg round a ring, neighbours sharing a little, on a rig driving a gently
 // turning path: each camera's pairs place it, and camera kWeakCamera's are made to fail as pairs
 // that find too few inliers do.
-SyntheticRig FiveCameraRing(const std::vector<double>& time_offset_s = {}) {
+SyntheticRig FiveCameraRing(const std::vector<double>& time_offset_s = {}, bool stands_still = false) {
   const Camera pinhole(CameraModelId::kPinhole, 640, 360, {320, 320, 319.5, 179.5});
   SyntheticRigOptions o;
   o.cameras.assign(5, pinhole);
   o.max_tilt_deg = 3;
   o.max_offset_m = 0.05;
-  o.path = TurningPath(4, 1.0, 4.0, 0.3, 2.0, 1.0);
+  o.path = stands_still ? std::vector<Rigid3d>(3, Rigid3d()) : TurningPath(4, 1.0, 4.0, 0.3, 2.0, 1.0);
   o.num_frames = static_cast<int>(o.path.size());
   o.num_points = 3000;
   o.min_distance_m = 4;
@@ -142,6 +142,20 @@ TEST(TrackRegistration, PlacesTheRigAgainstTheReferenceCamerasOwnMotionWhenNoPai
   ASSERT_TRUE(r.rig_from_world[1]);
   const double step = r.rig_from_world[1]->Inverse().translation.norm();
   EXPECT_NEAR(step, truth_step / truth_unit, 0.02 * truth_step / truth_unit);
+}
+
+// A rig that stands still poses no frame from its reference camera's motion and triangulates no
+// point from one placed camera: no camera can be registered, and each unplaced one says so.
+TEST(TrackRegistration, SaysWhyNoCameraCanBeRegisteredOnARigThatStandsStill) {
+  SyntheticRig s = FiveCameraRing({}, true);
+  const RigObservations obs = ObserveWithWeakCameras(s, {1, 2, 3, 4});
+  const RigCalibrationResult r = EstimateRigWithMotionLinks(obs, SyntheticMatcher(s), WithoutMotionLinks());
+  for (int c = 1; c < 5; ++c) {
+    EXPECT_FALSE(HasFullPose(r.camera_status[c].outcome)) << c;
+    EXPECT_NE(r.camera_status[c].reason.find("nor was it registered through tracks (") , std::string::npos)
+        << c << ": " << r.camera_status[c].reason;
+    EXPECT_NE(r.camera_status[c].reason.find("the rig stood still or only turned"), std::string::npos) << c;
+  }
 }
 
 // The adjustment confirms a registration or does not place the camera: a registered pose turned
