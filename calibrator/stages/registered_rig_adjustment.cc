@@ -129,12 +129,15 @@ double SetScale(const RigObservations& obs, const RigCalibrationOptions& options
   result->unit_camera = unit_camera;
   result->scale_kind = ScaleKind::kUnit;
   result->scale = "unit scale: |centre of " + obs.camera_names[unit_camera] + "| = 1";
+  DropKnownDistanceWarning(result);  // the placed rig's; this one says its own
   if (options.known_distance) {
     const MetricScale metric = ScaleToKnownDistance(obs, *options.known_distance, &poses, &result->rig_from_world);
     if (metric.why_not.empty()) {
       factor *= metric.factor;
       result->scale_kind = ScaleKind::kMetric;
       result->scale = metric.scale;
+    } else {
+      result->warnings.push_back(metric.Warning());
     }
   }
   for (size_t c = 0; c < poses.size(); ++c) result->rig.cameras[c].cam_from_rig = poses[c];

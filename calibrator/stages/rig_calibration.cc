@@ -469,7 +469,7 @@ ScaledRig DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& adju
   if (!options.known_distance) return out;
   const MetricScale metric = ScaleToKnownDistance(obs, *options.known_distance, &pose, &out.poses.rig_from_world);
   if (!metric.why_not.empty()) {
-    out.warnings.push_back("known distance ignored: " + metric.why_not);
+    out.warnings.push_back(metric.Warning());
     return out;
   }
   out.length_scale *= metric.factor;
@@ -872,6 +872,18 @@ void SetAdjustmentSummary(const MultiFrameBundleAdjustmentResult& ba, RigCalibra
   result->num_points = ba.num_points;
   result->num_observations = ba.num_observations;
   result->num_filtered_observations = ba.num_filtered_observations;
+}
+
+namespace {
+constexpr const char* kKnownDistanceIgnored = "known distance ignored: ";
+}  // namespace
+
+std::string MetricScale::Warning() const { return kKnownDistanceIgnored + why_not; }
+
+void DropKnownDistanceWarning(RigCalibrationResult* result) {
+  auto& w = result->warnings;
+  w.erase(std::remove_if(w.begin(), w.end(), [](const std::string& s) { return s.rfind(kKnownDistanceIgnored, 0) == 0; }),
+          w.end());
 }
 
 MetricScale ScaleToKnownDistance(const RigObservations& obs, const KnownDistance& known,

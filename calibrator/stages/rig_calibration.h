@@ -81,7 +81,13 @@ struct MetricScale {
   double factor = 1.0;  // applied to every translation; 1 when nothing was scaled
   std::string scale;    // "metric: |A - B| = 0.5000 m"
   std::string why_not;  // why nothing was scaled; empty when scaled
+
+  // The result's warning when nothing was scaled: "known distance ignored: " + why_not.
+  std::string Warning() const;
 };
+
+// Removes the warning MetricScale::Warning() adds (a result scaled again says its own).
+void DropKnownDistanceWarning(RigCalibrationResult* result);
 
 // Scales the poses so that the known distance's two cameras (both must have a position) are
 // `known.metres` apart.

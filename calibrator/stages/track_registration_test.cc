@@ -144,6 +144,33 @@ TEST(TrackRegistration, PlacesTheRigAgainstTheReferenceCamerasOwnMotionWhenNoPai
   EXPECT_NEAR(step, truth_step / truth_unit, 0.02 * truth_step / truth_unit);
 }
 
+// A known distance between cameras only registration places: the rig stage alone ignores it (one
+// of them has no position) and says so; the registered rig is metric and no longer says it.
+TEST(TrackRegistration, AKnownDistanceBetweenRegisteredCamerasMakesTheRigMetric) {
+  SyntheticRig s = FiveCameraRing();
+  const RigObservations obs = ObserveWithWeakCameras(s, {kWeakCamera});
+  const Eigen::Vector3d a = s.rig.cameras[1].cam_from_rig->SourceOriginInTarget();
+  const Eigen::Vector3d b = s.rig.cameras[kWeakCamera].cam_from_rig->SourceOriginInTarget();
+  RigCalibrationOptions options = WithoutMotionLinks();
+  options.known_distance = KnownDistance{"cam1", "cam3", (a - b).norm()};
+  const auto ignored = [](const RigCalibrationResult& r) {
+    return std::any_of(r.warnings.begin(), r.warnings.end(),
+                       [](const std::string& w) { return w.rfind("known distance ignored", 0) == 0; });
+  };
+  RigCalibrationOptions off = options;
+  off.registration.enabled = false;
+  const RigCalibrationResult before = EstimateRigWithMotionLinks(obs, SyntheticMatcher(s), off);
+  EXPECT_TRUE(ignored(before));
+  EXPECT_NE(before.scale_kind, ScaleKind::kMetric);
+
+  const RigCalibrationResult r = EstimateRigWithMotionLinks(obs, SyntheticMatcher(s), options);
+  ASSERT_TRUE(HasFullPose(r.camera_status[kWeakCamera].outcome)) << r.camera_status[kWeakCamera].reason;
+  EXPECT_EQ(r.scale_kind, ScaleKind::kMetric) << r.scale;
+  EXPECT_FALSE(ignored(r));
+  const std::vector<CameraErrors> errors = ErrorsAgainst(s.rig, r);
+  for (int c = 1; c < 5; ++c) EXPECT_LT(*errors[c].position_error_m, 0.02) << c;
+}
+
 // A rig that stands still poses no frame from its reference camera's motion and triangulates no
 // point from one placed camera: no camera can be registered, and each unplaced one says so.
 TEST(TrackRegistration, SaysWhyNoCameraCanBeRegisteredOnARigThatStandsStill) {
