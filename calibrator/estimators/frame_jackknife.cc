@@ -14,9 +14,14 @@ namespace rigsim {
 namespace {
 
 constexpr int kMinFrames = 3;
+// Beyond this many posed frames, runs of consecutive frames are left out together (a delete-a-group
+// jackknife): the cost stays that of this many adjustments, and neighbouring frames, which share
+// most of their scene, leave together.
+constexpr int kMaxGroups = 10;
 
-// The problem without frame `left_out`'s observations and pose. Frame 0 holds the gauge, so when it
-// is the one left out, frames 0 and `gauge` swap places (every frame index, time and keypoint list).
+// The problem without the observations and poses of the frames in `left_out` (sorted). Frame 0
+// holds the gauge, so when it is left out, frames 0 and `gauge` (posed, kept) swap places (every
+// frame index, time and keypoint list).
 struct LeftOut {
   FrameKeypoints swapped_keypoints;  // empty unless frame 0 is left out
   std::vector<ViewTrack> tracks;
@@ -24,24 +29,28 @@ struct LeftOut {
   std::optional<CaptureTiming> timing;
 };
 
-LeftOut WithoutFrame(const RigAdjustmentProblem& problem, int left_out, int gauge) {
-  const auto frame_of = [&](int k) { return left_out != 0 ? k : k == 0 ? gauge : k == gauge ? 0 : k; };
+LeftOut WithoutFrames(const RigAdjustmentProblem& problem, const std::vector<int>& left_out, int gauge) {
+  const bool swap = left_out.front() == 0;
+  const auto frame_of = [&](int k) { return !swap ? k : k == 0 ? gauge : k == gauge ? 0 : k; };
+  std::vector<char> removed(problem.keypoints.size(), 0);
   LeftOut out;
   out.start = problem.solution;
-  out.start.rig_from_world[left_out].reset();
   out.timing = problem.timing;
-  if (left_out == 0) {
+  if (swap) {
     out.swapped_keypoints = problem.keypoints;
     std::swap(out.swapped_keypoints[0], out.swapped_keypoints[gauge]);
     std::swap(out.start.rig_from_world[0], out.start.rig_from_world[gauge]);
     if (out.timing) std::swap(out.timing->frame_times_s[0], out.timing->frame_times_s[gauge]);
   }
-  const int removed = frame_of(left_out);
+  for (int k : left_out) {
+    removed[frame_of(k)] = 1;
+    out.start.rig_from_world[frame_of(k)].reset();
+  }
   for (const ViewTrack& t : problem.tracks) {
     ViewTrack kept;
     for (ViewObservation o : t.observations) {
       o.frame = frame_of(o.frame);
-      if (o.frame != removed) kept.observations.push_back(o);
+      if (!removed[o.frame]) kept.observations.push_back(o);
     }
     if (kept.observations.size() < 2) continue;
     std::sort(kept.observations.begin(), kept.observations.end(), [](const ViewObservation& a, const ViewObservation& b) {
@@ -50,6 +59,14 @@ LeftOut WithoutFrame(const RigAdjustmentProblem& problem, int left_out, int gaug
     out.tracks.push_back(std::move(kept));
   }
   return out;
+}
+
+// The posed frames in at most kMaxGroups runs of consecutive ones, as even as they divide.
+std::vector<std::vector<int>> FrameGroups(const std::vector<int>& posed) {
+  const int m = static_cast<int>(posed.size()), g = std::min(m, kMaxGroups);
+  std::vector<std::vector<int>> groups(g);
+  for (int i = 0; i < m; ++i) groups[static_cast<size_t>(i) * g / m].push_back(posed[i]);
+  return groups;
 }
 
 // (m - 1) / m times the scatter of `samples` about their mean.
@@ -100,15 +117,16 @@ FrameJackknife JackknifeOverFrames(const RigAdjustmentProblem& problem) {
   options.keep_points = false;
   options.coarse_points = 0;  // it starts at the solution
   options.num_threads = 1;
-  std::vector<MultiFrameBundleAdjustmentResult> adjusted(posed.size());
-  tbb::parallel_for(0, static_cast<int>(posed.size()), [&](int i) {
-    const LeftOut left = WithoutFrame(problem, posed[i], posed[1]);
+  const std::vector<std::vector<int>> groups = FrameGroups(posed);
+  std::vector<MultiFrameBundleAdjustmentResult> adjusted(groups.size());
+  tbb::parallel_for(0, static_cast<int>(groups.size()), [&](int i) {
+    const LeftOut left = WithoutFrames(problem, groups[i], groups[i].front() == 0 ? groups[1].front() : 0);
     adjusted[i] = MultiFrameRigBundleAdjust(problem.cameras,
                                             left.swapped_keypoints.empty() ? problem.keypoints : left.swapped_keypoints,
                                             left.tracks, left.start, problem.scale_camera, options, problem.hold_frames,
                                             left.timing ? &*left.timing : nullptr);
   });
-  out.frames_left_out = static_cast<int>(posed.size());
+  out.groups_left_out = static_cast<int>(groups.size());
 
   for (int c = 1; c < n; ++c) {
     const std::optional<Rigid3d>& solved = problem.solution.cam_from_rig[c];

@@ -40,19 +40,22 @@ RigAdjustmentProblem SolvedProblem(const std::vector<Camera>& cameras, const Fra
                                    const CaptureTiming* timing, const MultiFrameBundleAdjustmentResult& solved);
 
 struct FrameJackknife {
-  int frames_left_out = 0;  // adjustments run: one per posed frame, none with fewer than 3
-  // Per camera, from the spread of its pose over the adjustments without one frame
-  // ((m - 1) / m times the sum of squared deviations from their mean, m the adjustments in which
-  // it kept observations, at least 2): its rotation in the rig along the worst axis (deg) and the
-  // direction of its centre from camera 0's (deg). nullopt for camera 0 and cameras without a
-  // pose in the solution or with fewer than 2 such adjustments.
+  // Adjustments run: one per posed frame, or beyond 10 posed frames one per run of consecutive
+  // frames left out together (10 runs); none with fewer than 3 posed frames.
+  int groups_left_out = 0;
+  // Per camera, from the spread of its pose over those adjustments ((m - 1) / m times the sum of
+  // squared deviations from their mean, m the adjustments in which it kept observations, at least
+  // 2): its rotation in the rig along the worst axis (deg) and the direction of its centre from
+  // camera 0's (deg). nullopt for camera 0 and cameras without a pose in the solution or with
+  // fewer than 2 such adjustments.
   PerCamera<double> rotation_std_deg;
   PerCamera<double> direction_std_deg;
 };
 
-// Runs the adjustment once per posed frame without that frame's observations, from the solution,
-// side by side (each single-threaded, so the result does not depend on the threads). A left-out
-// frame 0 hands the gauge to the next posed frame, held where the solution put it.
+// Runs the adjustment once per posed frame (or run of frames) without its observations, from the
+// solution, side by side (each single-threaded, so the result does not depend on the threads). A
+// left-out frame 0 hands the gauge to the first posed frame of the next run, held where the
+// solution put it.
 FrameJackknife JackknifeOverFrames(const RigAdjustmentProblem& problem);
 
 }  // namespace rigsim
