@@ -33,7 +33,7 @@ where the reference camera is registered; gauge and scale aligned as for renders
 table of the cameras' rotation / centre-direction errors and one of the wall times per step, and
 writes both as JSON (WORK/<name>/peers.json, or --json). A COLMAP step that fails (the mapper finds
 no initial pair, say) ends its method with the reason; the others still run. Exit code 0 when
-every method ran or failed in COLMAP's own way, 1 on bad input or a missing program.
+the tables are written (whatever each method did), 1 on bad input or a missing program.
 
 Never part of the test suite: it needs real photos and a COLMAP >= 4 build (bench/colmap4/build.sh).
 Standard library only.
@@ -201,11 +201,13 @@ def to_text(method, colmap, sparse, work):
     return True
 
 
-def mapper(method, colmap, work, folder, database, sparse, threads, rig=False):
+def mapper(method, colmap, work, folder, database, sparse, threads, init_min_tri_angle, rig=False):
     sparse.mkdir(parents=True, exist_ok=True)
     args = [colmap, "mapper", "--database_path", database, "--image_path", folder / "images", "--output_path", sparse,
             "--Mapper.ba_refine_focal_length", "0", "--Mapper.ba_refine_principal_point", "0",
             "--Mapper.ba_refine_extra_params", "0", "--Mapper.num_threads", threads]
+    if init_min_tri_angle is not None:
+        args += ["--Mapper.init_min_tri_angle", repr(init_min_tri_angle)]
     if rig:
         args += ["--Mapper.ba_refine_sensor_from_rig", "1"]
     return run_step(method, "rig mapper" if rig else "mapper", args, work / f"{sparse.name}_mapper.log")
@@ -237,17 +239,17 @@ def copy_database(src, dst):
         a.backup(b)
 
 
-def run_colmap38(colmap, work, folder, cameras, images, threads):
+def run_colmap38(colmap, work, folder, cameras, images, threads, init_angle):
     m = Method("colmap3.8", colmap)
     work.mkdir(parents=True)
     if (extract(m, colmap, False, work, folder, cameras, images, threads) and
             match(m, colmap, False, work, "exhaustive", threads) and
-            mapper(m, colmap, work, folder, work / "database.db", work / "sparse", threads)):
+            mapper(m, colmap, work, folder, work / "database.db", work / "sparse", threads, init_angle)):
         to_text(m, colmap, work / "sparse", work)
     return m
 
 
-def run_colmap4(colmap, work, folder, cameras, images, threads, sequential):
+def run_colmap4(colmap, work, folder, cameras, images, threads, sequential, init_angle):
     """The colmap4, colmap4-rig, colmap4-global (and colmap4-global-seq) methods; shared steps are
     run once and counted in each method that uses them."""
     work.mkdir(parents=True)
@@ -266,7 +268,7 @@ def run_colmap4(colmap, work, folder, cameras, images, threads, sequential):
     if shared.failure:
         return methods + ([Method("colmap4-global-seq", colmap)] if sequential else [])
 
-    if mapper(plain, colmap, work, folder, work / "database.db", work / "sparse", threads):
+    if mapper(plain, colmap, work, folder, work / "database.db", work / "sparse", threads, init_angle):
         to_text(plain, colmap, work / "sparse", work)
 
     rig.steps += [s for s in plain.steps if s[0] == "mapper"]
@@ -279,7 +281,7 @@ def run_colmap4(colmap, work, folder, cameras, images, threads, sequential):
         if (run_step(rig, "rig_configurator",
                      [colmap, "rig_configurator", "--database_path", work / "rig.db", "--rig_config_path", config,
                       "--input_path", model, "--output_path", work / "rig_start"], work / "rig_configurator.log") and
-                mapper(rig, colmap, work, folder, work / "rig.db", work / "sparse_rig", threads, rig=True)):
+                mapper(rig, colmap, work, folder, work / "rig.db", work / "sparse_rig", threads, init_angle, rig=True)):
             to_text(rig, colmap, work / "sparse_rig", work)
 
     def global_mapper(m, database, sparse):
@@ -388,6 +390,9 @@ def main():
     ap.add_argument("--sequential", action="store_true",
                     help="also colmap4-global-seq: the rig configured before matching, rig-expanded sequential "
                          "matching instead of exhaustive")
+    ap.add_argument("--init-min-tri-angle", type=float, metavar="DEG",
+                    help="the incremental mappers' Mapper.init_min_tri_angle (COLMAP's default, 16, when not given; "
+                         "it halves it as it relaxes the search for an initial pair)")
     ap.add_argument("--json", type=Path, help="where to write the tables as JSON (default WORK/<name>/peers.json)")
     a = ap.parse_args()
 
@@ -423,10 +428,12 @@ def main():
     methods.append(run_rigsim(rigsim, work / "rigsim", folder, threads))
     if colmap:
         print(f"COLMAP 3.8 ({colmap}) ...", flush=True)
-        methods.append(run_colmap38(colmap, work / "colmap3.8", folder, cameras, images, threads))
+        methods.append(run_colmap38(colmap, work / "colmap3.8", folder, cameras, images, threads,
+                                    a.init_min_tri_angle))
     if colmap4:
         print(f"COLMAP 4 ({colmap4}) ...", flush=True)
-        methods += run_colmap4(colmap4, work / "colmap4", folder, cameras, images, threads, a.sequential)
+        methods += run_colmap4(colmap4, work / "colmap4", folder, cameras, images, threads, a.sequential,
+                               a.init_min_tri_angle)
     for m in methods:
         score(m, rigsim, truth_path, work)
 
@@ -439,6 +446,7 @@ def main():
     result = {
         "folder": str(folder),
         "threads": a.threads,
+        "init_min_tri_angle": a.init_min_tri_angle,
         "cameras": names,
         "methods": [{"name": m.name, "program": str(m.program) if m.program else None,
                      "failure": m.failure, "estimate": str(m.estimate) if m.estimate else None,
