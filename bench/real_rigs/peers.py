@@ -123,6 +123,16 @@ class Method:
         return sum(s for _, s in self.steps)
 
 
+def log_errors(log, count=2):
+    """The last COUNT error lines of a COLMAP log (glog's E/F lines, 'ERROR', a model discarded, an exception's
+    what()), colours removed, else its last lines."""
+    lines = [re.sub(r"\x1b\[[0-9;]*m", "", line).strip() for line in open(log, errors="replace")]
+    lines = [line for line in lines if line]
+    errors = [line for line in lines if re.match(r"[EF]\d{8} ", line) or
+              any(k in line for k in ("ERROR", "Discarding", "what():", "Check failed"))]
+    return [re.sub(r"^[EFWI]\d{8} [\d:.]+ +\d+ ", "", line) for line in (errors or lines)[-count:]]
+
+
 def run_step(method, step, args, log, ok_codes=(0,)):
     """Runs one step, logging to LOG, timing it into METHOD; False (with method.failure) when it fails."""
     start = time.monotonic()
@@ -139,8 +149,7 @@ def run_step(method, step, args, log, ok_codes=(0,)):
     if rc is None:
         method.failure = f"{step}: {out_error}"
     else:
-        lines = [line.strip() for line in open(log, errors="replace") if line.strip()]
-        method.failure = f"{step} exited with {rc}: " + " | ".join(lines[-2:])
+        method.failure = f"{step} exited with {rc}: " + " | ".join(log_errors(log))
     return False
 
 
