@@ -67,7 +67,7 @@ def fail(message):
 def which(program):
     """The program's path: as given when it names a file, else found on the PATH; None when neither."""
     if os.sep in program:
-        return program if os.access(program, os.X_OK) else None
+        return os.path.abspath(program) if os.access(program, os.X_OK) else None
     return shutil.which(program)
 
 
