@@ -32,6 +32,7 @@
 
 #include "calibrator/model/rig_observations.h"
 #include "calibrator/model/rig_state.h"
+#include "calibrator/stages/known_distance_scale.h"
 #include "calibrator/stages/rig_options.h"
 #include "calibrator/stages/rig_result.h"
 
@@ -75,24 +76,6 @@ std::optional<RigCalibrationResult> EstimateRigUnlessUnplaced(const RigObservati
 // not in the result.
 RigCalibrationResult EstimateRigFrom(const RigObservations& observations, const RigCalibrationOptions& options,
                                      const RigPreCheck& stop);
-
-// Lengths made metres by a known distance between two cameras (ScaleToKnownDistance).
-struct MetricScale {
-  double factor = 1.0;  // applied to every translation; 1 when nothing was scaled
-  std::string scale;    // "metric: |A - B| = 0.5000 m"
-  std::string why_not;  // why nothing was scaled; empty when scaled
-
-  // The result's warning when nothing was scaled: "known distance ignored: " + why_not.
-  std::string Warning() const;
-};
-
-// Removes the warning MetricScale::Warning() adds (a result scaled again says its own).
-void DropKnownDistanceWarning(RigCalibrationResult* result);
-
-// Scales the poses so that the known distance's two cameras (both must have a position) are
-// `known.metres` apart.
-MetricScale ScaleToKnownDistance(const RigObservations& obs, const KnownDistance& known,
-                                 PerCamera<Rigid3d>* cam_from_rig, PerFrame<Rigid3d>* rig_from_world);
 
 // The bundle adjustment's counts and reprojection figures into `result`.
 void SetAdjustmentSummary(const MultiFrameBundleAdjustmentResult& ba, RigCalibrationResult* result);
