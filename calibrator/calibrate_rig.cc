@@ -80,22 +80,14 @@ void MarkPairsTheRigLeftOut(RigCalibrationResult* result) {
 // structured, and a deviation rigsim states must bound its error. The placement bound
 // (max_direction_std_deg) stays on the covariance, where it was measured.
 void StateFrameJackknife(RigCalibrationResult* result) {
-  if (!result->adjustment) return;
-  const auto start = StageClock::now();
-  const FrameJackknife jackknife = JackknifeOverFrames(*result->adjustment);
-  for (size_t c = 0; c < result->camera_stats.size() && c < jackknife.rotation_std_deg.size(); ++c) {
-    RigCameraStats& s = result->camera_stats[c];
-    if (s.rotation_std_deg && jackknife.rotation_std_deg[c]) {
-      s.rotation_jackknife_std_deg = jackknife.rotation_std_deg[c];
-      s.rotation_std_deg = std::max(*s.rotation_std_deg, *jackknife.rotation_std_deg[c]);
+  for (RigCameraStats& s : result->camera_stats) {
+    if (s.rotation_std_deg && s.rotation_jackknife_std_deg) {
+      s.rotation_std_deg = std::max(*s.rotation_std_deg, *s.rotation_jackknife_std_deg);
     }
-    if (s.direction_std_deg && jackknife.direction_std_deg[c]) {
-      s.direction_jackknife_std_deg = jackknife.direction_std_deg[c];
-      s.direction_std_deg = std::max(*s.direction_std_deg, *jackknife.direction_std_deg[c]);
+    if (s.direction_std_deg && s.direction_jackknife_std_deg) {
+      s.direction_std_deg = std::max(*s.direction_std_deg, *s.direction_jackknife_std_deg);
     }
   }
-  result->adjustment.reset();  // its copies of the keypoints and tracks are not needed further
-  result->work.frame_jackknife_time_s += SecondsSince(start);
 }
 
 RigCalibrationResult EstimateRigFromPairs(const RigViews& views, const PairwiseResult& pairwise,

@@ -313,7 +313,6 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
                  {"tracks_time_s", r.work.tracks_time_s},
                  {"bundle_adjustment_time_s", r.work.bundle_adjustment_time_s},
                  {"synchronisation_check_time_s", r.work.synchronisation_check_time_s},
-                 {"frame_jackknife_time_s", r.work.frame_jackknife_time_s},
                  {"rig_passes", r.work.rig_passes}};
   m["cameras"] = cams;
   Json frames = Json::array();  // per frame index: the rig's pose, or null

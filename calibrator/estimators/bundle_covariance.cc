@@ -14,8 +14,9 @@
 
 namespace rigsim {
 
-ReducedCovariance PoseCovariance(ceres::Problem& problem, const std::vector<double*>& pose_blocks) {
-  ReducedCovariance out;
+BundleLinearisation Linearise(ceres::Problem& problem, const std::vector<double*>& pose_blocks,
+                              std::vector<ceres::ResidualBlockId> residual_blocks) {
+  BundleLinearisation out;
   // The adjusted pose blocks first, in `pose_blocks` order, then the points. Ceres lists its
   // blocks in the order of their addresses, which differ from run to run: summed in that order
   // the reduced system, and so the covariance, would change in its last bits between runs. The
@@ -30,70 +31,113 @@ ReducedCovariance PoseCovariance(ceres::Problem& problem, const std::vector<doub
     if (std::find(pose_blocks.begin(), pose_blocks.end(), block) == pose_blocks.end()) points.push_back(block);
   }
   std::sort(points.begin(), points.end(), std::less<double*>());
-  std::map<const double*, int>& offset = out.offset;
-  int pose_dim = 0;
   for (double* block : poses) {
-    offset[block] = pose_dim;
-    pose_dim += problem.ParameterBlockTangentSize(block);
+    out.offset[block] = out.pose_dim;
+    out.pose_dim += problem.ParameterBlockTangentSize(block);
   }
-  if (pose_dim == 0) return out;
+  out.num_points = static_cast<int>(points.size());
+  if (out.pose_dim == 0) return out;
+  if (residual_blocks.empty()) problem.GetResidualBlocks(&residual_blocks);
   std::vector<double*> ordered = poses;
   ordered.insert(ordered.end(), points.begin(), points.end());
   QuietCeresLogs();
   ceres::Problem::EvaluateOptions evaluate;
   evaluate.parameter_blocks = ordered;
-  ceres::CRSMatrix jacobian;
-  if (!problem.Evaluate(evaluate, nullptr, nullptr, nullptr, &jacobian)) {
-    offset.clear();
+  evaluate.residual_blocks = residual_blocks;
+  if (!problem.Evaluate(evaluate, nullptr, &out.residuals, nullptr, &out.jacobian)) {
+    out.offset.clear();
+    out.pose_dim = 0;
     return out;
   }
+  for (size_t b = 0; b < residual_blocks.size(); ++b) {
+    const int rows = problem.GetCostFunctionForResidualBlock(residual_blocks[b])->num_residuals();
+    out.row_block.insert(out.row_block.end(), rows, static_cast<int>(b));
+  }
+  return out;
+}
 
-  // Rows of one point's observations touch its 3 columns and a few pose columns (those of the
-  // views that see it): the sums run over those entries only, in row order, as a dense sum
-  // would (adding the zeros it skips changes no bit).
-  const int num_points = static_cast<int>(points.size());
-  Eigen::MatrixXd h_poses = Eigen::MatrixXd::Zero(pose_dim, pose_dim);
-  std::vector<Eigen::Matrix3d> h_point(num_points, Eigen::Matrix3d::Zero());
-  std::vector<std::map<int, Eigen::RowVector3d>> h_cross(num_points);  // pose column -> H_cp row
-  std::vector<std::pair<int, double>> jp;
-  for (int row = 0; row < jacobian.num_rows; ++row) {
-    jp.clear();
-    Eigen::RowVector3d jx = Eigen::RowVector3d::Zero();
-    int point = -1;
-    for (int k = jacobian.rows[row]; k < jacobian.rows[row + 1]; ++k) {
-      const int col = jacobian.cols[k];
-      if (col < pose_dim) {
-        jp.emplace_back(col, jacobian.values[k]);
-      } else {
-        point = (col - pose_dim) / 3;
-        jx[(col - pose_dim) % 3] = jacobian.values[k];
-      }
-    }
-    for (const auto& [col_a, a] : jp) {
-      for (const auto& [col_b, b] : jp) h_poses(col_a, col_b) += a * b;
-    }
-    if (point < 0) continue;
-    h_point[point] += jx.transpose() * jx;
-    for (const auto& [col, a] : jp) {
-      h_cross[point].try_emplace(col, Eigen::RowVector3d::Zero()).first->second += a * jx;
+void ReadRow(const BundleLinearisation& linearised, int row, JacobianRow* out) {
+  const ceres::CRSMatrix& jacobian = linearised.jacobian;
+  const int pose_dim = linearised.pose_dim;
+  out->pose.clear();
+  out->point_entries.setZero();
+  out->point = -1;
+  for (int k = jacobian.rows[row]; k < jacobian.rows[row + 1]; ++k) {
+    const int col = jacobian.cols[k];
+    if (col < pose_dim) {
+      out->pose.emplace_back(col, jacobian.values[k]);
+    } else {
+      out->point = (col - pose_dim) / 3;
+      out->point_entries[(col - pose_dim) % 3] = jacobian.values[k];
     }
   }
-  // Eliminate the points: S = H_cc - sum_p H_cp H_pp^+ H_pc.
-  Eigen::MatrixXd reduced = h_poses;
-  for (int p = 0; p < num_points; ++p) {
-    if (h_cross[p].empty()) continue;
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(h_point[p]);
-    const double top = eig.eigenvalues().maxCoeff();
-    Eigen::Vector3d inv = Eigen::Vector3d::Zero();
-    for (int i = 0; i < 3; ++i) {
-      if (eig.eigenvalues()[i] > 1e-12 * top) inv[i] = 1.0 / eig.eigenvalues()[i];
+}
+
+NormalEquations NormalEquationsOf(const BundleLinearisation& linearised) {
+  NormalEquations out;
+  const int pose_dim = linearised.pose_dim;
+  out.h_poses = Eigen::MatrixXd::Zero(pose_dim, pose_dim);
+  out.h_point.assign(linearised.num_points, Eigen::Matrix3d::Zero());
+  out.h_cross.assign(linearised.num_points, {});
+  out.g_poses = Eigen::VectorXd::Zero(pose_dim);
+  out.g_point.assign(linearised.num_points, Eigen::Vector3d::Zero());
+  JacobianRow row;
+  for (int r = 0; r < linearised.jacobian.num_rows; ++r) {
+    ReadRow(linearised, r, &row);
+    const double residual = linearised.residuals[r];
+    for (const auto& [col_a, a] : row.pose) {
+      for (const auto& [col_b, b] : row.pose) out.h_poses(col_a, col_b) += a * b;
+      out.g_poses[col_a] += a * residual;
     }
-    const Eigen::Matrix3d h_point_inv = eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
-    for (const auto& [col_a, cross_a] : h_cross[p]) {
+    if (row.point < 0) continue;
+    out.h_point[row.point] += row.point_entries.transpose() * row.point_entries;
+    out.g_point[row.point] += row.point_entries.transpose() * residual;
+    for (const auto& [col, a] : row.pose) {
+      out.h_cross[row.point].try_emplace(col, Eigen::RowVector3d::Zero()).first->second += a * row.point_entries;
+    }
+  }
+  return out;
+}
+
+Eigen::Matrix3d PointPseudoInverse(const Eigen::Matrix3d& h_point, double min_ratio) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(h_point);
+  const double top = eig.eigenvalues().maxCoeff();
+  Eigen::Vector3d inv = Eigen::Vector3d::Zero();
+  for (int i = 0; i < 3; ++i) {
+    if (eig.eigenvalues()[i] > min_ratio * top) inv[i] = 1.0 / eig.eigenvalues()[i];
+  }
+  return eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
+}
+
+Eigen::MatrixXd EliminatePoints(const NormalEquations& normal) {
+  Eigen::MatrixXd reduced = normal.h_poses;
+  for (size_t p = 0; p < normal.h_point.size(); ++p) {
+    if (normal.h_cross[p].empty()) continue;
+    const Eigen::Matrix3d h_point_inv = PointPseudoInverse(normal.h_point[p]);
+    for (const auto& [col_a, cross_a] : normal.h_cross[p]) {
       const Eigen::RowVector3d weighted = cross_a * h_point_inv;
-      for (const auto& [col_b, cross_b] : h_cross[p]) reduced(col_a, col_b) -= weighted.dot(cross_b);
+      for (const auto& [col_b, cross_b] : normal.h_cross[p]) reduced(col_a, col_b) -= weighted.dot(cross_b);
     }
   }
+  return reduced;
+}
+
+Eigen::VectorXd EliminatePointsFromGradient(const NormalEquations& normal) {
+  Eigen::VectorXd reduced = normal.g_poses;
+  for (size_t p = 0; p < normal.h_point.size(); ++p) {
+    if (normal.h_cross[p].empty()) continue;
+    const Eigen::Vector3d weighted = PointPseudoInverse(normal.h_point[p]) * normal.g_point[p];
+    for (const auto& [col, cross] : normal.h_cross[p]) reduced[col] -= cross.dot(weighted.transpose());
+  }
+  return reduced;
+}
+
+ReducedCovariance PoseCovariance(const BundleLinearisation& linearised) {
+  ReducedCovariance out;
+  const int pose_dim = linearised.pose_dim;
+  if (pose_dim == 0) return out;
+  out.offset = linearised.offset;
+  const Eigen::MatrixXd reduced = EliminatePoints(NormalEquationsOf(linearised));
   // Pseudo-inverse of the reduced system: directions with (next to) no information get a variance
   // 1e12 times the best determined one's, instead of an infinity or a failure.
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (reduced + reduced.transpose()));

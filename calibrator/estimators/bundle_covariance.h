@@ -4,9 +4,11 @@
 
 #include <map>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
+#include <ceres/crs_matrix.h>
 #include <ceres/problem.h>
 #include "calibrator/model/rig_state.h"
 
@@ -24,7 +26,54 @@ struct ReducedCovariance {
   std::map<const double*, int> offset;  // tangent column of each adjusted pose block
 };
 
-ReducedCovariance PoseCovariance(ceres::Problem& problem, const std::vector<double*>& pose_blocks);
+// The adjustment linearised at its solution: the robustified Jacobian and residuals (Ceres'
+// Evaluate, tangent spaces), columns the adjusted pose blocks first (in `pose_blocks` order), then
+// the points' (3 each, in the order of their addresses: one array, so one order on every run).
+struct BundleLinearisation {
+  ceres::CRSMatrix jacobian;
+  std::vector<double> residuals;
+  std::vector<int> row_block;  // per row: its residual block's index in the order evaluated
+  int pose_dim = 0;
+  int num_points = 0;
+  std::map<const double*, int> offset;  // tangent column of each adjusted pose block
+};
+
+// `residual_blocks` empty: every residual block of the problem, in the problem's order.
+BundleLinearisation Linearise(ceres::Problem& problem, const std::vector<double*>& pose_blocks,
+                              std::vector<ceres::ResidualBlockId> residual_blocks = {});
+
+// One row of the linearisation: its entries in pose columns, in its point's 3 columns, and its
+// point (-1: a row of no point, such as a prior).
+struct JacobianRow {
+  std::vector<std::pair<int, double>> pose;
+  Eigen::RowVector3d point_entries = Eigen::RowVector3d::Zero();
+  int point = -1;
+};
+void ReadRow(const BundleLinearisation& linearised, int row, JacobianRow* out);
+
+// J^T J as the points' elimination needs it: the pose columns' block, each point's 3x3 block and
+// its cross terms with the pose columns its rows touch (summed over those entries only, in row
+// order, as a dense sum would: the zeros it skips change no bit).
+// With them the gradient J^T r, split the same way.
+struct NormalEquations {
+  Eigen::MatrixXd h_poses;
+  std::vector<Eigen::Matrix3d> h_point;
+  std::vector<std::map<int, Eigen::RowVector3d>> h_cross;  // pose column -> H_cp row
+  Eigen::VectorXd g_poses;
+  std::vector<Eigen::Vector3d> g_point;
+};
+NormalEquations NormalEquationsOf(const BundleLinearisation& linearised);
+
+// A point's H_pp^+: eigenvalues below `min_ratio` of the largest count as none (a point seen once
+// is free along its ray).
+Eigen::Matrix3d PointPseudoInverse(const Eigen::Matrix3d& h_point, double min_ratio = 1e-12);
+
+// The reduced system over the pose columns, S = H_cc - sum_p H_cp H_pp^+ H_pc.
+Eigen::MatrixXd EliminatePoints(const NormalEquations& normal);
+// The gradient over the pose columns with the points eliminated, g_c - sum_p H_cp H_pp^+ g_p.
+Eigen::VectorXd EliminatePointsFromGradient(const NormalEquations& normal);
+
+ReducedCovariance PoseCovariance(const BundleLinearisation& linearised);
 
 // Covariance of each camera's centre in the rig (C = -R^T t of cam_from_rig, whose translation
 // block is `ct[c]`) at the solution, `variance` being that of one image coordinate. nullopt for

@@ -355,6 +355,12 @@ struct BundleRound {
   bool hold_frames = false;
 };
 
+// Where each reprojection cost comes from: its image's frame and its point's index.
+struct CostSource {
+  int frame = 0;
+  int point = 0;
+};
+
 struct BundleRoundResult {
   int iterations = 0;
   // With BundleRound::covariance only.
@@ -363,6 +369,7 @@ struct BundleRoundResult {
   std::vector<std::vector<double>> intrinsics_stddev;  // per camera; empty when not refined
   PerCamera<double> time_offset_stddev_s, readout_stddev_s;  // per camera, where estimated
   double residual_correlation = 1.0;  // CorrelatedResidualFactor, by which the variance was scaled
+  JackknifeSpread frame_jackknife, point_jackknife;
 };
 
 // One Levenberg-Marquardt solve over the points (every `point_stride`-th) and the poses they see,
@@ -370,8 +377,12 @@ struct BundleRoundResult {
 // centres' covariances (and with refined intrinsics, their standard deviations).
 // The reprojection costs of every point of the round: observations of points that two or more
 // cameras see weigh options.inter_camera_weight times the others.
-void AddReprojectionCosts(BundleProblem& bp, std::vector<WorldPoint>& points, const BundleRound& round,
-                          const RigBundleAdjustmentOptions& options, ceres::Problem& problem) {
+// Returns where each cost comes from.
+std::map<ceres::ResidualBlockId, CostSource> AddReprojectionCosts(BundleProblem& bp, std::vector<WorldPoint>& points,
+                                                           const BundleRound& round,
+                                                           const RigBundleAdjustmentOptions& options,
+                                                           ceres::Problem& problem) {
+  std::map<ceres::ResidualBlockId, CostSource> sources;
   ceres::LossFunction* own_loss = new ceres::HuberLoss(options.loss_scale_px);
   ceres::LossFunction* shared_loss =
       options.inter_camera_weight == 1.0
@@ -389,17 +400,18 @@ void AddReprojectionCosts(BundleProblem& bp, std::vector<WorldPoint>& points, co
       const BundleProblem::Bracket br = bp.timing ? bp.Around(o) : BundleProblem::Bracket{o.frame, o.frame};
       if (br.a != br.b) {
         const std::vector<double>& times = bp.timing->frame_times_s;
-        problem.AddResidualBlock(
+        sources[problem.AddResidualBlock(
             TimedRigReprojectionCost::Create(bp.cameras[o.camera], bp.Observed(o), times[o.frame] - times[br.a],
                                              times[br.b] - times[br.a], bp.RowFraction(o)),
             loss,
             {bp.cq[o.camera].data(), bp.ct[o.camera].data(), bp.rq[br.a].data(), bp.rt[br.a].data(), bp.rq[br.b].data(),
-             bp.rt[br.b].data(), bp.time[o.camera].data(), p.x.data()});
+             bp.rt[br.b].data(), bp.time[o.camera].data(), p.x.data()})] = {o.frame, static_cast<int>(i)};
         continue;
       }
-      problem.AddResidualBlock(CreateRigReprojectionCost(bp.cameras[o.camera], bp.Observed(o)), loss,
-                               {bp.cq[o.camera].data(), bp.ct[o.camera].data(), bp.rq[o.frame].data(),
-                                bp.rt[o.frame].data(), p.x.data(), bp.intrinsics[o.camera].data()});
+      sources[problem.AddResidualBlock(CreateRigReprojectionCost(bp.cameras[o.camera], bp.Observed(o)), loss,
+                                             {bp.cq[o.camera].data(), bp.ct[o.camera].data(), bp.rq[o.frame].data(),
+                                              bp.rt[o.frame].data(), p.x.data(), bp.intrinsics[o.camera].data()})] = {
+          o.frame, static_cast<int>(i)};
     }
   }
   if (own_loss == shared_loss) {
@@ -408,6 +420,7 @@ void AddReprojectionCosts(BundleProblem& bp, std::vector<WorldPoint>& points, co
     if (!own_used) delete own_loss;
     if (!shared_used) delete shared_loss;
   }
+  return sources;
 }
 
 // What the round holds and how the poses move: capture times estimated or held, intrinsics refined
@@ -471,9 +484,53 @@ void HoldAndBoundParameters(BundleProblem& bp, const BundleRound& round, const R
   }
 }
 
+// The jackknives (jackknife.h) over frames and over points of the solved problem.
+void ReadJackknives(BundleProblem& bp, ceres::Problem& problem, const BundleLinearisation& linearised,
+                    const std::vector<ceres::ResidualBlockId>& blocks,
+                    const std::map<ceres::ResidualBlockId, CostSource>& sources, BundleRoundResult* out) {
+  const auto spread = [&](const std::vector<int>& block_group, int groups, const std::vector<std::vector<int>>& held) {
+    return CameraSpread(problem, linearised, StepsWithoutGroups(linearised, block_group, groups, held), bp.cq, bp.ct);
+  };
+  std::vector<const CostSource*> source_of_block(blocks.size(), nullptr);
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    if (const auto it = sources.find(blocks[b]); it != sources.end()) source_of_block[b] = &it->second;
+  }
+  std::vector<int> block_group(blocks.size(), -1);
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    if (source_of_block[b]) block_group[b] = JackknifePointGroup(source_of_block[b]->point);
+  }
+  out->point_jackknife = spread(block_group, kJackknifePointGroups, {});
+
+  const int num_frames = static_cast<int>(bp.keypoints.size());
+  std::vector<int> posed;
+  for (int k = 0; k < num_frames; ++k) {
+    if (bp.initial_rig_from_world[k]) posed.push_back(k);
+  }
+  const std::vector<std::vector<int>> groups = JackknifeFrameGroups(posed);
+  out->frame_jackknife.rotation_std_deg.assign(bp.cameras.size(), std::nullopt);
+  out->frame_jackknife.direction_std_deg.assign(bp.cameras.size(), std::nullopt);
+  if (groups.empty()) return;
+  std::vector<int> group_of_frame(num_frames, -1);
+  for (size_t g = 0; g < groups.size(); ++g) {
+    for (const int k : groups[g]) group_of_frame[k] = static_cast<int>(g);
+  }
+  for (size_t b = 0; b < blocks.size(); ++b) block_group[b] = source_of_block[b] ? group_of_frame[source_of_block[b]->frame] : -1;
+  // Frame 0 holds the gauge: without it, the first frame of the next group holds it, where the
+  // solution put it.
+  std::vector<std::vector<int>> held(groups.size());
+  const int gauge = groups[1].front();
+  for (double* block : {bp.rq[gauge].data(), bp.rt[gauge].data()}) {
+    const auto it = linearised.offset.find(block);
+    if (it == linearised.offset.end()) continue;
+    for (int i = 0; i < problem.ParameterBlockTangentSize(block); ++i) held[0].push_back(it->second + i);
+  }
+  out->frame_jackknife = spread(block_group, static_cast<int>(groups.size()), held);
+}
+
 // The poses', capture times' and intrinsics' standard deviations from the solved problem's
 // covariance, at the points' reprojection RMS.
 void ReadCovariances(BundleProblem& bp, const std::vector<WorldPoint>& points, const RigBundleAdjustmentOptions& options,
+                     const std::map<ceres::ResidualBlockId, CostSource>& sources,
                      ceres::Problem& problem, BundleRoundResult* result) {
   BundleRoundResult& out = *result;
   const int n = static_cast<int>(bp.cameras.size());
@@ -483,7 +540,11 @@ void ReadCovariances(BundleProblem& bp, const std::vector<WorldPoint>& points, c
   for (int k = 0; k < num_frames; ++k) pose_blocks.insert(pose_blocks.end(), {bp.rq[k].data(), bp.rt[k].data()});
   for (int c = 0; c < n; ++c) pose_blocks.push_back(bp.intrinsics[c].data());
   for (Eigen::Vector2d& t : bp.time) pose_blocks.push_back(t.data());
-  const ReducedCovariance reduced = PoseCovariance(problem, pose_blocks);
+  std::vector<ceres::ResidualBlockId> blocks;
+  problem.GetResidualBlocks(&blocks);
+  const BundleLinearisation linearised = Linearise(problem, pose_blocks, blocks);
+  const ReducedCovariance reduced = PoseCovariance(linearised);
+  ReadJackknives(bp, problem, linearised, blocks, sources, &out);
   const double rms_px = bp.RmsPx(points);
   // Per image coordinate, over the coordinates the fit leaves free, and as many times that as the
   // residuals of one image region move together.
@@ -532,7 +593,7 @@ BundleRoundResult SolveBundleOnce(BundleProblem& bp, std::vector<WorldPoint>& po
   problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
   problem_options.loss_function_ownership = ceres::TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
-  AddReprojectionCosts(bp, points, round, options, problem);
+  const std::map<ceres::ResidualBlockId, CostSource> sources = AddReprojectionCosts(bp, points, round, options, problem);
   HoldAndBoundParameters(bp, round, options, problem);
   ceres::Solver::Options solver_options;
   // A few poses and many points: the reduced camera system is small and dense.
@@ -550,7 +611,7 @@ BundleRoundResult SolveBundleOnce(BundleProblem& bp, std::vector<WorldPoint>& po
   BundleRoundResult out;
   out.iterations = static_cast<int>(summary.iterations.size());
   if (round.refine_intrinsics) bp.UpdateCameras();
-  if (round.covariance) ReadCovariances(bp, points, options, problem, &out);
+  if (round.covariance) ReadCovariances(bp, points, options, sources, problem, &out);
   return out;
 }
 
@@ -675,6 +736,8 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
           result.time_offset_stddev_s = std::move(solved.time_offset_stddev_s);
           result.readout_stddev_s = std::move(solved.readout_stddev_s);
           result.residual_correlation = solved.residual_correlation;
+          result.frame_jackknife = std::move(solved.frame_jackknife);
+          result.point_jackknife = std::move(solved.point_jackknife);
           if (refine) result.intrinsics_stddev = std::move(solved.intrinsics_stddev);
         }
         break;

@@ -28,6 +28,7 @@
 #include <Eigen/Geometry>
 
 #include "calibrator/estimators/intrinsics_refinement.h"
+#include "calibrator/estimators/jackknife.h"
 #include "calibrator/model/correspondences.h"
 #include "calibrator/model/rig_state.h"
 #include "calibrator/model/tracks.h"
@@ -148,6 +149,10 @@ struct MultiFrameBundleAdjustmentResult {
   // error) times that for residuals that move together by image region (CorrelatedResidualFactor);
   // 1 without covariances.
   double residual_correlation = 1.0;
+  // With covariances, the jackknives (jackknife.h) over frames (with 3 or more posed frames) and
+  // over points: per camera the standard deviations of its rotation in the rig and of its
+  // centre's direction from camera 0's.
+  JackknifeSpread frame_jackknife, point_jackknife;
   // With RigBundleAdjustmentOptions::keep_points only: the final solve's points (world frame) and
   // how many views see each, and the reprojection error (px) of every observation triangulated
   // from the initial poses (before any solve) and of every observation kept at the end.

@@ -111,10 +111,19 @@ RegisteredOutcome JudgeRegistered(const RigObservations& obs, const CameraRegist
 void SetStats(const MultiFrameBundleAdjustmentResult& ba, int c, RigCameraStats* stats) {
   stats->observations = ba.observations_per_camera[c];
   const auto& pose = ba.poses.cam_from_rig[c];
+  const JackknifeSpread spread = LargerSpread(ba.frame_jackknife, ba.point_jackknife);
+  const auto jackknife = [c](const PerCamera<double>& std_deg) {
+    return c < static_cast<int>(std_deg.size()) ? std_deg[c] : std::nullopt;
+  };
+  stats->direction_jackknife_std_deg.reset();
   if (c > 0 && pose && c < static_cast<int>(ba.centre_covariance.size()) && ba.centre_covariance[c]) {
     stats->direction_std_deg = DirectionStdDeg(pose->SourceOriginInTarget(), *ba.centre_covariance[c]);
+    stats->direction_jackknife_std_deg = jackknife(spread.direction_std_deg);
   }
-  if (c < static_cast<int>(ba.rotation_stddev_deg.size())) stats->rotation_std_deg = ba.rotation_stddev_deg[c];
+  if (c < static_cast<int>(ba.rotation_stddev_deg.size())) {
+    stats->rotation_std_deg = ba.rotation_stddev_deg[c];
+    stats->rotation_jackknife_std_deg = jackknife(spread.rotation_std_deg);
+  }
 }
 
 // Sets the unit of length, as the rig stage does: |centre of `unit_camera`| = 1, then metres from
@@ -174,9 +183,6 @@ RegisteredRig AdjustRegisteredRig(const RigObservations& obs, const RigCalibrati
   RigCalibrationResult& result = out.result;
   result = placed;
   SetRefinedIntrinsics(obs, options, ba, &result);
-  result.adjustment = std::make_shared<const RigAdjustmentProblem>(SolvedProblem(
-      cameras, obs.keypoints, tracks, unit_camera, ba_options, !placed.rig_motion_estimated,
-      timing ? &*timing : nullptr, ba));
   result.num_tracks = static_cast<int>(tracks.size());
   SetAdjustmentSummary(ba, &result);
   result.rig_from_world = ba.poses.rig_from_world;
@@ -204,6 +210,7 @@ RegisteredRig AdjustRegisteredRig(const RigObservations& obs, const RigCalibrati
       result.rig.cameras[r.camera].cam_from_rig = ba.poses.cam_from_rig[r.camera];
     } else {
       result.camera_stats[r.camera].direction_std_deg.reset();
+      result.camera_stats[r.camera].direction_jackknife_std_deg.reset();
     }
   }
   // The capture times judged as the rig stage judges them: a registered camera that did not capture

@@ -71,7 +71,6 @@ RigWork& RigWork::operator+=(const RigWork& other) {
   positions_time_s += other.positions_time_s;
   bundle_adjustment_time_s += other.bundle_adjustment_time_s;
   synchronisation_check_time_s += other.synchronisation_check_time_s;
-  frame_jackknife_time_s += other.frame_jackknife_time_s;
   return *this;
 }
 
@@ -300,7 +299,6 @@ struct AdjustedRig {
   std::vector<std::string> ambiguous;  // per camera: why its position is ambiguous; empty if not
   // Per camera: why its rotation is ambiguous too (JudgeCamerasHeldByOneRivalledPair); empty if not.
   std::vector<std::string> rotation_ambiguous;
-  std::shared_ptr<const RigAdjustmentProblem> problem;  // the chosen start's, as solved
 };
 
 // The angle (deg) between two estimates of the direction of a camera's centre from camera 0's.
@@ -356,8 +354,6 @@ AdjustedRig AdjustFromEveryStart(const RigObservations& obs, const std::vector<V
     }
   }
   out.ba = std::move(adjusted[best]);
-  out.problem = std::make_shared<const RigAdjustmentProblem>(SolvedProblem(
-      obs.cameras, obs.keypoints, tracks, ps.scale_camera, ba_options, !motion.moving, timing ? &*timing : nullptr, out.ba));
   return out;
 }
 
@@ -687,7 +683,6 @@ std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, 
   JudgeCamerasHeldByOneRivalledPair(obs, rotations, options, &adjusted);
   result.work.bundle_adjustment_time_s = SecondsSince(start);
   result.position_starts = adjusted.starts;
-  result.adjustment = adjusted.problem;
   SetAdjustmentSummary(ba, &result);
 
   start = StageClock::now();
@@ -698,10 +693,16 @@ std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, 
   SetRefinedIntrinsics(obs, options, ba, &result);
   ScaledRig scaled = DropUndeterminedAndScale(obs, adjusted, initial, options);
   SetAsideOpenAxes(obs, initial, &scaled);
+  const JackknifeSpread jackknife = LargerSpread(ba.frame_jackknife, ba.point_jackknife);
   for (int c = 0; c < n; ++c) {
-    result.camera_stats[c].direction_std_deg = scaled.direction_std_deg[c];
+    RigCameraStats& stats = result.camera_stats[c];
+    stats.direction_std_deg = scaled.direction_std_deg[c];
+    if (stats.direction_std_deg && c < static_cast<int>(jackknife.direction_std_deg.size())) {
+      stats.direction_jackknife_std_deg = jackknife.direction_std_deg[c];
+    }
     if (c < static_cast<int>(ba.rotation_stddev_deg.size()) && scaled.rotation_dropped[c].empty()) {
-      result.camera_stats[c].rotation_std_deg = ba.rotation_stddev_deg[c];
+      stats.rotation_std_deg = ba.rotation_stddev_deg[c];
+      if (c < static_cast<int>(jackknife.rotation_std_deg.size())) stats.rotation_jackknife_std_deg = jackknife.rotation_std_deg[c];
     }
   }
   result.rig_from_world = scaled.poses.rig_from_world;

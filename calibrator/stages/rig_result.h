@@ -10,7 +10,6 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "calibrator/estimators/frame_jackknife.h"
 #include "calibrator/estimators/hand_eye.h"
 #include "calibrator/estimators/intrinsics_refinement.h"
 #include "calibrator/estimators/rig_turns.h"
@@ -31,8 +30,8 @@ struct RigCameraStats {
   std::optional<double> direction_std_deg;
   // Standard deviation of its rotation in the rig (deg, worst axis), the same way.
   std::optional<double> rotation_std_deg;
-  // The same two from the adjustment run again without each frame (frame_jackknife.h); nullopt
-  // with fewer than 3 posed frames or where the camera had no deviation to state.
+  // The same two from the adjustment without each frame, to first order (jackknife.h);
+  // nullopt with fewer than 3 posed frames or where the camera had no deviation to state.
   std::optional<double> direction_jackknife_std_deg, rotation_jackknife_std_deg;
   // With RigBundleAdjustmentOptions::refine_intrinsics, for a camera in the bundle adjustment: its
   // given and refined intrinsics and their standard deviations.
@@ -122,7 +121,6 @@ struct RigWork {
   double tracks_time_s = 0.0;
   double bundle_adjustment_time_s = 0.0;
   double synchronisation_check_time_s = 0.0;  // CaptureTimeOptions::check_synchronisation
-  double frame_jackknife_time_s = 0.0;        // once, on the finished result (frame_jackknife.h)
 
   RigWork& operator+=(const RigWork& other);
 };
@@ -200,9 +198,6 @@ struct RigCalibrationResult {
   std::optional<MotionLinkSummary> motion_links;
   CalibrationReport pairwise;
   RigWork work;
-  // The bundle adjustment that made this result, for the frame jackknife run once on the finished
-  // result (StateFrameJackknife); nullopt where none ran.
-  std::shared_ptr<const RigAdjustmentProblem> adjustment;
   // With RigCalibrationOptions::keep_details only; shared, so copies of a result stay cheap.
   std::shared_ptr<RigCalibrationDetails> details;
 };
