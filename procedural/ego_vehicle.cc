@@ -183,8 +183,9 @@ EgoVehicleMeshes EgoVehicleInRig(const Rig& rig, double ground_below_rig_m) {
   AddPrism(cabin, x_mid - half_width, x_mid + half_width, &body.glass, [&](size_t edge) -> MeshData* {
     return edge == 1 ? &body.paint : edge == 3 ? nullptr : &body.glass;
   });
-  // Lower body: the bonnet falls 0.12 m to the front, the boot 0.05 m to the rear.
-  const std::vector<Eigen::Vector2d> lower = {{rear, bottom}, {front, bottom}, {front, belt + 0.12}, {windshield_base, belt},
+  // Lower body: the bonnet falls 0.2 m to the front (its front edge 0.6 m under the roof, as on a
+  // car), the boot 0.05 m to the rear.
+  const std::vector<Eigen::Vector2d> lower = {{rear, bottom}, {front, bottom}, {front, belt + 0.2}, {windshield_base, belt},
                                               {rear_window_base, belt}, {rear, belt + 0.05}};
   AddPrism(lower, x_mid - lower_half_width, x_mid + lower_half_width, &body.paint, [&](size_t) { return &body.paint; });
   for (MeshData* mesh : {&body.paint, &body.glass}) {
