@@ -141,8 +141,8 @@ EgoVehicleMeshes EgoVehicleInRig(const Rig& rig, double ground_below_rig_m) {
   // down over kRoofMargin out, 27 degrees below its horizon, for a camera at a side edge), and beyond
   // it the windshield, bonnet or side falling away, in the bottom of a view that looks out level.
   // The roof is not widened or lengthened to a car's size: a camera would then look across it (a
-  // front camera among cameras at one height looked across 0.9 m of roof, and the roof, lowered so
-  // that it did not, went out of every other camera's view). The car's size is the lower body's.
+  // front camera beside side cameras across 0.9 m of roof), and lowering the roof out of that
+  // camera's view takes it out of every other's. The car's size is the lower body's.
   const double x_mid = 0.5 * (lo.x() + hi.x());
   const double half_width = 0.5 * (hi.x() - lo.x()) + kRoofMargin;
   const double roof_front = hi.z() + kRoofMargin, roof_rear = lo.z() - kRoofMargin;
