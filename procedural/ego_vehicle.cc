@@ -84,53 +84,98 @@ double NearestHit(const MeshData& mesh, const Eigen::Vector3d& origin, const Eig
   return nearest;
 }
 
+// The car's frame in the rig frame (rig_from_car): level with the plane through the cameras'
+// centres when the cameras lie within kRoofGap of it and it tilts less than kMaxLevelTilt, as the
+// cameras of a roof rack or a car's body do (the rig frame is its first camera's, which may sit a
+// degree or two off the car's level: over a 1.4 m rig that moves a camera 5 cm, the roof's gap);
+// else the rig frame itself. The plane's slopes are ridge-regularised so that cameras in a line
+// (along x, as three front cameras) give it no slope across the line.
+Eigen::Matrix3d RigFromCar(const std::vector<Eigen::Vector3d>& centres) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& c : centres) mean += c / double(centres.size());
+  Eigen::Matrix2d normal_eq = Eigen::Matrix2d::Identity() * (double(centres.size()) * 0.1 * 0.1);
+  Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector3d& c : centres) {
+    const Eigen::Vector2d xz(c.x() - mean.x(), c.z() - mean.z());
+    normal_eq += xz * xz.transpose();
+    rhs += xz * (c.y() - mean.y());
+  }
+  const Eigen::Vector2d slope = normal_eq.ldlt().solve(rhs);  // y = mean.y + slope . (x, z)
+  bool level = std::atan(slope.norm()) <= kMaxLevelTilt;
+  for (const Eigen::Vector3d& c : centres) {
+    const double off = c.y() - mean.y() - slope.dot(Eigen::Vector2d(c.x() - mean.x(), c.z() - mean.z()));
+    level = level && std::abs(off) <= kRoofGap;
+  }
+  if (!level) return Eigen::Matrix3d::Identity();
+  const Eigen::Vector3d down = Eigen::Vector3d(-slope.x(), 1, -slope.y()).normalized();
+  const Eigen::Vector3d forward = (Eigen::Vector3d::UnitZ() - down * down.z()).normalized();
+  Eigen::Matrix3d rig_from_car;
+  rig_from_car << down.cross(forward), down, forward;
+  return rig_from_car;
+}
+
 }  // namespace
 
 EgoVehicleMeshes EgoVehicleInRig(const Rig& rig, double ground_below_rig_m) {
   if (rig.cameras.empty()) throw std::invalid_argument("the rig has no cameras");
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
-  Eigen::Vector3d hi = -lo;
+  std::vector<Eigen::Vector3d> centres, dirs;  // rig frame, then the car's
   for (const RigCamera& c : rig.cameras) {
     if (!c.cam_from_rig) throw std::invalid_argument("camera '" + c.name + "' has no cam_from_rig");
-    const Eigen::Vector3d centre = c.cam_from_rig->SourceOriginInTarget();
-    lo = lo.cwiseMin(centre);
-    hi = hi.cwiseMax(centre);
+    centres.push_back(c.cam_from_rig->SourceOriginInTarget());
+    dirs.push_back(c.cam_from_rig->rotation.conjugate() * Eigen::Vector3d::UnitZ());
   }
-  // The cabin's roof over the cameras' footprint and a margin, at least 1.3 m x 1.8 m. The front
-  // and rear margins are small and the windshield and rear window shallow, so that a camera at the
-  // roof's front edge sees the bonnet below the horizon as a camera behind a windshield does.
-  const double x_mid = 0.5 * (lo.x() + hi.x()), z_mid = 0.5 * (lo.z() + hi.z());
-  const double half_width = std::max(0.65, 0.5 * (hi.x() - lo.x()) + kRoofMargin);
-  const double roof_front = std::max(hi.z() + kRoofEndMargin, z_mid + 0.9);
-  const double roof_rear = std::min(lo.z() - kRoofEndMargin, z_mid - 0.9);
-  // Heights (y down): the roof kRoofGap under the lowest camera, and lower where the roof reaches
-  // further beyond a camera looking out, in the direction it looks, than kRoofMargin: there the
-  // cameras stand on a mount, as cameras grouped on a roof rack do, so that each sees the roof's
-  // edge no higher in its view than a camera at the roof's side edge. Without it, cameras grouped in
-  // less than the roof's least size (a ring, a rig mounted at one height) look across a roof that
-  // fills the lower half of every view. Then the beltline (bonnet and boot) below it, the sills
-  // 0.2 m above the ground (or 0.3 m below the beltline when the rig stands lower than that).
-  double roof = hi.y() + kRoofGap;
-  for (const RigCamera& c : rig.cameras) {
-    const Eigen::Vector3d centre = c.cam_from_rig->SourceOriginInTarget();
-    const Eigen::Vector3d dir = c.cam_from_rig->rotation.conjugate() * Eigen::Vector3d::UnitZ();
-    const Eigen::Vector2d along(dir.x(), dir.z());
-    // Only cameras looking out: one looking more up than out sees no roof, one looking more down
-    // sees the car whatever its height (and is refused below when it looks into it).
-    if (std::abs(dir.y()) >= along.norm()) continue;
-    const Eigen::Vector2d d = along.normalized();
-    // Where the camera's horizontal line of sight leaves the roof's rectangle.
-    double to_edge = std::numeric_limits<double>::infinity();
-    if (d.x() > 1e-9) to_edge = std::min(to_edge, (x_mid + half_width - centre.x()) / d.x());
-    if (d.x() < -1e-9) to_edge = std::min(to_edge, (x_mid - half_width - centre.x()) / d.x());
-    if (d.y() > 1e-9) to_edge = std::min(to_edge, (roof_front - centre.z()) / d.y());
-    if (d.y() < -1e-9) to_edge = std::min(to_edge, (roof_rear - centre.z()) / d.y());
-    roof = std::max(roof, centre.y() + to_edge * kRoofGap / kRoofMargin);
+  // The body is built in the car's frame (RigFromCar: x right, y down, z forward) and turned into
+  // the rig's at the end.
+  const Eigen::Matrix3d rig_from_car = RigFromCar(centres);
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d hi = -lo;
+  for (size_t i = 0; i < centres.size(); ++i) {
+    centres[i] = rig_from_car.transpose() * centres[i];
+    dirs[i] = rig_from_car.transpose() * dirs[i];
+    lo = lo.cwiseMin(centres[i]);
+    hi = hi.cwiseMax(centres[i]);
   }
+  // The cabin's roof: the cameras' footprint and a margin, kRoofGap under the lowest camera. Every
+  // camera so sits at the roof's edge it looks out over, as cameras on a car's roof, mirrors and
+  // bumpers sit just above its skin: each sees that edge a few centimetres out and below it (kRoofGap
+  // down over kRoofMargin out, 27 degrees below its horizon, for a camera at a side edge), and beyond
+  // it the windshield, bonnet or side falling away, in the bottom of a view that looks out level.
+  // The roof is not widened or lengthened to a car's size: a camera would then look across it (a
+  // front camera beside side cameras across 0.9 m of roof), and lowering the roof out of that
+  // camera's view takes it out of every other's. The car's size is the lower body's.
+  const double x_mid = 0.5 * (lo.x() + hi.x());
+  const double half_width = 0.5 * (hi.x() - lo.x()) + kRoofMargin;
+  const double roof_front = hi.z() + kRoofMargin, roof_rear = lo.z() - kRoofMargin;
+  const double roof = hi.y() + kRoofGap;  // y down
+  // Then the beltline (bonnet and boot) 0.4 m below the roof, the sills 0.2 m above the ground (or
+  // 0.3 m below the beltline when the rig stands lower than that).
   const double belt = roof + 0.4;
   const double bottom = std::max(belt + 0.3, ground_below_rig_m - 0.2);
   const double windshield_base = roof_front + 0.8, rear_window_base = roof_rear - 0.6;
-  const double front = windshield_base + 1.1, rear = rear_window_base - 0.5;
+  double front = windshield_base + 1.1, rear = rear_window_base - 0.5;
+  // A car's size at least, below the beltline: kMinBodyWidth wide, and kMinBodyLength long by a
+  // longer boot, or bonnet, at the end no camera looks out over (half each when cameras look out
+  // over both or neither), so that no camera sees more of its car than its place on the roof gives.
+  const double lower_half_width = std::max(half_width + 0.12, 0.5 * kMinBodyWidth);
+  if (const double short_by = kMinBodyLength - (front - rear); short_by > 0) {
+    bool over_front = false, over_rear = false;
+    for (size_t i = 0; i < centres.size(); ++i) {
+      const Eigen::Vector3d& centre = centres[i];
+      const Eigen::Vector2d along(dirs[i].x(), dirs[i].z());
+      // Only cameras looking out: one looking more up or down than out sees no end of the car.
+      if (std::abs(dirs[i].y()) >= along.norm()) continue;
+      const Eigen::Vector2d d = along.normalized();
+      // The roof edge its horizontal line of sight leaves through: a side, the front or the rear.
+      const double to_side = std::abs(d.x()) > 1e-9 ? ((d.x() > 0 ? x_mid + half_width : x_mid - half_width) - centre.x()) / d.x()
+                                                    : std::numeric_limits<double>::infinity();
+      const double to_end = std::abs(d.y()) > 1e-9 ? ((d.y() > 0 ? roof_front : roof_rear) - centre.z()) / d.y()
+                                                   : std::numeric_limits<double>::infinity();
+      if (to_end < to_side) (d.y() > 0 ? over_front : over_rear) = true;
+    }
+    const double to_front = over_front == over_rear ? 0.5 * short_by : over_front ? 0.0 : short_by;
+    front += to_front;
+    rear -= short_by - to_front;
+  }
 
   EgoVehicleMeshes body;
   // Cabin: windshield (edge 0), roof (1), rear window (2); its floor (3) lies on the lower body.
@@ -138,10 +183,14 @@ EgoVehicleMeshes EgoVehicleInRig(const Rig& rig, double ground_below_rig_m) {
   AddPrism(cabin, x_mid - half_width, x_mid + half_width, &body.glass, [&](size_t edge) -> MeshData* {
     return edge == 1 ? &body.paint : edge == 3 ? nullptr : &body.glass;
   });
-  // Lower body: the bonnet falls 0.12 m to the front, the boot 0.05 m to the rear.
-  const std::vector<Eigen::Vector2d> lower = {{rear, bottom}, {front, bottom}, {front, belt + 0.12}, {windshield_base, belt},
+  // Lower body: the bonnet falls 0.2 m to the front (its front edge 0.6 m under the roof, as on a
+  // car), the boot 0.05 m to the rear.
+  const std::vector<Eigen::Vector2d> lower = {{rear, bottom}, {front, bottom}, {front, belt + 0.2}, {windshield_base, belt},
                                               {rear_window_base, belt}, {rear, belt + 0.05}};
-  AddPrism(lower, x_mid - half_width - 0.12, x_mid + half_width + 0.12, &body.paint, [&](size_t) { return &body.paint; });
+  AddPrism(lower, x_mid - lower_half_width, x_mid + lower_half_width, &body.paint, [&](size_t) { return &body.paint; });
+  for (MeshData* mesh : {&body.paint, &body.glass}) {
+    for (Eigen::Vector3f& p : mesh->positions) p = (rig_from_car * p.cast<double>()).cast<float>();
+  }
 
   for (const RigCamera& c : rig.cameras) {
     const Eigen::Vector3d origin = c.cam_from_rig->SourceOriginInTarget();
@@ -151,7 +200,7 @@ EgoVehicleMeshes EgoVehicleInRig(const Rig& rig, double ground_below_rig_m) {
       char cm[32];
       std::snprintf(cm, sizeof(cm), "%.0f cm", 100 * t);
       throw std::invalid_argument("camera '" + c.name + "' looks into the car body " + cm +
-                                  " from its lens (the roof is at least 5 cm below the lowest camera): turn it to "
+                                  " from its lens (the roof is 5 cm below the lowest camera): turn it to "
                                   "look out, or go without the car body");
     }
   }

@@ -2,17 +2,22 @@
 // where its cameras are, labelled `ego vehicle` (Cityscapes 1), with glossy paint and glass that the
 // renderer's specular bounce lets reflect the world.
 //
-// Shape (rig frame: x right, y down, z forward): a roof kRoofGap below the lowest camera, reaching
-// kRoofMargin beyond the outermost cameras to the sides and kRoofEndMargin to the front and rear
-// (at least 1.3 m wide and 1.8 m long), so that every camera sits on the roof and sees its edge in
-// the lower part of its view. Where that least size puts the edge further from a camera looking
-// out (more out than up or down), in the direction it looks, than kRoofMargin (cameras grouped
-// closer than a car's roof, as on a roof rack), the roof is lower, so that the camera sees the edge
-// no higher than one at the roof's side edge does (kRoofGap down over kRoofMargin out). A
-// windshield (0.8 m long) and rear window (0.6 m) slope down to the beltline 0.4 m below the roof;
-// below it a body 0.12 m wider on each side, with a 1.1 m bonnet (hood) in front of the windshield
-// and a 0.5 m boot behind the rear window, down to 0.2 m above the ground. No camera is inside; a
-// camera whose central ray meets the body within kMinClearance of its lens is refused.
+// Shape (the car's frame: x right, y down, z forward): every camera sits on the car's skin, as
+// cameras of a car rig sit on or just above its roof, mirrors and bumpers. The roof lies kRoofGap
+// below the lowest camera and reaches kRoofMargin beyond the outermost cameras every way, no
+// further: each camera stands at the roof's edge it looks out over and sees that edge just below
+// it (a camera looking straight out at an edge, level, 27 degrees below its horizon; one looking
+// out over a corner, less), and beyond it the windshield, bonnet or side falling away, in the
+// bottom of its view, as a real car's cameras see their car. A windshield (0.8 m long) and rear
+// window (0.6 m) slope down to the beltline 0.4 m below the roof; below it a body 0.12 m wider on
+// each side (kMinBodyWidth wide at least), with a 1.1 m bonnet (hood) in front of the windshield
+// and a 0.5 m boot behind the rear window, down to 0.2 m above the ground. A body shorter than
+// kMinBodyLength gets a longer boot, or bonnet, at the end no camera looks out over (half each when
+// cameras look out over both or neither). The car's frame is the rig frame levelled to the plane
+// through the cameras' centres when they all lie within kRoofGap of it and it tilts by
+// kMaxLevelTilt at most (a rig frame is its first camera's, often a degree or two off the car's
+// level), else the rig frame. No camera is inside; a camera whose central ray meets the body within
+// kMinClearance of its lens is refused.
 //
 // The file holds the body in the rig frame turned to glTF's axes (+Y up, +Z forward, hence
 // x_gltf = -x_rig, y_gltf = -y_rig, z_gltf = z_rig), so a glTF viewer shows it upright.
@@ -28,9 +33,11 @@
 namespace rigsim {
 
 inline constexpr char kEgoVehicleFile[] = "ego_vehicle.glb";  // beside rig.json
-inline constexpr double kRoofMargin = 0.1;      // m the roof reaches beyond the outermost cameras sideways
-inline constexpr double kRoofEndMargin = 0.05;  // m it reaches beyond the front-most and rear-most
-inline constexpr double kRoofGap = 0.05;        // m the roof lies below the lowest camera, at least
+inline constexpr double kRoofMargin = 0.1;  // m the roof reaches beyond the outermost cameras, every way
+inline constexpr double kRoofGap = 0.05;        // m the roof lies below the lowest camera
+inline constexpr double kMinBodyWidth = 1.6;   // m the body below the beltline is wide, at least
+inline constexpr double kMinBodyLength = 4.2;  // m it is long, at least
+inline constexpr double kMaxLevelTilt = 0.0873;  // rad (5 degrees) the car may be tilted to the rig frame
 inline constexpr double kMinClearance = 0.1;  // m a camera's central ray runs before it may meet the body
 
 // The body's two parts in the rig frame: painted panels and glass.

@@ -94,9 +94,9 @@ constexpr const char* kDescription =
     "file puts it, so `rigsim render` reproduces the file's views.\n"
     "Output: --rig-out and --frames-out, or --out DIR for DIR/rig.json and DIR/frames.json.\n"
     "With --ego-vehicle (needs --out) the rig gets its own car: DIR/ego_vehicle.glb, named in rig.json, a\n"
-    "low-poly body sized from where the cameras are (roof 5 cm below the lowest camera and 5-10 cm beyond the\n"
-    "outermost, lower where cameras grouped closer than a car's roof would look across it; bonnet and boot\n"
-    "beyond it, down to 0.2 m above the ground), labelled `ego vehicle`, with glossy\n"
+    "low-poly body sized from where the cameras are, every camera on its skin (roof 5 cm below the lowest\n"
+    "camera and 10 cm beyond the outermost every way, levelled to the cameras; windshield, bonnet and boot\n"
+    "beyond it, a car's size at least, down to 0.2 m above the ground), labelled `ego vehicle`, with glossy\n"
     "paint and glass that reflect the world. `rigsim render` moves it with the rig at every camera's capture\n"
     "time (rolling shutter and time offsets included): it shows in the lower part of views that look out and\n"
     "down past the roof, as a real car's body does.";
