@@ -73,41 +73,7 @@ void ReadRow(const BundleLinearisation& linearised, int row, JacobianRow* out) {
   }
 }
 
-NormalEquations NormalEquationsOf(const BundleLinearisation& linearised) {
-  NormalEquations out;
-  const int pose_dim = linearised.pose_dim;
-  out.h_poses = Eigen::MatrixXd::Zero(pose_dim, pose_dim);
-  out.h_point.assign(linearised.num_points, Eigen::Matrix3d::Zero());
-  out.h_cross.assign(linearised.num_points, {});
-  out.g_poses = Eigen::VectorXd::Zero(pose_dim);
-  out.g_point.assign(linearised.num_points, Eigen::Vector3d::Zero());
-  JacobianRow row;
-  for (int r = 0; r < linearised.jacobian.num_rows; ++r) {
-    ReadRow(linearised, r, &row);
-    const double residual = linearised.residuals[r];
-    for (const auto& [col_a, a] : row.pose) {
-      for (const auto& [col_b, b] : row.pose) out.h_poses(col_a, col_b) += a * b;
-      out.g_poses[col_a] += a * residual;
-    }
-    if (row.point < 0) continue;
-    out.h_point[row.point] += row.point_entries.transpose() * row.point_entries;
-    out.g_point[row.point] += row.point_entries.transpose() * residual;
-    for (const auto& [col, a] : row.pose) {
-      out.h_cross[row.point].try_emplace(col, Eigen::RowVector3d::Zero()).first->second += a * row.point_entries;
-    }
-  }
-  return out;
-}
-
-Eigen::Matrix3d PointPseudoInverse(const Eigen::Matrix3d& h_point, double min_ratio) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(h_point);
-  const double top = eig.eigenvalues().maxCoeff();
-  Eigen::Vector3d inv = Eigen::Vector3d::Zero();
-  for (int i = 0; i < 3; ++i) {
-    if (eig.eigenvalues()[i] > min_ratio * top) inv[i] = 1.0 / eig.eigenvalues()[i];
-  }
-  return eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
-}
+namespace {
 
 Eigen::MatrixXd EliminatePoints(const NormalEquations& normal) {
   Eigen::MatrixXd reduced = normal.h_poses;
@@ -132,12 +98,52 @@ Eigen::VectorXd EliminatePointsFromGradient(const NormalEquations& normal) {
   return reduced;
 }
 
-ReducedCovariance PoseCovariance(const BundleLinearisation& linearised) {
+}  // namespace
+
+NormalEquations NormalEquationsOf(const BundleLinearisation& linearised) {
+  NormalEquations out;
+  const int pose_dim = linearised.pose_dim;
+  out.h_poses = Eigen::MatrixXd::Zero(pose_dim, pose_dim);
+  out.h_point.assign(linearised.num_points, Eigen::Matrix3d::Zero());
+  out.h_cross.assign(linearised.num_points, {});
+  out.g_poses = Eigen::VectorXd::Zero(pose_dim);
+  out.g_point.assign(linearised.num_points, Eigen::Vector3d::Zero());
+  JacobianRow row;
+  for (int r = 0; r < linearised.jacobian.num_rows; ++r) {
+    ReadRow(linearised, r, &row);
+    const double residual = linearised.residuals[r];
+    for (const auto& [col_a, a] : row.pose) {
+      for (const auto& [col_b, b] : row.pose) out.h_poses(col_a, col_b) += a * b;
+      out.g_poses[col_a] += a * residual;
+    }
+    if (row.point < 0) continue;
+    out.h_point[row.point] += row.point_entries.transpose() * row.point_entries;
+    out.g_point[row.point] += row.point_entries.transpose() * residual;
+    for (const auto& [col, a] : row.pose) {
+      out.h_cross[row.point].try_emplace(col, Eigen::RowVector3d::Zero()).first->second += a * row.point_entries;
+    }
+  }
+  out.reduced = EliminatePoints(out);
+  out.reduced_gradient = EliminatePointsFromGradient(out);
+  return out;
+}
+
+Eigen::Matrix3d PointPseudoInverse(const Eigen::Matrix3d& h_point, double min_ratio) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(h_point);
+  const double top = eig.eigenvalues().maxCoeff();
+  Eigen::Vector3d inv = Eigen::Vector3d::Zero();
+  for (int i = 0; i < 3; ++i) {
+    if (eig.eigenvalues()[i] > min_ratio * top) inv[i] = 1.0 / eig.eigenvalues()[i];
+  }
+  return eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
+}
+
+ReducedCovariance PoseCovariance(const BundleLinearisation& linearised, const NormalEquations& normal) {
   ReducedCovariance out;
   const int pose_dim = linearised.pose_dim;
   if (pose_dim == 0) return out;
   out.offset = linearised.offset;
-  const Eigen::MatrixXd reduced = EliminatePoints(NormalEquationsOf(linearised));
+  const Eigen::MatrixXd& reduced = normal.reduced;
   // Pseudo-inverse of the reduced system: directions with (next to) no information get a variance
   // 1e12 times the best determined one's, instead of an infinity or a failure.
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (reduced + reduced.transpose()));

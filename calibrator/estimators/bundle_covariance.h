@@ -54,13 +54,16 @@ void ReadRow(const BundleLinearisation& linearised, int row, JacobianRow* out);
 // J^T J as the points' elimination needs it: the pose columns' block, each point's 3x3 block and
 // its cross terms with the pose columns its rows touch (summed over those entries only, in row
 // order, as a dense sum would: the zeros it skips change no bit).
-// With them the gradient J^T r, split the same way.
+// With them the gradient J^T r, split the same way, and both reduced to the pose columns with
+// the points eliminated: S = H_cc - sum_p H_cp H_pp^+ H_pc and g_c - sum_p H_cp H_pp^+ g_p.
 struct NormalEquations {
   Eigen::MatrixXd h_poses;
   std::vector<Eigen::Matrix3d> h_point;
   std::vector<std::map<int, Eigen::RowVector3d>> h_cross;  // pose column -> H_cp row
   Eigen::VectorXd g_poses;
   std::vector<Eigen::Vector3d> g_point;
+  Eigen::MatrixXd reduced;
+  Eigen::VectorXd reduced_gradient;
 };
 NormalEquations NormalEquationsOf(const BundleLinearisation& linearised);
 
@@ -68,12 +71,7 @@ NormalEquations NormalEquationsOf(const BundleLinearisation& linearised);
 // is free along its ray).
 Eigen::Matrix3d PointPseudoInverse(const Eigen::Matrix3d& h_point, double min_ratio = 1e-12);
 
-// The reduced system over the pose columns, S = H_cc - sum_p H_cp H_pp^+ H_pc.
-Eigen::MatrixXd EliminatePoints(const NormalEquations& normal);
-// The gradient over the pose columns with the points eliminated, g_c - sum_p H_cp H_pp^+ g_p.
-Eigen::VectorXd EliminatePointsFromGradient(const NormalEquations& normal);
-
-ReducedCovariance PoseCovariance(const BundleLinearisation& linearised);
+ReducedCovariance PoseCovariance(const BundleLinearisation& linearised, const NormalEquations& normal);
 
 // Covariance of each camera's centre in the rig (C = -R^T t of cam_from_rig, whose translation
 // block is `ct[c]`) at the solution, `variance` being that of one image coordinate. nullopt for

@@ -58,7 +58,8 @@ TEST(PoseCovariance, MatchesCeresCovarianceOfTheSameBlocks) {
 
   const std::vector<double*> poses = {rotation[0].data(), translation[0].data(), rotation[1].data(),
                                       translation[1].data(), rotation[2].data(), translation[2].data()};
-  const ReducedCovariance reduced = PoseCovariance(Linearise(problem, poses));
+  const BundleLinearisation linearised = Linearise(problem, poses);
+  const ReducedCovariance reduced = PoseCovariance(linearised, NormalEquationsOf(linearised));
   ASSERT_EQ(reduced.covariance.rows(), 9) << "rotation 1, rotation 2 and translation 2 are adjusted";
   ASSERT_EQ(reduced.offset.size(), 3u);
   EXPECT_EQ(reduced.offset.count(translation[1].data()), 0u) << "a constant block has no column";
@@ -111,7 +112,8 @@ TEST(RotationStdDevsDeg, IsTheAngleOfTheRotationNotOfTheQuaternion) {
                              nullptr, cq[0].data());
   }
   problem.SetManifold(cq[0].data(), new ceres::EigenQuaternionManifold);
-  const ReducedCovariance reduced = PoseCovariance(Linearise(problem, {cq[0].data()}));
+  const BundleLinearisation linearised = Linearise(problem, {cq[0].data()});
+  const ReducedCovariance reduced = PoseCovariance(linearised, NormalEquationsOf(linearised));
   const PerCamera<double> std_deg = RotationStdDevsDeg(problem, reduced, cq, 1.0);
   ASSERT_TRUE(std_deg[0]);
   EXPECT_NEAR(*std_deg[0], kScale / std::sqrt(kObservations) * 180.0 / M_PI, 1e-9);

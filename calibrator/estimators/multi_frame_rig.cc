@@ -486,10 +486,11 @@ void HoldAndBoundParameters(BundleProblem& bp, const BundleRound& round, const R
 
 // The jackknives (jackknife.h) over frames and over points of the solved problem.
 void ReadJackknives(BundleProblem& bp, ceres::Problem& problem, const BundleLinearisation& linearised,
-                    const std::vector<ceres::ResidualBlockId>& blocks,
+                    const NormalEquations& normal, const std::vector<ceres::ResidualBlockId>& blocks,
                     const std::map<ceres::ResidualBlockId, CostSource>& sources, BundleRoundResult* out) {
   const auto spread = [&](const std::vector<int>& block_group, int groups, const std::vector<std::vector<int>>& held) {
-    return CameraSpread(problem, linearised, StepsWithoutGroups(linearised, block_group, groups, held), bp.cq, bp.ct);
+    return CameraSpread(problem, linearised, StepsWithoutGroups(linearised, normal, block_group, groups, held), bp.cq,
+                        bp.ct);
   };
   std::vector<const CostSource*> source_of_block(blocks.size(), nullptr);
   for (size_t b = 0; b < blocks.size(); ++b) {
@@ -543,8 +544,9 @@ void ReadCovariances(BundleProblem& bp, const std::vector<WorldPoint>& points, c
   std::vector<ceres::ResidualBlockId> blocks;
   problem.GetResidualBlocks(&blocks);
   const BundleLinearisation linearised = Linearise(problem, pose_blocks, blocks);
-  const ReducedCovariance reduced = PoseCovariance(linearised);
-  ReadJackknives(bp, problem, linearised, blocks, sources, &out);
+  const NormalEquations normal = NormalEquationsOf(linearised);
+  const ReducedCovariance reduced = PoseCovariance(linearised, normal);
+  ReadJackknives(bp, problem, linearised, normal, blocks, sources, &out);
   const double rms_px = bp.RmsPx(points);
   // Per image coordinate, over the coordinates the fit leaves free, and as many times that as the
   // residuals of one image region move together.

@@ -12,11 +12,7 @@ constexpr const char* kKnownDistanceIgnored = "known distance ignored: ";
 
 std::string MetricScale::Warning() const { return kKnownDistanceIgnored + why_not; }
 
-void DropKnownDistanceWarning(RigCalibrationResult* result) {
-  auto& w = result->warnings;
-  w.erase(std::remove_if(w.begin(), w.end(), [](const std::string& s) { return s.rfind(kKnownDistanceIgnored, 0) == 0; }),
-          w.end());
-}
+void DropKnownDistanceWarning(RigCalibrationResult* result) { DropWarnings(result, kKnownDistanceIgnored); }
 
 MetricScale ScaleToKnownDistance(const RigObservations& obs, const KnownDistance& known,
                                  PerCamera<Rigid3d>* cam_from_rig, PerFrame<Rigid3d>* rig_from_world) {

@@ -97,11 +97,7 @@ void TakePoseWhenAnotherStartMovesTheOffset(const RigObservations& obs, const st
 // The start of the warning that names the cameras whose capture time the path hides.
 constexpr const char* kHiddenTimeWarning = "the rig's path cannot show whether ";
 
-void DropHiddenTimeWarning(RigCalibrationResult* result) {
-  auto& w = result->warnings;
-  w.erase(std::remove_if(w.begin(), w.end(), [](const std::string& s) { return s.rfind(kHiddenTimeWarning, 0) == 0; }),
-          w.end());
-}
+void DropHiddenTimeWarning(RigCalibrationResult* result) { DropWarnings(result, kHiddenTimeWarning); }
 
 void SetCaptureTimes(const RigObservations& obs, const CaptureTimeOptions& o,
                      const MultiFrameBundleAdjustmentResult& ba, const std::vector<CameraSynchronisation>& checked,

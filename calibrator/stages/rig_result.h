@@ -2,9 +2,11 @@
 // edge, the rig's poses per frame, the motion stage's summary and the stage times.
 #pragma once
 
+#include <algorithm>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -201,5 +203,11 @@ struct RigCalibrationResult {
   // With RigCalibrationOptions::keep_details only; shared, so copies of a result stay cheap.
   std::shared_ptr<RigCalibrationDetails> details;
 };
+
+// Removes the result's warnings that start with `prefix`.
+inline void DropWarnings(RigCalibrationResult* result, std::string_view prefix) {
+  auto& w = result->warnings;
+  w.erase(std::remove_if(w.begin(), w.end(), [prefix](const std::string& s) { return s.rfind(prefix, 0) == 0; }), w.end());
+}
 
 }  // namespace rigsim
