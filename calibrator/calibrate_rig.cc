@@ -75,11 +75,11 @@ void MarkPairsTheRigLeftOut(RigCalibrationResult* result) {
   }
 }
 
-// Each stated deviation becomes the larger of the covariance's and the frame jackknife's: the
-// covariance alone states a pose several times too tightly where the keypoints' error is
-// structured, and a deviation rigsim states must bound its error. The placement bound
-// (max_direction_std_deg) stays on the covariance, where it was measured.
-void StateFrameJackknife(RigCalibrationResult* result) {
+// Each stated deviation becomes the larger of the covariance's and the jackknives' (over frames
+// and over points, jackknife.h): the covariance alone states a pose several times too tightly
+// where the keypoints' error is structured, and a deviation rigsim states must bound its error.
+// The placement bound (max_direction_std_deg) stays on the covariance, where it was measured.
+void StateJackknives(RigCalibrationResult* result) {
   for (RigCameraStats& s : result->camera_stats) {
     if (s.rotation_std_deg && s.rotation_jackknife_std_deg) {
       s.rotation_std_deg = std::max(*s.rotation_std_deg, *s.rotation_jackknife_std_deg);
@@ -102,7 +102,7 @@ RigCalibrationResult EstimateRigFromPairs(const RigViews& views, const PairwiseR
     return EstimateRigWithMotionLinks(o, match, opt);
   };
   RigCalibrationResult r = refine ? EstimateRigAndIntrinsics(obs, options, with_motion) : with_motion(obs, options);
-  StateFrameJackknife(&r);
+  StateJackknives(&r);
   r.pairwise = pairwise.report;
   UseReestimatedPairs(&r);
   MarkPairsTheRigLeftOut(&r);

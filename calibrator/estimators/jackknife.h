@@ -32,10 +32,9 @@ int JackknifePointGroup(int point);
 constexpr int kJackknifePointGroups = 10;
 
 // Per group, the Gauss-Newton step from the solution of the linearised adjustment (`normal` its
-// normal equations) without the rows
-// of that group's residual blocks (`block_group`: per residual block in the linearisation's order,
-// its group, -1 for blocks that always stay), over the pose columns: where the adjustment without
-// them goes, to first order. `held[g]`: pose columns held as well when group g is out (the gauge a
+// normal equations) without the rows of that group's residual blocks (`block_group`: per residual
+// block in the linearisation's order, its group, -1 for blocks that always stay), over the pose
+// columns: where the adjustment without them goes, to first order. `held[g]`: pose columns held as well when group g is out (the gauge a
 // left-out frame 0 hands on). Columns nothing constrains without the group are NaN in its step.
 std::vector<Eigen::VectorXd> StepsWithoutGroups(const BundleLinearisation& linearised, const NormalEquations& normal,
                                                 const std::vector<int>& block_group, int groups,

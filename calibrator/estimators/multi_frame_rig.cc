@@ -379,9 +379,9 @@ struct BundleRoundResult {
 // cameras see weigh options.inter_camera_weight times the others.
 // Returns where each cost comes from.
 std::map<ceres::ResidualBlockId, CostSource> AddReprojectionCosts(BundleProblem& bp, std::vector<WorldPoint>& points,
-                                                           const BundleRound& round,
-                                                           const RigBundleAdjustmentOptions& options,
-                                                           ceres::Problem& problem) {
+                                                                  const BundleRound& round,
+                                                                  const RigBundleAdjustmentOptions& options,
+                                                                  ceres::Problem& problem) {
   std::map<ceres::ResidualBlockId, CostSource> sources;
   ceres::LossFunction* own_loss = new ceres::HuberLoss(options.loss_scale_px);
   ceres::LossFunction* shared_loss =
@@ -408,10 +408,11 @@ std::map<ceres::ResidualBlockId, CostSource> AddReprojectionCosts(BundleProblem&
              bp.rt[br.b].data(), bp.time[o.camera].data(), p.x.data()})] = {o.frame, static_cast<int>(i)};
         continue;
       }
-      sources[problem.AddResidualBlock(CreateRigReprojectionCost(bp.cameras[o.camera], bp.Observed(o)), loss,
-                                             {bp.cq[o.camera].data(), bp.ct[o.camera].data(), bp.rq[o.frame].data(),
-                                              bp.rt[o.frame].data(), p.x.data(), bp.intrinsics[o.camera].data()})] = {
-          o.frame, static_cast<int>(i)};
+      const ceres::ResidualBlockId cost = problem.AddResidualBlock(
+          CreateRigReprojectionCost(bp.cameras[o.camera], bp.Observed(o)), loss,
+          {bp.cq[o.camera].data(), bp.ct[o.camera].data(), bp.rq[o.frame].data(), bp.rt[o.frame].data(), p.x.data(),
+           bp.intrinsics[o.camera].data()});
+      sources[cost] = {o.frame, static_cast<int>(i)};
     }
   }
   if (own_loss == shared_loss) {
@@ -515,7 +516,9 @@ void ReadJackknives(BundleProblem& bp, ceres::Problem& problem, const BundleLine
   for (size_t g = 0; g < groups.size(); ++g) {
     for (const int k : groups[g]) group_of_frame[k] = static_cast<int>(g);
   }
-  for (size_t b = 0; b < blocks.size(); ++b) block_group[b] = source_of_block[b] ? group_of_frame[source_of_block[b]->frame] : -1;
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    block_group[b] = source_of_block[b] ? group_of_frame[source_of_block[b]->frame] : -1;
+  }
   // Frame 0 holds the gauge: without it, the first frame of the next group holds it, where the
   // solution put it.
   std::vector<std::vector<int>> held(groups.size());
