@@ -107,11 +107,11 @@ RegisteredOutcome JudgeRegistered(const RigObservations& obs, const CameraRegist
   return out;
 }
 
-// Per camera of the adjustment: the observations kept and the deviations.
-void SetStats(const MultiFrameBundleAdjustmentResult& ba, int c, RigCameraStats* stats) {
+// Per camera of the adjustment: the observations kept and the deviations (`spread` its jackknives'
+// larger).
+void SetStats(const MultiFrameBundleAdjustmentResult& ba, const JackknifeSpread& spread, int c, RigCameraStats* stats) {
   stats->observations = ba.observations_per_camera[c];
   const auto& pose = ba.poses.cam_from_rig[c];
-  const JackknifeSpread spread = LargerSpread(ba.frame_jackknife, ba.point_jackknife);
   const auto jackknife = [c](const PerCamera<double>& std_deg) {
     return c < static_cast<int>(std_deg.size()) ? std_deg[c] : std::nullopt;
   };
@@ -186,11 +186,12 @@ RegisteredRig AdjustRegisteredRig(const RigObservations& obs, const RigCalibrati
   result.num_tracks = static_cast<int>(tracks.size());
   SetAdjustmentSummary(ba, &result);
   result.rig_from_world = ba.poses.rig_from_world;
+  const JackknifeSpread spread = LargerSpread(ba.frame_jackknife, ba.point_jackknife);
   for (int c = 0; c < n; ++c) {
     if (!HasFullPose(placed.camera_status[c].outcome) || !ba.poses.cam_from_rig[c]) continue;
     result.rig.cameras[c].cam_from_rig = ba.poses.cam_from_rig[c];
     result.cam_from_rig_rotation[c] = ba.poses.cam_from_rig[c]->rotation;
-    SetStats(ba, c, &result.camera_stats[c]);
+    SetStats(ba, spread, c, &result.camera_stats[c]);
   }
   const std::string remedy = "to place it: more overlap with a placed camera, or more frames while the rig moves";
   for (const CameraRegistration& r : registration.cameras) {
@@ -205,7 +206,7 @@ RegisteredRig AdjustRegisteredRig(const RigObservations& obs, const RigCalibrati
                  std::to_string(r.correspondences) + " matches with placed points), but " + s.reason + "; " + remedy;
     }
     result.cam_from_rig_rotation[r.camera] = ba.poses.cam_from_rig[r.camera]->rotation;
-    SetStats(ba, r.camera, &result.camera_stats[r.camera]);
+    SetStats(ba, spread, r.camera, &result.camera_stats[r.camera]);
     if (judged.placed) {
       result.rig.cameras[r.camera].cam_from_rig = ba.poses.cam_from_rig[r.camera];
     } else {
