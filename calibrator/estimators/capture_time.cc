@@ -7,6 +7,7 @@
 #include <utility>
 
 #include <Eigen/Geometry>
+#include <tbb/parallel_invoke.h>
 
 #include "calibrator/model/rig_state.h"
 #include "geometry/pose_interpolation.h"
@@ -256,17 +257,37 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
     return MultiFrameRigBundleAdjust(adjusted.cameras, keypoints, solved_tracks, poses, scale_camera, ba_options,
                                      false, &start);
   };
-  const std::vector<ViewTrack> subsample = EvenSubsample(tracks, options.check_max_tracks);
-  MultiFrameBundleAdjustmentResult freed = solve(subsample, timing, adjusted.poses);
+  // Rolling shutters are asked with the offsets held at zero and every readout free. Freed together
+  // with the offsets, readouts and offsets trade against each other over few frames and condemned a
+  // synchronised global-shutter rig (BENCHMARKS.md), so they are solved apart.
+  CaptureTiming rows;
+  rows.frame_times_s = frame_times_s;
+  rows.time_offset_s.assign(n, 0.0);
+  rows.readout_s.assign(n, 0.0);
+  rows.readout_bottom_to_top = readout_bottom_to_top;
+  rows.estimate_readout = true;
   // The turn angles' start can be wrong (camera 0 tracked over few frames): the synchronised start is
   // solved too, and the one the images fit better kept, so that a wrong start cannot condemn a camera.
-  if (std::any_of(start_offsets_s.begin(), start_offsets_s.end(), [](double o) { return o != 0.0; })) {
-    timing.time_offset_s.assign(n, 0.0);
-    MultiFrameBundleAdjustmentResult from_zero = solve(subsample, timing, adjusted.poses);
-    if (TruncatedCost(from_zero, ba_options.max_reprojection_error_px) <
-        TruncatedCost(freed, ba_options.max_reprojection_error_px)) {
-      freed = std::move(from_zero);
-    }
+  const bool from_zero_too =
+      std::any_of(start_offsets_s.begin(), start_offsets_s.end(), [](double o) { return o != 0.0; });
+  CaptureTiming zero = timing;
+  zero.time_offset_s.assign(n, 0.0);
+  const std::vector<ViewTrack> subsample = EvenSubsample(tracks, options.check_max_tracks);
+  MultiFrameBundleAdjustmentResult freed, from_zero, read_out;
+  // Each solve is single-threaded and stands alone: side by side they give the same bits as one
+  // after the other.
+  tbb::parallel_invoke([&] { freed = solve(subsample, timing, adjusted.poses); },
+                       [&] {
+                         if (from_zero_too) from_zero = solve(subsample, zero, adjusted.poses);
+                       },
+                       [&] {
+                         if (options.check_readout) {
+                           read_out = solve(EvenSubsample(tracks, options.readout_max_tracks), rows, adjusted.poses);
+                         }
+                       });
+  if (from_zero_too && TruncatedCost(from_zero, ba_options.max_reprojection_error_px) <
+                           TruncatedCost(freed, ba_options.max_reprojection_error_px)) {
+    freed = std::move(from_zero);
   }
   std::vector<int> restarted;
   for (int c = 1; c < n && c < static_cast<int>(freed.timing.size()); ++c) {
@@ -307,20 +328,10 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
       s.offset_stddev_s.reset();
     }
   }
-  // Rolling shutters: offsets held at zero and every readout free. Freed together with the offsets,
-  // readouts and offsets trade against each other over few frames and condemned a synchronised
-  // global-shutter rig (BENCHMARKS.md), so they are solved apart. A rolling shutter also shows as an offset of the cameras
-  // without one (their rows are captured, on average, half a readout from the others'): either
-  // verdict takes a camera's pose, and the remedy of both is to estimate capture times.
+  // A rolling shutter also shows as an offset of the cameras without one (their rows are captured,
+  // on average, half a readout from the others'): either verdict takes a camera's pose, and the
+  // remedy of both is to estimate capture times.
   if (!options.check_readout) return out;
-  CaptureTiming rows;
-  rows.frame_times_s = frame_times_s;
-  rows.time_offset_s.assign(n, 0.0);
-  rows.readout_s.assign(n, 0.0);
-  rows.readout_bottom_to_top = readout_bottom_to_top;
-  rows.estimate_readout = true;
-  const MultiFrameBundleAdjustmentResult read_out =
-      solve(EvenSubsample(tracks, options.readout_max_tracks), rows, adjusted.poses);
   for (int c = 0; c < n && c < static_cast<int>(read_out.timing.size()); ++c) {
     CameraSynchronisation& s = out[c];
     if ((c > 0 && !s.checked) || !read_out.readout_stddev_s[c]) continue;

@@ -13,6 +13,7 @@
 #include <ceres/ceres.h>
 #include <ceres/manifold.h>
 #include <ceres/sphere_manifold.h>
+#include <tbb/parallel_invoke.h>
 
 #include "calibrator/estimators/bundle_covariance.h"
 #include "calibrator/estimators/cost_functions.h"
@@ -485,50 +486,72 @@ void HoldAndBoundParameters(BundleProblem& bp, const BundleRound& round, const R
   }
 }
 
-// The jackknives (jackknife.h) over frames and over points of the solved problem.
-void ReadJackknives(BundleProblem& bp, ceres::Problem& problem, const BundleLinearisation& linearised,
-                    const NormalEquations& normal, const std::vector<ceres::ResidualBlockId>& blocks,
-                    const std::map<ceres::ResidualBlockId, CostSource>& sources, BundleRoundResult* out) {
-  const auto spread = [&](const std::vector<int>& block_group, int groups, const std::vector<std::vector<int>>& held) {
-    return CameraSpread(problem, linearised, StepsWithoutGroups(linearised, normal, block_group, groups, held), bp.cq,
-                        bp.ct);
-  };
-  std::vector<const CostSource*> source_of_block(blocks.size(), nullptr);
-  for (size_t b = 0; b < blocks.size(); ++b) {
-    if (const auto it = sources.find(blocks[b]); it != sources.end()) source_of_block[b] = &it->second;
-  }
-  std::vector<int> block_group(blocks.size(), -1);
-  for (size_t b = 0; b < blocks.size(); ++b) {
-    if (source_of_block[b]) block_group[b] = JackknifePointGroup(source_of_block[b]->point);
-  }
-  out->point_jackknife = spread(block_group, kJackknifePointGroups, {});
+// The cameras' spread over the steps of the linearised adjustment without each group
+// (StepsWithoutGroups, CameraSpread).
+JackknifeSpread SpreadWithoutGroups(const BundleProblem& bp, ceres::Problem& problem,
+                                    const BundleLinearisation& linearised, const NormalEquations& normal,
+                                    const std::vector<int>& block_group, int groups,
+                                    const std::vector<std::vector<int>>& held) {
+  return CameraSpread(problem, linearised, StepsWithoutGroups(linearised, normal, block_group, groups, held), bp.cq,
+                      bp.ct);
+}
 
+// The jackknife over frames (JackknifeFrameGroups); `source_of_block`: per residual block of the
+// linearisation, where it comes from (nullptr: a block that always stays).
+JackknifeSpread FrameJackknife(const BundleProblem& bp, ceres::Problem& problem, const BundleLinearisation& linearised,
+                               const NormalEquations& normal, const std::vector<const CostSource*>& source_of_block) {
   const int num_frames = static_cast<int>(bp.keypoints.size());
   std::vector<int> posed;
   for (int k = 0; k < num_frames; ++k) {
     if (bp.initial_rig_from_world[k]) posed.push_back(k);
   }
   const std::vector<std::vector<int>> groups = JackknifeFrameGroups(posed);
-  out->frame_jackknife.rotation_std_deg.assign(bp.cameras.size(), std::nullopt);
-  out->frame_jackknife.direction_std_deg.assign(bp.cameras.size(), std::nullopt);
-  if (groups.empty()) return;
+  if (groups.empty()) {
+    JackknifeSpread none;
+    none.rotation_std_deg.assign(bp.cameras.size(), std::nullopt);
+    none.direction_std_deg.assign(bp.cameras.size(), std::nullopt);
+    return none;
+  }
   std::vector<int> group_of_frame(num_frames, -1);
   for (size_t g = 0; g < groups.size(); ++g) {
     for (const int k : groups[g]) group_of_frame[k] = static_cast<int>(g);
   }
-  for (size_t b = 0; b < blocks.size(); ++b) {
-    block_group[b] = source_of_block[b] ? group_of_frame[source_of_block[b]->frame] : -1;
+  std::vector<int> block_group(source_of_block.size(), -1);
+  for (size_t b = 0; b < source_of_block.size(); ++b) {
+    if (source_of_block[b]) block_group[b] = group_of_frame[source_of_block[b]->frame];
   }
   // Frame 0 holds the gauge: without it, the first frame of the next group holds it, where the
   // solution put it.
   std::vector<std::vector<int>> held(groups.size());
   const int gauge = groups[1].front();
-  for (double* block : {bp.rq[gauge].data(), bp.rt[gauge].data()}) {
+  for (const double* block : {bp.rq[gauge].data(), bp.rt[gauge].data()}) {
     const auto it = linearised.offset.find(block);
     if (it == linearised.offset.end()) continue;
     for (int i = 0; i < problem.ParameterBlockTangentSize(block); ++i) held[0].push_back(it->second + i);
   }
-  out->frame_jackknife = spread(block_group, static_cast<int>(groups.size()), held);
+  return SpreadWithoutGroups(bp, problem, linearised, normal, block_group, static_cast<int>(groups.size()), held);
+}
+
+// The jackknives (jackknife.h) over points and over frames of the solved problem.
+void ReadJackknives(const BundleProblem& bp, ceres::Problem& problem, const BundleLinearisation& linearised,
+                    const NormalEquations& normal, const std::vector<ceres::ResidualBlockId>& blocks,
+                    const std::map<ceres::ResidualBlockId, CostSource>& sources, BundleRoundResult* out) {
+  std::vector<const CostSource*> source_of_block(blocks.size(), nullptr);
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    if (const auto it = sources.find(blocks[b]); it != sources.end()) source_of_block[b] = &it->second;
+  }
+  // The two jackknives read the same linearisation and write apart: side by side they give the
+  // same bits as one after the other.
+  tbb::parallel_invoke(
+      [&] {
+        std::vector<int> point_group(blocks.size(), -1);
+        for (size_t b = 0; b < blocks.size(); ++b) {
+          if (source_of_block[b]) point_group[b] = JackknifePointGroup(source_of_block[b]->point);
+        }
+        out->point_jackknife =
+            SpreadWithoutGroups(bp, problem, linearised, normal, point_group, kJackknifePointGroups, {});
+      },
+      [&] { out->frame_jackknife = FrameJackknife(bp, problem, linearised, normal, source_of_block); });
 }
 
 // The poses', capture times' and intrinsics' standard deviations from the solved problem's
@@ -548,8 +571,10 @@ void ReadCovariances(BundleProblem& bp, const std::vector<WorldPoint>& points, c
   problem.GetResidualBlocks(&blocks);
   const BundleLinearisation linearised = Linearise(problem, pose_blocks, blocks);
   const NormalEquations normal = NormalEquationsOf(linearised);
-  const ReducedCovariance reduced = PoseCovariance(linearised, normal);
-  ReadJackknives(bp, problem, linearised, normal, blocks, sources, &out);
+  ReducedCovariance reduced;
+  // The covariance and the jackknives read the same linearisation and write apart.
+  tbb::parallel_invoke([&] { reduced = PoseCovariance(linearised, normal); },
+                       [&] { ReadJackknives(bp, problem, linearised, normal, blocks, sources, &out); });
   const double rms_px = bp.RmsPx(points);
   // Per image coordinate, over the coordinates the fit leaves free, and as many times that as the
   // residuals of one image region move together.
