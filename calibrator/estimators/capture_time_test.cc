@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include "calibrator/calibrator_test_support.h"
 #include "testing/synthetic_rig.h"
@@ -31,6 +33,37 @@ TEST(CheckSynchronisation, FindsCamerasThatDidNotCaptureWithCameraZero) {
     ASSERT_TRUE(verdict[c].offset_s && verdict[c].offset_stddev_s) << c;
     EXPECT_NEAR(*verdict[c].offset_s, 0.030 * c, 3 * *verdict[c].offset_stddev_s + 1e-4) << c;
   }
+}
+
+// The check's solves, and the covariance and jackknives of each adjustment, run side by side: on
+// one core and on two they give the same bits (a race between them would not).
+TEST(CheckSynchronisation, GivesTheSameBitsOnOneCoreAsOnTwo) {
+  const TimedRing ring(VariedPath(), 0.3, TestSeed(), {0.0, 0.030, 0.060}, {0.0, 0.0, 0.0});
+  const auto check = [&](size_t workers) {
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, workers);
+    const MultiFrameBundleAdjustmentResult adjusted = ring.Adjust(nullptr);
+    // Start offsets that are not all zero: the solve from zero runs beside the freed one.
+    return std::make_pair(adjusted, CheckSynchronisation(ring.cameras, ring.s.keypoints, ring.tracks, adjusted, 1, {},
+                                                         ring.timing.frame_times_s, {0.0, 0.02, 0.05}, TopToBottom(),
+                                                         {}));
+  };
+  const auto [one_ba, one] = check(1);
+  const auto [two_ba, two] = check(2);
+  EXPECT_EQ(one_ba.rotation_stddev_deg, two_ba.rotation_stddev_deg);
+  EXPECT_EQ(one_ba.frame_jackknife.rotation_std_deg, two_ba.frame_jackknife.rotation_std_deg);
+  EXPECT_EQ(one_ba.frame_jackknife.direction_std_deg, two_ba.frame_jackknife.direction_std_deg);
+  EXPECT_EQ(one_ba.point_jackknife.direction_std_deg, two_ba.point_jackknife.direction_std_deg);
+  ASSERT_TRUE(one_ba.frame_jackknife.direction_std_deg[1] && one_ba.point_jackknife.direction_std_deg[1]);
+  ASSERT_EQ(one.size(), two.size());
+  for (size_t c = 0; c < one.size(); ++c) {
+    EXPECT_EQ(one[c].offset_s, two[c].offset_s) << c;
+    EXPECT_EQ(one[c].offset_stddev_s, two[c].offset_stddev_s) << c;
+    EXPECT_EQ(one[c].offset_alternative_s, two[c].offset_alternative_s) << c;
+    EXPECT_EQ(one[c].readout_s, two[c].readout_s) << c;
+    EXPECT_EQ(one[c].readout_stddev_s, two[c].readout_stddev_s) << c;
+    EXPECT_EQ(one[c].unsynchronised, two[c].unsynchronised) << c;
+  }
+  EXPECT_TRUE(one[1].offset_s && one[2].readout_s);  // the check ran its solves
 }
 
 // A camera that captures 0.45 s after camera 0 on a path of 6 frames 0.1 s apart (its start found
