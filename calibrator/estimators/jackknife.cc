@@ -46,6 +46,7 @@ double WorstAxisStdDeg(const Eigen::Matrix3d& cov) {
 // with next to no information take no step.
 Eigen::VectorXd SolveOverActiveColumns(const Eigen::MatrixXd& s, const Eigen::VectorXd& b, const std::vector<int>& held) {
   const int dim = static_cast<int>(b.size());
+  if (dim == 0) return Eigen::VectorXd();  // nothing adjusted: no step (and no diagonal to scale by)
   const double top_diagonal = s.diagonal().cwiseAbs().maxCoeff();
   std::vector<int> active;
   for (int i = 0; i < dim; ++i) {

@@ -125,6 +125,19 @@ TEST(FrameJackknife, IsZeroOnExactObservations) {
   EXPECT_LT(*s.jackknife.direction_std_deg[1], 1e-6);
 }
 
+// An adjustment that holds every pose (a check whose every camera but the reference lost its
+// pose) has no column to step in: each group's step is empty, and nothing reads a diagonal that
+// is not there.
+TEST(FrameJackknife, TakesNoStepWhereNothingIsAdjusted) {
+  const BundleLinearisation nothing_free;
+  NormalEquations normal;
+  normal.reduced = Eigen::MatrixXd(0, 0);
+  normal.reduced_gradient = Eigen::VectorXd(0);
+  const std::vector<Eigen::VectorXd> steps = StepsWithoutGroups(nothing_free, normal, {}, 3, {});
+  ASSERT_EQ(steps.size(), 3u);
+  for (const Eigen::VectorXd& step : steps) EXPECT_EQ(step.size(), 0);
+}
+
 TEST(FrameJackknife, NeedsThreePosedFrames) {
   std::mt19937 rng(TestSeed());
   const TwoCameraDrive d = MakeDrive(2, rng);
