@@ -283,14 +283,16 @@ TEST(EgoVehicle, TheCarFrameOfATiltedRigIsLevelWithGravityDown) {
   EXPECT_LT(DegreesBetween(rig_from_car.col(1), pitched * Eigen::Vector3d::UnitY()), 0.02);
   EXPECT_GT(DegreesBetween(rig_from_car.col(1), Eigen::Vector3d::UnitY()), 2.98);  // not the rig's own y
   EXPECT_LT((rig_from_car - pitched).cwiseAbs().maxCoeff(), 4e-4) << rig_from_car;
-  // Pitched and rolled: down is still gravity; forward is the rig's z levelled, right completes it.
+  // Pitched and rolled: down is still gravity (the ridge on the roof's 1.8 m width leaves the 2 degree
+  // roll 0.06 degrees short); forward is the rig's z levelled, right completes it.
   const Eigen::Matrix3d tilted = (Eigen::AngleAxisd(3 * M_PI / 180, Eigen::Vector3d::UnitX()) *
                                   Eigen::AngleAxisd(-2 * M_PI / 180, Eigen::Vector3d::UnitZ())).toRotationMatrix();
   const Eigen::Matrix3d levelled = RigFromCar(RoofCentresInRig(tilted, offset));
   EXPECT_NEAR(levelled.determinant(), 1.0, 1e-12);
-  EXPECT_LT(DegreesBetween(levelled.col(1), tilted * Eigen::Vector3d::UnitY()), 0.03);
+  EXPECT_LT(DegreesBetween(levelled.col(1), tilted * Eigen::Vector3d::UnitY()), 0.07);
   EXPECT_NEAR(levelled.col(1).dot(levelled.col(2)), 0.0, 1e-12);
-  EXPECT_NEAR(levelled.col(2).x(), 0.0, 1e-12);  // forward: the rig's z with the down part taken out
+  // forward: the rig's z with its part along down taken out, so in the plane of the two
+  EXPECT_NEAR(levelled.col(2).dot(Eigen::Vector3d::UnitZ().cross(levelled.col(1))), 0.0, 1e-12);
   EXPECT_GT(levelled.col(2).z(), 0.99);
   EXPECT_LT((levelled.col(0) - levelled.col(1).cross(levelled.col(2))).norm(), 1e-12);
 }
@@ -303,14 +305,16 @@ TEST(EgoVehicle, TheCarFrameIsTheRigFrameBeyondFiveDegreesOrOffThePlane) {
   EXPECT_EQ(RigFromCar(RoofCentresInRig(pitch(6), offset)), Eigen::Matrix3d::Identity());
   EXPECT_NE(RigFromCar(RoofCentresInRig(pitch(4.5), offset)), Eigen::Matrix3d::Identity());
   std::vector<Eigen::Vector3d> off_plane = RoofCentresInRig(pitch(2), offset);
-  off_plane[1].y() -= 0.08;  // one camera 8 cm above the others' roof
+  EXPECT_NE(RigFromCar(off_plane), Eigen::Matrix3d::Identity());
+  off_plane.push_back(pitch(2) * Eigen::Vector3d(0.1, -0.08, 0.3) + offset);  // mid-roof, 8 cm above the others'
   EXPECT_EQ(RigFromCar(off_plane), Eigen::Matrix3d::Identity());
   const Eigen::Matrix3d rolled = Eigen::AngleAxisd(2 * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   std::vector<Eigen::Vector3d> line;
   for (double x : {-0.6, 0.0, 0.6}) line.push_back(rolled * Eigen::Vector3d(x, 0, 1.5) + offset);
   const Eigen::Matrix3d across = RigFromCar(line);
   EXPECT_NEAR(across.col(1).z(), 0.0, 1e-12);  // no pitch from cameras all at one z
-  EXPECT_GT(DegreesBetween(across.col(1), Eigen::Vector3d::UnitY()), 1.9);  // the roll is found
+  // The roll is found, to the ridge's 4 % on a line 1.2 m long.
+  EXPECT_LT(DegreesBetween(across.col(1), rolled * Eigen::Vector3d::UnitY()), 0.1);
 }
 
 TEST(EgoVehicle, ACameraLookingIntoTheBodyIsRefused) {
