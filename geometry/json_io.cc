@@ -38,17 +38,17 @@ Json OptionalNumber(const std::optional<double>& value) {
   return value && std::isfinite(*value) ? Json(*value) : Json(nullptr);
 }
 
-Rigid3d PoseFromJson(const Json& j, const std::string& source, const std::string& where) {
-  const auto q = Get<std::vector<double>>(j, "rotation_wxyz", source, where);
+Rigid3d PoseFromJson(const Json& j, const std::string& source, const std::string& where, const std::string& rotation_key) {
+  const auto q = Get<std::vector<double>>(j, rotation_key.c_str(), source, where);
   const auto t = Get<std::vector<double>>(j, "translation", source, where);
   if (q.size() != 4 || t.size() != 3) {
-    throw std::runtime_error(source + ": " + where + ": rotation_wxyz needs 4 numbers and translation 3");
+    throw std::runtime_error(source + ": " + where + ": " + rotation_key + " needs 4 numbers and translation 3");
   }
   for (double v : q) if (!std::isfinite(v)) throw std::runtime_error(source + ": " + where + ": non-finite rotation");
   for (double v : t) if (!std::isfinite(v)) throw std::runtime_error(source + ": " + where + ": non-finite translation");
   const Eigen::Quaterniond quat(q[0], q[1], q[2], q[3]);
   if (std::abs(quat.norm() - 1.0) > 1e-3) {
-    throw std::runtime_error(source + ": " + where + ": rotation_wxyz is not a unit quaternion (norm " +
+    throw std::runtime_error(source + ": " + where + ": " + rotation_key + " is not a unit quaternion (norm " +
                              std::to_string(quat.norm()) + ")");
   }
   return Rigid3d(quat, Eigen::Vector3d(t[0], t[1], t[2]));

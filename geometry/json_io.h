@@ -61,7 +61,9 @@ T Get(const Json& j, const char* key, const std::string& source, const std::stri
 Json PoseToJson(const Rigid3d& pose);
 // The number, or null when it is unknown (nullopt) or not finite: JSON has no infinity or NaN.
 Json OptionalNumber(const std::optional<double>& value);
-Rigid3d PoseFromJson(const Json& j, const std::string& source, const std::string& where);
+// Reads that pose; `rotation_key` names the quaternion [w, x, y, z] where a file calls it otherwise.
+Rigid3d PoseFromJson(const Json& j, const std::string& source, const std::string& where,
+                     const std::string& rotation_key = "rotation_wxyz");
 
 // Writes text to `path` through a temporary file in the same folder and a rename, so a reader
 // never sees half a file.

@@ -54,6 +54,22 @@ Camera ReadRenderLens(const Json& c, const std::string& source, const std::strin
   }
 }
 
+// A camera's "cam_from_rig". Its rotation is "rotation_wxyz"; "rotation" is read the same way, w
+// first, as the real-rig folders' truth_rig.json (bench/real_rigs/rig_common.py) writes it. A pose
+// with both is refused: which of the two holds is not known.
+Rigid3d ReadCamFromRig(const Json& c, const std::string& source, const std::string& where, const RigCamera& rc) {
+  const Json& pose = c["cam_from_rig"];
+  const std::string at = where + ".cam_from_rig";
+  if (pose.is_object() && pose.contains("rotation")) {
+    if (pose.contains("rotation_wxyz")) {
+      throw std::runtime_error(source + ": " + at + " ('" + rc.name + "'): has both \"rotation_wxyz\" and \"rotation\"; "
+                               "give the rotation once, as \"rotation_wxyz\": [w, x, y, z]");
+    }
+    return json_io::PoseFromJson(pose, source, at, "rotation");
+  }
+  return json_io::PoseFromJson(pose, source, at);
+}
+
 }  // namespace
 
 int Rig::FindCamera(const std::string& name) const {
@@ -121,7 +137,7 @@ Rig RigFromJsonText(const std::string& text, const std::string& source) {
       throw std::runtime_error(source + ": " + where + " ('" + rc.name + "'): " + e.what());
     }
     if (c.contains("cam_from_rig") && !c["cam_from_rig"].is_null()) {
-      rc.cam_from_rig = json_io::PoseFromJson(c["cam_from_rig"], source, where + ".cam_from_rig");
+      rc.cam_from_rig = ReadCamFromRig(c, source, where, rc);
     }
     if (c.contains("render_lens")) rc.render_lens = ReadRenderLens(c, source, where, rc);
     if (c.contains("time_offset_s")) rc.time_offset_s = Get<double>(c, "time_offset_s", source, where);

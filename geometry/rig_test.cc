@@ -4,6 +4,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "testing/expect_error.h"
 #include "testing/temp_dir.h"
@@ -137,6 +138,35 @@ TEST(Rig, BadJsonNamesTheFileAndTheProblem) {
   EXPECT_THAT(Parsing(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5],
                           "cam_from_rig":{"rotation_wxyz":[2,0,0,0],"translation":[0,0,0]}}]})"),
               ThrowsWith<E>("my/rig.json", "unit quaternion"));
+}
+
+// The real-rig folders' truth_rig.json names cam_from_rig's quaternion "rotation", w first: it reads
+// as the same rig as with "rotation_wxyz", and writes back as rigsim's own key.
+TEST(Rig, ARotationUnderTheKeyRotationReadsWFirst) {
+  // A turn about an axis off every coordinate axis: read x first, the pose would be another.
+  const Eigen::Quaterniond q(Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.2, -1.0, 0.3).normalized()));
+  const auto text = [&](const std::string& key) {
+    nlohmann::json camera = {{"name", "a"}, {"model", "PINHOLE"}, {"width", 10}, {"height", 10}, {"params", {5, 5, 4.5, 4.5}}};
+    camera["cam_from_rig"] = {{key, {q.w(), q.x(), q.y(), q.z()}}, {"translation", {0.1, -0.2, 0.3}}};
+    return nlohmann::json{{"cameras", {camera}}}.dump();
+  };
+  const Rig truth = RigFromJsonText(text("rotation"), "truth_rig.json");
+  ASSERT_TRUE(truth.cameras[0].cam_from_rig.has_value());
+  EXPECT_LT(RotationDifferenceDeg(truth.cameras[0].cam_from_rig->rotation, q), 1e-9);
+  EXPECT_EQ(truth.cameras[0].cam_from_rig->translation, Eigen::Vector3d(0.1, -0.2, 0.3));
+  const std::string written = RigToJsonText(truth);
+  EXPECT_NE(written.find("\"rotation_wxyz\""), std::string::npos) << written;
+  EXPECT_EQ(written.find("\"rotation\""), std::string::npos) << written;
+  EXPECT_EQ(RigToJsonText(RigFromJsonText(text("rotation_wxyz"), "rig.json")), written);
+  // Both keys: which one holds is not known. A bad quaternion is named by the file's key.
+  using E = std::runtime_error;
+  nlohmann::json both = nlohmann::json::parse(text("rotation"));
+  both["cameras"][0]["cam_from_rig"]["rotation_wxyz"] = {1, 0, 0, 0};
+  EXPECT_THAT(Parsing(both.dump()),
+              ThrowsWith<E>("my/rig.json: cameras[0].cam_from_rig ('a'): has both \"rotation_wxyz\" and \"rotation\""));
+  EXPECT_THAT(Parsing(R"({"cameras":[{"name":"a","model":"PINHOLE","width":10,"height":10,"params":[5,5,4.5,4.5],
+                          "cam_from_rig":{"rotation":[2,0,0,0],"translation":[0,0,0]}}]})"),
+              ThrowsWith<E>("my/rig.json: cameras[0].cam_from_rig: rotation is not a unit quaternion"));
 }
 
 TEST(Rig, WriteAndReadAFile) {

@@ -84,12 +84,8 @@ double NearestHit(const MeshData& mesh, const Eigen::Vector3d& origin, const Eig
   return nearest;
 }
 
-// The car's frame in the rig frame (rig_from_car): level with the plane through the cameras'
-// centres when the cameras lie within kRoofGap of it and it tilts less than kMaxLevelTilt, as the
-// cameras of a roof rack or a car's body do (the rig frame is its first camera's, which may sit a
-// degree or two off the car's level: over a 1.4 m rig that moves a camera 5 cm, the roof's gap);
-// else the rig frame itself. The plane's slopes are ridge-regularised so that cameras in a line
-// (along x, as three front cameras) give it no slope across the line.
+}  // namespace
+
 Eigen::Matrix3d RigFromCar(const std::vector<Eigen::Vector3d>& centres) {
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (const Eigen::Vector3d& c : centres) mean += c / double(centres.size());
@@ -113,8 +109,6 @@ Eigen::Matrix3d RigFromCar(const std::vector<Eigen::Vector3d>& centres) {
   rig_from_car << down.cross(forward), down, forward;
   return rig_from_car;
 }
-
-}  // namespace
 
 EgoVehicleMeshes EgoVehicleInRig(const Rig& rig, double ground_below_rig_m) {
   if (rig.cameras.empty()) throw std::invalid_argument("the rig has no cameras");

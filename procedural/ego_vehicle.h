@@ -26,6 +26,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "geometry/rig.h"
 #include "gltf/scene_builder.h"
 #include "scene/scene.h"
@@ -44,6 +46,16 @@ inline constexpr double kMinClearance = 0.1;  // m a camera's central ray runs b
 struct EgoVehicleMeshes {
   MeshData paint, glass;
 };
+
+// The car's frame in the rig frame (rig_from_car): level with the plane through the cameras'
+// centres when the cameras lie within kRoofGap of it and it tilts less than kMaxLevelTilt, as the
+// cameras of a roof rack or a car's body do (the rig frame is its first camera's, which may sit a
+// degree or two off the car's level: over a 1.4 m rig that moves a camera 5 cm, the roof's gap);
+// else the rig frame itself. The plane's slopes are ridge-regularised so that cameras in a line
+// (along x, as three front cameras) give it no slope across the line.
+// `centres` are the cameras' centres in the rig frame. The columns of the result are the car's
+// right, down and forward in the rig frame (a rotation: det +1).
+Eigen::Matrix3d RigFromCar(const std::vector<Eigen::Vector3d>& centres);
 
 // The body of `rig` (every camera needs cam_from_rig), its rig origin `ground_below_rig_m` above the
 // ground. Throws std::invalid_argument naming the camera when one looks into the body, and when a

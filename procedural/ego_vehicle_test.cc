@@ -254,6 +254,69 @@ TEST(EgoVehicle, ASmallRigGetsACarSizedBodyGrownWhereNoCameraLooks) {
   EXPECT_GT(Hit(body, {-0.146 - kRoofMargin - 0.05, 0, 0}, down), kRoofGap + 0.3) << "left of CAMERA_05: the beltline";
 }
 
+// Centres of a car rig's cameras on a level roof (the car's frame: x right, y down, z forward), 4 m
+// and 1.8 m apart, seen in a rig frame turned from the car's by `rig_from_car` and moved by `offset`.
+std::vector<Eigen::Vector3d> RoofCentresInRig(const Eigen::Matrix3d& rig_from_car, const Eigen::Vector3d& offset) {
+  std::vector<Eigen::Vector3d> centres;
+  for (const Eigen::Vector3d& c : {Eigen::Vector3d(0, 0, 2), Eigen::Vector3d(0.9, 0, 0), Eigen::Vector3d(0, 0, -2),
+                                   Eigen::Vector3d(-0.9, 0, 0), Eigen::Vector3d(0.4, 0, 1.2)}) {
+    centres.push_back(rig_from_car * c + offset);
+  }
+  return centres;
+}
+
+double DegreesBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b)) * 180 / M_PI;
+}
+
+// A rig frame pitched (and rolled) a few degrees off its car: the car's frame found from the
+// cameras is level, its down the rig's gravity, and a rotation.
+TEST(EgoVehicle, TheCarFrameOfATiltedRigIsLevelWithGravityDown) {
+  const Eigen::Vector3d offset(0.3, -1.2, 0.5);
+  const Eigen::Matrix3d pitched = Eigen::AngleAxisd(3 * M_PI / 180, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Eigen::Matrix3d rig_from_car = RigFromCar(RoofCentresInRig(pitched, offset));
+  EXPECT_NEAR(rig_from_car.determinant(), 1.0, 1e-12);
+  EXPECT_LT((rig_from_car.transpose() * rig_from_car - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff(), 1e-12);
+  // Down is the rig's gravity; a pure pitch leaves right the rig's x, so the whole frame is the
+  // pitch. The plane's slope is ridge-regularised (0.1 m per camera against 4 m of spread), which
+  // leaves a 3 degree tilt 0.02 degrees short at most.
+  EXPECT_LT(DegreesBetween(rig_from_car.col(1), pitched * Eigen::Vector3d::UnitY()), 0.02);
+  EXPECT_GT(DegreesBetween(rig_from_car.col(1), Eigen::Vector3d::UnitY()), 2.98);  // not the rig's own y
+  EXPECT_LT((rig_from_car - pitched).cwiseAbs().maxCoeff(), 4e-4) << rig_from_car;
+  // Pitched and rolled: down is still gravity (the ridge on the roof's 1.8 m width leaves the 2 degree
+  // roll 0.06 degrees short); forward is the rig's z levelled, right completes it.
+  const Eigen::Matrix3d tilted = (Eigen::AngleAxisd(3 * M_PI / 180, Eigen::Vector3d::UnitX()) *
+                                  Eigen::AngleAxisd(-2 * M_PI / 180, Eigen::Vector3d::UnitZ())).toRotationMatrix();
+  const Eigen::Matrix3d levelled = RigFromCar(RoofCentresInRig(tilted, offset));
+  EXPECT_NEAR(levelled.determinant(), 1.0, 1e-12);
+  EXPECT_LT(DegreesBetween(levelled.col(1), tilted * Eigen::Vector3d::UnitY()), 0.07);
+  EXPECT_NEAR(levelled.col(1).dot(levelled.col(2)), 0.0, 1e-12);
+  // forward: the rig's z with its part along down taken out, so in the plane of the two
+  EXPECT_NEAR(levelled.col(2).dot(Eigen::Vector3d::UnitZ().cross(levelled.col(1))), 0.0, 1e-12);
+  EXPECT_GT(levelled.col(2).z(), 0.99);
+  EXPECT_LT((levelled.col(0) - levelled.col(1).cross(levelled.col(2))).norm(), 1e-12);
+}
+
+// The car is levelled only when the cameras lie on one plane, tilted 5 degrees at most: else the
+// rig frame is the car's. Cameras in a line across the car give no pitch.
+TEST(EgoVehicle, TheCarFrameIsTheRigFrameBeyondFiveDegreesOrOffThePlane) {
+  const Eigen::Vector3d offset(0, -1.5, 0);
+  const auto pitch = [](double deg) { return Eigen::AngleAxisd(deg * M_PI / 180, Eigen::Vector3d::UnitX()).toRotationMatrix(); };
+  EXPECT_EQ(RigFromCar(RoofCentresInRig(pitch(6), offset)), Eigen::Matrix3d::Identity());
+  EXPECT_NE(RigFromCar(RoofCentresInRig(pitch(4.5), offset)), Eigen::Matrix3d::Identity());
+  std::vector<Eigen::Vector3d> off_plane = RoofCentresInRig(pitch(2), offset);
+  EXPECT_NE(RigFromCar(off_plane), Eigen::Matrix3d::Identity());
+  off_plane.push_back(pitch(2) * Eigen::Vector3d(0.1, -0.08, 0.3) + offset);  // mid-roof, 8 cm above the others'
+  EXPECT_EQ(RigFromCar(off_plane), Eigen::Matrix3d::Identity());
+  const Eigen::Matrix3d rolled = Eigen::AngleAxisd(2 * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  std::vector<Eigen::Vector3d> line;
+  for (double x : {-0.6, 0.0, 0.6}) line.push_back(rolled * Eigen::Vector3d(x, 0, 1.5) + offset);
+  const Eigen::Matrix3d across = RigFromCar(line);
+  EXPECT_NEAR(across.col(1).z(), 0.0, 1e-12);  // no pitch from cameras all at one z
+  // The roll is found, to the ridge's 4 % on a line 1.2 m long.
+  EXPECT_LT(DegreesBetween(across.col(1), rolled * Eigen::Vector3d::UnitY()), 0.1);
+}
+
 TEST(EgoVehicle, ACameraLookingIntoTheBodyIsRefused) {
   Rig rig = CarRig();
   rig.cameras.push_back(CameraAt("down", {0.2, 0, 0.5}, {0, 1, 0}));  // straight down at the roof 5 cm below

@@ -311,6 +311,22 @@ TEST(RigImport, NuScenesRotationIsTheSensorsPoseInTheEgoFrame) {
   ExpectLeftOfForward(rig);
 }
 
+// A real-rig folder's truth_rig.json (bench/real_rigs/rig_common.py): rigsim's rig.json with each
+// quaternion under "rotation", w first; make-rig --rig-file reads it as it stands.
+TEST(RigImport, ARealRigFoldersTruthRigReadsAsARigJson) {
+  const TempDir dir;
+  const Rig rig = MixedRig(false);
+  nlohmann::json truth = nlohmann::json::parse(RigToJsonText(rig));
+  for (nlohmann::json& camera : truth["cameras"]) {
+    nlohmann::json& pose = camera["cam_from_rig"];
+    pose["rotation"] = pose["rotation_wxyz"];
+    pose.erase("rotation_wxyz");
+  }
+  WriteFile(dir / "truth_rig.json", truth.dump(1));
+  EXPECT_EQ(DetectRigFileFormat(dir / "truth_rig.json"), RigFileFormat::kRigJson);
+  ExpectSameRig(rig, ReadRigFile((dir / "truth_rig.json").string()));
+}
+
 TEST(RigImport, BadFilesAreRefusedNamingTheFileAndWhy) {
   const TempDir dir;
   const auto refused = [&](const std::string& name, const std::string& text, const std::string& why) {

@@ -1,11 +1,13 @@
 #include "sweep/suites.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "calibrator/features/semantics.h"
 #include "common/did_you_mean.h"
 #include "common/param_spec.h"
 #include "procedural/presets.h"
+#include "renderer/sensor_model.h"
 #include "rigs/trajectories.h"
 
 namespace rigsim {
@@ -120,11 +122,19 @@ Json SuiteConfig(const std::string& name, const std::string& size, const SuiteIn
   if (size != "small" && size != "full") {
     throw std::invalid_argument("--size: give small or full (got '" + size + "')" + DidYouMean(size, SuiteSizes()));
   }
-  if (name == "motion") return Motion(size == "full", inputs);
-  if (!inputs.rig_file.empty() || !inputs.scene.empty()) {
+  const std::vector<std::string> sensors = SensorPresetNames();
+  if (std::find(sensors.begin(), sensors.end(), inputs.sensor) == sensors.end()) {
+    throw std::invalid_argument("--sensor: unknown sensor preset '" + inputs.sensor + "'" + DidYouMean(inputs.sensor, sensors) +
+                                "; the presets are: " + JoinNames(sensors));
+  }
+  if (name == "thesis" && (!inputs.rig_file.empty() || !inputs.scene.empty())) {
     throw std::invalid_argument("--rig and --scene apply to --suite motion only; the thesis suite has its own rigs and scenes");
   }
-  return Thesis(size == "full");
+  Json config = name == "motion" ? Motion(size == "full", inputs) : Thesis(size == "full");
+  // `ideal` is the sensor parameter's default: left out, the cells are the same as without a sensor.
+  if (inputs.sensor != "ideal") config["base"]["sensor"] = inputs.sensor;
+  if (inputs.ego_vehicle) config["base"]["ego_vehicle"] = true;
+  return config;
 }
 
 }  // namespace rigsim

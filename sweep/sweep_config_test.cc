@@ -366,5 +366,42 @@ TEST(Suites, MotionTakesTheUsersRigThroughEveryPathAndFrameCount) {
   EXPECT_THROW(SuiteConfig("motoin", "small", inputs), std::invalid_argument);
 }
 
+// The suites render through the automotive preset unless told otherwise, without the rig's car;
+// `ideal` gives the config without a sensor, whose cells are the same as before there was one.
+TEST(Suites, RenderThroughTheAutomotiveSensorUnlessAskedForIdeal) {
+  SuiteInputs motion;
+  motion.rig_file = "/somewhere/my_rig.json";
+  for (const auto& [name, inputs] : {std::pair<std::string, SuiteInputs>{"thesis", {}}, {"motion", motion}}) {
+    SCOPED_TRACE(name);
+    EXPECT_EQ(std::string(kSuiteDefaultSensor), "automotive");
+    const SweepConfig automotive = ParseSweepConfig(SuiteConfig(name, "small", inputs), "--suite " + name);
+    for (const SweepCell& c : ExpandCells(automotive)) {
+      EXPECT_EQ(c.params.at("sensor"), "automotive") << c.key;
+      EXPECT_EQ(CellParam(c.params, "ego_vehicle"), false) << c.key;
+    }
+    SuiteInputs ideal = inputs;
+    ideal.sensor = "ideal";
+    const Json ideal_json = SuiteConfig(name, "small", ideal);
+    EXPECT_FALSE(ideal_json["base"].contains("sensor"));
+    const std::vector<SweepCell> ideal_cells = ExpandCells(ParseSweepConfig(ideal_json, "--suite " + name));
+    ASSERT_EQ(ideal_cells.size(), ExpandCells(automotive).size());
+    for (size_t i = 0; i < ideal_cells.size(); ++i) {
+      EXPECT_EQ(ideal_cells[i].params.at("sensor"), "ideal");
+      EXPECT_NE(ideal_cells[i].key, ExpandCells(automotive)[i].key);  // another render: another cell
+    }
+    SuiteInputs car = inputs;
+    car.ego_vehicle = true;
+    for (const SweepCell& c : ExpandCells(ParseSweepConfig(SuiteConfig(name, "small", car), "--suite " + name))) {
+      EXPECT_EQ(c.params.at("ego_vehicle"), true) << c.key;
+      EXPECT_EQ(c.params.at("sensor"), "automotive") << c.key;
+    }
+    SuiteInputs typo = inputs;
+    typo.sensor = "automotve";
+    EXPECT_THAT([&] { SuiteConfig(name, "small", typo); },
+                ThrowsWith<std::invalid_argument>("--sensor: unknown sensor preset 'automotve' (did you mean 'automotive'?)",
+                                                  "ideal"));
+  }
+}
+
 }  // namespace
 }  // namespace rigsim

@@ -110,29 +110,44 @@ std::string StudySection(const SweepStudy& study, const std::vector<SummaryRow>&
   return md + "\n";
 }
 
-// Which sensor presets the images went through (render --sensor), in the order of the cells.
-std::string SensorLine(const std::vector<SweepCell>& cells) {
+// How many cells have each value of `value(cell)`, in the order of the cells: "`a` in every cell"
+// or "`a` in 2 cells, `b` in 1 cell".
+template <class Value>
+std::string CellsWith(const std::vector<SweepCell>& cells, Value&& value) {
   std::vector<std::pair<std::string, int>> counts;
   for (const SweepCell& cell : cells) {
-    const std::string sensor = cell.params.value("sensor", std::string("ideal"));
-    auto it = std::find_if(counts.begin(), counts.end(), [&](const auto& c) { return c.first == sensor; });
+    const std::string v = value(cell);
+    auto it = std::find_if(counts.begin(), counts.end(), [&](const auto& c) { return c.first == v; });
     if (it == counts.end()) {
-      counts.push_back({sensor, 1});
+      counts.push_back({v, 1});
     } else {
       ++it->second;
     }
   }
-  if (counts.empty()) return "";
-  std::string line = "Images: sensor preset ";
-  if (counts.size() == 1) {
-    line += "`" + counts[0].first + "` in every cell";
-  } else {
-    for (size_t i = 0; i < counts.size(); ++i) {
-      line += std::string(i == 0 ? "" : ", ") + "`" + counts[i].first + "` in " + Count(counts[i].second, "cell");
-    }
+  if (counts.size() == 1) return counts[0].first + " in every cell";
+  std::string line;
+  for (size_t i = 0; i < counts.size(); ++i) {
+    line += std::string(i == 0 ? "" : ", ") + counts[i].first + " in " + Count(counts[i].second, "cell");
   }
-  return line + (counts.size() == 1 && counts[0].first == "ideal" ? ": renders without a sensor model" : "") +
-         " (`render --sensor`; the presets' values and sources: docs/scenes-and-rigs.md).\n\n";
+  return line;
+}
+
+// What the images went through: the sensor preset (render --sensor) and whether the rig's own car
+// (make-rig --ego-vehicle) was around the rig, per cell.
+std::string ImagesLines(const std::vector<SweepCell>& cells) {
+  if (cells.empty()) return "";
+  const auto sensor = [](const SweepCell& cell) { return "`" + CellParam(cell.params, "sensor").get<std::string>() + "`"; };
+  const bool all_ideal = std::all_of(cells.begin(), cells.end(), [&](const SweepCell& c) { return sensor(c) == "`ideal`"; });
+  std::string md = "Images: sensor preset " + CellsWith(cells, sensor) + (all_ideal ? ": renders without a sensor model" : "") +
+                   " (`render --sensor`; the presets' values and sources: docs/scenes-and-rigs.md).\n\n";
+  const size_t cars = size_t(std::count_if(cells.begin(), cells.end(), [](const SweepCell& c) {
+    return CellParam(c.params, "ego_vehicle").get<bool>();
+  }));
+  md += "The rig's own car (`ego_vehicle`, as `make-rig --ego-vehicle`): " +
+        (cars == 0 ? std::string("in no cell") :
+         cars == cells.size() ? std::string("around the rig in every cell") :
+         "around the rig in " + std::to_string(cars) + " of " + Count(cells.size(), "cell")) + ".\n\n";
+  return md;
 }
 
 }  // namespace
@@ -160,7 +175,7 @@ std::string SweepReportMarkdown(const SweepReportInput& in) {
         std::to_string(config.seeds.size()) + " seeds each), methods " + methods + ": " + std::to_string(rows) +
         " results, " + std::to_string(failed_rows) + " of them failed runs. Sweep hash `" + in.sweep_hash + "`.\n\n";
   if (!in.command.empty()) md += "Run again (finished cells are kept): `" + in.command + "`\n\n";
-  md += SensorLine(*in.cells);
+  md += ImagesLines(*in.cells);
   md += "Every cell is rendered once and calibrated by every method; a camera counts as within N deg when it has a "
         "full pose whose rotation and translation-direction errors against the truth are both at most N deg. "
         "*Confidently wrong*: cameras reported with a full pose that are more than 5 deg off, or placed but for one "

@@ -224,6 +224,41 @@ TEST(SweepSummary, ClaimsAreTheConfigsOwnWhenItGivesThem) {
   EXPECT_TRUE(TestClaims(f.config, f.cells, f.records).empty());
 }
 
+// report.md says what the images went through: the sensor preset and the rig's own car, per cell.
+TEST(SweepSummary, TheReportSaysWhichSensorAndWhetherTheRigsCarRenderedInEachCell) {
+  const auto report = [](const std::string& config_json) {
+    const SweepConfig config = ParseSweepConfig(Json::parse(config_json), "t.json");
+    const std::vector<SweepCell> cells = ExpandCells(config);
+    const std::vector<CellRecord> records(cells.size());
+    const std::vector<SummaryRow> rows;
+    const std::vector<ClaimResult> claims;
+    SweepReportInput input;
+    input.config = &config;
+    input.cells = &cells;
+    input.records = &records;
+    input.summary = &rows;
+    input.claims = &claims;
+    return SweepReportMarkdown(input);
+  };
+  const std::string automotive = report(R"({"base": {"sensor": "automotive"}, "grid": {"overlap": [10, 20]}})");
+  EXPECT_NE(automotive.find("Images: sensor preset `automotive` in every cell (`render --sensor`"), std::string::npos)
+      << automotive;
+  EXPECT_EQ(automotive.find("renders without a sensor model"), std::string::npos) << automotive;
+  EXPECT_NE(automotive.find("The rig's own car (`ego_vehicle`, as `make-rig --ego-vehicle`): in no cell.\n"), std::string::npos)
+      << automotive;
+  const std::string ideal = report(R"({"grid": {"overlap": [10, 20]}})");
+  EXPECT_NE(ideal.find("Images: sensor preset `ideal` in every cell: renders without a sensor model"), std::string::npos)
+      << ideal;
+  const std::string cars = report(R"({"base": {"sensor": "automotive", "ego_vehicle": true}, "grid": {"overlap": [10, 20]}})");
+  EXPECT_NE(cars.find("The rig's own car (`ego_vehicle`, as `make-rig --ego-vehicle`): around the rig in every cell.\n"),
+            std::string::npos)
+      << cars;
+  const std::string mixed = report(R"({"seeds": [1, 2, 3], "grid": {"ego_vehicle": [false, true], "sensor": ["ideal", "phone"]}})");
+  EXPECT_NE(mixed.find("Images: sensor preset `ideal` in 6 cells, `phone` in 6 cells (`render --sensor`"), std::string::npos)
+      << mixed;
+  EXPECT_NE(mixed.find("): around the rig in 6 of 12 cells.\n"), std::string::npos) << mixed;
+}
+
 TEST(SweepSummary, NoClaimsWithoutTheBaseline) {
   Fixture f;
   f.config.methods.erase(f.config.methods.begin());  // only mask

@@ -300,8 +300,9 @@ TEST(SweepCli, TheMotionSuiteTriesTheUsersRigOnEveryPath) {
     const std::string rest = run.out.substr(first + said.size(), run.out.find('\n', first + 1) - first - said.size());
     EXPECT_NE(rest.find(" of 3 seeds (cameras posed "), std::string::npos) << rest;
   }
-  // The run-again line names the rig and the folder by their absolute paths and resumes the run.
-  const std::string again = "rigsim sweep --suite motion --size small --rig " +
+  // The run-again line names the sensor, the rig and the folder (by their absolute paths) and
+  // resumes the run.
+  const std::string again = "rigsim sweep --suite motion --size small --sensor automotive --rig " +
                             fs::absolute(dir / "my_rig" / "rig.json").lexically_normal().string() + " --out " +
                             fs::absolute(out).lexically_normal().string();
   EXPECT_NE(ReadFile(out / "report.md").find("Run again (finished cells are kept): `" + again + "`"), std::string::npos);
@@ -314,10 +315,53 @@ TEST(SweepCli, TheMotionSuiteTriesTheUsersRigOnEveryPath) {
   EXPECT_NE(resumed.out.find("(0 run now, 30 from an earlier run)"), std::string::npos) << resumed.out;
   const std::string report = ReadFile(out / "report.md");
   EXPECT_NE(report.find("| trajectory=handheld | none |"), std::string::npos) << report;
+  // The suite's images went through the automotive sensor, without the rig's car, and it says so.
+  EXPECT_NE(report.find("Images: sensor preset `automotive` in every cell"), std::string::npos) << report;
+  EXPECT_NE(report.find("The rig's own car (`ego_vehicle`, as `make-rig --ego-vehicle`): in no cell."), std::string::npos)
+      << report;
   EXPECT_TRUE(fs::exists(out / "plots" / "3_frames_success.png"));
   EXPECT_TRUE(fs::exists(out / "plots" / "12_frames_rotation_error.png"));
   // Cameras this small may calibrate nowhere: a plot without a value is drawn empty, not failed.
   EXPECT_EQ(run.err.find("gnuplot failed"), std::string::npos) << run.err;
+}
+
+// The suites' cells render through the automotive sensor preset unless --sensor says otherwise;
+// --ego-vehicle puts the rig's car around every cell's rig.
+TEST(SweepCli, TheSuitesRenderThroughTheAutomotiveSensorUnlessAskedForIdeal) {
+  const TempDir dir;
+  const auto cells = [&](const std::vector<std::string>& extra, const std::string& name) {
+    std::vector<std::string> args = {"sweep", "--suite", "thesis", "--dry-run", "--out", (dir / "out").string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const CliResult run = RunRigsim(args, dir / name);
+    EXPECT_EQ(run.code, 0) << run.err;
+    std::vector<nlohmann::json> params;
+    std::istringstream lines(run.out);
+    for (std::string line; std::getline(lines, line);) {
+      if (line.rfind("cell ", 0) == 0) params.push_back(nlohmann::json::parse(line.substr(line.find('{'))));
+    }
+    return params;
+  };
+  const std::vector<nlohmann::json> automotive = cells({}, "default");
+  ASSERT_GE(automotive.size(), 10u);
+  for (const nlohmann::json& p : automotive) {
+    EXPECT_EQ(p.at("sensor"), "automotive") << p;
+    EXPECT_FALSE(p.value("ego_vehicle", false)) << p;
+  }
+  const std::vector<nlohmann::json> ideal = cells({"--sensor", "ideal"}, "ideal");
+  ASSERT_EQ(ideal.size(), automotive.size());
+  for (const nlohmann::json& p : ideal) EXPECT_EQ(p.at("sensor"), "ideal") << p;
+  for (const nlohmann::json& p : cells({"--ego-vehicle"}, "car")) EXPECT_EQ(p.at("ego_vehicle"), true) << p;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  // A preset rigsim does not have is refused; --sensor is the suites' (a config names its own).
+  const CliResult typo = RunRigsim({"sweep", "--suite", "thesis", "--sensor", "automotve", "--dry-run"}, dir / "typo");
+  EXPECT_EQ(typo.code, 1);
+  EXPECT_NE(typo.err.find("automotve"), std::string::npos) << typo.err;
+  WriteFile(dir / "c.yaml", "name: c\nbase: {rig: ring, cameras: 2}\n");
+  const CliResult with_config = RunRigsim({"sweep", (dir / "c.yaml").string(), "--sensor", "ideal", "--dry-run"}, dir / "config");
+  EXPECT_EQ(with_config.code, 1);
+  EXPECT_NE(with_config.err.find("--sensor"), std::string::npos) << with_config.err;
+  const CliResult help = RunRigsim({"sweep", "--help"}, dir / "help");
+  EXPECT_NE(help.out.find("--sensor ideal: renders without a sensor model"), std::string::npos) << help.out;
 }
 
 TEST(SweepCli, ABadRigFileStopsTheMotionSuiteBeforeAnythingRenders) {

@@ -16,6 +16,7 @@
 #include "common/format.h"
 #include "pipeline/calibration_run.h"
 #include "procedural/presets.h"
+#include "renderer/sensor_model.h"
 #include "sweep/cell_runner.h"
 #include "sweep/suites.h"
 #include "sweep/sweep_config.h"
@@ -79,8 +80,11 @@ bool IsScenePresetName(const std::string& name) {
 // The config of a built-in suite, and how to start it again (for its report and Slurm's tasks):
 // `sweep_args` gets the suite's options, paths absolute.
 SweepConfig SuiteSweep(const std::string& suite, const std::string& size, const std::string& rig,
-                       const std::string& scene, std::vector<std::string>* sweep_args) {
+                       const std::string& scene, const std::string& sensor, bool ego_vehicle,
+                       std::vector<std::string>* sweep_args) {
   SuiteInputs inputs;
+  inputs.sensor = sensor;
+  inputs.ego_vehicle = ego_vehicle;
   if (!rig.empty()) inputs.rig_file = fs::absolute(rig).lexically_normal().string();
   inputs.scene = scene;
   if (!scene.empty() && !IsScenePresetName(scene)) {
@@ -92,7 +96,10 @@ SweepConfig SuiteSweep(const std::string& suite, const std::string& size, const 
     inputs.scene = fs::absolute(scene).lexically_normal().string();
   }
   SweepConfig sweep = ParseSweepConfig(SuiteConfig(suite, size, inputs), "--suite " + suite);
-  *sweep_args = {"--suite", suite, "--size", size};
+  // The sensor is named even when it is the default, so that the line runs the same cells should
+  // the default change.
+  *sweep_args = {"--suite", suite, "--size", size, "--sensor", sensor};
+  if (ego_vehicle) sweep_args->push_back("--ego-vehicle");
   if (!rig.empty()) sweep_args->insert(sweep_args->end(), {"--rig", inputs.rig_file});
   if (!scene.empty()) sweep_args->insert(sweep_args->end(), {"--scene", inputs.scene});
   return sweep;
@@ -102,8 +109,8 @@ SweepConfig SuiteSweep(const std::string& suite, const std::string& size, const 
 
 void AddSweepCommand(CLI::App& app) {
   struct Args {
-    std::string config, suite, size = "small", out, rig, scene;
-    bool keep_datasets = false, force = false, list_params = false;
+    std::string config, suite, size = "small", out, rig, scene, sensor = kSuiteDefaultSensor;
+    bool keep_datasets = false, force = false, list_params = false, ego_vehicle = false;
     int threads = 0;
     ShardSettings shards;
   };
@@ -118,6 +125,7 @@ void AddSweepCommand(CLI::App& app) {
       "--suite motion --rig RIG.json [--scene S] tries your own rig along every path (straight, circle, loop,\n"
       "figure-eight, handheld) at 3 and 12 frames (--size full: and 30) over 3 seeds: which path calibrates it,\n"
       "and how well; it ends with a line per path: in how many seeds every camera was placed within 1° / 5°.\n"
+      "The suites render through the automotive sensor preset (--sensor ideal: renders without a sensor model).\n"
       "Writes OUT/results.csv and results.jsonl (a row per cell and method), summary.csv, plots/ (PNG\n"
       "and SVG, by gnuplot) and report.md. Finished cells are kept in OUT/cells/: running the same\n"
       "command again resumes, and Ctrl-C loses only the cell in progress. Exit code 0 when the sweep\n"
@@ -133,6 +141,19 @@ void AddSweepCommand(CLI::App& app) {
   cmd->add_option("--scene", args->scene,
                   "with --suite motion: where to drive it, a scene preset (street, plaza, parking) or a .glb/.gltf file "
                   "(default street)")
+      ->excludes(config);
+  cmd->add_option("--sensor", args->sensor,
+                  "with --suite: the cameras' sensor and lens, as render --sensor: automotive (the default: an automotive "
+                  "camera's noise, defocus and JPEG, the preset measured against a real car rig's photos in VALIDATION.md), "
+                  "ideal (renders without a sensor model, noise-free, sharp and lossless: easier than real photos), or "
+                  "another preset")
+      ->capture_default_str()
+      ->check(CLI::IsMember(SensorPresetNames()))
+      ->excludes(config);
+  cmd->add_flag("--ego-vehicle", args->ego_vehicle,
+                "with --suite: the rig's own car around every cell's rig, as make-rig --ego-vehicle (off by default: "
+                "the thesis's rigs, a ring, a wide-baseline pair up to 5 m apart and handheld paths, are not a car's; "
+                "give it for a motion rig that is one)")
       ->excludes(config);
   cmd->add_option("--size", args->size, "with --suite: small (thesis: 1 seed, two values per study; motion: 3 and 12 frames, rigsim "
                   "without semantics, 3 seeds) or full")
@@ -161,7 +182,7 @@ void AddSweepCommand(CLI::App& app) {
     // that runs it again: every option given but --out and the shards', paths absolute).
     std::vector<std::string> sweep_args;
     if (!args->suite.empty()) {
-      sweep = SuiteSweep(args->suite, args->size, args->rig, args->scene, &sweep_args);
+      sweep = SuiteSweep(args->suite, args->size, args->rig, args->scene, args->sensor, args->ego_vehicle, &sweep_args);
     } else {
       sweep = ReadSweepConfig(args->config);
       config_dir = fs::absolute(args->config).parent_path();
