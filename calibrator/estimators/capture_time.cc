@@ -328,6 +328,21 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
       s.offset_stddev_s.reset();
     }
   }
+  // Not found capturing apart is not found capturing together: where an offset the images do not
+  // exclude (min_sigmas deviations beyond the freed one) would move the camera's view by
+  // min_visible_px, or runs beyond the path, the check cannot show that it captured with camera 0.
+  for (int c : restarted) {
+    CameraSynchronisation& s = out[c];
+    if (s.unsynchronised || s.offset_undetermined || !s.offset_s || !s.offset_stddev_s) continue;
+    const double not_excluded = *s.offset_s + std::copysign(options.min_sigmas * *s.offset_stddev_s, *s.offset_s);
+    const bool beyond_the_path = !MeanRigChange(adjusted.poses.rig_from_world, frame_times_s, not_excluded);
+    if (beyond_the_path || OffsetVisibilityPx(adjusted.poses.rig_from_world, frame_times_s, not_excluded,
+                                              PixelsPerRadian(adjusted.cameras[c]),
+                                              adjusted.median_depth) >= options.min_visible_px) {
+      s.offset_undetermined = true;
+      s.offset_not_excluded_s = not_excluded;
+    }
+  }
   // A rolling shutter also shows as an offset of the cameras without one (their rows are captured,
   // on average, half a readout from the others'): either verdict takes a camera's pose, and the
   // remedy of both is to estimate capture times.

@@ -127,6 +127,10 @@ struct CameraSynchronisation {
   // not known to capture with camera 0, nor known not to. At -min_sigmas or less (and beyond
   // min_offset_s) it captures there: unsynchronised, with that offset and no standard deviation.
   std::optional<double> offset_alternative_s, offset_restart_sigmas;
+  // For a camera not found capturing apart: the offset min_sigmas deviations beyond the freed one,
+  // where the images do not exclude it and the path would show it by min_visible_px or more (or it
+  // runs beyond the path). The check then cannot show that the camera captured with camera 0.
+  std::optional<double> offset_not_excluded_s;
   bool offset_undetermined = false;
   // The freed readout (first row to last, s), and how much the rig's motion over it shows
   // (ReadoutVisibilityPx): rows read out over a moving rig's path see

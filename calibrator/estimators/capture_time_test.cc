@@ -91,11 +91,32 @@ TEST(CheckSynchronisation, ASynchronisedRigPasses) {
     EXPECT_FALSE(verdict[c].unsynchronised) << c;
     ASSERT_TRUE(verdict[c].offset_s) << c;
     EXPECT_LT(std::abs(*verdict[c].offset_s), 0.002) << c;
+    EXPECT_FALSE(verdict[c].offset_not_excluded_s) << c;  // the images exclude every offset that shows
   }
   for (int c = 0; c < 3; ++c) {
     EXPECT_FALSE(verdict[c].rolling_shutter) << c;
     ASSERT_TRUE(verdict[c].readout_s) << c;
     EXPECT_LT(std::abs(*verdict[c].readout_s), 0.003) << c;
+  }
+}
+
+// Keypoints ten times noisier: the freed offsets stay near zero, but their deviation no longer
+// excludes an offset the path would show. Not found capturing apart, the cameras are not found
+// capturing together either.
+TEST(CheckSynchronisation, AnOffsetTheImagesDoNotExcludeLeavesTheCameraUndetermined) {
+  const TimedRing ring(VariedPath(), 10.0, TestSeed(), {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0});
+  const std::vector<CameraSynchronisation> verdict =
+      CheckSynchronisation(ring.cameras, ring.s.keypoints, ring.tracks, ring.Adjust(nullptr), 1, {},
+                           ring.timing.frame_times_s, {0.0, 0.0, 0.0}, TopToBottom(), {});
+  for (int c = 1; c < 3; ++c) {
+    ASSERT_TRUE(verdict[c].offset_s && verdict[c].offset_stddev_s) << c;
+    EXPECT_FALSE(verdict[c].unsynchronised) << c;
+    EXPECT_TRUE(verdict[c].offset_undetermined) << c;
+    ASSERT_TRUE(verdict[c].offset_not_excluded_s) << c;
+    // Five deviations beyond the freed offset, on its side of zero.
+    EXPECT_NEAR(*verdict[c].offset_not_excluded_s,
+                *verdict[c].offset_s + std::copysign(5.0 * *verdict[c].offset_stddev_s, *verdict[c].offset_s), 1e-12)
+        << c;
   }
 }
 

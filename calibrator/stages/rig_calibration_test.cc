@@ -10,6 +10,7 @@
 #include "calibrator/calibrate_rig.h"
 #include "calibrator/calibrator_test_support.h"
 #include "calibrator/estimators/multi_frame_rig.h"
+#include "calibrator/stages/rig_capture_times.h"
 #include "testing/expect_error.h"
 #include "testing/synthetic_rig.h"
 
@@ -380,6 +381,37 @@ TEST(RigBundleAdjustmentAtTruth, ResidualIsZeroAndPosesStay) {
     EXPECT_LT(RotationDifferenceDeg(ba.poses.cam_from_rig[c]->rotation, truth[c]->rotation), 1e-7) << c;
     EXPECT_LT((ba.poses.cam_from_rig[c]->translation - truth[c]->translation).norm(), 1e-8) << c;
   }
+}
+
+// A camera the synchronisation check did not find capturing apart, but whose offset the images do
+// not bound (CameraSynchronisation::offset_not_excluded_s), is calibrated only if synchronised,
+// and says which offset it could not exclude.
+TEST(SetCaptureTimes, ACameraWhoseOffsetTheImagesDoNotBoundIsCalibratedOnlyIfSynchronised) {
+  RigObservations obs;
+  obs.camera_names = {"front", "left"};
+  obs.cameras.resize(2);
+  obs.frame_times_s = {0.0, 0.1, 0.2, 0.3};
+  RigCalibrationResult result;
+  result.camera_status.assign(2, CameraStatus{CameraOutcome::kCalibrated, PositionOutcome::kPlaced, ""});
+  result.camera_stats.assign(2, {});
+  std::vector<CameraSynchronisation> checked(2);
+  checked[1].checked = true;
+  checked[1].interval_visibility_px = 40.0;
+  checked[1].offset_s = 0.0064;
+  checked[1].offset_stddev_s = 0.0035;
+  checked[1].offset_undetermined = true;
+  checked[1].offset_not_excluded_s = 0.0239;
+  SetCaptureTimes(obs, CaptureTimeOptions{}, MultiFrameBundleAdjustmentResult{}, checked, &result);
+  EXPECT_EQ(result.camera_status[0].outcome, CameraOutcome::kCalibrated);
+  EXPECT_EQ(result.camera_status[1].outcome, CameraOutcome::kCalibratedIfSynchronised);
+  EXPECT_THAT(result.camera_status[1].reason, testing::HasSubstr("do not exclude 24 ms"));
+  EXPECT_TRUE(result.camera_stats[1].time_offset_undetermined);
+  // Bounded, the camera stays calibrated.
+  checked[1].offset_undetermined = false;
+  checked[1].offset_not_excluded_s.reset();
+  result.camera_status[1] = CameraStatus{CameraOutcome::kCalibrated, PositionOutcome::kPlaced, ""};
+  SetCaptureTimes(obs, CaptureTimeOptions{}, MultiFrameBundleAdjustmentResult{}, checked, &result);
+  EXPECT_EQ(result.camera_status[1].outcome, CameraOutcome::kCalibrated);
 }
 
 }  // namespace

@@ -132,7 +132,15 @@ void SetCaptureTimes(const RigObservations& obs, const CaptureTimeOptions& o,
     if (!checked[c].checked) continue;
     result->camera_stats[c].interval_visibility_px = checked[c].interval_visibility_px;
     if (checked[c].interval_visibility_px >= o.min_interval_visibility_px) {
-      if (checked[c].offset_undetermined && result->camera_status[c].outcome == CameraOutcome::kCalibrated) {
+      if (checked[c].offset_not_excluded_s && result->camera_status[c].outcome == CameraOutcome::kCalibrated) {
+        result->camera_status[c] = {
+            CameraOutcome::kCalibratedIfSynchronised, PositionOutcome::kPlaced,
+            "the images put its capture " + Fixed(1000.0 * *checked[c].offset_s, 1) +
+                PlusMinus(1000.0 * *checked[c].offset_stddev_s, 1) + " ms after " + obs.camera_names[0] +
+                "'s, and do not exclude " + Fixed(1000.0 * *checked[c].offset_not_excluded_s, 0) +
+                " ms, which the rig's path would show; so they cannot show whether it captured with it; a path "
+                "that changes speed or turn rate more, or more frames, would show it"};
+      } else if (checked[c].offset_undetermined && result->camera_status[c].outcome == CameraOutcome::kCalibrated) {
         result->camera_status[c] = {
             CameraOutcome::kCalibratedIfSynchronised, PositionOutcome::kPlaced,
             "the images fit it capturing " + Fixed(1000.0 * *checked[c].offset_alternative_s, 0) + " ms after " +
