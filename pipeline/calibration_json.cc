@@ -222,6 +222,7 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
       j["capture_time"] = {{"time_offset_ms", ms(s.time_offset_s)},
                            {"time_offset_stddev_ms", ms(s.time_offset_stddev_s)},
                            {"time_offset_determined", !s.time_offset_undetermined},
+                           {"time_offset_also_fits_ms", ms(s.time_offset_also_fits_s)},
                            {"time_offset_error_ms", ms(e.time_offset_error_s)},
                            {"readout_ms", ms(s.readout_s)},
                            {"readout_stddev_ms", ms(s.readout_stddev_s)},

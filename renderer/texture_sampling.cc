@@ -59,16 +59,54 @@ MipLevel LinearLevel(const Texture& texture, TexelEncoding encoding) {
   return level;
 }
 
-// Averages 2x2 blocks (in linear light, so distant textures do not darken).
+// Each destination texel's source texels' per-axis weights (integers over `src` texels): the
+// share of each source texel that the destination texel covers, texel i spanning
+// [i * src / dst, (i + 1) * src / dst) in source texels. The sampler puts level l's texel i at
+// (i + 0.5) / width_l, so a texel must average what lies around that point: where a level's
+// size is odd, pairs (2i, 2i + 1) would centre texel i at (2i + 1) / width_(l-1) instead, and
+// the texture would stretch away from its corner by up to a texel of the coarser level (4 % at
+// level 5 of a 731-texel texture), more the farther it is seen: features would not stay on
+// their surface from view to view.
+struct AxisWeights {
+  int first = 0;
+  std::vector<int> weight;
+};
+std::vector<AxisWeights> CoverageWeights(int src, int dst) {
+  std::vector<AxisWeights> out(dst);
+  for (int i = 0; i < dst; ++i) {
+    // In units of 1 / dst source texels: the destination texel is [i * src, (i + 1) * src).
+    const int64_t begin = int64_t(i) * src, end = int64_t(i + 1) * src;
+    out[i].first = int(begin / dst);
+    for (int j = out[i].first; j < src && int64_t(j) * dst < end; ++j) {
+      const int64_t overlap = std::min(end, int64_t(j + 1) * dst) - std::max(begin, int64_t(j) * dst);
+      out[i].weight.push_back(int(overlap));
+    }
+  }
+  return out;
+}
+
+// Averages each destination texel's footprint (in linear light, so distant textures do not
+// darken): 2x2 blocks where a size is even, with fractional texels at the seams where it is odd.
+// Integer weights, rounded once: the same bytes on every machine (and where both sizes are even,
+// the same as (a + b + c + d + 2) / 4).
 MipLevel Downsample(const MipLevel& src) {
   MipLevel dst(std::max(1, src.width / 2), std::max(1, src.height / 2));
+  const std::vector<AxisWeights> wx = CoverageWeights(src.width, dst.width);
+  const std::vector<AxisWeights> wy = CoverageWeights(src.height, dst.height);
+  // Each axis's weights sum to the source's size (in 1 / dst texels).
+  const uint64_t total = uint64_t(src.width) * uint64_t(src.height);
   for (int y = 0; y < dst.height; ++y) {
-    const int y0 = std::min(2 * y, src.height - 1), y1 = std::min(2 * y + 1, src.height - 1);
     for (int x = 0; x < dst.width; ++x) {
-      const int x0 = std::min(2 * x, src.width - 1), x1 = std::min(2 * x + 1, src.width - 1);
-      const uint16_t* p[4] = {src.Texel(x0, y0), src.Texel(x1, y0), src.Texel(x0, y1), src.Texel(x1, y1)};
+      uint64_t sum[4] = {0, 0, 0, 0};
+      for (size_t b = 0; b < wy[y].weight.size(); ++b) {
+        for (size_t a = 0; a < wx[x].weight.size(); ++a) {
+          const uint64_t w = uint64_t(wx[x].weight[a]) * uint64_t(wy[y].weight[b]);
+          const uint16_t* p = src.Texel(wx[x].first + int(a), wy[y].first + int(b));
+          for (int c = 0; c < 4; ++c) sum[c] += w * p[c];
+        }
+      }
       uint16_t* out = dst.Texel(x, y);
-      for (int c = 0; c < 4; ++c) out[c] = uint16_t((uint32_t(p[0][c]) + p[1][c] + p[2][c] + p[3][c] + 2) / 4);
+      for (int c = 0; c < 4; ++c) out[c] = uint16_t((sum[c] + total / 2) / total);
     }
   }
   return dst;

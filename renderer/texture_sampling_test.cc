@@ -10,6 +10,7 @@
 #include "renderer/render_test_scenes.h"
 #include "renderer/renderer.h"
 #include "renderer/srgb.h"
+#include "renderer/texture_sampling.h"
 
 namespace rigsim {
 namespace {
@@ -140,6 +141,30 @@ TEST(TextureSamplingTest, MipMappingAveragesAMinifiedChecker) {
     }
   }
   EXPECT_EQ(checked, 144);
+}
+
+// A ramp stays where it is on every mip level, also where a level's size is odd (45 -> 22 ->
+// 11 -> 5 -> 2 texels): averaging texel pairs there would stretch the texture away from its corner
+// (by 1/44 of it from level 1 on, 1/10 from level 3), so that a feature would move on its surface
+// with the distance it is seen from. Where a footprint takes part of a texel, that texel's share
+// sits a little off its own centre: within 0.05 of a texel of the level, which the stretch
+// exceeds at every level from 1 (0.15 texels at s = 0.3 on level 1).
+TEST(TextureSamplingTest, MipLevelsOfOddSizesKeepTheTextureInPlace) {
+  constexpr int kWidth = 45;
+  Texture ramp;
+  ramp.width = kWidth;
+  ramp.height = 1;
+  for (int x = 0; x < kWidth; ++x) ramp.rgba.insert(ramp.rgba.end(), {uint8_t(5 * x), uint8_t(5 * x), uint8_t(5 * x), 255});
+  const MipTexture mip = BuildMipTexture(ramp, TexelEncoding::kLinear);
+  ASSERT_GE(mip.levels.size(), 5u);
+  for (int level = 0; level <= 4; ++level) {
+    for (float s = 0.3f; s <= 0.7f; s += 0.05f) {
+      const float value = FirstTexelLinear(SampleTexels(mip, s, 0.5f, float(level)))[0];
+      // Where the ramp has this value: texel x (value 5 x / 255) is centred at (x + 0.5) / width.
+      const float at = (value * 255.0f / 5.0f + 0.5f) / kWidth;
+      EXPECT_NEAR(at * mip.levels[level].width, s * mip.levels[level].width, 0.05f) << "level " << level << " s " << s;
+    }
+  }
 }
 
 TEST(TextureSamplingTest, MinificationFilterOfTheSamplerIsHonoured) {

@@ -51,15 +51,24 @@ TEST(CaptureTimeCli, AnOffsetStoppedAtZeroIsNeverTakenForSynchronised) {
         const nlohmann::json error = cam.value("rotation_error_deg", nlohmann::json());
         EXPECT_TRUE(error.is_number() && error.get<double>() < 1.0) << "calibrated but wrong: " << cam.dump();
       }
+      // The measured offset, or where a solve from moved offsets ended fitting as well.
       const nlohmann::json time = cam.value("capture_time", nlohmann::json());
-      if (time.is_object() && time.value("time_offset_ms", nlohmann::json()).is_number() &&
-          std::abs(time["time_offset_ms"].get<double>() - 30.0 * c) < 15.0) {
-        ++offsets_found;
+      for (const char* key : {"time_offset_ms", "time_offset_also_fits_ms"}) {
+        if (time.is_object() && time.value(key, nlohmann::json()).is_number() &&
+            std::abs(time[key].get<double>() - 30.0 * c) < 15.0) {
+          ++offsets_found;
+          break;
+        }
+      }
+      // An offset shown undetermined names where else the images put it.
+      if (time.is_object() && !time.value("time_offset_determined", true)) {
+        EXPECT_TRUE(time.value("time_offset_also_fits_ms", nlohmann::json()).is_number()) << cam.dump();
       }
     }
     EXPECT_EQ(placed, 0) << (estimated ? "estimated: " : "synchronised: ") << calibrate.out;
     // Synchronised, the restarts find each camera's offset (within 15 ms; a path that hides time
-    // shows it only through the corners of the path between frames).
+    // shows it only through the corners of the path between frames), though it may fit no better
+    // than the offset the check stopped at: then both are reported and the offset is undetermined.
     if (!estimated) EXPECT_GE(offsets_found, 2) << calibrate.out;
   }
 }

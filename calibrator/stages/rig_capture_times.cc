@@ -76,6 +76,7 @@ void TakePoseWhenAnotherStartMovesTheOffset(const RigObservations& obs, const st
   }
   const double sigmas = *checked[c].offset_restart_sigmas;
   result->camera_stats[c].time_offset_undetermined = true;
+  result->camera_stats[c].time_offset_also_fits_s = checked[c].offset_alternative_s;
   result->camera_stats[c].time_offset_stddev_s.reset();
   result->camera_status[c] = {
       CameraOutcome::kTimeNotDetermined, PositionOutcome::kNotObservable,
@@ -194,6 +195,7 @@ void SetCaptureTimes(const RigObservations& obs, const CaptureTimeOptions& o,
     if (!v.offset_s) continue;
     result->camera_stats[c].time_offset_s = v.offset_s;
     result->camera_stats[c].time_offset_undetermined = v.offset_undetermined;
+    if (v.offset_undetermined) result->camera_stats[c].time_offset_also_fits_s = v.offset_alternative_s;
     if (!v.offset_undetermined) result->camera_stats[c].time_offset_stddev_s = v.offset_stddev_s;
     // A camera whose rolling shutter was found keeps that reason: its offset is then the readout's.
     const CameraOutcome outcome = result->camera_status[c].outcome;

@@ -45,6 +45,9 @@ struct RigCameraStats {
   // The check's offset is where the solve stopped, not a measurement: other offsets fit the images
   // as well (CameraSynchronisation::offset_undetermined); time_offset_stddev_s is then nullopt.
   bool time_offset_undetermined = false;
+  // Then, where a solve from moved offsets ended, fitting the images as well or better: the
+  // offsets between the two are what the images leave open.
+  std::optional<double> time_offset_also_fits_s;
   std::optional<double> readout_s, readout_stddev_s;
   // With the synchronisation check or offsets estimated: how much an offset of one frame interval
   // would change the camera's view on the rig's path (px, capture_time.h IntervalVisibilityPx);
