@@ -47,6 +47,9 @@ class Camera {
   // for fisheye lenses).
   double max_valid_angle() const { return max_theta_; }
 
+  // Same model, size and parameters (what follows from them is equal then too).
+  bool operator==(const Camera&) const = default;
+
  private:
   void Check() const;
   // Undistorted normalised radius (perspective) or theta (fisheye) where the radial

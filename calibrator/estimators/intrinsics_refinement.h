@@ -43,6 +43,7 @@ struct IntrinsicsPriorOptions {
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;
+  bool operator==(const IntrinsicsPriorOptions&) const = default;
 };
 
 // The prior's standard deviation of each of `given`'s parameters (camera_models.h order).

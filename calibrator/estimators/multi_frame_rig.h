@@ -89,6 +89,9 @@ struct RigBundleAdjustmentOptions {
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;
+  // Every field alike: the rig stage reuses an adjustment only for equal options
+  // (stages/rig_adjustment_cache.h), so a field added here counts there too.
+  bool operator==(const RigBundleAdjustmentOptions&) const = default;
 };
 
 // When cameras capture at other times than their frame's timestamp (a trigger offset, a rolling
@@ -112,6 +115,7 @@ struct CaptureTiming {
 
   // Throws std::invalid_argument naming the first bad field, for `cameras` cameras and `frames` frames.
   void Check(int cameras, int frames) const;
+  bool operator==(const CaptureTiming&) const = default;
 };
 
 struct MultiFrameBundleAdjustmentResult {

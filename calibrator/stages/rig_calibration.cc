@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 #include <utility>
 
@@ -12,6 +13,7 @@
 #include "calibrator/estimators/camera_centres.h"
 #include "calibrator/estimators/rig_positions.h"
 #include "calibrator/model/rig_state.h"
+#include "calibrator/stages/rig_adjustment_cache.h"
 #include "calibrator/stages/rig_capture_times.h"
 #include "calibrator/stages/rig_motion_links.h"
 #include "calibrator/stages/stage_clock.h"
@@ -71,6 +73,8 @@ RigWork& RigWork::operator+=(const RigWork& other) {
   positions_time_s += other.positions_time_s;
   bundle_adjustment_time_s += other.bundle_adjustment_time_s;
   synchronisation_check_time_s += other.synchronisation_check_time_s;
+  start_adjustments_solved += other.start_adjustments_solved;
+  start_adjustments_reused += other.start_adjustments_reused;
   return *this;
 }
 
@@ -299,6 +303,7 @@ struct AdjustedRig {
   std::vector<std::string> ambiguous;  // per camera: why its position is ambiguous; empty if not
   // Per camera: why its rotation is ambiguous too (JudgeCamerasHeldByOneRivalledPair); empty if not.
   std::vector<std::string> rotation_ambiguous;
+  int solved = 0, reused = 0;  // starts adjusted, and given back by the rounds' cache
 };
 
 // The angle (deg) between two estimates of the direction of a camera's centre from camera 0's.
@@ -310,7 +315,8 @@ std::optional<double> DirectionDifferenceDeg(const std::optional<Rigid3d>& a, co
 }
 
 AdjustedRig AdjustFromEveryStart(const RigObservations& obs, const std::vector<ViewTrack>& tracks,
-                                 const PositionStage& ps, const RigMotion& motion, const RigCalibrationOptions& options) {
+                                 const PositionStage& ps, const RigMotion& motion, const RigCalibrationOptions& options,
+                                 RigAdjustmentCache* cache) {
   const int n = static_cast<int>(obs.cameras.size());
   AdjustedRig out;
   out.ambiguous.assign(n, "");
@@ -323,18 +329,23 @@ AdjustedRig AdjustFromEveryStart(const RigObservations& obs, const std::vector<V
   }
   const std::optional<CaptureTiming> timing = TimingModel(obs, motion, options.capture_time);
   // Each start's adjustment is its own single-threaded solve: they run side by side, and each
-  // gives the same bits as alone.
+  // gives the same bits as alone; one an earlier round solved on identical inputs is not solved
+  // again. Its cost takes ba_options' error bound and angle, which are options.bundle_adjustment's.
   std::vector<MultiFrameBundleAdjustmentResult> adjusted(ps.starts.size());
+  std::vector<char> reused(ps.starts.size(), 0);
   out.starts.resize(ps.starts.size());
   tbb::parallel_for(0, static_cast<int>(ps.starts.size()), [&](int i) {
-    adjusted[i] = MultiFrameRigBundleAdjust(obs.cameras, obs.keypoints, tracks, ps.starts[i].poses, ps.scale_camera,
-                                            ba_options, !motion.moving, timing ? &*timing : nullptr);
+    AdjustedStart a = cache->Adjust({obs.cameras, obs.keypoints, tracks, ps.starts[i].poses, ps.scale_camera,
+                                     ba_options, !motion.moving, timing ? &*timing : nullptr});
+    adjusted[i] = std::move(a.ba);
+    reused[i] = a.reused;
     RigStartSummary& summary = out.starts[i];
     summary.source = ps.starts[i].source;
-    summary.cost = TruncatedReprojectionCost(adjusted[i].cameras, obs.keypoints, tracks, adjusted[i].poses,
-                                             options.bundle_adjustment.max_reprojection_error_px,
-                                             options.bundle_adjustment.min_triangulation_angle_deg, &summary.observations);
+    summary.cost = a.cost;
+    summary.observations = a.cost_observations;
   });
+  out.reused = static_cast<int>(std::count(reused.begin(), reused.end(), 1));
+  out.solved = static_cast<int>(adjusted.size()) - out.reused;
   if (adjusted.empty()) return out;
   size_t best = 0;
   for (size_t i = 1; i < adjusted.size(); ++i) {
@@ -648,11 +659,12 @@ void PreCheckEarlyStages(const EarlyStages& early, int n, RigPreCheck* check) {
   }
 }
 
-// One round of the rig stages. With `stop`: nullopt, and `stop` filled but for its work, where
-// the early stages leave a camera without a rotation or a start position.
+// One round of the rig stages, its adjustments through the rounds' `cache`. With `stop`: nullopt,
+// and `stop` filled but for its work, where the early stages leave a camera without a rotation or
+// a start position.
 std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, const RigCalibrationOptions& options,
                                                     const std::vector<std::string>& rejected,
-                                                    RigPreCheck* stop) {
+                                                    RigAdjustmentCache* cache, RigPreCheck* stop) {
   const int n = static_cast<int>(obs.cameras.size());
   const int num_frames = static_cast<int>(obs.keypoints.size());
   RigCalibrationResult result;
@@ -671,7 +683,9 @@ std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, 
 
   // Step 5: bundle adjustment over all posed views, from every start.
   auto start = StageClock::now();
-  AdjustedRig adjusted = AdjustFromEveryStart(obs, tracks, initial, motion, options);
+  AdjustedRig adjusted = AdjustFromEveryStart(obs, tracks, initial, motion, options, cache);
+  result.work.start_adjustments_solved = adjusted.solved;
+  result.work.start_adjustments_reused = adjusted.reused;
   MultiFrameBundleAdjustmentResult& ba = adjusted.ba;
   if (initial.starts.empty()) {
     ba.poses.cam_from_rig.assign(n, std::nullopt);
@@ -773,13 +787,15 @@ void CheckInputs(const RigObservations& obs, const RigCalibrationOptions& option
 }  // namespace
 
 // Where the pair-rejection rounds stand: the pairs left out so far and why, the observations with
-// the pairs whose direction was left out (a copy made only then), and the result of the last round
-// completed (nullopt before the first).
+// the pairs whose direction was left out (a copy made only then), the result of the last round
+// completed (nullopt before the first), and the adjustments the rounds solved (shared by the
+// copies a resumed pass makes, EstimateRigFrom).
 struct RigRounds {
   std::vector<std::string> rejected, direction_left_out;
   std::optional<RigObservations> kept;
   std::optional<RigCalibrationResult> result;
   int round = 0;  // of the estimate to run next: 0 the first, r after r pairs were left out
+  std::shared_ptr<RigAdjustmentCache> adjustments = std::make_shared<RigAdjustmentCache>();
 };
 
 namespace {
@@ -798,7 +814,7 @@ std::optional<RigCalibrationResult> EstimateRigRounds(const RigObservations& obs
   if (state.direction_left_out.empty()) state.direction_left_out.assign(obs.pairs.size(), "");
   for (;;) {
     std::optional<RigCalibrationResult> next =
-        EstimateRigOnce(state.kept ? *state.kept : obs, options, state.rejected, stop);
+        EstimateRigOnce(state.kept ? *state.kept : obs, options, state.rejected, state.adjustments.get(), stop);
     if (!next) {
       stop->round = state.round;
       if (state.result) {

@@ -1,6 +1,7 @@
 #include "calibrator/stages/rig_calibration.h"
 
 #include <cstdio>
+#include <cstring>
 #include <optional>
 #include <utility>
 
@@ -222,6 +223,52 @@ TEST_F(RigCalibrationTest, PairWhoseDirectionAloneDisagreesKeepsItsRotation) {
       EXPECT_LT(r_errors[c].direction_error_deg.value(), 0.5) << c;
     }
   }
+}
+
+// Bit for bit: a reused adjustment must be the solve it stands for.
+bool SameBits(const std::optional<Rigid3d>& a, const std::optional<Rigid3d>& b) {
+  if (!a || !b) return a.has_value() == b.has_value();
+  return std::memcmp(a->rotation.coeffs().data(), b->rotation.coeffs().data(), 4 * sizeof(double)) == 0 &&
+         std::memcmp(a->translation.data(), b->translation.data(), 3 * sizeof(double)) == 0;
+}
+
+// The round that leaves the pair's direction out keeps its matches, so the tracks and the start
+// from the tracks are the first round's: that adjustment is not solved again, and the rig is the
+// very one of a pass that has the pair without its direction from the start (where it is solved).
+TEST_F(RigCalibrationTest, ARoundThatKeepsTheTracksDoesNotSolveTheirAdjustmentAgain) {
+  RigObservations obs = *observations_;
+  const int e = PairIndex(obs, 1, 3);
+  ASSERT_GE(e, 0);
+  Eigen::Vector3d& t = obs.pairs[e].two_view.cam_b_from_cam_a.translation;
+  t = Eigen::AngleAxisd(DegToRad(15.0), t.unitOrthogonal()) * t;
+  const RigCalibrationResult rounds = EstimateRig(obs, {});
+  ASSERT_TRUE(rounds.edges[e].direction_left_out) << rounds.edges[e].status;
+  obs.pairs[e].two_view.rotation_only = true;
+  t.setZero();
+  const RigCalibrationResult fresh = EstimateRig(obs, {});
+  ASSERT_FALSE(fresh.edges[e].direction_left_out) << fresh.edges[e].status;  // one round
+  std::printf("two rounds: %d adjustments solved, %d reused; one round: %d solved\n",
+              rounds.work.start_adjustments_solved, rounds.work.start_adjustments_reused,
+              fresh.work.start_adjustments_solved);
+  EXPECT_EQ(rounds.work.start_adjustments_reused, 1);  // the start from the tracks
+  EXPECT_EQ(fresh.work.start_adjustments_reused, 0);
+  EXPECT_EQ(rounds.work.start_adjustments_solved + rounds.work.start_adjustments_reused,
+            2 * fresh.work.start_adjustments_solved);
+  ASSERT_EQ(rounds.position_starts.size(), fresh.position_starts.size());
+  for (size_t i = 0; i < fresh.position_starts.size(); ++i) {
+    const RigStartSummary &a = rounds.position_starts[i], &b = fresh.position_starts[i];
+    EXPECT_EQ(a.source, b.source);
+    EXPECT_EQ(std::memcmp(&a.cost, &b.cost, sizeof a.cost), 0) << a.source << ": " << a.cost << " vs " << b.cost;
+    EXPECT_EQ(a.observations, b.observations) << a.source;
+    EXPECT_EQ(a.chosen, b.chosen) << a.source;
+  }
+  for (size_t c = 0; c < fresh.rig.cameras.size(); ++c) {
+    EXPECT_TRUE(SameBits(rounds.rig.cameras[c].cam_from_rig, fresh.rig.cameras[c].cam_from_rig)) << c;
+  }
+  for (size_t k = 0; k < fresh.rig_from_world.size(); ++k) {
+    EXPECT_TRUE(SameBits(rounds.rig_from_world[k], fresh.rig_from_world[k])) << k;
+  }
+  EXPECT_EQ(std::memcmp(&rounds.reprojection_rms_px, &fresh.reprojection_rms_px, sizeof(double)), 0);
 }
 
 TEST_F(RigCalibrationTest, CameraZeroAloneCalibratesNothingElse) {

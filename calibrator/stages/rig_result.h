@@ -126,6 +126,10 @@ struct RigWork {
   double tracks_time_s = 0.0;
   double bundle_adjustment_time_s = 0.0;
   double synchronisation_check_time_s = 0.0;  // CaptureTimeOptions::check_synchronisation
+  // Bundle adjustments from a start (one per start and round): those solved, and those given back
+  // because an earlier round had solved identical inputs (rig_adjustment_cache.h).
+  int start_adjustments_solved = 0;
+  int start_adjustments_reused = 0;
 
   RigWork& operator+=(const RigWork& other);
 };
