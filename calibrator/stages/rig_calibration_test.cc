@@ -52,6 +52,13 @@ int PairIndex(const RigObservations& obs, int cam_a, int cam_b) {
   return -1;
 }
 
+// Turns pair e's baseline direction by `deg` about an axis across it, its rotation kept (a share of
+// wrong inliers does that).
+void TurnDirection(RigObservations* obs, int e, double deg) {
+  Eigen::Vector3d& t = obs->pairs[e].two_view.cam_b_from_cam_a.translation;
+  t = Eigen::AngleAxisd(DegToRad(deg), t.unitOrthogonal()) * t;
+}
+
 class RigCalibrationTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -208,8 +215,7 @@ TEST_F(RigCalibrationTest, PairWhoseDirectionAloneDisagreesKeepsItsRotation) {
   RigObservations obs = *observations_;
   const int e = PairIndex(obs, 1, 3);
   ASSERT_GE(e, 0);
-  Eigen::Vector3d& t = obs.pairs[e].two_view.cam_b_from_cam_a.translation;
-  t = Eigen::AngleAxisd(DegToRad(15.0), t.unitOrthogonal()) * t;
+  TurnDirection(&obs, e, 15.0);
   RigCalibrationResult r = EstimateRig(obs, {});
   const std::vector<CameraErrors> r_errors = ErrorsAgainst(synthetic_->rig, r);
   EXPECT_EQ(r.edges[e].outcome, EdgeOutcome::kDirectionLeftOut) << r.edges[e].status;
@@ -239,12 +245,11 @@ TEST_F(RigCalibrationTest, ARoundThatKeepsTheTracksDoesNotSolveTheirAdjustmentAg
   RigObservations obs = *observations_;
   const int e = PairIndex(obs, 1, 3);
   ASSERT_GE(e, 0);
-  Eigen::Vector3d& t = obs.pairs[e].two_view.cam_b_from_cam_a.translation;
-  t = Eigen::AngleAxisd(DegToRad(15.0), t.unitOrthogonal()) * t;
+  TurnDirection(&obs, e, 15.0);
   const RigCalibrationResult rounds = EstimateRig(obs, {});
   ASSERT_TRUE(rounds.edges[e].direction_left_out) << rounds.edges[e].status;
   obs.pairs[e].two_view.rotation_only = true;
-  t.setZero();
+  obs.pairs[e].two_view.cam_b_from_cam_a.translation.setZero();
   const RigCalibrationResult fresh = EstimateRig(obs, {});
   ASSERT_FALSE(fresh.edges[e].direction_left_out) << fresh.edges[e].status;  // one round
   std::printf("two rounds: %d adjustments solved, %d reused; one round: %d solved\n",
