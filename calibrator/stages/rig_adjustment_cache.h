@@ -2,7 +2,7 @@
 // an earlier round solved. The rounds (rig_calibration.cc) make the rig again after each pair they
 // leave out; a round that only leaves a pair's baseline direction out keeps that pair's matches,
 // so the tracks, and the start positions from the tracks, are those of the round before: the same
-// solve on the same inputs (on a 6-camera car rig, 26 s of the 103 s the adjustments take).
+// solve on the same inputs (BENCHMARKS.md measures it on the six-camera twin).
 //
 // An adjustment is given back only when everything it reads is identical: the cameras, options
 // and capture timing by value (their operator==), the tracks with the keypoints they observe, the
