@@ -138,19 +138,33 @@ Eigen::Matrix3d PointPseudoInverse(const Eigen::Matrix3d& h_point, double min_ra
   return eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
 }
 
+Eigen::VectorXd EquilibratingScale(const Eigen::MatrixXd& system) {
+  Eigen::VectorXd scale(system.rows());
+  for (int i = 0; i < system.rows(); ++i) scale[i] = system(i, i) > 0 ? 1.0 / std::sqrt(system(i, i)) : 1.0;
+  return scale;
+}
+
 ReducedCovariance PoseCovariance(const BundleLinearisation& linearised, const NormalEquations& normal) {
   ReducedCovariance out;
   const int pose_dim = linearised.pose_dim;
   if (pose_dim == 0) return out;
   out.offset = linearised.offset;
-  const Eigen::MatrixXd& reduced = normal.reduced;
   // Pseudo-inverse of the reduced system: directions with (next to) no information get a variance
-  // 1e12 times the best determined one's, instead of an infinity or a failure.
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (reduced + reduced.transpose()));
+  // 1e12 times the best determined one's, instead of an infinity or a failure. The columns' units
+  // differ by orders of magnitude (a turn moves the keypoints by twice the focal length per unit of
+  // its tangent, a principal point by one pixel per pixel), so the system is equilibrated first:
+  // against the raw system's largest eigenvalue, a real but weak mode of pixel-sized columns (the
+  // principal points against the turns of a one-frame rig with refined intrinsics) fell below the
+  // cut and was stated tens of times too tightly.
+  const Eigen::VectorXd scale = EquilibratingScale(normal.reduced);
+  const Eigen::MatrixXd reduced =
+      scale.asDiagonal() * (0.5 * (normal.reduced + normal.reduced.transpose())) * scale.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(reduced);
   const double top = std::max(eig.eigenvalues().maxCoeff(), 1e-300);
   Eigen::VectorXd inv(pose_dim);
   for (int i = 0; i < pose_dim; ++i) inv[i] = 1.0 / std::max(eig.eigenvalues()[i], 1e-12 * top);
-  out.covariance = eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
+  out.covariance = scale.asDiagonal() * (eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose()) *
+                   scale.asDiagonal();
   return out;
 }
 

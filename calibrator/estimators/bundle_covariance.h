@@ -71,6 +71,10 @@ NormalEquations NormalEquationsOf(const BundleLinearisation& linearised);
 // is free along its ray).
 Eigen::Matrix3d PointPseudoInverse(const Eigen::Matrix3d& h_point, double min_ratio = 1e-12);
 
+// Per column of a symmetric system, 1 / sqrt of its diagonal (1 where the diagonal is not
+// positive): D S D then has a unit diagonal, whatever the columns' units.
+Eigen::VectorXd EquilibratingScale(const Eigen::MatrixXd& system);
+
 ReducedCovariance PoseCovariance(const BundleLinearisation& linearised, const NormalEquations& normal);
 
 // Covariance of each camera's centre in the rig (C = -R^T t of cam_from_rig, whose translation

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <Eigen/Geometry>
+#include <Eigen/QR>
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
 #include <gtest/gtest.h>
@@ -81,6 +82,35 @@ TEST(PoseCovariance, MatchesCeresCovarianceOfTheSameBlocks) {
       EXPECT_LT((got - expected).norm(), 1e-9 * (1 + expected.norm())) << "got\n" << got << "\nexpected\n" << expected;
     }
   }
+}
+
+// Two unknowns of a linear fit in units far apart, as a turn's tangent (2000 px per unit) and a
+// principal point (1 px per px): each residual is the turn's shift (larger towards the image's
+// sides) plus the principal point's shift, which nearly mimics a turn, as on a rig of one frame.
+// The weak mode of the two is real, and its variance must be stated as it is: cut off at 1e-12
+// of the raw system's largest eigenvalue (the turn's), it came out orders of magnitude too small.
+TEST(PoseCovariance, StatesAWeakModeOfColumnsInOtherUnits) {
+  constexpr int kRows = 1000;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> side(-1, 1);
+  Eigen::MatrixXd a(kRows, 2);
+  for (int i = 0; i < kRows; ++i) {
+    const double x = side(rng);
+    a(i, 0) = 2000.0 * (1.0 + 0.3 * x * x);
+    a(i, 1) = a(i, 0) / 2000.0 + 1e-4 * side(rng);
+  }
+  BundleLinearisation linearised;
+  linearised.pose_dim = 2;
+  NormalEquations normal;
+  normal.reduced = a.transpose() * a;
+  const ReducedCovariance reduced = PoseCovariance(linearised, normal);
+  // The exact inverse from the QR factors of the columns themselves: (R^T R)^-1.
+  const Eigen::MatrixXd r = Eigen::HouseholderQR<Eigen::MatrixXd>(a).matrixQR().topRows(2).triangularView<Eigen::Upper>();
+  const Eigen::MatrixXd r_inv = r.inverse();
+  const Eigen::MatrixXd expected = r_inv * r_inv.transpose();
+  EXPECT_NEAR(reduced.covariance(1, 1), expected(1, 1), 1e-6 * expected(1, 1));
+  EXPECT_NEAR(reduced.covariance(0, 0), expected(0, 0), 1e-6 * expected(0, 0));
+  EXPECT_NEAR(reduced.covariance(0, 1), expected(0, 1), 1e-6 * std::abs(expected(0, 1)));
 }
 
 // One rotation observed N times, each residual its angle-axis difference (rad) divided by s: the

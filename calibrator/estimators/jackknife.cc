@@ -61,6 +61,11 @@ Eigen::VectorXd SolveOverActiveColumns(const Eigen::MatrixXd& s, const Eigen::Ve
     ba[i] = b[active[i]];
     for (int j = 0; j < m; ++j) sa(i, j) = 0.5 * (s(active[i], active[j]) + s(active[j], active[i]));
   }
+  // Equilibrated (unit diagonal), so that the cuts below are relative to each column's own scale
+  // (PoseCovariance has why); the step is scaled back at the end.
+  const Eigen::VectorXd scale = EquilibratingScale(sa);
+  sa = scale.asDiagonal() * sa * scale.asDiagonal();
+  ba = scale.cwiseProduct(ba);
   // A Cholesky factorisation where S is well conditioned (nearly always: a tenth of the cost of
   // the eigen decomposition), else the pseudo-inverse.
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(sa);
@@ -77,7 +82,7 @@ Eigen::VectorXd SolveOverActiveColumns(const Eigen::MatrixXd& s, const Eigen::Ve
     }
     xa = -(eig.eigenvectors() * (inv.asDiagonal() * (eig.eigenvectors().transpose() * ba)));
   }
-  for (int i = 0; i < m; ++i) step[active[i]] = xa[i];
+  for (int i = 0; i < m; ++i) step[active[i]] = scale[i] * xa[i];
   return step;
 }
 

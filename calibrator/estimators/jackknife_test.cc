@@ -4,8 +4,10 @@
 #include <cstdio>
 #include <random>
 
+#include <ceres/ceres.h>
 #include <gtest/gtest.h>
 #include <Eigen/Eigenvalues>
+#include <Eigen/QR>
 
 #include "calibrator/estimators/bundle_covariance.h"
 #include "geometry/rigid3.h"
@@ -280,6 +282,66 @@ TEST(PointJackknife, StatesTheSpreadOfErrorsEachFeatureRepeatsInItsViews) {
   EXPECT_LT(covariance, 0.6 * spread) << "the case the covariance misses";
   EXPECT_GT(stated, 0.6 * spread);
   EXPECT_LT(stated, 1.7 * spread);
+}
+
+
+// One residual per block, linear in two unknowns of units far apart: a turn's tangent (2000 px
+// per unit) and a principal point (1 px per px) that nearly mimics it. Each group's step must be
+// where the least-squares fit without its rows goes; cut at 1e-12 of the raw system's largest
+// eigenvalue, the weak mode of the two took no step at all.
+struct LinearRow {
+  double a0, a1, y;
+  template <typename T>
+  bool operator()(const T* x0, const T* x1, T* residual) const {
+    residual[0] = T(a0) * x0[0] + T(a1) * x1[0] - T(y);
+    return true;
+  }
+};
+
+TEST(StepsWithoutGroups, FollowAWeakModeOfColumnsInOtherUnits) {
+  constexpr int kRows = 1000, kGroups = 10;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> side(-1, 1);
+  std::normal_distribution<double> noise(0, 0.5);
+  Eigen::MatrixXd a(kRows, 2);
+  Eigen::VectorXd y(kRows);
+  for (int i = 0; i < kRows; ++i) {
+    const double x = side(rng);
+    a(i, 0) = 2000.0 * (1.0 + 0.3 * x * x);
+    a(i, 1) = a(i, 0) / 2000.0 + 1e-4 * side(rng);
+    y[i] = noise(rng);
+  }
+  const auto fit = [&](int without) {
+    std::vector<int> rows;
+    for (int i = 0; i < kRows; ++i) {
+      if (i % kGroups != without) rows.push_back(i);
+    }
+    Eigen::MatrixXd as(rows.size(), 2);
+    Eigen::VectorXd ys(rows.size());
+    for (size_t k = 0; k < rows.size(); ++k) {
+      as.row(k) = a.row(rows[k]);
+      ys[k] = y[rows[k]];
+    }
+    return Eigen::Vector2d(as.householderQr().solve(ys));
+  };
+  const Eigen::Vector2d solved = fit(-1);
+  double x0 = solved[0], x1 = solved[1];
+  ceres::Problem problem;
+  for (int i = 0; i < kRows; ++i) {
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<LinearRow, 1, 1, 1>(new LinearRow{a(i, 0), a(i, 1), y[i]}),
+                             nullptr, &x0, &x1);
+  }
+  const BundleLinearisation linearised = Linearise(problem, {&x0, &x1});
+  std::vector<int> block_group(kRows);
+  for (int i = 0; i < kRows; ++i) block_group[i] = i % kGroups;
+  const std::vector<Eigen::VectorXd> steps =
+      StepsWithoutGroups(linearised, NormalEquationsOf(linearised), block_group, kGroups, {});
+  ASSERT_EQ(steps.size(), static_cast<size_t>(kGroups));
+  for (int g = 0; g < kGroups; ++g) {
+    const Eigen::Vector2d expected = fit(g) - solved;
+    EXPECT_NEAR(steps[g][1], expected[1], 1e-4 * std::abs(expected[1])) << g;
+    EXPECT_NEAR(steps[g][0], expected[0], 1e-4 * std::abs(expected[0]) + 1e-15) << g;
+  }
 }
 
 }  // namespace
