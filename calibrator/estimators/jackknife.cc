@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numeric>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -98,6 +99,47 @@ std::vector<std::vector<int>> JackknifeFrameGroups(const std::vector<int>& posed
 }
 
 int JackknifePointGroup(int point) { return point % kJackknifePointGroups; }
+
+namespace {
+
+// Splits `ids` (indices into `points`) into `groups` regions, writing each one's group from `first`.
+void SplitRegions(const std::vector<Eigen::Vector3d>& points, std::vector<int> ids, int groups, int first,
+                  std::vector<int>* out) {
+  if (groups <= 1 || ids.size() < 2) {
+    for (const int i : ids) (*out)[i] = first;
+    return;
+  }
+  // The axis of the widest spread between the 10th and 90th percentiles: a few far points do not
+  // decide it.
+  int axis = 0;
+  double widest = -1.0;
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double> v;
+    v.reserve(ids.size());
+    for (const int i : ids) v.push_back(points[i][a]);
+    std::sort(v.begin(), v.end());
+    const double spread = v[v.size() * 9 / 10] - v[v.size() / 10];
+    if (spread > widest) {
+      widest = spread;
+      axis = a;
+    }
+  }
+  std::stable_sort(ids.begin(), ids.end(), [&](int x, int y) { return points[x][axis] < points[y][axis]; });
+  const int left_groups = groups / 2;
+  const size_t cut = ids.size() * static_cast<size_t>(left_groups) / static_cast<size_t>(groups);
+  SplitRegions(points, std::vector<int>(ids.begin(), ids.begin() + cut), left_groups, first, out);
+  SplitRegions(points, std::vector<int>(ids.begin() + cut, ids.end()), groups - left_groups, first + left_groups, out);
+}
+
+}  // namespace
+
+std::vector<int> JackknifeRegionGroups(const std::vector<Eigen::Vector3d>& points) {
+  std::vector<int> out(points.size(), 0);
+  std::vector<int> ids(points.size());
+  std::iota(ids.begin(), ids.end(), 0);
+  SplitRegions(points, std::move(ids), kJackknifePointGroups, 0, &out);
+  return out;
+}
 
 std::vector<Eigen::VectorXd> StepsWithoutGroups(const BundleLinearisation& linearised, const NormalEquations& normal,
                                                 const std::vector<int>& block_group, int groups,

@@ -31,6 +31,14 @@ std::vector<std::vector<int>> JackknifeFrameGroups(const std::vector<int>& posed
 int JackknifePointGroup(int point);
 constexpr int kJackknifePointGroups = 10;
 
+// The group each point leaves with when the points go by region: kJackknifePointGroups groups of
+// neighbouring points (as even in count as they divide), cut by halving the points along the axis
+// they spread widest over, again and again (a k-d tree). Features of one facade or one object
+// share their error (one texture, one viewing angle, one way the renderer or the lens smears
+// them), so every tenth point leaves a tenth of that shared error behind in every group and
+// states none of it; a region leaves with all of its own. Deterministic: ties go by index.
+std::vector<int> JackknifeRegionGroups(const std::vector<Eigen::Vector3d>& points);
+
 // Per group, the Gauss-Newton step from the solution of the linearised adjustment (`normal` its
 // normal equations) without the rows of that group's residual blocks (`block_group`: per residual
 // block in the linearisation's order, its group, -1 for blocks that always stay), over the pose

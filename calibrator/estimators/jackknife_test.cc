@@ -1,5 +1,6 @@
 #include "calibrator/estimators/jackknife.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -86,6 +87,25 @@ FrameKeypoints ObserveWithFeatureBias(const TwoCameraDrive& d, double feature_px
   for (auto& frame : kp) {
     for (auto& view : frame) {
       for (size_t i = 0; i < view.size(); ++i) view[i] += bias[i];
+    }
+  }
+  return kp;
+}
+
+// As Observe, but the keypoints of every point in one cell of a 5 x 4 grid over the field (x, z)
+// are off by one offset of `region_px` per coordinate, the cell's own (one facade's texture, one
+// viewing angle), beside `noise_px` of their own.
+FrameKeypoints ObserveWithRegionBias(const TwoCameraDrive& d, double region_px, double noise_px, std::mt19937& rng) {
+  std::normal_distribution<double> unit(0.0, 1.0);
+  std::vector<Eigen::Vector2d> bias;
+  for (int cell = 0; cell < 20; ++cell) bias.emplace_back(region_px * unit(rng), region_px * unit(rng));
+  FrameKeypoints kp = Observe(d, noise_px, rng);
+  for (size_t i = 0; i < d.points.size(); ++i) {
+    const Eigen::Vector3d& p = d.points[i];
+    const int cx = std::clamp(static_cast<int>((p.x() + 4.0) / 11.0 * 5.0), 0, 4);
+    const int cz = std::clamp(static_cast<int>((p.z() - 4.0) / 8.0 * 4.0), 0, 3);
+    for (auto& frame : kp) {
+      for (auto& view : frame) view[i] += bias[cz * 5 + cx];
     }
   }
   return kp;
@@ -342,6 +362,53 @@ TEST(StepsWithoutGroups, FollowAWeakModeOfColumnsInOtherUnits) {
     EXPECT_NEAR(steps[g][1], expected[1], 1e-4 * std::abs(expected[1])) << g;
     EXPECT_NEAR(steps[g][0], expected[0], 1e-4 * std::abs(expected[0]) + 1e-15) << g;
   }
+}
+
+TEST(PointJackknife, RegionGroupsAreContiguousAndEven) {
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 1000; ++i) points.emplace_back(0.01 * (i * 37 % 1000), 0.001 * (i % 7), 5.0);
+  const std::vector<int> group = JackknifeRegionGroups(points);
+  std::vector<double> low(kJackknifePointGroups, 1e9), high(kJackknifePointGroups, -1e9);
+  std::vector<int> count(kJackknifePointGroups, 0);
+  for (size_t i = 0; i < points.size(); ++i) {
+    ASSERT_GE(group[i], 0);
+    ASSERT_LT(group[i], kJackknifePointGroups);
+    ++count[group[i]];
+    low[group[i]] = std::min(low[group[i]], points[i].x());
+    high[group[i]] = std::max(high[group[i]], points[i].x());
+  }
+  // Points along x (their widest axis): ten runs of a hundred, one after the other.
+  for (int g = 0; g < kJackknifePointGroups; ++g) {
+    EXPECT_EQ(count[g], 100) << g;
+    if (g > 0) {
+      EXPECT_LT(high[g - 1], low[g]) << g;
+    }
+  }
+}
+
+// Where the features of one part of the scene share their error (each cell of the field its own
+// offset), every tenth point leaves each cell's share in every group and states next to nothing;
+// the groups by region leave whole cells out, and the point jackknife (the larger of the two)
+// states the estimate's spread over draws.
+TEST(PointJackknife, StatesTheSpreadOfErrorsThePointsOfARegionShare) {
+  std::mt19937 rng(TestSeed());
+  const TwoCameraDrive d = MakeDrive(4, rng);
+  constexpr int kDraws = 24;
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  double stated = 0.0;
+  for (int i = 0; i < kDraws; ++i) {
+    const FrameKeypoints kp = ObserveWithRegionBias(d, 0.3, 0.05, rng);
+    const Solved s = SolveAndJackknife(d, kp);
+    ASSERT_TRUE(s.points.rotation_std_deg[1]);
+    const Eigen::AngleAxisd e(s.ba.poses.cam_from_rig[1]->rotation * d.truth.cam_from_rig[1]->rotation.inverse());
+    const Eigen::Vector3d v = RadToDeg(e.angle()) * e.axis();
+    scatter += v * v.transpose() / kDraws;
+    stated += *s.points.rotation_std_deg[1] / kDraws;
+  }
+  const double spread = std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvalues().maxCoeff());
+  std::printf("rotation spread %.4f deg, point jackknife %.4f deg\n", spread, stated);
+  EXPECT_GT(stated, 0.6 * spread);
+  EXPECT_LT(stated, 1.7 * spread);
 }
 
 }  // namespace

@@ -533,8 +533,9 @@ JackknifeSpread FrameJackknife(const BundleProblem& bp, ceres::Problem& problem,
 }
 
 // The jackknives (jackknife.h) over points and over frames of the solved problem.
-void ReadJackknives(const BundleProblem& bp, ceres::Problem& problem, const BundleLinearisation& linearised,
-                    const NormalEquations& normal, const std::vector<ceres::ResidualBlockId>& blocks,
+void ReadJackknives(const BundleProblem& bp, const std::vector<WorldPoint>& points, ceres::Problem& problem,
+                    const BundleLinearisation& linearised, const NormalEquations& normal,
+                    const std::vector<ceres::ResidualBlockId>& blocks,
                     const std::map<ceres::ResidualBlockId, CostSource>& sources, BundleRoundResult* out) {
   std::vector<const CostSource*> source_of_block(blocks.size(), nullptr);
   for (size_t b = 0; b < blocks.size(); ++b) {
@@ -548,8 +549,18 @@ void ReadJackknives(const BundleProblem& bp, ceres::Problem& problem, const Bund
         for (size_t b = 0; b < blocks.size(); ++b) {
           if (source_of_block[b]) point_group[b] = JackknifePointGroup(source_of_block[b]->point);
         }
-        out->point_jackknife =
+        const JackknifeSpread every_tenth =
             SpreadWithoutGroups(bp, problem, linearised, normal, point_group, kJackknifePointGroups, {});
+        // And by region: the larger of the two spreads is the points'.
+        std::vector<Eigen::Vector3d> positions;
+        positions.reserve(points.size());
+        for (const WorldPoint& p : points) positions.push_back(p.x);
+        const std::vector<int> region = JackknifeRegionGroups(positions);
+        for (size_t b = 0; b < blocks.size(); ++b) {
+          if (source_of_block[b]) point_group[b] = region[source_of_block[b]->point];
+        }
+        out->point_jackknife = LargerSpread(
+            every_tenth, SpreadWithoutGroups(bp, problem, linearised, normal, point_group, kJackknifePointGroups, {}));
       },
       [&] { out->frame_jackknife = FrameJackknife(bp, problem, linearised, normal, source_of_block); });
 }
@@ -574,7 +585,7 @@ void ReadCovariances(BundleProblem& bp, const std::vector<WorldPoint>& points, c
   ReducedCovariance reduced;
   // The covariance and the jackknives read the same linearisation and write apart.
   tbb::parallel_invoke([&] { reduced = PoseCovariance(linearised, normal); },
-                       [&] { ReadJackknives(bp, problem, linearised, normal, blocks, sources, &out); });
+                       [&] { ReadJackknives(bp, points, problem, linearised, normal, blocks, sources, &out); });
   const double rms_px = bp.RmsPx(points);
   // Per image coordinate, over the coordinates the fit leaves free, and as many times that as the
   // residuals of one image region move together.
