@@ -304,7 +304,6 @@ TEST(PointJackknife, StatesTheSpreadOfErrorsEachFeatureRepeatsInItsViews) {
   EXPECT_LT(stated, 1.7 * spread);
 }
 
-
 // One residual per block, linear in two unknowns of units far apart: a turn's tangent (2000 px
 // per unit) and a principal point (1 px per px) that nearly mimics it. Each group's step must be
 // where the least-squares fit without its rows goes; cut at 1e-12 of the raw system's largest
