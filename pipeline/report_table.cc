@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "common/format.h"
+#include "evaluation/verdicts.h"
 #include "pipeline/calibration_json.h"
 
 namespace rigsim {
@@ -83,6 +84,13 @@ std::string FormatPairTable(const CalibrationRun& run) {
       if (p.Solved() && tv.rival) {  // two_view.h: the matches alone do not decide between the two
         status += "; another pose fits its matches as well: baseline " + Fixed(tv.rival->direction_deg, 0) +
                   " deg away, turned " + Fixed(tv.rival->rotation_deg, 1) + " deg";
+      }
+      // A pair the rig uses but whose own rotation is farther from the rig's than a camera's
+      // tolerance: the rig, made from every pair and track, is the estimate to take, not the pair's.
+      const RigEdgeStats* edge = p.Solved() ? RigEdgeOf(run.results[m], p) : nullptr;
+      if (edge && edge->Used() && edge->rotation_disagreement_deg.value_or(0.0) > kCameraTolerance.rotation_deg) {
+        status += "; its rotation is " + Fixed(*edge->rotation_disagreement_deg, 1) +
+                  " deg from the rig's (the rig's poses, from every pair and track, are the ones to use)";
       }
       // The status goes last and whole: it says what to do.
       std::snprintf(line, sizeof(line), "%-14s %7s  %-10s %8d %8d %9s %10s %10s  %-13s  ", pair.c_str(), ov.c_str(),

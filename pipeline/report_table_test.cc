@@ -58,6 +58,31 @@ TEST(FormatPairTable, APairWithARivalPoseSaysSo) {
       << table;
 }
 
+// A pair the rig uses whose own rotation is more than a camera's tolerance (1 deg) from the rig's
+// says so, and that the rig's poses are the ones to take; one within it, or left out (its status
+// says why already), does not.
+TEST(FormatPairTable, AUsedPairFarFromTheRigSaysSo) {
+  CalibrationRun run = PairsRun({});
+  RigEdgeStats near, far;
+  near.cam_a = "cam0";
+  near.cam_b = "cam1";
+  near.outcome = EdgeOutcome::kUsed;
+  near.rotation_disagreement_deg = 0.8;
+  far = near;
+  far.cam_a = "cam1";
+  far.cam_b = "cam2";
+  far.rotation_disagreement_deg = 2.33;
+  run.results[0].edges = {near, far};
+  const std::string note = "deg from the rig's (the rig's poses, from every pair and track, are the ones to use)";
+  std::string table = FormatPairTable(run);
+  EXPECT_EQ(table.find("its rotation is 0.8 deg from the rig's"), std::string::npos) << table;
+  EXPECT_NE(table.find("its rotation is 2.3 " + note), std::string::npos) << table;
+  EXPECT_EQ(table.find(note), table.rfind(note)) << table;  // the far pair only
+  run.results[0].edges[1].outcome = EdgeOutcome::kRotationOutlier;
+  table = FormatPairTable(run);
+  EXPECT_EQ(table.find(note), std::string::npos) << table;
+}
+
 // A ring's many pairs that see nothing in common are one line, not a row each per method.
 TEST(FormatPairTable, PairsScreenedOutInEveryMethodShareOneLine) {
   CalibrationRun run = PairsRun({});
