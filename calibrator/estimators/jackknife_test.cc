@@ -126,6 +126,19 @@ Solved SolveAndJackknife(const TwoCameraDrive& d, const FrameKeypoints& kp,
   return s;
 }
 
+// cam1's rotation error against the truth, as a rotation vector (deg).
+Eigen::Vector3d RotationErrorDeg(const Solved& s, const TwoCameraDrive& d) {
+  const Eigen::AngleAxisd e(s.ba.poses.cam_from_rig[1]->rotation * d.truth.cam_from_rig[1]->rotation.inverse());
+  return RadToDeg(e.angle()) * e.axis();
+}
+
+// The root mean square of `errors` (about zero, the truth) along their worst axis.
+double WorstAxisRms(const std::vector<Eigen::Vector3d>& errors) {
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (const Eigen::Vector3d& v : errors) scatter += v * v.transpose() / static_cast<double>(errors.size());
+  return std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvalues().maxCoeff());
+}
+
 // (m - 1) / m times the scatter of `samples` about their mean: its worst axis's standard deviation.
 double JackknifeStd(const std::vector<Eigen::Vector3d>& samples) {
   const double m = static_cast<double>(samples.size());
@@ -263,17 +276,15 @@ TEST(FrameJackknife, StatesTheSpreadOfIndependentErrors) {
   std::mt19937 rng(TestSeed());
   const TwoCameraDrive d = MakeDrive(6, rng);
   constexpr int kDraws = 24;
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  std::vector<Eigen::Vector3d> errors;
   double stated = 0.0;
   for (int i = 0; i < kDraws; ++i) {
     const Solved s = SolveAndJackknife(d, Observe(d, 0.5, rng));
     ASSERT_TRUE(s.jackknife.rotation_std_deg[1]);
-    const Eigen::AngleAxisd e(s.ba.poses.cam_from_rig[1]->rotation * d.truth.cam_from_rig[1]->rotation.inverse());
-    const Eigen::Vector3d v = RadToDeg(e.angle()) * e.axis();
-    scatter += v * v.transpose() / kDraws;
+    errors.push_back(RotationErrorDeg(s, d));
     stated += *s.jackknife.rotation_std_deg[1] / kDraws;
   }
-  const double spread = std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvalues().maxCoeff());
+  const double spread = WorstAxisRms(errors);
   std::printf("rotation spread %.4f deg, jackknife %.4f deg\n", spread, stated);
   EXPECT_GT(stated, 0.6 * spread);
   EXPECT_LT(stated, 1.7 * spread);
@@ -286,18 +297,16 @@ TEST(PointJackknife, StatesTheSpreadOfErrorsEachFeatureRepeatsInItsViews) {
   std::mt19937 rng(TestSeed());
   const TwoCameraDrive d = MakeDrive(4, rng);
   constexpr int kDraws = 24;
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  std::vector<Eigen::Vector3d> errors;
   double stated = 0.0, covariance = 0.0;
   for (int i = 0; i < kDraws; ++i) {
     const Solved s = SolveAndJackknife(d, ObserveWithFeatureBias(d, 0.5, 0.05, rng));
     ASSERT_TRUE(s.points.rotation_std_deg[1] && s.ba.rotation_stddev_deg[1]);
-    const Eigen::AngleAxisd e(s.ba.poses.cam_from_rig[1]->rotation * d.truth.cam_from_rig[1]->rotation.inverse());
-    const Eigen::Vector3d v = RadToDeg(e.angle()) * e.axis();
-    scatter += v * v.transpose() / kDraws;
+    errors.push_back(RotationErrorDeg(s, d));
     stated += *s.points.rotation_std_deg[1] / kDraws;
     covariance += *s.ba.rotation_stddev_deg[1] / kDraws;
   }
-  const double spread = std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvalues().maxCoeff());
+  const double spread = WorstAxisRms(errors);
   std::printf("rotation spread %.4f deg, point jackknife %.4f deg, covariance %.4f deg\n", spread, stated, covariance);
   EXPECT_LT(covariance, 0.6 * spread) << "the case the covariance misses";
   EXPECT_GT(stated, 0.6 * spread);
@@ -393,18 +402,15 @@ TEST(PointJackknife, StatesTheSpreadOfErrorsThePointsOfARegionShare) {
   std::mt19937 rng(TestSeed());
   const TwoCameraDrive d = MakeDrive(4, rng);
   constexpr int kDraws = 24;
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  std::vector<Eigen::Vector3d> errors;
   double stated = 0.0;
   for (int i = 0; i < kDraws; ++i) {
-    const FrameKeypoints kp = ObserveWithRegionBias(d, 0.3, 0.05, rng);
-    const Solved s = SolveAndJackknife(d, kp);
+    const Solved s = SolveAndJackknife(d, ObserveWithRegionBias(d, 0.3, 0.05, rng));
     ASSERT_TRUE(s.points.rotation_std_deg[1]);
-    const Eigen::AngleAxisd e(s.ba.poses.cam_from_rig[1]->rotation * d.truth.cam_from_rig[1]->rotation.inverse());
-    const Eigen::Vector3d v = RadToDeg(e.angle()) * e.axis();
-    scatter += v * v.transpose() / kDraws;
+    errors.push_back(RotationErrorDeg(s, d));
     stated += *s.points.rotation_std_deg[1] / kDraws;
   }
-  const double spread = std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvalues().maxCoeff());
+  const double spread = WorstAxisRms(errors);
   std::printf("rotation spread %.4f deg, point jackknife %.4f deg\n", spread, stated);
   EXPECT_GT(stated, 0.6 * spread);
   EXPECT_LT(stated, 1.7 * spread);
