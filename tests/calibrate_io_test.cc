@@ -6,10 +6,12 @@
 // The dataset: the built-in street through a 3-camera ring placed by `make-rig --scene` (320x240,
 // 2 frames), plus a camera "back" that faces backwards and overlaps no other camera, so that one
 // camera cannot be calibrated.
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -329,6 +331,24 @@ TEST_F(CalibrateIo, PhotosWithoutTruthCalibrateAndPlotTheEstimateAlone) {
   EXPECT_NE(svg.find(" units</text>"), std::string::npos);
   EXPECT_TRUE(ReadJson(out / "evaluation.json")["methods"]["none"]["rig"]["summary"]["max_rotation_error_deg"].is_null())
       << "no truth: nothing compared";
+}
+
+// Output and errors sent to one log file (`rigsim calibrate ... > log 2>&1`, as a long run is kept)
+// stay in the order they were written: the closing error comes after the summary it refers to.
+TEST_F(CalibrateIo, OneLogFileKeepsOutputAndErrorsInOrder) {
+  const fs::path out = dir_ / "out", log = dir_ / "calibrate.log";
+  const std::string command = std::string(RIGSIM_BINARY) + " calibrate '" + dataset().string() + "' --out '" +
+                              out.string() + "' --semantics none --threads 2 > '" + log.string() + "' 2>&1";
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  ASSERT_EQ(WEXITSTATUS(status), 3) << ReadFile(log);
+  const std::string text = ReadFile(log);
+  const size_t summary = text.find("calibration took");
+  const size_t error = text.find("rigsim: not every camera was calibrated (");
+  ASSERT_NE(summary, std::string::npos) << text;
+  ASSERT_NE(error, std::string::npos) << text;
+  EXPECT_LT(summary, error) << text;
+  EXPECT_TRUE(error > 0 && text[error - 1] == '\n') << "the error starts a line of its own:\n" << text;
 }
 
 // Photos without labels: the default modes (none,mask) fall back to none with a warning saying so;

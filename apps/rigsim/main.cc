@@ -34,6 +34,8 @@ int main(int argc, char** argv) {
   rigsim::cli::AddSweepCommand(app);
   rigsim::cli::AddSweepMergeCommand(app);
   rigsim::cli::AddReportCommand(app);
+  // Line by line: output and errors sent to one log file keep the order they were written in.
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   try {
     rigsim::SelectCpuPaths();  // before any command writes anything
     app.parse(argc, argv);
