@@ -115,6 +115,7 @@ RigCalibrationResult CalibrateRig(const RigViews& views, const RigCalibrationOpt
   options.Check();
   PairwiseOptions pairwise = options.pairwise;
   pairwise.keep_match_details = pairwise.keep_match_details || options.keep_details;
+  options.Tell("matching the camera pairs");
   PairwiseResult matched = MatchRigPairs(views, pairwise);
   RigCalibrationResult r = EstimateRigFromPairs(views, matched, options);
   if (keep_matches != nullptr) *keep_matches = std::move(matched.matches);

@@ -141,6 +141,7 @@ RigCalibrationResult LinkWhereTheFullPassNeedsIt(const RigObservations& obs, Rig
                                                  const ViewPairMatcher& match, const RigCalibrationOptions& options,
                                                  RigObservations* used) {
   if (!NeedsMotionLinks(first, obs, options)) return first;
+  options.Tell("linking cameras through the rig's motion");
   const MotionLinks links = FindMotionLinks(obs, first.cam_from_rig_rotation, match, options);
   if (FoundNothing(links)) {
     SayWhatTheMotionFound(links, {}, &first);
@@ -158,6 +159,7 @@ RigCalibrationResult LinkWhereTheFullPassNeedsIt(const RigObservations& obs, Rig
 RigCalibrationResult LinkBeforeTheFullPass(const RigObservations& obs, const RigPreCheck& stop,
                                            const ViewPairMatcher& match, const RigCalibrationOptions& options,
                                            RigObservations* used) {
+  options.Tell("linking cameras through the rig's motion");
   const MotionLinks links = FindMotionLinks(obs, stop.cam_from_rig_rotation, match, options);
   std::optional<RigCalibrationResult> second;
   PredictionCheck check;
@@ -267,12 +269,14 @@ RigCalibrationResult RegisterWhereUnplaced(RigObservations used, RigCalibrationR
                                            const ViewPairMatcher& match, const RigCalibrationOptions& options) {
   constexpr int kMaxRounds = 3;
   for (int round = 0; round < kMaxRounds && options.registration.enabled && SomeCameraUnplaced(result); ++round) {
+    options.Tell("registering the unplaced cameras through tracks");
     const TrackRegistration reg = RegisterCamerasThroughTracks(used, result, match, options.registration);
     if (!reg.AnyRegistered()) {
       SayWhyNotRegistered(reg, "", &result);
       break;
     }
     RigObservations next = WithRegisteredViewPairs(used, reg);
+    options.Tell("adjusting the rig with the registered cameras");
     RegisteredRig second = AdjustRegisteredRig(next, result, reg, options);
     const std::string why_not = WhyNotKept(used, result, second);
     if (!why_not.empty()) {

@@ -37,6 +37,7 @@ RigObservations ReestimateWithIntrinsics(const RigObservations& obs, const std::
 
 RigCalibrationResult EstimateRigAndIntrinsics(const RigObservations& obs, const RigCalibrationOptions& options,
                                               const RigPass& pass) {
+  options.Tell("refining the intrinsics: the rig with the given ones first");
   RigCalibrationOptions first = options;
   first.bundle_adjustment.refine_intrinsics = true;
   first.max_rejected_pairs = 0;  // the pairs' poses are off by the given intrinsics' errors
@@ -48,6 +49,7 @@ RigCalibrationResult EstimateRigAndIntrinsics(const RigObservations& obs, const 
   RigCalibrationOptions second = options;
   second.bundle_adjustment.refine_intrinsics = true;
   second.bundle_adjustment.intrinsics_priors.centres = obs.cameras;
+  options.Tell("refining the intrinsics: the pairs and the rig again with the refined ones");
   const RigObservations reestimated = ReestimateWithIntrinsics(obs, refined, options.pairwise.two_view);
   RigCalibrationResult result = pass(reestimated, second);
   for (const PairEstimate& p : reestimated.pairs) result.reestimated_pairs.push_back(p.two_view);

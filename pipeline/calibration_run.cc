@@ -164,6 +164,7 @@ CalibrationRun CalibrateChecked(const CalibrationInputs& inputs, const Calibrati
   const std::vector<std::filesystem::path> photos = CheckPhotos(inputs, rig);
   const int num_threads = options.rig.pairwise.num_threads;
   const ParallelScope parallel(num_threads);
+  options.rig.Tell("detecting keypoints in " + std::to_string(photos.size()) + " photos");
   const FeatureCache features(DatasetLayout(inputs.dataset_dir), rig, inputs.frames, photos, modes, options.features,
                               options.reliable.Ids(), options.labels, num_threads, options.masks.get());
 
@@ -185,6 +186,10 @@ CalibrationRun CalibrateChecked(const CalibrationInputs& inputs, const Calibrati
     for (const RigCamera& rc : rig.cameras) views.readout_bottom_to_top.push_back(rc.readout_bottom_to_top);
     RigCalibrationOptions o = options.rig;
     o.pairwise.matching.gate_by_class = UsesGating(modes[m]);
+    if (options.rig.progress) {
+      const std::string mode(SemanticModeName(modes[m]));
+      o.progress = [tell = options.rig.progress, mode](const std::string& stage) { tell(mode + ": " + stage); };
+    }
     RigCalibrationResult& r = run.results[m];
     // The matches are kept to be scored against the truth and drawn.
     r = CalibrateRig(views, o, &matches[m]);

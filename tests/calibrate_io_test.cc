@@ -351,6 +351,24 @@ TEST_F(CalibrateIo, OneLogFileKeepsOutputAndErrorsInOrder) {
   EXPECT_TRUE(error > 0 && text[error - 1] == '\n') << "the error starts a line of its own:\n" << text;
 }
 
+// A long calibration says which stage it is in as each begins, on stderr, per semantic mode; the
+// tables on stdout stay as they are.
+TEST_F(CalibrateIo, ShowsEachStageAsItBegins) {
+  const CliResult r = Calibrate({"--semantics", "none,mask"}, dir_ / "out");
+  ExpectBackUncalibrated(r);
+  const size_t photos = r.err.find("  detecting keypoints in 8 photos\n");
+  ASSERT_NE(photos, std::string::npos) << r.err;
+  for (const std::string mode : {"none", "mask"}) {
+    const size_t matching = r.err.find("  " + mode + ": matching the camera pairs");
+    const size_t placing = r.err.find("  " + mode + ": placing the rig: rotations, tracks, bundle adjustment");
+    ASSERT_NE(matching, std::string::npos) << r.err;
+    ASSERT_NE(placing, std::string::npos) << r.err;
+    EXPECT_LT(photos, matching) << r.err;
+    EXPECT_LT(matching, placing) << r.err;
+  }
+  EXPECT_EQ(r.out.find("placing the rig"), std::string::npos) << r.out;
+}
+
 // Photos without labels: the default modes (none,mask) fall back to none with a warning saying so;
 // a mode that needs labels asked for by name is refused, saying what to do.
 TEST_F(CalibrateIo, PhotosWithoutLabelsCalibrateWithoutSemanticsOrSayWhatToDo) {

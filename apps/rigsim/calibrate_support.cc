@@ -3,9 +3,11 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <memory>
 
 #include "apps/rigsim/commands.h"
 #include "apps/rigsim/parse_errors.h"
+#include "apps/rigsim/progress.h"
 #include "common/format.h"
 #include "dataset/dataset.h"
 #include "dataset/output_folder.h"
@@ -248,7 +250,16 @@ CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const Ca
   std::fprintf(stderr, "calibrating %s (%s%s%s)...\n", dataset.string().c_str(), Count(plan.modes.size(), "semantic mode").c_str(),
                plan.labels_used ? (", labels: " + plan.label_text).c_str() : "",
                masks_text.empty() ? "" : (", masks: " + masks_text).c_str());
-  CalibrationRun run = CalibrateDataset(plan);
+  const auto stages = std::make_shared<StageLine>();
+  plan.options.rig.progress = [stages](const std::string& stage) { (*stages)(stage); };
+  CalibrationRun run;
+  try {
+    run = CalibrateDataset(plan);
+  } catch (...) {
+    stages->Finish();  // the error starts a line of its own
+    throw;
+  }
+  stages->Finish();
   for (const std::string& note : WriteCalibrationResults(run, staged.staging_dir())) Warn(note);
   staged.Commit();
 

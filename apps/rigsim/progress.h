@@ -1,8 +1,11 @@
 // A one-line progress display on stderr: "label  12/40" rewritten in place on a terminal,
-// printed at 25% steps otherwise (logs stay short); and how a time left reads in such lines.
+// printed at 25% steps otherwise (logs stay short); the stage a long run is in; and how a time
+// left reads in such lines.
 #pragma once
 
+#include <chrono>
 #include <cstdio>
+#include <mutex>
 #include <string>
 
 #include <unistd.h>
@@ -41,6 +44,34 @@ class Progress {
   std::string label_;
   bool tty_;
   int last_quarter_ = -1;
+};
+
+// The stages of a long run as each begins, with the time since the first: "  none: placing the
+// rig (at 12 s)". On a terminal one line rewritten in place and cleared by Finish, so that what
+// follows starts on a clean line; otherwise a line each. Safe to call from several threads.
+class StageLine {
+ public:
+  StageLine() : tty_(::isatty(2)), start_(std::chrono::steady_clock::now()) {}
+  void operator()(const std::string& stage) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    const std::string at = s < 1 ? "" : " (at " + DurationInWords(s) + ")";
+    std::fprintf(stderr, tty_ ? "\r\033[K  %s%s" : "  %s%s\n", stage.c_str(), at.c_str());
+    std::fflush(stderr);
+    shown_ = true;
+  }
+  void Finish() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (tty_ && shown_) std::fprintf(stderr, "\r\033[K");
+    std::fflush(stderr);
+    shown_ = false;
+  }
+
+ private:
+  bool tty_;
+  std::chrono::steady_clock::time_point start_;
+  std::mutex mutex_;
+  bool shown_ = false;
 };
 
 }  // namespace rigsim::cli

@@ -813,6 +813,8 @@ std::optional<RigCalibrationResult> EstimateRigRounds(const RigObservations& obs
   if (state.rejected.empty()) state.rejected.assign(obs.pairs.size(), "");
   if (state.direction_left_out.empty()) state.direction_left_out.assign(obs.pairs.size(), "");
   for (;;) {
+    options.Tell(state.round == 0 ? "placing the rig: rotations, tracks, bundle adjustment"
+                                  : "placing the rig again without a pair that disagrees with it");
     std::optional<RigCalibrationResult> next =
         EstimateRigOnce(state.kept ? *state.kept : obs, options, state.rejected, state.adjustments.get(), stop);
     if (!next) {

@@ -2,6 +2,7 @@
 // the known distance that gives a result metric scale.
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -157,9 +158,17 @@ struct RigCalibrationOptions {
   MotionLinkOptions motion;
   // Registration through tracks of the cameras left without a full pose (EstimateRigFromPairs only).
   TrackRegistrationOptions registration;
+  // Told, in a user's words, as each long stage begins ("matching the camera pairs", "placing the
+  // rig", ...), for a progress display; null: nothing is told. Called from the stage's thread, so
+  // from several at once where semantic modes run side by side.
+  std::function<void(const std::string& stage)> progress;
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;
+  // `progress` told `stage`, when there is a progress.
+  void Tell(const std::string& stage) const {
+    if (progress) progress(stage);
+  }
 };
 
 }  // namespace rigsim
