@@ -28,7 +28,9 @@ namespace rigsim {
 struct TwoViewOptions {
   // Fewer correspondences than this fail at once ("too few matches").
   int min_matches = 15;
-  // Fewer inliers than this after the fit fail ("too few inliers").
+  // Fewer inliers than this after the fit fail ("too few inliers"). A count, not an a contrario
+  // test: matches of repeated structure between views that share nothing pass such a test at
+  // 10^-3 (VALIDATION.md, "Where the calibrator's thresholds come from").
   int min_inliers = 30;
   // ... and so does a fit that explains less than this fraction of the correspondences: between
   // views that share nothing, RANSAC still finds a few dozen random matches that agree with
