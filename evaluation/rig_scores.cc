@@ -41,14 +41,18 @@ bool CapturesWithReference(const Rig& truth, size_t c) {
   return cam.time_offset_s == ref.time_offset_s && cam.readout_s == ref.readout_s;
 }
 
-RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate) {
+RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate, const TruthAccuracy& accuracy) {
   const size_t n = truth.cameras.size();
   if (!truth.HasAllPoses()) throw std::invalid_argument("ScoreRig: the truth needs every camera's cam_from_rig");
   if (estimate.cam_from_rig.size() != n || estimate.rotation_only.size() != n || estimate.open_axis.size() != n) {
     throw std::invalid_argument("ScoreRig: the estimate needs one entry per camera of the truth");
   }
+  if (!(accuracy.rotation_deg >= 0.0) || !(accuracy.position_m >= 0.0)) {
+    throw std::invalid_argument("ScoreRig: the truth's accuracy must be 0 or more");
+  }
   RigScores s;
   s.method = estimate.method;
+  s.truth_accuracy = accuracy;
   s.metric = estimate.metric;
   s.notes = estimate.notes;
   // Both rigs re-expressed with camera 0 as the rig frame.
@@ -132,8 +136,14 @@ RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate) {
     const auto stated = [c](const std::vector<std::optional<double>>& sd) {
       return c < sd.size() ? sd[c] : std::nullopt;
     };
-    const StatedError rotation{cs.rotation_error_deg, stated(estimate.rotation_std_deg)};
-    const StatedError direction{cs.posed ? cs.direction_error_deg : std::nullopt, stated(estimate.direction_std_deg)};
+    // Both cameras' truths are off: the relative rotation and the centres' difference by sqrt(2).
+    const double true_distance = Centre(true_from_cam0[c]).norm();
+    const double truth_direction_sd_deg =
+        true_distance > 1e-9 ? RadToDeg(std::sqrt(2.0) * accuracy.position_m / true_distance) : 0.0;
+    const StatedError rotation{cs.rotation_error_deg, stated(estimate.rotation_std_deg),
+                               std::sqrt(2.0) * accuracy.rotation_deg};
+    const StatedError direction{cs.posed ? cs.direction_error_deg : std::nullopt, stated(estimate.direction_std_deg),
+                                truth_direction_sd_deg};
     cs.rotation_sd_ratio = rotation.Ratio();
     cs.direction_sd_ratio = direction.Ratio();
     if (!cs.if_synchronised || CapturesWithReference(truth, c)) cs.overconfident = Overconfident({rotation, direction});
@@ -284,6 +294,8 @@ nlohmann::json RigScoresToJson(const RigScores& s) {
             {"max_across_axis_direction_error_deg", Opt(s.max_across_axis_direction_error_deg)},
             {"metric", s.metric},
             {"position_scale", s.scale},
+            {"truth_accuracy", {{"rotation_deg", s.truth_accuracy.rotation_deg},
+                                {"position_m", s.truth_accuracy.position_m}}},
             {"pose_auc_cameras", auc_cameras},
             {"pose_auc_pairs", auc_pairs}}},
           {"cameras", cameras},
@@ -340,9 +352,13 @@ std::string FormatRigScores(const std::vector<RigScores>& all) {
                                           : "");
     out += line;
     if (s.cameras_stating_sd > 0) {
+      const std::string truth_sd =
+          s.truth_accuracy.Exact() ? ""
+                                   : "; sd: the stated one and the truth's own, " + Deg(s.truth_accuracy.rotation_deg, "%g deg") +
+                                         " and " + Deg(s.truth_accuracy.position_m, "%g m") + " per camera (--truth-sd)";
       out += "  overconfident: " + std::to_string(s.overconfident) + " of " + std::to_string(s.cameras_stating_sd) +
              " camera(s) that state a standard deviation (rot/sd, dir/sd: an error beyond " +
-             Fixed(kOverconfidentSigmas, 0) + " sd and " + Deg(kOverconfidentFloorDeg, "%g deg") + ")\n";
+             Fixed(kOverconfidentSigmas, 0) + " sd and " + Deg(kOverconfidentFloorDeg, "%g deg") + truth_sd + ")\n";
     }
     if (s.cameras_if_synchronised > 0) {
       out += "  " + std::to_string(s.cameras_if_synchronised) + " camera(s) posed if synchronised (the rig's path " +

@@ -48,7 +48,8 @@ struct CameraScore {
   // the camera has (a peer, camera 0), and for a camera posed if synchronised that the truth has
   // capture at another time than camera 0 (the condition its deviations hold under is false).
   std::optional<bool> overconfident;
-  // Those errors over their stated standard deviations (+inf for a stated 0); nullopt as above.
+  // Those errors over their stated standard deviations, with the truth's own (TruthAccuracy)
+  // counted (+inf for 0); nullopt as above.
   std::optional<double> rotation_sd_ratio, direction_sd_ratio;
   std::optional<double> rotation_error_deg;
   std::optional<double> direction_error_deg;
@@ -64,8 +65,17 @@ struct PairScore {
   double pose_error_deg = 0.0;  // +inf without both full poses
 };
 
+// How well the truth itself is known, one standard deviation: each camera's orientation (deg)
+// and its position along each axis (m). 0 for a render's truth; a surveyed rig's otherwise.
+struct TruthAccuracy {
+  double rotation_deg = 0.0;
+  double position_m = 0.0;
+  bool Exact() const { return rotation_deg == 0.0 && position_m == 0.0; }
+};
+
 struct RigScores {
   std::string method;
+  TruthAccuracy truth_accuracy;  // what the overconfident verdicts counted of the truth's own error
   std::vector<CameraScore> cameras;  // truth order; camera 0 is the reference
   std::vector<PairScore> pairs;      // a < b in truth order
   double scale = 1.0;                // s of the position errors
@@ -101,7 +111,10 @@ inline constexpr double kAucThresholdsDeg[4] = {1.0, 2.0, 5.0, 10.0};
 
 // `truth` must give every camera's cam_from_rig (std::invalid_argument otherwise); `estimate`
 // has one entry per truth camera.
-RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate);
+// Each camera's errors are judged against its stated deviations together with what `accuracy`
+// gives the same errors: a relative rotation sqrt(2) rotation_deg, a direction from camera 0
+// sqrt(2) position_m over the cameras' true distance.
+RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate, const TruthAccuracy& accuracy = {});
 
 // A camera's errors as evaluation.json and the calibrate tables give them, for an estimate whose
 // own camera 0 is its rig frame (a rigsim calibration): the rotation error of a full pose or a

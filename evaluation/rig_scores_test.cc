@@ -263,6 +263,42 @@ TEST(RigScores, ErrorsBeyondThreeStatedDeviationsAreOverconfident) {
   EXPECT_EQ(ScoreRig(truth, turned).overconfident, 1);
 }
 
+// The truth's own accuracy (--truth-sd, a survey's) counts beside the stated deviations: a truth
+// coarser than the estimate cannot call it overconfident; an exact one judges as before.
+TEST(RigScores, TheTruthsOwnAccuracyCountsBesideTheStatedDeviations) {
+  const Rig truth = Truth();
+  RigEstimate e = EstimateOf(Moved(truth, 2, Eigen::Vector3d(0.05, 0, 0)));  // cam2's direction 2.9 deg off
+  e.rotation_only[1] =
+      Eigen::Quaterniond(Eigen::AngleAxisd(DegToRad(0.1), Eigen::Vector3d::UnitX())) * e.cam_from_rig[1]->rotation;
+  e.cam_from_rig[1].reset();  // cam1: rotation only, 0.1 deg off
+  e.rotation_std_deg = {std::nullopt, 0.01, 0.01};
+  e.direction_std_deg = {std::nullopt, std::nullopt, 0.5};
+  const RigScores exact = ScoreRig(truth, e);
+  ASSERT_EQ(exact.cameras[1].overconfident, true);
+  ASSERT_EQ(exact.cameras[2].overconfident, true);
+  EXPECT_TRUE(exact.truth_accuracy.Exact());
+  // Positions known to 2 cm: cam2's direction is known to sqrt(2) 2 cm over its distance from cam0.
+  const double distance = (truth.cameras[2].cam_from_rig->Inverse().translation -
+                           truth.cameras[0].cam_from_rig->Inverse().translation).norm();
+  const double truth_sd_deg = RadToDeg(std::sqrt(2.0) * 0.02 / distance);
+  const RigScores coarse = ScoreRig(truth, e, {0.05, 0.02});
+  EXPECT_NEAR(*coarse.cameras[2].direction_sd_ratio,
+              *coarse.cameras[2].direction_error_deg / std::hypot(0.5, truth_sd_deg), 1e-12);
+  EXPECT_NEAR(*coarse.cameras[1].rotation_sd_ratio, 0.1 / std::hypot(0.01, std::sqrt(2.0) * 0.05), 1e-9);
+  EXPECT_EQ(coarse.cameras[1].overconfident, false);
+  EXPECT_EQ(coarse.cameras[2].overconfident, false);
+  EXPECT_EQ(coarse.overconfident, 0);
+  // A truth good to 1 mm and 0.005 deg still finds both.
+  EXPECT_EQ(ScoreRig(truth, e, {0.005, 0.001}).overconfident, 2);
+  const nlohmann::json j = RigScoresToJson(coarse);
+  EXPECT_DOUBLE_EQ(j["summary"]["truth_accuracy"]["position_m"].get<double>(), 0.02);
+  EXPECT_DOUBLE_EQ(j["summary"]["truth_accuracy"]["rotation_deg"].get<double>(), 0.05);
+  const std::string table = FormatRigScores({coarse});
+  EXPECT_NE(table.find("the truth's own, 0.05 deg and 0.02 m per camera (--truth-sd)"), std::string::npos) << table;
+  EXPECT_EQ(FormatRigScores({exact}).find("--truth-sd"), std::string::npos);
+  EXPECT_THROW(ScoreRig(truth, e, {-0.1, 0.0}), std::invalid_argument);
+}
+
 // A pose that holds if synchronised is judged against its stated deviations where the truth's
 // camera captured with camera 0, and not where it did not (the condition was stated, and is false).
 TEST(RigScores, APoseIfSynchronisedIsJudgedOnlyWhereTheTruthIsSynchronised) {

@@ -34,15 +34,22 @@ bool ConfidentlyWrong(bool reported_placed, double error_deg) {
   return reported_placed && error_deg > kConfidentlyWrongDeg;
 }
 
+std::optional<double> StatedError::JudgedSd() const {
+  if (!stated_sd_deg) return std::nullopt;
+  return truth_sd_deg > 0.0 ? std::hypot(*stated_sd_deg, truth_sd_deg) : *stated_sd_deg;
+}
+
 std::optional<double> StatedError::Ratio() const {
-  if (!error_deg || !stated_sd_deg) return std::nullopt;
-  if (*stated_sd_deg <= 0.0) return std::numeric_limits<double>::infinity();
-  return *error_deg / *stated_sd_deg;
+  const std::optional<double> sd = JudgedSd();
+  if (!error_deg || !sd) return std::nullopt;
+  if (*sd <= 0.0) return std::numeric_limits<double>::infinity();
+  return *error_deg / *sd;
 }
 
 bool StatedError::Beyond() const {
-  if (!error_deg || !stated_sd_deg) return false;
-  return *error_deg > std::max(kOverconfidentSigmas * *stated_sd_deg, kOverconfidentFloorDeg);
+  const std::optional<double> sd = JudgedSd();
+  if (!error_deg || !sd) return false;
+  return *error_deg > std::max(kOverconfidentSigmas * *sd, kOverconfidentFloorDeg);
 }
 
 std::optional<bool> Overconfident(const std::vector<StatedError>& errors) {

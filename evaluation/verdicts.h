@@ -76,9 +76,14 @@ inline constexpr double kOverconfidentFloorDeg = 0.05;
 struct StatedError {
   std::optional<double> error_deg;
   std::optional<double> stated_sd_deg;
-  // error / stated sd; nullopt without both, +inf for a stated sd of 0.
+  // The truth's own standard deviation in the same error (deg): 0 for a render's exact truth; a
+  // survey's otherwise. The error is judged against both deviations together.
+  double truth_sd_deg = 0.0;
+  // sqrt(stated sd^2 + truth sd^2); nullopt without a stated sd.
+  std::optional<double> JudgedSd() const;
+  // error / JudgedSd; nullopt without both, +inf for a judged sd of 0.
   std::optional<double> Ratio() const;
-  // Both known and the error beyond max(kOverconfidentSigmas * sd, kOverconfidentFloorDeg).
+  // Both known and the error beyond max(kOverconfidentSigmas * JudgedSd, kOverconfidentFloorDeg).
   bool Beyond() const;
 };
 

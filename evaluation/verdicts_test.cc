@@ -51,6 +51,19 @@ TEST(Verdicts, OverconfidentIsBeyondThreeStatedDeviationsAndTheFloor) {
   EXPECT_FALSE(Overconfident({{0.4, std::nullopt}, {std::nullopt, 0.1}}).has_value());  // nothing to judge
 }
 
+// The truth's own deviation (a survey's) counts beside the stated one: 0.2 deg at a stated 0.05 is
+// 4 sd against an exact truth, 1.9 against one good to 0.1.
+TEST(Verdicts, TheTruthsOwnDeviationCountsBesideTheStatedOne) {
+  EXPECT_TRUE((StatedError{0.2, 0.05}.Beyond()));
+  EXPECT_FALSE((StatedError{0.2, 0.05, 0.1}.Beyond()));
+  EXPECT_DOUBLE_EQ(StatedError({0.2, 0.05, 0.1}).JudgedSd().value(), std::hypot(0.05, 0.1));
+  EXPECT_DOUBLE_EQ(StatedError({0.2, 0.05, 0.1}).Ratio().value(), 0.2 / std::hypot(0.05, 0.1));
+  EXPECT_DOUBLE_EQ(StatedError({0.2, 0.05, 0.0}).Ratio().value(), 4.0);
+  EXPECT_FALSE(StatedError({0.2, std::nullopt, 0.1}).JudgedSd().has_value());  // nothing stated: not judged
+  EXPECT_FALSE(StatedError({0.2, std::nullopt, 0.1}).Beyond());
+  EXPECT_TRUE((StatedError{0.2, 0.0, 0.05}.Beyond()));  // a stated 0 against a truth good to 0.05
+}
+
 TEST(Verdicts, ConfidentlyWrongIsAFullPoseBeyondFiveDegrees) {
   EXPECT_TRUE(ConfidentlyWrong(true, 5.7));
   EXPECT_FALSE(ConfidentlyWrong(true, 5.0));

@@ -412,6 +412,28 @@ TEST_F(RigsimCli, EvaluateGivesPositionsInMetresAndModesInCalibratesOrder) {
   EXPECT_EQ(metric.out.find("after fitting"), std::string::npos) << metric.out;
 }
 
+// --truth-sd takes the truth's accuracy as ROT_DEG,POS_M: the summary says it counted it, JSON
+// records it, and anything else is refused naming the option, with no --json written.
+TEST_F(RigsimCli, EvaluateTakesTheTruthsAccuracyOrSaysWhatItNeeds) {
+  const fs::path dataset = base() / "dataset";
+  const fs::path json = dir_ / "scores.json";
+  for (const std::string bad : {"0.02", "0.02,-1", "a,b", "0.02,0.003,1"}) {
+    const CliResult r = Run({"evaluate", dataset.string(), (dataset / "rig.json").string(), "--truth-sd", bad, "--json",
+                             json.string()});
+    EXPECT_EQ(r.code, 1) << bad;
+    EXPECT_NE(r.err.find("--truth-sd " + bad + ": needs two numbers, ROT_DEG,POS_M, each 0 or more"), std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(json)) << bad;
+  }
+  const CliResult r = Run({"evaluate", dataset.string(), (dataset / "rig.json").string(), "--truth-sd", "0.02,0.003",
+                           "--json", json.string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json scores = nlohmann::json::parse(ReadFile(json));
+  const nlohmann::json& accuracy = scores["methods"].begin().value()["summary"]["truth_accuracy"];
+  EXPECT_DOUBLE_EQ(accuracy["rotation_deg"].get<double>(), 0.02) << scores.dump();
+  EXPECT_DOUBLE_EQ(accuracy["position_m"].get<double>(), 0.003) << scores.dump();
+}
+
 // Messages count in words: one frame, one semantic mode, never "1 frames".
 TEST_F(RigsimCli, CountsOfOneAreSingular) {
   const CliResult rig = Run({"make-rig", "ring", "--cameras", "2", "--frames", "1", "--out", (dir_ / "rig").string()});

@@ -1,8 +1,10 @@
 // rigsim evaluate DATASET ESTIMATE, or ESTIMATE --truth RIG: scores a rig estimate of any tool
 // against a rendered dataset's truth or a rig file's (a surveyed rig's, for real photos).
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 
 #include "apps/rigsim/commands.h"
@@ -109,11 +111,33 @@ Rig TruthFromRigFile(const fs::path& rig_file, const fs::path& estimate, nlohman
   return truth;
 }
 
+// --truth-sd ROT_DEG,POS_M; "" is an exact truth.
+TruthAccuracy ParseTruthSd(const std::string& text) {
+  TruthAccuracy out;
+  if (text.empty()) return out;
+  const size_t comma = text.find(',');
+  const auto number = [](const std::string& s, double* v) {
+    size_t used = 0;
+    try {
+      *v = std::stod(s, &used);
+    } catch (const std::exception&) {
+      return false;
+    }
+    return used == s.size() && std::isfinite(*v) && *v >= 0.0;
+  };
+  if (comma == std::string::npos || !number(text.substr(0, comma), &out.rotation_deg) ||
+      !number(text.substr(comma + 1), &out.position_m)) {
+    throw std::runtime_error("--truth-sd " + text + ": needs two numbers, ROT_DEG,POS_M, each 0 or more (e.g. "
+                             "0.02,0.003: the truth has each camera's orientation to 0.02 deg and its position to 3 mm)");
+  }
+  return out;
+}
+
 }  // namespace
 
 void AddEvaluateCommand(CLI::App& app) {
   struct Args {
-    std::string first, second, truth, json, scale = "auto";
+    std::string first, second, truth, json, scale = "auto", truth_sd;
     bool force = false;
   };
   auto args = std::make_shared<Args>();
@@ -138,13 +162,20 @@ void AddEvaluateCommand(CLI::App& app) {
       "(with --truth: the estimate's first camera that the truth has; a COLMAP model's: the truth's\n"
       "first it has). When the estimate states\n"
       "standard deviations (a calibration folder), each error over its deviation (rot/sd, dir/sd) and\n"
-      "the cameras overconfident: an error beyond 3 sd and 0.05 deg.\n"
+      "the cameras overconfident: an error beyond 3 sd and 0.05 deg (the sd counting the truth's own\n"
+      "with --truth-sd).\n"
       "Exit code 0 when scored (whatever the errors), 1 on bad input.");
   cmd->add_option("DATASET", args->first, "rendered dataset (its rig.json holds the true poses); with --truth: ESTIMATE");
   cmd->add_option("ESTIMATE", args->second, "rig.json, calibration folder, COLMAP model or Kalibr camchain.yaml");
   cmd->add_option("--truth", args->truth,
                   "the true rig, instead of a rendered DATASET: any file make-rig --type file --rig-file reads")
       ->check(CLI::ExistingPath);
+  cmd->add_option("--truth-sd", args->truth_sd,
+                  "ROT_DEG,POS_M: how well the truth itself is known, one standard deviation: each camera's\n"
+                  "orientation (deg) and its position along each axis (m), e.g. a survey's 0.02,0.003. An error\n"
+                  "is then judged against the estimate's stated deviation and the truth's together (a relative\n"
+                  "rotation sqrt(2) ROT_DEG, a direction sqrt(2) POS_M over the cameras' distance): a truth\n"
+                  "coarser than the estimate cannot call it overconfident. Default 0: exact, as a render's");
   cmd->add_option("--json", args->json, "also write the scores as JSON to this file (- for standard output; see --force)");
   cmd->add_flag("--force", args->force, "replace an existing --json file");
   cmd->add_option("--scale", args->scale,
@@ -153,6 +184,7 @@ void AddEvaluateCommand(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "metric", "fit"}));
   cmd->callback([args] {
+    const TruthAccuracy truth_accuracy = ParseTruthSd(args->truth_sd);
     const bool with_truth = !args->truth.empty();
     if (with_truth && !args->second.empty()) {
       throw std::runtime_error("evaluate: --truth replaces DATASET: give ESTIMATE only (rigsim evaluate ESTIMATE --truth "
@@ -207,7 +239,7 @@ void AddEvaluateCommand(CLI::App& app) {
         for (const auto& n : not_scored[side]) names += (names.empty() ? "" : ", ") + n.get<std::string>();
         e.notes.push_back(std::string("not scored, only in the ") + (side[8] == 't' ? "truth" : "estimate") + ": " + names);
       }
-      scores.push_back(ScoreRig(truth, e));
+      scores.push_back(ScoreRig(truth, e, truth_accuracy));
       nlohmann::json j = RigScoresToJson(scores.back());
       if (!e.details.is_null()) j["reported"] = e.details;
       methods[e.method] = std::move(j);
