@@ -398,6 +398,29 @@ TEST_F(CalibrateIo, PhotosWithoutLabelsCalibrateWithoutSemanticsOrSayWhatToDo) {
   EXPECT_FALSE(fs::exists(refused));
 }
 
+// The teaching report plans its calibration as calibrate does: from photos without labels its
+// default modes fall back to none with the same warning, and a mode that needs them is refused.
+TEST_F(CalibrateIo, ReportOfPhotosWithoutLabelsFallsBackAsCalibrateDoes) {
+  const fs::path photos = dir_ / "photos";
+  fs::create_directories(photos);
+  fs::copy(dataset() / "images", photos / "images", fs::copy_options::recursive);
+  fs::copy_file(dataset() / "rig.json", photos / "rig.json");
+  const fs::path out = dir_ / "report";
+  const CliResult r = RunRigsim({"report", photos.string(), "--out", out.string(), "--threads", "2"}, dir_ / "default");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: " + photos.string() + " has no labels/: calibrating with --semantics none only"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("  none: placing the rig"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(out / "index.html"));
+  const fs::path refused = dir_ / "refused";
+  const CliResult mask =
+      RunRigsim({"report", photos.string(), "--out", refused.string(), "--semantics", "mask", "--threads", "2"}, dir_ / "mask");
+  EXPECT_EQ(mask.code, 1) << mask.err;
+  EXPECT_NE(mask.err.find("--semantics mask needs a label image per photo"), std::string::npos) << mask.err;
+  EXPECT_FALSE(fs::exists(refused));
+}
+
 TEST_F(CalibrateIo, UserLabelsInIdsAndInColoursGiveIdenticalResults) {
   // Any ids the palette maps back uniquely: the truth with its colour-ambiguous void ids made 0.
   auto ids = [](ImageU8 l, const std::string&, const std::string&) { return LabelsFromColors(ColorizeLabels(l), "x"); };

@@ -3,7 +3,6 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
-#include <memory>
 
 #include "apps/rigsim/commands.h"
 #include "apps/rigsim/parse_errors.h"
@@ -221,11 +220,22 @@ OutputFolderRequest CalibrationOutputFolder(const std::filesystem::path& dataset
   return out;
 }
 
-namespace {
-
 void Warn(const std::string& warning) { std::fprintf(stderr, "warning: %s\n", warning.c_str()); }
 
-}  // namespace
+CalibrationRun ShowingStages(
+    const std::function<CalibrationRun(const std::function<void(const std::string&)>& tell)>& calibrate) {
+  StageLine stages;
+  CalibrationRun run;
+  try {
+    run = calibrate([&stages](const std::string& stage) { stages(stage); });
+  } catch (...) {
+    stages.Finish();  // the error starts a line of its own
+    throw;
+  }
+  stages.Finish();
+  run.options.rig.progress = nullptr;  // it told `stages`, which ends here
+  return run;
+}
 
 CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const CalibrateSettings& settings,
                                   const std::filesystem::path& out_dir, bool force) {
@@ -250,16 +260,11 @@ CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const Ca
   std::fprintf(stderr, "calibrating %s (%s%s%s)...\n", dataset.string().c_str(), Count(plan.modes.size(), "semantic mode").c_str(),
                plan.labels_used ? (", labels: " + plan.label_text).c_str() : "",
                masks_text.empty() ? "" : (", masks: " + masks_text).c_str());
-  const auto stages = std::make_shared<StageLine>();
-  plan.options.rig.progress = [stages](const std::string& stage) { (*stages)(stage); };
-  CalibrationRun run;
-  try {
-    run = CalibrateDataset(plan);
-  } catch (...) {
-    stages->Finish();  // the error starts a line of its own
-    throw;
-  }
-  stages->Finish();
+  CalibrationRun run = ShowingStages([&plan](const std::function<void(const std::string&)>& tell) {
+    plan.options.rig.progress = tell;
+    return CalibrateDataset(plan);
+  });
+  plan.options.rig.progress = nullptr;  // it told ShowingStages' line, which has ended
   for (const std::string& note : WriteCalibrationResults(run, staged.staging_dir())) Warn(note);
   staged.Commit();
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,15 @@ void AddMaskOption(CLI::App& cmd, CalibrateSettings& settings);
 // must not be replaced. Named "--out" unless `out_dir` is the default, DATASET/calibration.
 OutputFolderRequest CalibrationOutputFolder(const std::filesystem::path& dataset, const CalibrateSettings& settings,
                                             const std::filesystem::path& out_dir, bool force);
+
+// "warning: `warning`" on stderr, as the calibrating commands give their warnings.
+void Warn(const std::string& warning);
+
+// `calibrate(tell)`, each stage it tells shown on stderr as it begins (progress.h StageLine), the
+// line cleared before anything else is written, whether it returns or throws. For the
+// calibration's options.rig.progress.
+CalibrationRun ShowingStages(
+    const std::function<CalibrationRun(const std::function<void(const std::string&)>& tell)>& calibrate);
 
 // Calibrates the rig of `dataset` in each semantic mode (pipeline/calibration_plan.h, which checks
 // the inputs first and drops the default modes that need labels when the dataset has none), writes

@@ -11,6 +11,7 @@
 #include "common/format.h"
 #include "common/param_spec.h"
 #include "dataset/dataset.h"
+#include "pipeline/calibration_plan.h"
 #include "pipeline/calibration_run.h"
 
 namespace rigsim::cli {
@@ -128,20 +129,25 @@ void AddReportCommand(CLI::App& app) {
     if (!args->calibration.empty()) {
       TakeModesAndLabelsFrom(args->calibration, &args->settings, &args->features, cmd->count("--features") > 0);
     }
-    CalibrationRunOptions options = args->settings.ToOptions();
-    options.features.type = FeatureTypeFromName(args->features);
-    options.rig.keep_details = true;
-    const std::vector<SemanticMode> modes = args->settings.Modes();
+    // Planned as calibrate plans it: the default modes that need labels dropped, with a warning,
+    // from a dataset without them; the inputs read and checked against the options.
+    CalibrationRequest request;
+    request.dataset = dataset;
+    request.options = args->settings.ToOptions();
+    request.options.features.type = FeatureTypeFromName(args->features);
+    request.options.rig.keep_details = true;
+    request.modes = args->settings.Modes();
+    request.modes_given = !args->calibration.empty() || cmd->count("--semantics") > 0;
     // The report must not replace what it shows: the dataset, the calibration, the sweep, the scene.
-    OutputFolderRequest out = CalibrationOutputFolder(dataset, args->settings, args->out, args->force);
+    request.out = CalibrationOutputFolder(dataset, args->settings, args->out, args->force);
+    OutputFolderRequest& out = request.out;
     out.option = "--out";
     out.written_by = "rigsim report";
     if (!args->calibration.empty()) out.inputs.push_back({args->calibration, "--calibration"});
     if (!args->sweep.empty()) out.inputs.push_back({args->sweep, "--sweep"});
     if (!args->scene.empty()) out.inputs.push_back({args->scene, "--scene"});
-    CheckReplaceableOutput(out);
-    const CalibrationInputs inputs = ReadCalibrationInputs(dataset);
-    for (const std::string& w : inputs.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    CalibrationPlan plan = PlanCalibration(request, Warn);
+    const CalibrationInputs& inputs = plan.inputs;
     args->report.scene = args->scene.empty() ? FindSceneOf(dataset, inputs.frames) : fs::path(args->scene);
     if (args->report.scene.empty()) {
       const std::string which =
@@ -156,8 +162,12 @@ void AddReportCommand(CLI::App& app) {
                            (args->sweep.empty() ? "" : " --sweep " + args->sweep) +
                            (args->scene.empty() ? "" : " --scene " + args->scene);
     std::fprintf(stderr, "calibrating %s for the report (%s)...\n", dataset.string().c_str(),
-                 Count(modes.size(), "semantic mode").c_str());
-    const CalibrationRun run = CalibrateDataset(inputs, options, modes);
+                 Count(plan.modes.size(), "semantic mode").c_str());
+    const CalibrationRun run = ShowingStages([&plan](const std::function<void(const std::string&)>& tell) {
+      plan.options.rig.progress = tell;
+      return CalibrateDataset(plan);
+    });
+    plan.options.rig.progress = nullptr;  // it told ShowingStages' line, which has ended
     if (!args->calibration.empty()) {
       const std::vector<std::string> differences = CompareWithSaved(run, args->calibration);
       for (const std::string& d : differences) {
@@ -165,7 +175,7 @@ void AddReportCommand(CLI::App& app) {
                      "the report shows this run\n", args->calibration.c_str(), d.c_str());
       }
     }
-    const fs::path index = WriteReportFolder(run, args->report, out);
+    const fs::path index = WriteReportFolder(run, args->report, plan.out);
     std::printf("calibration took %.1f s; report: %s\n", run.seconds, index.string().c_str());
   });
 }
