@@ -94,6 +94,14 @@ class CalibrateIo : public testing::Test {
     const size_t end = r.err.find(')', list);
     EXPECT_NE(r.err.substr(list, end - list).find("back"), std::string::npos) << r.err;
   }
+  // The dataset's images and rig.json alone in <dir_>/photos: photos without labels.
+  fs::path PhotosWithoutLabels() {
+    const fs::path photos = dir_ / "photos";
+    fs::create_directories(photos);
+    fs::copy(dataset() / "images", photos / "images", fs::copy_options::recursive);
+    fs::copy_file(dataset() / "rig.json", photos / "rig.json");
+    return photos;
+  }
   CliResult Calibrate(std::vector<std::string> extra, const fs::path& out) {
     std::vector<std::string> args = {"calibrate", dataset().string(), "--out", out.string()};
     args.insert(args.end(), extra.begin(), extra.end());
@@ -372,10 +380,7 @@ TEST_F(CalibrateIo, ShowsEachStageAsItBegins) {
 // Photos without labels: the default modes (none,mask) fall back to none with a warning saying so;
 // a mode that needs labels asked for by name is refused, saying what to do.
 TEST_F(CalibrateIo, PhotosWithoutLabelsCalibrateWithoutSemanticsOrSayWhatToDo) {
-  const fs::path photos = dir_ / "photos";
-  fs::create_directories(photos);
-  fs::copy(dataset() / "images", photos / "images", fs::copy_options::recursive);
-  fs::copy_file(dataset() / "rig.json", photos / "rig.json");
+  const fs::path photos = PhotosWithoutLabels();
   const fs::path out = dir_ / "out";
   const CliResult r = RunRigsim({"calibrate", photos.string(), "--out", out.string(), "--threads", "2"}, dir_ / "default");
   ExpectBackUncalibrated(r);
@@ -401,10 +406,7 @@ TEST_F(CalibrateIo, PhotosWithoutLabelsCalibrateWithoutSemanticsOrSayWhatToDo) {
 // The teaching report plans its calibration as calibrate does: from photos without labels its
 // default modes fall back to none with the same warning, and a mode that needs them is refused.
 TEST_F(CalibrateIo, ReportOfPhotosWithoutLabelsFallsBackAsCalibrateDoes) {
-  const fs::path photos = dir_ / "photos";
-  fs::create_directories(photos);
-  fs::copy(dataset() / "images", photos / "images", fs::copy_options::recursive);
-  fs::copy_file(dataset() / "rig.json", photos / "rig.json");
+  const fs::path photos = PhotosWithoutLabels();
   const fs::path out = dir_ / "report";
   const CliResult r = RunRigsim({"report", photos.string(), "--out", out.string(), "--threads", "2"}, dir_ / "default");
   ASSERT_EQ(r.code, 0) << r.err;
