@@ -55,8 +55,13 @@ class StageLine {
   void operator()(const std::string& stage) {
     const std::lock_guard<std::mutex> lock(mutex_);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    const std::string at = s < 1 ? "" : " (at " + DurationInWords(s) + ")";
-    std::fprintf(stderr, tty_ ? "\r\033[K  %s%s" : "  %s%s\n", stage.c_str(), at.c_str());
+    char at[48] = "";
+    if (s >= 60) {
+      std::snprintf(at, sizeof at, " (at %d min %02d s)", static_cast<int>(s) / 60, static_cast<int>(s) % 60);
+    } else if (s >= 1) {
+      std::snprintf(at, sizeof at, " (at %.0f s)", s);
+    }
+    std::fprintf(stderr, tty_ ? "\r\033[K  %s%s" : "  %s%s\n", stage.c_str(), at);
     std::fflush(stderr);
     shown_ = true;
   }
