@@ -218,6 +218,14 @@ TEST_F(RefineIntrinsicsCli, GivenIntrinsicsDeviationsWidenTheStatedDeviationsNot
       ++wider;
     }
     EXPECT_FALSE(cams_a[i].contains("rotation_intrinsics_std_deg")) << i;
+    // Where the jackknife states the deviation, the intrinsics' share adds to it in quadrature.
+    for (const std::string what : {"rotation", "direction"}) {
+      const Json& cam = cams_b[i];
+      if (cam.at(what + "_jackknife_std_deg").is_null() || !cam.contains(what + "_intrinsics_std_deg")) continue;
+      const double jackknife = cam.at(what + "_jackknife_std_deg").get<double>();
+      const double share = cam.at(what + "_intrinsics_std_deg").get<double>();
+      EXPECT_GE(cam.at(what + "_std_deg").get<double>(), std::hypot(jackknife, share) * (1 - 1e-12)) << cam.dump();
+    }
     placed += cams_a[i].at("calibrated").get<bool>();
     // At 0.2 % and 1 px: the same pose, or none (its direction beyond the placement bound).
     const Json pose = rig_c.at("cameras")[i].value("cam_from_rig", Json());

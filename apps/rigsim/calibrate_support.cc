@@ -98,6 +98,30 @@ CalibrationRunOptions CalibrateSettings::ToOptions() const {
   return o;
 }
 
+GivenIntrinsicsDeviation ParseIntrinsicsSd(const std::string& text) {
+  const std::string usage = "give F,P: the focal lengths' standard deviation as a fraction (0.002 is 0.2 %) and the "
+                            "principal point's in pixels (got " + text + ")";
+  const size_t comma = text.find(',');
+  if (comma == std::string::npos || text.find(',', comma + 1) != std::string::npos) throw std::invalid_argument(usage);
+  double values[2] = {0.0, 0.0};
+  const std::string parts[2] = {text.substr(0, comma), text.substr(comma + 1)};
+  for (int i = 0; i < 2; ++i) {
+    if (!CLI::detail::lexical_cast(parts[i], values[i]) || !std::isfinite(values[i])) throw std::invalid_argument(usage);
+  }
+  GivenIntrinsicsDeviation sd;
+  sd.focal_fraction = values[0];
+  sd.principal_point_px = values[1];
+  if (!(sd.focal_fraction >= 0 && sd.focal_fraction < 0.5)) {
+    throw std::invalid_argument("F, the focal lengths' standard deviation as a fraction, must be 0 or more and below "
+                                "0.5 (got " + parts[0] + " in " + text + ")");
+  }
+  if (!(sd.principal_point_px >= 0)) {
+    throw std::invalid_argument("P, the principal point's standard deviation in pixels, must be 0 or more (got " +
+                                parts[1] + " in " + text + ")");
+  }
+  return sd;
+}
+
 std::vector<SemanticMode> CalibrateSettings::Modes() const {
   std::vector<SemanticMode> modes;
   for (const std::string& s : semantics) {
@@ -246,30 +270,6 @@ OutputFolderRequest CalibrationOutputFolder(const std::filesystem::path& dataset
   if (!settings.segmenter.model.empty()) out.inputs.push_back({settings.segmenter.model, "--segmenter"});
   if (!settings.mask.empty()) out.inputs.push_back({settings.mask, "--mask"});
   return out;
-}
-
-GivenIntrinsicsDeviation ParseIntrinsicsSd(const std::string& text) {
-  const std::string usage = "give F,P: the focal lengths' standard deviation as a fraction (0.002 is 0.2 %) and the "
-                            "principal point's in pixels (got " + text + ")";
-  const size_t comma = text.find(',');
-  if (comma == std::string::npos || text.find(',', comma + 1) != std::string::npos) throw std::invalid_argument(usage);
-  double values[2] = {0.0, 0.0};
-  const std::string parts[2] = {text.substr(0, comma), text.substr(comma + 1)};
-  for (int i = 0; i < 2; ++i) {
-    if (!CLI::detail::lexical_cast(parts[i], values[i]) || !std::isfinite(values[i])) throw std::invalid_argument(usage);
-  }
-  GivenIntrinsicsDeviation sd;
-  sd.focal_fraction = values[0];
-  sd.principal_point_px = values[1];
-  if (!(sd.focal_fraction >= 0 && sd.focal_fraction < 0.5)) {
-    throw std::invalid_argument("F, the focal lengths' standard deviation as a fraction, must be 0 or more and below "
-                                "0.5 (got " + parts[0] + " in " + text + ")");
-  }
-  if (!(sd.principal_point_px >= 0)) {
-    throw std::invalid_argument("P, the principal point's standard deviation in pixels, must be 0 or more (got " +
-                                parts[1] + " in " + text + ")");
-  }
-  return sd;
 }
 
 namespace {
