@@ -1,6 +1,7 @@
 #include "calibrator/calibrate_rig.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -79,13 +80,20 @@ void MarkPairsTheRigLeftOut(RigCalibrationResult* result) {
 // and over points, jackknife.h): the covariance alone states a pose several times too tightly
 // where the keypoints' error is structured, and a deviation rigsim states must bound its error.
 // The placement bound (max_direction_std_deg) stays on the covariance, where it was measured.
+// The jackknives measure the data's spread alone: the given intrinsics' share of the covariance
+// (RigCameraStats::direction_intrinsics_std_deg), independent of it, adds in quadrature.
 void StateJackknives(RigCalibrationResult* result) {
+  const auto with_intrinsics = [](double jackknife, const std::optional<double>& intrinsics) {
+    return intrinsics ? std::hypot(jackknife, *intrinsics) : jackknife;
+  };
   for (RigCameraStats& s : result->camera_stats) {
     if (s.rotation_std_deg && s.rotation_jackknife_std_deg) {
-      s.rotation_std_deg = std::max(*s.rotation_std_deg, *s.rotation_jackknife_std_deg);
+      s.rotation_std_deg =
+          std::max(*s.rotation_std_deg, with_intrinsics(*s.rotation_jackknife_std_deg, s.rotation_intrinsics_std_deg));
     }
     if (s.direction_std_deg && s.direction_jackknife_std_deg) {
-      s.direction_std_deg = std::max(*s.direction_std_deg, *s.direction_jackknife_std_deg);
+      s.direction_std_deg =
+          std::max(*s.direction_std_deg, with_intrinsics(*s.direction_jackknife_std_deg, s.direction_intrinsics_std_deg));
     }
   }
 }

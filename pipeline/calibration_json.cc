@@ -203,6 +203,9 @@ Json RigResultJson(const RigCalibrationResult& r, const CalibrationScores* truth
     j["rotation_std_deg"] = json_io::OptionalNumber(s.rotation_std_deg);
     j["direction_jackknife_std_deg"] = json_io::OptionalNumber(s.direction_jackknife_std_deg);
     j["rotation_jackknife_std_deg"] = json_io::OptionalNumber(s.rotation_jackknife_std_deg);
+    // With --intrinsics-sd only: the given intrinsics' share of the two deviations.
+    if (s.direction_intrinsics_std_deg) j["direction_intrinsics_std_deg"] = *s.direction_intrinsics_std_deg;
+    if (s.rotation_intrinsics_std_deg) j["rotation_intrinsics_std_deg"] = *s.rotation_intrinsics_std_deg;
     j["rotation_error_deg"] = json_io::OptionalNumber(e.rotation_error_deg);
     j["translation_direction_error_deg"] = json_io::OptionalNumber(e.translation_direction_error_deg);
     j["position_error_m"] = json_io::OptionalNumber(e.position_error_m);
@@ -449,6 +452,14 @@ Json EvaluationJson(const CalibrationRun& run) {
   Json out = {{"methods", methods}, {"features", std::string(FeatureTypeName(run.options.features.type))}};
   if (run.options.intrinsics_error.Enabled()) out["intrinsics_error"] = IntrinsicsErrorJson(run);
   if (run.options.masks) out["masks"] = RigMasksJson(run);
+  if (const auto& sd = run.options.rig.bundle_adjustment.given_intrinsics_sd) {
+    out["intrinsics_sd"] = {
+        {"focal_fraction", sd->focal_fraction},
+        {"principal_point_px", sd->principal_point_px},
+        {"meaning", "calibrate --intrinsics-sd F,P: the standard deviations of the given fx and fy (a fraction "
+                    "of each) and of cx and cy (px); the poses are estimated with the intrinsics held as without "
+                    "it, their stated deviations add what these move them by"}};
+  }
   return out;
 }
 

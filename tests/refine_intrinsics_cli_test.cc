@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -167,6 +168,90 @@ TEST_F(RefineIntrinsicsCli, AnIntrinsicsErrorGivesTheCalibratorIntrinsicsOffTheT
   const Json& rig = evaluation.at("methods").at("none").at("rig").at("cameras");
   ASSERT_EQ(rig.size(), 4u);
   EXPECT_TRUE(rig[0].at("calibrated").get<bool>()) << rig[0].dump();
+}
+
+// --intrinsics-sd F,P: the intrinsics stay held at the given values, so the poses come out to the
+// byte as without it; only the stated deviations grow. The placement bound sees them too: on two
+// frames at 640x360 a camera's direction is known to a few tenths of a degree, and at 0.2 % and
+// 1 px the given intrinsics alone leave it to about 2 deg, beyond the bound, so at those values
+// the cameras are not placed; a camera placed still has the same pose. Bad values are refused
+// before anything is written.
+TEST_F(RefineIntrinsicsCli, GivenIntrinsicsDeviationsWidenTheStatedDeviationsNotThePoses) {
+  const auto calibrate = [&](const fs::path& out, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"calibrate", (Dir() / "demo").string(), "--semantics", "none", "--out", out.string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return RunRigsim(args, out, std::chrono::seconds(300));
+  };
+  const auto cameras = [](const fs::path& out) {
+    return Json::parse(ReadFile(out / "evaluation.json")).at("methods").at("none").at("rig").at("cameras");
+  };
+  const fs::path plain = Dir() / "sd-none", small = Dir() / "sd-small", large = Dir() / "sd-large";
+  const CliResult a = calibrate(plain, {});
+  ASSERT_TRUE(a.code == 0 || a.code == 3) << a.out << a.err;
+  const CliResult b = calibrate(small, {"--intrinsics-sd", "0.0002,0.1"});
+  ASSERT_TRUE(b.code == 0 || b.code == 3) << b.out << b.err;
+  const CliResult c = calibrate(large, {"--intrinsics-sd", "0.002,1"});
+  ASSERT_TRUE(c.code == 0 || c.code == 3) << c.out << c.err;
+  EXPECT_EQ(a.out.find("given intrinsics' own"), std::string::npos) << a.out;
+  EXPECT_NE(c.out.find("Stated deviations include the given intrinsics' own: focal lengths +- 0.20 %, principal "
+                       "point +- 1.00 px"),
+            std::string::npos)
+      << c.out;
+  // The estimate (poses, intrinsics) is the same file to the byte.
+  EXPECT_EQ(ReadFile(plain / "none" / "rig.json"), ReadFile(small / "none" / "rig.json"));
+  EXPECT_EQ(ReadFile(plain / "none" / "frames.json"), ReadFile(small / "none" / "frames.json"));
+  const Json eval_a = Json::parse(ReadFile(plain / "evaluation.json"));
+  const Json eval_c = Json::parse(ReadFile(large / "evaluation.json"));
+  EXPECT_FALSE(eval_a.contains("intrinsics_sd"));
+  EXPECT_EQ(eval_c.at("intrinsics_sd").at("focal_fraction").get<double>(), 0.002);
+  EXPECT_EQ(eval_c.at("intrinsics_sd").at("principal_point_px").get<double>(), 1.0);
+  const Json cams_a = cameras(plain), cams_b = cameras(small), cams_c = cameras(large);
+  const Json rig_a = Json::parse(ReadFile(plain / "none" / "rig.json"));
+  const Json rig_c = Json::parse(ReadFile(large / "none" / "rig.json"));
+  int wider = 0, placed = 0;
+  for (size_t i = 1; i < 4; ++i) {
+    for (const char* key : {"rotation_std_deg", "direction_std_deg"}) {
+      if (cams_a[i].at(key).is_null()) continue;
+      ASSERT_FALSE(cams_b[i].at(key).is_null() || cams_c[i].at(key).is_null()) << key << " " << i;
+      EXPECT_GT(cams_b[i].at(key).get<double>(), cams_a[i].at(key).get<double>()) << key << " " << i;
+      EXPECT_GT(cams_c[i].at(key).get<double>(), cams_b[i].at(key).get<double>()) << key << " " << i;
+      ++wider;
+    }
+    EXPECT_FALSE(cams_a[i].contains("rotation_intrinsics_std_deg")) << i;
+    // Where the jackknife states the deviation, the intrinsics' share adds to it in quadrature.
+    for (const std::string what : {"rotation", "direction"}) {
+      const Json& cam = cams_b[i];
+      if (cam.at(what + "_jackknife_std_deg").is_null() || !cam.contains(what + "_intrinsics_std_deg")) continue;
+      const double jackknife = cam.at(what + "_jackknife_std_deg").get<double>();
+      const double share = cam.at(what + "_intrinsics_std_deg").get<double>();
+      EXPECT_GE(cam.at(what + "_std_deg").get<double>(), std::hypot(jackknife, share) * (1 - 1e-12)) << cam.dump();
+    }
+    placed += cams_a[i].at("calibrated").get<bool>();
+    // At 0.2 % and 1 px: the same pose, or none (its direction beyond the placement bound).
+    const Json pose = rig_c.at("cameras")[i].value("cam_from_rig", Json());
+    const Json pose_a = rig_a.at("cameras")[i].value("cam_from_rig", Json());
+    if (!pose.is_null()) EXPECT_EQ(pose.dump(), pose_a.dump()) << i;
+    if (pose.is_null() && !pose_a.is_null()) {
+      EXPECT_NE(cams_c[i].at("status").get<std::string>().find("with the given intrinsics' uncertainty"), std::string::npos)
+          << cams_c[i].dump();
+    }
+  }
+  EXPECT_GE(wider, 3);
+  EXPECT_GE(placed, 1);
+
+  for (const std::string bad : {"-0.001,1", "0.5,1", "0.002,-1", "0.002", "0.002,1,3", "x,1"}) {
+    const fs::path out = Dir() / "sd-refused";
+    const CliResult r = calibrate(out, {"--intrinsics-sd", bad});
+    EXPECT_EQ(r.code, 1) << bad << ": " << r.out << r.err;
+    EXPECT_NE(r.err.find("--intrinsics-sd"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(bad), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out)) << bad;
+  }
+  const fs::path out = Dir() / "sd-refined";
+  const CliResult r = calibrate(out, {"--intrinsics-sd", "0.002,1", "--refine-intrinsics"});
+  EXPECT_EQ(r.code, 1) << r.out << r.err;
+  EXPECT_NE(r.err.find("--refine-intrinsics"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
 }
 
 TEST_F(RefineIntrinsicsCli, IntrinsicsOfAnotherRigAreRefused) {

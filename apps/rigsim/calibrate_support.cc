@@ -84,8 +84,43 @@ CalibrationRunOptions CalibrateSettings::ToOptions() const {
     o.rig.known_distance = KnownDistance{known_distance[0], known_distance[1], metres};
   }
   if (!intrinsics.empty()) o.intrinsics = CalibrationRunOptions::GivenIntrinsics{ReadRig(intrinsics), intrinsics};
+  if (!intrinsics_sd.empty()) {
+    if (o.rig.bundle_adjustment.refine_intrinsics) {
+      throw std::invalid_argument("--intrinsics-sd is for intrinsics held at the given values; --refine-intrinsics "
+                                  "refines them instead: give one or the other");
+    }
+    if (o.rig.capture_time.estimate_offsets || o.rig.capture_time.estimate_readout) {
+      throw std::invalid_argument(
+          "--intrinsics-sd does not combine with --estimate-time-offsets or --rolling-shutter");
+    }
+    o.rig.bundle_adjustment.given_intrinsics_sd = ParseIntrinsicsSd(intrinsics_sd);
+  }
   o.Check();
   return o;
+}
+
+GivenIntrinsicsDeviation ParseIntrinsicsSd(const std::string& text) {
+  const std::string usage = "give F,P: the focal lengths' standard deviation as a fraction (0.002 is 0.2 %) and the "
+                            "principal point's in pixels (got " + text + ")";
+  const size_t comma = text.find(',');
+  if (comma == std::string::npos || text.find(',', comma + 1) != std::string::npos) throw std::invalid_argument(usage);
+  double values[2] = {0.0, 0.0};
+  const std::string parts[2] = {text.substr(0, comma), text.substr(comma + 1)};
+  for (int i = 0; i < 2; ++i) {
+    if (!CLI::detail::lexical_cast(parts[i], values[i]) || !std::isfinite(values[i])) throw std::invalid_argument(usage);
+  }
+  GivenIntrinsicsDeviation sd;
+  sd.focal_fraction = values[0];
+  sd.principal_point_px = values[1];
+  if (!(sd.focal_fraction >= 0 && sd.focal_fraction < 0.5)) {
+    throw std::invalid_argument("F, the focal lengths' standard deviation as a fraction, must be 0 or more and below "
+                                "0.5 (got " + parts[0] + " in " + text + ")");
+  }
+  if (!(sd.principal_point_px >= 0)) {
+    throw std::invalid_argument("P, the principal point's standard deviation in pixels, must be 0 or more (got " +
+                                parts[1] + " in " + text + ")");
+  }
+  return sd;
 }
 
 std::vector<SemanticMode> CalibrateSettings::Modes() const {
@@ -143,6 +178,24 @@ void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& s) {
   cmd.add_option("--intrinsics-error-seed", error.seed,
                  "seed of --intrinsics-error's draws; each camera's depend only on (seed, camera index)")
       ->capture_default_str();
+  cmd.add_option("--intrinsics-sd", s.intrinsics_sd,
+                 "F,P: how uncertain the given intrinsics are, as an intrinsic calibration reports it (OpenCV's\n"
+                 "stdDeviationsIntrinsics, Kalibr's): F the standard deviation of the focal lengths as a fraction\n"
+                 "(0.002 is 0.2 %), P that of the principal point in pixels, for fx, fy, cx, cy of every camera,\n"
+                 "each independently; the distortion counts as exact. The poses do not change (the intrinsics\n"
+                 "stay held at the given values); only their stated deviations grow by what that uncertainty\n"
+                 "moves them, so that they cover it. Not with --refine-intrinsics nor the capture-time options")
+      ->type_name("F,P")
+      ->check(CLI::Validator(
+          [](std::string& input) -> std::string {
+            try {
+              ParseIntrinsicsSd(input);
+            } catch (const std::invalid_argument& e) {
+              return e.what();
+            }
+            return "";
+          },
+          ""));
   const IntrinsicsPriorOptions priors;
   cmd.add_flag("--refine-intrinsics", s.options.rig.bundle_adjustment.refine_intrinsics,
                "refine every camera's intrinsics (focal lengths, principal point, distortion) in the\n"
@@ -286,6 +339,11 @@ CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const Ca
   if (const IntrinsicsErrorOptions& e = plan.options.intrinsics_error; e.Enabled()) {
     std::printf("\nIntrinsics given with an error of %s (seed %llu): see intrinsics_error in evaluation.json\n",
                 (Fixed(100 * e.error, 1) + " %").c_str(), static_cast<unsigned long long>(e.seed));
+  }
+  if (const auto& sd = plan.options.rig.bundle_adjustment.given_intrinsics_sd) {
+    std::printf("\nStated deviations include the given intrinsics' own: focal lengths +- %s, principal point +- %s px "
+                "(--intrinsics-sd; the poses are as without it)\n",
+                (Fixed(100 * sd->focal_fraction, 2) + " %").c_str(), Fixed(sd->principal_point_px, 2).c_str());
   }
   if (plan.options.rig.bundle_adjustment.refine_intrinsics) {
     std::printf("\nIntrinsics refined in the bundle adjustment (change from the given values, +- one standard "

@@ -48,6 +48,7 @@ struct CalibrateSettings {
   std::vector<std::string> reliable;        // empty = the defaults of labels/cityscapes.h
   std::vector<std::string> known_distance;  // CAM_A CAM_B METRES, or empty
   std::string intrinsics;                   // --intrinsics FILE (a rig.json), or empty: the dataset's
+  std::string intrinsics_sd;                // --intrinsics-sd F,P, or empty: the intrinsics count as exact
   LabelSettings labels;                     // options.labels, resolved by ToOptions
   // --segmenter MODEL.onnx: labels from a network run on the photos first (by the pipeline,
   // pipeline/calibration_plan.h), written to OUT/segmentation/; in place of --labels.
@@ -60,6 +61,10 @@ struct CalibrateSettings {
 };
 
 void AddCalibrateSettingsOptions(CLI::App& cmd, CalibrateSettings& settings);
+
+// --intrinsics-sd's value, "F,P": the focal lengths' standard deviation as a fraction and the
+// principal point's in pixels. Throws std::invalid_argument saying what is wrong with `text`.
+GivenIntrinsicsDeviation ParseIntrinsicsSd(const std::string& text);
 // --mask DIR into settings.mask (calibrate's; a rendered demo has no vehicle to hide).
 void AddMaskOption(CLI::App& cmd, CalibrateSettings& settings);
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -168,23 +169,107 @@ ReducedCovariance PoseCovariance(const BundleLinearisation& linearised, const No
   return out;
 }
 
-PerCamera<double> RotationStdDevsDeg(ceres::Problem& problem, const ReducedCovariance& reduced,
-                                     const std::vector<Eigen::Vector4d>& cq, double variance) {
-  PerCamera<double> out(cq.size());
+PerCamera<Eigen::Matrix3d> RotationCovariances(ceres::Problem& problem, const ReducedCovariance& reduced,
+                                               const std::vector<Eigen::Vector4d>& cq, double variance) {
+  PerCamera<Eigen::Matrix3d> out(cq.size());
   for (size_t c = 0; c < cq.size(); ++c) {
     const auto it = reduced.offset.find(cq[c].data());
     if (it == reduced.offset.end() || problem.ParameterBlockTangentSize(cq[c].data()) != 3) continue;
-    const Eigen::Matrix3d tangent = variance * reduced.covariance.block<3, 3>(it->second, it->second);
-    // Ceres' EigenQuaternionManifold turns by exp(delta) = [cos|d|, sin|d| d/|d|]: an angle of 2|d|.
-    const double worst = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(tangent).eigenvalues().maxCoeff();
-    out[c] = 2.0 * std::sqrt(std::max(worst, 0.0)) * 180.0 / M_PI;
+    out[c] = variance * reduced.covariance.block<3, 3>(it->second, it->second);
   }
   return out;
 }
 
+double RotationStdDevDeg(const Eigen::Matrix3d& tangent_covariance) {
+  // Ceres' EigenQuaternionManifold turns by exp(delta) = [cos|d|, sin|d| d/|d|]: an angle of 2|d|.
+  const double worst = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(tangent_covariance).eigenvalues().maxCoeff();
+  return 2.0 * std::sqrt(std::max(worst, 0.0)) * 180.0 / M_PI;
+}
+
+PerCamera<double> RotationStdDevsDeg(ceres::Problem& problem, const ReducedCovariance& reduced,
+                                     const std::vector<Eigen::Vector4d>& cq, double variance) {
+  const PerCamera<Eigen::Matrix3d> tangent = RotationCovariances(problem, reduced, cq, variance);
+  PerCamera<double> out(cq.size());
+  for (size_t c = 0; c < cq.size(); ++c) {
+    if (tangent[c]) out[c] = RotationStdDevDeg(*tangent[c]);
+  }
+  return out;
+}
+
+Eigen::MatrixXd HeldParameterSensitivity(const ReducedCovariance& reduced, const NormalEquations& with_held) {
+  const int pose_dim = static_cast<int>(reduced.covariance.rows());
+  const int held = static_cast<int>(with_held.reduced.rows()) - pose_dim;
+  if (pose_dim == 0 || held <= 0) return Eigen::MatrixXd::Zero(pose_dim, std::max(held, 0));
+  return -reduced.covariance * with_held.reduced.block(0, pose_dim, pose_dim, held);
+}
+
+ReducedCovariance HeldParameterCovariance(const ReducedCovariance& reduced, const NormalEquations& with_held,
+                                          const Eigen::VectorXd& held_variance) {
+  ReducedCovariance out;
+  out.offset = reduced.offset;
+  const Eigen::MatrixXd sensitivity = HeldParameterSensitivity(reduced, with_held);
+  if (sensitivity.cols() != held_variance.size()) {
+    throw std::invalid_argument("HeldParameterCovariance: one variance per held column");
+  }
+  out.covariance = sensitivity * held_variance.asDiagonal() * sensitivity.transpose();
+  return out;
+}
+
+HeldShare HeldBlocksShare(ceres::Problem& problem, const ReducedCovariance& reduced, const std::vector<HeldBlock>& held,
+                          const std::vector<Eigen::Vector4d>& cq, const std::vector<Eigen::Vector3d>& ct) {
+  // The adjusted blocks in `reduced`'s column order, then the held ones: the linearisation's
+  // first columns are then `reduced`'s.
+  std::vector<std::pair<int, double*>> by_column;
+  for (const auto& [block, column] : reduced.offset) by_column.emplace_back(column, const_cast<double*>(block));
+  std::sort(by_column.begin(), by_column.end());
+  std::vector<double*> blocks;
+  for (const auto& [column, block] : by_column) blocks.push_back(block);
+  std::vector<const HeldBlock*> freed;
+  for (const HeldBlock& h : held) {
+    if (!problem.HasParameterBlock(h.block) || !problem.IsParameterBlockConstant(h.block)) continue;
+    problem.SetParameterBlockVariable(h.block);
+    blocks.push_back(h.block);
+    freed.push_back(&h);
+  }
+  const BundleLinearisation with_held = Linearise(problem, blocks);
+  for (const HeldBlock* h : freed) problem.SetParameterBlockConstant(h->block);
+  for (const auto& [block, column] : reduced.offset) {
+    const auto it = with_held.offset.find(block);
+    if (it == with_held.offset.end() || it->second != column) {
+      throw std::logic_error("HeldBlocksShare: the adjusted blocks' columns moved");
+    }
+  }
+  const int pose_dim = static_cast<int>(reduced.covariance.rows());
+  Eigen::VectorXd variance = Eigen::VectorXd::Zero(std::max(with_held.pose_dim - pose_dim, 0));
+  for (const HeldBlock* h : freed) {
+    const int first = with_held.offset.at(h->block) - pose_dim;
+    const int size = std::min<int>(h->sd.size(), problem.ParameterBlockTangentSize(h->block));
+    for (int i = 0; i < size; ++i) variance[first + i] = h->sd[i] * h->sd[i];
+  }
+  const ReducedCovariance share = HeldParameterCovariance(reduced, NormalEquationsOf(with_held), variance);
+  return {CentreCovariances(problem, share, cq, ct, 1.0, true), RotationCovariances(problem, share, cq, 1.0)};
+}
+
+void AddHeldShare(ceres::Problem& problem, const ReducedCovariance& reduced, const std::vector<Eigen::Vector4d>& cq,
+                  double variance, const HeldShare& share, PerCamera<Eigen::Matrix3d>* centre_covariance,
+                  PerCamera<double>* rotation_std_deg, PerCamera<double>* share_rotation_std_deg) {
+  const PerCamera<Eigen::Matrix3d> data = RotationCovariances(problem, reduced, cq, variance);
+  share_rotation_std_deg->assign(cq.size(), std::nullopt);
+  for (size_t c = 0; c < cq.size(); ++c) {
+    if (c < centre_covariance->size() && (*centre_covariance)[c] && c < share.centre_covariance.size() &&
+        share.centre_covariance[c]) {
+      *(*centre_covariance)[c] += *share.centre_covariance[c];
+    }
+    if (!data[c] || c >= share.rotation_covariance.size() || !share.rotation_covariance[c]) continue;
+    if (c < rotation_std_deg->size()) (*rotation_std_deg)[c] = RotationStdDevDeg(*data[c] + *share.rotation_covariance[c]);
+    (*share_rotation_std_deg)[c] = RotationStdDevDeg(*share.rotation_covariance[c]);
+  }
+}
+
 PerCamera<Eigen::Matrix3d> CentreCovariances(ceres::Problem& problem, const ReducedCovariance& reduced,
                                                               const std::vector<Eigen::Vector4d>& cq,
-                                                              const std::vector<Eigen::Vector3d>& ct, double variance) {
+                                                              const std::vector<Eigen::Vector3d>& ct, double variance,
+                                                              bool with_rotation) {
   PerCamera<Eigen::Matrix3d> out(ct.size());
   const std::map<const double*, int>& offset = reduced.offset;
   const Eigen::MatrixXd& covariance = reduced.covariance;
@@ -194,15 +279,29 @@ PerCamera<Eigen::Matrix3d> CentreCovariances(ceres::Problem& problem, const Redu
     const int size = problem.ParameterBlockTangentSize(ct[c].data());
     const Eigen::MatrixXd tangent = covariance.block(it->second, it->second, size, size);
     Eigen::Matrix3d t_cov = Eigen::Matrix3d::Zero();
+    Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor> plus = Eigen::MatrixXd::Identity(3, size);
     if (const ceres::Manifold* manifold = problem.GetManifold(ct[c].data())) {  // the scale camera: |t| held
-      Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor> plus(3, size);
       manifold->PlusJacobian(ct[c].data(), plus.data());
       t_cov = plus * tangent * plus.transpose();
     } else {
       t_cov = tangent;
     }
     const Eigen::Matrix3d r = Eigen::Quaterniond(cq[c].data()).toRotationMatrix();
-    out[c] = variance * r.transpose() * t_cov * r;  // C = -R^T t; R's own uncertainty is far smaller
+    const auto q = offset.find(cq[c].data());
+    if (!with_rotation || q == offset.end() || problem.ParameterBlockTangentSize(cq[c].data()) != 3) {
+      out[c] = variance * r.transpose() * t_cov * r;  // C = -R^T t; R's own uncertainty is far smaller
+      continue;
+    }
+    // Ceres' quaternion manifold turns R to exp([2 d]x) R, so C = -R^T t moves by -2 R^T [t]x d
+    // through the rotation's tangent d, and by -R^T dt through t's.
+    Eigen::Matrix3d t_cross;
+    t_cross << 0, -ct[c].z(), ct[c].y(), ct[c].z(), 0, -ct[c].x(), -ct[c].y(), ct[c].x(), 0;
+    Eigen::MatrixXd jacobian(3, 3 + size);
+    jacobian << -2.0 * r.transpose() * t_cross, -r.transpose() * plus;
+    Eigen::MatrixXd joint(3 + size, 3 + size);
+    joint << covariance.block(q->second, q->second, 3, 3), covariance.block(q->second, it->second, 3, size),
+        covariance.block(it->second, q->second, size, 3), tangent;
+    out[c] = variance * jacobian * joint * jacobian.transpose();
   }
   return out;
 }
@@ -252,6 +351,12 @@ double DirectionStdDeg(const Eigen::Vector3d& centre, const Eigen::Matrix3d& cov
   const Eigen::Matrix3d across = Eigen::Matrix3d::Identity() - u * u.transpose();
   const double spread = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(across * cov * across).eigenvalues().maxCoeff();
   return RadToDeg(std::atan2(std::sqrt(std::max(spread, 0.0)), d));
+}
+
+double PlacementDirectionStdDeg(const Eigen::Vector3d& centre, const Eigen::Matrix3d& cov,
+                                const Eigen::Matrix3d* held_share, double residual_correlation) {
+  if (!held_share) return DirectionStdDeg(centre, cov) / std::sqrt(residual_correlation);
+  return DirectionStdDeg(centre, (cov - *held_share) / residual_correlation + *held_share);
 }
 
 }  // namespace rigsim

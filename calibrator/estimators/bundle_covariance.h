@@ -79,16 +79,63 @@ ReducedCovariance PoseCovariance(const BundleLinearisation& linearised, const No
 
 // Covariance of each camera's centre in the rig (C = -R^T t of cam_from_rig, whose translation
 // block is `ct[c]`) at the solution, `variance` being that of one image coordinate. nullopt for
-// cameras not adjusted.
+// cameras not adjusted. The centre moves through t only, R's own uncertainty being far smaller;
+// with `with_rotation` through R (block `cq[c]`) as well, for a covariance where R and t move
+// together by as much (HeldBlocksShare: a principal point turns the camera and moves t with it).
 PerCamera<Eigen::Matrix3d> CentreCovariances(ceres::Problem& problem, const ReducedCovariance& reduced,
                                                               const std::vector<Eigen::Vector4d>& cq,
-                                                              const std::vector<Eigen::Vector3d>& ct, double variance);
+                                                              const std::vector<Eigen::Vector3d>& ct, double variance,
+                                                              bool with_rotation = false);
 
 // Standard deviation (deg) of each camera's rotation in the rig (cam_from_rig's quaternion block
 // `cq[c]`) along its worst axis, `variance` being that of one image coordinate. nullopt for
 // cameras not adjusted.
 PerCamera<double> RotationStdDevsDeg(ceres::Problem& problem, const ReducedCovariance& reduced,
                                      const std::vector<Eigen::Vector4d>& cq, double variance);
+
+// The same per camera as the covariance of its rotation's tangent (Ceres' quaternion manifold),
+// so that covariances from independent sources add before the worst axis is taken.
+PerCamera<Eigen::Matrix3d> RotationCovariances(ceres::Problem& problem, const ReducedCovariance& reduced,
+                                               const std::vector<Eigen::Vector4d>& cq, double variance);
+double RotationStdDevDeg(const Eigen::Matrix3d& tangent_covariance);
+
+// The covariance that held parameters' own uncertainty puts on the adjusted pose blocks (a
+// "consider" covariance): held at given values that are off by dk, the solution moves by S dk,
+// S = -H^+ B, with H^+ `reduced`'s pseudo-inverse (its gauge and equilibration, PoseCovariance)
+// and B the cross block of the adjusted columns with the held ones, points eliminated.
+// `with_held`: the normal equations of the same problem linearised with the held parameters free,
+// their columns after the adjusted ones (from reduced.covariance.rows() on). `held_variance`: per
+// held column its variance, 0 for one taken as exact. Returns S diag(held_variance) S^T over
+// `reduced`'s columns, in the parameters' own units: S is a derivative, not scaled by the
+// residuals' variance as the data's covariance is.
+Eigen::MatrixXd HeldParameterSensitivity(const ReducedCovariance& reduced, const NormalEquations& with_held);
+ReducedCovariance HeldParameterCovariance(const ReducedCovariance& reduced, const NormalEquations& with_held,
+                                          const Eigen::VectorXd& held_variance);
+
+// A held parameter block of the problem and the standard deviation of each of its leading
+// coordinates (the coordinates after those count as exact).
+struct HeldBlock {
+  double* block = nullptr;
+  Eigen::VectorXd sd;
+};
+
+// What the uncertainty of `held` adds to each camera's centre covariance and rotation tangent
+// covariance (as CentreCovariances and RotationCovariances state them): HeldParameterCovariance,
+// from `problem` linearised with the held blocks free for a moment (they are held again before it
+// returns). Blocks not in the problem are skipped.
+struct HeldShare {
+  PerCamera<Eigen::Matrix3d> centre_covariance, rotation_covariance;
+};
+HeldShare HeldBlocksShare(ceres::Problem& problem, const ReducedCovariance& reduced, const std::vector<HeldBlock>& held,
+                          const std::vector<Eigen::Vector4d>& cq, const std::vector<Eigen::Vector3d>& ct);
+
+// Adds `share` to the data's centre covariances and rotation deviations, these stated from
+// `reduced` at `variance` (CentreCovariances, RotationStdDevsDeg): the rotations' tangent
+// covariances add before the worst axis is taken. The share's own rotation deviations go to
+// `share_rotation_std_deg`.
+void AddHeldShare(ceres::Problem& problem, const ReducedCovariance& reduced, const std::vector<Eigen::Vector4d>& cq,
+                  double variance, const HeldShare& share, PerCamera<Eigen::Matrix3d>* centre_covariance,
+                  PerCamera<double>* rotation_std_deg, PerCamera<double>* share_rotation_std_deg);
 
 // One reprojection residual of the adjustment and where in which image it lies.
 struct LocatedResidual {
@@ -121,5 +168,12 @@ int FreeParameterCount(ceres::Problem& problem);
 // Standard deviation (deg) of the direction of `centre` (from camera 0 at the origin) under the
 // covariance `cov` of the centre: the largest spread across the direction, over the distance.
 double DirectionStdDeg(const Eigen::Vector3d& centre, const Eigen::Matrix3d& cov);
+
+// The direction deviation the placement bound (RigCalibrationOptions::max_direction_std_deg) is
+// held against: the bound was measured on deviations that count every residual as independent, so
+// the data's share of `cov` is taken without `residual_correlation` (bundle adjustment result's),
+// and the share of held parameters' uncertainty within it (`held_share`, nullptr: none) whole.
+double PlacementDirectionStdDeg(const Eigen::Vector3d& centre, const Eigen::Matrix3d& cov,
+                                const Eigen::Matrix3d* held_share, double residual_correlation);
 
 }  // namespace rigsim

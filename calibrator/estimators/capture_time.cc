@@ -201,6 +201,7 @@ std::vector<std::optional<OffsetRestart>> RestartFromMovedOffsets(
   if (restarted.empty() || options.restart_max_tracks < 0 || solved.timing.size() != cameras.size()) return out;
   const std::vector<ViewTrack> few = EvenSubsample(tracks, options.restart_max_tracks);
   ba_options.refine_intrinsics = false;
+  ba_options.given_intrinsics_sd.reset();
   ba_options.keep_points = false;
   ba_options.covariance = false;  // the restarts compare costs only
   auto solve = [&](const RigPoses& poses, const CaptureTiming& start) {
@@ -252,6 +253,7 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
   timing.readout_bottom_to_top = readout_bottom_to_top;
   timing.estimate_offsets = true;
   ba_options.refine_intrinsics = false;  // held: the question is time, asked of the rig as adjusted
+  ba_options.given_intrinsics_sd.reset();  // and the time offsets' deviations are the images' alone
   ba_options.keep_points = false;
   auto solve = [&](const std::vector<ViewTrack>& solved_tracks, CaptureTiming start, const RigPoses& poses) {
     return MultiFrameRigBundleAdjust(adjusted.cameras, keypoints, solved_tracks, poses, scale_camera, ba_options,

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace rigsim {
 
@@ -37,6 +38,22 @@ std::vector<double> IntrinsicsPriorSigmas(const Camera& given, const IntrinsicsP
       break;
   }
   return sigma;
+}
+
+Eigen::Vector4d GivenIntrinsicsDeviation::OfCamera(int c, const Camera& camera) const {
+  if (!per_camera_px.empty()) return per_camera_px.at(c);
+  return {focal_fraction * std::abs(camera.fx()), focal_fraction * std::abs(camera.fy()), principal_point_px,
+          principal_point_px};
+}
+
+void GivenIntrinsicsDeviation::Check() const {
+  auto fail = [](const std::string& why) { throw std::invalid_argument("GivenIntrinsicsDeviation: " + why); };
+  // Half the focal length is no calibration; the linearisation would not hold far before it.
+  if (!(focal_fraction >= 0 && focal_fraction < 0.5)) fail("focal_fraction must be >= 0 and < 0.5");
+  if (!(principal_point_px >= 0) || !std::isfinite(principal_point_px)) fail("principal_point_px must be >= 0");
+  for (const Eigen::Vector4d& sd : per_camera_px) {
+    if (!sd.allFinite() || (sd.array() < 0).any()) fail("per_camera_px must hold finite values >= 0");
+  }
 }
 
 }  // namespace rigsim

@@ -1,7 +1,8 @@
 // Refining the cameras' intrinsics in the rig's bundle adjustment (multi_frame_rig.h), from
 // given values a few percent off (a datasheet's): the priors that keep each parameter near its
 // given value, and the record of what the refinement made of each camera (its comparison with
-// the true intrinsics is evaluation/intrinsics_errors.h's).
+// the true intrinsics is evaluation/intrinsics_errors.h's); and, for intrinsics held instead, how
+// uncertain the given ones are.
 //
 // The refined parameters are the camera model's own (camera_models.h orders: fx fy cx cy, then
 // the distortion), each with a Gaussian prior centred on its given value, and one more prior
@@ -9,6 +10,8 @@
 #pragma once
 
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "geometry/camera.h"
 
@@ -48,6 +51,26 @@ struct IntrinsicsPriorOptions {
 
 // The prior's standard deviation of each of `given`'s parameters (camera_models.h order).
 std::vector<double> IntrinsicsPriorSigmas(const Camera& given, const IntrinsicsPriorOptions& options);
+
+// How uncertain the given intrinsics are when they are held, not refined (a calibration report's
+// standard deviations, OpenCV's stdDeviationsIntrinsics or Kalibr's): the poses are still
+// adjusted with the intrinsics held at the given values, but the stated covariances add what that
+// uncertainty moves them by, linearised at the solution (bundle_covariance.h
+// HeldParameterCovariance). Each of fx, fy, cx, cy is off independently; distortion counts as
+// exact.
+struct GivenIntrinsicsDeviation {
+  double focal_fraction = 0.0;      // of fx and of fy, as a fraction of each (0.002: 0.2 %)
+  double principal_point_px = 0.0;  // of cx and of cy (px)
+  // Empty, or per camera: the standard deviations (px) of its fx, fy, cx, cy, in place of the two
+  // above.
+  std::vector<Eigen::Vector4d> per_camera_px;
+
+  // The standard deviations (px) of fx, fy, cx, cy of camera `c`, given as `camera`.
+  Eigen::Vector4d OfCamera(int c, const Camera& camera) const;
+  // Throws std::invalid_argument naming the first bad field.
+  void Check() const;
+  bool operator==(const GivenIntrinsicsDeviation&) const = default;
+};
 
 // What the refinement made of one camera's intrinsics.
 struct RefinedIntrinsics {

@@ -83,6 +83,8 @@ void RigBundleAdjustmentOptions::Check() const {
   if (num_threads < 1) fail("num_threads must be >= 1");
   if (intrinsics_passes < 1) fail("intrinsics_passes must be >= 1");
   intrinsics_priors.Check();
+  if (given_intrinsics_sd) given_intrinsics_sd->Check();
+  if (given_intrinsics_sd && refine_intrinsics) fail("given_intrinsics_sd is for held intrinsics, not refine_intrinsics");
   if (!(inter_camera_weight > 0)) fail("inter_camera_weight must be > 0");
   for (const auto& axis : held_centre_axis) {
     if (axis && std::abs(axis->norm() - 1.0) > 1e-6) fail("held_centre_axis must hold unit directions");
@@ -371,6 +373,8 @@ struct BundleRoundResult {
   PerCamera<double> time_offset_stddev_s, readout_stddev_s;  // per camera, where estimated
   double residual_correlation = 1.0;  // CorrelatedResidualFactor, by which the variance was scaled
   JackknifeSpread frame_jackknife, point_jackknife;
+  PerCamera<Eigen::Matrix3d> centre_covariance_of_intrinsics;  // with given_intrinsics_sd
+  PerCamera<double> rotation_stddev_of_intrinsics_deg;
 };
 
 // One Levenberg-Marquardt solve over the points (every `point_stride`-th) and the poses they see,
@@ -598,6 +602,14 @@ void ReadCovariances(BundleProblem& bp, const std::vector<WorldPoint>& points, c
   // covariance of what they alone fix is scaled back, and of the rest over-stated (the safe side).
   out.centre_covariance = CentreCovariances(problem, reduced, bp.cq, bp.ct, variance * options.inter_camera_weight);
   out.rotation_stddev_deg = RotationStdDevsDeg(problem, reduced, bp.cq, variance * options.inter_camera_weight);
+  if (options.given_intrinsics_sd) {  // what the given intrinsics' own uncertainty moves the poses by
+    std::vector<HeldBlock> held;
+    for (int c = 0; c < n; ++c) held.push_back({bp.intrinsics[c].data(), options.given_intrinsics_sd->OfCamera(c, bp.given[c])});
+    const HeldShare share = HeldBlocksShare(problem, reduced, held, bp.cq, bp.ct);
+    out.centre_covariance_of_intrinsics = share.centre_covariance;
+    AddHeldShare(problem, reduced, bp.cq, variance * options.inter_camera_weight, share, &out.centre_covariance,
+                 &out.rotation_stddev_deg, &out.rotation_stddev_of_intrinsics_deg);
+  }
   out.time_offset_stddev_s.assign(n, std::nullopt);
   out.readout_stddev_s.assign(n, std::nullopt);
   for (int c = 0; c < n && bp.timing; ++c) {
@@ -735,8 +747,9 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
 
   if (timing) {
     timing->Check(n, num_frames);
-    if (options.refine_intrinsics) {
-      throw std::invalid_argument("MultiFrameRigBundleAdjust: refine_intrinsics does not combine with a timing model");
+    if (options.refine_intrinsics || options.given_intrinsics_sd) {
+      throw std::invalid_argument(
+          "MultiFrameRigBundleAdjust: neither refine_intrinsics nor given_intrinsics_sd combines with a timing model");
     }
   }
   BundleProblem bp(cameras, keypoints, tracks, initial_cam_from_rig, initial_rig_from_world, timing);
@@ -779,6 +792,8 @@ MultiFrameBundleAdjustmentResult MultiFrameRigBundleAdjust(
           result.residual_correlation = solved.residual_correlation;
           result.frame_jackknife = std::move(solved.frame_jackknife);
           result.point_jackknife = std::move(solved.point_jackknife);
+          result.centre_covariance_of_intrinsics = std::move(solved.centre_covariance_of_intrinsics);
+          result.rotation_stddev_of_intrinsics_deg = std::move(solved.rotation_stddev_of_intrinsics_deg);
           if (refine) result.intrinsics_stddev = std::move(solved.intrinsics_stddev);
         }
         break;

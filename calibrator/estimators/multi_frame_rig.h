@@ -86,6 +86,9 @@ struct RigBundleAdjustmentOptions {
   // its start, for a camera the data leave open along it (a planar motion and no point shared with
   // another camera, hand_eye.h); its covariance is then across that direction only.
   PerCamera<Eigen::Vector3d> held_centre_axis;
+  // The given intrinsics' own uncertainty, counted in the covariances (GivenIntrinsicsDeviation);
+  // nullopt: the intrinsics count as exact. Not with refine_intrinsics nor a CaptureTiming.
+  std::optional<GivenIntrinsicsDeviation> given_intrinsics_sd;
 
   // Throws std::invalid_argument naming the first bad field.
   void Check() const;
@@ -137,12 +140,17 @@ struct MultiFrameBundleAdjustmentResult {
   double median_depth = 0.0;
   int iterations = 0;
   // Per camera: covariance of its centre in the rig (in the result's units, squared) at the
-  // solution, from the Jacobian and the reprojection RMS; nullopt for camera 0 and cameras not
-  // adjusted, or when it could not be computed.
+  // solution, from the Jacobian and the reprojection RMS, plus with given_intrinsics_sd what the
+  // given intrinsics' uncertainty adds; nullopt for camera 0 and cameras not adjusted, or when it
+  // could not be computed.
   PerCamera<Eigen::Matrix3d> centre_covariance;
   // Per camera: the standard deviation of its rotation in the rig (deg, along the covariance's
   // worst axis), from the same covariance; nullopt where the centre's is.
   PerCamera<double> rotation_stddev_deg;
+  // With given_intrinsics_sd only (empty otherwise): the given intrinsics' share of the two above
+  // alone, which the jackknives' spreads (data alone) are widened by.
+  PerCamera<Eigen::Matrix3d> centre_covariance_of_intrinsics;
+  PerCamera<double> rotation_stddev_of_intrinsics_deg;
   // With a CaptureTiming: per camera its (offset, readout) in seconds as adjusted (or as given), and
   // the standard deviations of the estimated ones from the covariance (nullopt where held).
   std::vector<Eigen::Vector2d> timing;

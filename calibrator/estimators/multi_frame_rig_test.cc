@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <optional>
 #include <random>
 #include <utility>
 
@@ -11,6 +12,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "calibrator/calibrator_test_support.h"
+#include "calibrator/estimators/bundle_covariance.h"
 #include "calibrator/stages/rig_calibration.h"
 #include "evaluation/pose_errors.h"
 #include "testing/expect_error.h"
@@ -418,6 +420,156 @@ TEST(MultiFrameRig, CoarseFirstSolveReachesTheSameRig) {
     EXPECT_LT(RadToDeg(ra.rotation.angularDistance(rb.rotation)), 3e-3) << c;
     EXPECT_LT((ra.SourceOriginInTarget() - rb.SourceOriginInTarget()).norm(), 1e-3) << c;
   }
+}
+
+}  // namespace
+}  // namespace rigsim
+
+namespace rigsim {
+namespace {
+
+// Two pinhole cameras 1 m apart, the second turned 20 deg, on a rig that moves 0.5 m and turns
+// 3 deg per frame over 4 frames through points 4-12 m away; keypoints with `noise_px` per
+// coordinate (0: exact).
+struct HeldIntrinsicsDrive {
+  std::vector<Camera> cameras;
+  RigPoses truth;
+  FrameKeypoints keypoints;
+  std::vector<ViewTrack> tracks;
+};
+
+HeldIntrinsicsDrive MakeHeldIntrinsicsDrive(double noise_px) {
+  std::mt19937 rng(TestSeed());
+  HeldIntrinsicsDrive d;
+  const Camera cam(CameraModelId::kPinhole, 640, 480, {400, 400, 319.5, 239.5});
+  d.cameras = {cam, cam};
+  const Eigen::Matrix3d r1 = Eigen::AngleAxisd(20.0 * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  d.truth.cam_from_rig = {Rigid3d(), Rigid3d(r1, -(r1 * Eigen::Vector3d(1.0, 0.0, 0.1)))};
+  constexpr int kFrames = 4;
+  for (int k = 0; k < kFrames; ++k) {
+    const Eigen::Matrix3d turn = Eigen::AngleAxisd(3.0 * k * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    d.truth.rig_from_world.push_back(Rigid3d(turn, -(turn * Eigen::Vector3d(0.5 * k, 0.0, 0.0))));
+  }
+  d.keypoints.assign(kFrames, std::vector<std::vector<Eigen::Vector2d>>(2));
+  std::uniform_real_distribution<double> x(-4.0, 7.0), y(-2.0, 2.0), z(4.0, 12.0);
+  std::normal_distribution<double> noise(0.0, noise_px > 0 ? noise_px : 1.0);
+  int index = 0;
+  while (d.tracks.size() < 400) {
+    const Eigen::Vector3d p(x(rng), y(rng), z(rng));
+    ViewTrack t;
+    for (int k = 0; k < kFrames; ++k) {
+      for (int c = 0; c < 2; ++c) {
+        const Eigen::Vector3d in_cam = d.truth.CamFromWorld(c, k) * p;
+        const auto px = cam.ImgFromCam(in_cam);
+        if (in_cam.z() > 0 && px && cam.IsInImage(*px)) t.observations.push_back({c, k, index});
+      }
+    }
+    if (t.observations.size() < 3) continue;
+    for (int k = 0; k < kFrames; ++k) {
+      for (int c = 0; c < 2; ++c) {
+        const auto px = cam.ImgFromCam(d.truth.CamFromWorld(c, k) * p);
+        const Eigen::Vector2d jitter = noise_px > 0 ? Eigen::Vector2d(noise(rng), noise(rng)) : Eigen::Vector2d::Zero();
+        d.keypoints[k][c].push_back(px.value_or(Eigen::Vector2d::Zero()) + jitter);
+      }
+    }
+    d.tracks.push_back(t);
+    ++index;
+  }
+  return d;
+}
+
+// The given intrinsics' share of the covariance is the linearised sensitivity of the solution:
+// with only camera 1's cx uncertain (sigma px), the share is sigma^2 s s^T, s the change of the
+// adjusted pose per pixel of cx. Solved again with cx moved by delta, on exact keypoints, the
+// pose moves by delta s.
+TEST(MultiFrameRig, GivenIntrinsicsShareIsTheSolutionsChangeWithTheIntrinsics) {
+  const HeldIntrinsicsDrive d = MakeHeldIntrinsicsDrive(0.0);
+  constexpr double kSigmaPx = 2.0, kDeltaPx = 0.5;
+  RigBundleAdjustmentOptions options;
+  options.given_intrinsics_sd = GivenIntrinsicsDeviation{};
+  options.given_intrinsics_sd->per_camera_px = {Eigen::Vector4d::Zero(), Eigen::Vector4d(0, 0, kSigmaPx, 0)};
+  const MultiFrameBundleAdjustmentResult base = MultiFrameRigBundleAdjust(d.cameras, d.keypoints, d.tracks, d.truth, 1, options);
+  std::vector<Camera> moved = d.cameras;
+  std::vector<double> params = moved[1].params();
+  params[2] += kDeltaPx;
+  moved[1] = Camera(moved[1].model(), moved[1].width(), moved[1].height(), params);
+  const MultiFrameBundleAdjustmentResult solved = MultiFrameRigBundleAdjust(moved, d.keypoints, d.tracks, d.truth, 1, {});
+  ASSERT_TRUE(base.poses.cam_from_rig[1] && solved.poses.cam_from_rig[1]);
+  ASSERT_EQ(base.centre_covariance_of_intrinsics.size(), 2u);
+  ASSERT_TRUE(base.centre_covariance_of_intrinsics[1] && base.rotation_stddev_of_intrinsics_deg[1]);
+  EXPECT_LT(base.reprojection_rms_px, 1e-6);
+
+  // Per pixel of cx: the rotation (deg about its axis) and the centre.
+  const Eigen::AngleAxisd turn(solved.poses.cam_from_rig[1]->rotation * base.poses.cam_from_rig[1]->rotation.conjugate());
+  const double turn_deg_per_px = RadToDeg(turn.angle()) / kDeltaPx;
+  const Eigen::Vector3d centre_per_px =
+      (solved.poses.cam_from_rig[1]->SourceOriginInTarget() - base.poses.cam_from_rig[1]->SourceOriginInTarget()) / kDeltaPx;
+  const Eigen::Matrix3d predicted = kSigmaPx * kSigmaPx * centre_per_px * centre_per_px.transpose();
+  const Eigen::Matrix3d& share = *base.centre_covariance_of_intrinsics[1];
+  std::printf("rotation share %.6f deg, finite difference %.6f deg; centre sd %.3e, finite difference %.3e\n",
+              *base.rotation_stddev_of_intrinsics_deg[1], kSigmaPx * turn_deg_per_px, std::sqrt(share.trace()),
+              std::sqrt(predicted.trace()));
+  EXPECT_GT(turn_deg_per_px, 0.05);  // a pixel of cx turns the camera by about 1/400 rad
+  EXPECT_NEAR(*base.rotation_stddev_of_intrinsics_deg[1], kSigmaPx * turn_deg_per_px, 0.03 * kSigmaPx * turn_deg_per_px);
+  EXPECT_GT(centre_per_px.norm(), 1e-4);
+  EXPECT_LT((share - predicted).norm(), 0.05 * predicted.norm()) << share << "\n\n" << predicted;
+  // Camera 0 is the gauge: held, nothing to state.
+  EXPECT_FALSE(base.centre_covariance_of_intrinsics[0]);
+}
+
+// The given intrinsics' uncertainty changes no pose, only the stated deviations: not at all at
+// zero, more the larger it is.
+TEST(MultiFrameRig, GivenIntrinsicsDeviationsWidenTheStatedDeviationsOnly) {
+  const HeldIntrinsicsDrive d = MakeHeldIntrinsicsDrive(0.3);
+  const auto adjust = [&](std::optional<GivenIntrinsicsDeviation> sd) {
+    RigBundleAdjustmentOptions options;
+    options.given_intrinsics_sd = sd;
+    return MultiFrameRigBundleAdjust(d.cameras, d.keypoints, d.tracks, d.truth, 1, options);
+  };
+  const auto deviation = [](double focal_fraction, double principal_point_px) {
+    GivenIntrinsicsDeviation sd;
+    sd.focal_fraction = focal_fraction;
+    sd.principal_point_px = principal_point_px;
+    return sd;
+  };
+  const MultiFrameBundleAdjustmentResult without = adjust(std::nullopt);
+  const MultiFrameBundleAdjustmentResult zero = adjust(deviation(0, 0));
+  ASSERT_TRUE(without.centre_covariance[1] && without.rotation_stddev_deg[1]);
+  const Eigen::Vector3d centre = without.poses.cam_from_rig[1]->SourceOriginInTarget();
+  const double direction = DirectionStdDeg(centre, *without.centre_covariance[1]);
+  EXPECT_TRUE(without.centre_covariance_of_intrinsics.empty());
+  EXPECT_EQ(*zero.rotation_stddev_deg[1], *without.rotation_stddev_deg[1]);
+  EXPECT_EQ(DirectionStdDeg(centre, *zero.centre_covariance[1]), direction);
+  double last_direction = direction, last_rotation = *without.rotation_stddev_deg[1];
+  for (const GivenIntrinsicsDeviation& sd : {deviation(0, 0.5), deviation(0, 1), deviation(0, 2), deviation(0.002, 2)}) {
+    const MultiFrameBundleAdjustmentResult r = adjust(sd);
+    for (int c = 0; c < 2; ++c) {
+      EXPECT_EQ(r.poses.cam_from_rig[c]->rotation.coeffs(), without.poses.cam_from_rig[c]->rotation.coeffs()) << c;
+      EXPECT_EQ(r.poses.cam_from_rig[c]->translation, without.poses.cam_from_rig[c]->translation) << c;
+    }
+    const double now = DirectionStdDeg(centre, *r.centre_covariance[1]);
+    std::printf("F %.3f P %.1f px: direction sd %.5f deg, rotation sd %.5f deg (without: %.5f, %.5f)\n",
+                sd.focal_fraction, sd.principal_point_px, now, *r.rotation_stddev_deg[1], direction,
+                *without.rotation_stddev_deg[1]);
+    EXPECT_GT(now, last_direction);
+    EXPECT_GT(*r.rotation_stddev_deg[1], last_rotation);
+    last_direction = now;
+    last_rotation = *r.rotation_stddev_deg[1];
+  }
+}
+
+TEST(GivenIntrinsicsDeviation, CheckNamesTheFieldAndRefusesRefinedIntrinsics) {
+  RigBundleAdjustmentOptions o;
+  o.given_intrinsics_sd = GivenIntrinsicsDeviation{};
+  o.given_intrinsics_sd->focal_fraction = 0.5;
+  EXPECT_THAT([&] { o.Check(); }, ThrowsWith<std::invalid_argument>("focal_fraction"));
+  o.given_intrinsics_sd->focal_fraction = 0.002;
+  o.given_intrinsics_sd->principal_point_px = -1;
+  EXPECT_THAT([&] { o.Check(); }, ThrowsWith<std::invalid_argument>("principal_point_px"));
+  o.given_intrinsics_sd->principal_point_px = 1;
+  EXPECT_NO_THROW(o.Check());
+  o.refine_intrinsics = true;
+  EXPECT_THAT([&] { o.Check(); }, ThrowsWith<std::invalid_argument>("refine_intrinsics"));
 }
 
 }  // namespace

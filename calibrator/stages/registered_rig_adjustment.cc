@@ -11,6 +11,7 @@
 #include "calibrator/stages/rig_calibration.h"
 #include "calibrator/stages/rig_capture_times.h"
 #include "calibrator/stages/stage_clock.h"
+#include "calibrator/stages/stated_deviations.h"
 #include "common/format.h"
 
 namespace rigsim {
@@ -96,10 +97,12 @@ RegisteredOutcome JudgeRegistered(const RigObservations& obs, const CameraRegist
   const double std_deg = cov ? DirectionStdDeg(pose->SourceOriginInTarget(), *cov) : 180.0;
   // The bound is held against deviations that count every residual as independent, as the rig
   // stage holds it (rig_calibration.cc).
-  if (std_deg / std::sqrt(ba.residual_correlation) > options.max_direction_std_deg) {
+  const double bound_deg =
+      cov ? *PlacementDirectionStdDeg(ba, c, pose->SourceOriginInTarget()) : std_deg / std::sqrt(ba.residual_correlation);
+  if (bound_deg > options.max_direction_std_deg) {
     out.status = {CameraOutcome::kRotationOnly, PositionOutcome::kNotDetermined,
                   "the adjusted rig fixes its direction from " + obs.camera_names[0] + " to +-" + Fixed(std_deg, 1) +
-                      " deg only"};
+                      " deg only" + (ba.centre_covariance_of_intrinsics.empty() ? "" : " with the given intrinsics' uncertainty")};
     return out;
   }
   out.placed = true;
@@ -124,6 +127,7 @@ void SetStats(const MultiFrameBundleAdjustmentResult& ba, const JackknifeSpread&
     stats->rotation_std_deg = ba.rotation_stddev_deg[c];
     stats->rotation_jackknife_std_deg = jackknife(spread.rotation_std_deg);
   }
+  SetIntrinsicsShare(ba, c, stats);
 }
 
 // Sets the unit of length, as the rig stage does: |centre of `unit_camera`| = 1, then metres from
@@ -172,7 +176,8 @@ RegisteredRig AdjustRegisteredRig(const RigObservations& obs, const RigCalibrati
   }
   ba_options.keep_points = ba_options.keep_points || options.keep_details;
   const std::optional<CaptureTiming> timing =
-      ba_options.refine_intrinsics ? std::nullopt : TimingOf(obs, placed, options.capture_time);
+      ba_options.refine_intrinsics || ba_options.given_intrinsics_sd ? std::nullopt
+                                                                     : TimingOf(obs, placed, options.capture_time);
   const int unit_camera = UnitCamera(placed, start);
   const MultiFrameBundleAdjustmentResult ba =
       MultiFrameRigBundleAdjust(cameras, obs.keypoints, tracks, start, unit_camera, ba_options,
@@ -212,6 +217,7 @@ RegisteredRig AdjustRegisteredRig(const RigObservations& obs, const RigCalibrati
     } else {
       result.camera_stats[r.camera].direction_std_deg.reset();
       result.camera_stats[r.camera].direction_jackknife_std_deg.reset();
+      result.camera_stats[r.camera].direction_intrinsics_std_deg.reset();
     }
   }
   // The capture times judged as the rig stage judges them: a registered camera that did not capture

@@ -17,6 +17,7 @@
 #include "calibrator/stages/rig_capture_times.h"
 #include "calibrator/stages/rig_motion_links.h"
 #include "calibrator/stages/stage_clock.h"
+#include "calibrator/stages/stated_deviations.h"
 #include "common/format.h"
 
 namespace rigsim {
@@ -437,10 +438,12 @@ ScaledRig DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& adju
     out.direction_std_deg[c] = std_deg;
     // The bound was measured on deviations that count every residual as independent: it is held
     // against those, not against the wider ones that count residuals moving together by region.
-    if (std_deg / std::sqrt(ba.residual_correlation) > options.max_direction_std_deg) {
+    if (*PlacementDirectionStdDeg(ba, c, pose[c]->SourceOriginInTarget()) > options.max_direction_std_deg) {
+      const bool intrinsics = c < static_cast<int>(ba.centre_covariance_of_intrinsics.size()) &&
+                              ba.centre_covariance_of_intrinsics[c];
+      const char* why = intrinsics ? "with the given intrinsics' uncertainty" : "cameras close together for the depth of the scene";
       out.undetermined[c] = "not determined: the images fix its direction from " + obs.camera_names[0] + " to +-" +
-                            Fixed(std_deg, 1) + " deg only (cameras close together for the depth of the scene); " +
-                            ps.remedy;
+                            Fixed(std_deg, 1) + " deg only (" + why + "); " + ps.remedy;
       out.position[c] = PositionOutcome::kNotDetermined;
       pose[c].reset();  // its adjusted rotation is kept (from ba)
     }
@@ -718,6 +721,7 @@ std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, 
       stats.rotation_std_deg = ba.rotation_stddev_deg[c];
       if (c < static_cast<int>(jackknife.rotation_std_deg.size())) stats.rotation_jackknife_std_deg = jackknife.rotation_std_deg[c];
     }
+    SetIntrinsicsShare(ba, c, &stats);
   }
   result.rig_from_world = scaled.poses.rig_from_world;
   result.scale = scaled.scale;

@@ -53,6 +53,10 @@ void RigCalibrationOptions::Check() const {
   if ((capture_time.estimate_offsets || capture_time.estimate_readout) && bundle_adjustment.refine_intrinsics) {
     throw std::invalid_argument("RigCalibrationOptions: capture times are not estimated together with refined intrinsics");
   }
+  if ((capture_time.estimate_offsets || capture_time.estimate_readout) && bundle_adjustment.given_intrinsics_sd) {
+    throw std::invalid_argument(
+        "RigCalibrationOptions: capture times are not estimated together with the given intrinsics' deviations");
+  }
   view_graph.Check();
   rotation_averaging.Check();
   bundle_adjustment.Check();

@@ -35,6 +35,10 @@ struct RigCameraStats {
   // The same two from the adjustment without each frame, to first order (jackknife.h);
   // nullopt with fewer than 3 posed frames or where the camera had no deviation to state.
   std::optional<double> direction_jackknife_std_deg, rotation_jackknife_std_deg;
+  // With RigBundleAdjustmentOptions::given_intrinsics_sd: the given intrinsics' share of the two
+  // deviations above alone (in them already); the jackknives' spreads, the data's alone, are
+  // widened by it in quadrature where they state the deviation.
+  std::optional<double> direction_intrinsics_std_deg, rotation_intrinsics_std_deg;
   // With RigBundleAdjustmentOptions::refine_intrinsics, for a camera in the bundle adjustment: its
   // given and refined intrinsics and their standard deviations.
   std::optional<RefinedIntrinsics> intrinsics;
