@@ -439,9 +439,8 @@ ScaledRig DropUndeterminedAndScale(const RigObservations& obs, AdjustedRig& adju
     // The bound was measured on deviations that count every residual as independent: it is held
     // against those, not against the wider ones that count residuals moving together by region.
     if (*PlacementDirectionStdDeg(ba, c, pose[c]->SourceOriginInTarget()) > options.max_direction_std_deg) {
-      const bool intrinsics = c < static_cast<int>(ba.centre_covariance_of_intrinsics.size()) &&
-                              ba.centre_covariance_of_intrinsics[c];
-      const char* why = intrinsics ? "with the given intrinsics' uncertainty" : "cameras close together for the depth of the scene";
+      const char* why = HasIntrinsicsShare(ba, c) ? "with the given intrinsics' uncertainty"
+                                                  : "cameras close together for the depth of the scene";
       out.undetermined[c] = "not determined: the images fix its direction from " + obs.camera_names[0] + " to +-" +
                             Fixed(std_deg, 1) + " deg only (" + why + "); " + ps.remedy;
       out.position[c] = PositionOutcome::kNotDetermined;

@@ -21,6 +21,10 @@ std::optional<double> PlacementDirectionStdDeg(const MultiFrameBundleAdjustmentR
   return PlacementDirectionStdDeg(centre, *cov, share ? &*share : nullptr, ba.residual_correlation);
 }
 
+bool HasIntrinsicsShare(const MultiFrameBundleAdjustmentResult& ba, int c) {
+  return Of(ba.centre_covariance_of_intrinsics, c).has_value();
+}
+
 void SetIntrinsicsShare(const MultiFrameBundleAdjustmentResult& ba, int c, RigCameraStats* stats) {
   stats->direction_intrinsics_std_deg.reset();
   stats->rotation_intrinsics_std_deg.reset();

@@ -18,6 +18,9 @@ namespace rigsim {
 std::optional<double> PlacementDirectionStdDeg(const MultiFrameBundleAdjustmentResult& ba, int c,
                                                const Eigen::Vector3d& centre);
 
+// Whether camera `c`'s centre covariance has the given intrinsics' share in it.
+bool HasIntrinsicsShare(const MultiFrameBundleAdjustmentResult& ba, int c);
+
 // Into `stats`, where it states camera `c`'s direction and rotation deviations: the given
 // intrinsics' share of them (RigCameraStats::direction_intrinsics_std_deg and
 // rotation_intrinsics_std_deg); reset without given_intrinsics_sd.
