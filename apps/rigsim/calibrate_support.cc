@@ -102,23 +102,18 @@ CalibrationRunOptions CalibrateSettings::ToOptions() const {
 GivenIntrinsicsDeviation ParseIntrinsicsSd(const std::string& text) {
   const std::string usage = "give F,P: the focal lengths' standard deviation as a fraction (0.002 is 0.2 %) and the "
                             "principal point's in pixels (got " + text + ")";
-  const size_t comma = text.find(',');
-  if (comma == std::string::npos || text.find(',', comma + 1) != std::string::npos) throw std::invalid_argument(usage);
-  double values[2] = {0.0, 0.0};
-  const std::string parts[2] = {text.substr(0, comma), text.substr(comma + 1)};
-  for (int i = 0; i < 2; ++i) {
-    if (!CLI::detail::lexical_cast(parts[i], values[i]) || !std::isfinite(values[i])) throw std::invalid_argument(usage);
-  }
+  const std::optional<std::array<double, 2>> values = NumberPair(text);
+  if (!values) throw std::invalid_argument(usage);
   GivenIntrinsicsDeviation sd;
-  sd.focal_fraction = values[0];
-  sd.principal_point_px = values[1];
+  sd.focal_fraction = (*values)[0];
+  sd.principal_point_px = (*values)[1];
   if (!(sd.focal_fraction >= 0 && sd.focal_fraction < 0.5)) {
     throw std::invalid_argument("F, the focal lengths' standard deviation as a fraction, must be 0 or more and below "
-                                "0.5 (got " + parts[0] + " in " + text + ")");
+                                "0.5 (got " + text.substr(0, text.find(',')) + " in " + text + ")");
   }
   if (!(sd.principal_point_px >= 0)) {
     throw std::invalid_argument("P, the principal point's standard deviation in pixels, must be 0 or more (got " +
-                                parts[1] + " in " + text + ")");
+                                text.substr(text.find(',') + 1) + " in " + text + ")");
   }
   return sd;
 }
@@ -342,7 +337,7 @@ CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const Ca
   }
   if (const auto& sd = plan.options.rig.bundle_adjustment.given_intrinsics_sd) {
     std::printf("\nStated deviations include the given intrinsics' own: focal lengths +- %s, principal point +- %s px "
-                "(--intrinsics-sd; the poses are as without it)\n",
+                "(--intrinsics-sd; the poses placed are as without it)\n",
                 (Fixed(100 * sd->focal_fraction, 2) + " %").c_str(), Fixed(sd->principal_point_px, 2).c_str());
   }
   if (plan.options.rig.bundle_adjustment.refine_intrinsics) {

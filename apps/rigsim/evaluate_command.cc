@@ -1,13 +1,13 @@
 // rigsim evaluate DATASET ESTIMATE, or ESTIMATE --truth RIG: scores a rig estimate of any tool
 // against a rendered dataset's truth or a rig file's (a surveyed rig's, for real photos).
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
 
 #include "apps/rigsim/commands.h"
+#include "apps/rigsim/parse_errors.h"
 #include "common/param_spec.h"
 #include "dataset/dataset.h"
 #include "dataset/output_file.h"
@@ -113,24 +113,13 @@ Rig TruthFromRigFile(const fs::path& rig_file, const fs::path& estimate, nlohman
 
 // --truth-sd ROT_DEG,POS_M; "" is an exact truth.
 TruthAccuracy ParseTruthSd(const std::string& text) {
-  TruthAccuracy out;
-  if (text.empty()) return out;
-  const size_t comma = text.find(',');
-  const auto number = [](const std::string& s, double* v) {
-    size_t used = 0;
-    try {
-      *v = std::stod(s, &used);
-    } catch (const std::exception&) {
-      return false;
-    }
-    return used == s.size() && std::isfinite(*v) && *v >= 0.0;
-  };
-  if (comma == std::string::npos || !number(text.substr(0, comma), &out.rotation_deg) ||
-      !number(text.substr(comma + 1), &out.position_m)) {
+  if (text.empty()) return {};
+  const std::optional<std::array<double, 2>> values = NumberPair(text);
+  if (!values || (*values)[0] < 0.0 || (*values)[1] < 0.0) {
     throw std::runtime_error("--truth-sd " + text + ": needs two numbers, ROT_DEG,POS_M, each 0 or more (e.g. "
                              "0.02,0.003: the truth has each camera's orientation to 0.02 deg and its position to 3 mm)");
   }
-  return out;
+  return {(*values)[0], (*values)[1]};
 }
 
 }  // namespace

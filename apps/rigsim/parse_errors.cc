@@ -165,4 +165,15 @@ CLI::Validator NonNegative() {
   return NumberCheck(">= 0", [](double v) { return v >= 0; }, "0 or more");
 }
 
+std::optional<std::array<double, 2>> NumberPair(const std::string& text) {
+  const size_t comma = text.find(',');
+  if (comma == std::string::npos || text.find(',', comma + 1) != std::string::npos) return std::nullopt;
+  std::array<double, 2> out{};
+  const std::string parts[2] = {text.substr(0, comma), text.substr(comma + 1)};
+  for (int i = 0; i < 2; ++i) {
+    if (!CLI::detail::lexical_cast(parts[i], out[i]) || !std::isfinite(out[i])) return std::nullopt;
+  }
+  return out;
+}
+
 }  // namespace rigsim::cli

@@ -3,6 +3,8 @@
 // docs/command-line.md documents for bad input (CLI11's own exit codes, 105, 109, 114, ..., are not rigsim's).
 #pragma once
 
+#include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,5 +22,9 @@ const CLI::App* FailedSubcommand(const CLI::App& app);
 // in place of CLI::PositiveNumber and CLI::NonNegativeNumber.
 CLI::Validator Positive();
 CLI::Validator NonNegative();
+
+// "A,B": two finite numbers and one comma between them, for options that take a pair
+// (--intrinsics-sd F,P, --truth-sd ROT_DEG,POS_M); nullopt for anything else.
+std::optional<std::array<double, 2>> NumberPair(const std::string& text);
 
 }  // namespace rigsim::cli

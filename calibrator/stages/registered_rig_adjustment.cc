@@ -102,7 +102,7 @@ RegisteredOutcome JudgeRegistered(const RigObservations& obs, const CameraRegist
   if (bound_deg > options.max_direction_std_deg) {
     out.status = {CameraOutcome::kRotationOnly, PositionOutcome::kNotDetermined,
                   "the adjusted rig fixes its direction from " + obs.camera_names[0] + " to +-" + Fixed(std_deg, 1) +
-                      " deg only" + (ba.centre_covariance_of_intrinsics.empty() ? "" : " with the given intrinsics' uncertainty")};
+                      " deg only" + (HasIntrinsicsShare(ba, c) ? " with the given intrinsics' uncertainty" : "")};
     return out;
   }
   out.placed = true;
