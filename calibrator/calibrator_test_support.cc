@@ -119,4 +119,50 @@ std::vector<CameraErrors> ErrorsAgainst(const Rig& truth, const RigCalibrationRe
   return CalibrationCameraErrors(truth, e);
 }
 
+TwoCameraDrive MakeTwoCameraDrive(int frames, std::mt19937& rng) {
+  TwoCameraDrive d;
+  const Camera cam(CameraModelId::kPinhole, 640, 480, {400, 400, 319.5, 239.5});
+  d.cameras = {cam, cam};
+  const Eigen::Matrix3d r1 = Eigen::AngleAxisd(20.0 * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  d.truth.cam_from_rig = {Rigid3d(), Rigid3d(r1, -(r1 * Eigen::Vector3d(1.0, 0.0, 0.1)))};
+  for (int k = 0; k < frames; ++k) {
+    const Eigen::Matrix3d turn = Eigen::AngleAxisd(3.0 * k * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    d.truth.rig_from_world.push_back(Rigid3d(turn, -(turn * Eigen::Vector3d(0.5 * k, 0.0, 0.0))));
+  }
+  std::uniform_real_distribution<double> x(-4.0, 7.0), y(-2.0, 2.0), z(4.0, 12.0);
+  while (d.points.size() < 400) {
+    const Eigen::Vector3d p(x(rng), y(rng), z(rng));
+    ViewTrack t;
+    for (int k = 0; k < frames; ++k) {
+      for (int c = 0; c < 2; ++c) {
+        const Eigen::Vector3d in_cam = d.truth.CamFromWorld(c, k) * p;
+        const auto px = cam.ImgFromCam(in_cam);
+        if (in_cam.z() > 0 && px && cam.IsInImage(*px)) t.observations.push_back({c, k, static_cast<int>(d.points.size())});
+      }
+    }
+    if (t.observations.size() < 3) continue;
+    d.tracks.push_back(t);
+    d.points.push_back(p);
+  }
+  return d;
+}
+
+FrameKeypoints ObserveTwoCameraDrive(const TwoCameraDrive& d, double noise_px, std::mt19937& rng, int jolted_frame,
+                                     const Rigid3d& jolt) {
+  std::normal_distribution<double> noise(0.0, noise_px);
+  const int frames = static_cast<int>(d.truth.rig_from_world.size());
+  FrameKeypoints kp(frames, std::vector<std::vector<Eigen::Vector2d>>(2));
+  for (int k = 0; k < frames; ++k) {
+    for (int c = 0; c < 2; ++c) {
+      const Rigid3d cam_from_world =
+          (k == jolted_frame && c == 1 ? jolt : Rigid3d()) * d.truth.CamFromWorld(c, k);
+      for (const Eigen::Vector3d& p : d.points) {
+        const Eigen::Vector2d px = d.cameras[c].ImgFromCam(cam_from_world * p).value_or(Eigen::Vector2d::Zero());
+        kp[k][c].push_back(px + Eigen::Vector2d(noise(rng), noise(rng)));
+      }
+    }
+  }
+  return kp;
+}
+
 }  // namespace rigsim

@@ -1,8 +1,10 @@
 // What the calibrator's rig tests share beyond the test toolkit (testing/): a synthetic rig's
-// observations as the pairwise stage hands them to EstimateRig, and a result's errors against the
-// truth (the calibrator never sees it; the tests do).
+// observations as the pairwise stage hands them to EstimateRig, a two-camera drive for the bundle
+// adjustment's tests, and a result's errors against the truth (the calibrator never sees it; the
+// tests do).
 #pragma once
 
+#include <random>
 #include <vector>
 
 #include "calibrator/estimators/multi_frame_rig.h"
@@ -45,6 +47,24 @@ struct TimedRing {
   // The bundle adjustment from the true poses, without filtering, with `with` (nullptr: synchronised).
   MultiFrameBundleAdjustmentResult Adjust(const CaptureTiming* with) const;
 };
+
+// Two pinhole cameras 1 m apart, the second turned 20 deg, on a rig that moves 0.5 m and turns
+// 3 deg per frame through a field of points 4-12 m away; every point is seen by every view it
+// falls in.
+struct TwoCameraDrive {
+  std::vector<Camera> cameras;
+  RigPoses truth;
+  std::vector<Eigen::Vector3d> points;
+  std::vector<ViewTrack> tracks;
+};
+
+TwoCameraDrive MakeTwoCameraDrive(int frames, std::mt19937& rng);
+
+// Every point's projection in every view (keypoint index = point index; unseen ones are never
+// referenced), with `noise_px` per coordinate; in `jolted_frame` camera 1 sees from
+// `jolt * cam_from_rig` instead of its place in the rig (a mount that gives for a moment).
+FrameKeypoints ObserveTwoCameraDrive(const TwoCameraDrive& d, double noise_px, std::mt19937& rng, int jolted_frame = -1,
+                                     const Rigid3d& jolt = Rigid3d());
 
 // Per camera, `result`'s errors against `truth` with camera 0 as the rig frame, as evaluation.json
 // states them (evaluation/rig_scores.h CalibrationCameraErrors).

@@ -10,71 +10,13 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 
+#include "calibrator/calibrator_test_support.h"
 #include "calibrator/estimators/bundle_covariance.h"
 #include "geometry/rigid3.h"
 #include "testing/synthetic_rig.h"
 
 namespace rigsim {
 namespace {
-
-// Two pinhole cameras 1 m apart, the second turned 20 deg, on a rig that moves 0.5 m and turns
-// 3 deg per frame through a field of points 4-12 m away; every point is seen by every view it
-// falls in.
-struct TwoCameraDrive {
-  std::vector<Camera> cameras;
-  RigPoses truth;
-  std::vector<Eigen::Vector3d> points;
-  std::vector<ViewTrack> tracks;
-};
-
-TwoCameraDrive MakeDrive(int frames, std::mt19937& rng) {
-  TwoCameraDrive d;
-  const Camera cam(CameraModelId::kPinhole, 640, 480, {400, 400, 319.5, 239.5});
-  d.cameras = {cam, cam};
-  const Eigen::Matrix3d r1 = Eigen::AngleAxisd(20.0 * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  d.truth.cam_from_rig = {Rigid3d(), Rigid3d(r1, -(r1 * Eigen::Vector3d(1.0, 0.0, 0.1)))};
-  for (int k = 0; k < frames; ++k) {
-    const Eigen::Matrix3d turn = Eigen::AngleAxisd(3.0 * k * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
-    d.truth.rig_from_world.push_back(Rigid3d(turn, -(turn * Eigen::Vector3d(0.5 * k, 0.0, 0.0))));
-  }
-  std::uniform_real_distribution<double> x(-4.0, 7.0), y(-2.0, 2.0), z(4.0, 12.0);
-  while (d.points.size() < 400) {
-    const Eigen::Vector3d p(x(rng), y(rng), z(rng));
-    ViewTrack t;
-    for (int k = 0; k < frames; ++k) {
-      for (int c = 0; c < 2; ++c) {
-        const Eigen::Vector3d in_cam = d.truth.CamFromWorld(c, k) * p;
-        const auto px = cam.ImgFromCam(in_cam);
-        if (in_cam.z() > 0 && px && cam.IsInImage(*px)) t.observations.push_back({c, k, static_cast<int>(d.points.size())});
-      }
-    }
-    if (t.observations.size() < 3) continue;
-    d.tracks.push_back(t);
-    d.points.push_back(p);
-  }
-  return d;
-}
-
-// Every point's projection in every view (keypoint index = point index; unseen ones are never
-// referenced), with `noise_px` per coordinate; in `jolted_frame` camera 1 sees from
-// `jolt * cam_from_rig` instead of its place in the rig (a mount that gives for a moment).
-FrameKeypoints Observe(const TwoCameraDrive& d, double noise_px, std::mt19937& rng, int jolted_frame = -1,
-                       const Rigid3d& jolt = Rigid3d()) {
-  std::normal_distribution<double> noise(0.0, noise_px);
-  const int frames = static_cast<int>(d.truth.rig_from_world.size());
-  FrameKeypoints kp(frames, std::vector<std::vector<Eigen::Vector2d>>(2));
-  for (int k = 0; k < frames; ++k) {
-    for (int c = 0; c < 2; ++c) {
-      const Rigid3d cam_from_world =
-          (k == jolted_frame && c == 1 ? jolt : Rigid3d()) * d.truth.CamFromWorld(c, k);
-      for (const Eigen::Vector3d& p : d.points) {
-        const Eigen::Vector2d px = d.cameras[c].ImgFromCam(cam_from_world * p).value_or(Eigen::Vector2d::Zero());
-        kp[k][c].push_back(px + Eigen::Vector2d(noise(rng), noise(rng)));
-      }
-    }
-  }
-  return kp;
-}
 
 // As Observe, but each point's keypoints are off by one offset of `feature_px` per coordinate in
 // every view that sees it (a detector's bias on that feature's texture), beside `noise_px` of
@@ -83,7 +25,7 @@ FrameKeypoints ObserveWithFeatureBias(const TwoCameraDrive& d, double feature_px
   std::normal_distribution<double> unit(0.0, 1.0);
   std::vector<Eigen::Vector2d> bias;
   for (size_t i = 0; i < d.points.size(); ++i) bias.emplace_back(feature_px * unit(rng), feature_px * unit(rng));
-  FrameKeypoints kp = Observe(d, noise_px, rng);
+  FrameKeypoints kp = ObserveTwoCameraDrive(d, noise_px, rng);
   for (auto& frame : kp) {
     for (auto& view : frame) {
       for (size_t i = 0; i < view.size(); ++i) view[i] += bias[i];
@@ -99,7 +41,7 @@ FrameKeypoints ObserveWithRegionBias(const TwoCameraDrive& d, double region_px, 
   std::normal_distribution<double> unit(0.0, 1.0);
   std::vector<Eigen::Vector2d> bias;
   for (int cell = 0; cell < 20; ++cell) bias.emplace_back(region_px * unit(rng), region_px * unit(rng));
-  FrameKeypoints kp = Observe(d, noise_px, rng);
+  FrameKeypoints kp = ObserveTwoCameraDrive(d, noise_px, rng);
   for (size_t i = 0; i < d.points.size(); ++i) {
     const Eigen::Vector3d& p = d.points[i];
     const int cx = std::clamp(static_cast<int>((p.x() + 4.0) / 11.0 * 5.0), 0, 4);
@@ -151,8 +93,8 @@ double JackknifeStd(const std::vector<Eigen::Vector3d>& samples) {
 
 TEST(FrameJackknife, IsZeroOnExactObservations) {
   std::mt19937 rng(TestSeed());
-  const TwoCameraDrive d = MakeDrive(4, rng);
-  const Solved s = SolveAndJackknife(d, Observe(d, 0.0, rng));
+  const TwoCameraDrive d = MakeTwoCameraDrive(4, rng);
+  const Solved s = SolveAndJackknife(d, ObserveTwoCameraDrive(d, 0.0, rng));
   EXPECT_EQ(s.jackknife.groups_left_out, 4);
   EXPECT_FALSE(s.jackknife.rotation_std_deg[0].has_value());
   ASSERT_TRUE(s.jackknife.rotation_std_deg[1] && s.jackknife.direction_std_deg[1]);
@@ -175,8 +117,8 @@ TEST(FrameJackknife, TakesNoStepWhereNothingIsAdjusted) {
 
 TEST(FrameJackknife, NeedsThreePosedFrames) {
   std::mt19937 rng(TestSeed());
-  const TwoCameraDrive d = MakeDrive(2, rng);
-  const Solved s = SolveAndJackknife(d, Observe(d, 0.3, rng));
+  const TwoCameraDrive d = MakeTwoCameraDrive(2, rng);
+  const Solved s = SolveAndJackknife(d, ObserveTwoCameraDrive(d, 0.3, rng));
   EXPECT_EQ(s.jackknife.groups_left_out, 0);
   EXPECT_FALSE(s.jackknife.rotation_std_deg[1].has_value());
 }
@@ -187,10 +129,10 @@ TEST(FrameJackknife, NeedsThreePosedFrames) {
 // hands the gauge to frame 1.
 TEST(FrameJackknife, StatesTheErrorAJoltedFrameBrings) {
   std::mt19937 rng(TestSeed());
-  const TwoCameraDrive d = MakeDrive(4, rng);
+  const TwoCameraDrive d = MakeTwoCameraDrive(4, rng);
   const Rigid3d jolt(Eigen::AngleAxisd(-0.03 / 8.0, Eigen::Vector3d::UnitY()).toRotationMatrix(),
                      Eigen::Vector3d(-0.03, 0.0, 0.0));
-  const Solved s = SolveAndJackknife(d, Observe(d, 0.2, rng, 0, jolt));
+  const Solved s = SolveAndJackknife(d, ObserveTwoCameraDrive(d, 0.2, rng, 0, jolt));
   ASSERT_TRUE(s.ba.centre_covariance[1] && s.jackknife.direction_std_deg[1]);
   const Eigen::Vector3d centre = s.ba.poses.cam_from_rig[1]->SourceOriginInTarget();
   const double error = AngleBetweenDeg(centre, d.truth.cam_from_rig[1]->SourceOriginInTarget());
@@ -205,10 +147,10 @@ TEST(FrameJackknife, StatesTheErrorAJoltedFrameBrings) {
 // in frame 0 (left out with frame 1, the gauge going to frame 2) is still stated.
 TEST(FrameJackknife, LeavesOutRunsOfFramesBeyondTen) {
   std::mt19937 rng(TestSeed());
-  const TwoCameraDrive d = MakeDrive(13, rng);
+  const TwoCameraDrive d = MakeTwoCameraDrive(13, rng);
   const Rigid3d jolt(Eigen::AngleAxisd(-0.03 / 8.0, Eigen::Vector3d::UnitY()).toRotationMatrix(),
                      Eigen::Vector3d(-0.03, 0.0, 0.0));
-  const Solved s = SolveAndJackknife(d, Observe(d, 0.2, rng, 0, jolt));
+  const Solved s = SolveAndJackknife(d, ObserveTwoCameraDrive(d, 0.2, rng, 0, jolt));
   EXPECT_EQ(s.jackknife.groups_left_out, 10);
   ASSERT_TRUE(s.jackknife.direction_std_deg[1]);
   const double error = AngleBetweenDeg(s.ba.poses.cam_from_rig[1]->SourceOriginInTarget(),
@@ -226,8 +168,8 @@ TEST(FrameJackknife, LeavesOutRunsOfFramesBeyondTen) {
 TEST(FrameJackknife, AgreesWithTheAdjustmentsRunWithoutEachFrame) {
   std::mt19937 rng(TestSeed());
   constexpr int kFrames = 5;
-  const TwoCameraDrive d = MakeDrive(kFrames, rng);
-  const FrameKeypoints kp = Observe(d, 0.5, rng);
+  const TwoCameraDrive d = MakeTwoCameraDrive(kFrames, rng);
+  const FrameKeypoints kp = ObserveTwoCameraDrive(d, 0.5, rng);
   RigBundleAdjustmentOptions options;
   options.loss_scale_px = 100.0;
   options.filter_rounds = 0;
@@ -274,12 +216,12 @@ TEST(FrameJackknife, AgreesWithTheAdjustmentsRunWithoutEachFrame) {
 // the covariance does.
 TEST(FrameJackknife, StatesTheSpreadOfIndependentErrors) {
   std::mt19937 rng(TestSeed());
-  const TwoCameraDrive d = MakeDrive(6, rng);
+  const TwoCameraDrive d = MakeTwoCameraDrive(6, rng);
   constexpr int kDraws = 24;
   std::vector<Eigen::Vector3d> errors;
   double stated = 0.0;
   for (int i = 0; i < kDraws; ++i) {
-    const Solved s = SolveAndJackknife(d, Observe(d, 0.5, rng));
+    const Solved s = SolveAndJackknife(d, ObserveTwoCameraDrive(d, 0.5, rng));
     ASSERT_TRUE(s.jackknife.rotation_std_deg[1]);
     errors.push_back(RotationErrorDeg(s, d));
     stated += *s.jackknife.rotation_std_deg[1] / kDraws;
@@ -295,7 +237,7 @@ TEST(FrameJackknife, StatesTheSpreadOfIndependentErrors) {
 // units are the features, states the estimate's spread over draws.
 TEST(PointJackknife, StatesTheSpreadOfErrorsEachFeatureRepeatsInItsViews) {
   std::mt19937 rng(TestSeed());
-  const TwoCameraDrive d = MakeDrive(4, rng);
+  const TwoCameraDrive d = MakeTwoCameraDrive(4, rng);
   constexpr int kDraws = 24;
   std::vector<Eigen::Vector3d> errors;
   double stated = 0.0, covariance = 0.0;
@@ -400,7 +342,7 @@ TEST(PointJackknife, RegionGroupsAreContiguousAndEven) {
 // states the estimate's spread over draws.
 TEST(PointJackknife, StatesTheSpreadOfErrorsThePointsOfARegionShare) {
   std::mt19937 rng(TestSeed());
-  const TwoCameraDrive d = MakeDrive(4, rng);
+  const TwoCameraDrive d = MakeTwoCameraDrive(4, rng);
   constexpr int kDraws = 24;
   std::vector<Eigen::Vector3d> errors;
   double stated = 0.0;

@@ -428,8 +428,7 @@ TEST(MultiFrameRig, CoarseFirstSolveReachesTheSameRig) {
 namespace rigsim {
 namespace {
 
-// Two pinhole cameras 1 m apart, the second turned 20 deg, on a rig that moves 0.5 m and turns
-// 3 deg per frame over 4 frames through points 4-12 m away; keypoints with `noise_px` per
+// The two-camera drive (calibrator_test_support.h) over 4 frames, keypoints with `noise_px` per
 // coordinate (0: exact).
 struct HeldIntrinsicsDrive {
   std::vector<Camera> cameras;
@@ -440,42 +439,8 @@ struct HeldIntrinsicsDrive {
 
 HeldIntrinsicsDrive MakeHeldIntrinsicsDrive(double noise_px) {
   std::mt19937 rng(TestSeed());
-  HeldIntrinsicsDrive d;
-  const Camera cam(CameraModelId::kPinhole, 640, 480, {400, 400, 319.5, 239.5});
-  d.cameras = {cam, cam};
-  const Eigen::Matrix3d r1 = Eigen::AngleAxisd(20.0 * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  d.truth.cam_from_rig = {Rigid3d(), Rigid3d(r1, -(r1 * Eigen::Vector3d(1.0, 0.0, 0.1)))};
-  constexpr int kFrames = 4;
-  for (int k = 0; k < kFrames; ++k) {
-    const Eigen::Matrix3d turn = Eigen::AngleAxisd(3.0 * k * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
-    d.truth.rig_from_world.push_back(Rigid3d(turn, -(turn * Eigen::Vector3d(0.5 * k, 0.0, 0.0))));
-  }
-  d.keypoints.assign(kFrames, std::vector<std::vector<Eigen::Vector2d>>(2));
-  std::uniform_real_distribution<double> x(-4.0, 7.0), y(-2.0, 2.0), z(4.0, 12.0);
-  std::normal_distribution<double> noise(0.0, noise_px > 0 ? noise_px : 1.0);
-  int index = 0;
-  while (d.tracks.size() < 400) {
-    const Eigen::Vector3d p(x(rng), y(rng), z(rng));
-    ViewTrack t;
-    for (int k = 0; k < kFrames; ++k) {
-      for (int c = 0; c < 2; ++c) {
-        const Eigen::Vector3d in_cam = d.truth.CamFromWorld(c, k) * p;
-        const auto px = cam.ImgFromCam(in_cam);
-        if (in_cam.z() > 0 && px && cam.IsInImage(*px)) t.observations.push_back({c, k, index});
-      }
-    }
-    if (t.observations.size() < 3) continue;
-    for (int k = 0; k < kFrames; ++k) {
-      for (int c = 0; c < 2; ++c) {
-        const auto px = cam.ImgFromCam(d.truth.CamFromWorld(c, k) * p);
-        const Eigen::Vector2d jitter = noise_px > 0 ? Eigen::Vector2d(noise(rng), noise(rng)) : Eigen::Vector2d::Zero();
-        d.keypoints[k][c].push_back(px.value_or(Eigen::Vector2d::Zero()) + jitter);
-      }
-    }
-    d.tracks.push_back(t);
-    ++index;
-  }
-  return d;
+  const TwoCameraDrive drive = MakeTwoCameraDrive(4, rng);
+  return {drive.cameras, drive.truth, ObserveTwoCameraDrive(drive, noise_px, rng), drive.tracks};
 }
 
 // The given intrinsics' share of the covariance is the linearised sensitivity of the solution:
