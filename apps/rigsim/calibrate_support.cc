@@ -270,18 +270,19 @@ OutputFolderRequest CalibrationOutputFolder(const std::filesystem::path& dataset
 
 void Warn(const std::string& warning) { std::fprintf(stderr, "warning: %s\n", warning.c_str()); }
 
-CalibrationRun ShowingStages(
-    const std::function<CalibrationRun(const std::function<void(const std::string&)>& tell)>& calibrate) {
+CalibrationRun CalibrateShowingStages(CalibrationPlan& plan) {
   StageLine stages;
+  plan.options.rig.progress = [&stages](const std::string& stage) { stages(stage); };
   CalibrationRun run;
   try {
-    run = calibrate([&stages](const std::string& stage) { stages(stage); });
+    run = CalibrateDataset(plan);
   } catch (...) {
+    plan.options.rig.progress = nullptr;
     stages.Finish();  // the error starts a line of its own
     throw;
   }
+  plan.options.rig.progress = run.options.rig.progress = nullptr;  // they told `stages`, which ends here
   stages.Finish();
-  run.options.rig.progress = nullptr;  // it told `stages`, which ends here
   return run;
 }
 
@@ -308,11 +309,7 @@ CalibrationRun CalibrateAndReport(const std::filesystem::path& dataset, const Ca
   std::fprintf(stderr, "calibrating %s (%s%s%s)...\n", dataset.string().c_str(), Count(plan.modes.size(), "semantic mode").c_str(),
                plan.labels_used ? (", labels: " + plan.label_text).c_str() : "",
                masks_text.empty() ? "" : (", masks: " + masks_text).c_str());
-  CalibrationRun run = ShowingStages([&plan](const std::function<void(const std::string&)>& tell) {
-    plan.options.rig.progress = tell;
-    return CalibrateDataset(plan);
-  });
-  plan.options.rig.progress = nullptr;  // it told ShowingStages' line, which has ended
+  CalibrationRun run = CalibrateShowingStages(plan);
   for (const std::string& note : WriteCalibrationResults(run, staged.staging_dir())) Warn(note);
   staged.Commit();
 

@@ -3,7 +3,6 @@
 #pragma once
 
 #include <filesystem>
-#include <functional>
 #include <string>
 #include <vector>
 
@@ -12,6 +11,7 @@
 #include "apps/rigsim/segment_support.h"
 #include "dataset/label_source.h"
 #include "dataset/output_folder.h"
+#include "pipeline/calibration_plan.h"
 #include "pipeline/calibration_run.h"
 
 namespace rigsim::cli {
@@ -77,11 +77,9 @@ OutputFolderRequest CalibrationOutputFolder(const std::filesystem::path& dataset
 // "warning: `warning`" on stderr, as the calibrating commands give their warnings.
 void Warn(const std::string& warning);
 
-// `calibrate(tell)`, each stage it tells shown on stderr as it begins (progress.h StageLine), the
-// line cleared before anything else is written, whether it returns or throws. For the
-// calibration's options.rig.progress.
-CalibrationRun ShowingStages(
-    const std::function<CalibrationRun(const std::function<void(const std::string&)>& tell)>& calibrate);
+// CalibrateDataset(plan), each stage shown on stderr as it begins (progress.h StageLine), the
+// line cleared before anything else is written, whether it returns or throws.
+CalibrationRun CalibrateShowingStages(CalibrationPlan& plan);
 
 // Calibrates the rig of `dataset` in each semantic mode (pipeline/calibration_plan.h, which checks
 // the inputs first and drops the default modes that need labels when the dataset has none), writes

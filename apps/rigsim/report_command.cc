@@ -163,11 +163,7 @@ void AddReportCommand(CLI::App& app) {
                            (args->scene.empty() ? "" : " --scene " + args->scene);
     std::fprintf(stderr, "calibrating %s for the report (%s)...\n", dataset.string().c_str(),
                  Count(plan.modes.size(), "semantic mode").c_str());
-    const CalibrationRun run = ShowingStages([&plan](const std::function<void(const std::string&)>& tell) {
-      plan.options.rig.progress = tell;
-      return CalibrateDataset(plan);
-    });
-    plan.options.rig.progress = nullptr;  // it told ShowingStages' line, which has ended
+    const CalibrationRun run = CalibrateShowingStages(plan);
     if (!args->calibration.empty()) {
       const std::vector<std::string> differences = CompareWithSaved(run, args->calibration);
       for (const std::string& d : differences) {
