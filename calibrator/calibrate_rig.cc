@@ -41,8 +41,9 @@ RigObservations ObservationsOfPairs(const RigViews& views, const PairwiseResult&
   return obs;
 }
 
-// `match`, each view pair matched once: the intrinsics' two passes ask the motion stage for the same
-// view pairs, whose matches the intrinsics do not change. Called from several threads at once.
+// `match`, each view pair matched once: the motion stage's passes, the track registration's rounds and
+// the intrinsics' two passes ask for the same view pairs again, and their matches depend on the
+// views alone. Called from several threads at once.
 ViewPairMatcher MatchingEachPairOnce(ViewPairMatcher match) {
   using ViewPair = std::tuple<int, int, int, int>;
   auto matched = std::make_shared<std::map<ViewPair, std::vector<std::pair<int, int>>>>();
@@ -104,8 +105,7 @@ RigCalibrationResult EstimateRigFromPairs(const RigViews& views, const PairwiseR
   // Every run of the rig stage, both of the intrinsics' passes included, with the motion stage's
   // links where they apply.
   const bool refine = options.bundle_adjustment.refine_intrinsics;
-  const ViewPairMatcher views_matched = MatcherOfViews(views, options.pairwise.matching);
-  const ViewPairMatcher match = refine ? MatchingEachPairOnce(views_matched) : views_matched;
+  const ViewPairMatcher match = MatchingEachPairOnce(MatcherOfViews(views, options.pairwise.matching));
   const RigPass with_motion = [&match](const RigObservations& o, const RigCalibrationOptions& opt) {
     return EstimateRigWithMotionLinks(o, match, opt);
   };

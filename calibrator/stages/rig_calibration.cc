@@ -15,6 +15,7 @@
 #include "calibrator/model/rig_state.h"
 #include "calibrator/stages/rig_adjustment_cache.h"
 #include "calibrator/stages/rig_capture_times.h"
+#include "calibrator/stages/rig_edges.h"
 #include "calibrator/stages/rig_motion_links.h"
 #include "calibrator/stages/stage_clock.h"
 #include "calibrator/stages/stated_deviations.h"
@@ -74,6 +75,7 @@ RigWork& RigWork::operator+=(const RigWork& other) {
   positions_time_s += other.positions_time_s;
   bundle_adjustment_time_s += other.bundle_adjustment_time_s;
   synchronisation_check_time_s += other.synchronisation_check_time_s;
+  rounds_checked_for_capture_times += other.rounds_checked_for_capture_times;
   start_adjustments_solved += other.start_adjustments_solved;
   start_adjustments_reused += other.start_adjustments_reused;
   return *this;
@@ -585,33 +587,6 @@ void SetCameraAndEdgeStatus(const RigObservations& obs, const RotationStage& rs,
   }
 }
 
-// Each used edge's two-view estimate against the rig's: how far its rotation is from the rig's
-// R_b R_a^T and, when both cameras have a position, its translation direction from the rig's.
-void CompareEdgesWithRig(const RigObservations& obs, RigCalibrationResult* result) {
-  for (int e = 0; e < static_cast<int>(result->edges.size()); ++e) {
-    RigEdgeStats& s = result->edges[e];
-    const PairEstimate& p = obs.pairs[e];
-    if (!s.Used() || !p.two_view.success) continue;
-    const auto& qa = result->cam_from_rig_rotation[p.cam_a];
-    const auto& qb = result->cam_from_rig_rotation[p.cam_b];
-    if (!qa || !qb) continue;
-    // Cameras that capture at different times (estimated offsets) see each other across the rig's
-    // motion between their captures, on average over the frames the pair pooled.
-    const RigCamera& ca = result->rig.cameras[p.cam_a];
-    const RigCamera& cb = result->rig.cameras[p.cam_b];
-    const double apart_s = cb.time_offset_s + 0.5 * cb.readout_s - ca.time_offset_s - 0.5 * ca.readout_s;
-    const Rigid3d between =
-        apart_s != 0 ? MeanRigChange(result->rig_from_world, obs.frame_times_s, apart_s).value_or(Rigid3d()) : Rigid3d();
-    s.rotation_disagreement_deg =
-        RotationDifferenceDeg(*qb * between.rotation * qa->conjugate(), p.two_view.cam_b_from_cam_a.rotation);
-    const auto& pa = ca.cam_from_rig;
-    const auto& pb = cb.cam_from_rig;
-    if (!pa || !pb || p.two_view.rotation_only) continue;
-    const Eigen::Vector3d t_rig = (*pb * between * pa->Inverse()).translation;
-    if (t_rig.norm() > 1e-12) s.direction_disagreement_deg = AngleBetweenDeg(t_rig, p.two_view.cam_b_from_cam_a.translation);
-  }
-}
-
 // Steps 1-4, before the bundle adjustment; their counts and times go into `result`.
 struct EarlyStages {
   RotationStage rotations;
@@ -661,51 +636,16 @@ void PreCheckEarlyStages(const EarlyStages& early, int n, RigPreCheck* check) {
   }
 }
 
-// One round of the rig stages, its adjustments through the rounds' `cache`. With `stop`: nullopt,
-// and `stop` filled but for its work, where the early stages leave a camera without a rotation or
-// a start position.
-std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, const RigCalibrationOptions& options,
-                                                    const std::vector<std::string>& rejected,
-                                                    RigAdjustmentCache* cache, RigPreCheck* stop) {
+// Steps 6-8 of a round from its adjustment: placement, scale, statuses, the capture times as
+// `synchronisation` judges them (empty: not checked), and each pair against the rig.
+RigCalibrationResult FinishRound(const RigObservations& obs, const RigCalibrationOptions& options,
+                                 const std::vector<std::string>& rejected, const EarlyStages& early,
+                                 AdjustedRig adjusted, const std::vector<CameraSynchronisation>& synchronisation,
+                                 RigCalibrationResult result) {
   const int n = static_cast<int>(obs.cameras.size());
   const int num_frames = static_cast<int>(obs.keypoints.size());
-  RigCalibrationResult result;
-  for (int c = 0; c < n; ++c) result.rig.cameras.push_back({obs.camera_names[c], obs.cameras[c], std::nullopt, 0.0});
-  result.camera_stats.assign(n, {});
-  result.camera_status.assign(n, CameraStatus{});
-  const EarlyStages early = RunEarlyStages(obs, options, rejected, &result);
-  if (stop) {
-    PreCheckEarlyStages(early, n, stop);
-    if (stop->SomeCameraWithoutFullPose()) {
-      stop->work = result.work;
-      return std::nullopt;
-    }
-  }
   const auto& [rotations, motion, tracks, initial] = early;
-
-  // Step 5: bundle adjustment over all posed views, from every start.
-  auto start = StageClock::now();
-  AdjustedRig adjusted = AdjustFromEveryStart(obs, tracks, initial, motion, options, cache);
-  result.work.start_adjustments_solved = adjusted.solved;
-  result.work.start_adjustments_reused = adjusted.reused;
-  MultiFrameBundleAdjustmentResult& ba = adjusted.ba;
-  if (initial.starts.empty()) {
-    ba.poses.cam_from_rig.assign(n, std::nullopt);
-    ba.poses.cam_from_rig[0] = Rigid3d();
-    ba.poses.rig_from_world.assign(num_frames, std::nullopt);
-    ba.poses.rig_from_world[0] = Rigid3d();
-    ba.observations_per_camera.assign(n, 0);
-  }
-  JudgeCamerasHeldByOneRivalledPair(obs, rotations, options, &adjusted);
-  result.work.bundle_adjustment_time_s = SecondsSince(start);
-  result.position_starts = adjusted.starts;
-  SetAdjustmentSummary(ba, &result);
-
-  start = StageClock::now();
-  const std::vector<CameraSynchronisation> synchronisation =
-      CheckCaptureTimes(obs, options.capture_time, options.bundle_adjustment, motion.moving, tracks,
-                        initial.scale_camera, ba);
-  result.work.synchronisation_check_time_s = SecondsSince(start);
+  const MultiFrameBundleAdjustmentResult& ba = adjusted.ba;
   SetRefinedIntrinsics(obs, options, ba, &result);
   ScaledRig scaled = DropUndeterminedAndScale(obs, adjusted, initial, options);
   SetAsideOpenAxes(obs, initial, &scaled);
@@ -748,28 +688,60 @@ std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, 
   return result;
 }
 
-// The used edge that disagrees most with the rig beyond the options' thresholds, and why; -1 when
-// none does.
-std::pair<int, std::string> MostDisagreeingEdge(const RigCalibrationResult& r, const RigCalibrationOptions& options) {
-  int worst = -1;
-  double worst_excess = 1.0;
-  for (int e = 0; e < static_cast<int>(r.edges.size()); ++e) {
-    const RigEdgeStats& s = r.edges[e];
-    if (!s.Used()) continue;
-    const double excess = std::max(s.rotation_disagreement_deg.value_or(0.0) / options.max_pair_rotation_disagreement_deg,
-                                   s.direction_disagreement_deg.value_or(0.0) / options.max_pair_direction_disagreement_deg);
-    if (excess > worst_excess) {
-      worst_excess = excess;
-      worst = e;
+// One round of the rig stages, its adjustments through the rounds' `cache`; `last_round`: the
+// rounds keep it whatever its pairs say. With `stop`: nullopt, and `stop` filled but for its work,
+// where the early stages leave a camera without a rotation or a start position.
+std::optional<RigCalibrationResult> EstimateRigOnce(const RigObservations& obs, const RigCalibrationOptions& options,
+                                                    const std::vector<std::string>& rejected, bool last_round,
+                                                    RigAdjustmentCache* cache, RigPreCheck* stop) {
+  const int n = static_cast<int>(obs.cameras.size());
+  const int num_frames = static_cast<int>(obs.keypoints.size());
+  RigCalibrationResult result;
+  for (int c = 0; c < n; ++c) result.rig.cameras.push_back({obs.camera_names[c], obs.cameras[c], std::nullopt, 0.0});
+  result.camera_stats.assign(n, {});
+  result.camera_status.assign(n, CameraStatus{});
+  const EarlyStages early = RunEarlyStages(obs, options, rejected, &result);
+  if (stop) {
+    PreCheckEarlyStages(early, n, stop);
+    if (stop->SomeCameraWithoutFullPose()) {
+      stop->work = result.work;
+      return std::nullopt;
     }
   }
-  if (worst < 0) return {-1, ""};
-  const RigEdgeStats& s = r.edges[worst];
-  std::string why = "disagrees with the rig: its rotation is " + Fixed(s.rotation_disagreement_deg.value_or(0.0), 2) +
-                    " deg off the rig's";
-  if (s.direction_disagreement_deg) why += ", its baseline direction " + Fixed(*s.direction_disagreement_deg, 1) + " deg";
-  why += " (a wrong match of repeated structure, or a mirror-image pose)";
-  return {worst, why};
+  const auto& [rotations, motion, tracks, initial] = early;
+
+  // Step 5: bundle adjustment over all posed views, from every start.
+  auto start = StageClock::now();
+  AdjustedRig adjusted = AdjustFromEveryStart(obs, tracks, initial, motion, options, cache);
+  result.work.start_adjustments_solved = adjusted.solved;
+  result.work.start_adjustments_reused = adjusted.reused;
+  MultiFrameBundleAdjustmentResult& ba = adjusted.ba;
+  if (initial.starts.empty()) {
+    ba.poses.cam_from_rig.assign(n, std::nullopt);
+    ba.poses.cam_from_rig[0] = Rigid3d();
+    ba.poses.rig_from_world.assign(num_frames, std::nullopt);
+    ba.poses.rig_from_world[0] = Rigid3d();
+    ba.observations_per_camera.assign(n, 0);
+  }
+  JudgeCamerasHeldByOneRivalledPair(obs, rotations, options, &adjusted);
+  result.work.bundle_adjustment_time_s = SecondsSince(start);
+  result.position_starts = adjusted.starts;
+  SetAdjustmentSummary(ba, &result);
+
+  // The synchronisation check costs about as much as the adjustment, and only the round the rounds
+  // keep needs it: a round with a pair to leave out is judged without it. The check only takes
+  // poses away, so pairs that agree with the rig without it agree with it too.
+  if (!last_round) {
+    RigCalibrationResult unchecked = FinishRound(obs, options, rejected, early, adjusted, {}, result);
+    if (MostDisagreeingEdge(unchecked, options).first >= 0) return unchecked;
+  }
+  start = StageClock::now();
+  const std::vector<CameraSynchronisation> synchronisation =
+      CheckCaptureTimes(obs, options.capture_time, options.bundle_adjustment, motion.moving, tracks,
+                        initial.scale_camera, ba);
+  result.work.synchronisation_check_time_s = SecondsSince(start);
+  result.work.rounds_checked_for_capture_times = 1;
+  return FinishRound(obs, options, rejected, early, std::move(adjusted), synchronisation, std::move(result));
 }
 
 // Throws std::invalid_argument on bad options (a known distance naming an unknown camera among
@@ -819,7 +791,8 @@ std::optional<RigCalibrationResult> EstimateRigRounds(const RigObservations& obs
     options.Tell(state.round == 0 ? "placing the rig: rotations, tracks, bundle adjustment"
                                   : "placing the rig again without a pair that disagrees with it");
     std::optional<RigCalibrationResult> next =
-        EstimateRigOnce(state.kept ? *state.kept : obs, options, state.rejected, state.adjustments.get(), stop);
+        EstimateRigOnce(state.kept ? *state.kept : obs, options, state.rejected,
+                        state.round == options.max_rejected_pairs, state.adjustments.get(), stop);
     if (!next) {
       stop->round = state.round;
       if (state.result) {

@@ -130,6 +130,8 @@ struct RigWork {
   double tracks_time_s = 0.0;
   double bundle_adjustment_time_s = 0.0;
   double synchronisation_check_time_s = 0.0;  // CaptureTimeOptions::check_synchronisation
+  // Rounds whose capture times were checked: the one a pass keeps, not those with a pair to leave out.
+  int rounds_checked_for_capture_times = 0;
   // Bundle adjustments from a start (one per start and round): those solved, and those given back
   // because an earlier round had solved identical inputs (rig_adjustment_cache.h).
   int start_adjustments_solved = 0;
