@@ -7,7 +7,7 @@ that calibrate compares every camera with the vehicle's calibration), runs `rigs
 per camera, the rotation and position-direction error after the rig stage with its status.
 
     python3 bench/ddad_scene.py ../shared/data/ddad-scene01 [--rigsim build/apps/rigsim/rigsim]
-        [--work /tmp/ddad-scene01] [--runs 1] [--threads N] [--mask]
+        [--work /tmp/ddad-scene01] [--runs 1] [--threads N] [--mask] [-- CALIBRATE_OPTION ...]
 
 --mask hides the ego car's body from feature detection (`calibrate --mask WORK/masks`): the masks
 are not shipped (the photos are not ours); they are drawn here from polygons traced by hand over

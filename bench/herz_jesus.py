@@ -8,7 +8,10 @@ RUNS times, and prints per run the wall time, the stage times calibrate reports 
 error).
 
     python3 bench/herz_jesus.py ../shared/data/herz-jesus-p8 [--rigsim build/apps/rigsim/rigsim]
-        [--work /tmp/herz-jesus] [--runs 3] [--threads N]
+        [--work /tmp/herz-jesus] [--runs 3] [--threads N] [-- CALIBRATE_OPTION ...]
+
+Options after `--` go to every `rigsim calibrate` run as they are, for example
+`-- --intrinsics-sd 0.001,0.5` (the intrinsics' own uncertainty counted in the stated deviations).
 
 The data set layout (see its README.md): images/NNNN.jpg, images/K.txt and gt/NNNN.jpg.camera
 (K, distortion, R camera-to-world, C camera centre, width height). cam_from_world is then
@@ -156,21 +159,26 @@ def parse_arguments(description, data_help, default_work, default_runs, add_argu
     ap.add_argument("--work", type=Path, default=default_work, help="scratch folder (replaced)")
     ap.add_argument("--runs", type=int, default=default_runs)
     ap.add_argument("--threads", type=int, default=0, help="calibrate --threads (0: all cores)")
+    ap.epilog = "options after -- go to every rigsim calibrate run (e.g. -- --intrinsics-sd 0.001,0.5)"
     if add_arguments:
         add_arguments(ap)
-    a = ap.parse_args()
+    argv = sys.argv[1:]
+    split = argv.index("--") if "--" in argv else len(argv)
+    a = ap.parse_args(argv[:split])
+    a.calibrate_args = argv[split + 1:]
     if not a.rigsim.exists():
         sys.exit(f"{a.rigsim}: no rigsim binary (build first, or give --rigsim)")
     return a
 
 
 def run_benchmark(a, build_folder, after_run=None, extra_args=()):
-    """Builds the photo folder, calibrates it a.runs times (with calibrate's `extra_args`), prints
-    each run and the wall times; after_run(evaluation) adds what a data set has to say of a run."""
+    """Builds the photo folder, calibrates it a.runs times (with calibrate's `extra_args`, then the
+    user's options after --), prints each run and the wall times; after_run(evaluation) adds what a
+    data set has to say of a run."""
     build_folder(a.data, a.work)
     walls = []
     for i in range(a.runs):
-        wall, ev, stdout, cmd = run_once(a.rigsim, a.work, a.threads, extra_args)
+        wall, ev, stdout, cmd = run_once(a.rigsim, a.work, a.threads, list(extra_args) + a.calibrate_args)
         if i == 0:
             print("$ " + " ".join(cmd))
         print(f"run {i + 1}:")
