@@ -6,6 +6,7 @@
 
 #include "calibrator/model/rig_state.h"
 #include "calibrator/stages/registered_rig_adjustment.h"
+#include "calibrator/stages/rig_capture_times.h"
 #include "calibrator/stages/rig_calibration.h"
 #include "calibrator/stages/track_registration.h"
 #include "common/format.h"
@@ -285,6 +286,7 @@ RigCalibrationResult RegisterWhereUnplaced(RigObservations used, RigCalibrationR
       break;
     }
     SayWhatWasRegistered(reg, &second.result);
+    PutHiddenTimeWarningLast(&second.result);
     result = std::move(second.result);
     used = std::move(next);
   }

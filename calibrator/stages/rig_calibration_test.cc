@@ -503,5 +503,35 @@ TEST(RigCaptureTimes, AreCheckedOnTheRoundWhosePairsAgreeWithTheRig) {
   }
 }
 
+// The warning that names the cameras whose capture time the path hides speaks of every camera
+// placed: after a registration round that placed more, it still comes last, the round's own
+// warnings in their order before it.
+TEST(SetCaptureTimes, TheWarningOfTheCamerasWhoseTimeThePathHidesComesLast) {
+  RigObservations obs;
+  obs.camera_names = {"front", "left", "rear"};
+  obs.cameras.resize(3);
+  obs.frame_times_s = {0.0, 0.1, 0.2};
+  RigCalibrationResult result;
+  result.camera_status.assign(3, CameraStatus{CameraOutcome::kCalibrated, PositionOutcome::kPlaced, ""});
+  result.camera_stats.assign(3, {});
+  result.warnings = {"left is placed through tracks: 900 of its 1200 matches"};
+  std::vector<CameraSynchronisation> checked(3);
+  for (int c : {1, 2}) {
+    checked[c].checked = true;
+    checked[c].interval_visibility_px = 0.02;  // a path that moves alike at every frame
+  }
+  SetCaptureTimes(obs, CaptureTimeOptions{}, MultiFrameBundleAdjustmentResult{}, checked, &result);
+  ASSERT_EQ(result.warnings.size(), 2u);
+  EXPECT_THAT(result.warnings[1], testing::StartsWith("the rig's path cannot show whether left, rear"));
+  result.warnings.push_back("rear is placed through tracks: 600 of its 1000 matches");
+  result.warnings.push_back("rear is held by one weak pair");
+  PutHiddenTimeWarningLast(&result);
+  ASSERT_EQ(result.warnings.size(), 4u);
+  EXPECT_THAT(result.warnings[0], testing::StartsWith("left is placed"));
+  EXPECT_THAT(result.warnings[1], testing::StartsWith("rear is placed"));
+  EXPECT_THAT(result.warnings[2], testing::StartsWith("rear is held"));
+  EXPECT_THAT(result.warnings[3], testing::StartsWith("the rig's path cannot show whether left, rear"));
+}
+
 }  // namespace
 }  // namespace rigsim

@@ -100,6 +100,11 @@ constexpr const char* kHiddenTimeWarning = "the rig's path cannot show whether "
 
 void DropHiddenTimeWarning(RigCalibrationResult* result) { DropWarnings(result, kHiddenTimeWarning); }
 
+void PutHiddenTimeWarningLast(RigCalibrationResult* result) {
+  std::stable_partition(result->warnings.begin(), result->warnings.end(),
+                        [](const std::string& w) { return w.rfind(kHiddenTimeWarning, 0) != 0; });
+}
+
 void SetCaptureTimes(const RigObservations& obs, const CaptureTimeOptions& o,
                      const MultiFrameBundleAdjustmentResult& ba, const std::vector<CameraSynchronisation>& checked,
                      RigCalibrationResult* result) {

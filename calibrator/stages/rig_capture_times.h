@@ -32,4 +32,8 @@ void SetCaptureTimes(const RigObservations& obs, const CaptureTimeOptions& optio
 // hides, so that a result judged again (a registered rig) names the cameras of its own check.
 void DropHiddenTimeWarning(RigCalibrationResult* result);
 
+// Moves that warning after every other: it speaks of all the cameras placed, so it follows the
+// warnings of a registration round that placed more.
+void PutHiddenTimeWarningLast(RigCalibrationResult* result);
+
 }  // namespace rigsim
