@@ -6,8 +6,8 @@
 
 #include "calibrator/model/rig_state.h"
 #include "calibrator/stages/registered_rig_adjustment.h"
-#include "calibrator/stages/rig_capture_times.h"
 #include "calibrator/stages/rig_calibration.h"
+#include "calibrator/stages/rig_capture_times.h"
 #include "calibrator/stages/track_registration.h"
 #include "common/format.h"
 

@@ -468,7 +468,7 @@ TEST(SetCaptureTimes, ACameraWhoseOffsetTheImagesDoNotBoundIsCalibratedOnlyIfSyn
 
 // The capture times are asked of the rig the pairs agree with. A round with a pair to leave out is
 // made again without it, so its rig, bent by the wrong pair, is not checked: on the six-camera
-// twin such a rig put a camera 20 ms apart, which hid the wrong pair and left a right one out.
+// twin such a rig put a camera 20 ms apart, which hid the wrong pair for a round.
 TEST(RigCaptureTimes, AreCheckedOnTheRoundWhosePairsAgreeWithTheRig) {
   const Camera pinhole(CameraModelId::kPinhole, 640, 360, {320, 320, 319.5, 179.5});
   SyntheticRigOptions o;
