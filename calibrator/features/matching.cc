@@ -15,6 +15,7 @@
 
 #include "calibrator/features/byte_product.h"
 #include "calibrator/features/cpu_path.h"
+#include "calibrator/features/row_scan.h"
 
 namespace rigsim {
 namespace {
@@ -26,57 +27,6 @@ void GatherRowsInto(const FeatureSet& f, const std::vector<int>& rows, size_t be
   for (size_t r = begin; r < end; ++r) {
     out->row(r - begin) = Eigen::Map<const Eigen::RowVectorXf>(f.descriptor(rows[r]), f.descriptor_size);
   }
-}
-
-// Lanes of the row scan: the top two of each lane are tracked independently, so the compiler can
-// keep a lane per SIMD element instead of a chain of dependent compares.
-constexpr int kScanLanes = 16;
-
-// Nearest and second-nearest of one row of squared distances: ties to the lowest index, and
-// `second` the second smallest value counted with repetition (equal to `best` when the minimum
-// occurs twice), as a plain left-to-right scan gives.
-struct RowTop2 {
-  int index;
-  float best, second;
-};
-
-// One row of the block in a single pass (nb >= 2): each squared distance from the product row
-// `minus_two_dot` and the norms, clamped at 0 (rounding can make it slightly negative); B's
-// column bests updated with row index i (strict '<' in increasing row order: ties go to the
-// lowest index, whatever the blocking); the row's top two.
-RowTop2 ScanRow(const float* __restrict minus_two_dot, float na2, const float* __restrict nb2, int nb, int i,
-                float* __restrict col_best_d2, int* __restrict col_best) {
-  constexpr float kInf = std::numeric_limits<float>::infinity();
-  float b1[kScanLanes], b2[kScanLanes];
-  int j1[kScanLanes];
-  for (int l = 0; l < kScanLanes; ++l) {
-    b1[l] = b2[l] = kInf;
-    j1[l] = -1;
-  }
-  auto visit = [&](int l, int j) {
-    const float d = std::max((minus_two_dot[j] + na2) + nb2[j], 0.f);
-    const bool below = d < col_best_d2[j];
-    col_best_d2[j] = below ? d : col_best_d2[j];
-    col_best[j] = below ? i : col_best[j];
-    const bool below1 = d < b1[l], below2 = d < b2[l];
-    b2[l] = below1 ? b1[l] : (below2 ? d : b2[l]);
-    j1[l] = below1 ? j : j1[l];
-    b1[l] = below1 ? d : b1[l];
-  };
-  int j0 = 0;
-  for (; j0 + kScanLanes <= nb; j0 += kScanLanes) {
-    for (int l = 0; l < kScanLanes; ++l) visit(l, j0 + l);
-  }
-  for (int j = j0; j < nb; ++j) visit(j - j0, j);
-  int lane = 0;
-  for (int l = 1; l < kScanLanes; ++l) {
-    if (b1[l] < b1[lane] || (b1[l] == b1[lane] && j1[l] >= 0 && (j1[lane] < 0 || j1[l] < j1[lane]))) lane = l;
-  }
-  float second = b2[lane];
-  for (int l = 0; l < kScanLanes; ++l) {
-    if (l != lane) second = std::min(second, b1[l]);
-  }
-  return {j1[lane], b1[lane], second};
 }
 
 // Matches the rows `ia` of A against the rows `ib` of B, appending to `out` (global indices).
@@ -121,7 +71,7 @@ void MatchSubset(const FeatureSet& a, const std::vector<int>& ia, const FeatureS
     }
     for (int r = 0; r < rows; ++r) {
       const int i = r0 + r;
-      const RowTop2 top = ScanRow(d2.data() + size_t(r) * nb, na2[r], nb2.data(), nb, i, col_best_d2.data(),
+      const RowTop2 top = ScanRow(path, d2.data() + size_t(r) * nb, na2[r], nb2.data(), nb, i, col_best_d2.data(),
                                   col_best.data());
       best[i] = top.index;
       best_d2[i] = top.best;
