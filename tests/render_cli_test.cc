@@ -5,6 +5,7 @@
 // ground-truth overlap is printed per camera pair, and not at all for one camera. --sensor: a named
 // sensor preset.
 
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -118,6 +119,45 @@ TEST_F(RenderCli, PrintsTheOverlapOfEveryPairAndNoHeadingForOneCamera) {
   ASSERT_EQ(one.code, 0) << one.err;
   EXPECT_NE(one.out.find("rendered 1 view (1 camera x 1 frame, "), std::string::npos) << one.out;
   EXPECT_EQ(one.out.find("overlap"), std::string::npos) << one.out;
+}
+
+// How often `needle` occurs in `text`.
+int Occurrences(const std::string& text, const std::string& needle) {
+  int n = 0;
+  for (size_t at = text.find(needle); at != std::string::npos; at = text.find(needle, at + 1)) ++n;
+  return n;
+}
+
+// In a log the count shows at each quarter and at the end, a line each; on a terminal (a pseudo-
+// terminal through script(1)) it is one line rewritten in place for every view and kept at the end.
+TEST_F(RenderCli, ProgressIsALineAQuarterInALogAndOneLineRewrittenOnATerminal) {
+  const CliResult rig = RunRigsim(dir_, {"make-rig", "--cameras", "3", "--frames", "8", "--width", "32", "--height",
+                                         "24", "--out", (dir_ / "rig8").string()});
+  ASSERT_EQ(rig.code, 0) << rig.err;
+  const std::vector<std::string> args = {"render", "--scene", scene_.string(), "--rig", (dir_ / "rig8/rig.json").string(),
+                                         "--frames", (dir_ / "rig8/frames.json").string(), "--spp", "1"};
+  std::vector<std::string> to_log = args;
+  to_log.insert(to_log.end(), {"--out", (dir_ / "log").string()});
+  const CliResult log = RunRigsim(dir_, to_log);
+  ASSERT_EQ(log.code, 0) << log.err;
+  EXPECT_EQ(Occurrences(log.err, "rendering views "), 5) << log.err;  // 1, 6, 12, 18 and 24 of 24
+  EXPECT_NE(log.err.find("rendering views 6/24\n"), std::string::npos) << log.err;
+  EXPECT_NE(log.err.find("rendering views 24/24\n"), std::string::npos) << log.err;
+  EXPECT_EQ(log.err.find('\r'), std::string::npos) << log.err;
+
+  std::string command = RIGSIM_BINARY;
+  for (const std::string& a : args) command += " '" + a + "'";
+  command += " --out '" + (dir_ / "tty").string() + "'";
+  FILE* pipe = popen(("script -qec \"" + command + "\" /dev/null").c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string tty;
+  char buf[4096];
+  for (size_t got; (got = fread(buf, 1, sizeof buf, pipe)) > 0;) tty.append(buf, got);
+  ASSERT_EQ(pclose(pipe), 0) << tty;
+  EXPECT_EQ(Occurrences(tty, "\r\033[Krendering views "), 24) << tty;
+  EXPECT_NE(tty.find("rendering views 24/24\r\n"), std::string::npos) << tty;  // the terminal's newline
+  EXPECT_EQ(tty.find("rendering views 6/24\r\n"), std::string::npos) << tty;
+  EXPECT_NE(tty.find("rendered 24 views"), std::string::npos) << tty;
 }
 
 TEST_F(RenderCli, BadPhotometricMagnitudesAreRefusedBeforeWriting) {

@@ -4,8 +4,6 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include <unistd.h>
-
 #include "apps/rigsim/interrupt.h"
 #include "apps/rigsim/progress.h"
 #include "common/format.h"
@@ -87,23 +85,14 @@ void AddSegmenterOptions(CLI::App& cmd, SegmenterSettings& s, const std::string&
 SegmentDatasetSummary SegmentWithProgress(
     const Segmenter& segmenter,
     const std::function<SegmentDatasetSummary(const std::function<void(int done, int total)>& progress)>& segment) {
-  const bool tty = ::isatty(2);
   const auto start = std::chrono::steady_clock::now();
-  int last_quarter = -1;
+  Progress progress("segmenting", "photo");
   SegmentDatasetSummary summary;
   {
     const InterruptScope interrupt;
     summary = segment([&](int done, int total) {
       const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      std::string line = "segmenting " + std::to_string(done) + "/" + Count(total, "photo");
-      if (done < total) line += ", about " + DurationInWords(elapsed / done * (total - done)) + " left";
-      if (tty) {
-        std::fprintf(stderr, "\r\033[K%s%s", line.c_str(), done == total ? "\n" : "");
-      } else if (done * 4 / total != last_quarter || done == total) {
-        last_quarter = done * 4 / total;
-        std::fprintf(stderr, "%s\n", line.c_str());
-      }
-      std::fflush(stderr);
+      progress(done, total, done < total ? ", about " + DurationInWords(elapsed / done * (total - done)) + " left" : "");
       InterruptScope::ThrowIfRequested();
     });
   }

@@ -6,8 +6,6 @@
 #include <tuple>
 #include <vector>
 
-#include <unistd.h>
-
 #include "apps/rigsim/commands.h"
 #include "apps/rigsim/interrupt.h"
 #include "apps/rigsim/parse_errors.h"
@@ -28,31 +26,26 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// One line on stderr, rewritten in place on a terminal; a line per finished cell otherwise.
+// The sweep's line (progress.h LiveLine), with the cell running on a terminal; in a log a line per
+// finished cell.
 class SweepProgressLine {
  public:
-  SweepProgressLine() : tty_(::isatty(2)) {}
   void operator()(const SweepProgress& p) {
-    std::string line = "sweep: " + std::to_string(p.done) + "/" + Count(p.total, "cell");
-    if (p.resumed > 0) line += " (" + std::to_string(p.resumed) + " from an earlier run)";
-    if (p.failed_rows > 0) line += ", " + Count(p.failed_rows, "failed run");
-    if (p.eta_s >= 1 && p.done < p.total) line += ", about " + DurationInWords(p.eta_s) + " left";
-    if (tty_) {
-      std::string full = line + "  [" + p.current + "]";
-      if (full.size() > 150) full = full.substr(0, 147) + "...";
-      std::fprintf(stderr, "\r\033[K%s", full.c_str());
-    } else if (p.done != last_done_) {
-      std::fprintf(stderr, "%s\n", line.c_str());
+    std::string text = "sweep: " + std::to_string(p.done) + "/" + Count(p.total, "cell");
+    if (p.resumed > 0) text += " (" + std::to_string(p.resumed) + " from an earlier run)";
+    if (p.failed_rows > 0) text += ", " + Count(p.failed_rows, "failed run");
+    if (p.eta_s >= 1 && p.done < p.total) text += ", about " + DurationInWords(p.eta_s) + " left";
+    if (line_.OnTerminal()) {
+      text += "  [" + p.current + "]";
+      if (text.size() > 150) text = text.substr(0, 147) + "...";
     }
+    line_.Show(text, p.done != last_done_);
     last_done_ = p.done;
-    std::fflush(stderr);
   }
-  ~SweepProgressLine() {
-    if (tty_) std::fprintf(stderr, "\n");
-  }
+  ~SweepProgressLine() { line_.Finish(true); }
 
  private:
-  bool tty_;
+  LiveLine line_;
   int last_done_ = -1;
 };
 
