@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <stdexcept>
+#include <string>
 
 #include <tbb/parallel_for.h>
 
@@ -164,9 +166,19 @@ CalibrationRun CalibrateChecked(const CalibrationInputs& inputs, const Calibrati
   const std::vector<std::filesystem::path> photos = CheckPhotos(inputs, rig);
   const int num_threads = options.rig.pairwise.num_threads;
   const ParallelScope parallel(num_threads);
-  options.rig.Tell("detecting keypoints in " + std::to_string(photos.size()) + " photos");
+  const std::string detecting = "detecting keypoints in " + std::to_string(photos.size()) + " photos";
+  options.rig.Tell(detecting);
+  // A line at each quarter done: detection is the longest stage of a run over many photos.
+  const int num_photos = static_cast<int>(photos.size());
+  int quarter_told = 0;
+  const auto photos_done = [&](int done) {
+    if (done == num_photos || done * 4 / num_photos <= quarter_told) return;
+    quarter_told = done * 4 / num_photos;
+    options.rig.Tell(detecting + ": " + std::to_string(done) + " done");
+  };
   const FeatureCache features(DatasetLayout(inputs.dataset_dir), rig, inputs.frames, photos, modes, options.features,
-                              options.reliable.Ids(), options.labels, num_threads, options.masks.get());
+                              options.reliable.Ids(), options.labels, num_threads, options.masks.get(),
+                              options.rig.progress ? photos_done : std::function<void(int)>());
 
   // The modes side by side: each one's stages run in parallel too, and a mode's result does not
   // depend on the others'.

@@ -7,7 +7,7 @@ namespace rigsim {
 FeatureCache::FeatureCache(const DatasetLayout& layout, const Rig& rig, const FramesFile& frames,
                            const std::vector<std::filesystem::path>& image_paths, const std::vector<SemanticMode>& modes,
                            const FeatureOptions& features, const LabelIdSet& reliable, const LabelSource& labels,
-                           int num_threads, const RigMasks* masks)
+                           int num_threads, const RigMasks* masks, const std::function<void(int done)>& photos_done)
     : num_cameras_(static_cast<int>(rig.cameras.size())), num_frames_(static_cast<int>(frames.frames.size())) {
   bool need_kind[2] = {false, false};
   bool need_labels = false;
@@ -41,7 +41,7 @@ FeatureCache::FeatureCache(const DatasetLayout& layout, const Rig& rig, const Fr
   };
   std::vector<std::vector<double>> time_s;
   std::vector<std::vector<FeatureSet>> detected = DetectFeaturesInImages(
-      static_cast<int>(image_paths.size()), load, features, detect_only_on, num_threads, &time_s);
+      static_cast<int>(image_paths.size()), load, features, detect_only_on, num_threads, &time_s, photos_done);
   for (size_t i = 0; i < kinds.size(); ++i) {
     features_[kinds[i]] = std::move(detected[i]);
     time_s_[kinds[i]] = std::move(time_s[i]);

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <vector>
 
 #include "calibrator/features/features.h"
@@ -21,12 +22,13 @@ class FeatureCache {
  public:
   // Detects the features of the photos `image_paths` (camera-major: camera * frames + frame) of
   // the cameras of `rig` at `frames`, for the kinds `modes` use, each camera's with its mask in
-  // `masks` (may be null; checked against the rig by ReadRigMasks). Throws std::runtime_error
+  // `masks` (may be null; checked against the rig by ReadRigMasks); `photos_done`, when given, is
+  // told how many photos are done after each (DetectFeaturesInImages). Throws std::runtime_error
   // naming a photo or label image that cannot be read.
   FeatureCache(const DatasetLayout& layout, const Rig& rig, const FramesFile& frames,
                const std::vector<std::filesystem::path>& image_paths, const std::vector<SemanticMode>& modes,
                const FeatureOptions& features, const LabelIdSet& reliable, const LabelSource& labels, int num_threads,
-               const RigMasks* masks = nullptr);
+               const RigMasks* masks = nullptr, const std::function<void(int done)>& photos_done = nullptr);
 
   // Mode m's features, per view (camera * frames + frame).
   const std::vector<FeatureSet>& Of(SemanticMode m) const { return features_[Kind(m)]; }

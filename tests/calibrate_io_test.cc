@@ -366,12 +366,20 @@ TEST_F(CalibrateIo, ShowsEachStageAsItBegins) {
   ExpectBackUncalibrated(r);
   const size_t photos = r.err.find("  detecting keypoints in 8 photos\n");
   ASSERT_NE(photos, std::string::npos) << r.err;
+  // Each quarter of the photos done, in order (in a log a line each).
+  size_t quarter = photos;
+  for (const std::string done : {"2", "4", "6"}) {
+    const size_t at = r.err.find("  detecting keypoints in 8 photos: " + done + " done", quarter);
+    ASSERT_NE(at, std::string::npos) << done << "\n" << r.err;
+    quarter = at;
+  }
+  EXPECT_EQ(r.err.find("8 photos: 8 done"), std::string::npos) << r.err;  // the next stage says it
   for (const std::string mode : {"none", "mask"}) {
     const size_t matching = r.err.find("  " + mode + ": matching the camera pairs");
     const size_t placing = r.err.find("  " + mode + ": placing the rig: rotations, tracks, bundle adjustment");
     ASSERT_NE(matching, std::string::npos) << r.err;
     ASSERT_NE(placing, std::string::npos) << r.err;
-    EXPECT_LT(photos, matching) << r.err;
+    EXPECT_LT(quarter, matching) << r.err;
     EXPECT_LT(matching, placing) << r.err;
   }
   EXPECT_EQ(r.out.find("placing the rig"), std::string::npos) << r.out;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -255,13 +256,16 @@ std::vector<std::vector<FeatureSet>> DetectFeaturesInImages(int num_images,
                                                            const std::function<LabelledImage(int)>& load,
                                                            const FeatureOptions& options,
                                                            const std::vector<const LabelIdSet*>& detect_only_on,
-                                                           int num_threads, std::vector<std::vector<double>>* time_s) {
+                                                           int num_threads, std::vector<std::vector<double>>* time_s,
+                                                           const std::function<void(int done)>& images_done) {
   options.Check();
   const size_t kinds = detect_only_on.size();
   std::vector<std::vector<FeatureSet>> out(kinds, std::vector<FeatureSet>(std::max(num_images, 0)));
   if (time_s) time_s->assign(kinds, std::vector<double>(std::max(num_images, 0), 0.0));
   const ParallelScope parallel(num_threads);
   const KeepFreedMemory keep_freed_memory;  // each image's scale space reuses the last one's memory
+  std::mutex done_mutex;
+  int done = 0;
   tbb::parallel_for(0, num_images, [&](int i) {
     const LabelledImage image = load(i);
     for (size_t k = 0; k < kinds; ++k) {
@@ -269,6 +273,10 @@ std::vector<std::vector<FeatureSet>> DetectFeaturesInImages(int num_images,
       out[k][i] = DetectFeatures(image.rgb, image.labels.empty() ? nullptr : &image.labels, options, detect_only_on[k],
                                  image.rig_mask);
       if (time_s) (*time_s)[k][i] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+    if (images_done) {
+      const std::lock_guard<std::mutex> lock(done_mutex);
+      images_done(++done);
     }
   });
   return out;

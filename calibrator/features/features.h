@@ -123,13 +123,15 @@ struct LabelledImage {
 // The features of `num_images` images, detected in parallel (parallel_scope.h): each image is
 // obtained once from `load` (called from worker threads; what it throws is rethrown) and detected
 // once per entry of `detect_only_on` (nullptr: everywhere; a set: on those classes only, which
-// needs labels), as DetectFeatures, with the image's rig mask for every entry. Returns [entry][image]; with `time_s`, each detection's time
-// (s) in the same shape.
+// needs labels), as DetectFeatures, with the image's rig mask for every entry. Returns
+// [entry][image]; with `time_s`, each detection's time (s) in the same shape. `images_done`, when
+// given, is told how many images are done after each one, one call at a time, counting up.
 std::vector<std::vector<FeatureSet>> DetectFeaturesInImages(int num_images,
                                                            const std::function<LabelledImage(int)>& load,
                                                            const FeatureOptions& options,
                                                            const std::vector<const LabelIdSet*>& detect_only_on,
                                                            int num_threads = 0,
-                                                           std::vector<std::vector<double>>* time_s = nullptr);
+                                                           std::vector<std::vector<double>>* time_s = nullptr,
+                                                           const std::function<void(int done)>& images_done = nullptr);
 
 }  // namespace rigsim
