@@ -18,8 +18,12 @@ namespace fs = std::filesystem;
 TEST(CaptureTimeCli, ARollingShutterIsFoundAndNamedNeverCalibrated) {
   const TempDir dir;
   const std::string street = std::string(RIGSIM_SOURCE_DIR) + "/assets/scenes/street.glb";
-  const CliResult rig = RunRigsim({"make-rig", "ring", "--scene", street, "--width", "640", "--height", "360", "--trajectory",
-                                   "handheld", "--frames", "6", "--readout", "0.03", "--out", (dir / "rig").string()},
+  // Neighbours sharing 40 % of their views: at the ring's default overlap the distorted views'
+  // pairs are near the two-view stage's limits, and whether they join the rig (without which no
+  // readout is measured) changed between two machines' renders (BENCHMARKS.md).
+  const CliResult rig = RunRigsim({"make-rig", "ring", "--scene", street, "--width", "640", "--height", "360", "--overlap",
+                                   "40", "--trajectory", "handheld", "--frames", "6", "--readout", "0.03", "--out",
+                                   (dir / "rig").string()},
                                   dir / "make-rig");
   ASSERT_EQ(rig.code, 0) << rig.err;
   const CliResult render = RunRigsim({"render", "--scene", street, "--rig", (dir / "rig" / "rig.json").string(), "--frames",
