@@ -191,7 +191,51 @@ MultiFrameBundleAdjustmentResult SolveFromMovedOffsets(const MultiFrameBundleAdj
   return solve(start, timing);
 }
 
+// A frame whose pose camera 0's own observations fix: it sees at least this many of the tracks
+// there.
+constexpr int kMinOwnObservationsPerFrame = 20;
+
 }  // namespace
+
+std::optional<ReferencePath> ReferenceCameraPath(const std::vector<Camera>& cameras, const FrameKeypoints& keypoints,
+                                                 const std::vector<ViewTrack>& tracks, const RigPoses& adjusted,
+                                                 RigBundleAdjustmentOptions ba_options, int max_tracks) {
+  if (adjusted.cam_from_rig.empty() || !adjusted.cam_from_rig[0] || adjusted.rig_from_world.empty()) return std::nullopt;
+  std::vector<ViewTrack> own;
+  for (const ViewTrack& track : tracks) {
+    ViewTrack seen;
+    for (const ViewObservation& o : track.observations) {
+      if (o.camera == 0) seen.observations.push_back(o);
+    }
+    if (seen.observations.size() >= 2) own.push_back(std::move(seen));
+  }
+  own = EvenSubsample(own, max_tracks);
+  std::vector<int> seen_per_frame(adjusted.rig_from_world.size(), 0);
+  for (const ViewTrack& track : own) {
+    for (const ViewObservation& o : track.observations) {
+      if (o.frame >= 0 && o.frame < static_cast<int>(seen_per_frame.size())) ++seen_per_frame[o.frame];
+    }
+  }
+  RigPoses start = adjusted;
+  for (size_t c = 1; c < start.cam_from_rig.size(); ++c) start.cam_from_rig[c].reset();
+  ba_options.refine_intrinsics = false;
+  ba_options.given_intrinsics_sd.reset();
+  ba_options.keep_points = false;
+  ba_options.covariance = false;  // only the path's shape is read
+  ba_options.held_centre_axis.clear();
+  const MultiFrameBundleAdjustmentResult solved =
+      MultiFrameRigBundleAdjust(cameras, keypoints, own, start, /*scale_camera=*/-1, ba_options);
+  if (solved.num_points == 0 || !(solved.median_depth > 0)) return std::nullopt;
+  // A frame camera 0 barely sees keeps the pose it started from, which the other cameras gave it.
+  ReferencePath out{solved.poses.rig_from_world, solved.median_depth};
+  int posed = 0;
+  for (size_t k = 0; k < out.rig_from_world.size(); ++k) {
+    if (seen_per_frame[k] < kMinOwnObservationsPerFrame) out.rig_from_world[k].reset();
+    posed += out.rig_from_world[k].has_value();
+  }
+  if (posed < 3) return std::nullopt;
+  return out;
+}
 
 std::vector<std::optional<OffsetRestart>> RestartFromMovedOffsets(
     const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, const std::vector<ViewTrack>& tracks,
@@ -237,12 +281,22 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
     const std::vector<char>& readout_bottom_to_top, const CaptureTimeOptions& options) {
   const int n = static_cast<int>(cameras.size());
   std::vector<CameraSynchronisation> out(n);
+  // Taken as synchronised, the adjustment can bend the path to fit cameras that captured at other
+  // times, and a bent path seems to show time: it shows only where camera 0's own motion shows it too.
+  const std::optional<ReferencePath> own =
+      ReferenceCameraPath(cameras, keypoints, tracks, adjusted.poses, ba_options, options.check_max_tracks);
   bool any_shown = false;
   for (int c = 1; c < n && c < static_cast<int>(adjusted.poses.cam_from_rig.size()); ++c) {
     if (!adjusted.poses.cam_from_rig[c]) continue;
     out[c].checked = true;
-    out[c].interval_visibility_px = IntervalVisibilityPx(adjusted.poses.rig_from_world, frame_times_s,
-                                                         PixelsPerRadian(adjusted.cameras[c]), adjusted.median_depth);
+    const double pixels_per_radian = PixelsPerRadian(adjusted.cameras[c]);
+    out[c].interval_visibility_px =
+        IntervalVisibilityPx(adjusted.poses.rig_from_world, frame_times_s, pixels_per_radian, adjusted.median_depth);
+    if (own) {
+      out[c].interval_visibility_px =
+          std::min(out[c].interval_visibility_px,
+                   IntervalVisibilityPx(own->rig_from_world, frame_times_s, pixels_per_radian, own->median_depth));
+    }
     any_shown = any_shown || out[c].interval_visibility_px >= options.min_interval_visibility_px;
   }
   if (!any_shown) return out;

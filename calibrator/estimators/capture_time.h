@@ -110,6 +110,19 @@ double IntervalVisibilityPx(const PerFrame<Rigid3d>& rig_from_world,
 // The camera's image scale at its centre: pixels per radian of view.
 double PixelsPerRadian(const Camera& camera);
 
+// The rig's path as camera 0 alone sees it: `adjusted`'s frames adjusted from camera 0's
+// observations only (an even subsample of at most `max_tracks` of the tracks it sees; 0: all), posed
+// only where camera 0 sees enough of them, and the median depth of its points, in that solve's own
+// unit. Camera 0's capture times are the reference, so no assumption about the other cameras'
+// shapes it. nullopt where camera 0 has no pose or poses fewer than three frames on its own.
+struct ReferencePath {
+  PerFrame<Rigid3d> rig_from_world;
+  double median_depth = 0.0;
+};
+std::optional<ReferencePath> ReferenceCameraPath(const std::vector<Camera>& cameras, const FrameKeypoints& keypoints,
+                                                 const std::vector<ViewTrack>& tracks, const RigPoses& adjusted,
+                                                 RigBundleAdjustmentOptions ba_options, int max_tracks);
+
 // What the images say of one camera's capture time relative to camera 0's.
 struct CameraSynchronisation {
   bool checked = false;  // the camera has a pose to check
@@ -170,7 +183,9 @@ std::vector<std::optional<OffsetRestart>> RestartFromMovedOffsets(
 // (RestartFromMovedOffsets): undetermined where another start fits about as well, unsynchronised
 // where one fits clearly better; a readout beyond min_readout_s, min_sigmas and min_visible_px is
 // a rolling shutter.
-// Where the path hides time for every camera, nothing is solved: the check could not condemn one.
+// A camera's interval visibility is the lesser of the adjusted path's and camera 0's own
+// (ReferenceCameraPath). Where the path hides time for every camera, nothing is solved: the check
+// could not condemn one.
 std::vector<CameraSynchronisation> CheckSynchronisation(
     const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, const std::vector<ViewTrack>& tracks,
     const MultiFrameBundleAdjustmentResult& adjusted, int scale_camera, RigBundleAdjustmentOptions ba_options,

@@ -212,6 +212,41 @@ TEST(CheckSynchronisation, APathThatHidesOffsetsDoesNotCondemnACamera) {
   }
 }
 
+// Cameras 30 and 60 ms after camera 0 on a circle at constant speed, camera 0 seeing nothing of the
+// last frame (a side camera at speed): taken as synchronised, the adjustment bends that frame's
+// pose to fit the others' captures, and the bent path seems to show time. Checked on it, freed
+// offsets stopped at zero, where each capture meets a frame, and the cameras were called calibrated
+// 3-9 deg off (a render of CaptureTimeCli.AnOffsetStoppedAtZeroIsNeverTakenForSynchronised).
+// Camera 0's own motion moves alike at every frame: the path hides time, and the check says so.
+TEST(CheckSynchronisation, APathBentToFitLateCamerasDoesNotShowTime) {
+  TimedRing ring(TurningPath(4, 3.0, 10.0, 0.0, 0.0, 0.0), 0.3, TestSeed(), {0.0, 0.040, 0.080}, {0.0, 0.0, 0.0});
+  const int last = static_cast<int>(ring.timing.frame_times_s.size()) - 1;
+  for (ViewTrack& track : ring.tracks) {
+    std::erase_if(track.observations, [&](const ViewObservation& o) { return o.camera == 0 && o.frame == last; });
+  }
+  const MultiFrameBundleAdjustmentResult taken_as_synchronised = ring.Adjust(nullptr);
+  const CaptureTimeOptions options;
+  const double pixels_per_radian = PixelsPerRadian(ring.cameras[1]);
+  ASSERT_GT(IntervalVisibilityPx(taken_as_synchronised.poses.rig_from_world, ring.timing.frame_times_s,
+                                 pixels_per_radian, taken_as_synchronised.median_depth),
+            options.min_interval_visibility_px)
+      << "the adjusted path is not bent: the case is not made";
+  const std::optional<ReferencePath> own =
+      ReferenceCameraPath(ring.cameras, ring.s.keypoints, ring.tracks, taken_as_synchronised.poses, {}, 0);
+  ASSERT_TRUE(own);
+  EXPECT_FALSE(own->rig_from_world[last]) << "camera 0 does not see the last frame";
+  EXPECT_LT(IntervalVisibilityPx(own->rig_from_world, ring.timing.frame_times_s, pixels_per_radian, own->median_depth),
+            1.0);
+  const std::vector<CameraSynchronisation> verdict =
+      CheckSynchronisation(ring.cameras, ring.s.keypoints, ring.tracks, taken_as_synchronised, 1, {},
+                           ring.timing.frame_times_s, {0.0, 0.0, 0.0}, TopToBottom(), options);
+  for (int c = 1; c < 3; ++c) {
+    EXPECT_TRUE(verdict[c].checked) << c;
+    EXPECT_LT(verdict[c].interval_visibility_px, options.min_interval_visibility_px) << c;
+    EXPECT_FALSE(verdict[c].offset_s) << c << ": an offset only the bend shows";
+  }
+}
+
 // Offsets estimated where the images fix them (a path that changes its turn rate, and in this
 // model of exact tracks a circle too), restarted from offsets moved by a quarter and half a frame
 // interval: every restart comes back to the estimate, so none is reported. (Where the images do
