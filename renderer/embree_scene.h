@@ -55,7 +55,9 @@ class EmbreeScene {
   // Rays go to Embree in streams, a batch's camera rays in one call and their shadow rays in
   // another, marked coherent: Embree then traverses neighbouring rays together in SIMD packets,
   // much faster than a call per ray and hitting the same triangles at the same points
-  // (BENCHMARKS.md, "Ray streams"). Thread-safe.
+  // (BENCHMARKS.md, "Ray streams"). Embree decides which triangle a ray hits; the hit's distance
+  // and barycentrics are computed again from that triangle (ExactHit), because Embree's come from
+  // approximate reciprocals whose last bits differ between Intel's and AMD's CPUs. Thread-safe.
   void Intersect(std::vector<RTCRayHit>& rays) const;
   void Occlude(std::vector<RTCRay>& rays) const;
 
@@ -68,11 +70,20 @@ class EmbreeScene {
   // Throws std::runtime_error "<during>: <first Embree error>" when Embree reported one.
   void ThrowIfAny(const std::string& during) const { errors_.ThrowIfAny(during); }
 
+  // A geometry's triangles as Embree holds them: its vertex buffer per time step (one for a mesh
+  // that does not move) and its index buffer; with its shading, for the alpha test.
+  struct Geometry {
+    std::vector<const float*> steps;  // xyz per vertex
+    const unsigned* indices = nullptr;
+    const MeshShading* shading = nullptr;
+  };
+
  private:
   mutable EmbreeErrors errors_;  // written from Embree callbacks during const traces
   std::string source_;           // for messages
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
+  std::vector<Geometry> geometries_;  // by geomID; empty entries for meshes without triangles
 };
 
 // A camera ray as Embree takes it, and a shadow ray (no hit record: only whether it is blocked).

@@ -1,6 +1,8 @@
 // The Embree scene, seen in rendered outputs: watertight traversal through shared edges, and alpha
 // MASK cutting geometry out of every output.
+#include <array>
 #include <cmath>
+#include <random>
 
 #include <gtest/gtest.h>
 
@@ -18,6 +20,58 @@ namespace {
 TEST(EmbreeSceneTest, EmbreeRunsItsSse2KernelsWhateverTheCpu) {
   const EmbreeScene scene("test");
   EXPECT_FALSE(scene.UsesWideKernels());
+}
+
+// Where the ray from `org` along `dir` meets the triangle (a, b, c): Moller-Trumbore in double
+// precision, rounded to float, written out here independently of the renderer.
+std::array<float, 3> ExactTUV(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                              const Eigen::Vector3d& org, const Eigen::Vector3d& dir) {
+  const Eigen::Vector3d e1 = b - a, e2 = c - a, p = dir.cross(e2), s = org - a, q = s.cross(e1);
+  const double det = e1.dot(p);
+  return {float(e2.dot(q) / det), float(s.dot(p) / det), float(dir.dot(q) / det)};
+}
+
+// A hit's distance and barycentrics are the exact ones rounded to float, not Embree's, which come
+// from approximate reciprocals (RCPPS) whose last bits differ between Intel's and AMD's CPUs
+// (bench/cpu_vendor_check.sh): for a still triangle and for one moving between two time steps.
+TEST(EmbreeSceneTest, HitDistancesAndBarycentricsAreExactOnEveryCpu) {
+  SceneMesh still;
+  still.positions = {{-3.1f, -2.3f, -7.7f}, {4.3f, -1.9f, -6.1f}, {0.7f, 3.9f, -8.3f}};
+  still.indices = {0, 1, 2};
+  SceneMesh moved = still;
+  for (Eigen::Vector3f& p : moved.positions) p += Eigen::Vector3f(0.37f, -0.11f, 0.53f);
+  const std::vector<std::vector<SceneMesh>> steps = {{still}, {moved}};
+  const std::vector<MeshShading> shading(1);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> spread(-0.3f, 0.3f), when(0.f, 1.f);
+  for (const bool moving : {false, true}) {
+    EmbreeScene scene("test");
+    scene.Build({still}, shading, moving ? &steps : nullptr);
+    std::vector<RTCRayHit> rays;
+    for (int i = 0; i < 500; ++i) {
+      RTCRayHit rh = CameraRay(Eigen::Vector3f(0.1f, 0.2f, 0.3f), Eigen::Vector3f(spread(rng), spread(rng), -1.f).normalized());
+      rh.ray.time = moving ? when(rng) : 0.f;
+      rays.push_back(rh);
+    }
+    scene.Intersect(rays);
+    int hits = 0;
+    for (const RTCRayHit& rh : rays) {
+      if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+      ++hits;
+      const double w = rh.ray.time;
+      Eigen::Vector3d corner[3];
+      for (int k = 0; k < 3; ++k) {
+        corner[k] = (1 - w) * still.positions[k].cast<double>() + w * (moving ? moved : still).positions[k].cast<double>();
+      }
+      const std::array<float, 3> tuv =
+          ExactTUV(corner[0], corner[1], corner[2], Eigen::Vector3d(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z),
+                   Eigen::Vector3d(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z));
+      ASSERT_EQ(rh.ray.tfar, tuv[0]) << (moving ? "moving" : "still") << ", time " << w;
+      ASSERT_EQ(rh.hit.u, tuv[1]);
+      ASSERT_EQ(rh.hit.v, tuv[2]);
+    }
+    EXPECT_GT(hits, 300) << (moving ? "moving" : "still");
+  }
 }
 
 // Rays through the edge two triangles share hit one of them: no crack lets the backdrop show
