@@ -9,8 +9,6 @@
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define RIGSIM_BYTE_KERNELS 1
 #include <immintrin.h>
-#define RIGSIM_TARGET_AVX2 __attribute__((target("avx2")))
-#define RIGSIM_TARGET_VNNI __attribute__((target("avx512f,avx512bw,avx512vnni")))
 #else
 #define RIGSIM_BYTE_KERNELS 0
 #endif

@@ -7,6 +7,14 @@
 #include <string_view>
 #include <vector>
 
+// The function attributes that compile one function for a path's instructions, whatever the
+// flags of the rest of the binary (no -march: the path is chosen at run time).
+#if defined(__GNUC__) || defined(__clang__)
+#define RIGSIM_TARGET_AVX2 __attribute__((target("avx2")))
+#define RIGSIM_TARGET_AVX512 __attribute__((target("avx512f")))
+#define RIGSIM_TARGET_VNNI __attribute__((target("avx512f,avx512bw,avx512vnni")))
+#endif
+
 namespace rigsim {
 
 enum class CpuPath {

@@ -8,8 +8,6 @@
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define RIGSIM_SCAN_KERNELS 1
 #include <immintrin.h>
-#define RIGSIM_TARGET_AVX2 __attribute__((target("avx2")))
-#define RIGSIM_TARGET_AVX512 __attribute__((target("avx512f")))
 #else
 #define RIGSIM_SCAN_KERNELS 0
 #endif
