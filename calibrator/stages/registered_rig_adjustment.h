@@ -40,8 +40,8 @@ RegisteredRig AdjustRegisteredRig(const RigObservations& obs, const RigCalibrati
 // pulled by the adjustment somewhere its own matches did not put it. Below it the adjustment
 // corrects the resection: placed points at one depth in one part of the view let a resection's
 // turn trade against its position, and registrations the adjustment then placed within 0.2 deg of
-// the truth (at a stated direction deviation of 1.0-1.2 deg) had been turned 1.0-1.4 deg
-// (BENCHMARKS.md, "Registration through tracks").
+// the truth (at a stated direction deviation of 0.99-1.22 deg) had been turned 1.00-1.37 deg
+// (BENCHMARKS.md, "Renders that move the calibrator across its limits").
 constexpr double kMaxRegisteredRotationChangeDeg = 3.0;
 
 }  // namespace rigsim
