@@ -149,10 +149,11 @@ RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate, const TruthAcc
     if (!cs.if_synchronised || CapturesWithReference(truth, c)) cs.overconfident = Overconfident({rotation, direction});
     s.cameras_stating_sd += cs.overconfident.has_value();
     s.overconfident += cs.overconfident.value_or(false);
-    if (cs.if_synchronised) {
-      s.wrong_if_synchronised += ConfidentlyWrong(true, placed_error_deg);
-    } else {
-      s.confidently_wrong += ConfidentlyWrong(cs.posed || cs.open_axis, placed_error_deg);
+    // A pose claimed if synchronised is claimed outright where the truth's camera captured with
+    // camera 0: the condition holds, so a wrong pose is confidently wrong there too.
+    if (cs.if_synchronised) s.wrong_if_synchronised += ConfidentlyWrong(true, placed_error_deg);
+    if (!cs.if_synchronised || CapturesWithReference(truth, c)) {
+      s.confidently_wrong += ConfidentlyWrong(cs.posed || cs.open_axis || cs.if_synchronised, placed_error_deg);
     }
     s.cameras.push_back(cs);
   }

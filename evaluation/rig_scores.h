@@ -84,7 +84,8 @@ struct RigScores {
   int cameras_rotation_only = 0;     // a rotation and nothing of the position
   int cameras_open_axis = 0;         // placed but for one axis
   // Of the cameras posed, those whose pose holds only if synchronised, and of those the ones more
-  // than kConfidentlyWrongDeg off (not confidently wrong: the estimate stated the condition).
+  // than kConfidentlyWrongDeg off (confidently wrong too where the truth's camera captured with
+  // camera 0: the condition the estimate stated holds there).
   int cameras_if_synchronised = 0;
   int wrong_if_synchronised = 0;
   std::optional<double> max_rotation_error_deg, median_rotation_error_deg;
@@ -94,8 +95,8 @@ struct RigScores {
   double auc_cameras[4] = {0, 0, 0, 0};  // at 1, 2, 5, 10 deg
   double auc_pairs[4] = {0, 0, 0, 0};
   bool success_1deg = false, success_2deg = false;  // RigSucceeds at kSuccessLimitsDeg
-  // Cameras ConfidentlyWrong (verdicts.h), placed but for one axis ones included, those whose pose
-  // holds only if synchronised not.
+  // Cameras ConfidentlyWrong (verdicts.h), placed but for one axis ones included, and those whose
+  // pose holds only if synchronised where the truth's camera captured with camera 0.
   int confidently_wrong = 0;
   int overconfident = 0;        // cameras CameraScore::overconfident
   int cameras_stating_sd = 0;   // cameras judged on it (CameraScore::overconfident not nullopt)

@@ -323,6 +323,25 @@ TEST(RigScores, APoseIfSynchronisedIsJudgedOnlyWhereTheTruthIsSynchronised) {
   EXPECT_EQ(table.find("overconfident"), std::string::npos) << table;
 }
 
+// A pose that holds if synchronised and is 20 deg off is confidently wrong where the truth's camera
+// captured with camera 0 (the condition holds), and only wrong if synchronised where it did not.
+TEST(RigScores, AWrongPoseIfSynchronisedIsConfidentlyWrongWhereTheTruthIsSynchronised) {
+  Rig truth = Truth();
+  RigEstimate e = EstimateOf(Moved(truth, 2, Eigen::Vector3d(0.5, 0, 0)));
+  e.if_synchronised = {0, 0, 1};
+  RigScores s = ScoreRig(truth, e);
+  ASSERT_GT(s.cameras[2].pose_error_deg, kConfidentlyWrongDeg);
+  EXPECT_EQ(s.wrong_if_synchronised, 1);
+  EXPECT_EQ(s.confidently_wrong, 1);
+  truth.cameras[2].time_offset_s = 0.03;  // captured 30 ms after cam0: the condition is false
+  s = ScoreRig(truth, e);
+  EXPECT_EQ(s.wrong_if_synchronised, 1);
+  EXPECT_EQ(s.confidently_wrong, 0);
+  truth.cameras[2].time_offset_s = 0.0;
+  truth.cameras[2].readout_s = 0.02;  // a rolling shutter: not captured with cam0 either
+  EXPECT_EQ(ScoreRig(truth, e).confidently_wrong, 0);
+}
+
 // A rotation 4 stated sd off is overconfident and 2 sd off not; an error under the floor is not,
 // however small the stated deviation.
 TEST(RigScores, OverconfidentNeedsFourNotTwoDeviationsAndAnErrorOverTheFloor) {

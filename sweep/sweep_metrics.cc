@@ -114,8 +114,9 @@ std::vector<MethodMetricSpec> MakeSweepMetricSpecs() {
         return RigSucceeds(!s.cameras.empty() && s.cameras[0].posed, others, 5.0) ? 1 : 0;
       }));
   add("confidently_wrong",
-      "cameras reported with a full pose whose pose error exceeds 5 deg, or placed but for one axis with their "
-      "rotation or direction across the axis more than 5 deg off",
+      "cameras reported with a full pose whose pose error exceeds 5 deg (posed if synchronised included where the "
+      "truth's camera captured with camera 0), or placed but for one axis with their rotation or direction across "
+      "the axis more than 5 deg off",
       true,
       {SummaryKind::kSum, G::kOutcome, "confidently wrong", "", "", false}, {},
       FromScores([](const RigScores& s) { return s.confidently_wrong; }));
@@ -135,8 +136,8 @@ std::vector<MethodMetricSpec> MakeSweepMetricSpecs() {
       true, {SummaryKind::kSum, G::kOutcome, "posed if synchronised", "", "", false}, {},
       FromRigsimScores([](const RigScores& s) { return s.cameras_if_synchronised; }));
   add("wrong_if_synchronised",
-      "cameras posed if synchronised whose pose error exceeds 5 deg (the estimate stated the condition: not "
-      "confidently wrong)",
+      "cameras posed if synchronised whose pose error exceeds 5 deg (the estimate stated the condition; confidently "
+      "wrong too where the truth's camera captured with camera 0)",
       true, {SummaryKind::kSum, G::kOutcome, "wrong if synchronised", "", "", false}, {},
       FromRigsimScores([](const RigScores& s) { return s.wrong_if_synchronised; }));
   add("cameras_open_axis",
