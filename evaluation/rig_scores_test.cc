@@ -323,7 +323,7 @@ TEST(RigScores, APoseIfSynchronisedIsJudgedOnlyWhereTheTruthIsSynchronised) {
   EXPECT_EQ(table.find("overconfident"), std::string::npos) << table;
 }
 
-// A pose that holds if synchronised and is 20 deg off is confidently wrong where the truth's camera
+// A pose that holds if synchronised and is over 5 deg off is confidently wrong where the truth's camera
 // captured with camera 0 (the condition holds), and only wrong if synchronised where it did not.
 TEST(RigScores, AWrongPoseIfSynchronisedIsConfidentlyWrongWhereTheTruthIsSynchronised) {
   Rig truth = Truth();
