@@ -153,7 +153,7 @@ RigScores ScoreRig(const Rig& truth, const RigEstimate& estimate, const TruthAcc
     // camera 0: the condition holds, so a wrong pose is confidently wrong there too.
     if (cs.if_synchronised) s.wrong_if_synchronised += ConfidentlyWrong(true, placed_error_deg);
     if (!cs.if_synchronised || CapturesWithReference(truth, c)) {
-      s.confidently_wrong += ConfidentlyWrong(cs.posed || cs.open_axis || cs.if_synchronised, placed_error_deg);
+      s.confidently_wrong += ConfidentlyWrong(cs.posed || cs.open_axis, placed_error_deg);
     }
     s.cameras.push_back(cs);
   }

@@ -281,25 +281,29 @@ std::vector<CameraSynchronisation> CheckSynchronisation(
     const std::vector<char>& readout_bottom_to_top, const CaptureTimeOptions& options) {
   const int n = static_cast<int>(cameras.size());
   std::vector<CameraSynchronisation> out(n);
-  // Taken as synchronised, the adjustment can bend the path to fit cameras that captured at other
-  // times, and a bent path seems to show time: it shows only where camera 0's own motion shows it too.
-  const std::optional<ReferencePath> own =
-      ReferenceCameraPath(cameras, keypoints, tracks, adjusted.poses, ba_options, options.check_max_tracks);
-  bool any_shown = false;
+  const auto shows_time = [&](const CameraSynchronisation& s) {
+    return s.checked && s.interval_visibility_px >= options.min_interval_visibility_px;
+  };
   for (int c = 1; c < n && c < static_cast<int>(adjusted.poses.cam_from_rig.size()); ++c) {
     if (!adjusted.poses.cam_from_rig[c]) continue;
     out[c].checked = true;
-    const double pixels_per_radian = PixelsPerRadian(adjusted.cameras[c]);
-    out[c].interval_visibility_px =
-        IntervalVisibilityPx(adjusted.poses.rig_from_world, frame_times_s, pixels_per_radian, adjusted.median_depth);
-    if (own) {
-      out[c].interval_visibility_px =
-          std::min(out[c].interval_visibility_px,
-                   IntervalVisibilityPx(own->rig_from_world, frame_times_s, pixels_per_radian, own->median_depth));
-    }
-    any_shown = any_shown || out[c].interval_visibility_px >= options.min_interval_visibility_px;
+    out[c].interval_visibility_px = IntervalVisibilityPx(adjusted.poses.rig_from_world, frame_times_s,
+                                                         PixelsPerRadian(adjusted.cameras[c]), adjusted.median_depth);
   }
-  if (!any_shown) return out;
+  if (std::none_of(out.begin(), out.end(), shows_time)) return out;
+  // Taken as synchronised, the adjustment can bend the path to fit cameras that captured at other
+  // times, and a bent path seems to show time: it shows only where camera 0's own motion shows it too.
+  if (const std::optional<ReferencePath> own =
+          ReferenceCameraPath(cameras, keypoints, tracks, adjusted.poses, ba_options, options.check_max_tracks)) {
+    for (int c = 1; c < n; ++c) {
+      if (!shows_time(out[c])) continue;
+      out[c].interval_visibility_px =
+          std::min(out[c].interval_visibility_px, IntervalVisibilityPx(own->rig_from_world, frame_times_s,
+                                                                       PixelsPerRadian(adjusted.cameras[c]),
+                                                                       own->median_depth));
+    }
+  }
+  if (std::none_of(out.begin(), out.end(), shows_time)) return out;
   CaptureTiming timing;
   timing.frame_times_s = frame_times_s;
   timing.time_offset_s = start_offsets_s;

@@ -183,9 +183,9 @@ std::vector<std::optional<OffsetRestart>> RestartFromMovedOffsets(
 // (RestartFromMovedOffsets): undetermined where another start fits about as well, unsynchronised
 // where one fits clearly better; a readout beyond min_readout_s, min_sigmas and min_visible_px is
 // a rolling shutter.
-// A camera's interval visibility is the lesser of the adjusted path's and camera 0's own
-// (ReferenceCameraPath). Where the path hides time for every camera, nothing is solved: the check
-// could not condemn one.
+// A camera's interval visibility is the adjusted path's, or where that shows time the lesser of it
+// and camera 0's own (ReferenceCameraPath). Where the path hides time for every camera, nothing is
+// solved: the check could not condemn one.
 std::vector<CameraSynchronisation> CheckSynchronisation(
     const std::vector<Camera>& cameras, const FrameKeypoints& keypoints, const std::vector<ViewTrack>& tracks,
     const MultiFrameBundleAdjustmentResult& adjusted, int scale_camera, RigBundleAdjustmentOptions ba_options,
